@@ -32,7 +32,7 @@ pub enum AxisEvent {
 
 /// Where the simulated machine's switches sit, in microsteps of the
 /// position counter. Tests and the simulator's options move them.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct SwitchLayout {
     /// Left stop switch is active at and below this position.
     pub left_limit: Option<i64>,
@@ -52,6 +52,7 @@ pub const MOTION_PARAMS: &[u8] = &[
 #[derive(Debug, Clone, Default)]
 pub struct Axis {
     params: std::collections::BTreeMap<u8, i32>,
+    layout: SwitchLayout,
 }
 
 impl Axis {
@@ -110,7 +111,7 @@ impl Axis {
 
     /// The simulated machine's switch positions.
     pub fn layout_mut(&mut self) -> &mut SwitchLayout {
-        unimplemented!("placeholder")
+        &mut self.layout
     }
 
     /// True while the motor turns or a ramp is in progress.
