@@ -103,6 +103,7 @@ pub enum Command {
 pub fn run(cli: Cli) -> i32 {
     match cli.command {
         Some(Command::Sim { kind, pty, eeprom }) => run_sim(&cli.connection, &kind, pty, eeprom),
+        Some(Command::Ports) => run_ports(),
         Some(other) => {
             eprintln!("axterm: {other:?} is not built yet");
             EXIT_USAGE
@@ -201,5 +202,75 @@ async fn wait_for_stop_signal(server_done: tokio::sync::oneshot::Receiver<()>) {
     tokio::select! {
         _ = tokio::signal::ctrl_c() => {}
         _ = server_done => {}
+    }
+}
+
+/// `axterm ports`: one line per serial port found, with what the system
+/// knows of the adapter.
+fn run_ports() -> i32 {
+    match serialport::available_ports() {
+        Ok(ports) if ports.is_empty() => {
+            eprintln!("axterm ports: no serial ports found");
+            EXIT_OK
+        }
+        Ok(ports) => {
+            for port in ports {
+                println!("{}", describe_port(&port));
+            }
+            EXIT_OK
+        }
+        Err(e) => {
+            eprintln!("axterm ports: cannot list serial ports: {e}");
+            EXIT_DEVICE
+        }
+    }
+}
+
+fn describe_port(port: &serialport::SerialPortInfo) -> String {
+    match &port.port_type {
+        serialport::SerialPortType::UsbPort(usb) => {
+            let mut text = format!("{}  usb {:04x}:{:04x}", port.port_name, usb.vid, usb.pid);
+            for part in [&usb.manufacturer, &usb.product, &usb.serial_number]
+                .into_iter()
+                .flatten()
+            {
+                text.push_str("  ");
+                text.push_str(part);
+            }
+            text
+        }
+        serialport::SerialPortType::PciPort => format!("{}  pci", port.port_name),
+        serialport::SerialPortType::BluetoothPort => format!("{}  bluetooth", port.port_name),
+        serialport::SerialPortType::Unknown => port.port_name.clone(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn usb_adapters_are_described_by_ids_and_names() {
+        let port = serialport::SerialPortInfo {
+            port_name: "ttyACM0".into(),
+            port_type: serialport::SerialPortType::UsbPort(serialport::UsbPortInfo {
+                vid: 0x2a3c,
+                pid: 0x0100,
+                serial_number: None,
+                manufacturer: Some("Trinamic".into()),
+                product: Some("StepRocker".into()),
+            }),
+        };
+        assert_eq!(
+            describe_port(&port),
+            "ttyACM0  usb 2a3c:0100  Trinamic  StepRocker"
+        );
+    }
+
+    #[test]
+    fn sim_refuses_unknown_kinds_and_missing_endpoints() {
+        let none = ConnectionArgs::default();
+        assert_eq!(run_sim(&none, "nosuch", true, None), EXIT_USAGE);
+        assert_eq!(run_sim(&none, "tmcm1110", false, None), EXIT_USAGE);
     }
 }
