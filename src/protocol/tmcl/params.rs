@@ -236,17 +236,8 @@ const TIMER_PERIOD: ValueRange = ValueRange::span(i32::MIN as i64, u32::MAX as i
 ///
 /// Where Table 16 and other parts of the manual disagree, Table 16 wins:
 /// AP4 and AP5 are RWE here although §2.3 Table 1 prints RW, and AP5 starts
-/// at 1 although §6.1.2 says 0..2047. Rows whose range cell was lost in the
-/// PDF conversion carry a range read from the description:
-/// - AP130: the range cell survived (1..2047); the description is mangled,
-///   its fragments suggest a default of 1, which is not enshrined here.
-/// - AP204: range and unit lost; 0..65535 assumed (16-bit, like AP214),
-///   unit unknown (probably 10 ms as AP214; unverified), 0 = never.
-/// - AP207: two flag bits (1, 2) -> 0..3.
-/// - AP208: eight flag bits -> 0..255.
-/// - AP210: "see section 6.3"; the §6.3 prescaler values go up to 32768
-///   plus flag bits 2..4 -> 0..65535.
-/// - AP212: only "2147483647 [encoder steps]" survived -> 0..2147483647.
+/// at 1 although §6.1.2 says 0..2047. Rows whose cells were lost or mangled
+/// in the PDF conversion carry a comment saying how they were read.
 pub const AXIS_PARAMS: &[ParamInfo] = &[
     ParamInfo {
         numbers: 0..=0,
@@ -308,6 +299,8 @@ pub const AXIS_PARAMS: &[ParamInfo] = &[
         description: "Maximum acceleration on ramp-up and deceleration on ramp-down; also used in velocity mode",
         section: "§4 Table 16",
     },
+    // §4 Table 16 says RW (not storable), yet the STAP/RSAP examples of §3.6.7/3.6.8
+    // store and restore AP6. Table 16 is followed here.
     ParamInfo {
         numbers: 6..=6,
         name: "Maximum current",
@@ -388,6 +381,8 @@ pub const AXIS_PARAMS: &[ParamInfo] = &[
         description: "0 = switch active (stops the motor), 1 = switch ignored",
         section: "§4 Table 16",
     },
+    // §4 Table 16: description mangled ("1). Defaul der to rea ... set lower");
+    // the fragments hint at a default of 1, not stated clearly enough to enshrine.
     ParamInfo {
         numbers: 130..=130,
         name: "Minimum speed",
@@ -598,6 +593,7 @@ pub const AXIS_PARAMS: &[ParamInfo] = &[
         description: "0 standard mode, 1 filtered (one measurement per four full steps)",
         section: "§4 Table 16",
     },
+    // §4 Table 16: "Zero is the starting value" reads as tuning advice, not a stated default.
     ParamInfo {
         numbers: 174..=174,
         name: "StallGuard2 threshold",
@@ -768,6 +764,8 @@ pub const AXIS_PARAMS: &[ParamInfo] = &[
         description: "Current during acceleration and deceleration; 0 = use AP6",
         section: "§4 Table 16",
     },
+    // §4 Table 16: range and unit cells lost. 0..65535 assumed (16-bit like AP214);
+    // the unit is not stated (10 ms like AP214 is likely, unverified).
     ParamInfo {
         numbers: 204..=204,
         name: "Freewheeling",
@@ -788,6 +786,7 @@ pub const AXIS_PARAMS: &[ParamInfo] = &[
         description: "StallGuard2 load reading",
         section: "§4 Table 16",
     },
+    // §4 Table 16: range cell lost; the value combines flags 1 and 2.
     ParamInfo {
         numbers: 207..=207,
         name: "Extended error flags",
@@ -798,6 +797,7 @@ pub const AXIS_PARAMS: &[ParamInfo] = &[
         description: "Bit 0 StallGuard error, bit 1 deviation error; cleared when read or by a motion command",
         section: "§4 Table 16",
     },
+    // §4 Table 16: range cell lost; the value combines flag bits 0..7.
     ParamInfo {
         numbers: 208..=208,
         name: "TMC262 error flags",
@@ -808,6 +808,7 @@ pub const AXIS_PARAMS: &[ParamInfo] = &[
         description: "Bits: 0 stallGuard, 1 overtemp, 2 pre-warning, 3/4 short A/B, 5/6 open load A/B, 7 standstill",
         section: "§4 Table 16",
     },
+    // §4 Table 16 gives the unit as [µsteps] (the prescaler of AP210 scales encoder counts).
     ParamInfo {
         numbers: 209..=209,
         name: "Encoder position",
@@ -818,6 +819,8 @@ pub const AXIS_PARAMS: &[ParamInfo] = &[
         description: "Encoder counter value",
         section: "§4 Table 16",
     },
+    // §4 Table 16 says "See section 6.3"; §6.3 Table 22 lists values up to 32768 and
+    // Table 23 adds flag bits 2..4, so 0..65535 covers every documented setting.
     ParamInfo {
         numbers: 210..=210,
         name: "Encoder prescaler",
@@ -828,6 +831,8 @@ pub const AXIS_PARAMS: &[ParamInfo] = &[
         description: "Prescaler p/512 with special functions in bits 2..4 (§6.3 Tables 22, 23)",
         section: "§4 Table 16; §6.3",
     },
+    // §4 Table 16: range cell mangled; only "2147483647 [encoder steps]" survived,
+    // the text says 0 switches the function off.
     ParamInfo {
         numbers: 212..=212,
         name: "Maximum encoder deviation",
@@ -873,10 +878,10 @@ pub const AXIS_PARAMS: &[ParamInfo] = &[
 /// Bank 0, module configuration (§5.1 Table 18).
 ///
 /// §5.1: parameters 64..127 are written through to EEPROM by SGP (RWA).
-/// GP130's range cell is empty in the manual; a program address is never
-/// negative, so 0..2147483647. GP78's default 7 comes from §6.2, GP84's
-/// (RAM only) from §3.6.24.
+/// Rows read from mangled cells carry a comment.
 pub const BANK0_PARAMS: &[ParamInfo] = &[
+    // §5.1 Table 18: rows 0 and 1 merged ("0 9600 14400 Default"); the natural
+    // reading is 0 = 9600 baud, the default.
     ParamInfo {
         numbers: 65..=65,
         name: "RS485 baud rate",
@@ -967,6 +972,7 @@ pub const BANK0_PARAMS: &[ParamInfo] = &[
         description: "1 = start the stored TMCL program after power-up",
         section: "§5.1 Table 18",
     },
+    // §5.1 Table 18: the bit table is mangled; bits and the default 7 from §6.2 Table 21.
     ParamInfo {
         numbers: 78..=78,
         name: "I/O mode",
@@ -977,6 +983,7 @@ pub const BANK0_PARAMS: &[ParamInfo] = &[
         description: "Bit set = output: 1 PWMU0, 2 PWMU1, 4 PWMU2, 8 PWMD0, 16 PWMD1, 32 PWMD2",
         section: "§5.1 Table 18; §6.2 Table 21",
     },
+    // §5.1 Table 18: text mangled ("ormal po verse po"): 0 normal, 1 reverse polarity.
     ParamInfo {
         numbers: 79..=79,
         name: "End switch polarity",
@@ -1017,6 +1024,7 @@ pub const BANK0_PARAMS: &[ParamInfo] = &[
         description: "Second CAN ID of the module; 0 = off",
         section: "§5.1 Table 18",
     },
+    // §5.1 Table 18: text mangled; values as read, default RAM only from §3.6.24.
     ParamInfo {
         numbers: 84..=84,
         name: "Coordinate storage",
@@ -1087,6 +1095,7 @@ pub const BANK0_PARAMS: &[ParamInfo] = &[
         description: "0 normal mode, 1 download mode",
         section: "§5.1 Table 18",
     },
+    // §5.1 Table 18: no range printed; an address is never negative.
     ParamInfo {
         numbers: 130..=130,
         name: "TMCL program counter",
