@@ -162,6 +162,12 @@ impl ParamInfo {
             .or_else(|| u32::try_from(value).ok().map(|bits| bits as i32))
     }
 
+    /// Whether a raw frame value (as a device or simulator receives it) is
+    /// inside this parameter's range.
+    pub fn accepts_wire(&self, raw: i32) -> bool {
+        self.range.contains(self.value_from_wire(raw))
+    }
+
     /// The value a user should see for a raw reply value: unsigned
     /// parameters wider than `i32` (bank-3 timer periods, §5.4) are read
     /// back as unsigned, every other parameter as signed.
@@ -227,10 +233,10 @@ const REFERENCE_SEARCH_MODES: &[i64] =
 /// Bank-3 timer periods (§5.4 Table 20) are unsigned 32-bit milliseconds
 /// (0..4294967295), but the TMCL value field is a signed 32-bit number:
 /// periods above 2147483647 travel as their two's-complement bit pattern.
-/// The range therefore accepts both spellings, what a user types
-/// (0..4294967295) and what a device returns (negative values); see
-/// [`ParamInfo::wire_value`] and [`ParamInfo::value_from_wire`].
-const TIMER_PERIOD: ValueRange = ValueRange::span(i32::MIN as i64, u32::MAX as i64);
+/// The range is what a user types and sees; [`ParamInfo::wire_value`],
+/// [`ParamInfo::value_from_wire`] and [`ParamInfo::accepts_wire`] translate
+/// to and from the frame's value field.
+const TIMER_PERIOD: ValueRange = ValueRange::span(0, u32::MAX as i64);
 
 /// Axis parameters of the TMCM-1110 (§4 Table 16).
 ///
@@ -1175,7 +1181,7 @@ pub const BANK3_PARAMS: &[ParamInfo] = &[
         unit: Unit::Milliseconds,
         access: Access::RW,
         default: None,
-        description: "Time between two timer 0 interrupts; 0..4294967295 (negative = same bits)",
+        description: "Time between two timer 0 interrupts; 0..4294967295",
         section: "§5.4 Table 20",
     },
     ParamInfo {
@@ -1185,7 +1191,7 @@ pub const BANK3_PARAMS: &[ParamInfo] = &[
         unit: Unit::Milliseconds,
         access: Access::RW,
         default: None,
-        description: "Time between two timer 1 interrupts; 0..4294967295 (negative = same bits)",
+        description: "Time between two timer 1 interrupts; 0..4294967295",
         section: "§5.4 Table 20",
     },
     ParamInfo {
@@ -1195,7 +1201,7 @@ pub const BANK3_PARAMS: &[ParamInfo] = &[
         unit: Unit::Milliseconds,
         access: Access::RW,
         default: None,
-        description: "Time between two timer 2 interrupts; 0..4294967295 (negative = same bits)",
+        description: "Time between two timer 2 interrupts; 0..4294967295",
         section: "§5.4 Table 20",
     },
     ParamInfo {
@@ -1512,6 +1518,9 @@ mod tests {
         assert_eq!(timer.wire_value(4_294_967_296), None);
         assert_eq!(timer.value_from_wire(-1), 4_294_967_295);
         assert_eq!(timer.value_from_wire(1000), 1000);
+        assert!(timer.accepts_wire(-1), "the bits of 4294967295");
+        assert!(!timer.range.contains(-1), "users type periods as unsigned");
+        assert_eq!(timer.range.to_string(), "0..4294967295");
     }
 
     #[test]
@@ -1523,6 +1532,8 @@ mod tests {
         let ap0 = axis_param(0).expect("AP0 exists");
         assert_eq!(ap0.wire_value(-5), Some(-5));
         assert_eq!(ap0.value_from_wire(-5), -5);
+        assert!(ap0.accepts_wire(-5));
+        assert!(!ap6.accepts_wire(256));
     }
 
     #[test]
