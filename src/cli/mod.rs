@@ -1,6 +1,14 @@
 //! Command-line front ends: argument parsing and the subcommands.
 
+pub mod sim_serve;
+
+use std::io::Write;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use clap::{Args, Parser, Subcommand};
+
+use crate::sim::{self, SimOptions};
 
 /// Exit code when everything went well.
 pub const EXIT_OK: i32 = 0;
@@ -57,16 +65,16 @@ pub enum Command {
         /// The console line, e.g. 'MVP ABS, 0, 1000'.
         line: String,
     },
-    /// Serve a simulated controller to other programs.
+    /// Serve a simulated controller to other programs, on a new
+    /// pseudo-terminal (--pty, its path is the first line printed) or a TCP
+    /// socket (--tcp ADDR, loopback when only a port is given); --address
+    /// sets the module address. Runs until interrupted.
     Sim {
         /// Which controller: tmcm1110.
         kind: String,
         /// Serve it on a new pseudo-terminal and print its path.
-        #[arg(long, conflicts_with = "listen")]
+        #[arg(long)]
         pty: bool,
-        /// Serve it on a TCP socket, ADDR:PORT (loopback unless the address says otherwise).
-        #[arg(long = "listen", value_name = "ADDR")]
-        listen: Option<String>,
         /// File keeping the simulated EEPROM between runs.
         #[arg(long)]
         eeprom: Option<std::path::PathBuf>,
@@ -94,6 +102,8 @@ pub enum Command {
 /// Run a parsed command line; returns the process exit code.
 pub fn run(cli: Cli) -> i32 {
     match cli.command {
+        Some(Command::Sim { kind, pty, eeprom }) => run_sim(&cli.connection, &kind, pty, eeprom),
+        Some(Command::Ports) => run_ports(),
         Some(other) => {
             eprintln!("axterm: {other:?} is not built yet");
             EXIT_USAGE
@@ -102,5 +112,165 @@ pub fn run(cli: Cli) -> i32 {
             eprintln!("axterm: the console is not built yet");
             EXIT_USAGE
         }
+    }
+}
+
+fn run_sim(
+    connection: &ConnectionArgs,
+    kind: &str,
+    pty: bool,
+    eeprom_file: Option<std::path::PathBuf>,
+) -> i32 {
+    let Some(sim_kind) = sim::find_kind(kind) else {
+        eprintln!(
+            "axterm sim: unknown simulator '{kind}' (known: {})",
+            sim::kind_names()
+        );
+        return EXIT_USAGE;
+    };
+    let endpoint = match (pty, &connection.tcp) {
+        (true, None) => sim_serve::Endpoint::Pty,
+        (false, Some(addr)) => match sim_serve::parse_listen_address(addr) {
+            Ok(addr) => sim_serve::Endpoint::Tcp(addr),
+            Err(message) => {
+                eprintln!("axterm sim: {message}");
+                return EXIT_USAGE;
+            }
+        },
+        _ => {
+            eprintln!("axterm sim: give exactly one of --pty or --tcp ADDR");
+            return EXIT_USAGE;
+        }
+    };
+    let options = SimOptions {
+        address: connection.address,
+        eeprom_file,
+    };
+    let sim = (sim_kind.build)(&options);
+    let stop = Arc::new(AtomicBool::new(false));
+    let server_stop = Arc::clone(&stop);
+    let (done_tx, done_rx) = tokio::sync::oneshot::channel();
+    let server = std::thread::spawn(move || {
+        let result = sim_serve::serve(sim, &endpoint, server_stop, &mut |name| {
+            let mut out = std::io::stdout().lock();
+            // The first line is the endpoint, for scripts that start us.
+            let _ = writeln!(out, "{name}");
+            let _ = out.flush();
+        });
+        let _ = done_tx.send(());
+        result
+    });
+    let runtime = match tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+    {
+        Ok(runtime) => runtime,
+        Err(e) => {
+            eprintln!("axterm sim: cannot start: {e}");
+            return EXIT_DEVICE;
+        }
+    };
+    runtime.block_on(wait_for_stop_signal(done_rx));
+    stop.store(true, Ordering::Relaxed);
+    match server.join() {
+        Ok(Ok(())) => EXIT_OK,
+        Ok(Err(e)) => {
+            eprintln!("axterm sim: {e}");
+            EXIT_DEVICE
+        }
+        Err(_) => {
+            eprintln!("axterm sim: the simulator stopped unexpectedly");
+            EXIT_DEVICE
+        }
+    }
+}
+
+/// Wait for SIGINT, SIGTERM, or the server ending on its own.
+async fn wait_for_stop_signal(server_done: tokio::sync::oneshot::Receiver<()>) {
+    #[cfg(unix)]
+    {
+        use tokio::signal::unix::{SignalKind, signal};
+        if let Ok(mut term) = signal(SignalKind::terminate()) {
+            tokio::select! {
+                _ = tokio::signal::ctrl_c() => {}
+                _ = term.recv() => {}
+                _ = server_done => {}
+            }
+            return;
+        }
+    }
+    tokio::select! {
+        _ = tokio::signal::ctrl_c() => {}
+        _ = server_done => {}
+    }
+}
+
+/// `axterm ports`: one line per serial port found, with what the system
+/// knows of the adapter.
+fn run_ports() -> i32 {
+    match serialport::available_ports() {
+        Ok(ports) if ports.is_empty() => {
+            eprintln!("axterm ports: no serial ports found");
+            EXIT_OK
+        }
+        Ok(ports) => {
+            for port in ports {
+                println!("{}", describe_port(&port));
+            }
+            EXIT_OK
+        }
+        Err(e) => {
+            eprintln!("axterm ports: cannot list serial ports: {e}");
+            EXIT_DEVICE
+        }
+    }
+}
+
+fn describe_port(port: &serialport::SerialPortInfo) -> String {
+    match &port.port_type {
+        serialport::SerialPortType::UsbPort(usb) => {
+            let mut text = format!("{}  usb {:04x}:{:04x}", port.port_name, usb.vid, usb.pid);
+            for part in [&usb.manufacturer, &usb.product, &usb.serial_number]
+                .into_iter()
+                .flatten()
+            {
+                text.push_str("  ");
+                text.push_str(part);
+            }
+            text
+        }
+        serialport::SerialPortType::PciPort => format!("{}  pci", port.port_name),
+        serialport::SerialPortType::BluetoothPort => format!("{}  bluetooth", port.port_name),
+        serialport::SerialPortType::Unknown => port.port_name.clone(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn usb_adapters_are_described_by_ids_and_names() {
+        let port = serialport::SerialPortInfo {
+            port_name: "ttyACM0".into(),
+            port_type: serialport::SerialPortType::UsbPort(serialport::UsbPortInfo {
+                vid: 0x2a3c,
+                pid: 0x0100,
+                serial_number: None,
+                manufacturer: Some("Trinamic".into()),
+                product: Some("StepRocker".into()),
+            }),
+        };
+        assert_eq!(
+            describe_port(&port),
+            "ttyACM0  usb 2a3c:0100  Trinamic  StepRocker"
+        );
+    }
+
+    #[test]
+    fn sim_refuses_unknown_kinds_and_missing_endpoints() {
+        let none = ConnectionArgs::default();
+        assert_eq!(run_sim(&none, "nosuch", true, None), EXIT_USAGE);
+        assert_eq!(run_sim(&none, "tmcm1110", false, None), EXIT_USAGE);
     }
 }

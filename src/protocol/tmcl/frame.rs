@@ -294,4 +294,59 @@ mod tests {
         assert!(!Status(7).is_success());
         assert!(Status(101).is_success());
     }
+
+    mod properties {
+        use super::super::*;
+        use proptest::prelude::*;
+
+        proptest! {
+            #[test]
+            fn requests_round_trip(address: u8, command: u8, kind: u8, motor_bank: u8, value: i32) {
+                let req = Request { address, command, kind, motor_bank, value };
+                prop_assert_eq!(Request::from_bytes(&req.to_bytes()), Ok(req));
+            }
+
+            #[test]
+            fn replies_round_trip(host: u8, module: u8, status: u8, command: u8, value: i32) {
+                let reply = Reply {
+                    host_address: host,
+                    module_address: module,
+                    status: Status(status),
+                    command,
+                    value,
+                };
+                prop_assert_eq!(Reply::from_bytes(&reply.to_bytes()), Ok(reply));
+            }
+
+            #[test]
+            fn any_single_corrupted_byte_is_caught(
+                value: i32,
+                index in 0usize..FRAME_LEN,
+                flip in 1u8..=255,
+            ) {
+                let mut bytes = Request { address: 1, command: 5, kind: 4, motor_bank: 0, value }.to_bytes();
+                bytes[index] ^= flip;
+                prop_assert!(Request::from_bytes(&bytes).is_err());
+            }
+
+            #[test]
+            fn assembler_never_panics_and_keeps_every_byte(
+                chunks in proptest::collection::vec(proptest::collection::vec(any::<u8>(), 0..40), 0..20),
+            ) {
+                let mut asm = FrameAssembler::new();
+                let mut fed = 0;
+                let mut framed = 0;
+                for chunk in &chunks {
+                    fed += chunk.len();
+                    for frame in asm.push(chunk) {
+                        framed += FRAME_LEN;
+                        let _ = Reply::from_bytes(&frame);
+                        let _ = Request::from_bytes(&frame);
+                    }
+                }
+                prop_assert_eq!(fed, framed + asm.partial_len());
+                prop_assert!(asm.partial_len() < FRAME_LEN);
+            }
+        }
+    }
 }

@@ -148,6 +148,42 @@ pub struct ParamInfo {
     pub section: &'static str,
 }
 
+impl ParamInfo {
+    /// The value to put into a frame's 32-bit value field for `value`, or
+    /// `None` when the parameter does not accept it. Values above
+    /// `i32::MAX` (bank-3 timer periods, §5.4) become their two's-complement
+    /// bit pattern.
+    pub fn wire_value(&self, value: i64) -> Option<i32> {
+        if !self.range.contains(value) {
+            return None;
+        }
+        i32::try_from(value)
+            .ok()
+            .or_else(|| u32::try_from(value).ok().map(|bits| bits as i32))
+    }
+
+    /// Whether a raw frame value (as a device or simulator receives it) is
+    /// inside this parameter's range.
+    pub fn accepts_wire(&self, raw: i32) -> bool {
+        self.range.contains(self.value_from_wire(raw))
+    }
+
+    /// The value a user should see for a raw reply value: unsigned
+    /// parameters wider than `i32` (bank-3 timer periods, §5.4) are read
+    /// back as unsigned, every other parameter as signed.
+    pub fn value_from_wire(&self, raw: i32) -> i64 {
+        let unsigned_wide = match self.range {
+            ValueRange::Span { max, .. } => max > i64::from(i32::MAX),
+            ValueRange::OneOf(_) => false,
+        };
+        if unsigned_wide {
+            i64::from(raw as u32)
+        } else {
+            i64::from(raw)
+        }
+    }
+}
+
 /// A global parameter bank (§5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Bank {
@@ -178,17 +214,1077 @@ impl Bank {
     }
 }
 
+/// Values of 32-bit signed parameters (positions, user variables).
+const S32: ValueRange = ValueRange::span(i32::MIN as i64, i32::MAX as i64);
+
+/// A 0/1 flag.
+const FLAG: ValueRange = ValueRange::span(0, 1);
+
+const fn span(min: i64, max: i64) -> ValueRange {
+    ValueRange::span(min, max)
+}
+
+/// AP193 (§4 Table 16, §7.1): modes 1..8; +64 searches the right switch
+/// instead of the left (modes 1..4 only, §7.1.1–7.1.4), +128 inverts the
+/// home switch (modes 5..8 only, §7.1.5–7.1.8).
+const REFERENCE_SEARCH_MODES: &[i64] =
+    &[1, 2, 3, 4, 5, 6, 7, 8, 65, 66, 67, 68, 133, 134, 135, 136];
+
+/// Bank-3 timer periods (§5.4 Table 20) are unsigned 32-bit milliseconds
+/// (0..4294967295), but the TMCL value field is a signed 32-bit number:
+/// periods above 2147483647 travel as their two's-complement bit pattern.
+/// The range is what a user types and sees; [`ParamInfo::wire_value`],
+/// [`ParamInfo::value_from_wire`] and [`ParamInfo::accepts_wire`] translate
+/// to and from the frame's value field.
+const TIMER_PERIOD: ValueRange = ValueRange::span(0, u32::MAX as i64);
+
 /// Axis parameters of the TMCM-1110 (§4 Table 16).
-pub const AXIS_PARAMS: &[ParamInfo] = &[];
+///
+/// Where Table 16 and other parts of the manual disagree, Table 16 wins:
+/// AP4 and AP5 are RWE here although §2.3 Table 1 prints RW, and AP5 starts
+/// at 1 although §6.1.2 says 0..2047. Rows whose cells were lost or mangled
+/// in the PDF conversion carry a comment saying how they were read.
+pub const AXIS_PARAMS: &[ParamInfo] = &[
+    ParamInfo {
+        numbers: 0..=0,
+        name: "Target position",
+        range: S32,
+        unit: Unit::Microsteps,
+        access: Access::RW,
+        default: None,
+        description: "The desired target position in position mode (MVP writes it)",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 1..=1,
+        name: "Actual position",
+        range: S32,
+        unit: Unit::Microsteps,
+        access: Access::RW,
+        default: None,
+        description: "The actual position; stop the motor before overwriting it, normally only to set a reference",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 2..=2,
+        name: "Target speed",
+        range: span(-2047, 2047),
+        unit: Unit::VelocityInternal,
+        access: Access::RW,
+        default: None,
+        description: "The desired speed in velocity mode; not valid in position mode",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 3..=3,
+        name: "Actual speed",
+        range: span(-2047, 2047),
+        unit: Unit::VelocityInternal,
+        access: Access::R,
+        default: None,
+        description: "The actual speed of the motor",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 4..=4,
+        name: "Maximum positioning speed",
+        range: span(1, 2047),
+        unit: Unit::VelocityInternal,
+        access: Access::RWE,
+        default: None,
+        description: "The maximum speed used for positioning ramps",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 5..=5,
+        name: "Maximum acceleration",
+        range: span(1, 2047),
+        unit: Unit::AccelerationInternal,
+        access: Access::RWE,
+        default: None,
+        description: "Maximum acceleration on ramp-up and deceleration on ramp-down; also used in velocity mode",
+        section: "§4 Table 16",
+    },
+    // §4 Table 16 says RW (not storable), yet the STAP/RSAP examples of §3.6.7/3.6.8
+    // store and restore AP6. Table 16 is followed here.
+    ParamInfo {
+        numbers: 6..=6,
+        name: "Maximum current",
+        range: span(0, 255),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Motor current while running; 255 = 100 % of the module maximum, effective in 32 steps of 8",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 7..=7,
+        name: "Standby current",
+        range: span(0, 255),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Motor current at standstill (after the AP214 delay); keep as low as possible",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 8..=8,
+        name: "Position reached flag",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::R,
+        default: None,
+        description: "1 when actual position and target position are equal",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 9..=9,
+        name: "Home switch state",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::R,
+        default: None,
+        description: "The logical state of the home switch input",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 10..=10,
+        name: "Right limit switch state",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::R,
+        default: None,
+        description: "The logical state of the right limit switch input",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 11..=11,
+        name: "Left limit switch state",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::R,
+        default: None,
+        description: "The logical state of the left limit switch input",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 12..=12,
+        name: "Right limit switch disable",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::RWE,
+        default: None,
+        description: "0 = switch active (stops the motor), 1 = switch ignored",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 13..=13,
+        name: "Left limit switch disable",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::RWE,
+        default: None,
+        description: "0 = switch active (stops the motor), 1 = switch ignored",
+        section: "§4 Table 16",
+    },
+    // §4 Table 16: description mangled ("1). Defaul der to rea ... set lower");
+    // the fragments hint at a default of 1, not stated clearly enough to enshrine.
+    ParamInfo {
+        numbers: 130..=130,
+        name: "Minimum speed",
+        range: span(1, 2047),
+        unit: Unit::VelocityInternal,
+        access: Access::RWE,
+        default: None,
+        description: "Minimum ramp speed; higher reaches the target faster (description mangled in the manual)",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 135..=135,
+        name: "Actual acceleration",
+        range: span(-2047, 2047),
+        unit: Unit::AccelerationInternal,
+        access: Access::R,
+        default: None,
+        description: "The current acceleration",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 138..=138,
+        name: "Ramp mode",
+        range: span(0, 2),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "0 position mode (trapezoid ramps), 1 soft mode, 2 velocity mode; set by ROR, ROL, MST, MVP",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 140..=140,
+        name: "Microstep resolution",
+        range: span(0, 8),
+        unit: Unit::None,
+        access: Access::RW,
+        default: Some(8),
+        description: "2^n microsteps per full step: 0 full step .. 8 = 256 microsteps; use at least 3 (8 microsteps)",
+        section: "§4 Table 16; default §6.1.4",
+    },
+    ParamInfo {
+        numbers: 149..=149,
+        name: "Soft stop flag",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::RWE,
+        default: None,
+        description: "On a stop switch: 0 hard stop, 1 soft stop with the deceleration ramp",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 153..=153,
+        name: "Ramp divisor",
+        range: span(0, 13),
+        unit: Unit::None,
+        access: Access::RWE,
+        default: None,
+        description: "Acceleration scaling exponent; change in steps of one and only at standstill",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 154..=154,
+        name: "Pulse divisor",
+        range: span(0, 13),
+        unit: Unit::None,
+        access: Access::RWE,
+        default: None,
+        description: "Velocity scaling exponent; change in steps of one and only at standstill",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 160..=160,
+        name: "Step interpolation enable",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "With 16 microsteps only: run each microstep as 16 steps of 1/256",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 161..=161,
+        name: "Double step enable",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Execute each microstep twice; meant for the step/direction input",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 162..=162,
+        name: "Chopper blank time",
+        range: span(0, 3),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Comparator blank time; normally leave at the default",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 163..=163,
+        name: "Constant TOff mode",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Chopper mode: 0 spreadCycle, 1 classic constant off time",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 164..=164,
+        name: "Disable fast decay comparator",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Classic constant off time: 1 = don't end fast decay by the current comparator",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 165..=165,
+        name: "Chopper hysteresis end / fast decay time",
+        range: span(0, 15),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "spreadCycle: hysteresis end; classic constant off time: fast decay time",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 166..=166,
+        name: "Chopper hysteresis start / sine wave offset",
+        range: span(0, 8),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "spreadCycle: hysteresis start (offset to the end); classic constant off time: sine wave offset",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 167..=167,
+        name: "Chopper off time (TOff)",
+        range: span(0, 15),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "N_CLK = 12 + 32 * TOff (minimum 64 clocks); 0 switches all driver transistors off (free-wheel)",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 168..=168,
+        name: "SmartEnergy current minimum (SEIMIN)",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "CoolStep lower current limit: 0 = 1/2 of CS, 1 = 1/4 of CS",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 169..=169,
+        name: "SmartEnergy current down step",
+        range: span(0, 3),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "StallGuard2 readings above the upper threshold per current decrement: 32, 8, 2, 1",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 170..=170,
+        name: "SmartEnergy hysteresis",
+        range: span(0, 15),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Distance between the lower and upper StallGuard2 thresholds",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 171..=171,
+        name: "SmartEnergy current up step",
+        range: span(0, 3),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Current increment per StallGuard2 reading below the lower threshold: 1, 2, 4, 8",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 172..=172,
+        name: "SmartEnergy hysteresis start",
+        range: span(0, 15),
+        unit: Unit::None,
+        access: Access::RW,
+        default: Some(0),
+        description: "Lower StallGuard2 threshold; 0 turns CoolStep off",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 173..=173,
+        name: "StallGuard2 filter enable",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "0 standard mode, 1 filtered (one measurement per four full steps)",
+        section: "§4 Table 16",
+    },
+    // §4 Table 16: "Zero is the starting value" reads as tuning advice, not a stated default.
+    ParamInfo {
+        numbers: 174..=174,
+        name: "StallGuard2 threshold",
+        range: span(-64, 63),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Signed StallGuard2 threshold; lower is more sensitive, 0 is the starting value",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 175..=175,
+        name: "Slope control high side",
+        range: span(0, 3),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Driver output slope: 0 lowest .. 3 fastest",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 176..=176,
+        name: "Slope control low side",
+        range: span(0, 3),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Driver output slope: 0 lowest .. 3 fastest",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 177..=177,
+        name: "Short protection disable",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "0 short-to-GND protection on, 1 off",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 178..=178,
+        name: "Short detection timer",
+        range: span(0, 3),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Short circuit detection time: 0 3.2 us, 1 1.6 us, 2 1.2 us, 3 0.8 us",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 179..=179,
+        name: "Vsense",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::R,
+        default: None,
+        description: "Full-scale sense resistor voltage: 0 = 1/18 VDD, 1 = 1/36 VDD; do not change",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 180..=180,
+        name: "SmartEnergy actual current",
+        range: span(0, 31),
+        unit: Unit::None,
+        access: Access::R,
+        default: None,
+        description: "Current scale chosen by CoolStep: (n + 1)/32 of CS",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 181..=181,
+        name: "Stop on stall",
+        range: span(0, 2047),
+        unit: Unit::VelocityInternal,
+        access: Access::RW,
+        default: None,
+        description: "Above this speed the motor stops when the StallGuard2 load value reaches 0",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 182..=182,
+        name: "SmartEnergy threshold speed",
+        range: span(0, 2047),
+        unit: Unit::VelocityInternal,
+        access: Access::RW,
+        default: None,
+        description: "CoolStep is enabled above this speed",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 183..=183,
+        name: "SmartEnergy slow run current",
+        range: span(0, 255),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Motor current below the AP182 threshold speed; 255 = 100 %",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 184..=184,
+        name: "Random TOff mode",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Chopper off time: 0 fixed, 1 random",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 193..=193,
+        name: "Reference search mode",
+        range: ValueRange::OneOf(REFERENCE_SEARCH_MODES),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Modes 1..8; +64 (modes 1..4) searches the right switch instead, +128 (modes 5..8) inverts the home switch",
+        section: "§4 Table 16; §7.1",
+    },
+    ParamInfo {
+        numbers: 194..=194,
+        name: "Reference search speed",
+        range: span(0, 2047),
+        unit: Unit::VelocityInternal,
+        access: Access::RW,
+        default: None,
+        description: "Speed for roughly searching the reference switch",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 195..=195,
+        name: "Reference switch speed",
+        range: span(0, 2047),
+        unit: Unit::VelocityInternal,
+        access: Access::RW,
+        default: None,
+        description: "Speed for locating the switching point; should be slower than AP194",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 196..=196,
+        name: "End switch distance",
+        range: S32,
+        unit: Unit::Microsteps,
+        access: Access::R,
+        default: None,
+        description: "Distance between the end switches after RFS in mode 2 or 3",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 197..=197,
+        name: "Last reference position",
+        range: S32,
+        unit: Unit::Microsteps,
+        access: Access::R,
+        default: None,
+        description: "Position just before reference search set the counter to zero",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 200..=200,
+        name: "Boost current",
+        range: span(0, 255),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Current during acceleration and deceleration; 0 = use AP6",
+        section: "§4 Table 16",
+    },
+    // §4 Table 16: range and unit cells lost. 0..65535 assumed (16-bit like AP214);
+    // the unit is not stated (10 ms like AP214 is likely, unverified).
+    ParamInfo {
+        numbers: 204..=204,
+        name: "Freewheeling",
+        range: span(0, 65535),
+        unit: Unit::None,
+        access: Access::RWE,
+        default: Some(0),
+        description: "Delay after the velocity reaches zero before motor power is cut; 0 = never (range and unit lost in the manual)",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 206..=206,
+        name: "Actual load value",
+        range: span(0, 1023),
+        unit: Unit::None,
+        access: Access::R,
+        default: None,
+        description: "StallGuard2 load reading",
+        section: "§4 Table 16",
+    },
+    // §4 Table 16: range cell lost; the value combines flags 1 and 2.
+    ParamInfo {
+        numbers: 207..=207,
+        name: "Extended error flags",
+        range: span(0, 3),
+        unit: Unit::None,
+        access: Access::R,
+        default: None,
+        description: "Bit 0 StallGuard error, bit 1 deviation error; cleared when read or by a motion command",
+        section: "§4 Table 16",
+    },
+    // §4 Table 16: range cell lost; the value combines flag bits 0..7.
+    ParamInfo {
+        numbers: 208..=208,
+        name: "TMC262 error flags",
+        range: span(0, 255),
+        unit: Unit::None,
+        access: Access::R,
+        default: None,
+        description: "Bits: 0 stallGuard, 1 overtemp, 2 pre-warning, 3/4 short A/B, 5/6 open load A/B, 7 standstill",
+        section: "§4 Table 16",
+    },
+    // §4 Table 16 gives the unit as [µsteps] (the prescaler of AP210 scales encoder counts).
+    ParamInfo {
+        numbers: 209..=209,
+        name: "Encoder position",
+        range: S32,
+        unit: Unit::Microsteps,
+        access: Access::RW,
+        default: None,
+        description: "Encoder counter value",
+        section: "§4 Table 16",
+    },
+    // §4 Table 16 says "See section 6.3"; §6.3 Table 22 lists values up to 32768 and
+    // Table 23 adds flag bits 2..4, so 0..65535 covers every documented setting.
+    ParamInfo {
+        numbers: 210..=210,
+        name: "Encoder prescaler",
+        range: span(0, 65535),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Prescaler p/512 with special functions in bits 2..4 (§6.3 Tables 22, 23)",
+        section: "§4 Table 16; §6.3",
+    },
+    // §4 Table 16: range cell mangled; only "2147483647 [encoder steps]" survived,
+    // the text says 0 switches the function off.
+    ParamInfo {
+        numbers: 212..=212,
+        name: "Maximum encoder deviation",
+        range: span(0, 2147483647),
+        unit: Unit::EncoderSteps,
+        access: Access::RW,
+        default: None,
+        description: "Stop the motor when AP1 and AP209 differ by more than this; 0 = off",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 213..=213,
+        name: "Group index",
+        range: span(0, 255),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Motors with the same index share ROL, ROR, MST, MVP and RFS commands",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 214..=214,
+        name: "Power down delay",
+        range: span(1, 65535),
+        unit: Unit::TenMilliseconds,
+        access: Access::RWE,
+        default: Some(200),
+        description: "Standstill time before switching to standby current (200 = 2 s)",
+        section: "§4 Table 16",
+    },
+    ParamInfo {
+        numbers: 254..=254,
+        name: "Step/direction mode",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::RWE,
+        default: None,
+        description: "0 normal; 1 step/direction input with automatic standstill current reduction",
+        section: "§4 Table 16",
+    },
+];
 
 /// Bank 0, module configuration (§5.1 Table 18).
-pub const BANK0_PARAMS: &[ParamInfo] = &[];
+///
+/// §5.1: parameters 64..127 are written through to EEPROM by SGP (RWA).
+/// Rows read from mangled cells carry a comment.
+pub const BANK0_PARAMS: &[ParamInfo] = &[
+    // §5.1 Table 18: rows 0 and 1 merged ("0 9600 14400 Default"); the natural
+    // reading is 0 = 9600 baud, the default.
+    ParamInfo {
+        numbers: 65..=65,
+        name: "RS485 baud rate",
+        range: span(0, 8),
+        unit: Unit::None,
+        access: Access::RWA,
+        default: Some(0),
+        description: "0 9600, 1 14400, 2 19200, 3 28800, 4 38400, 5 57600, 6 76800, 7 115200, 8 230400 baud",
+        section: "§5.1 Table 18",
+    },
+    ParamInfo {
+        numbers: 66..=66,
+        name: "Serial address",
+        range: span(1, 255),
+        unit: Unit::None,
+        access: Access::RWA,
+        default: None,
+        description: "Module (target) address for RS485",
+        section: "§5.1 Table 18",
+    },
+    ParamInfo {
+        numbers: 68..=68,
+        name: "Serial heartbeat",
+        range: span(0, 65535),
+        unit: Unit::None,
+        access: Access::RWA,
+        default: Some(0),
+        description: "RS485/USB: stop the motor if no command arrives within this time; 0 = off (unit not stated)",
+        section: "§5.1 Table 18",
+    },
+    ParamInfo {
+        numbers: 69..=69,
+        name: "CAN bit rate",
+        range: span(2, 8),
+        unit: Unit::None,
+        access: Access::RWA,
+        default: Some(8),
+        description: "2 20k, 3 50k, 4 100k, 5 125k, 6 250k, 7 500k, 8 1000 kbit/s",
+        section: "§5.1 Table 18",
+    },
+    ParamInfo {
+        numbers: 70..=70,
+        name: "CAN reply ID",
+        range: span(0, 2047),
+        unit: Unit::None,
+        access: Access::RWA,
+        default: Some(2),
+        description: "CAN identifier of replies from the module",
+        section: "§5.1 Table 18",
+    },
+    ParamInfo {
+        numbers: 71..=71,
+        name: "CAN ID",
+        range: span(0, 2047),
+        unit: Unit::None,
+        access: Access::RWA,
+        default: Some(1),
+        description: "The module (target) address for CAN",
+        section: "§5.1 Table 18",
+    },
+    ParamInfo {
+        numbers: 75..=75,
+        name: "Telegram pause time",
+        range: span(0, 255),
+        unit: Unit::None,
+        access: Access::RWA,
+        default: None,
+        description: "Pause before an RS485 reply (15 or more for RTS-switched adapters); no effect on CAN",
+        section: "§5.1 Table 18",
+    },
+    ParamInfo {
+        numbers: 76..=76,
+        name: "Serial host address",
+        range: span(0, 255),
+        unit: Unit::None,
+        access: Access::RWA,
+        default: None,
+        description: "Host address sent in RS485 replies",
+        section: "§5.1 Table 18",
+    },
+    ParamInfo {
+        numbers: 77..=77,
+        name: "Auto start mode",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::RWA,
+        default: Some(0),
+        description: "1 = start the stored TMCL program after power-up",
+        section: "§5.1 Table 18",
+    },
+    // §5.1 Table 18: the bit table is mangled; bits and the default 7 from §6.2 Table 21.
+    ParamInfo {
+        numbers: 78..=78,
+        name: "I/O mode",
+        range: span(0, 63),
+        unit: Unit::None,
+        access: Access::RWA,
+        default: Some(7),
+        description: "Bit set = output: 1 PWMU0, 2 PWMU1, 4 PWMU2, 8 PWMD0, 16 PWMD1, 32 PWMD2",
+        section: "§5.1 Table 18; §6.2 Table 21",
+    },
+    // §5.1 Table 18: text mangled ("ormal po verse po"): 0 normal, 1 reverse polarity.
+    ParamInfo {
+        numbers: 79..=79,
+        name: "End switch polarity",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::RWA,
+        default: None,
+        description: "0 normal polarity, 1 reverse polarity",
+        section: "§5.1 Table 18",
+    },
+    ParamInfo {
+        numbers: 81..=81,
+        name: "TMCL code protection",
+        range: span(0, 3),
+        unit: Unit::None,
+        access: Access::RWA,
+        default: None,
+        description: "0 none, 1 no disassembly, 2 no overwrite, 3 both; 1/3 -> 0/2 erases the program",
+        section: "§5.1 Table 18",
+    },
+    ParamInfo {
+        numbers: 82..=82,
+        name: "CAN heartbeat",
+        range: span(0, 65535),
+        unit: Unit::None,
+        access: Access::RWA,
+        default: Some(0),
+        description: "CAN: stop the motor if no command arrives within this time; 0 = off (unit not stated)",
+        section: "§5.1 Table 18",
+    },
+    ParamInfo {
+        numbers: 83..=83,
+        name: "CAN secondary address",
+        range: span(0, 2047),
+        unit: Unit::None,
+        access: Access::RWA,
+        default: None,
+        description: "Second CAN ID of the module; 0 = off",
+        section: "§5.1 Table 18",
+    },
+    // §5.1 Table 18: text mangled; values as read, default RAM only from §3.6.24.
+    ParamInfo {
+        numbers: 84..=84,
+        name: "Coordinate storage",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::RWA,
+        default: Some(0),
+        description: "0 coordinates in RAM only (copy explicitly), 1 always also stored in EEPROM",
+        section: "§5.1 Table 18; default §3.6.24",
+    },
+    ParamInfo {
+        numbers: 85..=85,
+        name: "Do not restore user variables",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::RWA,
+        default: Some(0),
+        description: "0 restore bank-2 variables from EEPROM at startup, 1 don't",
+        section: "§5.1 Table 18",
+    },
+    ParamInfo {
+        numbers: 86..=86,
+        name: "Step pulse length",
+        range: span(0, 15),
+        unit: Unit::None,
+        access: Access::RWA,
+        default: Some(0),
+        description: "Step/direction output pulse length; 0 = 1 us",
+        section: "§5.1 Table 18",
+    },
+    ParamInfo {
+        numbers: 87..=87,
+        name: "Serial secondary address",
+        range: span(0, 255),
+        unit: Unit::None,
+        access: Access::RWA,
+        default: None,
+        description: "Second RS485 module address; 0 = off",
+        section: "§5.1 Table 18",
+    },
+    ParamInfo {
+        numbers: 90..=90,
+        name: "Reverse shaft",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::RWA,
+        default: Some(0),
+        description: "1 reverses the motor direction (not in step/direction mode)",
+        section: "§5.1 Table 18",
+    },
+    ParamInfo {
+        numbers: 128..=128,
+        name: "TMCL application status",
+        range: span(0, 3),
+        unit: Unit::None,
+        access: Access::R,
+        default: None,
+        description: "0 stop, 1 run, 2 step, 3 reset",
+        section: "§5.1 Table 18",
+    },
+    ParamInfo {
+        numbers: 129..=129,
+        name: "Download mode",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::R,
+        default: None,
+        description: "0 normal mode, 1 download mode",
+        section: "§5.1 Table 18",
+    },
+    // §5.1 Table 18: no range printed; an address is never negative.
+    ParamInfo {
+        numbers: 130..=130,
+        name: "TMCL program counter",
+        range: span(0, 2147483647),
+        unit: Unit::None,
+        access: Access::R,
+        default: None,
+        description: "Address of the TMCL command being executed (range not printed)",
+        section: "§5.1 Table 18",
+    },
+    ParamInfo {
+        numbers: 132..=132,
+        name: "TMCL tick timer",
+        range: span(0, 2147483647),
+        unit: Unit::Milliseconds,
+        access: Access::RW,
+        default: None,
+        description: "Counter incremented every millisecond; can be set to any start value",
+        section: "§5.1 Table 18",
+    },
+    ParamInfo {
+        numbers: 133..=133,
+        name: "Random number",
+        range: span(0, 2147483647),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Read: a random number; write: the seed",
+        section: "§5.1 Table 18",
+    },
+    ParamInfo {
+        numbers: 255..=255,
+        name: "Suppress reply",
+        range: FLAG,
+        unit: Unit::None,
+        access: Access::RW,
+        default: Some(0),
+        description: "1 suppresses direct-mode replies except GAP, GGP and GIO; not storable, 0 at startup",
+        section: "§5.1 Table 18",
+    },
+];
 
 /// Bank 2, user variables (§5.3 Table 19).
-pub const BANK2_PARAMS: &[ParamInfo] = &[];
+///
+/// Table 19 marks all 256 variables RWE, but §5.3 says only "the first 56
+/// variables can also be stored permanently in the EEPROM": the text is the
+/// more specific statement, so 56..255 are RW (RAM only).
+pub const BANK2_PARAMS: &[ParamInfo] = &[
+    ParamInfo {
+        numbers: 0..=55,
+        name: "User variables #0..#55",
+        range: S32,
+        unit: Unit::None,
+        access: Access::RWE,
+        default: None,
+        description: "TMCL user variables, storable in EEPROM and restored at startup unless GP85 = 1",
+        section: "§5.3 Table 19",
+    },
+    ParamInfo {
+        numbers: 56..=255,
+        name: "User variables #56..#255",
+        range: S32,
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "TMCL user variables in RAM only (§5.3: only the first 56 can be stored)",
+        section: "§5.3 Table 19",
+    },
+];
 
 /// Bank 3, interrupt configuration (§5.4 Table 20).
-pub const BANK3_PARAMS: &[ParamInfo] = &[];
+pub const BANK3_PARAMS: &[ParamInfo] = &[
+    ParamInfo {
+        numbers: 0..=0,
+        name: "Timer 0 period",
+        range: TIMER_PERIOD,
+        unit: Unit::Milliseconds,
+        access: Access::RW,
+        default: None,
+        description: "Time between two timer 0 interrupts; 0..4294967295",
+        section: "§5.4 Table 20",
+    },
+    ParamInfo {
+        numbers: 1..=1,
+        name: "Timer 1 period",
+        range: TIMER_PERIOD,
+        unit: Unit::Milliseconds,
+        access: Access::RW,
+        default: None,
+        description: "Time between two timer 1 interrupts; 0..4294967295",
+        section: "§5.4 Table 20",
+    },
+    ParamInfo {
+        numbers: 2..=2,
+        name: "Timer 2 period",
+        range: TIMER_PERIOD,
+        unit: Unit::Milliseconds,
+        access: Access::RW,
+        default: None,
+        description: "Time between two timer 2 interrupts; 0..4294967295",
+        section: "§5.4 Table 20",
+    },
+    ParamInfo {
+        numbers: 27..=27,
+        name: "Stop left 0 trigger transition",
+        range: span(0, 3),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Left stop switch interrupt: 0 off, 1 low-high, 2 high-low, 3 both",
+        section: "§5.4 Table 20",
+    },
+    ParamInfo {
+        numbers: 28..=28,
+        name: "Stop right 0 trigger transition",
+        range: span(0, 3),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Right stop switch interrupt: 0 off, 1 low-high, 2 high-low, 3 both",
+        section: "§5.4 Table 20",
+    },
+    ParamInfo {
+        numbers: 39..=39,
+        name: "Input 0 trigger transition",
+        range: span(0, 3),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Input 0 interrupt: 0 off, 1 low-high, 2 high-low, 3 both",
+        section: "§5.4 Table 20",
+    },
+    ParamInfo {
+        numbers: 40..=40,
+        name: "Input 1 trigger transition",
+        range: span(0, 3),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Input 1 interrupt: 0 off, 1 low-high, 2 high-low, 3 both",
+        section: "§5.4 Table 20",
+    },
+    ParamInfo {
+        numbers: 41..=41,
+        name: "Input 2 trigger transition",
+        range: span(0, 3),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Input 2 interrupt: 0 off, 1 low-high, 2 high-low, 3 both",
+        section: "§5.4 Table 20",
+    },
+    ParamInfo {
+        numbers: 42..=42,
+        name: "Input 3 trigger transition",
+        range: span(0, 3),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Input 3 interrupt: 0 off, 1 low-high, 2 high-low, 3 both",
+        section: "§5.4 Table 20",
+    },
+    ParamInfo {
+        numbers: 43..=43,
+        name: "Input 4 trigger transition",
+        range: span(0, 3),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Input 4 interrupt: 0 off, 1 low-high, 2 high-low, 3 both",
+        section: "§5.4 Table 20",
+    },
+    ParamInfo {
+        numbers: 44..=44,
+        name: "Input 5 trigger transition",
+        range: span(0, 3),
+        unit: Unit::None,
+        access: Access::RW,
+        default: None,
+        description: "Input 5 interrupt: 0 off, 1 low-high, 2 high-low, 3 both",
+        section: "§5.4 Table 20",
+    },
+];
 
 /// The row describing axis parameter `number`, if the module has it.
 pub fn axis_param(number: u8) -> Option<&'static ParamInfo> {
@@ -209,4 +1305,260 @@ pub fn axis_param_by_name(name: &str) -> Option<&'static ParamInfo> {
     AXIS_PARAMS
         .iter()
         .find(|p| p.name.eq_ignore_ascii_case(name))
+}
+
+/// Look a global parameter of `bank` up by name, case-insensitively.
+pub fn global_param_by_name(bank: u8, name: &str) -> Option<&'static ParamInfo> {
+    Bank::from_number(bank)?
+        .table()
+        .iter()
+        .find(|p| p.name.eq_ignore_ascii_case(name))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn all_tables() -> [(&'static str, &'static [ParamInfo]); 4] {
+        [
+            ("axis", AXIS_PARAMS),
+            ("bank 0", BANK0_PARAMS),
+            ("bank 2", BANK2_PARAMS),
+            ("bank 3", BANK3_PARAMS),
+        ]
+    }
+
+    #[test]
+    fn numbers_are_sorted_and_unique_in_every_table() {
+        for (label, table) in all_tables() {
+            assert!(!table.is_empty(), "{label} table is empty");
+            for pair in table.windows(2) {
+                let (a, b) = (&pair[0], &pair[1]);
+                assert!(
+                    a.numbers.start() <= a.numbers.end(),
+                    "{label}: empty number range in {}",
+                    a.name
+                );
+                assert!(
+                    a.numbers.end() < b.numbers.start(),
+                    "{label}: {} and {} overlap or are out of order",
+                    a.name,
+                    b.name
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn names_are_unique_per_table() {
+        for (label, table) in all_tables() {
+            for (i, a) in table.iter().enumerate() {
+                for b in &table[i + 1..] {
+                    assert!(
+                        !a.name.eq_ignore_ascii_case(b.name),
+                        "{label}: duplicate name {}",
+                        a.name
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn defaults_lie_in_their_ranges() {
+        for (label, table) in all_tables() {
+            for row in table {
+                if let Some(default) = row.default {
+                    assert!(
+                        row.range.contains(default),
+                        "{label} {}: default {default} outside {}",
+                        row.name,
+                        row.range
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn every_row_is_readable_and_documented() {
+        for (label, table) in all_tables() {
+            for row in table {
+                assert!(row.access.read, "{label} {} not readable", row.name);
+                assert!(!row.description.is_empty(), "{label} {}", row.name);
+                assert!(row.section.starts_with('§'), "{label} {}", row.name);
+            }
+        }
+    }
+
+    #[test]
+    fn ap6_is_a_byte_shown_as_0_to_255() {
+        let p = axis_param(6).expect("AP6 exists");
+        assert_eq!(p.name, "Maximum current");
+        assert_eq!(p.range, ValueRange::span(0, 255));
+        assert_eq!(p.range.to_string(), "0..255");
+        assert!(!p.range.contains(256));
+        assert_eq!(p.access, Access::RW);
+    }
+
+    #[test]
+    fn ap4_follows_table_16_not_table_1() {
+        let p = axis_param(4).expect("AP4 exists");
+        assert_eq!(p.range.to_string(), "1..2047");
+        assert_eq!(p.access, Access::RWE);
+        assert_eq!(p.unit, Unit::VelocityInternal);
+        assert_eq!(axis_param(5).map(|p| p.access), Some(Access::RWE));
+        assert_eq!(
+            axis_param(5).map(|p| p.unit),
+            Some(Unit::AccelerationInternal)
+        );
+    }
+
+    #[test]
+    fn velocity_parameters_use_internal_velocity_units() {
+        for number in [2, 3, 4, 130, 181, 182, 194, 195] {
+            let p = axis_param(number).expect("velocity parameter exists");
+            assert_eq!(p.unit, Unit::VelocityInternal, "AP{number}");
+        }
+    }
+
+    #[test]
+    fn ap8_is_read_only() {
+        let p = axis_param(8).expect("AP8 exists");
+        assert_eq!(p.access, Access::R);
+        assert_eq!(p.access.to_string(), "R");
+    }
+
+    #[test]
+    fn ap193_accepts_only_documented_modes() {
+        let p = axis_param(193).expect("AP193 exists");
+        for ok in [1, 8, 65, 68, 133, 136] {
+            assert!(p.range.contains(ok), "{ok}");
+        }
+        for bad in [0, 9, 64, 69, 72, 129, 132, 137, 193] {
+            assert!(!p.range.contains(bad), "{bad}");
+        }
+    }
+
+    #[test]
+    fn known_defaults() {
+        assert_eq!(axis_param(214).and_then(|p| p.default), Some(200));
+        assert_eq!(axis_param(140).and_then(|p| p.default), Some(8));
+        assert_eq!(axis_param(172).and_then(|p| p.default), Some(0));
+        assert_eq!(axis_param(6).and_then(|p| p.default), None);
+        assert_eq!(global_param(0, 69).and_then(|p| p.default), Some(8));
+        assert_eq!(global_param(0, 78).and_then(|p| p.default), Some(7));
+    }
+
+    #[test]
+    fn thirty_two_bit_parameters_span_i32() {
+        let p = axis_param(0).expect("AP0 exists");
+        assert!(p.range.contains(i64::from(i32::MIN)));
+        assert!(p.range.contains(i64::from(i32::MAX)));
+        assert!(!p.range.contains(i64::from(i32::MAX) + 1));
+    }
+
+    #[test]
+    fn gp66_serial_address_is_auto_stored() {
+        let p = global_param(0, 66).expect("GP66 exists");
+        assert_eq!(p.range.to_string(), "1..255");
+        assert_eq!(p.access, Access::RWA);
+        assert_eq!(p.access.to_string(), "RWA");
+    }
+
+    #[test]
+    fn bank0_access_classes() {
+        for row in BANK0_PARAMS {
+            let first = *row.numbers.start();
+            if (64..128).contains(&first) {
+                assert_eq!(row.access, Access::RWA, "GP{first}");
+            }
+        }
+        for number in [128, 129, 130] {
+            assert_eq!(global_param(0, number).map(|p| p.access), Some(Access::R));
+        }
+        for number in [132, 133, 255] {
+            assert_eq!(global_param(0, number).map(|p| p.access), Some(Access::RW));
+        }
+    }
+
+    #[test]
+    fn user_variables_cover_bank_2() {
+        let low = global_param(2, 42).expect("variable 42 exists");
+        assert_eq!(low.access, Access::RWE);
+        let high = global_param(2, 255).expect("variable 255 exists");
+        assert_eq!(high.access, Access::RW);
+        assert_eq!(global_param(2, 55).map(|p| p.access), Some(Access::RWE));
+        assert_eq!(global_param(2, 56).map(|p| p.access), Some(Access::RW));
+        assert!(low.range.contains(i64::from(i32::MIN)));
+    }
+
+    #[test]
+    fn bank_3_rows() {
+        for number in [0, 1, 2, 27, 28, 39, 40, 41, 42, 43, 44] {
+            assert!(global_param(3, number).is_some(), "GP3.{number}");
+        }
+        for number in [3, 26, 29, 38, 45] {
+            assert!(global_param(3, number).is_none(), "GP3.{number}");
+        }
+        let input = global_param(3, 44).expect("input 5 transition");
+        assert_eq!(input.name, "Input 5 trigger transition");
+        assert!(input.range.contains(3));
+        assert!(!input.range.contains(4));
+    }
+
+    #[test]
+    fn timer_period_accepts_unsigned_32_bit_values() {
+        let timer = global_param(3, 0).expect("timer 0 exists");
+        assert!(timer.range.contains(4_294_967_295));
+        assert!(!timer.range.contains(4_294_967_296));
+        assert_eq!(timer.wire_value(4_294_967_295), Some(-1));
+        assert_eq!(timer.wire_value(2_147_483_648), Some(i32::MIN));
+        assert_eq!(timer.wire_value(1000), Some(1000));
+        assert_eq!(timer.wire_value(4_294_967_296), None);
+        assert_eq!(timer.value_from_wire(-1), 4_294_967_295);
+        assert_eq!(timer.value_from_wire(1000), 1000);
+        assert!(timer.accepts_wire(-1), "the bits of 4294967295");
+        assert!(!timer.range.contains(-1), "users type periods as unsigned");
+        assert_eq!(timer.range.to_string(), "0..4294967295");
+    }
+
+    #[test]
+    fn wire_value_checks_the_range() {
+        let ap6 = axis_param(6).expect("AP6 exists");
+        assert_eq!(ap6.wire_value(255), Some(255));
+        assert_eq!(ap6.wire_value(256), None);
+        assert_eq!(ap6.wire_value(-1), None);
+        let ap0 = axis_param(0).expect("AP0 exists");
+        assert_eq!(ap0.wire_value(-5), Some(-5));
+        assert_eq!(ap0.value_from_wire(-5), -5);
+        assert!(ap0.accepts_wire(-5));
+        assert!(!ap6.accepts_wire(256));
+    }
+
+    #[test]
+    fn missing_numbers_and_banks() {
+        assert!(axis_param(14).is_none());
+        assert!(axis_param(255).is_none());
+        assert!(global_param(0, 67).is_none());
+        assert!(global_param(0, 0).is_none());
+        assert!(global_param(1, 0).is_none());
+        assert!(global_param(4, 0).is_none());
+        assert!(Bank::from_number(1).is_none());
+    }
+
+    #[test]
+    fn lookup_by_name_ignores_case() {
+        assert_eq!(
+            axis_param_by_name("maximum CURRENT").map(|p| p.numbers.clone()),
+            Some(6..=6)
+        );
+        assert!(axis_param_by_name("no such parameter").is_none());
+        assert_eq!(
+            global_param_by_name(0, "serial address").map(|p| p.numbers.clone()),
+            Some(66..=66)
+        );
+        assert!(global_param_by_name(1, "serial address").is_none());
+        assert!(global_param_by_name(3, "serial address").is_none());
+    }
 }

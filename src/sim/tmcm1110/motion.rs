@@ -22,18 +22,37 @@ pub enum AxisEvent {
     LimitStop(Switch),
     /// A reference search finished.
     ReferenceSearchDone,
+    /// StallGuard stop (AP181/AP174): AP207 bit 0 set, interrupt 15.
+    StallStop,
+    /// Encoder deviation stop (AP212): AP207 bit 1 set, interrupt 21.
+    DeviationStop,
+    /// A switch input changed its logical level (interrupts 27/28, WAIT REFSW/LIMSW).
+    SwitchChanged { switch: Switch, active: bool },
+}
+
+/// Where the simulated machine's switches sit, in microsteps of the
+/// position counter. Tests and the simulator's options move them.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct SwitchLayout {
+    /// Left stop switch is active at and below this position.
+    pub left_limit: Option<i64>,
+    /// Right stop switch is active at and above this position.
+    pub right_limit: Option<i64>,
+    /// Home switch is active inside this window (inclusive).
+    pub home: Option<(i64, i64)>,
 }
 
 /// Axis parameters whose values the motion model owns (others are plain
 /// storage in the module).
 pub const MOTION_PARAMS: &[u8] = &[
-    0, 1, 2, 3, 4, 5, 8, 9, 10, 11, 12, 13, 130, 135, 138, 140, 149, 153, 154, 193, 194, 195, 196,
-    197,
+    0, 1, 2, 3, 4, 5, 8, 9, 10, 11, 12, 13, 130, 135, 138, 140, 149, 153, 154, 174, 181, 193, 194,
+    195, 196, 197, 206, 207, 209, 210, 212,
 ];
 
 #[derive(Debug, Clone, Default)]
 pub struct Axis {
     params: std::collections::BTreeMap<u8, i32>,
+    layout: SwitchLayout,
 }
 
 impl Axis {
@@ -82,8 +101,28 @@ impl Axis {
         false
     }
 
+    /// Logical state of a switch input (AP9..AP11), after GP79 polarity.
     pub fn switch(&self, _which: Switch) -> bool {
         false
+    }
+
+    /// GP79: end switch polarity reversed.
+    pub fn set_end_switch_polarity_reversed(&mut self, _reversed: bool) {}
+
+    /// The simulated machine's switch positions.
+    pub fn layout_mut(&mut self) -> &mut SwitchLayout {
+        &mut self.layout
+    }
+
+    /// True while the motor turns or a ramp is in progress.
+    pub fn is_moving(&self) -> bool {
+        self.param(3) != 0
+    }
+
+    /// AP207 is cleared when read and by every motion command (§4 Table 16);
+    /// the module calls this after answering a GAP 207.
+    pub fn clear_error_flags(&mut self) {
+        self.params.insert(207, 0);
     }
 
     pub fn advance(&mut self, _dt: Duration, events: &mut Vec<AxisEvent>) {

@@ -1,0 +1,162 @@
+//! `axterm sim tmcm1110` served over a real pseudo-terminal and over TCP,
+//! driven by an independent client that only knows the TMCL wire format.
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::process::{Child, Command, Stdio};
+use std::time::Duration;
+
+use axterm::protocol::tmcl::{FRAME_LEN, Reply, Request, Status};
+
+/// Only guards against a hung test; a healthy exchange takes milliseconds.
+const GIVE_UP_AFTER: Duration = Duration::from_secs(10);
+
+struct Served {
+    child: Child,
+    endpoint: String,
+}
+
+impl Served {
+    fn start(args: &[&str]) -> Served {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_axterm"))
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .expect("start axterm sim");
+        let stdout = child.stdout.take().expect("stdout");
+        let mut first_line = String::new();
+        BufReader::new(stdout)
+            .read_line(&mut first_line)
+            .expect("read the endpoint line");
+        Served {
+            child,
+            endpoint: first_line.trim().to_string(),
+        }
+    }
+
+    /// End it as a user would (SIGTERM) and return its exit code.
+    fn terminate(mut self) -> Option<i32> {
+        let pid = self.child.id().to_string();
+        let sent = Command::new("kill").args(["-TERM", &pid]).status();
+        assert!(
+            sent.map(|s| s.success()).unwrap_or(false),
+            "kill -TERM failed"
+        );
+        self.child.wait().ok().and_then(|s| s.code())
+    }
+}
+
+impl Drop for Served {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn request(command: u8, kind: u8, value: i32) -> [u8; FRAME_LEN] {
+    Request {
+        address: 1,
+        command,
+        kind,
+        motor_bank: 0,
+        value,
+    }
+    .to_bytes()
+}
+
+fn read_reply(port: &mut dyn Read) -> Reply {
+    let mut frame = [0u8; FRAME_LEN];
+    port.read_exact(&mut frame).expect("a 9-byte reply");
+    Reply::from_bytes(&frame).expect("a reply with a good checksum")
+}
+
+fn transact(port: &mut (impl Read + Write), frame: [u8; FRAME_LEN]) -> Reply {
+    port.write_all(&frame).expect("send");
+    read_reply(port)
+}
+
+/// SAP/GAP/MVP/138 as the manual describes them (§3.6.5, §3.6.6, §3.6.4, §3.6.52).
+fn run_sequence(port: &mut (impl Read + Write)) {
+    const SAP: u8 = 5;
+    const GAP: u8 = 6;
+    const MVP: u8 = 4;
+    const TARGET_EVENT: u8 = 138;
+
+    let reply = transact(port, request(SAP, 4, 1000));
+    assert_eq!((reply.status, reply.command), (Status::OK, SAP));
+    assert_eq!((reply.host_address, reply.module_address), (2, 1));
+
+    let reply = transact(port, request(GAP, 4, 0));
+    assert_eq!((reply.status, reply.value), (Status::OK, 1000));
+
+    let reply = transact(port, request(SAP, 6, 300));
+    assert_eq!(reply.status, Status::INVALID_VALUE, "AP6 range is 0..255");
+
+    let reply = transact(port, request(TARGET_EVENT, 0, 1));
+    assert_eq!(
+        (reply.status, reply.command, reply.value),
+        (Status::OK, 138, 1)
+    );
+
+    let reply = transact(port, request(MVP, 1, 2000));
+    assert_eq!((reply.status, reply.command), (Status::OK, MVP));
+
+    // The second, unsolicited reply of 138 arrives when the target is reached.
+    let reached = read_reply(port);
+    assert_eq!(
+        (reached.status, reached.command, reached.value),
+        (Status::TARGET_REACHED, 138, 1)
+    );
+    let reply = transact(port, request(GAP, 8, 0));
+    assert_eq!(reply.value, 1, "position reached flag");
+    let reply = transact(port, request(GAP, 1, 0));
+    assert_eq!(reply.value, 2000, "actual position");
+
+    // A frame with a bad checksum gets status 1.
+    let mut bad = request(GAP, 1, 0);
+    bad[8] = bad[8].wrapping_add(1);
+    let reply = transact(port, bad);
+    assert_eq!(reply.status, Status::WRONG_CHECKSUM);
+}
+
+#[test]
+fn pty_serves_a_steprocker_to_a_serial_client() {
+    let served = Served::start(&["sim", "tmcm1110", "--pty"]);
+    assert!(served.endpoint.starts_with('/'), "{}", served.endpoint);
+    let mut port = serialport::new(&served.endpoint, 115_200)
+        .timeout(GIVE_UP_AFTER)
+        .open_native()
+        .expect("open the printed path as a serial port");
+    run_sequence(&mut port);
+    drop(port);
+    assert_eq!(served.terminate(), Some(0), "SIGTERM ends it cleanly");
+}
+
+#[test]
+fn pty_survives_a_client_closing_and_another_opening() {
+    let served = Served::start(&["sim", "tmcm1110", "--pty", "--address", "7"]);
+    for _ in 0..2 {
+        let mut port = serialport::new(&served.endpoint, 9600)
+            .timeout(GIVE_UP_AFTER)
+            .open_native()
+            .expect("open");
+        let mut frame = request(6, 4, 0);
+        frame[0] = 7;
+        frame[8] = axterm::protocol::tmcl::checksum(&frame[..8]);
+        let reply = transact(&mut port, frame);
+        assert_eq!((reply.status, reply.module_address), (Status::OK, 7));
+    }
+    assert_eq!(served.terminate(), Some(0));
+}
+
+#[test]
+fn tcp_serves_a_steprocker_on_loopback() {
+    let served = Served::start(&["sim", "tmcm1110", "--tcp", "127.0.0.1:0"]);
+    let mut stream = std::net::TcpStream::connect(&served.endpoint).expect("connect");
+    stream
+        .set_read_timeout(Some(GIVE_UP_AFTER))
+        .expect("timeout");
+    run_sequence(&mut stream);
+    drop(stream);
+    assert_eq!(served.terminate(), Some(0));
+}
