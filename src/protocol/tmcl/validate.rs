@@ -22,10 +22,6 @@ pub const COORDINATE_EEPROM: u8 = 255;
 /// coordinate 0).
 pub const COORDINATES: RangeInclusive<u8> = 0..=20;
 
-/// User variables with EEPROM backing (§5.3: "the first 56 variables can
-/// also be stored"; Table 19 marks 56..255 RWE too, the text wins).
-pub const STORABLE_USER_VARIABLES: RangeInclusive<u8> = 0..=55;
-
 /// Bank 2 holds the user variables (§5.3).
 const USER_VARIABLE_BANK: u8 = 2;
 
@@ -165,21 +161,7 @@ pub fn validate(command: &Command) -> Result<(), LineError> {
                     note: Some("only user variables can be stored and restored".to_string()),
                 });
             }
-            let info = global_param(&context, bank, param)?;
-            storable(&context, info)?;
-            if !STORABLE_USER_VARIABLES.contains(&param) {
-                return Err(LineError::NotStorable {
-                    context,
-                    name: info.name,
-                    access: format!(
-                        "{}; only user variables {}..{} have EEPROM",
-                        info.access,
-                        STORABLE_USER_VARIABLES.start(),
-                        STORABLE_USER_VARIABLES.end()
-                    ),
-                });
-            }
-            Ok(())
+            storable(&context, global_param(&context, bank, param)?)
         }
         Sio { port, bank, value } => {
             let group = io_port(&name, SIO_PORTS, port, bank)?;
@@ -483,22 +465,13 @@ fn storable(context: &str, info: &'static ParamInfo) -> Result<(), LineError> {
     }
 }
 
-/// A parameter value within its range. Ranges beyond i32 (the bank-3 timer
-/// periods, 0..4294967295) are compared with the value as an unsigned
-/// 32-bit pattern, which is how such values travel (digest D3.8).
+/// A parameter value within its range, read as the parameter reads frame
+/// values (bank-3 timer periods are unsigned 32-bit, §5.4).
 fn param_value(context: &str, info: &'static ParamInfo, value: i32) -> Result<(), LineError> {
-    let unsigned = match info.range {
-        ValueRange::Span { max, .. } => max > i64::from(i32::MAX),
-        ValueRange::OneOf(_) => false,
-    };
-    let value = if unsigned {
-        i64::from(value as u32)
-    } else {
-        i64::from(value)
-    };
-    if info.range.contains(value) {
+    if info.accepts_wire(value) {
         return Ok(());
     }
+    let value = info.value_from_wire(value);
     let (context, operand, value, allowed) = (
         context.to_string(),
         "value".to_string(),
