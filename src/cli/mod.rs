@@ -8,6 +8,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use clap::{Args, Parser, Subcommand};
 
+use crate::protocol;
 use crate::sim::{self, SimOptions};
 
 /// Exit code when everything went well.
@@ -104,6 +105,9 @@ pub fn run(cli: Cli) -> i32 {
     match cli.command {
         Some(Command::Sim { kind, pty, eeprom }) => run_sim(&cli.connection, &kind, pty, eeprom),
         Some(Command::Ports) => run_ports(),
+        Some(Command::Encode { family, line }) => {
+            run_encode(&family, &line, cli.connection.address)
+        }
         Some(other) => {
             eprintln!("axterm: {other:?} is not built yet");
             EXIT_USAGE
@@ -202,6 +206,28 @@ async fn wait_for_stop_signal(server_done: tokio::sync::oneshot::Receiver<()>) {
     tokio::select! {
         _ = tokio::signal::ctrl_c() => {}
         _ = server_done => {}
+    }
+}
+
+/// `axterm encode FAMILY LINE`: the bytes a console line becomes. A line
+/// that does not parse or validate prints nothing on stdout and exits 2.
+fn run_encode(family: &str, line: &str, address: Option<u8>) -> i32 {
+    let Some(family) = protocol::find_family(family) else {
+        eprintln!(
+            "axterm encode: unknown protocol family '{family}' (known: {})",
+            protocol::family_names()
+        );
+        return EXIT_USAGE;
+    };
+    match (family.encode_line)(line, address) {
+        Ok(bytes) => {
+            println!("{}", (family.show_bytes)(&bytes));
+            EXIT_OK
+        }
+        Err(message) => {
+            eprintln!("axterm encode: {message}");
+            EXIT_USAGE
+        }
     }
 }
 

@@ -2,3 +2,44 @@
 //! console line syntax, parameter tables. No I/O here.
 
 pub mod tmcl;
+
+/// One controller family as the command line knows it. A new family adds
+/// one entry to [`FAMILIES`].
+pub struct Family {
+    /// Name on the command line (`axterm encode tmcl …`).
+    pub name: &'static str,
+    pub description: &'static str,
+    /// Parse and validate a console line and return the bytes it becomes on
+    /// the wire for a module at `address` (the family's default when `None`).
+    pub encode_line: fn(line: &str, address: Option<u8>) -> Result<Vec<u8>, String>,
+    /// Show bytes of this family the way a technician reads them.
+    pub show_bytes: fn(bytes: &[u8]) -> String,
+}
+
+/// Every protocol family axterm speaks.
+pub const FAMILIES: &[Family] = &[Family {
+    name: "tmcl",
+    description: "Trinamic TMCL (TMCM-1110 StepRocker), 9-byte binary frames",
+    encode_line: |line, address| {
+        let command = tmcl::parse_line(line).map_err(|e| e.to_string())?;
+        Ok(command
+            .to_request(address.unwrap_or(tmcl::DEFAULT_MODULE_ADDRESS))
+            .to_bytes()
+            .to_vec())
+    },
+    show_bytes: tmcl::to_hex,
+}];
+
+/// The family called `name` (case-insensitive).
+pub fn find_family(name: &str) -> Option<&'static Family> {
+    FAMILIES.iter().find(|f| f.name.eq_ignore_ascii_case(name))
+}
+
+/// Names of every family, for error messages.
+pub fn family_names() -> String {
+    FAMILIES
+        .iter()
+        .map(|f| f.name)
+        .collect::<Vec<_>>()
+        .join(", ")
+}

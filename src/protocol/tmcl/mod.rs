@@ -22,3 +22,6 @@ pub use line::{
     parse_syntax,
 };
 pub use validate::validate;
+
+/// The module address every manual example uses and modules ship with (GP66).
+pub const DEFAULT_MODULE_ADDRESS: u8 = 1;
