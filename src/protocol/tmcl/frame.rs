@@ -29,20 +29,10 @@ pub struct Request {
 
 impl Request {
     pub fn to_bytes(&self) -> [u8; FRAME_LEN] {
-        let v = self.value.to_be_bytes();
-        let mut out = [
-            self.address,
-            self.command,
-            self.kind,
-            self.motor_bank,
-            v[0],
-            v[1],
-            v[2],
-            v[3],
-            0,
-        ];
-        out[8] = checksum(&out[..8]);
-        out
+        assemble(
+            [self.address, self.command, self.kind, self.motor_bank],
+            self.value,
+        )
     }
 
     /// Decode nine bytes, checking the checksum.
@@ -82,20 +72,15 @@ pub struct Reply {
 
 impl Reply {
     pub fn to_bytes(&self) -> [u8; FRAME_LEN] {
-        let v = self.value.to_be_bytes();
-        let mut out = [
-            self.host_address,
-            self.module_address,
-            self.status.0,
-            self.command,
-            v[0],
-            v[1],
-            v[2],
-            v[3],
-            0,
-        ];
-        out[8] = checksum(&out[..8]);
-        out
+        assemble(
+            [
+                self.host_address,
+                self.module_address,
+                self.status.0,
+                self.command,
+            ],
+            self.value,
+        )
     }
 
     pub fn from_bytes(bytes: &[u8; FRAME_LEN]) -> Result<Self, ChecksumError> {
@@ -112,6 +97,15 @@ impl Reply {
             value: i32::from_be_bytes([bytes[4], bytes[5], bytes[6], bytes[7]]),
         }
     }
+}
+
+/// Four header bytes, the value MSB first, and the checksum.
+fn assemble(header: [u8; 4], value: i32) -> [u8; FRAME_LEN] {
+    let mut out = [0u8; FRAME_LEN];
+    out[..4].copy_from_slice(&header);
+    out[4..8].copy_from_slice(&value.to_be_bytes());
+    out[8] = checksum(&out[..8]);
+    out
 }
 
 /// The frame's last byte is not the sum of the others.
