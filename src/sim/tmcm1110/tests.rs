@@ -585,6 +585,25 @@ fn an_interrupted_move_is_not_reported() {
 }
 
 #[test]
+fn a_reference_search_abandons_the_reported_move() {
+    let mut sim = sim();
+    ok(&mut sim, 138, 1, 0, 1);
+    ok(&mut sim, 4, 0, 0, 100_000);
+    ok(&mut sim, 13, 0, 0, 0); // RFS START
+    assert!(run_for(&mut sim, Duration::from_secs(60)).is_empty());
+}
+
+#[test]
+fn a_type_0_request_is_used_up_by_an_abandoned_move() {
+    let mut sim = sim();
+    ok(&mut sim, 138, 0, 0, 1);
+    ok(&mut sim, 4, 0, 0, 100_000);
+    ok(&mut sim, 3, 0, 0, 0); // MST
+    ok(&mut sim, 4, 0, 0, 500);
+    assert!(run_for(&mut sim, Duration::from_secs(60)).is_empty());
+}
+
+#[test]
 fn sap_0_alone_is_not_reported() {
     let mut sim = sim();
     ok(&mut sim, 138, 1, 0, 1);
@@ -1157,6 +1176,37 @@ fn a_corrupt_eeprom_file_is_reported_and_factory_settings_used() {
         .unwrap_or_default();
     assert!(problem.contains("eeprom.json"), "{problem}");
     assert_eq!(ok(&mut sim, 10, 76, 0, 0), 2);
+}
+
+#[test]
+fn an_unfinished_download_is_written_when_the_simulator_goes_away() {
+    let dir = TempDir::new("drop");
+    let config = SimConfig {
+        eeprom_file: Some(dir.0.join("eeprom.json")),
+        ..SimConfig::default()
+    };
+    {
+        let mut sim = Tmcm1110::new(config.clone());
+        ok(&mut sim, 132, 0, 0, 0);
+        ask(&mut sim, 28, 0, 0, 0); // STOP stored at 0
+    }
+    let sim = Tmcm1110::new(config);
+    assert_eq!(sim.program_word(0), Some([28, 0, 0, 0, 0, 0, 0]));
+}
+
+#[test]
+fn flush_eeprom_writes_pending_changes() {
+    let dir = TempDir::new("flush");
+    let path = dir.0.join("eeprom.json");
+    let mut sim = Tmcm1110::new(SimConfig {
+        eeprom_file: Some(path.clone()),
+        ..SimConfig::default()
+    });
+    ok(&mut sim, 132, 0, 0, 0);
+    ask(&mut sim, 28, 0, 0, 0);
+    assert!(!path.exists());
+    sim.flush_eeprom();
+    assert!(path.exists());
 }
 
 #[test]
