@@ -1,10 +1,24 @@
 //! Trinamic TMCL as spoken by the TMCM-1110 StepRocker (firmware V1.12
 //! manual). Pure code: bytes and meanings, no I/O.
 
+pub mod catalog;
 pub mod command;
 pub mod frame;
+pub mod hex;
 pub mod line;
 pub mod params;
 pub mod units;
+pub mod validate;
 
+pub use catalog::{COMMANDS, CommandInfo, command_by_opcode, find_command};
+pub use command::{
+    CalcFamily, CalcOp, ClearFlag, Command, Condition, EventMode, MoveMode, OperandCode, RfsAction,
+    StatusQuery, VersionFormat, WaitCondition,
+};
 pub use frame::{ChecksumError, FRAME_LEN, FrameAssembler, Reply, Request, Status, checksum};
+pub use hex::to_hex;
+pub use line::{
+    LineError, SymbolResolver, format_command, parse_line, parse_line_with, parse_number,
+    parse_syntax,
+};
+pub use validate::validate;
