@@ -44,28 +44,23 @@
 //!   nothing of the old settings, reboots, and sends nothing. 255 (1234)
 //!   sends its reply, then reboots. Other values: 4.
 
+use crate::protocol::tmcl::command::{CalcOp, ClearFlag, OperandCode, RESET_KEY, opcode as op};
 use crate::protocol::tmcl::params::{self, ParamInfo};
+use crate::protocol::tmcl::units::MAX_INTERNAL;
+use crate::protocol::tmcl::validate::{COORDINATE_EEPROM, COORDINATES};
 use crate::protocol::tmcl::{FRAME_LEN, Request, Status, checksum};
 
-use super::commands::{self, Mode, op};
+use super::commands::{self, Mode};
 use super::eeprom::{EepromImage, STORED_USER_VARIABLES};
 use super::io::{INPUT_PORTS, MODE_MASK, OUTPUT_PORTS};
 use super::motion::Axis;
-use super::program::{ApplicationStatus, CalcOp, PROGRAM_MEMORY_SIZE, ProgramWord};
+use super::program::{ApplicationStatus, PROGRAM_MEMORY_SIZE, ProgramWord, calculate};
 use super::{
     Answer, FIRMWARE_VERSION_NUMBER, FIRMWARE_VERSION_STRING, GP_CODE_PROTECTION,
     GP_COORDINATE_STORAGE, GP_END_SWITCH_POLARITY, GP_IO_MODE, MOTOR_MASK, TargetReachedRequest,
     Tmcm1110,
 };
 
-/// Both 137 and 255 want this value as a safety key (§3.6.53).
-const SAFETY_KEY: i32 = 1234;
-/// Coordinates 0..20 (§3.6.24).
-const LAST_COORDINATE: u8 = 20;
-/// ROR/ROL velocity range [int] (§3.6.1, §3.6.2).
-const MAX_VELOCITY: i32 = 2047;
-/// SCO/GCO motor field of the EEPROM copy forms (§3.6.24, §3.6.25).
-const EEPROM_COPY: u8 = 255;
 /// GP128..GP133, GP255: bank-0 values the module computes or keeps in RAM.
 const GP_APPLICATION_STATUS: u8 = 128;
 const GP_DOWNLOAD_MODE: u8 = 129;
@@ -83,16 +78,17 @@ type Outcome = Result<i32, Status>;
 impl Tmcm1110 {
     /// Execute a request whose checksum and address were accepted.
     pub(super) fn execute(&mut self, request: Request) -> Answer {
-        let Some(spec) = commands::command(request.command) else {
+        let Some(info) = commands::command(request.command) else {
             return Answer::error(Status::INVALID_COMMAND);
         };
-        if self.app.downloading && spec.mode != Mode::Control {
+        let mode = commands::mode(info);
+        if self.app.downloading && mode != Mode::Control {
             return self.store_command(request);
         }
-        if !spec.types.accepts(request.kind) {
+        if !commands::type_accepted(info, request.kind) {
             return Answer::error(Status::WRONG_TYPE);
         }
-        match spec.mode {
+        match mode {
             Mode::ProgramFlow => Answer::error(Status::NOT_AVAILABLE),
             Mode::Control => self.control(request),
             Mode::Direct => self.direct(request).into(),
@@ -128,7 +124,7 @@ impl Tmcm1110 {
                 let a = self.app.accumulator;
                 // NOT inverts the accumulator itself; the operand is unused.
                 let operand = if calc == CalcOp::Not { a } else { value };
-                if let Some(result) = calc.apply(a, operand) {
+                if let Some(result) = calculate(calc, a, operand) {
                     self.app.accumulator = result;
                     self.app.note_result(result);
                 }
@@ -151,7 +147,8 @@ impl Tmcm1110 {
                 Ok(0)
             }
             op::CLE => {
-                self.app.errors.clear(kind);
+                let flag = ClearFlag::from_code(kind).ok_or(Status::WRONG_TYPE)?;
+                self.app.errors.clear(flag);
                 Ok(0)
             }
             op::EI | op::DI => {
@@ -241,7 +238,7 @@ impl Tmcm1110 {
 
     fn rotate(&mut self, motor: u8, velocity: i32) -> Outcome {
         only_motor_zero(motor)?;
-        if !(-MAX_VELOCITY..=MAX_VELOCITY).contains(&velocity) {
+        if !(-MAX_INTERNAL..=MAX_INTERNAL).contains(&velocity) {
             return Err(Status::INVALID_VALUE);
         }
         self.axis.clear_error_flags();
@@ -261,7 +258,7 @@ impl Tmcm1110 {
             _ => {
                 let number = u8::try_from(value)
                     .ok()
-                    .filter(|&n| n <= LAST_COORDINATE)
+                    .filter(|n| COORDINATES.contains(n))
                     .ok_or(Status::INVALID_VALUE)?;
                 self.coordinates[usize::from(number)]
             }
@@ -535,7 +532,7 @@ impl Tmcm1110 {
         match motor {
             0 => self.write_coordinate(number, value),
             // §3.6.24: SCO 0, 255, 0 copies 1..20 to EEPROM, SCO n, 255, 0 one.
-            EEPROM_COPY => {
+            COORDINATE_EEPROM => {
                 for n in copy_range(number) {
                     let ram = self.coordinates[usize::from(n)];
                     self.eeprom.image.set_coordinate(n, ram);
@@ -552,7 +549,7 @@ impl Tmcm1110 {
         match motor {
             0 => Ok(self.coordinates[usize::from(number)]),
             // §3.6.25: GCO 0, 255, 0 copies 1..20 from EEPROM, GCO n, 255, 0 one.
-            EEPROM_COPY => {
+            COORDINATE_EEPROM => {
                 for n in copy_range(number) {
                     if let Some(stored) = self.eeprom.image.coordinate(n) {
                         self.coordinates[usize::from(n)] = stored;
@@ -591,7 +588,7 @@ impl Tmcm1110 {
             CalcOp::Load => app.x = app.accumulator,
             CalcOp::Swap => std::mem::swap(&mut app.accumulator, &mut app.x),
             calc => {
-                if let Some(result) = calc.apply(app.accumulator, app.x) {
+                if let Some(result) = calculate(calc, app.accumulator, app.x) {
                     app.accumulator = result;
                     app.note_result(result);
                 }
@@ -614,7 +611,7 @@ impl Tmcm1110 {
             Operand::Value(v) => v,
         };
         match calc {
-            CalcOp::Compare => self.app.note_comparison(current, value),
+            CalcOp::Comp => self.app.note_comparison(current, value),
             CalcOp::Swap => {
                 self.user_variables[index] = value;
                 match operand {
@@ -628,7 +625,7 @@ impl Tmcm1110 {
                 }
             }
             _ => {
-                if let Some(result) = calc.apply(current, value) {
+                if let Some(result) = calculate(calc, current, value) {
                     self.user_variables[index] = result;
                     self.app.note_result(result);
                 }
@@ -647,7 +644,7 @@ impl Tmcm1110 {
             Register::X => self.app.x,
         };
         let result = match calc {
-            CalcOp::Compare => {
+            CalcOp::Comp => {
                 self.app.note_comparison(current, variable);
                 return Ok(());
             }
@@ -655,7 +652,7 @@ impl Tmcm1110 {
                 self.user_variables[index] = current;
                 variable
             }
-            _ => match calc.apply(current, variable) {
+            _ => match calculate(calc, current, variable) {
                 Some(result) => {
                     self.app.note_result(result);
                     result
@@ -707,7 +704,7 @@ impl Tmcm1110 {
                 self.eeprom.defer_writes(false);
                 Answer::ok(0)
             }
-            op::READ_PROGRAM => self.read_program(r.value),
+            op::READ_MEMORY => self.read_program(r.value),
             op::APPLICATION_STATUS => Answer::ok(self.application_status(r.kind)),
             op::FIRMWARE_VERSION => {
                 if r.kind == 0 {
@@ -720,7 +717,7 @@ impl Tmcm1110 {
                 }
             }
             op::FACTORY_RESET => {
-                if r.value != SAFETY_KEY {
+                if r.value != RESET_KEY {
                     return Answer::error(Status::INVALID_VALUE);
                 }
                 self.eeprom.image = EepromImage::factory(self.config.address);
@@ -740,7 +737,7 @@ impl Tmcm1110 {
                 Answer::ok(MOTOR_MASK)
             }
             op::SOFTWARE_RESET => {
-                if r.value != SAFETY_KEY {
+                if r.value != RESET_KEY {
                     return Answer::error(Status::INVALID_VALUE);
                 }
                 self.reboot_requested = true;
@@ -843,6 +840,8 @@ fn only_motor_zero(motor: u8) -> Result<(), Status> {
     }
 }
 
+/// The operation of a CALC-family type byte (the command's own subset was
+/// checked against the catalogue already).
 fn calc_op(kind: u8) -> Result<CalcOp, Status> {
     CalcOp::from_code(kind).ok_or(Status::WRONG_TYPE)
 }
@@ -864,7 +863,7 @@ fn storable(info: Option<&ParamInfo>) -> Result<(), Status> {
 }
 
 fn coordinate_number(number: u8) -> Result<(), Status> {
-    if number <= LAST_COORDINATE {
+    if COORDINATES.contains(&number) {
         Ok(())
     } else {
         Err(Status::WRONG_TYPE)
@@ -874,7 +873,7 @@ fn coordinate_number(number: u8) -> Result<(), Status> {
 /// Coordinate 0 in an EEPROM copy form means "all of 1..20".
 fn copy_range(number: u8) -> std::ops::RangeInclusive<u8> {
     if number == 0 {
-        1..=LAST_COORDINATE
+        1..=*COORDINATES.end()
     } else {
         number..=number
     }

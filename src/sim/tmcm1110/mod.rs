@@ -42,6 +42,7 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::Duration;
 
+use crate::protocol::tmcl::command::opcode;
 use crate::protocol::tmcl::{FRAME_LEN, FrameAssembler, Reply, Request, Status, checksum};
 
 use super::SimulatedController;
@@ -445,7 +446,7 @@ impl Tmcm1110 {
             host_address: self.host_address(),
             module_address: self.address(),
             status: Status::TARGET_REACHED,
-            command: commands::op::TARGET_REACHED_EVENT,
+            command: opcode::TARGET_REACHED_EVENT,
             value: MOTOR_MASK,
         };
         self.output.extend_from_slice(&reply.to_bytes());

@@ -6,6 +6,8 @@
 
 use std::cmp::Ordering;
 
+use crate::protocol::tmcl::command::{CalcOp, ClearFlag};
+
 /// Program memory size in commands. The manual does not give it; a public
 /// Trinamic TMCL interpreter header for another product uses 2048 (digest
 /// D10.2), whose stack depth and coordinate count match this manual.
@@ -83,16 +85,15 @@ pub struct ErrorFlags {
 }
 
 impl ErrorFlags {
-    /// CLE type 0..5 (ALL, ETO, EAL, EDV, EPO, ESD).
-    pub fn clear(&mut self, which: u8) {
-        match which {
-            0 => *self = ErrorFlags::default(),
-            1 => self.timeout = false,
-            2 => self.external_alarm = false,
-            3 => self.deviation = false,
-            4 => self.position = false,
-            5 => self.shutdown = false,
-            _ => {}
+    /// CLE (§3.6.31).
+    pub fn clear(&mut self, flag: ClearFlag) {
+        match flag {
+            ClearFlag::All => *self = ErrorFlags::default(),
+            ClearFlag::Eto => self.timeout = false,
+            ClearFlag::Eal => self.external_alarm = false,
+            ClearFlag::Edv => self.deviation = false,
+            ClearFlag::Epo => self.position = false,
+            ClearFlag::Esd => self.shutdown = false,
         }
     }
 }
@@ -173,66 +174,28 @@ impl Application {
     }
 }
 
-/// The arithmetic operations shared by CALC, CALCX and the CALCV* family
-/// (§3.6.16, §3.6.28, §3.6.36–3.6.41), by type code.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum CalcOp {
-    Add,
-    Sub,
-    Mul,
-    Div,
-    Mod,
-    And,
-    Or,
-    Xor,
-    Not,
-    Load,
-    Swap,
-    Compare,
-}
-
-const CALC_OPS: &[CalcOp] = &[
-    CalcOp::Add,
-    CalcOp::Sub,
-    CalcOp::Mul,
-    CalcOp::Div,
-    CalcOp::Mod,
-    CalcOp::And,
-    CalcOp::Or,
-    CalcOp::Xor,
-    CalcOp::Not,
-    CalcOp::Load,
-    CalcOp::Swap,
-    CalcOp::Compare,
-];
-
-impl CalcOp {
-    pub fn from_code(code: u8) -> Option<CalcOp> {
-        CALC_OPS.get(usize::from(code)).copied()
-    }
-
-    /// `target op operand` for the operations that produce a value (ADD..LOAD;
-    /// NOT inverts the operand, as CALCVV's "V1 := ~V2"). 32-bit arithmetic
-    /// wraps. Division or modulo by zero leaves the target unchanged: the
-    /// manual does not say what the firmware does, and nothing may panic.
-    /// SWAP and COMP return `None`: they are not assignments.
-    pub fn apply(self, target: i32, operand: i32) -> Option<i32> {
-        Some(match self {
-            CalcOp::Add => target.wrapping_add(operand),
-            CalcOp::Sub => target.wrapping_sub(operand),
-            CalcOp::Mul => target.wrapping_mul(operand),
-            CalcOp::Div if operand == 0 => target,
-            CalcOp::Div => target.wrapping_div(operand),
-            CalcOp::Mod if operand == 0 => target,
-            CalcOp::Mod => target.wrapping_rem(operand),
-            CalcOp::And => target & operand,
-            CalcOp::Or => target | operand,
-            CalcOp::Xor => target ^ operand,
-            CalcOp::Not => !operand,
-            CalcOp::Load => operand,
-            CalcOp::Swap | CalcOp::Compare => return None,
-        })
-    }
+/// `target op operand` for the CALC-family operations that produce a value
+/// (§3.6.16, §3.6.28, §3.6.36–3.6.41; ADD..LOAD). NOT inverts the operand, as
+/// CALCVV's "copy logical inverted <var2> to <var1>"; CALC and CALCV pass the
+/// target as operand to invert it in place. 32-bit arithmetic wraps.
+/// Division or modulo by zero leaves the target unchanged: the manual does
+/// not say what the firmware does, and nothing may panic. SWAP and COMP
+/// return `None`: they are not assignments.
+pub fn calculate(op: CalcOp, target: i32, operand: i32) -> Option<i32> {
+    Some(match op {
+        CalcOp::Add => target.wrapping_add(operand),
+        CalcOp::Sub => target.wrapping_sub(operand),
+        CalcOp::Mul => target.wrapping_mul(operand),
+        CalcOp::Div | CalcOp::Mod if operand == 0 => target,
+        CalcOp::Div => target.wrapping_div(operand),
+        CalcOp::Mod => target.wrapping_rem(operand),
+        CalcOp::And => target & operand,
+        CalcOp::Or => target | operand,
+        CalcOp::Xor => target ^ operand,
+        CalcOp::Not => !operand,
+        CalcOp::Load => operand,
+        CalcOp::Swap | CalcOp::Comp => return None,
+    })
 }
 
 #[cfg(test)]
@@ -253,23 +216,35 @@ mod tests {
     }
 
     #[test]
-    fn calc_ops_follow_the_type_codes() {
-        assert_eq!(CalcOp::from_code(2), Some(CalcOp::Mul));
-        assert_eq!(CalcOp::from_code(11), Some(CalcOp::Compare));
-        assert_eq!(CalcOp::from_code(12), None);
-        assert_eq!(CalcOp::Mul.apply(3, -5000), Some(-15000));
-        assert_eq!(CalcOp::Not.apply(7, 0), Some(-1));
-        assert_eq!(CalcOp::Sub.apply(i32::MIN, 1), Some(i32::MAX));
-        assert_eq!(CalcOp::Swap.apply(1, 2), None);
+    fn calculations_wrap_and_invert_the_operand() {
+        assert_eq!(calculate(CalcOp::Mul, 3, -5000), Some(-15000));
+        assert_eq!(calculate(CalcOp::Not, 7, 0), Some(-1));
+        assert_eq!(calculate(CalcOp::Sub, i32::MIN, 1), Some(i32::MAX));
+        assert_eq!(calculate(CalcOp::Load, 1, 2), Some(2));
+        assert_eq!(calculate(CalcOp::Swap, 1, 2), None);
+        assert_eq!(calculate(CalcOp::Comp, 1, 2), None);
     }
 
     #[test]
     fn division_edge_cases_do_not_panic() {
-        assert_eq!(CalcOp::Div.apply(10, 0), Some(10));
-        assert_eq!(CalcOp::Mod.apply(10, 0), Some(10));
-        assert_eq!(CalcOp::Div.apply(i32::MIN, -1), Some(i32::MIN));
-        assert_eq!(CalcOp::Mod.apply(i32::MIN, -1), Some(0));
-        assert_eq!(CalcOp::Div.apply(-7, 2), Some(-3));
+        assert_eq!(calculate(CalcOp::Div, 10, 0), Some(10));
+        assert_eq!(calculate(CalcOp::Mod, 10, 0), Some(10));
+        assert_eq!(calculate(CalcOp::Div, i32::MIN, -1), Some(i32::MIN));
+        assert_eq!(calculate(CalcOp::Mod, i32::MIN, -1), Some(0));
+        assert_eq!(calculate(CalcOp::Div, -7, 2), Some(-3));
+    }
+
+    #[test]
+    fn cle_clears_one_flag_or_all() {
+        let mut flags = ErrorFlags {
+            timeout: true,
+            deviation: true,
+            ..ErrorFlags::default()
+        };
+        flags.clear(ClearFlag::Eto);
+        assert!(!flags.timeout && flags.deviation);
+        flags.clear(ClearFlag::All);
+        assert_eq!(flags, ErrorFlags::default());
     }
 
     #[test]
