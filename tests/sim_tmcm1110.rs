@@ -1,0 +1,295 @@
+//! The TMCM-1110 simulator seen from the wire: bytes in, virtual time, bytes
+//! out. Frames are built by hand (manual §3.1, §3.2) so these tests depend on
+//! nothing but the simulator's public interface.
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use axterm::sim::SimulatedController;
+use axterm::sim::tmcm1110::{SimConfig, Tmcm1110};
+use proptest::prelude::*;
+
+fn frame(address: u8, command: u8, kind: u8, bank: u8, value: i32) -> [u8; 9] {
+    let v = value.to_be_bytes();
+    let mut f = [address, command, kind, bank, v[0], v[1], v[2], v[3], 0];
+    f[8] = f[..8].iter().fold(0u8, |s, b| s.wrapping_add(*b));
+    f
+}
+
+/// A decoded reply: (host address, module address, status, command, value).
+type Answer = (u8, u8, u8, u8, i32);
+
+fn decode(bytes: &[u8]) -> Answer {
+    assert_eq!(bytes.len(), 9, "one reply expected, got {bytes:02X?}");
+    let sum = bytes[..8].iter().fold(0u8, |s, b| s.wrapping_add(*b));
+    assert_eq!(sum, bytes[8], "reply checksum of {bytes:02X?}");
+    (
+        bytes[0],
+        bytes[1],
+        bytes[2],
+        bytes[3],
+        i32::from_be_bytes([bytes[4], bytes[5], bytes[6], bytes[7]]),
+    )
+}
+
+fn talk(sim: &mut Tmcm1110, command: u8, kind: u8, bank: u8, value: i32) -> Answer {
+    sim.feed(&frame(1, command, kind, bank, value));
+    decode(&sim.take_output())
+}
+
+/// Status and value of a command to module 1.
+fn status_value(sim: &mut Tmcm1110, command: u8, kind: u8, bank: u8, value: i32) -> (u8, i32) {
+    let (_, _, status, echoed, value) = talk(sim, command, kind, bank, value);
+    assert_eq!(echoed, command, "opcode echo");
+    (status, value)
+}
+
+fn new_sim() -> Tmcm1110 {
+    Tmcm1110::new(SimConfig::default())
+}
+
+/// Advance in 1 ms steps, at most `limit`, until the module sends something.
+fn wait_for_output(sim: &mut Tmcm1110, limit: Duration) -> Vec<u8> {
+    let step = Duration::from_millis(1);
+    let mut waited = Duration::ZERO;
+    while waited < limit {
+        sim.advance(step);
+        waited += step;
+        let out = sim.take_output();
+        if !out.is_empty() {
+            return out;
+        }
+    }
+    Vec::new()
+}
+
+#[test]
+fn every_status_code_from_the_input_that_causes_it() {
+    let mut sim = new_sim();
+    let mut bad = frame(1, 6, 1, 0, 0);
+    bad[8] ^= 0x55;
+    sim.feed(&bad);
+    assert_eq!(decode(&sim.take_output()).2, 1, "wrong checksum");
+    assert_eq!(status_value(&mut sim, 64, 0, 0, 0).0, 2, "UF0");
+    assert_eq!(status_value(&mut sim, 6, 15, 0, 0).0, 3, "GAP 15");
+    assert_eq!(status_value(&mut sim, 5, 4, 0, 5000).0, 4, "SAP 4 = 5000");
+    assert_eq!(status_value(&mut sim, 9, 81, 0, 2).0, 100);
+    assert_eq!(status_value(&mut sim, 132, 0, 0, 0).0, 5, "download locked");
+    assert_eq!(
+        status_value(&mut sim, 22, 0, 0, 0).0,
+        6,
+        "JA in direct mode"
+    );
+    assert_eq!(status_value(&mut sim, 6, 1, 0, 0), (100, 0));
+}
+
+#[test]
+fn gap_gio_gco_and_calc_reply_values() {
+    let mut sim = new_sim();
+    assert_eq!(status_value(&mut sim, 5, 1, 0, -1234), (100, 0));
+    assert_eq!(status_value(&mut sim, 6, 1, 0, 0), (100, -1234));
+    assert_eq!(status_value(&mut sim, 14, 3, 2, 1), (100, 0));
+    assert_eq!(status_value(&mut sim, 15, 3, 2, 0), (100, 1));
+    assert_eq!(status_value(&mut sim, 30, 4, 0, 99), (100, 0));
+    assert_eq!(status_value(&mut sim, 31, 4, 0, 0), (100, 99));
+    assert_eq!(status_value(&mut sim, 32, 5, 0, 0), (100, -1234));
+    assert_eq!(status_value(&mut sim, 19, 2, 0, -5000), (100, -5000));
+    assert_eq!(status_value(&mut sim, 13, 2, 0, 0), (100, 0));
+}
+
+#[test]
+fn target_reached_second_reply_after_a_move() {
+    let mut sim = new_sim();
+    sim.feed(&[0x01, 0x8A, 0x01, 0x00, 0x00, 0x00, 0x00, 0x01, 0x8D]);
+    assert_eq!(
+        sim.take_output(),
+        [0x02, 0x01, 0x64, 0x8A, 0x00, 0x00, 0x00, 0x01, 0xF2]
+    );
+    assert_eq!(status_value(&mut sim, 4, 0, 0, 3200).0, 100);
+    let out = wait_for_output(&mut sim, Duration::from_secs(600));
+    assert_eq!(out, [0x02, 0x01, 0x80, 0x8A, 0x00, 0x00, 0x00, 0x01, 0x0E]);
+    assert_eq!(status_value(&mut sim, 6, 1, 0, 0), (100, 3200));
+}
+
+#[test]
+fn only_this_modules_address_is_answered() {
+    let mut sim = new_sim();
+    for address in [0, 2, 255] {
+        sim.feed(&frame(address, 6, 1, 0, 0));
+    }
+    assert!(sim.take_output().is_empty());
+    sim.feed(&frame(1, 6, 1, 0, 0));
+    let (host, module, ..) = decode(&sim.take_output());
+    assert_eq!((host, module), (2, 1));
+}
+
+#[test]
+fn suppressed_replies_except_reads() {
+    let mut sim = new_sim();
+    sim.feed(&frame(1, 9, 255, 0, 1));
+    sim.feed(&frame(1, 5, 4, 0, 321));
+    sim.feed(&frame(1, 14, 0, 2, 1));
+    assert!(sim.take_output().is_empty());
+    assert_eq!(status_value(&mut sim, 6, 4, 0, 0), (100, 321));
+    assert_eq!(status_value(&mut sim, 15, 0, 2, 0), (100, 1));
+    assert_eq!(status_value(&mut sim, 10, 255, 0, 0), (100, 1));
+}
+
+/// A fresh directory under the system temp dir, removed on drop.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(tag: &str) -> Self {
+        let dir = std::env::temp_dir().join(format!(
+            "axterm-it-{tag}-{}-{:?}",
+            std::process::id(),
+            std::thread::current().id()
+        ));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        TempDir(dir)
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+#[test]
+fn eeprom_survives_a_reset_and_a_new_simulator() {
+    let dir = TempDir::new("eeprom");
+    let config = SimConfig {
+        eeprom_file: Some(dir.0.join("stepRocker.json")),
+        ..SimConfig::default()
+    };
+    let mut sim = Tmcm1110::new(config.clone());
+    assert_eq!(status_value(&mut sim, 5, 5, 0, 777).0, 100);
+    assert_eq!(status_value(&mut sim, 7, 5, 0, 0).0, 100); // STAP 5
+    assert_eq!(status_value(&mut sim, 9, 7, 2, 4242).0, 100);
+    assert_eq!(status_value(&mut sim, 11, 7, 2, 0).0, 100); // STGP 7
+    assert_eq!(status_value(&mut sim, 5, 5, 0, 1).0, 100);
+    assert_eq!(status_value(&mut sim, 255, 0, 0, 1234).0, 100);
+    assert_eq!(status_value(&mut sim, 6, 5, 0, 0), (100, 777));
+    drop(sim);
+
+    let mut sim = Tmcm1110::new(config);
+    assert!(sim.eeprom_problem().is_none());
+    assert_eq!(status_value(&mut sim, 6, 5, 0, 0), (100, 777));
+    assert_eq!(status_value(&mut sim, 10, 7, 2, 0), (100, 4242));
+}
+
+#[test]
+fn download_and_verify_round_trip() {
+    let mut sim = new_sim();
+    let program: [(u8, u8, u8, i32); 4] = [
+        (5, 4, 0, 1000),  // SAP 4, 0, 1000
+        (4, 0, 0, 51200), // MVP ABS, 0, 51200
+        (27, 1, 0, 0),    // WAIT POS, 0, 0
+        (28, 0, 0, 0),    // STOP
+    ];
+    assert_eq!(status_value(&mut sim, 132, 0, 0, 0), (100, 0));
+    for (address, &(command, kind, bank, value)) in program.iter().enumerate() {
+        assert_eq!(
+            status_value(&mut sim, command, kind, bank, value),
+            (101, address as i32)
+        );
+    }
+    assert_eq!(status_value(&mut sim, 133, 0, 0, 0), (100, 0));
+    for (address, &(command, kind, bank, value)) in program.iter().enumerate() {
+        sim.feed(&frame(1, 134, 0, 0, address as i32));
+        let out = sim.take_output();
+        let v = value.to_be_bytes();
+        let mut expected = [2, command, kind, bank, v[0], v[1], v[2], v[3], 0];
+        expected[8] = expected[..8].iter().fold(0u8, |s, b| s.wrapping_add(*b));
+        assert_eq!(out, expected, "address {address}");
+    }
+    // 135 type 0: status stopped (byte 3), not waiting (byte 2), pointer 4.
+    assert_eq!(status_value(&mut sim, 135, 0, 0, 0), (100, 4));
+    // Nothing was executed.
+    assert_eq!(status_value(&mut sim, 6, 4, 0, 0).0, 100);
+    assert_eq!(status_value(&mut sim, 6, 0, 0, 0), (100, 0));
+}
+
+#[test]
+fn factory_reset_sends_nothing() {
+    let mut sim = new_sim();
+    assert_eq!(status_value(&mut sim, 9, 76, 0, 7).0, 100);
+    sim.feed(&frame(1, 137, 0, 0, 1234));
+    assert!(sim.take_output().is_empty());
+    sim.advance(Duration::from_millis(100));
+    assert!(sim.take_output().is_empty());
+    assert_eq!(talk(&mut sim, 10, 76, 0, 0).0, 2, "host address back to 2");
+}
+
+#[test]
+fn split_and_garbage_input_resynchronises_after_silence() {
+    let mut sim = new_sim();
+    let request = frame(1, 6, 1, 0, 0);
+    sim.feed(&request[..2]);
+    sim.feed(&request[2..7]);
+    sim.feed(&request[7..]);
+    assert_eq!(decode(&sim.take_output()).2, 100);
+
+    // Line noise: three stray bytes shift the frame boundaries...
+    sim.feed(&[0xAA, 0x01, 0x55]);
+    sim.advance(Duration::from_millis(20));
+    // ...until a pause lets the module start afresh.
+    sim.feed(&request);
+    assert_eq!(decode(&sim.take_output()).2, 100);
+
+    // Without the pause the frame is cut wrongly and gets no valid answer.
+    sim.feed(&[0x01, 0x02]);
+    sim.feed(&request);
+    let out = sim.take_output();
+    assert!(out.is_empty() || out.get(2) == Some(&1), "{out:02X?}");
+    sim.advance(Duration::from_millis(20));
+    sim.feed(&request);
+    assert_eq!(decode(&sim.take_output()).2, 100);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// Arbitrary bytes, split anywhere, with arbitrary pauses: no panic, and
+    /// everything sent is whole 9-byte frames.
+    #[test]
+    fn arbitrary_bytes_never_panic(
+        chunks in prop::collection::vec(
+            (prop::collection::vec(any::<u8>(), 0..40), 0u64..50),
+            0..40,
+        )
+    ) {
+        let mut sim = new_sim();
+        for (bytes, pause) in chunks {
+            sim.feed(&bytes);
+            sim.advance(Duration::from_millis(pause));
+            prop_assert_eq!(sim.take_output().len() % 9, 0);
+        }
+    }
+
+    /// Well-formed frames to this module with any opcode, type, bank and
+    /// value: no panic, at most one reply each, a status from the manual.
+    #[test]
+    fn arbitrary_commands_never_panic(
+        commands in prop::collection::vec(
+            (any::<u8>(), any::<u8>(), any::<u8>(), any::<i32>(), 0u64..20),
+            0..60,
+        )
+    ) {
+        let mut sim = new_sim();
+        for (command, kind, bank, value, pause) in commands {
+            sim.feed(&frame(1, command, kind, bank, value));
+            let out = sim.take_output();
+            prop_assert!(out.len() <= 9, "{:02X?}", out);
+            if out.len() == 9 && !matches!(command, 134 | 136) {
+                let (_, _, status, echoed, _) = decode(&out);
+                prop_assert!(matches!(status, 1..=6 | 100 | 101), "status {}", status);
+                prop_assert_eq!(echoed, command);
+            }
+            sim.advance(Duration::from_millis(pause));
+            prop_assert_eq!(sim.take_output().len() % 9, 0);
+        }
+    }
+}
