@@ -43,7 +43,11 @@ pub const SIM_KINDS: &[SimKind] = &[SimKind {
             config.address = address;
         }
         config.eeprom_file = options.eeprom_file.clone();
-        Box::new(tmcm1110::Tmcm1110::new(config))
+        let mut sim = tmcm1110::Tmcm1110::new(config);
+        if let Some(address) = options.address {
+            sim.set_module_address(address);
+        }
+        Box::new(sim)
     },
 }];
 
@@ -59,4 +63,62 @@ pub fn kind_names() -> String {
         .map(|k| k.name)
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::protocol::tmcl::{Reply, Request, Status};
+
+    fn gap_actual_position(sim: &mut dyn SimulatedController, address: u8) -> Option<Reply> {
+        let frame = Request {
+            address,
+            command: 6,
+            kind: 1,
+            motor_bank: 0,
+            value: 0,
+        }
+        .to_bytes();
+        sim.feed(&frame);
+        let out = sim.take_output();
+        let bytes: [u8; 9] = out.as_slice().try_into().ok()?;
+        Reply::from_bytes(&bytes).ok()
+    }
+
+    #[test]
+    fn an_explicit_address_wins_over_the_one_in_the_eeprom_file() {
+        let dir = std::env::temp_dir().join(format!("axterm-sim-kinds-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let file = dir.join("eeprom.json");
+        let kind = find_kind("TMCM1110").expect("registered");
+        let remembered = SimOptions {
+            address: Some(5),
+            eeprom_file: Some(file.clone()),
+        };
+        drop((kind.build)(&remembered));
+
+        let mut sim = (kind.build)(&SimOptions {
+            address: None,
+            eeprom_file: Some(file.clone()),
+        });
+        let reply = gap_actual_position(sim.as_mut(), 5).expect("answers at the stored address");
+        assert_eq!(reply.status, Status::OK);
+        drop(sim);
+
+        let mut sim = (kind.build)(&SimOptions {
+            address: Some(3),
+            eeprom_file: Some(file),
+        });
+        assert!(gap_actual_position(sim.as_mut(), 5).is_none());
+        let reply = gap_actual_position(sim.as_mut(), 3).expect("answers at --address");
+        assert_eq!(reply.module_address, 3);
+        drop(sim);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn unknown_kinds_are_not_found() {
+        assert!(find_kind("tmcm9999").is_none());
+        assert_eq!(kind_names(), "tmcm1110");
+    }
 }

@@ -389,6 +389,14 @@ impl Tmcm1110 {
         Ok(0)
     }
 
+    /// Give the module a new address (GP66), as `SGP 66, 0, address` would:
+    /// auto-stored, so it outlives a restart on the same EEPROM file. The
+    /// command line's `--address` uses this, so an explicit address wins
+    /// over one remembered in the file.
+    pub fn set_module_address(&mut self, address: u8) {
+        self.set_bank0(super::defaults::GP_SERIAL_ADDRESS, i32::from(address));
+    }
+
     fn set_bank0(&mut self, number: u8, value: i32) {
         match number {
             GP_TICK_TIMER => {
