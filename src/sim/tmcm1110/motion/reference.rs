@@ -150,7 +150,7 @@ impl ReferenceMode {
 
     /// The runs the search makes, in order, ending with the move onto the
     /// reference point.
-    pub fn program(&self) -> Vec<Step> {
+    pub(super) fn program(&self) -> Vec<Step> {
         let mut steps = Vec::new();
         if let Some(first) = self.info.first {
             let (switch, dir) = self.orient(first);
@@ -171,7 +171,7 @@ impl ReferenceMode {
 
     /// The reference point and, for modes 2/3, the AP196 distance, from the
     /// switching points the program recorded (in its order).
-    pub fn reference(&self, marks: &[i64]) -> Option<(i64, Option<i64>)> {
+    pub(super) fn reference(&self, marks: &[i64]) -> Option<(i64, Option<i64>)> {
         if self.info.first.is_some() {
             let [f_out, f_in, z_out, z_in] = marks else {
                 return None;
@@ -218,7 +218,7 @@ fn centre(a: i64, b: i64) -> i64 {
 
 /// One run of the search.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Step {
+pub(super) enum Step {
     /// At the search speed (AP194) towards `dir` until `switch` is active.
     Seek { switch: Switch, dir: i8 },
     /// At the switch speed (AP195) towards `dir` until `switch` releases;
