@@ -1,8 +1,39 @@
 //! The StepRocker's single axis: ramp generator (TMC429, manual §6.1),
-//! limit and home switches, reference search (§7.1). Placeholder interface;
-//! the real model replaces the bodies.
+//! limit and home switches, reference search (§7.1), encoder (§6.3) and
+//! StallGuard stop (§7.2), on virtual time.
+//!
+//! Motion is planned as exact piecewise kinematics ([`profile`]): a command
+//! produces a list of ramp segments, and [`Axis::advance`] walks along them,
+//! stopping exactly at segment ends and at the positions where a switch input
+//! changes. Time is counted in whole nanoseconds, every event is rounded up to
+//! the next nanosecond (never early), and positions are evaluated from the
+//! segment's start, so any split of virtual time into `advance` calls gives
+//! the same motion. The StallGuard and encoder-deviation supervision samples
+//! every [`TICK`] of virtual time.
+//!
+//! Two coordinates: the *machine* position (where the carriage is; the
+//! [`SwitchLayout`] lives there) and the position *counter* AP1, which is the
+//! machine position plus an offset that SAP 1 and the reference search
+//! rewrite, wrapped to 32 bits.
 
+mod profile;
+mod reference;
+#[cfg(test)]
+mod tests;
+
+use std::collections::{BTreeMap, VecDeque};
 use std::time::Duration;
+
+use crate::protocol::tmcl::units::{
+    acceleration_to_pps2, pps_to_velocity, pps2_to_acceleration, velocity_to_pps,
+};
+use profile::{Builder, Segment, seconds_to_ns_ceil};
+use reference::{Search, Step};
+
+pub use reference::{
+    INVERT_HOME_FLAG, MIRROR_FLAG, REFERENCE_MODES, ReferenceAbort, ReferenceMode,
+    ReferenceModeInfo, ReferenceOutcome,
+};
 
 /// Which switch input.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -31,7 +62,9 @@ pub enum AxisEvent {
 }
 
 /// Where the simulated machine's switches sit, in microsteps of the
-/// position counter. Tests and the simulator's options move them.
+/// machine position (which is the position counter until SAP 1 or a
+/// reference search rewrites the counter; the switches don't move then).
+/// Tests and the simulator's options move them.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct SwitchLayout {
     /// Left stop switch is active at and below this position.
@@ -42,6 +75,17 @@ pub struct SwitchLayout {
     pub home: Option<(i64, i64)>,
 }
 
+impl SwitchLayout {
+    /// The simulated machine a new [`Axis`] starts with: a linear stage with
+    /// end switches at ±200000 µsteps (≈ ±3.9 turns at 256 µsteps) and a home
+    /// switch over −1000..1000, so the carriage starts on home.
+    pub const DEMO_STAGE: SwitchLayout = SwitchLayout {
+        left_limit: Some(-200_000),
+        right_limit: Some(200_000),
+        home: Some((-1_000, 1_000)),
+    };
+}
+
 /// Axis parameters whose values the motion model owns (others are plain
 /// storage in the module).
 pub const MOTION_PARAMS: &[u8] = &[
@@ -49,15 +93,304 @@ pub const MOTION_PARAMS: &[u8] = &[
     195, 196, 197, 206, 207, 209, 210, 212,
 ];
 
+/// A power-up value of a motion parameter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MotionDefault {
+    pub number: u8,
+    pub value: i32,
+    /// True when the manual states this default; false when it's our choice.
+    pub from_manual: bool,
+    pub why: &'static str,
+}
+
+/// Power-up values of the stored motion parameters. The manual states only
+/// AP140 (§6.1.4) and AP174 (§4); the rest are chosen so that
+/// `MVP ABS, 0, 51200` (one turn) takes about 2.3 s.
+pub const MOTION_DEFAULTS: &[MotionDefault] = &[
+    MotionDefault {
+        number: 0,
+        value: 0,
+        from_manual: false,
+        why: "target = actual position at power-up, so AP8 = 1",
+    },
+    MotionDefault {
+        number: 2,
+        value: 0,
+        from_manual: false,
+        why: "no target speed",
+    },
+    MotionDefault {
+        number: 4,
+        value: 1000,
+        from_manual: false,
+        why: "30518 pps with pulse divisor 3 (0.6 turns/s at 256 µsteps)",
+    },
+    MotionDefault {
+        number: 5,
+        value: 100,
+        from_manual: false,
+        why: "46566 pps² with divisors 7/3, the §6.1.2 example",
+    },
+    MotionDefault {
+        number: 12,
+        value: 0,
+        from_manual: false,
+        why: "right limit switch active",
+    },
+    MotionDefault {
+        number: 13,
+        value: 0,
+        from_manual: false,
+        why: "left limit switch active",
+    },
+    MotionDefault {
+        number: 130,
+        value: 1,
+        from_manual: false,
+        why: "minimum speed; the mangled §4 row reads like 1",
+    },
+    MotionDefault {
+        number: 138,
+        value: 0,
+        from_manual: false,
+        why: "position mode",
+    },
+    MotionDefault {
+        number: 140,
+        value: 8,
+        from_manual: true,
+        why: "§6.1.4: 256 microsteps",
+    },
+    MotionDefault {
+        number: 149,
+        value: 0,
+        from_manual: false,
+        why: "hard stop at a limit switch",
+    },
+    MotionDefault {
+        number: 153,
+        value: 7,
+        from_manual: false,
+        why: "ramp divisor of the §6.1.2 example",
+    },
+    MotionDefault {
+        number: 154,
+        value: 3,
+        from_manual: false,
+        why: "pulse divisor of the §6.1.1 example",
+    },
+    MotionDefault {
+        number: 174,
+        value: 0,
+        from_manual: true,
+        why: "§4: \"Zero is the starting value\"",
+    },
+    MotionDefault {
+        number: 181,
+        value: 0,
+        from_manual: false,
+        why: "stop on stall off",
+    },
+    MotionDefault {
+        number: 193,
+        value: 1,
+        from_manual: false,
+        why: "search the left stop switch",
+    },
+    MotionDefault {
+        number: 194,
+        value: 1000,
+        from_manual: false,
+        why: "search speed = positioning speed",
+    },
+    MotionDefault {
+        number: 195,
+        value: 100,
+        from_manual: false,
+        why: "switch speed a tenth of the search speed",
+    },
+    MotionDefault {
+        number: 196,
+        value: 0,
+        from_manual: false,
+        why: "no search done yet",
+    },
+    MotionDefault {
+        number: 197,
+        value: 0,
+        from_manual: false,
+        why: "no search done yet",
+    },
+    MotionDefault {
+        number: 207,
+        value: 0,
+        from_manual: false,
+        why: "no errors",
+    },
+    MotionDefault {
+        number: 210,
+        value: 512,
+        from_manual: false,
+        why: "prescaler 512/512 = 1: AP209 follows AP1",
+    },
+    MotionDefault {
+        number: 212,
+        value: 0,
+        from_manual: false,
+        why: "deviation stop off",
+    },
+];
+
+/// Sampling period of the StallGuard and encoder-deviation supervision, and
+/// the tolerance the simulator promises on anything it samples. Ramps and
+/// switch edges are exact to the nanosecond.
+pub const TICK: Duration = Duration::from_millis(1);
+const TICK_NS: u64 = 1_000_000;
+
+/// A reference search run that travels this far (machine microsteps, about
+/// 328 turns at 256 µsteps) without meeting its switch gives up.
+pub const REFERENCE_SEARCH_MAX_TRAVEL: i64 = 1 << 24;
+
+/// The StallGuard2 reading (AP206) of an unloaded simulated motor.
+pub const DEFAULT_LOAD: i32 = 500;
+
+/// Largest StallGuard2 reading (§4 AP206: 0..1023).
+const MAX_LOAD: i32 = 1023;
+
+/// §6.3: bits 2, 3 and 4 of AP210 select encoder functions (null channel
+/// zeroing, Z polarity), not the prescaler.
+const ENCODER_FUNCTION_BITS: i32 = 0b1_1100;
+/// §6.3: the resulting prescaler is p/512.
+const ENCODER_PRESCALER_ONE: i128 = 512;
+
+/// AP207 bits (§4 Table 16).
+const STALL_ERROR: i32 = 1;
+const DEVIATION_ERROR: i32 = 2;
+
+/// Ramp modes of AP138.
+const MODE_POSITION: i32 = 0;
+const MODE_SOFT: i32 = 1;
+const MODE_VELOCITY: i32 = 2;
+
+/// Directions the end switches forbid.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+struct Blocks {
+    positive: bool,
+    negative: bool,
+}
+
+impl Blocks {
+    fn contains(self, direction: i8) -> bool {
+        (direction > 0 && self.positive) || (direction < 0 && self.negative)
+    }
+}
+
+/// What the ramp generator is heading for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Goal {
+    Velocity(f64),
+    Position { target: i64, vmax: f64, soft: bool },
+}
+
+/// Why a slice of virtual time ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Cause {
+    Budget,
+    SegmentEnd,
+    Crossing(i64),
+    Tick,
+}
+
+/// The simulated encoder on the motor shaft: one count per microstep of the
+/// machine position, scaled by AP210 into AP209.
 #[derive(Debug, Clone, Default)]
+struct Encoder {
+    /// AP209 when last written or rescaled.
+    base: i64,
+    /// Shaft counts at that moment.
+    shaft_at_base: i64,
+    /// Microsteps the shaft lags behind the motor (injected by tests).
+    slip: i64,
+}
+
+#[derive(Debug, Clone)]
 pub struct Axis {
-    params: std::collections::BTreeMap<u8, i32>,
+    stored: BTreeMap<u8, i32>,
     layout: SwitchLayout,
+    end_switches_reversed: bool,
+    home_input_inverted: bool,
+
+    /// Machine position where the current segment started (whole + fraction).
+    anchor: i64,
+    anchor_frac: f64,
+    /// The plan; the front is the current segment, the back is open-ended.
+    plan: VecDeque<Segment>,
+    /// Time spent in the current segment.
+    segment_ns: u64,
+    /// Machine microstep counter: moves by whole steps once the continuous
+    /// position is a full step away, so it equals an integer target exactly
+    /// when the motor arrives there from either side.
+    steps: i64,
+    /// AP1 = steps + counter_offset (wrapped to 32 bits).
+    counter_offset: i64,
+    clock_ns: u64,
+    /// The end-switch blocks the plan was made with.
+    plan_blocks: Blocks,
+
+    load: i32,
+    encoder: Encoder,
+
+    pending: Vec<AxisEvent>,
+    last_switches: [bool; 3],
+    /// Direction in which a limit switch has stopped the motor (LimitStop is
+    /// reported once per stop).
+    limit_stopped: Option<i8>,
+    /// An MVP (or SAP 0) whose arrival hasn't been reported yet.
+    reached_pending: bool,
+    search: Option<Search>,
+    /// The search run (index, reversed) the present plan belongs to.
+    search_planned: Option<(usize, bool)>,
+    outcome: Option<ReferenceOutcome>,
+}
+
+impl Default for Axis {
+    fn default() -> Self {
+        Self::new()
+    }
 }
 
 impl Axis {
     pub fn new() -> Self {
-        Self::default()
+        let stored = MOTION_DEFAULTS
+            .iter()
+            .map(|d| (d.number, d.value))
+            .collect();
+        let mut axis = Axis {
+            stored,
+            layout: SwitchLayout::DEMO_STAGE,
+            end_switches_reversed: false,
+            home_input_inverted: false,
+            anchor: 0,
+            anchor_frac: 0.0,
+            plan: VecDeque::from([Segment::HOLD]),
+            segment_ns: 0,
+            steps: 0,
+            counter_offset: 0,
+            clock_ns: 0,
+            plan_blocks: Blocks::default(),
+            load: DEFAULT_LOAD,
+            encoder: Encoder::default(),
+            pending: Vec::new(),
+            last_switches: [false; 3],
+            limit_stopped: None,
+            reached_pending: false,
+            search: None,
+            search_planned: None,
+            outcome: None,
+        };
+        axis.last_switches = axis.switch_states();
+        axis.plan_blocks = axis.blocks();
+        axis
     }
 
     pub fn owns_param(number: u8) -> bool {
@@ -65,21 +398,103 @@ impl Axis {
     }
 
     pub fn param(&self, number: u8) -> i32 {
-        self.params.get(&number).copied().unwrap_or(0)
+        match number {
+            1 => self.actual_position(),
+            3 => pps_to_velocity(self.velocity_pps(), self.pulse_div()),
+            8 => i32::from(self.at_target()),
+            9 => i32::from(self.switch(Switch::Home)),
+            10 => i32::from(self.switch(Switch::Right)),
+            11 => i32::from(self.switch(Switch::Left)),
+            135 => {
+                let accel = self.segment().acceleration(self.segment_seconds());
+                pps2_to_acceleration(accel, self.ramp_div(), self.pulse_div())
+            }
+            138 if self.search.is_some() => {
+                if self.search.as_ref().and_then(Search::step) == Some(Step::GoToReference) {
+                    MODE_POSITION
+                } else {
+                    MODE_VELOCITY
+                }
+            }
+            206 => self.load,
+            209 => self.encoder_count() as i32,
+            _ => self.stored(number),
+        }
     }
 
+    /// Writes a parameter the module has already validated. Writes to the
+    /// read-only values (AP3, 8..11, 135, 196, 197, 206, 207) are ignored.
     pub fn set_param(&mut self, number: u8, value: i32) {
-        if number == 0 {
-            self.move_to(value);
-        } else {
-            self.params.insert(number, value);
+        match number {
+            // SAP 0 moves like MVP ABS (position mode, §4 "target position")
+            // but is no motion command, so AP207 stays.
+            0 => {
+                self.interrupt_search();
+                self.stored.insert(0, value);
+                self.stored.insert(138, MODE_POSITION);
+                self.reached_pending = true;
+                self.replan();
+            }
+            1 => self.set_actual_position(value),
+            2 => {
+                self.stored.insert(2, value);
+                if self.search.is_none() && self.mode() == MODE_VELOCITY {
+                    self.replan();
+                }
+            }
+            4 | 5 | 130 | 153 | 154 => {
+                self.stored.insert(number, value);
+                self.replan();
+            }
+            138 => {
+                if !(MODE_POSITION..=MODE_VELOCITY).contains(&value) {
+                    return;
+                }
+                self.interrupt_search();
+                self.stored.insert(138, value);
+                if value != MODE_VELOCITY {
+                    self.reached_pending = true;
+                }
+                self.replan();
+            }
+            // Switch settings take effect at the next advance, where edges
+            // and limit stops are reported.
+            12 | 13 | 140 | 149 | 174 | 181 | 193 | 212 => {
+                self.stored.insert(number, value);
+            }
+            194 | 195 => {
+                self.stored.insert(number, value);
+                if self.search.is_some() {
+                    if value == 0 {
+                        self.abort_search(ReferenceAbort::ZeroSpeed);
+                        self.halt();
+                    } else {
+                        self.replan();
+                    }
+                }
+            }
+            209 => {
+                self.encoder.base = i64::from(value);
+                self.encoder.shaft_at_base = self.shaft();
+            }
+            210 => {
+                self.encoder.base = self.encoder_count();
+                self.encoder.shaft_at_base = self.shaft();
+                self.stored.insert(210, value);
+            }
+            _ => {}
         }
     }
 
     /// ROR (positive) / ROL (negative): velocity mode at `velocity` [int].
+    /// Not limited by AP4, which is the maximum *positioning* speed.
     pub fn rotate(&mut self, velocity: i32) {
-        self.params.insert(2, velocity);
-        self.params.insert(138, 2);
+        self.interrupt_search();
+        self.clear_error_flags();
+        self.stored.insert(2, velocity);
+        self.stored.insert(138, MODE_VELOCITY);
+        self.reached_pending = false;
+        self.replan();
     }
 
     /// MST: decelerate to standstill.
@@ -87,27 +502,84 @@ impl Axis {
         self.rotate(0);
     }
 
-    /// MVP: position mode towards `target`.
+    /// MVP: position mode towards `target`. If the target is more than
+    /// 2^31 − 1 away, the motor goes the short way round through the 32-bit
+    /// wrap of the counter (§3.6.4 note).
     pub fn move_to(&mut self, target: i32) {
-        self.params.insert(0, target);
-        self.params.insert(138, 0);
+        self.interrupt_search();
+        self.clear_error_flags();
+        self.stored.insert(0, target);
+        self.stored.insert(138, MODE_POSITION);
+        self.reached_pending = true;
+        self.replan();
     }
 
-    pub fn start_reference_search(&mut self) {}
+    /// RFS START with the mode in AP193 (§7.1). An undefined mode or a zero
+    /// speed ends the search at once ([`Axis::reference_search_outcome`]).
+    pub fn start_reference_search(&mut self) {
+        self.clear_error_flags();
+        self.search = None;
+        self.search_planned = None;
+        self.outcome = None;
+        let mode_value = self.stored(193);
+        let Some(mode) = ReferenceMode::decode(mode_value) else {
+            self.end_search(ReferenceOutcome::Aborted(ReferenceAbort::InvalidMode(
+                mode_value,
+            )));
+            return;
+        };
+        if self.stored(194) == 0 || self.stored(195) == 0 {
+            self.end_search(ReferenceOutcome::Aborted(ReferenceAbort::ZeroSpeed));
+            return;
+        }
+        self.reached_pending = false;
+        self.limit_stopped = None;
+        self.search = Some(Search::new(mode, self.steps));
+        self.drive_search();
+    }
 
-    pub fn stop_reference_search(&mut self) {}
+    /// RFS STOP: the search ends, the motor decelerates with AP5 and the
+    /// counter is left as it is.
+    pub fn stop_reference_search(&mut self) {
+        if self.search.is_some() {
+            self.abort_search(ReferenceAbort::Stopped);
+            self.stored.insert(2, 0);
+            self.stored.insert(138, MODE_VELOCITY);
+            self.replan();
+        }
+    }
 
     pub fn reference_search_active(&self) -> bool {
-        false
+        self.search.is_some()
     }
 
-    /// Logical state of a switch input (AP9..AP11), after GP79 polarity.
-    pub fn switch(&self, _which: Switch) -> bool {
-        false
+    /// How the last reference search ended (`None` while one runs or before
+    /// the first).
+    pub fn reference_search_outcome(&self) -> Option<ReferenceOutcome> {
+        self.outcome
+    }
+
+    /// Logical state of a switch input (AP9..AP11): the end switches after
+    /// GP79 polarity, the home switch as wired.
+    pub fn switch(&self, which: Switch) -> bool {
+        let physical = self.physical(which);
+        match which {
+            Switch::Left | Switch::Right => physical != self.end_switches_reversed,
+            Switch::Home => physical != self.home_input_inverted,
+        }
     }
 
     /// GP79: end switch polarity reversed.
-    pub fn set_end_switch_polarity_reversed(&mut self, _reversed: bool) {}
+    pub fn set_end_switch_polarity_reversed(&mut self, reversed: bool) {
+        self.end_switches_reversed = reversed;
+    }
+
+    /// The simulated machine's home switch is wired inverted (normally
+    /// closed): its input is active outside the home window. Reference modes
+    /// 5..8 + 128 are made for such a machine.
+    pub fn set_home_input_inverted(&mut self, inverted: bool) {
+        self.home_input_inverted = inverted;
+    }
 
     /// The simulated machine's switch positions.
     pub fn layout_mut(&mut self) -> &mut SwitchLayout {
@@ -116,20 +588,697 @@ impl Axis {
 
     /// True while the motor turns or a ramp is in progress.
     pub fn is_moving(&self) -> bool {
-        self.param(3) != 0
+        !self.segment().is_hold()
     }
 
     /// AP207 is cleared when read and by every motion command (§4 Table 16);
     /// the module calls this after answering a GAP 207.
     pub fn clear_error_flags(&mut self) {
-        self.params.insert(207, 0);
+        self.stored.insert(207, 0);
     }
 
-    pub fn advance(&mut self, _dt: Duration, events: &mut Vec<AxisEvent>) {
-        if self.param(138) == 0 && self.param(1) != self.param(0) {
-            self.params.insert(1, self.param(0));
-            self.params.insert(8, 1);
-            events.push(AxisEvent::TargetReached);
+    /// Simulated StallGuard2 reading (AP206), 0 = motor stalled; clamped to
+    /// 0..1023.
+    pub fn set_load(&mut self, load: i32) {
+        self.load = load.clamp(0, MAX_LOAD);
+    }
+
+    /// The shaft (and with it the encoder) falls `microsteps` behind the
+    /// motor, as when steps are lost; negative values make it run ahead.
+    pub fn inject_slip(&mut self, microsteps: i64) {
+        self.encoder.slip = self.encoder.slip.saturating_add(microsteps);
+    }
+
+    /// Where the carriage is in machine microsteps (the frame of the
+    /// [`SwitchLayout`]), independent of the counter offset.
+    pub fn machine_position(&self) -> i64 {
+        self.steps
+    }
+
+    /// Actual speed in microsteps per second (AP3 before rounding to [int]).
+    pub fn velocity_pps(&self) -> f64 {
+        self.segment().velocity(self.segment_seconds())
+    }
+
+    /// Virtual time this axis has lived through.
+    pub fn elapsed(&self) -> Duration {
+        Duration::from_nanos(self.clock_ns)
+    }
+
+    pub fn advance(&mut self, dt: Duration, events: &mut Vec<AxisEvent>) {
+        let mut remaining = u64::try_from(dt.as_nanos()).unwrap_or(u64::MAX);
+        let mut idle_slices = 0u32;
+        self.settle();
+        loop {
+            let (mut slice, mut cause) = self.next_slice(remaining);
+            // Every zero-length slice consumes a discrete event, so this
+            // only guards against a numerical surprise looping for ever.
+            if slice == 0 && cause != Cause::Budget {
+                idle_slices += 1;
+                if idle_slices > 1000 {
+                    slice = remaining.min(1);
+                    cause = Cause::Budget;
+                }
+            } else {
+                idle_slices = 0;
+            }
+            self.pass_time(slice);
+            remaining -= slice;
+            match cause {
+                Cause::Budget => {
+                    if remaining == 0 {
+                        self.settle();
+                        break;
+                    }
+                }
+                Cause::SegmentEnd => self.finish_segment(),
+                Cause::Crossing(position) => self.reach(position),
+                Cause::Tick => self.supervise(),
+            }
+            self.settle();
+        }
+        events.append(&mut self.pending);
+    }
+
+    // ----- parameters -----
+
+    fn stored(&self, number: u8) -> i32 {
+        self.stored.get(&number).copied().unwrap_or(0)
+    }
+
+    fn mode(&self) -> i32 {
+        self.stored(138)
+    }
+
+    fn pulse_div(&self) -> u8 {
+        self.stored(154).clamp(0, 13) as u8
+    }
+
+    fn ramp_div(&self) -> u8 {
+        self.stored(153).clamp(0, 13) as u8
+    }
+
+    /// An internal velocity value in pps.
+    fn speed_pps(&self, velocity_int: i32) -> f64 {
+        velocity_to_pps(velocity_int.clamp(-2047, 2047), self.pulse_div())
+    }
+
+    /// AP4 in pps (at least 1 [int], so a ramp always ends).
+    fn max_speed_pps(&self) -> f64 {
+        self.speed_pps(self.stored(4).clamp(1, 2047))
+    }
+
+    /// AP5 in pps² (at least 1 [int]). §6.1.3's window for positioning ramps
+    /// isn't enforced: the manual doesn't say what happens outside it.
+    fn accel_pps2(&self) -> f64 {
+        acceleration_to_pps2(
+            self.stored(5).clamp(1, 2047),
+            self.ramp_div(),
+            self.pulse_div(),
+        )
+    }
+
+    fn actual_position(&self) -> i32 {
+        self.steps.wrapping_add(self.counter_offset) as i32
+    }
+
+    /// SAP 1: rewrite the counter. The carriage doesn't move: in position
+    /// modes the target moves along by the same amount, so a motor at its
+    /// target stays there (AP8 stays 1) and a running move ends where it
+    /// would have.
+    fn set_actual_position(&mut self, value: i32) {
+        let delta = value.wrapping_sub(self.actual_position());
+        self.counter_offset = self.counter_offset.wrapping_add(i64::from(delta));
+        if self.mode() != MODE_VELOCITY {
+            let target = self.stored(0).wrapping_add(delta);
+            self.stored.insert(0, target);
+        }
+    }
+
+    /// The machine position of AP0, the short way round (§3.6.4 note).
+    fn target_machine(&self) -> i64 {
+        let offset = self.stored(0).wrapping_sub(self.actual_position());
+        self.steps.saturating_add(i64::from(offset))
+    }
+
+    fn at_target(&self) -> bool {
+        self.search.is_none()
+            && self.mode() != MODE_VELOCITY
+            && !self.is_moving()
+            && self.actual_position() == self.stored(0)
+    }
+
+    // ----- encoder and supervision -----
+
+    fn shaft(&self) -> i64 {
+        self.steps.saturating_sub(self.encoder.slip)
+    }
+
+    fn encoder_count(&self) -> i64 {
+        let prescaler = i128::from(self.stored(210) & !ENCODER_FUNCTION_BITS);
+        let counts = i128::from(self.shaft()) - i128::from(self.encoder.shaft_at_base);
+        let scaled = (counts * prescaler).div_euclid(ENCODER_PRESCALER_ONE);
+        let total = i128::from(self.encoder.base) + scaled;
+        total.clamp(i128::from(i64::MIN), i128::from(i64::MAX)) as i64
+    }
+
+    fn deviation(&self) -> i64 {
+        let encoder = self.encoder_count() as i32;
+        i64::from(self.actual_position().wrapping_sub(encoder)).abs()
+    }
+
+    fn supervision_armed(&self) -> bool {
+        self.is_moving() && (self.stored(212) > 0 || (self.stored(181) > 0 && self.load == 0))
+    }
+
+    /// §7.2 / AP181: stall stop above the AP181 speed when the load reading
+    /// is 0; AP212: deviation stop. Both stop the motor at once, like the
+    /// TMCL firmware's hard stop (velocity mode, target speed 0).
+    fn supervise(&mut self) {
+        if !self.is_moving() {
+            return;
+        }
+        let threshold = self.stored(181);
+        let speed = self.param(3).abs();
+        let stall = threshold > 0 && speed >= threshold && self.load == 0;
+        let max_deviation = self.stored(212);
+        let deviation = max_deviation > 0 && self.deviation() > i64::from(max_deviation);
+        if !stall && !deviation {
+            return;
+        }
+        let mut flags = self.stored(207);
+        if stall {
+            flags |= STALL_ERROR;
+            self.pending.push(AxisEvent::StallStop);
+        }
+        if deviation {
+            flags |= DEVIATION_ERROR;
+            self.pending.push(AxisEvent::DeviationStop);
+        }
+        self.stored.insert(207, flags);
+        if self.search.is_some() {
+            let reason = if stall {
+                ReferenceAbort::Stall
+            } else {
+                ReferenceAbort::Deviation
+            };
+            self.abort_search(reason);
+        }
+        self.halt();
+    }
+
+    // ----- switches -----
+
+    fn physical(&self, which: Switch) -> bool {
+        let at = self.steps;
+        match which {
+            Switch::Left => self.layout.left_limit.is_some_and(|l| at <= l),
+            Switch::Right => self.layout.right_limit.is_some_and(|r| at >= r),
+            Switch::Home => self
+                .layout
+                .home
+                .is_some_and(|(a, b)| (a.min(b)..=a.max(b)).contains(&at)),
+        }
+    }
+
+    fn switch_states(&self) -> [bool; 3] {
+        [
+            self.switch(Switch::Left),
+            self.switch(Switch::Right),
+            self.switch(Switch::Home),
+        ]
+    }
+
+    fn emit_switch_edges(&mut self) {
+        let now = self.switch_states();
+        for (i, which) in [Switch::Left, Switch::Right, Switch::Home]
+            .into_iter()
+            .enumerate()
+        {
+            if now[i] != self.last_switches[i] {
+                self.pending.push(AxisEvent::SwitchChanged {
+                    switch: which,
+                    active: now[i],
+                });
+            }
+        }
+        self.last_switches = now;
+    }
+
+    /// Right switch stops positive motion, left stops negative (AP12/AP13 =
+    /// 1 disable them); the reference search handles the switches itself
+    /// (§7.1: AP12/AP13 don't influence it).
+    fn blocks(&self) -> Blocks {
+        if self.search.is_some() {
+            return Blocks::default();
+        }
+        Blocks {
+            positive: self.switch(Switch::Right) && self.stored(12) == 0,
+            negative: self.switch(Switch::Left) && self.stored(13) == 0,
+        }
+    }
+
+    /// The next machine position, in `direction`, at which a switch input
+    /// changes or the search's travel bound lies.
+    fn next_threshold(&self, direction: i8) -> Option<i64> {
+        if direction == 0 {
+            return None;
+        }
+        let up = direction > 0;
+        let mut candidates: Vec<i64> = Vec::with_capacity(5);
+        if let Some(l) = self.layout.left_limit {
+            candidates.push(if up { l.saturating_add(1) } else { l });
+        }
+        if let Some(r) = self.layout.right_limit {
+            candidates.push(if up { r } else { r.saturating_sub(1) });
+        }
+        if let Some((a, b)) = self.layout.home {
+            let (lo, hi) = (a.min(b), a.max(b));
+            if up {
+                candidates.extend([lo, hi.saturating_add(1)]);
+            } else {
+                candidates.extend([hi, lo.saturating_sub(1)]);
+            }
+        }
+        if let Some(search) = &self.search {
+            let bound = REFERENCE_SEARCH_MAX_TRAVEL * i64::from(direction);
+            candidates.push(search.run_start.saturating_add(bound));
+        }
+        let at = self.steps;
+        if up {
+            candidates.into_iter().filter(|c| *c > at).min()
+        } else {
+            candidates.into_iter().filter(|c| *c < at).max()
+        }
+    }
+
+    // ----- kinematics -----
+
+    fn segment(&self) -> Segment {
+        self.plan.front().copied().unwrap_or(Segment::HOLD)
+    }
+
+    fn segment_seconds(&self) -> f64 {
+        self.segment_ns as f64 * 1e-9
+    }
+
+    /// Continuous machine position minus `origin`.
+    fn position_from(&self, origin: i64) -> f64 {
+        self.anchor.saturating_sub(origin) as f64
+            + self.anchor_frac
+            + self.segment().displacement(self.segment_seconds())
+    }
+
+    /// How long until the next thing happens, at most `budget` ns. Ties go
+    /// to the discrete causes, so an event due exactly at the end of an
+    /// `advance` is handled within it.
+    fn next_slice(&self, budget: u64) -> (u64, Cause) {
+        let segment = self.segment();
+        let mut best = (budget, Cause::Budget);
+        let mut consider = |ns: u64, cause: Cause| {
+            if ns <= best.0 {
+                best = (ns, cause);
+            }
+        };
+        if self.supervision_armed() {
+            consider(TICK_NS - self.clock_ns % TICK_NS, Cause::Tick);
+        }
+        if let Some(position) = self.next_threshold(segment.direction()) {
+            let distance = position.saturating_sub(self.anchor) as f64 - self.anchor_frac;
+            if let Some(t) = segment.time_to_travel(distance) {
+                let at = seconds_to_ns_ceil(t);
+                consider(
+                    at.saturating_sub(self.segment_ns),
+                    Cause::Crossing(position),
+                );
+            }
+        }
+        if segment.duration.is_finite() {
+            let end = segment.duration_ns();
+            consider(end.saturating_sub(self.segment_ns), Cause::SegmentEnd);
+        }
+        best
+    }
+
+    fn pass_time(&mut self, ns: u64) {
+        if ns == 0 {
+            return;
+        }
+        self.segment_ns = self.segment_ns.saturating_add(ns);
+        self.clock_ns = self.clock_ns.saturating_add(ns);
+        self.update_steps();
+    }
+
+    /// The counter moves once the continuous position is a whole step away.
+    fn update_steps(&mut self) {
+        let offset = self.position_from(self.steps);
+        if offset >= 1.0 {
+            self.steps = self.steps.saturating_add(offset.floor() as i64);
+        } else if offset <= -1.0 {
+            self.steps = self.steps.saturating_add(offset.ceil() as i64);
+        }
+    }
+
+    /// A switch threshold was reached: make sure the counter shows it even
+    /// if rounding left the continuous position a hair short.
+    fn reach(&mut self, position: i64) {
+        let direction = self.segment().direction();
+        if direction > 0 {
+            self.steps = self.steps.max(position);
+        } else if direction < 0 {
+            self.steps = self.steps.min(position);
+        }
+    }
+
+    fn finish_segment(&mut self) {
+        let Some(done) = self.plan.pop_front() else {
+            self.plan.push_back(Segment::HOLD);
+            return;
+        };
+        self.segment_ns = 0;
+        if self.plan.is_empty() {
+            self.plan.push_back(if done.v_end == 0.0 {
+                Segment::HOLD
+            } else {
+                Segment::cruise_forever(done.v_end)
+            });
+        }
+        if let Some(target) = done.lands_on {
+            self.anchor = target;
+            self.anchor_frac = 0.0;
+            self.steps = target;
+        } else {
+            self.set_anchor(self.anchor_frac + done.displacement(done.duration));
+            self.update_steps();
+        }
+    }
+
+    /// Anchor = `anchor` + `offset` (normalised to whole + fraction).
+    fn set_anchor(&mut self, offset: f64) {
+        let whole = offset.floor();
+        self.anchor = self.anchor.saturating_add(whole as i64);
+        self.anchor_frac = offset - whole;
+    }
+
+    /// Start a new plan here and now; returns the speed to continue from.
+    fn reanchor(&mut self) -> f64 {
+        let segment = self.segment();
+        let t = self.segment_seconds();
+        let v = segment.velocity(t);
+        self.set_anchor(self.anchor_frac + segment.displacement(t));
+        self.segment_ns = 0;
+        self.plan.clear();
+        v
+    }
+
+    /// Stop dead on the current microstep.
+    fn hard_stop(&mut self) {
+        self.reanchor();
+        self.anchor = self.steps;
+        self.anchor_frac = 0.0;
+        self.plan.clear();
+        self.plan.push_back(Segment::HOLD);
+    }
+
+    /// Hard stop and leave the axis in velocity mode with target speed 0.
+    fn halt(&mut self) {
+        self.stored.insert(2, 0);
+        self.stored.insert(138, MODE_VELOCITY);
+        self.hard_stop();
+        self.replan();
+    }
+
+    fn goal(&self) -> Goal {
+        if let Some(search) = &self.search {
+            let fast = self.speed_pps(self.stored(194).abs());
+            let slow = self.speed_pps(self.stored(195).abs());
+            let dir = f64::from(search.run_direction());
+            return match search.step() {
+                Some(Step::Seek { .. }) => Goal::Velocity(dir * fast),
+                Some(Step::Leave { .. } | Step::Enter { .. }) => Goal::Velocity(dir * slow),
+                Some(Step::GoToReference) => Goal::Position {
+                    target: search.reference.unwrap_or(self.steps),
+                    vmax: slow,
+                    soft: false,
+                },
+                None => Goal::Velocity(0.0),
+            };
+        }
+        match self.mode() {
+            MODE_VELOCITY => Goal::Velocity(self.speed_pps(self.stored(2))),
+            mode => Goal::Position {
+                target: self.target_machine(),
+                vmax: self.max_speed_pps(),
+                soft: mode == MODE_SOFT,
+            },
+        }
+    }
+
+    /// Plan the motion from the present state towards the present goal,
+    /// within the end-switch blocks.
+    fn replan(&mut self) {
+        let v = self.reanchor();
+        let blocks = self.blocks();
+        let accel = self.accel_pps2();
+        let mut builder = Builder::new(v);
+        let heading = if v > 0.0 {
+            1
+        } else if v < 0.0 {
+            -1
+        } else {
+            0
+        };
+        if blocks.contains(heading) {
+            // Running into an active end switch: AP149 chooses between a
+            // hard stop and a deceleration ramp.
+            if self.stored(149) == 1 {
+                builder.ramp_to(0.0, accel);
+            } else {
+                builder = Builder::new(0.0);
+                self.anchor = self.steps;
+                self.anchor_frac = 0.0;
+            }
+            if self.limit_stopped != Some(heading) {
+                let which = if heading > 0 {
+                    Switch::Right
+                } else {
+                    Switch::Left
+                };
+                self.pending.push(AxisEvent::LimitStop(which));
+                self.limit_stopped = Some(heading);
+            }
+        }
+        let braking = builder.len();
+        let mut landing = None;
+        match self.goal() {
+            Goal::Velocity(target) => builder.velocity_mode(target, accel),
+            Goal::Position { target, vmax, soft } => {
+                let distance = target.saturating_sub(self.anchor) as f64 - self.anchor_frac;
+                let landed = if soft {
+                    let vmin = self.speed_pps(self.stored(130).clamp(1, 2047));
+                    builder.soft(distance, vmax, accel, vmin)
+                } else {
+                    builder.trapezoid(distance, vmax, accel)
+                };
+                if landed {
+                    if builder.len() == 0 {
+                        // Already there (to within a rounding hair).
+                        self.anchor = target;
+                        self.anchor_frac = 0.0;
+                    }
+                    landing = Some(target);
+                }
+            }
+        }
+        let v_last = builder.velocity();
+        let mut segments = builder.into_segments(landing);
+        let cut = segments
+            .iter()
+            .skip(braking)
+            .position(|s| blocks.contains(s.direction()));
+        let open_end = if let Some(cut) = cut {
+            segments.truncate(braking + cut);
+            Segment::HOLD
+        } else if landing.is_some() || v_last == 0.0 {
+            Segment::HOLD
+        } else {
+            Segment::cruise_forever(v_last)
+        };
+        self.plan = segments.into();
+        self.plan.push_back(open_end);
+        self.segment_ns = 0;
+        self.plan_blocks = blocks;
+    }
+
+    /// React to whatever changed at this instant: switch edges, end-switch
+    /// blocks, search progress, arrival.
+    fn settle(&mut self) {
+        self.emit_switch_edges();
+        if self.search.is_some() {
+            self.drive_search();
+        }
+        if self.search.is_none() {
+            let blocks = self.blocks();
+            if self.limit_stopped.is_some_and(|d| !blocks.contains(d)) {
+                self.limit_stopped = None;
+            }
+            if blocks != self.plan_blocks {
+                self.replan();
+            }
+        }
+        if self.reached_pending && self.at_target() {
+            self.reached_pending = false;
+            self.pending.push(AxisEvent::TargetReached);
+        }
+    }
+
+    // ----- reference search -----
+
+    /// What the search sees of a switch: end switches after GP79, the home
+    /// switch inverted again with +128.
+    fn search_sees(&self, which: Switch, search: &Search) -> bool {
+        let state = self.switch(which);
+        if which == Switch::Home && search.mode.home_inverted {
+            !state
+        } else {
+            state
+        }
+    }
+
+    /// Advance the search's program as far as the present state allows.
+    fn drive_search(&mut self) {
+        // Each pass completes at most one run; a program has at most eleven.
+        for _ in 0..16 {
+            let Some(search) = self.search.clone() else {
+                return;
+            };
+            let Some(step) = search.step() else {
+                return;
+            };
+            let done = match step {
+                Step::Seek { switch, .. } => {
+                    if self.search_sees(switch, &search) {
+                        true
+                    } else if search.mode.info.reverse_at_limit {
+                        // Modes 5/6: turn round once at the end switch ahead.
+                        let dir = search.run_direction();
+                        let ahead = if dir > 0 { Switch::Right } else { Switch::Left };
+                        if self.switch(ahead) {
+                            if search.reversed {
+                                self.abort_search(ReferenceAbort::HomeNotBetweenLimits);
+                                self.halt();
+                                return;
+                            }
+                            self.hard_stop();
+                            if let Some(s) = self.search.as_mut() {
+                                s.reversed = true;
+                                s.run_start = self.steps;
+                            }
+                            continue;
+                        }
+                        false
+                    } else {
+                        false
+                    }
+                }
+                Step::Leave { switch, dir } => {
+                    let released = !self.search_sees(switch, &search);
+                    if released {
+                        let last_active = self.steps.saturating_sub(i64::from(dir));
+                        if let Some(s) = self.search.as_mut() {
+                            s.marks.push(last_active);
+                        }
+                    }
+                    released
+                }
+                Step::Enter { switch, .. } => {
+                    let entered = self.search_sees(switch, &search);
+                    if entered {
+                        let at = self.steps;
+                        if let Some(s) = self.search.as_mut() {
+                            s.marks.push(at);
+                        }
+                    }
+                    entered
+                }
+                Step::GoToReference => {
+                    let Some((reference, distance)) = search
+                        .reference
+                        .map(|r| (r, search.distance))
+                        .or_else(|| search.mode.reference(&search.marks))
+                    else {
+                        self.abort_search(ReferenceAbort::TravelExceeded);
+                        self.halt();
+                        return;
+                    };
+                    if let Some(s) = self.search.as_mut() {
+                        s.reference = Some(reference);
+                        s.distance = distance;
+                    }
+                    if !self.is_moving() && self.steps == reference && self.anchor == reference {
+                        self.finish_search(reference, distance);
+                        return;
+                    }
+                    false
+                }
+            };
+            if done {
+                self.hard_stop();
+                let at = self.steps;
+                if let Some(s) = self.search.as_mut() {
+                    s.next(at);
+                }
+                continue;
+            }
+            if step != Step::GoToReference
+                && self.steps.saturating_sub(search.run_start).abs() >= REFERENCE_SEARCH_MAX_TRAVEL
+            {
+                self.abort_search(ReferenceAbort::TravelExceeded);
+                self.halt();
+                return;
+            }
+            let run = (search.index, search.reversed);
+            if self.search_planned != Some(run) {
+                self.search_planned = Some(run);
+                self.replan();
+            }
+            return;
+        }
+    }
+
+    /// §7.1 / AP197: the counter becomes 0 at the reference, AP197 keeps the
+    /// value it had there; the motor stands on the reference in position
+    /// mode with target 0.
+    fn finish_search(&mut self, reference: i64, distance: Option<i64>) {
+        let last = self.actual_position();
+        self.counter_offset = reference.wrapping_neg();
+        self.stored.insert(197, last);
+        if let Some(distance) = distance {
+            self.stored.insert(196, distance as i32);
+        }
+        self.stored.insert(0, 0);
+        self.stored.insert(138, MODE_POSITION);
+        self.end_search(ReferenceOutcome::Found {
+            last_reference_position: last,
+        });
+        self.replan();
+    }
+
+    fn abort_search(&mut self, reason: ReferenceAbort) {
+        self.end_search(ReferenceOutcome::Aborted(reason));
+    }
+
+    fn end_search(&mut self, outcome: ReferenceOutcome) {
+        self.search = None;
+        self.search_planned = None;
+        self.outcome = Some(outcome);
+        self.pending.push(AxisEvent::ReferenceSearchDone);
+    }
+
+    /// A motion command takes over from a running search.
+    fn interrupt_search(&mut self) {
+        if self.search.is_some() {
+            self.abort_search(ReferenceAbort::Interrupted);
         }
     }
 }
