@@ -151,6 +151,7 @@ fn run_sim(
         eeprom_file,
     };
     let sim = (sim_kind.build)(&options);
+    eprintln!("{}", sim.help());
     let stop = Arc::new(AtomicBool::new(false));
     let server_stop = Arc::clone(&stop);
     let (done_tx, done_rx) = tokio::sync::oneshot::channel();

@@ -15,6 +15,9 @@ pub trait SimulatedController: Send {
     fn advance(&mut self, dt: Duration);
     /// Bytes the controller has sent since the last call.
     fn take_output(&mut self) -> Vec<u8>;
+    /// One line for the user: what is simulated and the defaults we chose
+    /// where the manual gives none.
+    fn help(&self) -> String;
 }
 
 /// Options common to every simulator kind.

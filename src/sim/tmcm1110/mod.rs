@@ -322,7 +322,10 @@ impl Tmcm1110 {
     /// One line listing the simulator's own choices where the manual gives
     /// no value.
     pub fn help_line(&self) -> String {
-        help_line(&self.config)
+        let mut config = self.config.clone();
+        config.address = self.address();
+        let layout = self.axis.layout();
+        format!("{}, {}", help_line(&config), describe_layout(layout))
     }
 
     // ---- power-up ----------------------------------------------------
@@ -556,18 +559,34 @@ impl From<Result<i32, Status>> for Answer {
     }
 }
 
+/// Where the simulated machine's switches are, for the help line.
+fn describe_layout(layout: &SwitchLayout) -> String {
+    let place = |p: Option<i64>| p.map_or_else(|| "none".to_string(), |p| p.to_string());
+    let home = layout
+        .home
+        .map_or_else(|| "none".to_string(), |(from, to)| format!("{from}..{to}"));
+    format!(
+        "left limit at {}, right limit at {}, home switch over {} (µsteps)",
+        place(layout.left_limit),
+        place(layout.right_limit),
+        home
+    )
+}
+
 /// The simulator's help line: its defaults where the manual gives none.
 pub fn help_line(config: &SimConfig) -> String {
-    let chosen: Vec<String> = defaults::SIM_DEFAULTS
+    let motion_choices = motion::MOTION_DEFAULTS
         .iter()
-        .map(|d| {
-            let prefix = match d.scope {
-                defaults::Scope::Axis => "AP",
-                defaults::Scope::Bank0 => "GP",
-            };
-            format!("{prefix}{} {}", d.number, d.value)
-        })
-        .collect();
+        .filter(|d| !d.from_manual)
+        .map(|d| format!("AP{} {}", d.number, d.value));
+    let module_choices = defaults::SIM_DEFAULTS.iter().map(|d| {
+        let prefix = match d.scope {
+            defaults::Scope::Axis => "AP",
+            defaults::Scope::Bank0 => "GP",
+        };
+        format!("{prefix}{} {}", d.number, d.value)
+    });
+    let chosen: Vec<String> = motion_choices.chain(module_choices).collect();
     format!(
         "TMCM-1110 simulator (firmware {}): address {}, {}, program memory {} commands, \
          frame gap {} ms, read-only writes answer {}, GP68 heartbeat in ms, AIN0 digital from {}",
@@ -582,6 +601,10 @@ pub fn help_line(config: &SimConfig) -> String {
 }
 
 impl SimulatedController for Tmcm1110 {
+    fn help(&self) -> String {
+        self.help_line()
+    }
+
     fn feed(&mut self, bytes: &[u8]) {
         if bytes.is_empty() {
             return;

@@ -582,6 +582,11 @@ impl Axis {
     }
 
     /// The simulated machine's switch positions.
+    pub fn layout(&self) -> &SwitchLayout {
+        &self.layout
+    }
+
+    /// The simulated machine's switch positions, to move them.
     pub fn layout_mut(&mut self) -> &mut SwitchLayout {
         &mut self.layout
     }

@@ -1231,7 +1231,18 @@ fn help_line_lists_the_simulator_defaults() {
     let sim = sim();
     let line = sim.help_line();
     assert!(!line.contains('\n'));
-    for needle in ["1110V112", "2048", "AP167 5", "GP76 2", "10 ms", "answer 3"] {
+    for needle in [
+        "1110V112",
+        "2048",
+        "AP167 5",
+        "GP76 2",
+        "10 ms",
+        "answer 3",
+        "AP4 1000",
+        "AP153 7",
+        "left limit at -200000",
+        "home switch over -1000..1000",
+    ] {
         assert!(line.contains(needle), "{needle} missing from {line}");
     }
 }
