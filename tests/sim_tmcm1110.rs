@@ -293,3 +293,159 @@ proptest! {
         }
     }
 }
+
+// ---- motion seen from the wire ------------------------------------------------
+
+const SAP: u8 = 5;
+const GAP: u8 = 6;
+const MVP: u8 = 4;
+const ROR: u8 = 1;
+const RFS: u8 = 13;
+const TARGET_EVENT: u8 = 138;
+
+/// Advance in 1 ms ticks (the simulator's tick) until `done`, at most
+/// `limit` ticks; returns the number of ticks taken.
+fn ticks_until(sim: &mut Tmcm1110, limit: u32, mut done: impl FnMut(&mut Tmcm1110) -> bool) -> u32 {
+    for tick in 1..=limit {
+        sim.advance(Duration::from_millis(1));
+        if done(sim) {
+            return tick;
+        }
+    }
+    panic!("condition not reached within {limit} ticks");
+}
+
+fn gap(sim: &mut Tmcm1110, param: u8) -> i32 {
+    let (status, value) = status_value(sim, GAP, param, 0, 0);
+    assert_eq!(status, 100, "GAP {param}");
+    value
+}
+
+fn sap(sim: &mut Tmcm1110, param: u8, value: i32) {
+    assert_eq!(
+        status_value(sim, SAP, param, 0, value).0,
+        100,
+        "SAP {param}, 0, {value}"
+    );
+}
+
+/// §6.1 formulas: speed and acceleration in microsteps/s and /s².
+fn real_units(speed: i32, accel: i32, ramp_div: u32, pulse_div: u32) -> (f64, f64) {
+    let v = 16.0e6 * f64::from(speed) / (2f64.powi(pulse_div as i32) * 2048.0 * 32.0);
+    let a = 16.0e6f64.powi(2) * f64::from(accel) / 2f64.powi((ramp_div + pulse_div + 29) as i32);
+    (v, a)
+}
+
+/// Time of a point-to-point move of `distance` µsteps: trapezoid when the
+/// ramp reaches `v`, triangle otherwise.
+fn ramp_time(distance: f64, v: f64, a: f64) -> f64 {
+    if distance >= v * v / a {
+        v / a + distance / v
+    } else {
+        2.0 * (distance / a).sqrt()
+    }
+}
+
+fn check_move_time(speed: i32, accel: i32, ramp_div: u8, pulse_div: u8) {
+    let mut sim = new_sim();
+    sap(&mut sim, 153, i32::from(ramp_div));
+    sap(&mut sim, 154, i32::from(pulse_div));
+    sap(&mut sim, 4, speed);
+    sap(&mut sim, 5, accel);
+    assert_eq!(status_value(&mut sim, TARGET_EVENT, 0, 0, 1), (100, 1));
+    assert_eq!(status_value(&mut sim, MVP, 0, 0, 51200).0, 100);
+    assert_eq!(gap(&mut sim, 8), 0, "not reached at the start");
+
+    let (v, a) = real_units(speed, accel, u32::from(ramp_div), u32::from(pulse_div));
+    let expected_ms = ramp_time(51200.0, v, a) * 1000.0;
+    let mut reply_tick = None;
+    let taken = ticks_until(&mut sim, 600_000, |sim| {
+        let out = sim.take_output();
+        if !out.is_empty() {
+            assert_eq!(decode(&out).2, 128, "the 138 second reply");
+            reply_tick.get_or_insert(());
+        }
+        let reached = gap(sim, 8) == 1;
+        if !reached {
+            assert!(gap(sim, 3).abs() <= speed, "speed never above AP4");
+        }
+        reached
+    });
+    assert!(
+        (f64::from(taken) - expected_ms).abs() <= 1.0,
+        "reached after {taken} ms, the ramp formulas say {expected_ms:.3} ms"
+    );
+    assert_eq!(gap(&mut sim, 1), 51200, "lands exactly on the target");
+    assert_eq!(gap(&mut sim, 3), 0);
+    let late = sim.take_output();
+    assert!(
+        reply_tick.is_some() || !late.is_empty(),
+        "138 reported the arrival"
+    );
+}
+
+#[test]
+fn a_trapezoid_move_to_51200_takes_the_time_of_the_ramp_formulas() {
+    // Defaults' divisors (the §6.1 examples): 30518 pps, 46566 pps².
+    check_move_time(1000, 100, 7, 3);
+    check_move_time(2047, 1000, 9, 4);
+}
+
+#[test]
+fn a_triangle_move_to_51200_takes_the_time_of_the_ramp_formulas() {
+    // Too short to reach top speed: 2·√(d/a).
+    check_move_time(2047, 10, 7, 3);
+}
+
+#[test]
+fn the_right_limit_switch_stops_the_axis() {
+    let mut sim = new_sim();
+    let limit = sim
+        .switch_layout_mut()
+        .right_limit
+        .expect("the demo stage has a right limit");
+    sap(&mut sim, 5, 2047);
+    assert_eq!(status_value(&mut sim, ROR, 0, 0, 2000).0, 100);
+    ticks_until(&mut sim, 600_000, |sim| gap(sim, 10) == 1);
+    assert_eq!(gap(&mut sim, 3), 0, "hard stop at the switch (AP149 = 0)");
+    let position = i64::from(gap(&mut sim, 1));
+    assert_eq!(position, limit, "stopped where the switch closes");
+    sim.advance(Duration::from_secs(1));
+    assert_eq!(i64::from(gap(&mut sim, 1)), limit, "and stays there");
+
+    // Disabled (AP12 = 1), the same switch no longer stops it.
+    sap(&mut sim, 12, 1);
+    assert_eq!(status_value(&mut sim, ROR, 0, 0, 2000).0, 100);
+    sim.advance(Duration::from_millis(500));
+    assert!(i64::from(gap(&mut sim, 1)) > limit);
+}
+
+#[test]
+fn reference_search_mode_1_zeroes_at_the_left_switch_and_65_at_the_right() {
+    for (mode, expect_left) in [(1, true), (65, false)] {
+        let mut sim = new_sim();
+        let layout = sim.switch_layout_mut().clone();
+        sap(&mut sim, 193, mode);
+        sap(&mut sim, 194, 2000);
+        sap(&mut sim, 195, 500);
+        assert_eq!(status_value(&mut sim, RFS, 0, 0, 0).0, 100, "RFS START");
+        assert_ne!(status_value(&mut sim, RFS, 2, 0, 0).1, 0, "active");
+        ticks_until(&mut sim, 600_000, |sim| {
+            status_value(sim, RFS, 2, 0, 0).1 == 0
+        });
+        assert_eq!(gap(&mut sim, 1), 0, "counter zeroed at the reference");
+        assert_eq!(gap(&mut sim, 3), 0, "at standstill");
+        // AP197 holds the old counter there: the switch's place in the
+        // coordinates the module started with.
+        let switch_at = if expect_left {
+            layout.left_limit
+        } else {
+            layout.right_limit
+        };
+        let old_counter = i64::from(gap(&mut sim, 197));
+        assert!(
+            (old_counter - switch_at.expect("switch")).abs() <= 1,
+            "mode {mode}: reference at {old_counter}, switch at {switch_at:?}"
+        );
+    }
+}
