@@ -2,7 +2,6 @@
 //! out. Frames are built by hand (manual §3.1, §3.2) so these tests depend on
 //! nothing but the simulator's public interface.
 
-use std::path::PathBuf;
 use std::time::Duration;
 
 use axterm::sim::SimulatedController;
@@ -135,33 +134,11 @@ fn suppressed_replies_except_reads() {
     assert_eq!(status_value(&mut sim, 10, 255, 0, 0), (100, 1));
 }
 
-/// A fresh directory under the system temp dir, removed on drop.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(tag: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!(
-            "axterm-it-{tag}-{}-{:?}",
-            std::process::id(),
-            std::thread::current().id()
-        ));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("temp dir");
-        TempDir(dir)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
 #[test]
 fn eeprom_survives_a_reset_and_a_new_simulator() {
-    let dir = TempDir::new("eeprom");
+    let dir = tempfile::tempdir().expect("temp dir");
     let config = SimConfig {
-        eeprom_file: Some(dir.0.join("stepRocker.json")),
+        eeprom_file: Some(dir.path().join("stepRocker.json")),
         ..SimConfig::default()
     };
     let mut sim = Tmcm1110::new(config.clone());

@@ -90,9 +90,8 @@ mod tests {
 
     #[test]
     fn an_explicit_address_wins_over_the_one_in_the_eeprom_file() {
-        let dir = std::env::temp_dir().join(format!("axterm-sim-kinds-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).expect("temp dir");
-        let file = dir.join("eeprom.json");
+        let dir = tempfile::tempdir().expect("temp dir");
+        let file = dir.path().join("eeprom.json");
         let kind = find_kind("TMCM1110").expect("registered");
         let remembered = SimOptions {
             address: Some(5),
@@ -115,8 +114,6 @@ mod tests {
         assert!(gap_actual_position(sim.as_mut(), 5).is_none());
         let reply = gap_actual_position(sim.as_mut(), 3).expect("answers at --address");
         assert_eq!(reply.module_address, 3);
-        drop(sim);
-        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]

@@ -341,32 +341,10 @@ fn save(path: &Path, image: &EepromImage) -> std::io::Result<()> {
 mod tests {
     use super::*;
 
-    /// A fresh directory under the system temp dir, removed on drop.
-    struct TempDir(PathBuf);
-
-    impl TempDir {
-        fn new(tag: &str) -> Self {
-            let dir = std::env::temp_dir().join(format!(
-                "axterm-eeprom-{tag}-{}-{:?}",
-                std::process::id(),
-                std::thread::current().id()
-            ));
-            let _ = std::fs::remove_dir_all(&dir);
-            std::fs::create_dir_all(&dir).expect("temp dir");
-            TempDir(dir)
-        }
-    }
-
-    impl Drop for TempDir {
-        fn drop(&mut self) {
-            let _ = std::fs::remove_dir_all(&self.0);
-        }
-    }
-
     #[test]
     fn image_survives_a_file_round_trip() {
-        let dir = TempDir::new("roundtrip");
-        let path = dir.0.join("eeprom.json");
+        let dir = tempfile::tempdir().expect("temp dir");
+        let path = dir.path().join("eeprom.json");
         let mut image = EepromImage::factory(1);
         image.user_variables[55] = -7;
         image.set_coordinate(20, 1234);
@@ -383,16 +361,16 @@ mod tests {
 
     #[test]
     fn a_missing_file_is_no_problem() {
-        let dir = TempDir::new("missing");
-        let eeprom = Eeprom::open(Some(dir.0.join("none.json")), EepromImage::factory(1));
+        let dir = tempfile::tempdir().expect("temp dir");
+        let eeprom = Eeprom::open(Some(dir.path().join("none.json")), EepromImage::factory(1));
         assert!(eeprom.problem().is_none());
         assert_eq!(eeprom.image, EepromImage::factory(1));
     }
 
     #[test]
     fn garbage_is_reported_and_factory_settings_used() {
-        let dir = TempDir::new("garbage");
-        let path = dir.0.join("eeprom.json");
+        let dir = tempfile::tempdir().expect("temp dir");
+        let path = dir.path().join("eeprom.json");
         std::fs::write(&path, "{ not json").expect("write");
         let eeprom = Eeprom::open(Some(path), EepromImage::factory(1));
         let message = eeprom.problem().map(|p| p.to_string()).unwrap_or_default();
@@ -431,8 +409,8 @@ mod tests {
 
     #[test]
     fn deferred_writes_happen_on_release() {
-        let dir = TempDir::new("deferred");
-        let path = dir.0.join("eeprom.json");
+        let dir = tempfile::tempdir().expect("temp dir");
+        let path = dir.path().join("eeprom.json");
         let mut eeprom = Eeprom::open(Some(path.clone()), EepromImage::factory(1));
         eeprom.defer_writes(true);
         eeprom.image.user_variables[0] = 42;
@@ -445,9 +423,9 @@ mod tests {
 
     #[test]
     fn an_unwritable_file_is_reported() {
-        let dir = TempDir::new("unwritable");
+        let dir = tempfile::tempdir().expect("temp dir");
         // A directory where the file should be: writing must fail.
-        let path = dir.0.join("eeprom.json");
+        let path = dir.path().join("eeprom.json");
         std::fs::create_dir_all(path.join("x")).expect("dir");
         let mut eeprom = Eeprom::open(None, EepromImage::factory(1));
         eeprom.path = Some(path);

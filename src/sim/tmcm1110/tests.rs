@@ -1,6 +1,5 @@
 //! Unit tests of the simulator, driven through whole frames.
 
-use std::path::PathBuf;
 use std::time::Duration;
 
 use super::*;
@@ -1105,33 +1104,11 @@ fn factory_reset_sends_nothing_and_restores_defaults() {
     assert_eq!(sim.program_word(0), Some([0; 7]));
 }
 
-/// A fresh directory under the system temp dir, removed on drop.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(tag: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!(
-            "axterm-sim-{tag}-{}-{:?}",
-            std::process::id(),
-            std::thread::current().id()
-        ));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("temp dir");
-        TempDir(dir)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
 #[test]
 fn eeprom_file_carries_settings_to_a_new_simulator() {
-    let dir = TempDir::new("restart");
+    let dir = tempfile::tempdir().expect("temp dir");
     let config = SimConfig {
-        eeprom_file: Some(dir.0.join("eeprom.json")),
+        eeprom_file: Some(dir.path().join("eeprom.json")),
         ..SimConfig::default()
     };
     {
@@ -1163,8 +1140,8 @@ fn eeprom_file_carries_settings_to_a_new_simulator() {
 
 #[test]
 fn a_corrupt_eeprom_file_is_reported_and_factory_settings_used() {
-    let dir = TempDir::new("corrupt");
-    let path = dir.0.join("eeprom.json");
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("eeprom.json");
     std::fs::write(&path, b"\x00\xFFnot json").expect("write");
     let mut sim = Tmcm1110::new(SimConfig {
         eeprom_file: Some(path),
@@ -1180,9 +1157,9 @@ fn a_corrupt_eeprom_file_is_reported_and_factory_settings_used() {
 
 #[test]
 fn an_unfinished_download_is_written_when_the_simulator_goes_away() {
-    let dir = TempDir::new("drop");
+    let dir = tempfile::tempdir().expect("temp dir");
     let config = SimConfig {
-        eeprom_file: Some(dir.0.join("eeprom.json")),
+        eeprom_file: Some(dir.path().join("eeprom.json")),
         ..SimConfig::default()
     };
     {
@@ -1196,8 +1173,8 @@ fn an_unfinished_download_is_written_when_the_simulator_goes_away() {
 
 #[test]
 fn flush_eeprom_writes_pending_changes() {
-    let dir = TempDir::new("flush");
-    let path = dir.0.join("eeprom.json");
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("eeprom.json");
     let mut sim = Tmcm1110::new(SimConfig {
         eeprom_file: Some(path.clone()),
         ..SimConfig::default()
@@ -1211,8 +1188,8 @@ fn flush_eeprom_writes_pending_changes() {
 
 #[test]
 fn download_writes_the_file_once_at_the_end() {
-    let dir = TempDir::new("download");
-    let path = dir.0.join("eeprom.json");
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("eeprom.json");
     let mut sim = Tmcm1110::new(SimConfig {
         eeprom_file: Some(path.clone()),
         ..SimConfig::default()
