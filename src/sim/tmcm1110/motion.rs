@@ -473,7 +473,9 @@ impl Axis {
         match number {
             1 => self.actual_position(),
             3 => pps_to_velocity(self.velocity_pps(), self.pulse_div()),
-            8 => i32::from(self.arrived()),
+            // §4 Table 16: "always set when target position and actual
+            // position are equal", in any mode, like the TMC429's flag.
+            8 => i32::from(self.actual_position() == self.stored(0)),
             9 => i32::from(self.switch(Switch::Home)),
             10 => i32::from(self.switch(Switch::Right)),
             11 => i32::from(self.switch(Switch::Left)),
@@ -798,7 +800,9 @@ impl Axis {
         self.steps.saturating_add(i64::from(offset))
     }
 
-    /// A position move has arrived: AP8 and [`AxisEvent::TargetReached`].
+    /// A position move has arrived: the rule for [`AxisEvent::TargetReached`]
+    /// (command 138's second reply), stricter than AP8, which also reads 1
+    /// when the counter merely passes AP0.
     fn arrived(&self) -> bool {
         self.search.is_none()
             && self.mode() != MODE_VELOCITY

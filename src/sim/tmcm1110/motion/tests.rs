@@ -396,6 +396,40 @@ fn writing_ap1_at_standstill_sets_the_counter_without_moving() {
     assert_eq!(axis.machine_position(), 1000);
 }
 
+/// §4 Table 16: AP8 is "always set when target position and actual position
+/// are equal", whatever the ramp mode; only an arriving move raises the
+/// TargetReached event.
+#[test]
+fn ap8_is_set_whenever_the_counter_equals_ap0() {
+    let mut axis = quiet_axis();
+    let mut events = Vec::new();
+    // ROR 0 with AP0 = AP1: velocity mode, still on the target.
+    axis.rotate(0);
+    assert_eq!((axis.param(138), axis.param(0), axis.param(1)), (2, 0, 0));
+    assert_eq!(axis.param(8), 1);
+    // Rotating away clears it.
+    axis.rotate(300);
+    axis.advance(Duration::from_millis(500), &mut events);
+    assert!(axis.param(1) > 0);
+    assert_eq!(axis.param(8), 0);
+    // Rotating back through AP0 sets it for as long as the counter is there.
+    axis.rotate(-300);
+    run_until(
+        &mut axis,
+        Duration::from_micros(10),
+        1_000_000,
+        &mut events,
+        |a| a.param(1) <= 0,
+    );
+    assert_eq!(axis.param(1), 0);
+    assert_eq!(axis.param(8), 1);
+    assert!(axis.is_moving());
+    axis.advance(Duration::from_millis(10), &mut events);
+    assert!(axis.param(1) < 0);
+    assert_eq!(axis.param(8), 0);
+    assert!(!events.contains(&AxisEvent::TargetReached));
+}
+
 #[test]
 fn mvp_to_where_the_motor_is_reports_arrival_at_once() {
     let mut axis = Axis::new();
@@ -1055,7 +1089,10 @@ fn rfs_status_mode_reads_as_velocity_mode_while_searching() {
     place(&mut axis, 50_000);
     axis.start_reference_search();
     assert_eq!(axis.param(138), 2);
-    assert_eq!(axis.param(8), 0);
+    let mut events = Vec::new();
+    axis.advance(Duration::from_millis(10), &mut events);
+    assert_eq!(axis.param(138), 2);
+    assert_eq!(axis.param(8), 0, "left AP0 behind");
 }
 
 // ----- encoder and StallGuard -----
@@ -1293,9 +1330,8 @@ proptest! {
                     bound = axis.param(3).abs().max(speed_limit(&axis));
                 }
             }
-            if axis.param(8) == 1 {
-                prop_assert_eq!(axis.param(1), axis.param(0));
-            }
+            // §4 Table 16: AP8 is set exactly when AP1 = AP0.
+            prop_assert_eq!(axis.param(8) == 1, axis.param(1) == axis.param(0));
             prop_assert!(axis.param(3).abs() <= 2047);
         }
     }
