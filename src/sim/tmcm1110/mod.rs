@@ -566,9 +566,11 @@ fn describe_layout(layout: &SwitchLayout) -> String {
         .home
         .map_or_else(|| "none".to_string(), |(from, to)| format!("{from}..{to}"));
     format!(
-        "left limit at {}, right limit at {}, home switch over {} (µsteps)",
+        "left limit at {}, right limit at {}, end switches actuated for {} beyond that, \
+         home switch over {} (µsteps)",
         place(layout.left_limit),
         place(layout.right_limit),
+        layout.end_switch_width.max(0),
         home
     )
 }

@@ -47,7 +47,8 @@ pub enum Switch {
 /// interrupts, WAIT conditions).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum AxisEvent {
-    /// Position mode: the actual position reached the target (AP8 rose).
+    /// Position mode: a move (MVP, SAP 0/138) arrived on its target and
+    /// stands there.
     TargetReached,
     /// A limit switch stopped the motor.
     LimitStop(Switch),
@@ -61,29 +62,100 @@ pub enum AxisEvent {
     SwitchChanged { switch: Switch, active: bool },
 }
 
+/// How far each end switch of a new [`SwitchLayout`] stays actuated beyond
+/// its switching point, in microsteps: one motor turn at 256 µsteps. Long
+/// enough that a soft stop (AP149 = 1) from the fastest speed (2047, pulse
+/// divisor 3) with the default acceleration (≈ 41900 µsteps of braking)
+/// still ends on the switch, short enough that reference modes 3 and 4
+/// cross the switch in seconds at the default switch speed. A soft stop
+/// braking longer than the width carries the carriage past the cam: the
+/// switch opens again and, no longer held, the motor heads for its goal as
+/// after leaving any switch (a real machine would hit its end stop there).
+pub const DEFAULT_END_SWITCH_WIDTH: i64 = 51_200;
+
 /// Where the simulated machine's switches sit, in microsteps of the
 /// machine position (which is the position counter until SAP 1 or a
 /// reference search rewrites the counter; the switches don't move then).
 /// Tests and the simulator's options move them.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
+///
+/// An end switch is a lever under a cam: it closes at its switching point
+/// and stays closed for `end_switch_width` microsteps further out; beyond
+/// that the carriage has passed the cam and the switch is open again. A
+/// moving motor is stopped where the switch closes, so the carriage only
+/// gets further out with the switch disabled (AP12/AP13 = 1), during a soft
+/// stop's braking (AP149 = 1), or in a reference search, which crosses the
+/// switch to find its middle (modes 3 and 4, §7.1.3/§7.1.4).
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub struct SwitchLayout {
-    /// Left stop switch is active at and below this position.
+    /// Switching point of the left end switch: active from here down to
+    /// `left_limit − end_switch_width`.
     pub left_limit: Option<i64>,
-    /// Right stop switch is active at and above this position.
+    /// Switching point of the right end switch: active from here up to
+    /// `right_limit + end_switch_width`.
     pub right_limit: Option<i64>,
+    /// Actuated length of each end switch beyond its switching point
+    /// (negative counts as 0: active on the switching point only).
+    pub end_switch_width: i64,
     /// Home switch is active inside this window (inclusive).
     pub home: Option<(i64, i64)>,
 }
 
+impl Default for SwitchLayout {
+    /// A machine without switches (end switches of the default width once
+    /// placed).
+    fn default() -> Self {
+        SwitchLayout {
+            left_limit: None,
+            right_limit: None,
+            end_switch_width: DEFAULT_END_SWITCH_WIDTH,
+            home: None,
+        }
+    }
+}
+
 impl SwitchLayout {
     /// The simulated machine a new [`Axis`] starts with: a linear stage with
-    /// end switches at ±200000 µsteps (≈ ±3.9 turns at 256 µsteps) and a home
+    /// end switches closing at ±200000 µsteps (≈ ±3.9 turns at 256 µsteps)
+    /// and actuated for [`DEFAULT_END_SWITCH_WIDTH`] beyond, and a home
     /// switch over −1000..1000, so the carriage starts on home.
     pub const DEMO_STAGE: SwitchLayout = SwitchLayout {
         left_limit: Some(-200_000),
         right_limit: Some(200_000),
+        end_switch_width: DEFAULT_END_SWITCH_WIDTH,
         home: Some((-1_000, 1_000)),
     };
+
+    /// The machine positions (lowest, highest) where the left end switch is
+    /// actuated.
+    pub fn left_switch_span(&self) -> Option<(i64, i64)> {
+        self.left_limit
+            .map(|edge| (edge.saturating_sub(self.width()), edge))
+    }
+
+    /// The machine positions (lowest, highest) where the right end switch is
+    /// actuated.
+    pub fn right_switch_span(&self) -> Option<(i64, i64)> {
+        self.right_limit
+            .map(|edge| (edge, edge.saturating_add(self.width())))
+    }
+
+    /// The machine positions (lowest, highest) where the home switch is
+    /// actuated.
+    pub fn home_span(&self) -> Option<(i64, i64)> {
+        self.home.map(|(a, b)| (a.min(b), a.max(b)))
+    }
+
+    fn width(&self) -> i64 {
+        self.end_switch_width.max(0)
+    }
+
+    fn span(&self, which: Switch) -> Option<(i64, i64)> {
+        match which {
+            Switch::Left => self.left_switch_span(),
+            Switch::Right => self.right_switch_span(),
+            Switch::Home => self.home_span(),
+        }
+    }
 }
 
 /// Axis parameters whose values the motion model owns (others are plain
@@ -401,7 +473,9 @@ impl Axis {
         match number {
             1 => self.actual_position(),
             3 => pps_to_velocity(self.velocity_pps(), self.pulse_div()),
-            8 => i32::from(self.at_target()),
+            // §4 Table 16: "always set when target position and actual
+            // position are equal", in any mode, like the TMC429's flag.
+            8 => i32::from(self.actual_position() == self.stored(0)),
             9 => i32::from(self.switch(Switch::Home)),
             10 => i32::from(self.switch(Switch::Right)),
             11 => i32::from(self.switch(Switch::Left)),
@@ -726,7 +800,10 @@ impl Axis {
         self.steps.saturating_add(i64::from(offset))
     }
 
-    fn at_target(&self) -> bool {
+    /// A position move has arrived: the rule for [`AxisEvent::TargetReached`]
+    /// (command 138's second reply), stricter than AP8, which also reads 1
+    /// when the counter merely passes AP0.
+    fn arrived(&self) -> bool {
         self.search.is_none()
             && self.mode() != MODE_VELOCITY
             && !self.is_moving()
@@ -796,14 +873,9 @@ impl Axis {
 
     fn physical(&self, which: Switch) -> bool {
         let at = self.steps;
-        match which {
-            Switch::Left => self.layout.left_limit.is_some_and(|l| at <= l),
-            Switch::Right => self.layout.right_limit.is_some_and(|r| at >= r),
-            Switch::Home => self
-                .layout
-                .home
-                .is_some_and(|(a, b)| (a.min(b)..=a.max(b)).contains(&at)),
-        }
+        self.layout
+            .span(which)
+            .is_some_and(|(low, high)| (low..=high).contains(&at))
     }
 
     fn switch_states(&self) -> [bool; 3] {
@@ -850,19 +922,14 @@ impl Axis {
             return None;
         }
         let up = direction > 0;
-        let mut candidates: Vec<i64> = Vec::with_capacity(5);
-        if let Some(l) = self.layout.left_limit {
-            candidates.push(if up { l.saturating_add(1) } else { l });
-        }
-        if let Some(r) = self.layout.right_limit {
-            candidates.push(if up { r } else { r.saturating_sub(1) });
-        }
-        if let Some((a, b)) = self.layout.home {
-            let (lo, hi) = (a.min(b), a.max(b));
-            if up {
-                candidates.extend([lo, hi.saturating_add(1)]);
-            } else {
-                candidates.extend([hi, lo.saturating_sub(1)]);
+        let mut candidates: Vec<i64> = Vec::with_capacity(7);
+        for which in [Switch::Left, Switch::Right, Switch::Home] {
+            if let Some((low, high)) = self.layout.span(which) {
+                if up {
+                    candidates.extend([low, high.saturating_add(1)]);
+                } else {
+                    candidates.extend([high, low.saturating_sub(1)]);
+                }
             }
         }
         if let Some(search) = &self.search {
@@ -1131,7 +1198,7 @@ impl Axis {
                 self.replan();
             }
         }
-        if self.reached_pending && self.at_target() {
+        if self.reached_pending && self.arrived() {
             self.reached_pending = false;
             self.pending.push(AxisEvent::TargetReached);
         }

@@ -1218,6 +1218,7 @@ fn help_line_lists_the_simulator_defaults() {
         "AP4 1000",
         "AP153 7",
         "left limit at -200000",
+        "end switches actuated for 51200 beyond that",
         "home switch over -1000..1000",
     ] {
         assert!(line.contains(needle), "{needle} missing from {line}");

@@ -11,14 +11,16 @@ use super::Switch;
 pub struct ReferenceModeInfo {
     pub mode: u8,
     /// Modes 2 and 3: the end switch searched (and calibrated) first, and the
-    /// direction towards it; AP196 becomes its distance from the reference.
+    /// direction towards it; AP196 becomes the distance from its switching
+    /// point to the reference (§7.1.2, §7.1.3).
     pub first: Option<(Switch, i8)>,
     /// The switch that becomes the zero point, and the search direction.
     pub zero: Switch,
     pub direction: i8,
     /// Modes 5/6: reverse once when the end switch ahead is reached.
     pub reverse_at_limit: bool,
-    /// Modes 7/8: find both edges and take the middle of the switch.
+    /// Modes 3, 4, 7, 8: cross the zero switch, find both its edges and
+    /// take its middle (§7.1.3, §7.1.4, §7.1.7, §7.1.8).
     pub middle: bool,
     /// Table 24's wording.
     pub description: &'static str,
@@ -52,7 +54,7 @@ pub const REFERENCE_MODES: &[ReferenceModeInfo] = &[
         zero: Switch::Left,
         direction: -1,
         reverse_at_limit: false,
-        middle: false,
+        middle: true,
         description: "search right stop switch, then search left stop switch from both sides",
     },
     ReferenceModeInfo {
@@ -61,7 +63,7 @@ pub const REFERENCE_MODES: &[ReferenceModeInfo] = &[
         zero: Switch::Left,
         direction: -1,
         reverse_at_limit: false,
-        middle: false,
+        middle: true,
         description: "search left stop switch from both sides",
     },
     ReferenceModeInfo {
@@ -172,24 +174,29 @@ impl ReferenceMode {
     /// The reference point and, for modes 2/3, the AP196 distance, from the
     /// switching points the program recorded (in its order).
     pub(super) fn reference(&self, marks: &[i64]) -> Option<(i64, Option<i64>)> {
-        if self.info.first.is_some() {
-            let [f_out, f_in, z_out, z_in] = marks else {
+        let (first, zero_marks) = if self.info.first.is_some() {
+            let [out, back_in, rest @ ..] = marks else {
                 return None;
             };
-            let zero = centre(*z_out, *z_in);
-            let first = centre(*f_out, *f_in);
-            Some((zero, Some((first - zero).abs())))
-        } else if self.info.middle {
-            let [a_out, a_in, b_out, b_in] = marks else {
-                return None;
-            };
-            Some((centre(centre(*a_out, *a_in), centre(*b_out, *b_in)), None))
+            (Some(centre(*out, *back_in)), rest)
         } else {
-            let [out, back_in] = marks else {
+            (None, marks)
+        };
+        let zero = if self.info.middle {
+            let [a_out, a_in, b_out, b_in] = zero_marks else {
                 return None;
             };
-            Some((centre(*out, *back_in), None))
-        }
+            centre(centre(*a_out, *a_in), centre(*b_out, *b_in))
+        } else {
+            let [out, back_in] = zero_marks else {
+                return None;
+            };
+            centre(*out, *back_in)
+        };
+        // §7.1.3: mode 3's AP196 is "the distance between the right end
+        // switch and the middle of the left end switch".
+        let distance = first.map(|f| f.saturating_sub(zero).saturating_abs());
+        Some((zero, distance))
     }
 }
 
@@ -403,5 +410,46 @@ mod tests {
         assert_eq!(m2.reference(&[1, 2]), None);
         // Rounds towards negative.
         assert_eq!(m1.reference(&[-3, -2]), Some((-3, None)));
+    }
+
+    #[test]
+    fn modes_3_and_4_cross_the_zero_switch_and_take_its_middle() {
+        for mode in [3, 4, 67, 68] {
+            let program = ReferenceMode::decode(mode).unwrap().program();
+            let zero = if mode < 64 {
+                Switch::Left
+            } else {
+                Switch::Right
+            };
+            let outward = if mode < 64 { -1 } else { 1 };
+            // After the calibration at the near edge: out through the far
+            // edge and back in.
+            assert_eq!(
+                program[program.len() - 3..],
+                [
+                    Step::Leave {
+                        switch: zero,
+                        dir: outward
+                    },
+                    Step::Enter {
+                        switch: zero,
+                        dir: -outward
+                    },
+                    Step::GoToReference
+                ],
+                "mode {mode}"
+            );
+        }
+        let m4 = ReferenceMode::decode(4).unwrap();
+        assert_eq!(m4.reference(&[-100, -100, -300, -300]), Some((-200, None)));
+        assert_eq!(m4.reference(&[-100, -100]), None);
+        // Mode 3: the right switch's point, then the left switch's two edges;
+        // AP196 runs from the right switch to the left switch's middle.
+        let m3 = ReferenceMode::decode(3).unwrap();
+        assert_eq!(
+            m3.reference(&[500, 500, -100, -100, -300, -300]),
+            Some((-200, Some(700)))
+        );
+        assert_eq!(m3.reference(&[500, 500, -100, -100]), None);
     }
 }

@@ -396,6 +396,40 @@ fn writing_ap1_at_standstill_sets_the_counter_without_moving() {
     assert_eq!(axis.machine_position(), 1000);
 }
 
+/// §4 Table 16: AP8 is "always set when target position and actual position
+/// are equal", whatever the ramp mode; only an arriving move raises the
+/// TargetReached event.
+#[test]
+fn ap8_is_set_whenever_the_counter_equals_ap0() {
+    let mut axis = quiet_axis();
+    let mut events = Vec::new();
+    // ROR 0 with AP0 = AP1: velocity mode, still on the target.
+    axis.rotate(0);
+    assert_eq!((axis.param(138), axis.param(0), axis.param(1)), (2, 0, 0));
+    assert_eq!(axis.param(8), 1);
+    // Rotating away clears it.
+    axis.rotate(300);
+    axis.advance(Duration::from_millis(500), &mut events);
+    assert!(axis.param(1) > 0);
+    assert_eq!(axis.param(8), 0);
+    // Rotating back through AP0 sets it for as long as the counter is there.
+    axis.rotate(-300);
+    run_until(
+        &mut axis,
+        Duration::from_micros(10),
+        1_000_000,
+        &mut events,
+        |a| a.param(1) <= 0,
+    );
+    assert_eq!(axis.param(1), 0);
+    assert_eq!(axis.param(8), 1);
+    assert!(axis.is_moving());
+    axis.advance(Duration::from_millis(10), &mut events);
+    assert!(axis.param(1) < 0);
+    assert_eq!(axis.param(8), 0);
+    assert!(!events.contains(&AxisEvent::TargetReached));
+}
+
 #[test]
 fn mvp_to_where_the_motor_is_reports_arrival_at_once() {
     let mut axis = Axis::new();
@@ -485,6 +519,7 @@ fn stage_with_right_limit_at(right: i64) -> Axis {
     *axis.layout_mut() = SwitchLayout {
         left_limit: Some(-right),
         right_limit: Some(right),
+        end_switch_width: DEFAULT_END_SWITCH_WIDTH,
         home: None,
     };
     let mut events = Vec::new();
@@ -572,9 +607,12 @@ fn disabled_limit_switch_is_ignored() {
     axis.set_param(12, 1);
     let mut events = Vec::new();
     axis.rotate(1000);
-    axis.advance(Duration::from_secs(3), &mut events);
-    assert!(axis.param(1) > 40_000);
-    assert_eq!(axis.param(10), 1);
+    run_until(&mut axis, TICK, 10_000, &mut events, |a| {
+        a.switch(Switch::Right)
+    });
+    axis.advance(Duration::from_millis(500), &mut events);
+    assert!(axis.param(1) > 30_000);
+    assert_eq!(axis.param(10), 1, "still on the switch");
     assert_eq!(axis.param(3), 1000);
     assert_eq!(count(&events, AxisEvent::LimitStop(Switch::Right)), 0);
     // Enabling it again while inside stops the motor.
@@ -582,6 +620,55 @@ fn disabled_limit_switch_is_ignored() {
     axis.advance(TICK, &mut events);
     assert_eq!(axis.param(3), 0);
     assert_eq!(count(&events, AxisEvent::LimitStop(Switch::Right)), 1);
+}
+
+#[test]
+fn a_carriage_pushed_past_a_disabled_switch_leaves_its_cam() {
+    let mut axis = stage_with_right_limit_at(20_000);
+    axis.layout_mut().end_switch_width = 5_000;
+    axis.set_param(12, 1);
+    let mut events = Vec::new();
+    axis.rotate(300);
+    run_until(
+        &mut axis,
+        Duration::from_micros(100),
+        1_000_000,
+        &mut events,
+        |a| a.machine_position() > 20_000 && !a.switch(Switch::Right),
+    );
+    assert_eq!(
+        axis.machine_position(),
+        25_001,
+        "open one µstep past the width"
+    );
+    assert_eq!(
+        events,
+        vec![
+            AxisEvent::SwitchChanged {
+                switch: Switch::Right,
+                active: true
+            },
+            AxisEvent::SwitchChanged {
+                switch: Switch::Right,
+                active: false
+            }
+        ]
+    );
+    // Back in from beyond, the switch closes at its far edge.
+    events.clear();
+    axis.rotate(-300);
+    run_until(
+        &mut axis,
+        Duration::from_micros(100),
+        1_000_000,
+        &mut events,
+        |a| a.switch(Switch::Right),
+    );
+    assert_eq!(axis.machine_position(), 25_000);
+    assert!(
+        axis.is_moving(),
+        "a right switch doesn't stop negative motion"
+    );
 }
 
 #[test]
@@ -616,6 +703,7 @@ fn reversed_end_switch_polarity_inverts_the_inputs() {
 fn home_switch_edges_are_reported_where_the_window_ends() {
     let mut axis = Axis::new();
     assert_eq!(axis.param(9), 1);
+    assert_eq!(axis.layout().home_span(), Some((-1_000, 1_000)));
     let mut events = Vec::new();
     axis.rotate(100);
     run_until(
@@ -703,19 +791,57 @@ fn assert_found(result: &SearchResult, reference: i64) {
 }
 
 #[test]
-fn modes_1_and_4_find_the_left_switch_and_65_68_the_right() {
-    for mode in [1, 4] {
-        let r = search_from(mode, 50_000, SwitchLayout::DEMO_STAGE, false);
-        assert_found(&r, -200_000);
-        assert_eq!(r.axis.param(196), 0);
-        let r = search_from(mode + 64, -50_000, SwitchLayout::DEMO_STAGE, false);
-        assert_found(&r, 200_000);
-    }
+fn mode_1_finds_the_left_switch_and_65_the_right() {
+    let r = search_from(1, 50_000, SwitchLayout::DEMO_STAGE, false);
+    assert_found(&r, -200_000);
+    assert_eq!(r.axis.param(196), 0);
+    let r = search_from(65, -50_000, SwitchLayout::DEMO_STAGE, false);
+    assert_found(&r, 200_000);
+}
+
+/// §7.1.4: mode 4 searches the left switch "from both sides so that the
+/// middle of the switch will be found and used as the zero point".
+#[test]
+fn mode_4_zeroes_on_the_middle_of_the_left_switch_and_68_of_the_right() {
+    let middle = DEFAULT_END_SWITCH_WIDTH / 2;
+    let r = search_from(4, 50_000, SwitchLayout::DEMO_STAGE, false);
+    assert_found(&r, -200_000 - middle);
+    assert_eq!(r.axis.param(196), 0);
+    // It crossed the switch: out at the far edge and back in.
+    let left_edges: Vec<bool> = r
+        .events
+        .iter()
+        .filter_map(|e| match e {
+            AxisEvent::SwitchChanged {
+                switch: Switch::Left,
+                active,
+            } => Some(*active),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(left_edges, [true, false, true, false, true]);
+    assert_eq!(r.axis.param(11), 1, "standing on the switch");
+    let r = search_from(68, -50_000, SwitchLayout::DEMO_STAGE, false);
+    assert_found(&r, 200_000 + middle);
+    // Starting on the switch finds the same middle.
+    let r = search_from(4, -240_000, SwitchLayout::DEMO_STAGE, false);
+    assert_found(&r, -200_000 - middle);
+    let narrow = SwitchLayout {
+        end_switch_width: 1_001,
+        ..SwitchLayout::DEMO_STAGE
+    };
+    // Edges at −200000 and −201001: the middle rounds towards negative.
+    assert_found(&search_from(4, 0, narrow, false), -200_501);
 }
 
 #[test]
 fn search_starting_on_the_switch_still_finds_its_edge() {
-    let r = search_from(1, -250_000, SwitchLayout::DEMO_STAGE, false);
+    let r = search_from(
+        1,
+        -200_000 - DEFAULT_END_SWITCH_WIDTH,
+        SwitchLayout::DEMO_STAGE,
+        false,
+    );
     assert_found(&r, -200_000);
 }
 
@@ -739,23 +865,46 @@ fn limit_disables_do_not_influence_the_search() {
 }
 
 #[test]
-fn modes_2_and_3_zero_on_the_left_switch_and_measure_the_distance() {
-    for mode in [2, 3] {
-        let r = search_from(mode, 0, SwitchLayout::DEMO_STAGE, false);
-        assert_found(&r, -200_000);
-        assert_eq!(r.axis.param(196), 400_000);
-        let r = search_from(mode + 64, 0, SwitchLayout::DEMO_STAGE, false);
-        assert_found(&r, 200_000);
-        assert_eq!(r.axis.param(196), 400_000);
-    }
+fn mode_2_zeroes_on_the_left_switch_and_measures_the_distance() {
+    let r = search_from(2, 0, SwitchLayout::DEMO_STAGE, false);
+    assert_found(&r, -200_000);
+    assert_eq!(r.axis.param(196), 400_000);
+    let r = search_from(66, 0, SwitchLayout::DEMO_STAGE, false);
+    assert_found(&r, 200_000);
+    assert_eq!(r.axis.param(196), 400_000);
     let asymmetric = SwitchLayout {
         left_limit: Some(-12_345),
         right_limit: Some(67_890),
+        end_switch_width: 1_000,
         home: None,
     };
     let r = search_from(2, 0, asymmetric, false);
     assert_found(&r, -12_345);
     assert_eq!(r.axis.param(196), 67_890 + 12_345);
+}
+
+/// §7.1.3: mode 3 zeroes on "the middle of the left end switch", and AP196
+/// is "the distance between the right end switch and the middle of the left
+/// end switch".
+#[test]
+fn mode_3_zeroes_on_the_middle_of_the_left_switch_and_measures_from_the_right() {
+    let middle = DEFAULT_END_SWITCH_WIDTH / 2;
+    let r = search_from(3, 0, SwitchLayout::DEMO_STAGE, false);
+    assert_found(&r, -200_000 - middle);
+    assert_eq!(i64::from(r.axis.param(196)), 400_000 + middle);
+    // Mirrored: the left switch first, the middle of the right one is zero.
+    let r = search_from(67, 0, SwitchLayout::DEMO_STAGE, false);
+    assert_found(&r, 200_000 + middle);
+    assert_eq!(i64::from(r.axis.param(196)), 400_000 + middle);
+    let asymmetric = SwitchLayout {
+        left_limit: Some(-12_345),
+        right_limit: Some(67_890),
+        end_switch_width: 1_000,
+        home: None,
+    };
+    let r = search_from(3, 0, asymmetric, false);
+    assert_found(&r, -12_845);
+    assert_eq!(r.axis.param(196), 67_890 + 12_845);
 }
 
 #[test]
@@ -940,7 +1089,10 @@ fn rfs_status_mode_reads_as_velocity_mode_while_searching() {
     place(&mut axis, 50_000);
     axis.start_reference_search();
     assert_eq!(axis.param(138), 2);
-    assert_eq!(axis.param(8), 0);
+    let mut events = Vec::new();
+    axis.advance(Duration::from_millis(10), &mut events);
+    assert_eq!(axis.param(138), 2);
+    assert_eq!(axis.param(8), 0, "left AP0 behind");
 }
 
 // ----- encoder and StallGuard -----
@@ -1068,7 +1220,7 @@ enum Op {
     Slip(i64),
     Load(i32),
     Polarity(bool),
-    Layout(Option<i64>, Option<i64>, Option<(i64, i64)>),
+    Layout(Option<i64>, Option<i64>, i64, Option<(i64, i64)>),
 }
 
 fn op() -> impl Strategy<Value = Op> {
@@ -1109,9 +1261,15 @@ fn op() -> impl Strategy<Value = Op> {
         (
             prop::option::of(-400_000i64..0),
             prop::option::of(0i64..400_000),
+            -10i64..100_000,
             prop::option::of((-50_000i64..50_000, 0i64..20_000))
         )
-            .prop_map(|(l, r, h)| Op::Layout(l, r, h.map(|(a, w)| (a, a + w)))),
+            .prop_map(|(l, r, width, h)| Op::Layout(
+                l,
+                r,
+                width,
+                h.map(|(a, w)| (a, a + w))
+            )),
     ]
 }
 
@@ -1159,17 +1317,21 @@ proptest! {
                         Op::Slip(s) => axis.inject_slip(s),
                         Op::Load(l) => axis.set_load(l),
                         Op::Polarity(p) => axis.set_end_switch_polarity_reversed(p),
-                        Op::Layout(l, r, h) => {
-                            *axis.layout_mut() = SwitchLayout { left_limit: l, right_limit: r, home: h };
+                        Op::Layout(l, r, width, h) => {
+                            *axis.layout_mut() = SwitchLayout {
+                                left_limit: l,
+                                right_limit: r,
+                                end_switch_width: width,
+                                home: h,
+                            };
                         }
                         Op::Advance(_) => {}
                     }
                     bound = axis.param(3).abs().max(speed_limit(&axis));
                 }
             }
-            if axis.param(8) == 1 {
-                prop_assert_eq!(axis.param(1), axis.param(0));
-            }
+            // §4 Table 16: AP8 is set exactly when AP1 = AP0.
+            prop_assert_eq!(axis.param(8) == 1, axis.param(1) == axis.param(0));
             prop_assert!(axis.param(3).abs() <= 2047);
         }
     }
