@@ -79,6 +79,12 @@ fn every_status_code_from_the_input_that_causes_it() {
         6,
         "JA in direct mode"
     );
+    // §3.5.3 Table 8: COMP is a branch command too.
+    assert_eq!(
+        status_value(&mut sim, 20, 0, 0, 1000).0,
+        6,
+        "COMP in direct mode"
+    );
     assert_eq!(status_value(&mut sim, 6, 1, 0, 0), (100, 0));
 }
 

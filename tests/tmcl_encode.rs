@@ -361,6 +361,47 @@ fn parameter_ranges_come_from_the_tables() {
     assert!(parse_line("SAP 193, 0, 65").is_ok());
 }
 
+/// §5.4 Table 20: timer periods are 0..4294967295 ms, typed and shown as
+/// such; above 2147483647 the value field carries the 32-bit pattern.
+#[test]
+fn timer_periods_take_unsigned_32_bit_decimals() {
+    let top = parse_line("SGP 0, 3, 4294967295").expect("the largest period");
+    assert_eq!(frame_hex(&top), "01 09 00 03 FF FF FF FF 09");
+    assert_eq!(format_command(&top), "SGP 0, 3, 4294967295");
+    assert_eq!(parse_line("SGP 0, 3, 0xFFFFFFFF"), Ok(top));
+
+    let period = parse_line("SGP 2, 3, 3000000000").expect("a period above i32::MAX");
+    // 3000000000 = B2D05E00h.
+    assert_eq!(frame_hex(&period), "01 09 02 03 B2 D0 5E 00 EF");
+    assert_eq!(format_command(&period), "SGP 2, 3, 3000000000");
+    assert_eq!(
+        parse_line("SGP 1, 3, 1000").map(|c| c.to_string()),
+        Ok("SGP 1, 3, 1000".to_string())
+    );
+
+    assert_eq!(
+        message("SGP 0, 3, 4294967296"),
+        "SGP 0: value 4294967296 outside 0..4294967295 (Timer 0 period)"
+    );
+    // A negative period is no period, even though its bits would fit.
+    assert!(message("SGP 0, 3, -1").contains("outside 0..4294967295"));
+}
+
+#[test]
+fn other_values_still_refuse_decimals_outside_i32() {
+    assert_eq!(
+        message("SAP 0, 0, 3000000000"),
+        "SAP: value 3000000000 outside -2147483648..2147483647 \
+         (give a larger 32-bit pattern in hex, e.g. 0xFFFFFFFF)"
+    );
+    // User variables are signed 32-bit, interrupt trigger transitions tiny.
+    assert!(message("SGP 0, 2, 3000000000").contains("-2147483648..2147483647"));
+    assert!(message("SGP 27, 3, 3000000000").contains("-2147483648..2147483647"));
+    // An unknown parameter: nothing says the value may be wider.
+    assert!(message("SGP 5, 3, 3000000000").contains("-2147483648..2147483647"));
+    assert!(message("MVP ABS, 0, 3000000000").contains("0xFFFFFFFF"));
+}
+
 #[test]
 fn labels_in_direct_mode_ask_for_a_number() {
     assert!(message("JA Loop").contains("a direct-mode line has no labels"));

@@ -278,6 +278,22 @@ proptest! {
         prop_assert_eq!(parse_syntax(&line, None), Ok(command), "{}", line);
     }
 
+    /// §5.4: timer periods print unsigned and parse back to the same bits.
+    /// (Rarely drawn by `typed_command`: bank 3, parameters 0..2.)
+    #[test]
+    fn timer_periods_format_unsigned_and_parse_back(param in 0u8..=2, value in any::<i32>()) {
+        let command = Command::Sgp { param, bank: 3, value };
+        let line = format_command(&command);
+        prop_assert_eq!(&line, &format!("SGP {param}, 3, {}", value as u32));
+        prop_assert_eq!(parse_line(&line), Ok(command), "{}", line);
+    }
+
+    #[test]
+    fn every_timer_period_encodes_its_bits(period in any::<u32>()) {
+        let command = parse_line(&format!("SGP 1, 3, {period}"));
+        prop_assert_eq!(command.map(|c| c.to_request(1).value), Ok(period as i32));
+    }
+
     #[test]
     fn validation_never_panics(command in prop_oneof![typed_command(), raw_command()]) {
         let _ = validate(&command);

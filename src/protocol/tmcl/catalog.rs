@@ -8,6 +8,7 @@ use super::command::{
     CalcFamily, ClearFlag, Condition, EventMode, MoveMode, OperandCode, RfsAction, StatusQuery,
     VersionFormat, WaitCondition, opcode,
 };
+use super::params::{self, ParamInfo};
 
 /// The frame field an operand is written to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -91,12 +92,37 @@ pub enum OperandKind {
     Byte,
     /// A signed 32-bit number; hex may give the bit pattern.
     Number,
+    /// The value of the parameter named by the type field (SAP, SGP): a
+    /// signed 32-bit number, except for parameters read back as unsigned
+    /// 32-bit (bank-3 timer periods 0..4294967295, §5.4 Table 20), whose
+    /// decimal values go up to their maximum. Hex gives the bit pattern.
+    ParamValue(ParamTable),
     /// A program address: a number, or a label through a symbol resolver.
     Label,
     /// A symbol of the set, or its number.
     Code(CodeSet),
     /// Only 0: written in the manual's form `GCO 0, 255, 0` but not sent.
     Zero,
+}
+
+/// The parameter table a [`OperandKind::ParamValue`] belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ParamTable {
+    /// Axis parameters (§4 Table 16); the motor/bank field is the motor.
+    Axis,
+    /// Global parameters (§5 Tables 18–20); the motor/bank field is the bank.
+    Global,
+}
+
+impl ParamTable {
+    /// The row of parameter `number` (the type field) with `motor_bank` as
+    /// the frame carries it, if the TMCM-1110 has one.
+    pub fn param(self, number: u8, motor_bank: u8) -> Option<&'static ParamInfo> {
+        match self {
+            ParamTable::Axis => params::axis_param(number),
+            ParamTable::Global => params::global_param(motor_bank, number),
+        }
+    }
 }
 
 /// Whether an operand may be left out.
@@ -170,7 +196,7 @@ const fn opt(name: &'static str, field: Field, kind: OperandKind, default: i64) 
 }
 
 use Field::{MotorBank, Type, Value};
-use OperandKind::{Byte, Code, Label, Number, Zero};
+use OperandKind::{Byte, Code, Label, Number, ParamValue, Zero};
 use Usage::{DirectAndStandalone as Both, DirectOnly, Standalone, UserDefined};
 
 const MOTOR: Operand = req("motor", MotorBank, Byte);
@@ -231,7 +257,7 @@ pub const COMMANDS: &[CommandInfo] = &[
         "3.6.4", Both, &[MOVE_MODE, MOTOR, req("position|offset|coordinate", Value, Number)]),
     row("SAP", opcode::SAP, "SAP <parameter>, <motor>, <value>",
         "Set an axis parameter (RAM)", "3.6.5", Both,
-        &[AXIS_PARAM, MOTOR, req("value", Value, Number)]),
+        &[AXIS_PARAM, MOTOR, req("value", Value, ParamValue(ParamTable::Axis))]),
     row("GAP", opcode::GAP, "GAP <parameter>, <motor>", "Get an axis parameter",
         "3.6.6", Both, &[AXIS_PARAM, MOTOR]),
     row("STAP", opcode::STAP, "STAP <parameter>, <motor>",
@@ -240,7 +266,8 @@ pub const COMMANDS: &[CommandInfo] = &[
         "Restore an axis parameter from EEPROM", "3.6.8", Both, &[AXIS_PARAM, MOTOR]),
     row("SGP", opcode::SGP, "SGP <parameter>, <bank>, <value>",
         "Set a global parameter (bank 0 module settings, 2 user variables, 3 interrupts)",
-        "3.6.9", Both, &[GLOBAL_PARAM, BANK, req("value", Value, Number)]),
+        "3.6.9", Both,
+        &[GLOBAL_PARAM, BANK, req("value", Value, ParamValue(ParamTable::Global))]),
     row("GGP", opcode::GGP, "GGP <parameter>, <bank>", "Get a global parameter",
         "3.6.10", Both, &[GLOBAL_PARAM, BANK]),
     row("STGP", opcode::STGP, "STGP <parameter>, <bank>",

@@ -8,7 +8,9 @@
 //! - Numbers: decimal with optional sign, hex as `0x1F` or `$1F`. Hex gives
 //!   the 32-bit pattern in a value field (`0xFFFFFFFF` = −1) and a plain
 //!   number in a byte field (`0xFF` = 255). Decimal values must fit in a
-//!   signed 32-bit value.
+//!   signed 32-bit value, except SAP/SGP values of a parameter read as
+//!   unsigned 32-bit (bank-3 timer periods, §5.4 Table 20): those are
+//!   written and printed as the user sees them, 0..4294967295.
 //! - `//` starts a comment (the manual's comment syntax).
 //! - Symbolic operands where the manual uses them (`ABS`, `ZE`, `TICKS`,
 //!   `ADD`…), or their numbers.
@@ -24,6 +26,7 @@ use std::fmt;
 use super::catalog::{self, CodeSet, CommandInfo, Field, Operand, OperandKind, Presence};
 use super::command::Command;
 use super::frame::Request;
+use super::params::ParamInfo;
 use super::validate::validate;
 
 /// Supplies the values of labels and constants (`Name = value`).
@@ -200,10 +203,14 @@ pub fn format_command(command: &Command) -> String {
     };
     let mut parts = Vec::new();
     for operand in info.operands {
-        let field = match operand.field {
-            Field::Type => i64::from(kind),
-            Field::MotorBank => i64::from(motor_bank),
-            Field::Value => i64::from(value),
+        let field = match (operand.field, operand.kind) {
+            (Field::Type, _) => i64::from(kind),
+            (Field::MotorBank, _) => i64::from(motor_bank),
+            // As the user sees it: timer periods unsigned (§5.4).
+            (Field::Value, OperandKind::ParamValue(table)) => table
+                .param(kind, motor_bank)
+                .map_or(i64::from(value), |info| info.value_from_wire(value)),
+            (Field::Value, _) => i64::from(value),
         };
         match (operand.presence, operand.kind) {
             (_, OperandKind::Zero) => continue,
@@ -349,7 +356,7 @@ impl OperandParser<'_> {
                 operand: operand.name,
                 syntax: RAW_SYNTAX,
             })?;
-            fields[i] = self.value(RAW_CONTEXT, operand, token)?;
+            fields[i] = self.value(RAW_CONTEXT, operand, token, None)?;
         }
         if let Some(extra) = tokens.get(RAW_OPERANDS.len()) {
             return Err(LineError::ExtraOperand {
@@ -371,10 +378,13 @@ impl OperandParser<'_> {
         let mut kind: u8 = 0;
         let mut motor_bank: u8 = 0;
         let mut value: i32 = info.fixed_value;
+        // Each operand with its token, or its default; `None` for an
+        // optional operand left out that has no default.
+        let mut given = Vec::with_capacity(info.operands.len());
         let mut remaining = tokens.iter();
         for operand in info.operands {
-            let given = match remaining.next() {
-                Some(token) => Some(self.value(info.name, operand, token)?),
+            let source = match remaining.next() {
+                Some(token) => Some(Given::Token(token)),
                 None => match operand.presence {
                     Presence::Required => {
                         return Err(LineError::MissingOperand {
@@ -383,11 +393,29 @@ impl OperandParser<'_> {
                             syntax: info.syntax,
                         });
                     }
-                    Presence::Default(d) => Some(d),
+                    Presence::Default(d) => Some(Given::Default(d)),
                     Presence::SetsType(_) => None,
                 },
             };
-            let Some(v) = given else { continue };
+            given.push((operand, source));
+        }
+        // The value field last: how a SAP/SGP value is read depends on the
+        // parameter the type and motor/bank fields name.
+        let (bytes, words): (Vec<_>, Vec<_>) = given
+            .into_iter()
+            .partition(|(operand, _)| operand.field != Field::Value);
+        for (operand, source) in bytes.into_iter().chain(words) {
+            let Some(source) = source else { continue };
+            let param = match operand.kind {
+                OperandKind::ParamValue(table) => table
+                    .param(kind, motor_bank)
+                    .map(|info| TargetParam { number: kind, info }),
+                _ => None,
+            };
+            let v = match source {
+                Given::Token(token) => self.value(info.name, operand, token, param)?,
+                Given::Default(d) => d,
+            };
             if let Presence::SetsType(code) = operand.presence {
                 kind = code;
             }
@@ -423,8 +451,15 @@ impl OperandParser<'_> {
     }
 
     /// One operand's number, checked against what its kind accepts. Byte
-    /// operands come back in 0..=255, value operands in i32 range.
-    fn value(&self, command: &str, operand: &Operand, token: &str) -> Result<i64, LineError> {
+    /// operands come back in 0..=255, value operands in i32 range (the
+    /// frame's value field; a timer period's bits, see [`TargetParam`]).
+    fn value(
+        &self,
+        command: &str,
+        operand: &Operand,
+        token: &str,
+        param: Option<TargetParam>,
+    ) -> Result<i64, LineError> {
         if let OperandKind::Code(set) = operand.kind
             && let Some(code) = set.code_of(token)
         {
@@ -462,11 +497,23 @@ impl OperandParser<'_> {
                     Err(out_of_range("0..255".to_string(), None))
                 }
             }
-            OperandKind::Number | OperandKind::Label => {
+            OperandKind::Number | OperandKind::Label | OperandKind::ParamValue(_) => {
                 if hex {
                     u32::try_from(value)
                         .map(|v| i64::from(v as i32))
                         .map_err(|_| out_of_range("0x0..0xFFFFFFFF".to_string(), None))
+                } else if let Some(TargetParam { number, info }) =
+                    param.filter(|p| reads_unsigned(p.info))
+                {
+                    info.wire_value(value)
+                        .map(i64::from)
+                        .ok_or_else(|| LineError::OutOfRange {
+                            context: format!("{command} {number}"),
+                            operand: operand.name.to_string(),
+                            value: token.to_string(),
+                            allowed: info.range.to_string(),
+                            note: Some(info.name.to_string()),
+                        })
                 } else if i32::try_from(value).is_ok() {
                     Ok(value)
                 } else {
@@ -518,6 +565,28 @@ impl OperandParser<'_> {
             }),
         }
     }
+}
+
+/// Where an operand's token came from.
+enum Given<'t> {
+    Token(&'t str),
+    Default(i64),
+}
+
+/// The parameter a SAP/SGP value is for, when the parameter tables know it.
+#[derive(Clone, Copy)]
+struct TargetParam {
+    number: u8,
+    info: &'static ParamInfo,
+}
+
+/// Whether the parameter reads frame values as unsigned 32-bit (bank-3
+/// timer periods, §5.4): then a decimal value is what the user sees,
+/// 0..4294967295, and goes into the frame through
+/// [`ParamInfo::wire_value`]. Asked of the parameter itself so the
+/// parser, the formatter and `value_from_wire` cannot disagree.
+fn reads_unsigned(info: &ParamInfo) -> bool {
+    info.value_from_wire(-1) == i64::from(u32::MAX)
 }
 
 /// Operand values are range-checked before they get here.
@@ -604,6 +673,34 @@ mod tests {
         assert_eq!(parse_number("$7FFFFFFF"), Some(i32::MAX));
         assert_eq!(parse_number("-2147483648"), Some(i32::MIN));
         assert_eq!(parse_number("0x"), None);
+    }
+
+    #[test]
+    fn timer_period_values_are_read_as_the_user_sees_them() {
+        let timer = |value| Command::Sgp {
+            param: 0,
+            bank: 3,
+            value,
+        };
+        assert_eq!(syntax("SGP 0, 3, 4294967295"), Ok(timer(-1)));
+        assert_eq!(format_command(&timer(-1)), "SGP 0, 3, 4294967295");
+        // The same bits of a signed parameter print signed.
+        let variable = Command::Sgp {
+            param: 0,
+            bank: 2,
+            value: -1,
+        };
+        assert_eq!(format_command(&variable), "SGP 0, 2, -1");
+        // A constant is a value as written, like a decimal.
+        let constants = |name: &str| (name == "Period").then_some(3_000_000_000);
+        assert_eq!(
+            parse_syntax("SGP 0, 3, Period", Some(&constants)),
+            Ok(timer(3_000_000_000u32 as i32))
+        );
+        assert!(matches!(
+            parse_syntax("SGP 0, 2, Period", Some(&constants)),
+            Err(LineError::OutOfRange { .. })
+        ));
     }
 
     #[test]

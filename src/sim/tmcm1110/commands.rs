@@ -22,8 +22,14 @@ pub(crate) enum Mode {
     Control,
 }
 
-/// The simulator's choice: these have no direct-mode meaning.
+/// Commands with no direct-mode meaning: the branch commands of §3.5.3
+/// Table 8 ("using them in direct mode does not make sense"), COMP among
+/// them — a direct-mode COMP would rewrite the condition flags of a running
+/// program, which direct-mode commands must not disturb (§8.6) — and, the
+/// simulator's choice, the program-flow extensions RST, DJNZ and CALL
+/// (§3.5.7 Table 13).
 const PROGRAM_FLOW: &[u8] = &[
+    opcode::COMP,
     opcode::JC,
     opcode::JA,
     opcode::CSUB,
@@ -102,6 +108,9 @@ mod tests {
     fn modes_follow_the_manual_sections() {
         let mode_of = |op| command(op).map(mode);
         assert_eq!(mode_of(opcode::JA), Some(Mode::ProgramFlow));
+        // §3.5.3 Table 8 lists COMP with the branch commands.
+        assert_eq!(mode_of(opcode::COMP), Some(Mode::ProgramFlow));
+        assert_eq!(mode_of(opcode::CALC), Some(Mode::Direct));
         assert_eq!(mode_of(opcode::CALCV), Some(Mode::Direct));
         assert_eq!(mode_of(opcode::ROR), Some(Mode::Direct));
         assert_eq!(mode_of(opcode::TARGET_REACHED_EVENT), Some(Mode::Control));

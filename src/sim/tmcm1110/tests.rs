@@ -233,7 +233,7 @@ fn storing_a_parameter_without_e_answers_3() {
 #[test]
 fn program_flow_commands_answer_6_and_do_nothing() {
     let mut sim = sim();
-    for opcode in [21, 22, 23, 24, 27, 28, 48, 49, 80] {
+    for opcode in [20, 21, 22, 23, 24, 27, 28, 48, 49, 80] {
         assert_eq!(status(&mut sim, opcode, 0, 0, 5), 6, "opcode {opcode}");
     }
     assert_eq!(sim.view().program_counter, 0);
@@ -869,11 +869,27 @@ fn calculations_act_on_a_x_and_variables() {
     assert_eq!(ok(&mut sim, 135, 3, 0, 0), 3);
     ok(&mut sim, 43, 0, 12, 0); // v12 += X
     assert_eq!(ok(&mut sim, 10, 12, 2, 0), 6);
-    ok(&mut sim, 20, 0, 0, 5); // COMP
+    ok(&mut sim, 42, 11, 11, 0); // A COMP v11
     assert_eq!(
         sim.app.flags.comparison,
-        Some(std::cmp::Ordering::Less) // A = 3 * !75 is negative
+        Some(std::cmp::Ordering::Less) // A = 3 * !75 < v11 = !75
     );
+}
+
+/// §3.5.3 Table 8 puts COMP with the branch commands, and §8.6 lets direct
+/// mode run beside a program without disturbing it: a COMP from the host
+/// must not rewrite the flags the program's next JC tests.
+#[test]
+fn direct_mode_comp_answers_6_and_keeps_the_program_flags() {
+    let mut sim = sim();
+    ok(&mut sim, 19, 9, 0, 3); // A = 3
+    ok(&mut sim, 45, 11, 0, 5); // v0 COMP 5: v0 = 0 is less
+    let flags = sim.app.flags;
+    assert_eq!(flags.comparison, Some(std::cmp::Ordering::Less));
+    // COMP 3 would make A equal and set the zero flag.
+    assert_eq!(status(&mut sim, 20, 0, 0, 3), 6);
+    assert_eq!(sim.app.flags, flags);
+    assert_eq!(ok(&mut sim, 135, 2, 0, 0), 3, "A untouched");
 }
 
 #[test]
