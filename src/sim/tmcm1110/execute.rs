@@ -9,10 +9,11 @@
 //! - "Don't care" reply values are 0. Values the manual documents: GAP, GGP,
 //!   GIO, GCO, CCO (the captured position), RFS STATUS (1 while searching),
 //!   CALC and CALCV (the operand, §3.6.16/§3.6.41 examples), 138 (mask 1).
-//! - Program-flow commands (JA, JC, CSUB, RSUB, WAIT, STOP, RST, DJNZ, CALL)
-//!   have no direct-mode meaning (§3.5.3) and answer 6 "command not
-//!   available" without doing anything.
-//! - Calculation and set-up commands (CALC, CALCX, COMP, CALCV*, AAP, AGP,
+//! - Program-flow commands (JA, JC, COMP, CSUB, RSUB, WAIT, STOP, RST, DJNZ,
+//!   CALL) have no direct-mode meaning (§3.5.3 Table 8) and answer 6
+//!   "command not available" without doing anything, so they cannot disturb
+//!   a program's flags (§8.6).
+//! - Calculation and set-up commands (CALC, CALCX, CALCV*, AAP, AGP,
 //!   ACO, SIV, GIV, AIV, CLE, EI, DI, VECT, RETI, MVPA, ROLA, RORA) act on the
 //!   module's one register set (A, X, flags), shared with a program; their
 //!   direct-mode reply tables exist (§3.6.28–3.6.50). GIV in direct mode
