@@ -36,12 +36,10 @@ impl Served {
 
     /// End it as a user would (SIGTERM) and return its exit code.
     fn terminate(mut self) -> Option<i32> {
-        let pid = self.child.id().to_string();
-        let sent = Command::new("kill").args(["-TERM", &pid]).status();
-        assert!(
-            sent.map(|s| s.success()).unwrap_or(false),
-            "kill -TERM failed"
-        );
+        let pid = libc::pid_t::try_from(self.child.id()).expect("pid fits pid_t");
+        // SAFETY: sends a signal to our own child process; nothing is shared.
+        let sent = unsafe { libc::kill(pid, libc::SIGTERM) };
+        assert_eq!(sent, 0, "kill(SIGTERM) failed");
         self.child.wait().ok().and_then(|s| s.code())
     }
 }
