@@ -66,10 +66,11 @@ pub enum Command {
         /// The console line, e.g. 'MVP ABS, 0, 1000'.
         line: String,
     },
-    /// Serve a simulated controller to other programs, on a new
-    /// pseudo-terminal (--pty, its path is the first line printed) or a TCP
-    /// socket (--tcp ADDR, loopback when only a port is given); --address
-    /// sets the module address. Runs until interrupted.
+    /// Serve a simulated controller to other programs.
+    ///
+    /// On a new pseudo-terminal (--pty: its path is the first line printed)
+    /// or a TCP socket (--tcp ADDR: loopback when only a port is given);
+    /// --address sets the module address. Runs until interrupted.
     Sim {
         /// Which controller: tmcm1110.
         kind: String,
@@ -100,6 +101,25 @@ pub enum Command {
     Bench,
 }
 
+impl Command {
+    /// The subcommand's name as typed.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Command::Encode { .. } => "encode",
+            Command::Sim { .. } => "sim",
+            Command::Exec { .. } => "exec",
+            Command::Run { .. } => "run",
+            Command::Ports => "ports",
+            Command::Scan => "scan",
+            Command::Asm { .. } => "asm",
+            Command::Disasm { .. } => "disasm",
+            Command::Download { .. } => "download",
+            Command::Upload => "upload",
+            Command::Bench => "bench",
+        }
+    }
+}
+
 /// Run a parsed command line; returns the process exit code.
 pub fn run(cli: Cli) -> i32 {
     match cli.command {
@@ -109,7 +129,7 @@ pub fn run(cli: Cli) -> i32 {
             run_encode(&family, &line, cli.connection.address)
         }
         Some(other) => {
-            eprintln!("axterm: {other:?} is not built yet");
+            eprintln!("axterm {}: not built yet", other.name());
             EXIT_USAGE
         }
         None => {
