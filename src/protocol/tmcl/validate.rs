@@ -497,14 +497,39 @@ fn param_value(context: &str, info: &'static ParamInfo, value: i32) -> Result<()
     })
 }
 
+/// Why a port/bank pair is not in an I/O table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum IoPortMiss {
+    /// The command has no such bank.
+    Bank,
+    /// The bank exists but has no such port.
+    Port,
+}
+
+/// The group of [`SIO_PORTS`] or [`GIO_PORTS`] that `port` of `bank`
+/// belongs to. Shared by the console's validation and the simulator.
+pub fn find_io_port(table: &[IoPorts], port: u8, bank: u8) -> Result<&IoPorts, IoPortMiss> {
+    let mut in_bank = table.iter().filter(|g| g.bank == bank).peekable();
+    if in_bank.peek().is_none() {
+        return Err(IoPortMiss::Bank);
+    }
+    in_bank
+        .find(|g| g.ports.contains(&port))
+        .ok_or(IoPortMiss::Port)
+}
+
 fn io_port<'t>(
     name: &str,
     table: &'t [IoPorts],
     port: u8,
     bank: u8,
 ) -> Result<&'t IoPorts, LineError> {
+    let miss = match find_io_port(table, port, bank) {
+        Ok(group) => return Ok(group),
+        Err(miss) => miss,
+    };
     let in_bank: Vec<&IoPorts> = table.iter().filter(|g| g.bank == bank).collect();
-    if in_bank.is_empty() {
+    if miss == IoPortMiss::Bank {
         let mut banks: Vec<u8> = table.iter().map(|g| g.bank).collect();
         banks.dedup();
         return Err(LineError::NotOneOf {
@@ -514,9 +539,6 @@ fn io_port<'t>(
             allowed: join(banks.iter()),
             note: None,
         });
-    }
-    if let Some(group) = in_bank.iter().find(|g| g.ports.contains(&port)) {
-        return Ok(group);
     }
     let ports: Vec<String> = in_bank
         .iter()

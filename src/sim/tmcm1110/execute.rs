@@ -48,12 +48,14 @@
 use crate::protocol::tmcl::command::{CalcOp, ClearFlag, OperandCode, RESET_KEY, opcode as op};
 use crate::protocol::tmcl::params::{self, ParamInfo};
 use crate::protocol::tmcl::units::MAX_INTERNAL;
-use crate::protocol::tmcl::validate::{COORDINATE_EEPROM, COORDINATES};
+use crate::protocol::tmcl::validate::{
+    COORDINATE_EEPROM, COORDINATES, GIO_PORTS, IoPortMiss, IoPorts, SIO_PORTS, find_io_port,
+};
 use crate::protocol::tmcl::{FRAME_LEN, Request, Status, checksum};
 
 use super::commands::{self, Mode};
 use super::eeprom::{EepromImage, STORED_USER_VARIABLES};
-use super::io::{INPUT_PORTS, MODE_MASK, OUTPUT_PORTS};
+use super::io::MODE_MASK;
 use super::motion::Axis;
 use super::program::{ApplicationStatus, PROGRAM_MEMORY_SIZE, ProgramWord, calculate};
 use super::{
@@ -486,52 +488,33 @@ impl Tmcm1110 {
     // ---- I/O ----------------------------------------------------------
 
     fn set_output(&mut self, port: u8, bank: u8, value: i32) -> Outcome {
-        match bank {
-            // SIO 0, 0, x: pull-up resistors (§3.6.14).
-            0 if port == 0 => {
-                self.io.pull_ups = u8::try_from(value)
-                    .ok()
-                    .filter(|&v| i32::from(v) <= MODE_MASK)
-                    .ok_or(Status::INVALID_VALUE)?;
-            }
-            0 => return Err(Status::WRONG_TYPE),
-            2 if port == 255 => {
-                let bits = if value == -1 {
-                    // The bit vector comes from the accumulator's low byte.
-                    (self.app.accumulator & 0xFF) as u8
-                } else {
-                    u8::try_from(value).map_err(|_| Status::INVALID_VALUE)?
-                };
-                self.io.outputs = bits;
-            }
-            2 if port < OUTPUT_PORTS => match value {
-                0 | 1 => self.io.set_output(port, value == 1),
-                _ => return Err(Status::INVALID_VALUE),
-            },
-            2 => return Err(Status::WRONG_TYPE),
-            _ => return Err(Status::INVALID_VALUE),
+        let group = io_group(SIO_PORTS, port, bank)?;
+        if !group.values.contains(i64::from(value)) {
+            return Err(Status::INVALID_VALUE);
+        }
+        // The table above has checked port, bank and value (§3.6.14).
+        match (bank, port) {
+            // SIO 0, 0, x: pull-up resistors.
+            (0, _) => self.io.pull_ups = (value & MODE_MASK) as u8,
+            // SIO 255, 2, x: all outputs; -1 takes the accumulator's low byte.
+            (_, 255) if value == -1 => self.io.outputs = (self.app.accumulator & 0xFF) as u8,
+            (_, 255) => self.io.outputs = (value & 0xFF) as u8,
+            _ => self.io.set_output(port, value == 1),
         }
         Ok(0)
     }
 
     fn get_input(&mut self, port: u8, bank: u8) -> Outcome {
+        io_group(GIO_PORTS, port, bank)?;
         let io_mode = self.global(GP_IO_MODE);
-        match bank {
-            0 if port == 255 => Ok(i32::from(self.io.all_inputs(io_mode))),
-            0 if port < INPUT_PORTS => self
-                .io
-                .input(port, io_mode)
-                .map(i32::from)
-                .ok_or(Status::WRONG_TYPE),
-            1 if port == 0 => Ok(i32::from(self.io.analog)),
-            2 => self
-                .io
-                .output(port)
-                .map(i32::from)
-                .ok_or(Status::WRONG_TYPE),
-            0 | 1 => Err(Status::WRONG_TYPE),
-            _ => Err(Status::INVALID_VALUE),
-        }
+        // The table above has checked port and bank (§3.6.15).
+        let level = match (bank, port) {
+            (0, 255) => Some(self.io.all_inputs(io_mode)),
+            (0, _) => self.io.input(port, io_mode).map(u8::from),
+            (1, _) => return Ok(i32::from(self.io.analog)),
+            _ => self.io.output(port).map(u8::from),
+        };
+        level.map(i32::from).ok_or(Status::WRONG_TYPE)
     }
 
     // ---- coordinates --------------------------------------------------
@@ -902,4 +885,13 @@ fn seed(value: i32) -> u32 {
         0 => 1,
         s => s,
     }
+}
+
+/// The SIO/GIO port group, or the status the module answers (§3.2.1): an
+/// unknown bank is an invalid value, an unknown port a wrong type.
+fn io_group(table: &[IoPorts], port: u8, bank: u8) -> Result<&IoPorts, Status> {
+    find_io_port(table, port, bank).map_err(|miss| match miss {
+        IoPortMiss::Bank => Status::INVALID_VALUE,
+        IoPortMiss::Port => Status::WRONG_TYPE,
+    })
 }
