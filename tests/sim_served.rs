@@ -158,3 +158,16 @@ fn tcp_serves_a_steprocker_on_loopback() {
     drop(stream);
     assert_eq!(served.terminate(), Some(0));
 }
+
+/// A script may signal the simulator as soon as it has read the endpoint
+/// line; the stop handlers are in place before that line is printed.
+#[test]
+fn sigterm_right_after_the_announcement_ends_cleanly() {
+    for args in [
+        &["sim", "tmcm1110", "--pty"][..],
+        &["sim", "tmcm1110", "--tcp", "127.0.0.1:0"][..],
+    ] {
+        let served = Served::start(args);
+        assert_eq!(served.terminate(), Some(0), "{args:?}");
+    }
+}

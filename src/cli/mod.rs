@@ -172,6 +172,25 @@ fn run_sim(
     };
     let sim = (sim_kind.build)(&options);
     eprintln!("{}", sim.help());
+    // The signal handlers are in place before the endpoint is announced:
+    // a script may send SIGTERM as soon as it has read that line.
+    let runtime = match tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+    {
+        Ok(runtime) => runtime,
+        Err(e) => {
+            eprintln!("axterm sim: cannot start: {e}");
+            return EXIT_DEVICE;
+        }
+    };
+    let stop_signals = match runtime.block_on(async { StopSignals::install() }) {
+        Ok(signals) => signals,
+        Err(e) => {
+            eprintln!("axterm sim: cannot watch for signals: {e}");
+            return EXIT_DEVICE;
+        }
+    };
     let stop = Arc::new(AtomicBool::new(false));
     let server_stop = Arc::clone(&stop);
     let (done_tx, done_rx) = tokio::sync::oneshot::channel();
@@ -185,17 +204,7 @@ fn run_sim(
         let _ = done_tx.send(());
         result
     });
-    let runtime = match tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()
-    {
-        Ok(runtime) => runtime,
-        Err(e) => {
-            eprintln!("axterm sim: cannot start: {e}");
-            return EXIT_DEVICE;
-        }
-    };
-    runtime.block_on(wait_for_stop_signal(done_rx));
+    runtime.block_on(stop_signals.wait(done_rx));
     stop.store(true, Ordering::Relaxed);
     match server.join() {
         Ok(Ok(())) => EXIT_OK,
@@ -210,23 +219,45 @@ fn run_sim(
     }
 }
 
-/// Wait for SIGINT, SIGTERM, or the server ending on its own.
-async fn wait_for_stop_signal(server_done: tokio::sync::oneshot::Receiver<()>) {
+/// SIGINT and SIGTERM, registered up front so that neither can arrive
+/// unhandled (and kill us uncleanly) once we have announced ourselves.
+struct StopSignals {
     #[cfg(unix)]
-    {
-        use tokio::signal::unix::{SignalKind, signal};
-        if let Ok(mut term) = signal(SignalKind::terminate()) {
-            tokio::select! {
-                _ = tokio::signal::ctrl_c() => {}
-                _ = term.recv() => {}
-                _ = server_done => {}
-            }
-            return;
+    interrupt: tokio::signal::unix::Signal,
+    #[cfg(unix)]
+    terminate: tokio::signal::unix::Signal,
+}
+
+impl StopSignals {
+    /// Must run inside the tokio runtime.
+    fn install() -> std::io::Result<StopSignals> {
+        #[cfg(unix)]
+        {
+            use tokio::signal::unix::{SignalKind, signal};
+            Ok(StopSignals {
+                interrupt: signal(SignalKind::interrupt())?,
+                terminate: signal(SignalKind::terminate())?,
+            })
+        }
+        #[cfg(not(unix))]
+        {
+            Ok(StopSignals {})
         }
     }
-    tokio::select! {
-        _ = tokio::signal::ctrl_c() => {}
-        _ = server_done => {}
+
+    /// Wait for SIGINT, SIGTERM, or the server ending on its own.
+    async fn wait(mut self, server_done: tokio::sync::oneshot::Receiver<()>) {
+        #[cfg(unix)]
+        tokio::select! {
+            _ = self.interrupt.recv() => {}
+            _ = self.terminate.recv() => {}
+            _ = server_done => {}
+        }
+        #[cfg(not(unix))]
+        tokio::select! {
+            _ = tokio::signal::ctrl_c() => {}
+            _ = server_done => {}
+        }
     }
 }
 
