@@ -1,8 +1,13 @@
 //! axterm: a terminal console for commissioning stepper and servo axes.
 //!
-//! Layers (see README): `protocol` (pure codecs and tables), `sim`
-//! (simulated controllers), and the front ends in `cli`.
+//! Layers, data flowing down and back up (see the house plan):
+//! `cli` (front ends) → `session` (what the console knows of a controller)
+//! → `device` (the async task owning a link) → `link` (byte transports)
+//! → `sim` (simulated controllers). `protocol` is pure code used by all.
 
 pub mod cli;
+pub mod device;
+pub mod link;
 pub mod protocol;
+pub mod session;
 pub mod sim;

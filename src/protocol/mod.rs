@@ -2,6 +2,7 @@
 //! console line syntax, parameter tables. No I/O here.
 
 pub mod tmcl;
+pub mod wire;
 
 /// One controller family as the command line knows it. A new family adds
 /// one entry to [`FAMILIES`].

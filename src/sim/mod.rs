@@ -5,6 +5,7 @@
 
 use std::time::Duration;
 
+pub mod faults;
 pub mod tmcm1110;
 
 /// A controller that can stand behind a link in place of hardware.
