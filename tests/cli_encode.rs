@@ -54,11 +54,3 @@ fn an_unknown_family_lists_the_known_ones() {
     assert_eq!(out.status.code(), Some(2));
     assert!(stderr(&out).contains("tmcl"), "{}", stderr(&out));
 }
-
-#[test]
-fn subcommands_still_to_come_say_so_and_exit_2() {
-    let out = axterm(&["exec", "GAP 1, 0"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert_eq!(stdout(&out), "");
-    assert_eq!(stderr(&out), "axterm exec: not built yet\n");
-}

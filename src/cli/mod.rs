@@ -1,5 +1,12 @@
 //! Command-line front ends: argument parsing and the subcommands.
 
+pub mod bench;
+pub mod connection;
+pub mod exec;
+pub mod output;
+pub mod run;
+pub mod scan;
+pub mod script;
 pub mod sim_serve;
 
 use std::io::Write;
@@ -17,6 +24,8 @@ pub const EXIT_OK: i32 = 0;
 pub const EXIT_DEVICE: i32 = 1;
 /// Exit code for bad usage or a line that does not parse (nothing was sent).
 pub const EXIT_USAGE: i32 = 2;
+/// Exit code when the connection could not be opened.
+pub const EXIT_CONNECTION: i32 = 3;
 
 #[derive(Debug, Parser)]
 #[command(
@@ -46,13 +55,13 @@ pub struct ConnectionArgs {
     /// Protocol family: tmcl.
     #[arg(long, global = true)]
     pub protocol: Option<String>,
-    /// Serial baud rate.
+    /// Serial baud rate (default 9600); with --sim, emulate that wire time.
     #[arg(long, global = true)]
     pub baud: Option<u32>,
-    /// Module address on the bus.
+    /// Module address on the bus (default 1); with --sim, also the simulator's.
     #[arg(long, global = true)]
     pub address: Option<u8>,
-    /// Reply timeout in milliseconds.
+    /// Reply timeout in milliseconds (default: from the baud rate).
     #[arg(long, global = true)]
     pub timeout: Option<u64>,
 }
@@ -82,13 +91,23 @@ pub enum Command {
         eeprom: Option<std::path::PathBuf>,
     },
     /// Run console lines one by one and print one result line each.
-    Exec { lines: Vec<String> },
+    ///
+    /// Every line is checked before anything is sent. Exit codes: 0 all
+    /// good, 1 a device error or timeout, 2 a line that does not parse or
+    /// validate (nothing sent), 3 the connection could not be opened.
+    Exec(exec::ExecArgs),
     /// Run a batch file of console lines (- for standard input).
-    Run { file: String },
+    ///
+    /// One console line per line; blank lines and lines starting with # or
+    /// // are comments. Directives: `:expect LINE == VALUE`, `:wait-until
+    /// LINE == VALUE [timeout DURATION]` (re-reads every 20 ms; default
+    /// timeout 10s), `:sleep DURATION`, `:echo TEXT`; DURATION as 500ms, 2s,
+    /// 1.5s, 1m. The whole file is checked before anything is sent.
+    Run(run::RunArgs),
     /// List serial ports.
     Ports,
-    /// Look for modules on a bus.
-    Scan,
+    /// Look for modules on a bus (firmware version request at each address).
+    Scan(scan::ScanArgs),
     /// Assemble a TMCL program.
     Asm { file: String },
     /// Disassemble a program image or a module's program.
@@ -98,7 +117,7 @@ pub enum Command {
     /// Read a module's program back as source.
     Upload,
     /// Measure the link and the device task.
-    Bench,
+    Bench(bench::BenchArgs),
 }
 
 impl Command {
@@ -107,15 +126,15 @@ impl Command {
         match self {
             Command::Encode { .. } => "encode",
             Command::Sim { .. } => "sim",
-            Command::Exec { .. } => "exec",
-            Command::Run { .. } => "run",
+            Command::Exec(_) => "exec",
+            Command::Run(_) => "run",
             Command::Ports => "ports",
-            Command::Scan => "scan",
+            Command::Scan(_) => "scan",
             Command::Asm { .. } => "asm",
             Command::Disasm { .. } => "disasm",
             Command::Download { .. } => "download",
             Command::Upload => "upload",
-            Command::Bench => "bench",
+            Command::Bench(_) => "bench",
         }
     }
 }
@@ -128,6 +147,10 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::Encode { family, line }) => {
             run_encode(&family, &line, cli.connection.address)
         }
+        Some(Command::Exec(args)) => exec::run(&cli.connection, &args),
+        Some(Command::Run(args)) => run::run(&cli.connection, &args),
+        Some(Command::Scan(args)) => scan::run(&cli.connection, &args),
+        Some(Command::Bench(args)) => bench::run(&cli.connection, &args),
         Some(other) => {
             eprintln!("axterm {}: not built yet", other.name());
             EXIT_USAGE

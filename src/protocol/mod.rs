@@ -1,8 +1,11 @@
 //! Protocol knowledge of every controller family: frames, typed commands,
 //! console line syntax, parameter tables. No I/O here.
 
+pub mod console;
 pub mod tmcl;
 pub mod wire;
+
+use console::FamilyConsole;
 
 /// One controller family as the command line knows it. A new family adds
 /// one entry to [`FAMILIES`].
@@ -15,6 +18,9 @@ pub struct Family {
     pub encode_line: fn(line: &str, address: Option<u8>) -> Result<Vec<u8>, String>,
     /// Show bytes of this family the way a technician reads them.
     pub show_bytes: fn(bytes: &[u8]) -> String,
+    /// What the session layer needs of the family: its wire format, how a
+    /// line is sent and its answer read, emergency stop, status polling.
+    pub console: &'static dyn FamilyConsole,
 }
 
 /// Every protocol family axterm speaks.
@@ -29,6 +35,7 @@ pub const FAMILIES: &[Family] = &[Family {
             .to_vec())
     },
     show_bytes: tmcl::to_hex,
+    console: &tmcl::TmclConsole,
 }];
 
 /// The family called `name` (case-insensitive).

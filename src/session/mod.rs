@@ -1,3 +1,399 @@
 //! What the console knows of one connected controller: its axes and their
 //! status snapshots, its identity, the connection state. Built from a
-//! family's protocol knowledge on top of the device task.
+//! family's protocol knowledge ([`crate::protocol::console`]) on top of the
+//! device task.
+//!
+//! Every front end goes through [`Session::execute_line`]: the line is
+//! parsed and validated by the family first (nothing is sent if that
+//! fails), sent at user priority (reads may be retried, anything that moves
+//! or writes never), and the answer read back as a value or an error that
+//! names the line and the module's status.
+
+mod status;
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use tokio::sync::watch;
+
+pub use crate::protocol::console::{AxisFlag, AxisInfo, PreparedLine, ReplyError, ReplyValue};
+pub use status::AxisStatus;
+
+use crate::device::{
+    self, DeviceError, DeviceHandle, DeviceOptions, Expect, LinkState, PollItem, PollPlan,
+    Priority, Retry, Transaction,
+};
+use crate::link::{LinkError, LinkSpec};
+use crate::protocol::Family;
+use crate::protocol::console::{Answering, Effect};
+use status::{StatusBoard, StatusSink};
+
+/// Further attempts for a read whose reply was lost or garbled.
+pub const DEFAULT_READ_RETRIES: u32 = 2;
+
+/// How a session talks to its controller.
+#[derive(Debug, Clone)]
+pub struct SessionOptions {
+    /// Module address; the family's default when `None`.
+    pub address: Option<u8>,
+    /// Further attempts for reads (never for anything else).
+    pub read_retries: u32,
+    pub device: DeviceOptions,
+}
+
+impl Default for SessionOptions {
+    fn default() -> Self {
+        SessionOptions {
+            address: None,
+            read_retries: DEFAULT_READ_RETRIES,
+            device: DeviceOptions::default(),
+        }
+    }
+}
+
+/// How often status is polled, at most; the link's speed may make it less
+/// often. Zero polls as often as the link allows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PollCadence {
+    /// Position, speed, target reached.
+    pub fast: Duration,
+    /// Switches, load, error flags, target.
+    pub slow: Duration,
+}
+
+impl Default for PollCadence {
+    /// 20 Hz for what moves, 5 Hz for the rest: smooth gauges without
+    /// spending a slow link on values that rarely change.
+    fn default() -> Self {
+        PollCadence {
+            fast: Duration::from_millis(50),
+            slow: Duration::from_millis(200),
+        }
+    }
+}
+
+/// What came back for one line.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct LineResult {
+    /// The line as the family writes it (`SAP 4, 0, 1234`).
+    pub line: String,
+    /// The bytes sent.
+    pub request: Vec<u8>,
+    /// The answer's bytes, every frame in order (empty if none came).
+    pub reply: Vec<u8>,
+    /// The status code the answer carried, where the family has one.
+    pub status: Option<u32>,
+    pub value: ReplyValue,
+    /// From the last attempt's first byte written to its answer.
+    pub elapsed: Duration,
+    pub attempts: u32,
+}
+
+/// Why a line did not succeed.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum SessionError {
+    /// Refused before anything was sent: it does not parse, or the family
+    /// says the module would not accept it.
+    #[error("{message}")]
+    Refused { line: String, message: String },
+    /// The module answered with an error status, or with an answer that
+    /// makes no sense for the request.
+    #[error("{error}")]
+    Reply {
+        error: Box<ReplyError>,
+        request: Vec<u8>,
+        reply: Vec<u8>,
+        elapsed: Duration,
+    },
+    /// No answer: timeout, link lost, device task ended.
+    #[error("module {address} did not answer {line}: {error}")]
+    Device {
+        line: String,
+        address: u8,
+        request: Vec<u8>,
+        error: DeviceError,
+    },
+}
+
+impl SessionError {
+    /// True when nothing was sent (a usage error, not a device error).
+    pub fn nothing_sent(&self) -> bool {
+        matches!(self, SessionError::Refused { .. })
+    }
+
+    /// The bytes sent, if any were.
+    pub fn request(&self) -> Option<&[u8]> {
+        match self {
+            SessionError::Refused { .. } => None,
+            SessionError::Reply { request, .. } | SessionError::Device { request, .. } => {
+                Some(request)
+            }
+        }
+    }
+
+    /// The bytes of an answer that was an error.
+    pub fn reply(&self) -> Option<&[u8]> {
+        match self {
+            SessionError::Reply { reply, .. } => Some(reply),
+            _ => None,
+        }
+    }
+
+    /// The status code of a rejection.
+    pub fn status(&self) -> Option<u32> {
+        match self {
+            SessionError::Reply { error, .. } => error.status(),
+            _ => None,
+        }
+    }
+}
+
+/// One connected controller. Cheap to clone; clones share everything.
+#[derive(Clone)]
+pub struct Session {
+    device: DeviceHandle,
+    family: &'static Family,
+    address: u8,
+    read_retries: u32,
+    board: StatusBoard,
+    identity: Arc<watch::Sender<Option<String>>>,
+}
+
+impl Session {
+    /// Open `spec` and start the device task for `family`.
+    pub async fn connect(
+        spec: LinkSpec,
+        family: &'static Family,
+        options: SessionOptions,
+    ) -> Result<Session, LinkError> {
+        let device = device::connect(spec, family.console.wire(), options.device.clone()).await?;
+        Ok(Session::new(device, family, &options))
+    }
+
+    /// A session over a device task already running.
+    pub fn new(device: DeviceHandle, family: &'static Family, options: &SessionOptions) -> Session {
+        let axes = family.console.axes().len();
+        let (board, _) = watch::channel(vec![AxisStatus::default(); axes]);
+        let (identity, _) = watch::channel(None);
+        Session {
+            device,
+            family,
+            address: options
+                .address
+                .unwrap_or_else(|| family.console.default_address()),
+            read_retries: options.read_retries,
+            board: Arc::new(board),
+            identity: Arc::new(identity),
+        }
+    }
+
+    pub fn family(&self) -> &'static Family {
+        self.family
+    }
+
+    /// The module address lines are sent to.
+    pub fn address(&self) -> u8 {
+        self.address
+    }
+
+    /// The module's axes, in the order of [`Session::status`].
+    pub fn axes(&self) -> &'static [AxisInfo] {
+        self.family.console.axes()
+    }
+
+    /// The device task, for traffic, events and counters.
+    pub fn device(&self) -> &DeviceHandle {
+        &self.device
+    }
+
+    /// The link as the console shows it.
+    pub fn link_state(&self) -> watch::Receiver<LinkState> {
+        self.device.state()
+    }
+
+    /// Every axis's status snapshot, updated by polling and by the replies
+    /// to the user's own status reads.
+    pub fn status(&self) -> watch::Receiver<Vec<AxisStatus>> {
+        self.board.subscribe()
+    }
+
+    /// The module's identity (firmware string), once [`Session::identify`]
+    /// has read it.
+    pub fn identity(&self) -> watch::Receiver<Option<String>> {
+        self.identity.subscribe()
+    }
+
+    /// Forget the error flags of `axis` the user has seen (those shown to
+    /// them); flags that arrived since stay latched.
+    pub fn acknowledge_errors(&self, axis: usize, seen: &[AxisFlag]) {
+        self.board.send_modify(|axes| {
+            if let Some(status) = axes.get_mut(axis) {
+                status.acknowledge(seen);
+            }
+        });
+    }
+
+    /// Parse and validate a line for this session's module. Sends nothing.
+    pub fn prepare(&self, line: &str) -> Result<PreparedLine, SessionError> {
+        self.family
+            .console
+            .prepare(line, self.address)
+            .map_err(|message| SessionError::Refused {
+                line: line.trim().to_string(),
+                message,
+            })
+    }
+
+    /// Parse, validate, send at user priority and read the answer.
+    pub async fn execute_line(&self, line: &str) -> Result<LineResult, SessionError> {
+        let prepared = self.prepare(line)?;
+        self.execute(&prepared).await
+    }
+
+    /// Send a prepared line at user priority and read the answer.
+    pub async fn execute(&self, line: &PreparedLine) -> Result<LineResult, SessionError> {
+        let retry = match line.effect {
+            Effect::Reads => Retry::Read(self.read_retries),
+            Effect::Acts => Retry::Never,
+        };
+        self.send(Priority::User, line, retry, None).await
+    }
+
+    /// Stop every motor, ahead of everything queued. Every stop line is
+    /// sent even if one fails; the first failure is returned.
+    pub async fn emergency_stop(&self) -> Result<(), SessionError> {
+        let mut first_error = None;
+        for line in self.family.console.emergency_stop(self.address) {
+            if let Err(e) = self
+                .send(Priority::EmergencyStop, &line, Retry::Never, None)
+                .await
+            {
+                first_error.get_or_insert(e);
+            }
+        }
+        first_error.map_or(Ok(()), Err)
+    }
+
+    /// Read the module's identity (TMCL: the firmware version string) and
+    /// keep it for [`Session::identity`].
+    pub async fn identify(&self) -> Result<String, SessionError> {
+        let line = self.family.console.identify(self.address);
+        let retry = Retry::Read(self.read_retries);
+        let result = self.send(Priority::User, &line, retry, None).await?;
+        let identity = result.value.to_string();
+        self.identity.send_replace(Some(identity.clone()));
+        Ok(identity)
+    }
+
+    /// Ask whoever answers at `address` who it is, once, waiting at most
+    /// `timeout`: for scanning a bus.
+    pub async fn probe(&self, address: u8, timeout: Duration) -> Result<String, SessionError> {
+        let line = self.family.console.identify(address);
+        let result = self
+            .send(Priority::User, &line, Retry::Read(0), Some(timeout))
+            .await?;
+        Ok(result.value.to_string())
+    }
+
+    /// Poll every axis's status at `cadence` (replaces any earlier plan).
+    pub fn start_polling(&self, cadence: PollCadence) {
+        let polls = self.family.console.status_queries(self.address);
+        let items = polls
+            .iter()
+            .map(|poll| PollItem {
+                transaction: self.transaction(&poll.line, Retry::Never, None),
+                every: if poll.fast {
+                    cadence.fast
+                } else {
+                    cadence.slow
+                },
+            })
+            .collect();
+        let sink = StatusSink {
+            family: self.family,
+            polls,
+            board: Arc::clone(&self.board),
+        };
+        self.device.set_poll_plan(Some(PollPlan {
+            items,
+            sink: Box::new(sink),
+        }));
+    }
+
+    pub fn stop_polling(&self) {
+        self.device.set_poll_plan(None);
+    }
+
+    fn transaction(
+        &self,
+        line: &PreparedLine,
+        retry: Retry,
+        timeout: Option<Duration>,
+    ) -> Transaction {
+        let expect = match &line.answering {
+            Answering::Reply(rule) | Answering::MaybeReply(rule) => Expect::Reply(Arc::clone(rule)),
+            Answering::Nothing => Expect::Nothing,
+        };
+        Transaction {
+            bytes: line.bytes.clone(),
+            expect,
+            retry,
+            timeout,
+        }
+    }
+
+    async fn send(
+        &self,
+        priority: Priority,
+        line: &PreparedLine,
+        retry: Retry,
+        timeout: Option<Duration>,
+    ) -> Result<LineResult, SessionError> {
+        // An answer that may be lost is never asked for twice.
+        let retry = match line.answering {
+            Answering::MaybeReply(_) => Retry::Never,
+            _ => retry,
+        };
+        let transaction = self.transaction(line, retry, timeout);
+        let (frames, elapsed, attempts) = match self.device.transact(priority, transaction).await {
+            Ok(answer) => (answer.frames, answer.elapsed, answer.attempts),
+            Err(DeviceError::Timeout { timeout, attempts })
+                if matches!(line.answering, Answering::MaybeReply(_)) =>
+            {
+                (Vec::new(), timeout, attempts)
+            }
+            Err(error) => {
+                return Err(SessionError::Device {
+                    line: line.canonical.clone(),
+                    address: line.address,
+                    request: line.bytes.clone(),
+                    error,
+                });
+            }
+        };
+        let reply: Vec<u8> = frames.concat();
+        let console = self.family.console;
+        let reading = console
+            .interpret(line, &frames)
+            .map_err(|error| SessionError::Reply {
+                error: Box::new(error),
+                request: line.bytes.clone(),
+                reply: reply.clone(),
+                elapsed,
+            })?;
+        if line.address == self.address
+            && let Some((axis, update)) = console.status_update(line, &reading)
+        {
+            status::post(&self.board, axis, update);
+        }
+        Ok(LineResult {
+            line: line.canonical.clone(),
+            request: line.bytes.clone(),
+            reply,
+            status: reading.status,
+            value: reading.value,
+            elapsed,
+            attempts,
+        })
+    }
+}

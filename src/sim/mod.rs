@@ -34,6 +34,8 @@ pub struct SimOptions {
 pub struct SimKind {
     pub name: &'static str,
     pub description: &'static str,
+    /// The protocol family it speaks (a name in `protocol::FAMILIES`).
+    pub family: &'static str,
     pub build: fn(&SimOptions) -> Box<dyn SimulatedController>,
 }
 
@@ -41,6 +43,7 @@ pub struct SimKind {
 pub const SIM_KINDS: &[SimKind] = &[SimKind {
     name: "tmcm1110",
     description: "Trinamic TMCM-1110 StepRocker (TMCL, 1 axis)",
+    family: "tmcl",
     build: |options| {
         let mut config = tmcm1110::SimConfig::default();
         if let Some(address) = options.address {
@@ -115,6 +118,18 @@ mod tests {
         assert!(gap_actual_position(sim.as_mut(), 5).is_none());
         let reply = gap_actual_position(sim.as_mut(), 3).expect("answers at --address");
         assert_eq!(reply.module_address, 3);
+    }
+
+    #[test]
+    fn every_kind_speaks_a_known_family() {
+        for kind in SIM_KINDS {
+            assert!(
+                crate::protocol::find_family(kind.family).is_some(),
+                "{}: {}",
+                kind.name,
+                kind.family
+            );
+        }
     }
 
     #[test]

@@ -3,8 +3,10 @@
 
 pub mod catalog;
 pub mod command;
+pub mod console;
 pub mod frame;
 pub mod hex;
+mod interim_wire;
 pub mod line;
 pub mod params;
 pub mod units;
@@ -15,6 +17,7 @@ pub use command::{
     CalcFamily, CalcOp, ClearFlag, Command, Condition, EventMode, MoveMode, OperandCode, RfsAction,
     StatusQuery, VersionFormat, WaitCondition,
 };
+pub use console::TmclConsole;
 pub use frame::{ChecksumError, FRAME_LEN, FrameAssembler, Reply, Request, Status, checksum};
 pub use hex::to_hex;
 pub use line::{

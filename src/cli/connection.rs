@@ -1,0 +1,221 @@
+//! The connection options (`--sim`, `--port`, `--tcp` with `--protocol`,
+//! `--baud`, `--address`, `--timeout`) turned into a link, a protocol
+//! family and session options.
+
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+use super::ConnectionArgs;
+use crate::device::DeviceOptions;
+use crate::link::{LinkError, LinkSpec};
+use crate::protocol::{self, Family};
+use crate::session::{Session, SessionOptions};
+use crate::sim::faults::FaultPlan;
+use crate::sim::{self, SimOptions};
+
+/// Serial baud rate when none is given: the TMCL modules' factory setting
+/// (GP65 = 0, 9600 baud, §5.1) and the common default of the others.
+pub const DEFAULT_BAUD: u32 = 9600;
+
+/// A connection as the options describe it, not opened yet.
+pub struct Target {
+    pub spec: LinkSpec,
+    pub family: &'static Family,
+    pub address: u8,
+    pub options: SessionOptions,
+}
+
+impl Target {
+    /// Resolve the options. An error is a usage error (exit 2): no or
+    /// conflicting connection, unknown simulator or protocol.
+    pub fn resolve(args: &ConnectionArgs) -> Result<Target, String> {
+        let family = family_of(args)?;
+        let address = args
+            .address
+            .unwrap_or_else(|| family.console.default_address());
+        let spec = match (&args.sim, &args.port, &args.tcp) {
+            (Some(kind), None, None) => {
+                let kind = sim::find_kind(kind).ok_or_else(|| unknown_sim(kind))?;
+                let controller = (kind.build)(&SimOptions {
+                    address: args.address,
+                    eeprom_file: None,
+                });
+                LinkSpec::Sim {
+                    kind: kind.name.to_string(),
+                    sim: Arc::new(Mutex::new(controller)),
+                    // Wire time is only emulated when asked for.
+                    baud: args.baud,
+                    faults: FaultPlan::none(),
+                }
+            }
+            (None, Some(path), None) => LinkSpec::Serial {
+                path: path.clone(),
+                baud: args.baud.unwrap_or(DEFAULT_BAUD),
+            },
+            (None, None, Some(address)) => LinkSpec::Tcp {
+                address: address.clone(),
+            },
+            (None, None, None) => {
+                return Err(
+                    "give a connection: --sim KIND (e.g. --sim tmcm1110), --port PATH or --tcp HOST:PORT"
+                        .into(),
+                );
+            }
+            _ => return Err("give only one of --sim, --port and --tcp".into()),
+        };
+        if args.baud == Some(0) {
+            return Err("--baud must be above 0".into());
+        }
+        let timeout = match args.timeout {
+            Some(0) => return Err("--timeout must be at least 1 ms".into()),
+            Some(ms) => Some(Duration::from_millis(ms)),
+            None => None,
+        };
+        Ok(Target {
+            spec,
+            family,
+            address,
+            options: SessionOptions {
+                address: Some(address),
+                device: DeviceOptions {
+                    timeout,
+                    ..DeviceOptions::default()
+                },
+                ..SessionOptions::default()
+            },
+        })
+    }
+
+    /// Open the link and start the session (exit 3 when this fails).
+    pub async fn open(&self) -> Result<Session, LinkError> {
+        Session::connect(self.spec.clone(), self.family, self.options.clone()).await
+    }
+}
+
+/// The protocol family: `--protocol`, else the simulator's, else TMCL.
+/// Needs no connection, so that files can be checked without one.
+pub fn family_of(args: &ConnectionArgs) -> Result<&'static Family, String> {
+    let sim_family = match &args.sim {
+        Some(kind) => Some(
+            sim::find_kind(kind)
+                .ok_or_else(|| unknown_sim(kind))?
+                .family,
+        ),
+        None => None,
+    };
+    let name = args.protocol.as_deref().or(sim_family).unwrap_or("tmcl");
+    let family = protocol::find_family(name).ok_or_else(|| {
+        format!(
+            "unknown protocol family '{name}' (known: {})",
+            protocol::family_names()
+        )
+    })?;
+    if let (Some(kind), Some(speaks)) = (&args.sim, sim_family)
+        && !family.name.eq_ignore_ascii_case(speaks)
+    {
+        return Err(format!(
+            "the {kind} simulator speaks {speaks}, not {}",
+            family.name
+        ));
+    }
+    Ok(family)
+}
+
+fn unknown_sim(kind: &str) -> String {
+    format!("unknown simulator '{kind}' (known: {})", sim::kind_names())
+}
+
+/// The runtime the front ends run their session on.
+pub fn runtime() -> Result<tokio::runtime::Runtime, String> {
+    tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .map_err(|e| format!("cannot start: {e}"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args() -> ConnectionArgs {
+        ConnectionArgs::default()
+    }
+
+    #[test]
+    fn a_simulator_brings_its_family_and_the_address() {
+        let target = Target::resolve(&ConnectionArgs {
+            sim: Some("TMCM1110".into()),
+            address: Some(7),
+            ..args()
+        })
+        .unwrap();
+        assert_eq!(target.family.name, "tmcl");
+        assert_eq!(target.address, 7);
+        assert!(matches!(target.spec, LinkSpec::Sim { baud: None, .. }));
+    }
+
+    #[test]
+    fn serial_ports_default_to_9600_baud_and_address_1() {
+        let target = Target::resolve(&ConnectionArgs {
+            port: Some("/dev/ttyUSB0".into()),
+            timeout: Some(250),
+            ..args()
+        })
+        .unwrap();
+        assert!(matches!(target.spec, LinkSpec::Serial { baud: 9600, .. }));
+        assert_eq!(target.address, 1);
+        assert_eq!(
+            target.options.device.timeout,
+            Some(Duration::from_millis(250))
+        );
+    }
+
+    #[test]
+    fn usage_errors_name_the_problem() {
+        let cases = [
+            (args(), "give a connection"),
+            (
+                ConnectionArgs {
+                    sim: Some("nosuch".into()),
+                    ..args()
+                },
+                "unknown simulator 'nosuch' (known: tmcm1110)",
+            ),
+            (
+                ConnectionArgs {
+                    tcp: Some("localhost:1".into()),
+                    protocol: Some("klingon".into()),
+                    ..args()
+                },
+                "unknown protocol family 'klingon'",
+            ),
+            (
+                ConnectionArgs {
+                    tcp: Some("localhost:1".into()),
+                    timeout: Some(0),
+                    ..args()
+                },
+                "--timeout",
+            ),
+            (
+                ConnectionArgs {
+                    port: Some("/dev/null".into()),
+                    tcp: Some("localhost:1".into()),
+                    ..args()
+                },
+                "only one of",
+            ),
+        ];
+        for (args, needle) in cases {
+            let Err(message) = Target::resolve(&args) else {
+                panic!("{args:?} resolved")
+            };
+            assert!(message.contains(needle), "{message}");
+        }
+    }
+
+    #[test]
+    fn the_family_needs_no_connection() {
+        assert_eq!(family_of(&args()).unwrap().name, "tmcl");
+    }
+}

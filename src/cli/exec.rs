@@ -1,0 +1,74 @@
+//! `axterm exec CONNECTION LINE...`: run console lines in order, one
+//! result line each. Every line is parsed and validated before anything is
+//! sent; the first line that fails stops the rest.
+
+use clap::Args;
+
+use super::connection::{Target, runtime};
+use super::output::{Format, print_outcome};
+use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
+
+#[derive(Debug, Clone, Args)]
+pub struct ExecArgs {
+    /// Console lines, e.g. 'SAP 4, 0, 1000' 'GAP 4, 0'.
+    #[arg(required = true)]
+    pub lines: Vec<String>,
+    /// text: the value (or ok) per line; json: one object per line.
+    #[arg(long, value_enum, default_value_t)]
+    pub format: Format,
+}
+
+pub fn run(connection: &ConnectionArgs, args: &ExecArgs) -> i32 {
+    let target = match Target::resolve(connection) {
+        Ok(target) => target,
+        Err(message) => {
+            eprintln!("axterm exec: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    let console = target.family.console;
+    let mut prepared = Vec::new();
+    let mut refused = false;
+    for (index, line) in args.lines.iter().enumerate() {
+        match console.prepare(line, target.address) {
+            Ok(p) => prepared.push((line, p)),
+            Err(message) => {
+                eprintln!(
+                    "axterm exec: line {} `{}`: {message}",
+                    index + 1,
+                    line.trim()
+                );
+                refused = true;
+            }
+        }
+    }
+    if refused {
+        eprintln!("axterm exec: nothing was sent");
+        return EXIT_USAGE;
+    }
+    let runtime = match runtime() {
+        Ok(runtime) => runtime,
+        Err(message) => {
+            eprintln!("axterm exec: {message}");
+            return EXIT_DEVICE;
+        }
+    };
+    runtime.block_on(async {
+        let session = match target.open().await {
+            Ok(session) => session,
+            Err(e) => {
+                eprintln!("axterm exec: {e}");
+                return EXIT_CONNECTION;
+            }
+        };
+        for (index, (line, prepared)) in prepared.iter().enumerate() {
+            let outcome = session.execute(prepared).await;
+            let context = format!("axterm exec: line {}: ", index + 1);
+            print_outcome(args.format, target.family, line, &context, &outcome);
+            if outcome.is_err() {
+                return EXIT_DEVICE;
+            }
+        }
+        EXIT_OK
+    })
+}

@@ -1,0 +1,141 @@
+//! How `exec` and `run` show a line's result: its value (or `ok`) on a line
+//! of its own, or one JSON object per line for programs.
+
+use clap::ValueEnum;
+use serde_json::{Value, json};
+
+use crate::protocol::Family;
+use crate::session::{LineResult, ReplyValue, SessionError};
+
+/// Output format of the scriptable front ends.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum)]
+pub enum Format {
+    /// One line per result: the value, or `ok`.
+    #[default]
+    Text,
+    /// One JSON object per result.
+    Json,
+}
+
+/// The JSON object for one line's outcome: the line as given, request and
+/// reply bytes as the family shows them, the status, the value, whether it
+/// succeeded, and the round trip in microseconds.
+pub fn json_outcome(
+    family: &Family,
+    line: &str,
+    outcome: &Result<LineResult, SessionError>,
+) -> Value {
+    let hex = |bytes: &[u8]| (family.show_bytes)(bytes);
+    match outcome {
+        Ok(result) => json!({
+            "line": line,
+            "command": result.line,
+            "request": hex(&result.request),
+            "reply": hex(&result.reply),
+            "status": result.status,
+            "value": json_value(&result.value),
+            "ok": true,
+            "elapsed_us": u64::try_from(result.elapsed.as_micros()).unwrap_or(u64::MAX),
+        }),
+        Err(error) => {
+            let elapsed = match error {
+                SessionError::Reply { elapsed, .. } => {
+                    Some(u64::try_from(elapsed.as_micros()).unwrap_or(u64::MAX))
+                }
+                _ => None,
+            };
+            json!({
+                "line": line,
+                "request": error.request().map(hex),
+                "reply": error.reply().map(hex),
+                "status": error.status(),
+                "value": Value::Null,
+                "ok": false,
+                "error": error.to_string(),
+                "elapsed_us": elapsed,
+            })
+        }
+    }
+}
+
+fn json_value(value: &ReplyValue) -> Value {
+    match value {
+        ReplyValue::None => Value::Null,
+        ReplyValue::Number(n) => json!(n),
+        ReplyValue::Text(text) => json!(text),
+    }
+}
+
+/// Print one line's outcome: the result on stdout (text: the value or `ok`;
+/// nothing for a failure), the error on stderr after `context`.
+pub fn print_outcome(
+    format: Format,
+    family: &Family,
+    line: &str,
+    context: &str,
+    outcome: &Result<LineResult, SessionError>,
+) {
+    match format {
+        Format::Text => {
+            if let Ok(result) = outcome {
+                println!("{}", result.value);
+            }
+        }
+        Format::Json => println!("{}", json_outcome(family, line, outcome)),
+    }
+    if let Err(error) = outcome {
+        eprintln!("{context}{error}");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::protocol::console::ReplyError;
+    use crate::protocol::find_family;
+    use std::time::Duration;
+
+    #[test]
+    fn json_carries_every_field() {
+        let family = find_family("tmcl").unwrap();
+        let ok = Ok(LineResult {
+            line: "GAP 4, 0".into(),
+            request: vec![1, 6, 4, 0, 0, 0, 0, 0, 11],
+            reply: vec![2, 1, 100, 6, 0, 0, 4, 0xD2, 0x4F],
+            status: Some(100),
+            value: ReplyValue::Number(1234),
+            elapsed: Duration::from_micros(1500),
+            attempts: 1,
+        });
+        let object = json_outcome(family, "gap 4 0", &ok);
+        assert_eq!(object["line"], "gap 4 0");
+        assert_eq!(object["command"], "GAP 4, 0");
+        assert_eq!(object["request"], "01 06 04 00 00 00 00 00 0B");
+        assert_eq!(object["reply"], "02 01 64 06 00 00 04 D2 4F");
+        assert_eq!(object["status"], 100);
+        assert_eq!(object["value"], 1234);
+        assert_eq!(object["ok"], true);
+        assert_eq!(object["elapsed_us"], 1500);
+
+        let refused: Result<LineResult, SessionError> = Err(SessionError::Reply {
+            error: Box::new(ReplyError::Rejected {
+                module: "module 1".into(),
+                line: "SAP 6, 0, 200".into(),
+                status: 4,
+                meaning: "invalid value".into(),
+            }),
+            request: vec![1, 5, 6, 0, 0, 0, 0, 200, 212],
+            reply: vec![2, 1, 4, 5, 0, 0, 0, 0, 12],
+            elapsed: Duration::from_micros(10),
+        });
+        let object = json_outcome(family, "SAP 6, 0, 200", &refused);
+        assert_eq!(object["ok"], false);
+        assert_eq!(object["status"], 4);
+        assert_eq!(object["value"], Value::Null);
+        assert_eq!(object["reply"], "02 01 04 05 00 00 00 00 0C");
+        assert_eq!(
+            object["error"],
+            "module 1 rejected SAP 6, 0, 200: invalid value (status 4)"
+        );
+    }
+}

@@ -1,0 +1,344 @@
+//! `axterm run CONNECTION FILE` (or `-` for standard input): a batch file
+//! of console lines and directives (syntax in [`super::script`]). The whole
+//! file is parsed and every console line validated before anything is
+//! sent; a bad line anywhere sends nothing and lists every bad line as
+//! `FILE:LINE: message`.
+
+use std::io::Read;
+use std::time::Duration;
+
+use clap::Args;
+use serde_json::json;
+
+use super::connection::{Target, family_of, runtime};
+use super::output::{Format, print_outcome};
+use super::script::{Action, Step, parse_script_line, result_matches};
+use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
+use crate::protocol::Family;
+use crate::protocol::console::{Effect, PreparedLine};
+use crate::session::Session;
+
+/// Pause between the reads of `:wait-until`: quick enough to notice a move
+/// ending, and leaves the line free for others in between.
+pub const WAIT_INTERVAL: Duration = Duration::from_millis(20);
+
+#[derive(Debug, Clone, Args)]
+pub struct RunArgs {
+    /// The batch file, or - for standard input.
+    pub file: String,
+    /// Go on after a failed line or :expect (the exit code still says 1).
+    #[arg(long)]
+    pub keep_going: bool,
+    /// Check the file only: parse and validate every line, send nothing
+    /// (no connection needed).
+    #[arg(long)]
+    pub dry_run: bool,
+    /// text: the value (or ok) per console line; json: one object per line.
+    #[arg(long, value_enum, default_value_t)]
+    pub format: Format,
+}
+
+/// A step with its console line checked and encoded.
+struct Checked {
+    step: Step,
+    line: Option<PreparedLine>,
+}
+
+/// Read, parse and validate a whole file; every problem as `FILE:LINE: …`.
+fn check_file(
+    name: &str,
+    text: &str,
+    family: &Family,
+    address: u8,
+) -> Result<Vec<Checked>, Vec<String>> {
+    let mut checked = Vec::new();
+    let mut problems = Vec::new();
+    let mut steps = Vec::new();
+    for (index, raw) in text.lines().enumerate() {
+        match parse_script_line(raw) {
+            Ok(Some(action)) => steps.push(Step {
+                line_number: index + 1,
+                action,
+            }),
+            Ok(None) => {}
+            Err(message) => problems.push((index + 1, message)),
+        }
+    }
+    for step in steps {
+        let (line, must_only_read) = match &step.action {
+            Action::Line(line) | Action::Expect { line, .. } => (Some(line), false),
+            Action::WaitUntil { line, .. } => (Some(line), true),
+            Action::Sleep(_) | Action::Echo(_) => (None, false),
+        };
+        let prepared = match line.map(|l| family.console.prepare(l, address)) {
+            None => None,
+            Some(Ok(prepared)) => {
+                if must_only_read && prepared.effect != Effect::Reads {
+                    problems.push((
+                        step.line_number,
+                        format!(
+                            ":wait-until sends `{}` again and again: give a line that only \
+                             reads (GAP, GGP, GIO…)",
+                            prepared.canonical
+                        ),
+                    ));
+                }
+                Some(prepared)
+            }
+            Some(Err(message)) => {
+                problems.push((step.line_number, message));
+                None
+            }
+        };
+        checked.push(Checked {
+            step,
+            line: prepared,
+        });
+    }
+    if problems.is_empty() {
+        return Ok(checked);
+    }
+    problems.sort_by_key(|(line_number, _)| *line_number);
+    Err(problems
+        .into_iter()
+        .map(|(line_number, message)| format!("{name}:{line_number}: {message}"))
+        .collect())
+}
+
+fn read_source(file: &str) -> Result<(String, String), String> {
+    if file == "-" {
+        let mut text = String::new();
+        std::io::stdin()
+            .read_to_string(&mut text)
+            .map_err(|e| format!("cannot read standard input: {e}"))?;
+        Ok(("<stdin>".into(), text))
+    } else {
+        let text = std::fs::read_to_string(file).map_err(|e| format!("cannot read {file}: {e}"))?;
+        Ok((file.to_string(), text))
+    }
+}
+
+pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
+    // A dry run needs only the family; a real run needs a connection.
+    let resolved = if args.dry_run {
+        family_of(connection).map(|family| {
+            let address = connection
+                .address
+                .unwrap_or_else(|| family.console.default_address());
+            (family, address, None)
+        })
+    } else {
+        Target::resolve(connection).map(|t| (t.family, t.address, Some(t)))
+    };
+    let (family, address, target) = match resolved {
+        Ok(resolved) => resolved,
+        Err(message) => {
+            eprintln!("axterm run: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    let (name, text) = match read_source(&args.file) {
+        Ok(source) => source,
+        Err(message) => {
+            eprintln!("axterm run: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    let checked = match check_file(&name, &text, family, address) {
+        Ok(checked) => checked,
+        Err(problems) => {
+            for problem in problems {
+                eprintln!("{problem}");
+            }
+            eprintln!("axterm run: {name}: nothing was sent");
+            return EXIT_USAGE;
+        }
+    };
+    let Some(target) = target else {
+        let lines = checked.iter().filter(|c| c.line.is_some()).count();
+        eprintln!("axterm run: {name}: {lines} console lines valid, nothing sent (dry run)");
+        return EXIT_OK;
+    };
+    let runtime = match runtime() {
+        Ok(runtime) => runtime,
+        Err(message) => {
+            eprintln!("axterm run: {message}");
+            return EXIT_DEVICE;
+        }
+    };
+    runtime.block_on(async {
+        let session = match target.open().await {
+            Ok(session) => session,
+            Err(e) => {
+                eprintln!("axterm run: {e}");
+                return EXIT_CONNECTION;
+            }
+        };
+        let runner = Runner {
+            session: &session,
+            name: &name,
+            format: args.format,
+        };
+        let mut failed = false;
+        for item in &checked {
+            if !runner.step(item).await {
+                failed = true;
+                if !args.keep_going {
+                    break;
+                }
+            }
+        }
+        if failed { EXIT_DEVICE } else { EXIT_OK }
+    })
+}
+
+struct Runner<'a> {
+    session: &'a Session,
+    name: &'a str,
+    format: Format,
+}
+
+impl Runner<'_> {
+    /// Run one step; false if it failed (the failure is reported).
+    async fn step(&self, item: &Checked) -> bool {
+        let at = format!("{}:{}: ", self.name, item.step.line_number);
+        let family = self.session.family();
+        match (&item.step.action, &item.line) {
+            (Action::Line(text), Some(line)) => {
+                let outcome = self.session.execute(line).await;
+                print_outcome(self.format, family, text, &at, &outcome);
+                outcome.is_ok()
+            }
+            (Action::Expect { value, .. }, Some(line)) => match self.session.execute(line).await {
+                Ok(result) => {
+                    let got = result.value.to_string();
+                    let ok = result_matches(&got, value);
+                    if !ok {
+                        eprintln!("{at}expected {} == {value}, got {got}", result.line);
+                    }
+                    ok
+                }
+                Err(e) => {
+                    eprintln!("{at}{e}");
+                    false
+                }
+            },
+            (Action::WaitUntil { value, timeout, .. }, Some(line)) => {
+                self.wait_until(&at, line, value, *timeout).await
+            }
+            (Action::Sleep(duration), _) => {
+                tokio::time::sleep(*duration).await;
+                true
+            }
+            (Action::Echo(text), _) => {
+                match self.format {
+                    Format::Text => println!("{text}"),
+                    Format::Json => println!("{}", json!({ "echo": text })),
+                }
+                true
+            }
+            // check_file prepares a line for every step that has one.
+            (_, None) => {
+                eprintln!("{at}internal error: the line was not checked");
+                false
+            }
+        }
+    }
+
+    async fn wait_until(
+        &self,
+        at: &str,
+        line: &PreparedLine,
+        value: &str,
+        timeout: Duration,
+    ) -> bool {
+        let deadline = tokio::time::Instant::now() + timeout;
+        loop {
+            let got = match self.session.execute(line).await {
+                Ok(result) => result.value.to_string(),
+                Err(e) => {
+                    eprintln!("{at}{e}");
+                    return false;
+                }
+            };
+            if result_matches(&got, value) {
+                return true;
+            }
+            if tokio::time::Instant::now() >= deadline {
+                eprintln!(
+                    "{at}{} did not become {value} within {} (last {got})",
+                    line.canonical,
+                    show_duration(timeout)
+                );
+                return false;
+            }
+            tokio::time::sleep(WAIT_INTERVAL).await;
+        }
+    }
+}
+
+fn show_duration(duration: Duration) -> String {
+    if duration.subsec_millis() == 0 {
+        format!("{} s", duration.as_secs())
+    } else {
+        format!("{} ms", duration.as_millis())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::protocol::find_family;
+
+    fn check(text: &str) -> Result<Vec<Checked>, Vec<String>> {
+        check_file("f.txt", text, find_family("tmcl").unwrap(), 1)
+    }
+
+    #[test]
+    fn every_bad_console_line_is_listed_with_file_and_line() {
+        let problems = check("GAP 1, 0\nSAP 6, 0, 100000\n:expect FOO 1 == 2\nMST 0\n")
+            .err()
+            .unwrap();
+        assert_eq!(problems.len(), 2, "{problems:?}");
+        assert!(problems[0].starts_with("f.txt:2: "), "{}", problems[0]);
+        assert!(problems[0].contains("0..255"), "{}", problems[0]);
+        assert!(problems[1].starts_with("f.txt:3: "), "{}", problems[1]);
+    }
+
+    #[test]
+    fn syntax_errors_and_bad_console_lines_are_listed_together_in_order() {
+        let problems = check("BOGUS\n:sleep forever\n").err().unwrap();
+        assert_eq!(problems.len(), 2, "{problems:?}");
+        assert!(
+            problems[0].starts_with("f.txt:1: `BOGUS`"),
+            "{}",
+            problems[0]
+        );
+        assert!(
+            problems[1].starts_with("f.txt:2: `forever`"),
+            "{}",
+            problems[1]
+        );
+    }
+
+    #[test]
+    fn wait_until_refuses_lines_that_act() {
+        let problems = check(":wait-until MVP ABS, 0, 100 == ok\n").err().unwrap();
+        assert!(problems[0].contains("only reads"), "{}", problems[0]);
+        assert!(check(":wait-until GAP 8, 0 == 1 timeout 2s\n").is_ok());
+    }
+
+    #[test]
+    fn a_valid_file_has_a_line_for_every_step_that_sends() {
+        let checked =
+            check("# c\nSAP 4, 0, 5\n:expect GAP 4, 0 == 5\n:echo hi\n:sleep 1s\n").unwrap();
+        let sends: Vec<bool> = checked.iter().map(|c| c.line.is_some()).collect();
+        assert_eq!(sends, [true, true, false, false]);
+    }
+
+    #[test]
+    fn durations_show_plainly() {
+        assert_eq!(show_duration(Duration::from_secs(10)), "10 s");
+        assert_eq!(show_duration(Duration::from_millis(1500)), "1500 ms");
+    }
+}

@@ -1,0 +1,385 @@
+//! The batch file syntax of `axterm run`: one console line per line, with
+//! comments and a few directives.
+//!
+//! ```text
+//! # comment              // comment          (blank lines are ignored too)
+//! SAP 4, 0, 1000         a console line, run as in `exec`
+//! :expect GAP 4, 0 == 1000
+//! :wait-until GAP 8, 0 == 1 timeout 30s
+//! :sleep 500ms
+//! :echo homing done
+//! ```
+//!
+//! This module knows only the syntax; the console lines themselves are
+//! checked by the protocol family before anything is sent.
+
+use std::time::Duration;
+
+/// How long `:wait-until` waits when the line gives no `timeout`.
+pub const DEFAULT_WAIT_TIMEOUT: Duration = Duration::from_secs(10);
+
+/// The longest duration a file may ask for (a day): a typo such as
+/// `:sleep 100000m` must not hang a batch job for months.
+pub const MAX_DURATION: Duration = Duration::from_secs(24 * 60 * 60);
+
+/// One thing a batch file asks for.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Action {
+    /// A console line, as typed.
+    Line(String),
+    /// Run the line; fail unless its result equals `value`.
+    Expect {
+        line: String,
+        value: String,
+    },
+    /// Run the line again and again until its result equals `value`; fail
+    /// after `timeout`. The line must only read.
+    WaitUntil {
+        line: String,
+        value: String,
+        timeout: Duration,
+    },
+    Sleep(Duration),
+    /// Print the text.
+    Echo(String),
+}
+
+/// An action and the file line it came from (1-based).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Step {
+    pub line_number: usize,
+    pub action: Action,
+}
+
+/// A line of the file that cannot be understood.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ScriptError {
+    pub line_number: usize,
+    pub message: String,
+}
+
+/// Parse a whole file. Every bad line is reported, not just the first.
+pub fn parse_script(text: &str) -> Result<Vec<Step>, Vec<ScriptError>> {
+    let mut steps = Vec::new();
+    let mut errors = Vec::new();
+    for (index, raw) in text.lines().enumerate() {
+        let line_number = index + 1;
+        match parse_script_line(raw) {
+            Ok(Some(action)) => steps.push(Step {
+                line_number,
+                action,
+            }),
+            Ok(None) => {}
+            Err(message) => errors.push(ScriptError {
+                line_number,
+                message,
+            }),
+        }
+    }
+    if errors.is_empty() {
+        Ok(steps)
+    } else {
+        Err(errors)
+    }
+}
+
+/// One line of a file: `None` for blank lines and comments.
+pub fn parse_script_line(raw: &str) -> Result<Option<Action>, String> {
+    let line = raw.trim();
+    if line.is_empty() || line.starts_with('#') || line.starts_with("//") {
+        return Ok(None);
+    }
+    let Some(directive) = line.strip_prefix(':') else {
+        return Ok(Some(Action::Line(line.to_string())));
+    };
+    let (name, rest) = match directive.split_once(char::is_whitespace) {
+        Some((name, rest)) => (name, rest.trim()),
+        None => (directive, ""),
+    };
+    let action = match name.to_ascii_lowercase().as_str() {
+        "expect" => {
+            let (line, value) = comparison(":expect", rest)?;
+            Action::Expect { line, value }
+        }
+        "wait-until" => {
+            let (line, value) = comparison(":wait-until", rest)?;
+            let (value, timeout) = split_timeout(&value)?;
+            Action::WaitUntil {
+                line,
+                value,
+                timeout: timeout.unwrap_or(DEFAULT_WAIT_TIMEOUT),
+            }
+        }
+        "sleep" => {
+            if rest.is_empty() {
+                return Err(":sleep needs a duration, e.g. `:sleep 500ms`".into());
+            }
+            Action::Sleep(parse_duration(rest)?)
+        }
+        "echo" => Action::Echo(rest.to_string()),
+        _ => {
+            return Err(format!(
+                "unknown directive `:{name}` (known: :expect, :wait-until, :sleep, :echo)"
+            ));
+        }
+    };
+    Ok(Some(action))
+}
+
+/// `LINE == VALUE`, both non-empty.
+fn comparison(directive: &str, rest: &str) -> Result<(String, String), String> {
+    let usage = format!("{directive} needs `LINE == VALUE`, e.g. `{directive} GAP 8, 0 == 1`");
+    let Some((line, value)) = rest.split_once("==") else {
+        return Err(usage);
+    };
+    let (line, value) = (line.trim(), value.trim());
+    if line.is_empty() || value.is_empty() {
+        return Err(usage);
+    }
+    Ok((line.to_string(), value.to_string()))
+}
+
+/// `VALUE [timeout DURATION]`.
+fn split_timeout(value: &str) -> Result<(String, Option<Duration>), String> {
+    let words: Vec<&str> = value.split_whitespace().collect();
+    let Some(at) = words.iter().position(|w| w.eq_ignore_ascii_case("timeout")) else {
+        return Ok((value.to_string(), None));
+    };
+    let expected = words.get(..at).unwrap_or_default().join(" ");
+    let after = words.get(at + 1..).unwrap_or_default();
+    match after {
+        [duration] if !expected.is_empty() => Ok((expected, Some(parse_duration(duration)?))),
+        [] => Err("`timeout` needs a duration, e.g. `timeout 5s`".into()),
+        _ if expected.is_empty() => Err("give the value to wait for before `timeout`".into()),
+        _ => Err(format!(
+            "unexpected `{}` after the timeout: give `VALUE timeout DURATION`",
+            after.get(1..).unwrap_or_default().join(" ")
+        )),
+    }
+}
+
+/// A duration as `500ms`, `2s`, `1.5s` or `1m` (a number and a unit; no
+/// negative values; at most a day).
+pub fn parse_duration(text: &str) -> Result<Duration, String> {
+    let text = text.trim();
+    let usage = || {
+        format!("`{text}` is not a duration: give a number and ms, s or m (`500ms`, `1.5s`, `1m`)")
+    };
+    let split = text
+        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .ok_or_else(usage)?;
+    let (number, unit) = (
+        text.get(..split).ok_or_else(usage)?,
+        text.get(split..).ok_or_else(usage)?,
+    );
+    let nanos_per_unit: u128 = match unit.trim() {
+        "ms" => 1_000_000,
+        "s" => 1_000_000_000,
+        "m" | "min" => 60_000_000_000,
+        _ => return Err(usage()),
+    };
+    // Exact decimal arithmetic: 0.007 s is 7 ms, not 6.999999 ms.
+    let (whole, fraction) = number.split_once('.').unwrap_or((number, ""));
+    let digits_only = |s: &str| s.bytes().all(|b| b.is_ascii_digit());
+    if whole.is_empty()
+        || !digits_only(whole)
+        || !digits_only(fraction)
+        || (number.contains('.') && fraction.is_empty())
+        || whole.len() > 12
+        || fraction.len() > 12
+    {
+        return Err(usage());
+    }
+    let whole: u128 = whole.parse().map_err(|_| usage())?;
+    let scale = 10u128.pow(fraction.len() as u32);
+    let fraction: u128 = if fraction.is_empty() {
+        0
+    } else {
+        fraction.parse().map_err(|_| usage())?
+    };
+    let nanos = whole * nanos_per_unit + fraction * nanos_per_unit / scale;
+    let duration = Duration::from_nanos(u64::try_from(nanos).map_err(|_| usage())?);
+    if duration > MAX_DURATION {
+        return Err(format!(
+            "{text} is longer than the 24 hours a file may ask for"
+        ));
+    }
+    Ok(duration)
+}
+
+/// Whether a line's result (as printed: `ok`, a number, text) equals the
+/// value a file expects. Numbers compare by value, so `0x10` matches 16;
+/// `ok` matches in any case; anything else must match exactly.
+pub fn result_matches(printed: &str, expected: &str) -> bool {
+    match (parse_integer(printed), parse_integer(expected)) {
+        (Some(a), Some(b)) => a == b,
+        _ => {
+            printed == expected
+                || (printed.eq_ignore_ascii_case("ok") && expected.eq_ignore_ascii_case("ok"))
+        }
+    }
+}
+
+/// A decimal or `0x`/`$` hex integer, optionally signed.
+fn parse_integer(text: &str) -> Option<i128> {
+    let (negative, digits) = match text.strip_prefix('-') {
+        Some(rest) => (true, rest),
+        None => (false, text.strip_prefix('+').unwrap_or(text)),
+    };
+    let magnitude = if let Some(hex) = digits
+        .strip_prefix("0x")
+        .or_else(|| digits.strip_prefix("0X"))
+        .or_else(|| digits.strip_prefix('$'))
+    {
+        i128::from_str_radix(hex, 16).ok()?
+    } else if !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()) {
+        digits.parse().ok()?
+    } else {
+        return None;
+    };
+    Some(if negative { -magnitude } else { magnitude })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[test]
+    fn comments_and_blank_lines_are_skipped() {
+        let steps = parse_script("# setup\n\n   // more\nSAP 4, 0, 1000\n  GAP 4, 0  \n").unwrap();
+        assert_eq!(
+            steps,
+            [
+                Step {
+                    line_number: 4,
+                    action: Action::Line("SAP 4, 0, 1000".into())
+                },
+                Step {
+                    line_number: 5,
+                    action: Action::Line("GAP 4, 0".into())
+                },
+            ]
+        );
+    }
+
+    #[test]
+    fn directives_parse() {
+        assert_eq!(
+            parse_script_line(":expect GAP 4, 0 == 1000"),
+            Ok(Some(Action::Expect {
+                line: "GAP 4, 0".into(),
+                value: "1000".into()
+            }))
+        );
+        assert_eq!(
+            parse_script_line(":wait-until GAP 8, 0 == 1 timeout 1.5s"),
+            Ok(Some(Action::WaitUntil {
+                line: "GAP 8, 0".into(),
+                value: "1".into(),
+                timeout: Duration::from_millis(1500)
+            }))
+        );
+        assert_eq!(
+            parse_script_line(":wait-until GAP 8, 0 == 1"),
+            Ok(Some(Action::WaitUntil {
+                line: "GAP 8, 0".into(),
+                value: "1".into(),
+                timeout: DEFAULT_WAIT_TIMEOUT
+            }))
+        );
+        assert_eq!(
+            parse_script_line(":sleep 500ms"),
+            Ok(Some(Action::Sleep(Duration::from_millis(500))))
+        );
+        assert_eq!(
+            parse_script_line(":echo  homing done "),
+            Ok(Some(Action::Echo("homing done".into())))
+        );
+        assert_eq!(
+            parse_script_line(":echo"),
+            Ok(Some(Action::Echo(String::new())))
+        );
+    }
+
+    #[test]
+    fn bad_directives_say_what_is_expected() {
+        for (line, needle) in [
+            (":expect GAP 4, 0", "LINE == VALUE"),
+            (":expect == 5", "LINE == VALUE"),
+            (":wait-until GAP 8, 0 == 1 timeout", "needs a duration"),
+            (":wait-until GAP 8, 0 == 1 timeout 5", "not a duration"),
+            (":wait-until GAP 8, 0 == timeout 5s", "value to wait for"),
+            (
+                ":wait-until GAP 8, 0 == 1 timeout 5s now",
+                "unexpected `now`",
+            ),
+            (":sleep", "needs a duration"),
+            (":sleep soon", "not a duration"),
+            (":pause 5s", "unknown directive `:pause`"),
+        ] {
+            let error = parse_script_line(line).unwrap_err();
+            assert!(error.contains(needle), "{line}: {error}");
+        }
+    }
+
+    #[test]
+    fn every_bad_line_is_reported_with_its_number() {
+        let errors = parse_script("GAP 1, 0\n:sleep\n:echo fine\n:nope\n").unwrap_err();
+        let numbers: Vec<usize> = errors.iter().map(|e| e.line_number).collect();
+        assert_eq!(numbers, [2, 4]);
+    }
+
+    #[test]
+    fn durations() {
+        assert_eq!(parse_duration("500ms"), Ok(Duration::from_millis(500)));
+        assert_eq!(parse_duration("2s"), Ok(Duration::from_secs(2)));
+        assert_eq!(parse_duration("1.5s"), Ok(Duration::from_millis(1500)));
+        assert_eq!(parse_duration("1m"), Ok(Duration::from_secs(60)));
+        assert_eq!(parse_duration("0ms"), Ok(Duration::ZERO));
+        for bad in [
+            "", "5", "ms", "-1s", "1.s", ".5s", "1..5s", "1h", "2 s s", "1e3s", "25000m",
+        ] {
+            assert!(parse_duration(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn results_compare_as_numbers_or_exactly() {
+        assert!(result_matches("16", "0x10"));
+        assert!(result_matches("-5", "-5"));
+        assert!(result_matches("255", "$FF"));
+        assert!(result_matches("ok", "OK"));
+        assert!(result_matches("1110V112", "1110V112"));
+        assert!(!result_matches("1110V112", "1110v112"));
+        assert!(!result_matches("0", "ok"));
+        assert!(!result_matches("15", "16"));
+    }
+
+    proptest! {
+        #[test]
+        fn the_parser_never_panics(text in "\\PC*") {
+            let _ = parse_script(&text);
+        }
+
+        #[test]
+        fn directive_lines_never_panic(rest in "\\PC*", name in "(expect|wait-until|sleep|echo|x)") {
+            let _ = parse_script_line(&format!(":{name} {rest}"));
+        }
+
+        #[test]
+        fn durations_never_panic(text in "[0-9.]{0,30}(ms|s|m|min|x)?") {
+            let _ = parse_duration(&text);
+        }
+
+        #[test]
+        fn millisecond_durations_round_trip(ms in 0u64..86_400_000) {
+            prop_assert_eq!(parse_duration(&format!("{ms}ms")), Ok(Duration::from_millis(ms)));
+        }
+
+        #[test]
+        fn comparisons_never_panic(a in "\\PC*", b in "\\PC*") {
+            let _ = result_matches(&a, &b);
+        }
+    }
+}

@@ -1,0 +1,200 @@
+//! What a controller family tells the session layer: how a console line
+//! becomes bytes and an expected answer, what an answer means, how to stop
+//! every motor, which queries make up an axis's status, and what those
+//! answers say about the axis.
+//!
+//! Pure code, no I/O: the session builds device transactions from these
+//! descriptions, so that this module needs nothing from `device/`.
+
+use std::fmt;
+use std::sync::Arc;
+
+use super::wire::{Frame, ReplyRule, WireFormat};
+
+/// How a prepared line is answered.
+#[derive(Debug, Clone)]
+pub enum Answering {
+    /// An answer the rule recognises must come.
+    Reply(Arc<dyn ReplyRule>),
+    /// An answer may come or may be lost (TMCL 255 software reset,
+    /// §3.6.53): no answer within the timeout is not an error.
+    MaybeReply(Arc<dyn ReplyRule>),
+    /// The module never answers (TMCL 137 restore factory settings).
+    Nothing,
+}
+
+/// Whether sending a line twice could hurt: only reads may be retried.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Effect {
+    /// Reads something and changes nothing.
+    Reads,
+    /// Moves, writes, stores or starts something.
+    Acts,
+}
+
+/// A console line parsed, validated and encoded for one module: what is
+/// sent, what comes back, and whether it may be repeated.
+#[derive(Debug, Clone)]
+pub struct PreparedLine {
+    /// The line in the family's canonical form (`SAP 6, 0, 300`), for
+    /// messages.
+    pub canonical: String,
+    /// The module the line is addressed to.
+    pub address: u8,
+    /// The bytes to send.
+    pub bytes: Vec<u8>,
+    pub answering: Answering,
+    pub effect: Effect,
+}
+
+/// What a successful answer carries.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ReplyValue {
+    /// Nothing worth showing: the console prints `ok`.
+    None,
+    /// A number read (a parameter, an input, a status word…).
+    Number(i64),
+    /// Text (a firmware version string, a program word shown as a line).
+    Text(String),
+}
+
+impl fmt::Display for ReplyValue {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ReplyValue::None => f.write_str("ok"),
+            ReplyValue::Number(n) => write!(f, "{n}"),
+            ReplyValue::Text(text) => f.write_str(text),
+        }
+    }
+}
+
+/// A successful answer as the family reads it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Reading {
+    /// The status code the answer carried, where the family has one
+    /// (TMCL 100 "successfully executed").
+    pub status: Option<u32>,
+    pub value: ReplyValue,
+}
+
+/// Why an answer is not a success.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ReplyError {
+    /// The module understood the request and refused it.
+    #[error("{module} rejected {line}: {meaning} (status {status})")]
+    Rejected {
+        /// "module 1".
+        module: String,
+        /// The canonical line that was sent.
+        line: String,
+        status: u32,
+        /// The manual's meaning of the status code.
+        meaning: String,
+    },
+    /// The answer does not make sense for the request.
+    #[error("unreadable answer to {line}: {reason}")]
+    Malformed { line: String, reason: String },
+}
+
+impl ReplyError {
+    /// The status code of a rejection.
+    pub fn status(&self) -> Option<u32> {
+        match self {
+            ReplyError::Rejected { status, .. } => Some(*status),
+            ReplyError::Malformed { .. } => None,
+        }
+    }
+}
+
+/// One axis of a module as the console names it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AxisInfo {
+    /// The number the protocol uses (TMCL motor 0).
+    pub number: u8,
+    /// How the console shows it.
+    pub name: &'static str,
+}
+
+/// A named condition of an axis (an error flag, a driver warning).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct AxisFlag {
+    /// Short name for a status line ("stall").
+    pub name: &'static str,
+    /// What it means, with the manual section.
+    pub description: &'static str,
+}
+
+/// Which end or reference switch.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SwitchKind {
+    Left,
+    Right,
+    Home,
+}
+
+/// What one status answer says about an axis.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum AxisUpdate {
+    Position(i64),
+    Target(i64),
+    Speed(i64),
+    /// The axis stands at its target.
+    Reached(bool),
+    /// A switch is active (true) or not.
+    Switch(SwitchKind, bool),
+    /// Motor load reading (TMCL: StallGuard2 value, 0 = highest load).
+    Load(i64),
+    /// Error flags that were set; reading them may have cleared them in the
+    /// module (TMCL AP207), so the session latches them.
+    Errors(Vec<AxisFlag>),
+    /// Conditions the driver reports now (not latched).
+    DriverFlags(Vec<AxisFlag>),
+}
+
+/// A line that reads part of an axis's status.
+#[derive(Debug, Clone)]
+pub struct StatusPoll {
+    /// Index into [`FamilyConsole::axes`].
+    pub axis: usize,
+    pub line: PreparedLine,
+    /// Whether it changes fast (position, speed) and is worth reading more
+    /// often than the rest.
+    pub fast: bool,
+}
+
+/// What the session layer needs of a controller family. One implementation
+/// per family, registered in [`super::FAMILIES`].
+pub trait FamilyConsole: Send + Sync {
+    /// The wire format the device task cuts frames and matches answers with.
+    fn wire(&self) -> Arc<dyn WireFormat>;
+
+    /// The module address when the user gives none.
+    fn default_address(&self) -> u8;
+
+    /// The axes of a module of this family.
+    fn axes(&self) -> &'static [AxisInfo];
+
+    /// Parse and validate a console line for the module at `address`. An
+    /// error is a message naming what is wrong; nothing may be sent then.
+    fn prepare(&self, line: &str, address: u8) -> Result<PreparedLine, String>;
+
+    /// What the answer to `line` means. `frames` are the frames of the
+    /// answer as the device task collected them (empty when none came for
+    /// an [`Answering::MaybeReply`] line).
+    fn interpret(&self, line: &PreparedLine, frames: &[Frame]) -> Result<Reading, ReplyError>;
+
+    /// The lines that stop every motor of the module at `address`.
+    fn emergency_stop(&self, address: u8) -> Vec<PreparedLine>;
+
+    /// The line asking the module at `address` who it is; its reading is
+    /// the identity (TMCL: the firmware version string, 136 type 0).
+    fn identify(&self, address: u8) -> PreparedLine;
+
+    /// The lines that make up every axis's status.
+    fn status_queries(&self, address: u8) -> Vec<StatusPoll>;
+
+    /// What a successful reading of `line` says about an axis, if `line`
+    /// reads status (a poll, or the user reading an error flag register:
+    /// its flags must not be lost either). Returns the axis index.
+    fn status_update(&self, line: &PreparedLine, reading: &Reading) -> Option<(usize, AxisUpdate)>;
+}

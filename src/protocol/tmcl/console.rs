@@ -1,0 +1,627 @@
+//! TMCL as the session layer sees it ([`FamilyConsole`]): which lines only
+//! read (and may be retried), what each reply carries, the emergency stop,
+//! and the axis parameters that make up an axis's status.
+
+use std::sync::Arc;
+
+use super::command::{Command, RfsAction, VersionFormat};
+use super::frame::{FRAME_LEN, Reply, Request, checksum};
+use super::line::{format_command, parse_line};
+use super::params::{axis_param, global_param};
+use super::{DEFAULT_MODULE_ADDRESS, interim_wire};
+use crate::protocol::console::{
+    Answering, AxisFlag, AxisInfo, AxisUpdate, Effect, FamilyConsole, PreparedLine, Reading,
+    ReplyError, ReplyValue, StatusPoll, SwitchKind,
+};
+use crate::protocol::wire::{Frame, WireFormat};
+
+/// The TMCM-1110 has one motor, number 0 (§1).
+pub const AXES: &[AxisInfo] = &[AxisInfo {
+    number: 0,
+    name: "motor 0",
+}];
+
+/// AP207 "extended error flags" (§4 Table 16): cleared when read and by
+/// every motion command, so whoever reads them must keep them.
+pub const ERROR_FLAGS: &[(u32, AxisFlag)] = &[
+    (
+        1 << 0,
+        AxisFlag {
+            name: "stall",
+            description: "StallGuard error: the motor was stopped on a stall (AP207 bit 0, §4)",
+        },
+    ),
+    (
+        1 << 1,
+        AxisFlag {
+            name: "deviation",
+            description: "encoder deviation error: the motor was stopped (AP207 bit 1, §4, §6.3)",
+        },
+    ),
+];
+
+/// AP208 "TMC262 error flags" (§4 Table 16): the driver's state now.
+pub const DRIVER_FLAGS: &[(u32, AxisFlag)] = &[
+    (
+        1 << 0,
+        AxisFlag {
+            name: "sg2",
+            description: "StallGuard2 threshold reached (AP208 bit 0)",
+        },
+    ),
+    (
+        1 << 1,
+        AxisFlag {
+            name: "overtemperature",
+            description: "driver shut down by overtemperature (AP208 bit 1)",
+        },
+    ),
+    (
+        1 << 2,
+        AxisFlag {
+            name: "temperature warning",
+            description: "driver temperature pre-warning threshold exceeded (AP208 bit 2)",
+        },
+    ),
+    (
+        1 << 3,
+        AxisFlag {
+            name: "short A",
+            description: "short to ground on coil A, driver shut down (AP208 bit 3)",
+        },
+    ),
+    (
+        1 << 4,
+        AxisFlag {
+            name: "short B",
+            description: "short to ground on coil B, driver shut down (AP208 bit 4)",
+        },
+    ),
+    (
+        1 << 5,
+        AxisFlag {
+            name: "open load A",
+            description: "open load on coil A (AP208 bit 5)",
+        },
+    ),
+    (
+        1 << 6,
+        AxisFlag {
+            name: "open load B",
+            description: "open load on coil B (AP208 bit 6)",
+        },
+    ),
+    (
+        1 << 7,
+        AxisFlag {
+            name: "standstill",
+            description: "no step pulse for 2^20 clock cycles (AP208 bit 7)",
+        },
+    ),
+];
+
+/// One axis parameter read for the status display.
+struct StatusParam {
+    number: u8,
+    fast: bool,
+}
+
+/// The axis parameters polled for each axis (§4 Table 16), fast-changing
+/// ones first.
+const STATUS_PARAMS: &[StatusParam] = &[
+    StatusParam {
+        number: 1, // actual position
+        fast: true,
+    },
+    StatusParam {
+        number: 3, // actual speed
+        fast: true,
+    },
+    StatusParam {
+        number: 8, // position reached
+        fast: true,
+    },
+    StatusParam {
+        number: 0, // target position
+        fast: false,
+    },
+    StatusParam {
+        number: 11, // left limit switch
+        fast: false,
+    },
+    StatusParam {
+        number: 10, // right limit switch
+        fast: false,
+    },
+    StatusParam {
+        number: 9, // home switch
+        fast: false,
+    },
+    StatusParam {
+        number: 206, // actual load value
+        fast: false,
+    },
+    StatusParam {
+        number: 207, // extended error flags (clear on read)
+        fast: false,
+    },
+    StatusParam {
+        number: 208, // TMC262 error flags
+        fast: false,
+    },
+];
+
+/// TMCL for the session layer.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct TmclConsole;
+
+impl TmclConsole {
+    /// A typed command, ready for the module at `address`.
+    pub fn prepare_command(&self, command: &Command, address: u8) -> PreparedLine {
+        let request = command.to_request(address);
+        // A raw frame that is exactly a typed command is judged as that
+        // command: `6 1 0 0` reads like `GAP 1, 0`.
+        let typed = Command::from_request(&request);
+        let rule = interim_wire::reply_rule(&request);
+        let answering = match typed {
+            // §3.6.53: "this command does not send back a reply".
+            Command::FactoryReset => Answering::Nothing,
+            // §3.6.53: the reply "might not always get through".
+            Command::SoftwareReset => Answering::MaybeReply(rule),
+            // §5.1 GP255: once replies are suppressed this one may not come.
+            Command::Sgp {
+                param: 255,
+                bank: 0,
+                value,
+            } if value != 0 => Answering::MaybeReply(rule),
+            _ => Answering::Reply(rule),
+        };
+        PreparedLine {
+            canonical: format_command(command),
+            address,
+            bytes: request.to_bytes().to_vec(),
+            answering,
+            effect: if only_reads(&typed) {
+                Effect::Reads
+            } else {
+                Effect::Acts
+            },
+        }
+    }
+}
+
+/// Commands that read and change nothing, so that a lost reply may be
+/// asked for again. GCO with motor 255 copies EEPROM to RAM (§3.6.25) and
+/// is a write.
+fn only_reads(command: &Command) -> bool {
+    match command {
+        Command::Gap { .. }
+        | Command::Ggp { .. }
+        | Command::Gio { .. }
+        | Command::ApplicationStatus { .. }
+        | Command::FirmwareVersion { .. }
+        | Command::ReadMemory { .. } => true,
+        Command::Gco { motor, .. } => *motor != 255,
+        Command::Rfs { action, .. } => *action == RfsAction::Status,
+        _ => false,
+    }
+}
+
+/// The request a prepared line carries.
+fn request_of(line: &PreparedLine) -> Option<Request> {
+    let bytes: &[u8; FRAME_LEN] = line.bytes.as_slice().try_into().ok()?;
+    Some(Request::from_bytes_unchecked(bytes))
+}
+
+fn malformed(line: &PreparedLine, reason: impl Into<String>) -> ReplyError {
+    ReplyError::Malformed {
+        line: line.canonical.clone(),
+        reason: reason.into(),
+    }
+}
+
+/// An ordinary reply refusing `request`, as opposed to a special-format
+/// answer (136 type 0, 134) whose bytes merely look like one.
+fn refusal(request: &Request, frame: &[u8; FRAME_LEN]) -> Option<Reply> {
+    let reply = Reply::from_bytes(frame).ok()?;
+    (reply.module_address == request.address
+        && reply.command == request.command
+        && !reply.status.is_success())
+    .then_some(reply)
+}
+
+fn rejected(line: &PreparedLine, reply: &Reply) -> ReplyError {
+    ReplyError::Rejected {
+        module: format!("module {}", reply.module_address),
+        line: line.canonical.clone(),
+        status: u32::from(reply.status.0),
+        meaning: reply.status.meaning().to_string(),
+    }
+}
+
+/// §3.6.53 / digest D4 (from sibling manuals): 136 type 0 answers with
+/// the host address and eight ASCII characters, no checksum.
+fn version_string(frame: &[u8; FRAME_LEN]) -> String {
+    frame
+        .get(1..)
+        .unwrap_or_default()
+        .iter()
+        .map(|&b| {
+            if b.is_ascii_graphic() || b == b' ' {
+                char::from(b)
+            } else {
+                '?'
+            }
+        })
+        .collect::<String>()
+        .trim()
+        .to_string()
+}
+
+/// 134 answers with the host address, the stored 7-byte command and a
+/// checksum (the simulator's layout; the manual gives none, digest D4).
+fn program_word(line: &PreparedLine, frame: &[u8; FRAME_LEN]) -> Result<String, ReplyError> {
+    let sum = checksum(frame.get(..8).unwrap_or_default());
+    if frame[8] != sum {
+        return Err(malformed(
+            line,
+            format!(
+                "wrong checksum: frame carries {:#04x}, its bytes sum to {sum:#04x}",
+                frame[8]
+            ),
+        ));
+    }
+    let word = Request {
+        address: 0,
+        command: frame[1],
+        kind: frame[2],
+        motor_bank: frame[3],
+        value: i32::from_be_bytes([frame[4], frame[5], frame[6], frame[7]]),
+    };
+    Ok(format_command(&Command::from_request(&word)))
+}
+
+/// The value a successful reply to `command` carries, if it carries one.
+fn reply_value(command: &Command, raw: i32) -> ReplyValue {
+    match *command {
+        Command::Gap { param, .. } => ReplyValue::Number(
+            axis_param(param).map_or(i64::from(raw), |info| info.value_from_wire(raw)),
+        ),
+        Command::Ggp { param, bank } => ReplyValue::Number(
+            global_param(bank, param).map_or(i64::from(raw), |info| info.value_from_wire(raw)),
+        ),
+        Command::Gio { .. }
+        | Command::ApplicationStatus { .. }
+        | Command::FirmwareVersion { .. }
+        | Command::Rfs {
+            action: RfsAction::Status,
+            ..
+        } => ReplyValue::Number(i64::from(raw)),
+        Command::Gco { motor, .. } if motor != 255 => ReplyValue::Number(i64::from(raw)),
+        _ => ReplyValue::None,
+    }
+}
+
+fn flags_in(table: &[(u32, AxisFlag)], bits: i64) -> Vec<AxisFlag> {
+    table
+        .iter()
+        .filter(|(bit, _)| bits & i64::from(*bit) != 0)
+        .map(|(_, flag)| *flag)
+        .collect()
+}
+
+impl FamilyConsole for TmclConsole {
+    fn wire(&self) -> Arc<dyn WireFormat> {
+        interim_wire::wire()
+    }
+
+    fn default_address(&self) -> u8 {
+        DEFAULT_MODULE_ADDRESS
+    }
+
+    fn axes(&self) -> &'static [AxisInfo] {
+        AXES
+    }
+
+    fn prepare(&self, line: &str, address: u8) -> Result<PreparedLine, String> {
+        let command = parse_line(line).map_err(|e| e.to_string())?;
+        Ok(self.prepare_command(&command, address))
+    }
+
+    fn interpret(&self, line: &PreparedLine, frames: &[Frame]) -> Result<Reading, ReplyError> {
+        let no_answer = Reading {
+            status: None,
+            value: ReplyValue::None,
+        };
+        let Some(last) = frames.last() else {
+            return match line.answering {
+                Answering::Reply(_) => Err(malformed(line, "no reply")),
+                Answering::MaybeReply(_) | Answering::Nothing => Ok(no_answer),
+            };
+        };
+        let request = request_of(line).ok_or_else(|| malformed(line, "not a TMCL request"))?;
+        let frame: &[u8; FRAME_LEN] = last.as_slice().try_into().map_err(|_| {
+            malformed(
+                line,
+                format!("a reply has {FRAME_LEN} bytes, this one {}", last.len()),
+            )
+        })?;
+        let command = Command::from_request(&request);
+        let special = matches!(
+            command,
+            Command::FirmwareVersion {
+                format: VersionFormat::String
+            } | Command::ReadMemory { .. }
+        );
+        if special {
+            if let Some(reply) = refusal(&request, frame) {
+                return Err(rejected(line, &reply));
+            }
+            let text = match command {
+                Command::ReadMemory { .. } => program_word(line, frame)?,
+                _ => version_string(frame),
+            };
+            return Ok(Reading {
+                status: None,
+                value: ReplyValue::Text(text),
+            });
+        }
+        let reply = Reply::from_bytes(frame).map_err(|e| malformed(line, e.to_string()))?;
+        if !reply.status.is_success() {
+            return Err(rejected(line, &reply));
+        }
+        Ok(Reading {
+            status: Some(u32::from(reply.status.0)),
+            value: reply_value(&command, reply.value),
+        })
+    }
+
+    fn emergency_stop(&self, address: u8) -> Vec<PreparedLine> {
+        // MST every motor at once; then stop a standalone program, which
+        // could otherwise start the motor again (§3.5: direct-mode commands
+        // run beside it); then MST again in case it did meanwhile.
+        let stops = AXES
+            .iter()
+            .map(|axis| self.prepare_command(&Command::Mst { motor: axis.number }, address));
+        let mut lines: Vec<PreparedLine> = stops.clone().collect();
+        lines.push(self.prepare_command(&Command::StopApplication, address));
+        lines.extend(stops);
+        lines
+    }
+
+    fn identify(&self, address: u8) -> PreparedLine {
+        self.prepare_command(
+            &Command::FirmwareVersion {
+                format: VersionFormat::String,
+            },
+            address,
+        )
+    }
+
+    fn status_queries(&self, address: u8) -> Vec<StatusPoll> {
+        AXES.iter()
+            .enumerate()
+            .flat_map(|(index, axis)| {
+                STATUS_PARAMS.iter().map(move |param| StatusPoll {
+                    axis: index,
+                    line: self.prepare_command(
+                        &Command::Gap {
+                            param: param.number,
+                            motor: axis.number,
+                        },
+                        address,
+                    ),
+                    fast: param.fast,
+                })
+            })
+            .collect()
+    }
+
+    fn status_update(&self, line: &PreparedLine, reading: &Reading) -> Option<(usize, AxisUpdate)> {
+        let request = request_of(line)?;
+        let Command::Gap { param, motor } = Command::from_request(&request) else {
+            return None;
+        };
+        let axis = AXES.iter().position(|a| a.number == motor)?;
+        let ReplyValue::Number(value) = reading.value else {
+            return None;
+        };
+        let update = match param {
+            0 => AxisUpdate::Target(value),
+            1 => AxisUpdate::Position(value),
+            3 => AxisUpdate::Speed(value),
+            8 => AxisUpdate::Reached(value != 0),
+            9 => AxisUpdate::Switch(SwitchKind::Home, value != 0),
+            10 => AxisUpdate::Switch(SwitchKind::Right, value != 0),
+            11 => AxisUpdate::Switch(SwitchKind::Left, value != 0),
+            206 => AxisUpdate::Load(value),
+            207 => AxisUpdate::Errors(flags_in(ERROR_FLAGS, value)),
+            208 => AxisUpdate::DriverFlags(flags_in(DRIVER_FLAGS, value)),
+            _ => return None,
+        };
+        Some((axis, update))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::protocol::tmcl::Status;
+
+    fn reply(status: u8, command: u8, value: i32) -> Frame {
+        Reply {
+            host_address: 2,
+            module_address: 1,
+            status: Status(status),
+            command,
+            value,
+        }
+        .to_bytes()
+        .to_vec()
+    }
+
+    fn prepare(line: &str) -> PreparedLine {
+        TmclConsole.prepare(line, 1).expect("valid line")
+    }
+
+    #[test]
+    fn reads_may_be_retried_and_everything_else_not() {
+        for line in [
+            "GAP 1, 0",
+            "GGP 66, 0",
+            "GIO 0, 1",
+            "GCO 3, 0",
+            "RFS STATUS, 0",
+            "APPSTATUS",
+            "VERSION",
+            "READMEM 0",
+            "6 1 0 0",
+        ] {
+            assert_eq!(prepare(line).effect, Effect::Reads, "{line}");
+        }
+        for line in [
+            "SAP 4, 0, 100",
+            "MVP ABS, 0, 100",
+            "GCO 3, 255",
+            "RFS START, 0",
+            "STAP 4, 0",
+            "RUNAPP",
+            "5 4 0 100",
+        ] {
+            assert_eq!(prepare(line).effect, Effect::Acts, "{line}");
+        }
+    }
+
+    #[test]
+    fn factory_reset_expects_nothing_and_reset_maybe_a_reply() {
+        assert!(matches!(
+            prepare("FACTORYRESET").answering,
+            Answering::Nothing
+        ));
+        assert!(matches!(
+            prepare("RESET").answering,
+            Answering::MaybeReply(_)
+        ));
+        assert!(matches!(
+            prepare("SGP 255, 0, 1").answering,
+            Answering::MaybeReply(_)
+        ));
+        assert!(matches!(prepare("GAP 1, 0").answering, Answering::Reply(_)));
+    }
+
+    #[test]
+    fn a_refused_line_names_the_range() {
+        let message = TmclConsole.prepare("SAP 6, 0, 100000", 1).unwrap_err();
+        assert!(message.contains("0..255"), "{message}");
+    }
+
+    #[test]
+    fn reads_carry_their_value_and_writes_say_ok() {
+        let gap = prepare("GAP 4, 0");
+        let reading = TmclConsole.interpret(&gap, &[reply(100, 6, 1234)]).unwrap();
+        assert_eq!(reading.value, ReplyValue::Number(1234));
+        assert_eq!(reading.status, Some(100));
+        let sap = prepare("SAP 4, 0, 1234");
+        let reading = TmclConsole.interpret(&sap, &[reply(100, 5, 1234)]).unwrap();
+        assert_eq!(reading.value, ReplyValue::None);
+        assert_eq!(reading.value.to_string(), "ok");
+    }
+
+    #[test]
+    fn timer_periods_read_back_unsigned() {
+        let ggp = prepare("GGP 0, 3");
+        let reading = TmclConsole.interpret(&ggp, &[reply(100, 10, -1)]).unwrap();
+        assert_eq!(reading.value, ReplyValue::Number(4_294_967_295));
+    }
+
+    #[test]
+    fn error_statuses_become_rejections_with_the_manuals_meaning() {
+        let sap = prepare("SAP 6, 0, 200");
+        let error = TmclConsole.interpret(&sap, &[reply(4, 5, 0)]).unwrap_err();
+        assert_eq!(
+            error.to_string(),
+            "module 1 rejected SAP 6, 0, 200: invalid value (status 4)"
+        );
+        assert_eq!(error.status(), Some(4));
+    }
+
+    #[test]
+    fn a_reply_with_a_bad_checksum_is_malformed() {
+        let gap = prepare("GAP 1, 0");
+        let mut frame = reply(100, 6, 5);
+        frame[8] ^= 0xFF;
+        let error = TmclConsole.interpret(&gap, &[frame]).unwrap_err();
+        assert!(matches!(error, ReplyError::Malformed { .. }), "{error}");
+        assert!(
+            TmclConsole
+                .interpret(&gap, &[vec![1, 2, 3]])
+                .unwrap_err()
+                .to_string()
+                .contains("9 bytes")
+        );
+    }
+
+    #[test]
+    fn the_version_string_is_text() {
+        let version = prepare("VERSION");
+        let mut frame = vec![2];
+        frame.extend_from_slice(b"1110V112");
+        let reading = TmclConsole.interpret(&version, &[frame]).unwrap();
+        assert_eq!(reading.value, ReplyValue::Text("1110V112".into()));
+        let refused = TmclConsole
+            .interpret(&version, &[reply(6, 136, 0)])
+            .unwrap_err();
+        assert_eq!(refused.status(), Some(6));
+    }
+
+    #[test]
+    fn a_program_word_reads_as_a_line() {
+        let read = prepare("READMEM 3");
+        let mut frame = vec![2, 4, 0, 0, 0, 0, 0x03, 0xE8];
+        frame.push(checksum(&frame));
+        let reading = TmclConsole.interpret(&read, &[frame]).unwrap();
+        assert_eq!(reading.value, ReplyValue::Text("MVP ABS, 0, 1000".into()));
+    }
+
+    #[test]
+    fn no_reply_is_fine_only_where_none_may_come() {
+        assert!(TmclConsole.interpret(&prepare("RESET"), &[]).is_ok());
+        assert!(TmclConsole.interpret(&prepare("FACTORYRESET"), &[]).is_ok());
+        assert!(TmclConsole.interpret(&prepare("GAP 1, 0"), &[]).is_err());
+    }
+
+    #[test]
+    fn emergency_stop_stops_the_motor_and_the_program() {
+        let lines: Vec<String> = TmclConsole
+            .emergency_stop(1)
+            .into_iter()
+            .map(|l| l.canonical)
+            .collect();
+        assert_eq!(lines, ["MST 0", "STOPAPP", "MST 0"]);
+    }
+
+    #[test]
+    fn error_flag_reads_name_their_flags() {
+        let gap = prepare("GAP 207, 0");
+        let reading = TmclConsole.interpret(&gap, &[reply(100, 6, 3)]).unwrap();
+        let (axis, update) = TmclConsole.status_update(&gap, &reading).unwrap();
+        assert_eq!(axis, 0);
+        let AxisUpdate::Errors(flags) = update else {
+            panic!("{update:?}")
+        };
+        let names: Vec<_> = flags.iter().map(|f| f.name).collect();
+        assert_eq!(names, ["stall", "deviation"]);
+        // A write says nothing about the status.
+        let sap = prepare("SAP 4, 0, 10");
+        let reading = TmclConsole.interpret(&sap, &[reply(100, 5, 0)]).unwrap();
+        assert!(TmclConsole.status_update(&sap, &reading).is_none());
+    }
+
+    #[test]
+    fn every_axis_gets_every_status_query() {
+        let queries = TmclConsole.status_queries(1);
+        assert_eq!(queries.len(), STATUS_PARAMS.len() * AXES.len());
+        assert!(queries.iter().all(|q| q.line.effect == Effect::Reads));
+        assert!(queries.iter().any(|q| q.line.canonical == "GAP 207, 0"));
+    }
+}
