@@ -177,7 +177,7 @@ impl TmclConsole {
             _ => Answering::Reply(rule),
         };
         PreparedLine {
-            canonical: format_command(command),
+            canonical: format_command(&typed),
             address,
             bytes: request.to_bytes().to_vec(),
             answering,
@@ -507,6 +507,12 @@ mod tests {
             Answering::MaybeReply(_)
         ));
         assert!(matches!(prepare("GAP 1, 0").answering, Answering::Reply(_)));
+    }
+
+    #[test]
+    fn a_raw_frame_is_named_by_the_command_it_carries() {
+        assert_eq!(prepare("5 6 0 300").canonical, "SAP 6, 0, 300");
+        assert_eq!(prepare("200 1 2 3").canonical, "200 1 2 3");
     }
 
     #[test]
