@@ -1239,6 +1239,7 @@ fn help_line_lists_the_simulator_defaults() {
         "left limit at -200000",
         "end switches actuated for 51200 beyond that",
         "home switch over -1000..1000",
+        "50 µs per program command",
     ] {
         assert!(line.contains(needle), "{needle} missing from {line}");
     }
