@@ -1,5 +1,6 @@
 //! Command-line front ends: argument parsing and the subcommands.
 
+pub mod asm;
 pub mod sim_serve;
 
 use std::io::Write;
@@ -96,9 +97,18 @@ pub enum Command {
     Ports,
     /// Look for modules on a bus.
     Scan,
-    /// Assemble a TMCL program.
-    Asm { file: String },
-    /// Disassemble a program image or a module's program.
+    /// Assemble a TMCL program: print its image, or its listing.
+    Asm {
+        /// The program source (- for standard input).
+        file: String,
+        /// Print address, bytes and source per instruction, and the labels.
+        #[arg(long)]
+        listing: bool,
+        /// Write the image to this file (then nothing is printed but a listing).
+        #[arg(long, short)]
+        output: Option<std::path::PathBuf>,
+    },
+    /// Disassemble a program image file (- for standard input).
     Disasm { file: Option<String> },
     /// Download a program to a module.
     Download { file: String },
@@ -140,6 +150,12 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::Encode { family, line }) => {
             run_encode(&family, &line, cli.connection.address)
         }
+        Some(Command::Asm {
+            file,
+            listing,
+            output,
+        }) => asm::run_asm(&file, listing, output.as_deref()),
+        Some(Command::Disasm { file }) => asm::run_disasm(file.as_deref(), &cli.connection),
         Some(other) => {
             eprintln!("axterm {}: not built yet", other.name());
             EXIT_USAGE
