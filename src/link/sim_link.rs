@@ -30,7 +30,10 @@ pub(super) fn open(sim: SharedSim, baud: Option<u32>, faults: FaultPlan, name: S
 }
 
 /// The line's task. The simulated module's clock stands still while no
-/// link to it is open (its state is kept for the next opening).
+/// link to it is open (its state is kept for the next opening). Two links
+/// open on one simulator at once would each advance it; the device task
+/// opens one at a time, and a lost link's task has let go of the simulator
+/// before its loss notice is sent.
 async fn run(
     sim: SharedSim,
     mut line: SimLine,
