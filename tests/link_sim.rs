@@ -243,6 +243,7 @@ async fn a_cut_link_reopens_onto_the_same_module() {
         ))
     );
     assert!(link.outgoing.send(&request(GAP, 4, 0)).is_err());
+    assert_eq!(Arc::strong_count(&sim), 2, "the lost link let go of it");
 
     let mut again = spec.open().await.expect("reopens");
     let reply = reply_to(&mut again, request(GAP, 4, 0)).await;

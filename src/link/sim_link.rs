@@ -69,6 +69,7 @@ async fn run(
             return;
         }
         if let Some(reason) = out.cut {
+            drop(sim);
             return inbox.lost(reason);
         }
         let due = line.next_due().map(|d| epoch + d);
