@@ -29,9 +29,13 @@ pub struct Script {
 }
 
 impl Script {
-    /// The next chunk the device task writes.
+    /// The next chunk the device task writes. Fails rather than hangs
+    /// when virtual time runs on without one.
     pub async fn request(&mut self) -> Vec<u8> {
-        self.from_host.recv().await.expect("the device task wrote")
+        tokio::time::timeout(Duration::from_secs(3600), self.from_host.recv())
+            .await
+            .expect("a request within an hour of virtual time")
+            .expect("the device task wrote")
     }
 
     pub fn send(&self, bytes: &[u8]) {
