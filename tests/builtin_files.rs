@@ -3,13 +3,24 @@
 //! high-contrast theme uses the 16 ANSI colours only, the mono theme no
 //! colour at all, every keymap has F12 as its emergency stop in every pane.
 
+use axterm::ui::keymap::{
+    ACTIONS, Action, BUILTIN_KEYMAPS, Context, DEFAULT_KEYMAP, KeyChord, Keymap, parse_keymap,
+};
 use axterm::ui::theme::{
     BUILTIN_THEMES, DEFAULT_THEME, NO_COLOR_THEME, ROLES, Role, Theme, parse_theme,
 };
 use ratatui::style::{Color, Modifier};
 
+fn chord(text: &str) -> KeyChord {
+    text.parse().unwrap_or_else(|e| panic!("{text}: {e}"))
+}
+
 fn theme(name: &str) -> Theme {
     Theme::builtin(name).unwrap_or_else(|| panic!("built-in theme {name} does not load"))
+}
+
+fn keymap(name: &str) -> Keymap {
+    Keymap::builtin(name).unwrap_or_else(|| panic!("built-in keymap {name} does not load"))
 }
 
 #[test]
@@ -115,13 +126,104 @@ fn every_theme_tells_apart_what_must_differ() {
 }
 
 #[test]
-fn the_default_keymap_binds_the_emergency_stop() {
-    let keymap: toml::Table = include_str!("../keymaps/default.toml")
-        .parse()
-        .expect("valid TOML");
-    let stop = keymap
-        .get("global")
-        .and_then(|g| g.get("emergency_stop"))
-        .and_then(|k| k.as_str());
-    assert_eq!(stop, Some("f12"));
+fn the_builtin_keymaps_are_the_promised_ones() {
+    let names: Vec<&str> = Keymap::builtin_names().collect();
+    assert_eq!(names, ["default", "vim"]);
+    assert_eq!(DEFAULT_KEYMAP, "default");
+    for (name, text) in BUILTIN_KEYMAPS {
+        if let Err(errors) = parse_keymap(name, text) {
+            panic!("keymaps/{name}.toml: {errors:?}");
+        }
+        let keymap = keymap(name);
+        assert_eq!(keymap.name(), *name);
+        assert!(
+            !keymap.description().is_empty(),
+            "{name} has no description"
+        );
+    }
+}
+
+#[test]
+fn every_builtin_keymap_binds_every_action() {
+    for name in Keymap::builtin_names() {
+        let keymap = keymap(name);
+        for action in ACTIONS {
+            let bound = Context::ALL
+                .iter()
+                .any(|c| !keymap.chords(*c, action.action).is_empty());
+            assert!(bound, "keymap {name} has no key for {}", action.name);
+        }
+    }
+}
+
+#[test]
+fn f12_is_the_emergency_stop_in_every_pane_of_every_builtin_keymap() {
+    let f12 = chord("f12").to_event();
+    for name in Keymap::builtin_names() {
+        let keymap = keymap(name);
+        assert_eq!(keymap.emergency_stop(), chord("f12"), "{name}");
+        assert_eq!(keymap.stop_hint(), "F12 STOP", "{name}");
+        for context in Context::ALL {
+            assert_eq!(
+                keymap.action_for(context, &f12),
+                Some(Action::EmergencyStop),
+                "{name}, {context}"
+            );
+            assert_eq!(
+                keymap.hint(context, Action::EmergencyStop).as_deref(),
+                Some("F12 STOP")
+            );
+        }
+    }
+}
+
+#[test]
+fn no_builtin_keymap_binds_what_terminals_swallow() {
+    // XON/XOFF flow control (ctrl-q, ctrl-s) and job control (ctrl-z) can
+    // be eaten on the way, and ctrl-h is backspace on some terminals.
+    let swallowed = ["ctrl-q", "ctrl-s", "ctrl-z", "ctrl-h"].map(chord);
+    for name in Keymap::builtin_names() {
+        for binding in keymap(name).bindings() {
+            for chord in &binding.chords {
+                assert!(
+                    !swallowed.contains(chord),
+                    "keymap {name} binds {chord} to {}",
+                    binding.action
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn the_default_keymap_quits_on_f10_and_ctrl_c_only_cancels_a_line() {
+    let keymap = keymap("default");
+    let ctrl_c = chord("ctrl-c").to_event();
+    for context in Context::ALL {
+        assert_eq!(
+            keymap.action_for(context, &chord("f10").to_event()),
+            Some(Action::Quit)
+        );
+        let expected = (context == Context::Command).then_some(Action::Cancel);
+        assert_eq!(keymap.action_for(context, &ctrl_c), expected, "{context}");
+    }
+}
+
+#[test]
+fn typed_characters_stay_text_in_the_command_line_and_the_editor() {
+    for name in Keymap::builtin_names() {
+        let keymap = keymap(name);
+        for context in [Context::Command, Context::Editor] {
+            for c in ['q', 'j', '?', '/', ' ', 'G', '1', '+'] {
+                let event = KeyChord::plain(axterm::ui::keymap::Key::Char(c))
+                    .expect("a plain character")
+                    .to_event();
+                assert_eq!(
+                    keymap.action_for(context, &event),
+                    None,
+                    "{name}, {context}, {c:?}"
+                );
+            }
+        }
+    }
 }

@@ -4,4 +4,5 @@
 //! TUI is built on these.
 
 pub mod config;
+pub mod keymap;
 pub mod theme;
