@@ -1,5 +1,6 @@
 //! Command-line front ends: argument parsing and the subcommands.
 
+pub mod asm;
 pub mod sim_serve;
 
 use std::io::Write;
@@ -8,7 +9,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use clap::{Args, Parser, Subcommand};
 
+use crate::link::ports;
 use crate::protocol;
+use crate::sim::faults::FaultPlan;
 use crate::sim::{self, SimOptions};
 
 /// Exit code when everything went well.
@@ -70,7 +73,9 @@ pub enum Command {
     ///
     /// On a new pseudo-terminal (--pty: its path is the first line printed)
     /// or a TCP socket (--tcp ADDR: loopback when only a port is given);
-    /// --address sets the module address. Runs until interrupted.
+    /// --address sets the module address, --baud N makes every byte take
+    /// its wire time at N baud (10 bits a byte, both ways). Runs until
+    /// interrupted.
     Sim {
         /// Which controller: tmcm1110.
         kind: String,
@@ -80,6 +85,9 @@ pub enum Command {
         /// File keeping the simulated EEPROM between runs.
         #[arg(long)]
         eeprom: Option<std::path::PathBuf>,
+        /// Faults to inject: drop=P,corrupt=P,garbage=P,delay=P:MS,disconnect-after=N,seed=N.
+        #[arg(long, value_name = "SPEC")]
+        fault: Option<String>,
     },
     /// Run console lines one by one and print one result line each.
     Exec { lines: Vec<String> },
@@ -89,9 +97,18 @@ pub enum Command {
     Ports,
     /// Look for modules on a bus.
     Scan,
-    /// Assemble a TMCL program.
-    Asm { file: String },
-    /// Disassemble a program image or a module's program.
+    /// Assemble a TMCL program: print its image, or its listing.
+    Asm {
+        /// The program source (- for standard input).
+        file: String,
+        /// Print address, bytes and source per instruction, and the labels.
+        #[arg(long)]
+        listing: bool,
+        /// Write the image to this file (then nothing is printed but a listing).
+        #[arg(long, short)]
+        output: Option<std::path::PathBuf>,
+    },
+    /// Disassemble a program image file (- for standard input).
     Disasm { file: Option<String> },
     /// Download a program to a module.
     Download { file: String },
@@ -123,11 +140,22 @@ impl Command {
 /// Run a parsed command line; returns the process exit code.
 pub fn run(cli: Cli) -> i32 {
     match cli.command {
-        Some(Command::Sim { kind, pty, eeprom }) => run_sim(&cli.connection, &kind, pty, eeprom),
+        Some(Command::Sim {
+            kind,
+            pty,
+            eeprom,
+            fault,
+        }) => run_sim(&cli.connection, &kind, pty, eeprom, fault.as_deref()),
         Some(Command::Ports) => run_ports(),
         Some(Command::Encode { family, line }) => {
             run_encode(&family, &line, cli.connection.address)
         }
+        Some(Command::Asm {
+            file,
+            listing,
+            output,
+        }) => asm::run_asm(&file, listing, output.as_deref()),
+        Some(Command::Disasm { file }) => asm::run_disasm(file.as_deref(), &cli.connection),
         Some(other) => {
             eprintln!("axterm {}: not built yet", other.name());
             EXIT_USAGE
@@ -144,6 +172,7 @@ fn run_sim(
     kind: &str,
     pty: bool,
     eeprom_file: Option<std::path::PathBuf>,
+    fault: Option<&str>,
 ) -> i32 {
     let Some(sim_kind) = sim::find_kind(kind) else {
         eprintln!(
@@ -165,6 +194,21 @@ fn run_sim(
             eprintln!("axterm sim: give exactly one of --pty or --tcp ADDR");
             return EXIT_USAGE;
         }
+    };
+    let faults = match fault.map(FaultPlan::parse).transpose() {
+        Ok(plan) => plan.unwrap_or_default(),
+        Err(e) => {
+            eprintln!("axterm sim: {e}");
+            return EXIT_USAGE;
+        }
+    };
+    if connection.baud == Some(0) {
+        eprintln!("axterm sim: --baud 0: give a baud rate above 0");
+        return EXIT_USAGE;
+    }
+    let line = sim_serve::LineOptions {
+        baud: connection.baud,
+        faults: faults.clone(),
     };
     let options = SimOptions {
         address: connection.address,
@@ -195,7 +239,7 @@ fn run_sim(
     let server_stop = Arc::clone(&stop);
     let (done_tx, done_rx) = tokio::sync::oneshot::channel();
     let server = std::thread::spawn(move || {
-        let result = sim_serve::serve(sim, &endpoint, server_stop, &mut |name| {
+        let result = sim_serve::serve(sim, &endpoint, &line, server_stop, &mut |name| {
             let mut out = std::io::stdout().lock();
             // The first line is the endpoint, for scripts that start us.
             let _ = writeln!(out, "{name}");
@@ -206,7 +250,11 @@ fn run_sim(
     });
     runtime.block_on(stop_signals.wait(done_rx));
     stop.store(true, Ordering::Relaxed);
-    match server.join() {
+    let joined = server.join();
+    if !faults.is_none() {
+        eprintln!("axterm sim: faults injected: {}", faults.counts());
+    }
+    match joined {
         Ok(Ok(())) => EXIT_OK,
         Ok(Err(e)) => {
             eprintln!("axterm sim: {e}");
@@ -284,42 +332,32 @@ fn run_encode(family: &str, line: &str, address: Option<u8>) -> i32 {
 }
 
 /// `axterm ports`: one line per serial port found, with what the system
-/// knows of the adapter.
+/// knows of the adapter. Pseudo-terminals are not serial ports here.
 fn run_ports() -> i32 {
-    match serialport::available_ports() {
+    let found = ports::available_ports();
+    report_ports(found, &mut std::io::stdout().lock(), &mut std::io::stderr())
+}
+
+fn report_ports(
+    found: std::io::Result<Vec<ports::PortInfo>>,
+    out: &mut dyn Write,
+    err: &mut dyn Write,
+) -> i32 {
+    match found {
         Ok(ports) if ports.is_empty() => {
-            eprintln!("axterm ports: no serial ports found");
+            let _ = writeln!(err, "axterm ports: no serial ports found");
             EXIT_OK
         }
         Ok(ports) => {
             for port in ports {
-                println!("{}", describe_port(&port));
+                let _ = writeln!(out, "{port}");
             }
             EXIT_OK
         }
         Err(e) => {
-            eprintln!("axterm ports: cannot list serial ports: {e}");
+            let _ = writeln!(err, "axterm ports: cannot list serial ports: {e}");
             EXIT_DEVICE
         }
-    }
-}
-
-fn describe_port(port: &serialport::SerialPortInfo) -> String {
-    match &port.port_type {
-        serialport::SerialPortType::UsbPort(usb) => {
-            let mut text = format!("{}  usb {:04x}:{:04x}", port.port_name, usb.vid, usb.pid);
-            for part in [&usb.manufacturer, &usb.product, &usb.serial_number]
-                .into_iter()
-                .flatten()
-            {
-                text.push_str("  ");
-                text.push_str(part);
-            }
-            text
-        }
-        serialport::SerialPortType::PciPort => format!("{}  pci", port.port_name),
-        serialport::SerialPortType::BluetoothPort => format!("{}  bluetooth", port.port_name),
-        serialport::SerialPortType::Unknown => port.port_name.clone(),
     }
 }
 
@@ -328,27 +366,48 @@ mod tests {
     use super::*;
 
     #[test]
-    fn usb_adapters_are_described_by_ids_and_names() {
-        let port = serialport::SerialPortInfo {
-            port_name: "ttyACM0".into(),
-            port_type: serialport::SerialPortType::UsbPort(serialport::UsbPortInfo {
+    fn ports_are_listed_one_per_line_and_none_is_not_an_error() {
+        let (mut out, mut err) = (Vec::new(), Vec::new());
+        let none = report_ports(Ok(Vec::new()), &mut out, &mut err);
+        assert_eq!(none, EXIT_OK);
+        assert!(out.is_empty());
+        assert_eq!(err, b"axterm ports: no serial ports found\n");
+
+        let (mut out, mut err) = (Vec::new(), Vec::new());
+        let port = ports::PortInfo {
+            path: "/dev/ttyACM0".into(),
+            kind: ports::PortKind::Usb(ports::UsbIdentity {
                 vid: 0x2a3c,
                 pid: 0x0100,
-                serial_number: None,
                 manufacturer: Some("Trinamic".into()),
                 product: Some("StepRocker".into()),
+                ..ports::UsbIdentity::default()
             }),
         };
+        assert_eq!(report_ports(Ok(vec![port]), &mut out, &mut err), EXIT_OK);
         assert_eq!(
-            describe_port(&port),
-            "ttyACM0  usb 2a3c:0100  Trinamic  StepRocker"
+            String::from_utf8_lossy(&out),
+            "/dev/ttyACM0  usb 2a3c:0100  Trinamic  StepRocker\n"
         );
+        assert!(err.is_empty());
     }
 
     #[test]
     fn sim_refuses_unknown_kinds_and_missing_endpoints() {
         let none = ConnectionArgs::default();
-        assert_eq!(run_sim(&none, "nosuch", true, None), EXIT_USAGE);
-        assert_eq!(run_sim(&none, "tmcm1110", false, None), EXIT_USAGE);
+        assert_eq!(run_sim(&none, "nosuch", true, None, None), EXIT_USAGE);
+        assert_eq!(run_sim(&none, "tmcm1110", false, None, None), EXIT_USAGE);
+        assert_eq!(
+            run_sim(&none, "tmcm1110", true, None, Some("drop=2")),
+            EXIT_USAGE
+        );
+        let zero_baud = ConnectionArgs {
+            baud: Some(0),
+            ..ConnectionArgs::default()
+        };
+        assert_eq!(
+            run_sim(&zero_baud, "tmcm1110", true, None, None),
+            EXIT_USAGE
+        );
     }
 }

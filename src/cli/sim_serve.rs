@@ -3,7 +3,9 @@
 //!
 //! The simulator itself runs on virtual time; this loop feeds it the bytes
 //! that arrive, advances it by the wall-clock time that passed, and writes
-//! back whatever it answered.
+//! back whatever it answered, through the same emulated line as the
+//! in-process link ([`SimLine`]: the wire's byte time at `--baud`, and the
+//! faults of `--fault`).
 
 use std::io::{self, Read, Write};
 use std::net::{SocketAddr, TcpListener, TcpStream};
@@ -11,7 +13,9 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
+use crate::link::sim_line::SimLine;
 use crate::sim::SimulatedController;
+use crate::sim::faults::FaultPlan;
 
 /// How long one wait for input may block: the granularity of the
 /// simulator's real-time clock, and how quickly a stop request is noticed.
@@ -22,6 +26,14 @@ const POLL_INTERVAL: Duration = Duration::from_millis(1);
 pub enum Endpoint {
     Pty,
     Tcp(SocketAddr),
+}
+
+/// The line between the simulator and its client.
+#[derive(Debug, Clone, Default)]
+pub struct LineOptions {
+    /// Emulate the wire's byte time at this baud rate, both ways.
+    pub baud: Option<u32>,
+    pub faults: FaultPlan,
 }
 
 /// Parse the `--tcp` value of `axterm sim`: `HOST:PORT`, or a bare port
@@ -39,47 +51,76 @@ pub fn parse_listen_address(text: &str) -> Result<SocketAddr, String> {
 
 /// Serve `sim` until `stop` is set. `announce` receives the endpoint's
 /// name (the pty path or the bound socket address) once it is ready.
+///
+/// A `disconnect-after` fault hangs a pseudo-terminal up (the client sees
+/// its port vanish, as when a USB adapter is pulled) and ends serving; on
+/// TCP it closes the client's connection, and the next client starts a
+/// fresh count.
 pub fn serve(
     sim: Box<dyn SimulatedController>,
     endpoint: &Endpoint,
+    line: &LineOptions,
     stop: Arc<AtomicBool>,
     announce: &mut dyn FnMut(&str),
 ) -> io::Result<()> {
-    let mut clock = SimClock::new(sim);
+    let mut clock = SimClock::new(sim, line);
     match endpoint {
         Endpoint::Pty => serve_pty(&mut clock, &stop, announce),
         Endpoint::Tcp(addr) => serve_tcp(&mut clock, *addr, &stop, announce),
     }
 }
 
-/// A simulator paired with the wall clock.
+/// A simulator behind its emulated line, on the wall clock.
 struct SimClock {
     sim: Box<dyn SimulatedController>,
-    last: Instant,
+    line: SimLine,
+    epoch: Instant,
+}
+
+/// What one turn of the clock produced for the client.
+enum Turn {
+    /// Bytes to write (possibly none).
+    Send(Vec<u8>),
+    /// The line was cut by an injected fault.
+    Cut(String),
 }
 
 impl SimClock {
-    fn new(sim: Box<dyn SimulatedController>) -> Self {
+    fn new(sim: Box<dyn SimulatedController>, options: &LineOptions) -> Self {
         SimClock {
             sim,
-            last: Instant::now(),
+            line: SimLine::new(options.baud, &options.faults),
+            epoch: Instant::now(),
         }
     }
 
-    /// Let the simulator catch up with the wall clock.
-    fn tick(&mut self) {
-        let now = Instant::now();
-        self.sim.advance(now - self.last);
-        self.last = now;
+    /// How long the next wait for input may last: until something is due
+    /// on the line, at most [`POLL_INTERVAL`].
+    fn wait(&self) -> Duration {
+        let now = self.epoch.elapsed();
+        self.line
+            .next_due()
+            .map_or(POLL_INTERVAL, |due| due.saturating_sub(now))
+            .min(POLL_INTERVAL)
     }
 
-    /// Feed received bytes at the current time and return what it says.
-    fn exchange(&mut self, input: &[u8]) -> Vec<u8> {
-        self.tick();
+    /// Put received bytes on the line, let the simulator catch up with the
+    /// wall clock, and return what reached the client.
+    fn exchange(&mut self, input: &[u8]) -> Turn {
+        let now = self.epoch.elapsed();
         if !input.is_empty() {
-            self.sim.feed(input);
+            self.line.host_wrote(now, input);
         }
-        self.sim.take_output()
+        let out = self.line.run(self.sim.as_mut(), now);
+        match out.cut {
+            Some(reason) => Turn::Cut(reason),
+            None => Turn::Send(out.to_host),
+        }
+    }
+
+    /// A new client on the same line.
+    fn reconnect(&mut self) {
+        self.line.reconnect();
     }
 }
 
@@ -91,22 +132,29 @@ fn serve_pty(
     let (mut master, slave) = serialport::TTYPort::pair().map_err(io::Error::other)?;
     let path = serialport::SerialPort::name(&slave)
         .ok_or_else(|| io::Error::other("the pseudo-terminal has no name"))?;
-    serialport::SerialPort::set_timeout(&mut master, POLL_INTERVAL).map_err(io::Error::other)?;
     announce(&path);
     // The slave end stays open here for as long as we serve, so that a client
     // closing its own handle does not hang up the master (reads would fail
     // with EIO until someone opened the path again).
-    let _keep_open = slave;
+    let keep_open = slave;
     let mut buf = [0u8; 512];
     while !stop.load(Ordering::Relaxed) {
+        serialport::SerialPort::set_timeout(&mut master, clock.wait()).map_err(io::Error::other)?;
         let received = match master.read(&mut buf) {
             Ok(n) => n,
             Err(e) if is_idle(&e) => 0,
             Err(e) => return Err(e),
         };
-        let output = clock.exchange(&buf[..received]);
-        if !output.is_empty() {
-            master.write_all(&output)?;
+        match clock.exchange(buf.get(..received).unwrap_or_default()) {
+            Turn::Send(output) if output.is_empty() => {}
+            Turn::Send(output) => master.write_all(&output)?,
+            Turn::Cut(reason) => {
+                // Closing both ends hangs the client's side up.
+                drop(keep_open);
+                drop(master);
+                eprintln!("axterm sim: {reason}: the pseudo-terminal is gone");
+                return Ok(());
+            }
         }
     }
     Ok(())
@@ -125,9 +173,15 @@ fn serve_tcp(
     // motion in progress) lives on between clients.
     while !stop.load(Ordering::Relaxed) {
         match listener.accept() {
-            Ok((stream, _)) => serve_tcp_client(clock, stream, stop)?,
+            Ok((stream, _)) => {
+                // accept(2) hands out blocking sockets on Linux but not
+                // everywhere; the client loop relies on read timeouts.
+                stream.set_nonblocking(false)?;
+                clock.reconnect();
+                serve_tcp_client(clock, stream, stop)?;
+            }
             Err(e) if e.kind() == io::ErrorKind::WouldBlock => {
-                clock.exchange(&[]);
+                let _ = clock.exchange(&[]);
                 std::thread::sleep(POLL_INTERVAL);
             }
             Err(e) => return Err(e),
@@ -142,9 +196,10 @@ fn serve_tcp_client(
     stop: &AtomicBool,
 ) -> io::Result<()> {
     stream.set_nodelay(true)?;
-    stream.set_read_timeout(Some(POLL_INTERVAL))?;
     let mut buf = [0u8; 512];
     while !stop.load(Ordering::Relaxed) {
+        // A zero timeout means "block forever" to the socket API.
+        stream.set_read_timeout(Some(clock.wait().max(Duration::from_micros(1))))?;
         let received = match stream.read(&mut buf) {
             Ok(0) => return Ok(()),
             Ok(n) => n,
@@ -152,7 +207,14 @@ fn serve_tcp_client(
             Err(e) if is_hangup(&e) => return Ok(()),
             Err(e) => return Err(e),
         };
-        let output = clock.exchange(&buf[..received]);
+        let output = match clock.exchange(buf.get(..received).unwrap_or_default()) {
+            Turn::Send(output) => output,
+            Turn::Cut(reason) => {
+                eprintln!("axterm sim: {reason}: closing the connection");
+                let _ = stream.shutdown(std::net::Shutdown::Both);
+                return Ok(());
+            }
+        };
         if output.is_empty() {
             continue;
         }

@@ -5,6 +5,7 @@
 
 use std::fmt;
 use std::io;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
@@ -12,6 +13,12 @@ use tokio::sync::mpsc;
 
 use crate::sim::SimulatedController;
 use crate::sim::faults::FaultPlan;
+
+pub mod ports;
+mod serial;
+pub mod sim_line;
+mod sim_link;
+mod tcp;
 
 /// Serial character frame: start bit, 8 data bits, stop bit.
 pub const BITS_PER_BYTE: u32 = 10;
@@ -129,11 +136,77 @@ pub struct LinkError {
 
 impl LinkSpec {
     /// Open the link. Blocking work (opening a serial port) is kept off the
-    /// async runtime.
+    /// async runtime; must be called within a tokio runtime, which then
+    /// runs the link's reader.
     pub async fn open(&self) -> Result<Link, LinkError> {
-        Err(LinkError {
-            link: self.describe(),
-            reason: "links are not built yet".into(),
-        })
+        match self {
+            LinkSpec::Serial { path, baud } => serial::open(path, *baud, self.describe()).await,
+            LinkSpec::Tcp { address } => tcp::open(address, self.describe()).await,
+            LinkSpec::Sim {
+                sim, baud, faults, ..
+            } => Ok(sim_link::open(
+                Arc::clone(sim),
+                *baud,
+                faults.clone(),
+                self.describe(),
+            )),
+        }
+    }
+}
+
+/// The sending side of a link's `incoming` channel: bytes, and at most one
+/// loss notice however many readers and writers notice the loss.
+#[derive(Debug, Clone)]
+struct Inbox {
+    tx: mpsc::UnboundedSender<LinkInput>,
+    lost: Arc<AtomicBool>,
+}
+
+impl Inbox {
+    fn new() -> (Inbox, mpsc::UnboundedReceiver<LinkInput>) {
+        let (tx, rx) = mpsc::unbounded_channel();
+        let inbox = Inbox {
+            tx,
+            lost: Arc::new(AtomicBool::new(false)),
+        };
+        (inbox, rx)
+    }
+
+    /// Pass received bytes on; false when the link's owner is gone.
+    fn bytes(&self, bytes: &[u8]) -> bool {
+        if bytes.is_empty() {
+            return !self.tx.is_closed();
+        }
+        self.tx.send(LinkInput::Bytes(bytes.to_vec())).is_ok()
+    }
+
+    /// Report the loss, unless it has been reported already.
+    fn lost(&self, reason: impl Into<String>) {
+        if !self.lost.swap(true, Ordering::SeqCst) {
+            let _ = self.tx.send(LinkInput::Lost(reason.into()));
+        }
+    }
+
+    fn is_lost(&self) -> bool {
+        self.lost.load(Ordering::SeqCst)
+    }
+
+    /// Resolves when the link's owner has dropped its receiver.
+    async fn closed(&self) {
+        self.tx.closed().await
+    }
+
+    fn is_closed(&self) -> bool {
+        self.tx.is_closed()
+    }
+}
+
+/// An I/O error as a technician reads it: the OS's words, without Rust's
+/// "(os error 2)" suffix.
+fn io_reason(e: &io::Error) -> String {
+    let text = e.to_string();
+    match text.rsplit_once(" (os error ") {
+        Some((words, code)) if code.ends_with(')') => words.to_string(),
+        _ => text,
     }
 }

@@ -34,6 +34,13 @@ pub trait SymbolResolver {
     /// The value of `name` as written (case is the resolver's business),
     /// or `None` if it is unknown.
     fn resolve(&self, name: &str) -> Option<i64>;
+
+    /// Whether `name` was defined by a hex number: then, like a hex
+    /// literal, it gives the 32-bit pattern in a value field
+    /// (`Minus1 = 0xFFFFFFFF` is −1 there). Plain numbers by default.
+    fn is_bit_pattern(&self, _name: &str) -> bool {
+        false
+    }
 }
 
 impl<F: Fn(&str) -> Option<i64>> SymbolResolver for F {
@@ -187,6 +194,35 @@ pub fn parse_number(token: &str) -> Option<i32> {
         Literal { value, hex: true } => u32::try_from(value).ok().map(|v| v as i32),
         Literal { value, hex: false } => i32::try_from(value).ok(),
     }
+}
+
+/// The value of an assembler constant (`Name = value`), as written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ConstantValue {
+    pub value: i64,
+    /// Written in hex: a 32-bit pattern (see [`SymbolResolver::is_bit_pattern`]).
+    pub hex: bool,
+}
+
+/// Parse the value of an assembler constant. Wider than [`parse_number`]:
+/// a constant may stand for a value the user sees above `i32::MAX` (bank-3
+/// timer periods 0..4294967295, §5.4 Table 20), so decimals go from
+/// −2147483648 to 4294967295 and hex from `0x0` to `0xFFFFFFFF`. Each
+/// operand then checks the value as it would the literal.
+pub fn parse_constant(token: &str) -> Option<ConstantValue> {
+    let Literal { value, hex } = number_literal(token)?;
+    let fits = if hex {
+        (0..=i64::from(u32::MAX)).contains(&value)
+    } else {
+        (i64::from(i32::MIN)..=i64::from(u32::MAX)).contains(&value)
+    };
+    fits.then_some(ConstantValue { value, hex })
+}
+
+/// Whether `token` can name a label or constant: a letter or `_`, then
+/// letters, digits, `_` or `.`.
+pub fn is_symbol_name(token: &str) -> bool {
+    is_symbol(token)
 }
 
 /// The canonical console line of a command: `parse_syntax(format_command(c))
@@ -480,7 +516,11 @@ impl OperandParser<'_> {
                 let constant = self.symbols.and_then(|s| s.resolve(token));
                 (constant.ok_or_else(|| not_a_code(set))?, false)
             }
-            (None, _) => (self.symbol(command, operand, token)?, false),
+            (None, _) => {
+                let value = self.symbol(command, operand, token)?;
+                let hex = self.symbols.is_some_and(|s| s.is_bit_pattern(token));
+                (value, hex)
+            }
         };
         let out_of_range = |allowed: String, note: Option<String>| LineError::OutOfRange {
             context: command.to_string(),
@@ -699,6 +739,46 @@ mod tests {
         );
         assert!(matches!(
             parse_syntax("SGP 0, 2, Period", Some(&constants)),
+            Err(LineError::OutOfRange { .. })
+        ));
+    }
+
+    #[test]
+    fn constants_reach_the_unsigned_timer_range() {
+        let c = |value, hex| Some(ConstantValue { value, hex });
+        assert_eq!(parse_constant("4294967295"), c(4_294_967_295, false));
+        assert_eq!(parse_constant("-2147483648"), c(-2_147_483_648, false));
+        assert_eq!(parse_constant("0xFFFFFFFF"), c(4_294_967_295, true));
+        assert_eq!(parse_constant("$10"), c(16, true));
+        assert_eq!(parse_constant("4294967296"), None);
+        assert_eq!(parse_constant("-2147483649"), None);
+        assert_eq!(parse_constant("0x100000000"), None);
+        assert_eq!(parse_constant("12x"), None);
+    }
+
+    #[test]
+    fn hex_constants_are_bit_patterns_like_hex_literals() {
+        struct Hex;
+        impl SymbolResolver for Hex {
+            fn resolve(&self, name: &str) -> Option<i64> {
+                (name == "AllOnes").then_some(0xFFFF_FFFF)
+            }
+            fn is_bit_pattern(&self, name: &str) -> bool {
+                name == "AllOnes"
+            }
+        }
+        assert_eq!(
+            parse_syntax("SAP 4, 0, AllOnes", Some(&Hex)),
+            parse_syntax("SAP 4, 0, 0xFFFFFFFF", None)
+        );
+        assert_eq!(
+            parse_syntax("SGP 0, 3, AllOnes", Some(&Hex)),
+            syntax("SGP 0, 3, 4294967295")
+        );
+        // The same number as a plain constant is too large for a signed value.
+        let plain = |name: &str| (name == "AllOnes").then_some(0xFFFF_FFFF);
+        assert!(matches!(
+            parse_syntax("SAP 4, 0, AllOnes", Some(&plain)),
             Err(LineError::OutOfRange { .. })
         ));
     }

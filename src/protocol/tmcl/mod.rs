@@ -1,6 +1,7 @@
 //! Trinamic TMCL as spoken by the TMCM-1110 StepRocker (firmware V1.12
 //! manual). Pure code: bytes and meanings, no I/O.
 
+pub mod asm;
 pub mod catalog;
 pub mod command;
 pub mod frame;
@@ -19,8 +20,8 @@ pub use command::{
 pub use frame::{ChecksumError, FRAME_LEN, FrameAssembler, Reply, Request, Status, checksum};
 pub use hex::to_hex;
 pub use line::{
-    LineError, SymbolResolver, format_command, parse_line, parse_line_with, parse_number,
-    parse_syntax,
+    ConstantValue, LineError, SymbolResolver, format_command, parse_constant, parse_line,
+    parse_line_with, parse_number, parse_syntax,
 };
 pub use validate::validate;
 pub use wire::{TmclReplyRule, TmclWire};

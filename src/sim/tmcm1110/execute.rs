@@ -1,4 +1,6 @@
-//! Executing one direct-mode command (manual §3.6) and the answer it gets.
+//! Executing one direct-mode command (manual §3.6) and the answer it gets;
+//! the program's commands go through the same code (`perform`) with the
+//! program's registers.
 //!
 //! Decisions where the manual is silent:
 //! - Validation order: opcode (2), type code (3), motor/bank (4: motor ≠ 0,
@@ -13,13 +15,18 @@
 //!   CALL) have no direct-mode meaning (§3.5.3 Table 8) and answer 6
 //!   "command not available" without doing anything, so they cannot disturb
 //!   a program's flags (§8.6).
-//! - Calculation and set-up commands (CALC, CALCX, CALCV*, AAP, AGP,
-//!   ACO, SIV, GIV, AIV, CLE, EI, DI, VECT, RETI, MVPA, ROLA, RORA) act on the
-//!   module's one register set (A, X, flags), shared with a program; their
-//!   direct-mode reply tables exist (§3.6.28–3.6.50). GIV in direct mode
-//!   answers var[X] and leaves A alone, like every direct-mode read (§3.5.5).
-//!   `SIO 255, 2, -1` takes A (§3.6.14).
-//! - Command 138: an MVP or MVPA counts; SAP 0 does not start a reported move
+//! - Direct mode has its own calculation registers (A, X, condition
+//!   flags): CALC, CALCX, CALCV*, AAP, AGP, ACO, SIV, GIV, AIV, MVPA, ROLA,
+//!   RORA and `SIO 255, 2, -1` sent by the host use the host's set, never
+//!   the program's. §8.6 says direct-mode commands "do not disturb the flow
+//!   of the program", and §3.5.5 already keeps direct-mode reads away from
+//!   the accumulator; a host CALC rewriting the A of a running program would
+//!   disturb it. 135 types 2/3 report the program's A and X (the IDE's
+//!   debugger reads them). GIV in direct mode answers var[X] and loads
+//!   nothing, like every direct-mode read (§3.5.5). The interrupt set-up
+//!   (EI, DI, VECT) and the error flags (CLE) are module state shared with
+//!   the program; RETI in direct mode does nothing.
+//! - Command 138: an MVP or MVPA counts, the host's or the program's; SAP 0 does not start a reported move
 //!   but retargets one under way. ROR, ROL, MST, ROLA, RORA, RFS START, the
 //!   heartbeat stop, SAP 138 (leaving position mode) and a limit/stall/
 //!   deviation stop abandon the move: no status-128 message for it. Type 0
@@ -40,7 +47,9 @@
 //!   = wait flag (1 while a WAIT holds the program), bytes 1..0 = memory
 //!   pointer (type 0) or program counter (type 1). Types 2/3: A, X.
 //! - 132 stops a running program; the download starts at the given address.
-//!   129 and 130 set the status only (programs are not executed yet).
+//!   128/129/130/131 drive the interpreter (`interpreter.rs`): 129 type 1
+//!   also empties the subroutine stack; 131 also forgets the interrupt
+//!   set-up (`program.rs`).
 //! - 137 (value 1234) restores the factory EEPROM, program included, keeps
 //!   nothing of the old settings, reboots, and sends nothing. 255 (1234)
 //!   sends its reply, then reboots. Other values: 4.
@@ -57,7 +66,7 @@ use super::commands::{self, Mode};
 use super::eeprom::{EepromImage, STORED_USER_VARIABLES};
 use super::io::MODE_MASK;
 use super::motion::Axis;
-use super::program::{ApplicationStatus, PROGRAM_MEMORY_SIZE, ProgramWord, calculate};
+use super::program::{ApplicationStatus, PROGRAM_MEMORY_SIZE, ProgramWord, Registers, calculate};
 use super::{
     Answer, FIRMWARE_VERSION_NUMBER, FIRMWARE_VERSION_STRING, GP_CODE_PROTECTION,
     GP_COORDINATE_STORAGE, GP_END_SWITCH_POLARITY, GP_IO_MODE, MOTOR_MASK, TargetReachedRequest,
@@ -94,12 +103,17 @@ impl Tmcm1110 {
         match mode {
             Mode::ProgramFlow => Answer::error(Status::NOT_AVAILABLE),
             Mode::Control => self.control(request),
-            Mode::Direct => self.direct(request).into(),
+            Mode::Direct => self.perform(request, Caller::Host).into(),
         }
     }
 
-    fn direct(&mut self, r: Request) -> Outcome {
+    /// Perform a motion, parameter, I/O, coordinate, calculation or
+    /// interrupt set-up command for `caller`, whose registers it uses. The
+    /// reply value is what a direct-mode reply carries; a program loads A
+    /// from it for the reading commands (`interpreter.rs`).
+    pub(super) fn perform(&mut self, r: Request, caller: Caller) -> Outcome {
         let (kind, motor, value) = (r.kind, r.motor_bank, r.value);
+        let accumulator = self.registers(caller).accumulator;
         match r.command {
             op::ROR => self.rotate(motor, value),
             op::ROL => self.rotate(motor, value.checked_neg().ok_or(Status::INVALID_VALUE)?),
@@ -120,33 +134,34 @@ impl Tmcm1110 {
             op::STGP => self.store_global_parameter(kind, motor),
             op::RSGP => self.restore_global_parameter(kind, motor),
             op::RFS => self.reference_search(kind, motor),
-            op::SIO => self.set_output(kind, motor, value),
+            op::SIO => self.set_output(kind, motor, value, accumulator),
             op::GIO => self.get_input(kind, motor),
             op::CALC => {
                 let calc = calc_op(kind)?;
-                let a = self.app.accumulator;
+                let registers = self.registers(caller);
+                let a = registers.accumulator;
                 // NOT inverts the accumulator itself; the operand is unused.
                 let operand = if calc == CalcOp::Not { a } else { value };
                 if let Some(result) = calculate(calc, a, operand) {
-                    self.app.accumulator = result;
-                    self.app.note_result(result);
+                    registers.accumulator = result;
+                    registers.note_result(result);
                 }
                 Ok(value)
             }
             op::COMP => {
-                self.app.note_comparison(self.app.accumulator, value);
+                self.registers(caller).note_comparison(accumulator, value);
                 Ok(0)
             }
             op::CALCX => {
-                self.calculate_with_x(kind)?;
+                calculate_with_x(self.registers(caller), kind)?;
                 Ok(0)
             }
             op::AAP => {
-                self.set_axis_parameter(kind, motor, self.app.accumulator)?;
+                self.set_axis_parameter(kind, motor, accumulator)?;
                 Ok(0)
             }
             op::AGP => {
-                self.set_global_parameter(kind, motor, self.app.accumulator)?;
+                self.set_global_parameter(kind, motor, accumulator)?;
                 Ok(0)
             }
             op::CLE => {
@@ -155,14 +170,7 @@ impl Tmcm1110 {
                 Ok(0)
             }
             op::EI | op::DI => {
-                let enable = r.command == op::EI;
-                if kind == 255 {
-                    self.app.interrupts.globally_enabled = enable;
-                } else if enable {
-                    self.app.interrupts.enabled.insert(kind);
-                } else {
-                    self.app.interrupts.enabled.remove(&kind);
-                }
+                self.app.interrupts.enable(kind, r.command == op::EI);
                 Ok(0)
             }
             op::VECT => {
@@ -170,7 +178,8 @@ impl Tmcm1110 {
                 self.app.interrupts.vectors.insert(kind, address);
                 Ok(0)
             }
-            // Nothing to return from in direct mode.
+            // Nothing to return from in direct mode; the program's RETI is
+            // the interpreter's.
             op::RETI => Ok(0),
             op::SCO => self.set_coordinate(kind, motor, value),
             op::GCO => self.get_coordinate(kind, motor),
@@ -180,60 +189,64 @@ impl Tmcm1110 {
                 Ok(position)
             }
             op::ACO => {
-                self.capture_coordinate(kind, motor, self.app.accumulator)?;
+                self.capture_coordinate(kind, motor, accumulator)?;
                 Ok(0)
             }
             op::CALCVV => {
                 let other = u8::try_from(value).map_err(|_| Status::INVALID_VALUE)?;
                 let operand = self.user_variable(other);
-                self.calculate_variable(kind, motor, Operand::Variable(other, operand))?;
+                self.calculate_variable(kind, motor, Operand::Variable(other, operand), caller)?;
                 Ok(0)
             }
             op::CALCVA => {
-                self.calculate_variable(kind, motor, Operand::Accumulator)?;
+                self.calculate_variable(kind, motor, Operand::Accumulator, caller)?;
                 Ok(0)
             }
             op::CALCVX => {
-                self.calculate_variable(kind, motor, Operand::X)?;
+                self.calculate_variable(kind, motor, Operand::X, caller)?;
                 Ok(0)
             }
             op::CALCAV => {
-                self.calculate_register(kind, motor, Register::Accumulator)?;
+                self.calculate_register(kind, motor, Register::Accumulator, caller)?;
                 Ok(0)
             }
             op::CALCXV => {
-                self.calculate_register(kind, motor, Register::X)?;
+                self.calculate_register(kind, motor, Register::X, caller)?;
                 Ok(0)
             }
             op::CALCV => {
-                self.calculate_variable(kind, motor, Operand::Value(value))?;
+                self.calculate_variable(kind, motor, Operand::Value(value), caller)?;
                 Ok(value)
             }
-            op::MVPA => self.move_to_position(kind, motor, self.app.accumulator),
-            op::RORA => self.rotate(motor, self.app.accumulator),
+            op::MVPA => self.move_to_position(kind, motor, accumulator),
+            op::RORA => self.rotate(motor, accumulator),
             op::ROLA => self.rotate(
                 motor,
-                self.app
-                    .accumulator
-                    .checked_neg()
-                    .ok_or(Status::INVALID_VALUE)?,
+                accumulator.checked_neg().ok_or(Status::INVALID_VALUE)?,
             ),
             // §3.6.48–3.6.50: ignored when X is outside 0..255.
             op::SIV => {
-                if let Some(slot) = self.indexed_variable() {
+                if let Some(slot) = self.indexed_variable(caller) {
                     *slot = value;
                 }
                 Ok(0)
             }
-            op::GIV => Ok(self.indexed_variable().map_or(0, |v| *v)),
+            op::GIV => Ok(self.indexed_variable(caller).map_or(0, |v| *v)),
             op::AIV => {
-                let a = self.app.accumulator;
-                if let Some(slot) = self.indexed_variable() {
-                    *slot = a;
+                if let Some(slot) = self.indexed_variable(caller) {
+                    *slot = accumulator;
                 }
                 Ok(0)
             }
             _ => Err(Status::INVALID_COMMAND),
+        }
+    }
+
+    /// The register set a caller's calculations use.
+    pub(super) fn registers(&mut self, caller: Caller) -> &mut Registers {
+        match caller {
+            Caller::Host => &mut self.host_registers,
+            Caller::Program => &mut self.app.registers,
         }
     }
 
@@ -387,6 +400,9 @@ impl Tmcm1110 {
             2 => self.user_variables[usize::from(number)] = value,
             _ => {
                 self.interrupt_config.insert(number, value);
+                // Bank 3 parameters 0..2 are the timer periods (§5.4).
+                self.timers
+                    .set_period(usize::from(number), value, self.uptime);
             }
         }
         Ok(0)
@@ -487,7 +503,7 @@ impl Tmcm1110 {
 
     // ---- I/O ----------------------------------------------------------
 
-    fn set_output(&mut self, port: u8, bank: u8, value: i32) -> Outcome {
+    fn set_output(&mut self, port: u8, bank: u8, value: i32, accumulator: i32) -> Outcome {
         let group = io_group(SIO_PORTS, port, bank)?;
         if !group.values.contains(i64::from(value)) {
             return Err(Status::INVALID_VALUE);
@@ -497,7 +513,7 @@ impl Tmcm1110 {
             // SIO 0, 0, x: pull-up resistors.
             (0, _) => self.io.pull_ups = (value & MODE_MASK) as u8,
             // SIO 255, 2, x: all outputs; -1 takes the accumulator's low byte.
-            (_, 255) if value == -1 => self.io.outputs = (self.app.accumulator & 0xFF) as u8,
+            (_, 255) if value == -1 => self.io.outputs = (accumulator & 0xFF) as u8,
             (_, 255) => self.io.outputs = (value & 0xFF) as u8,
             _ => self.io.set_output(port, value == 1),
         }
@@ -571,47 +587,39 @@ impl Tmcm1110 {
 
     // ---- calculation --------------------------------------------------
 
-    /// CALCX (§3.6.28): A op X for 0..7, NOT inverts X, LOAD copies A to X,
-    /// SWAP exchanges them.
-    fn calculate_with_x(&mut self, kind: u8) -> Result<(), Status> {
-        let app = &mut self.app;
-        match calc_op(kind)? {
-            CalcOp::Not => app.x = !app.x,
-            CalcOp::Load => app.x = app.accumulator,
-            CalcOp::Swap => std::mem::swap(&mut app.accumulator, &mut app.x),
-            calc => {
-                if let Some(result) = calculate(calc, app.accumulator, app.x) {
-                    app.accumulator = result;
-                    app.note_result(result);
-                }
-            }
-        }
-        Ok(())
-    }
-
     /// CALCVV, CALCVA, CALCVX, CALCV: user variable `var` op operand → var.
-    fn calculate_variable(&mut self, kind: u8, var: u8, operand: Operand) -> Result<(), Status> {
+    fn calculate_variable(
+        &mut self,
+        kind: u8,
+        var: u8,
+        operand: Operand,
+        caller: Caller,
+    ) -> Result<(), Status> {
         let calc = calc_op(kind)?;
         let index = usize::from(var);
         let current = self.user_variables[index];
+        let registers = match caller {
+            Caller::Host => &mut self.host_registers,
+            Caller::Program => &mut self.app.registers,
+        };
         let value = match operand {
             Operand::Variable(_, v) => v,
-            Operand::Accumulator => self.app.accumulator,
-            Operand::X => self.app.x,
+            Operand::Accumulator => registers.accumulator,
+            Operand::X => registers.x,
             // CALCV NOT inverts the variable itself (§3.6.41: value ignored).
             Operand::Value(_) if calc == CalcOp::Not => current,
             Operand::Value(v) => v,
         };
         match calc {
-            CalcOp::Comp => self.app.note_comparison(current, value),
+            CalcOp::Comp => registers.note_comparison(current, value),
             CalcOp::Swap => {
                 self.user_variables[index] = value;
                 match operand {
                     Operand::Variable(other, _) => {
                         self.user_variables[usize::from(other)] = current;
                     }
-                    Operand::Accumulator => self.app.accumulator = current,
-                    Operand::X => self.app.x = current,
+                    Operand::Accumulator => registers.accumulator = current,
+                    Operand::X => registers.x = current,
                     // Not in CALCV's type list: refused before this point.
                     Operand::Value(_) => return Err(Status::WRONG_TYPE),
                 }
@@ -619,7 +627,7 @@ impl Tmcm1110 {
             _ => {
                 if let Some(result) = calculate(calc, current, value) {
                     self.user_variables[index] = result;
-                    self.app.note_result(result);
+                    registers.note_result(result);
                 }
             }
         }
@@ -627,17 +635,27 @@ impl Tmcm1110 {
     }
 
     /// CALCAV, CALCXV: register op user variable `var` → register.
-    fn calculate_register(&mut self, kind: u8, var: u8, register: Register) -> Result<(), Status> {
+    fn calculate_register(
+        &mut self,
+        kind: u8,
+        var: u8,
+        register: Register,
+        caller: Caller,
+    ) -> Result<(), Status> {
         let calc = calc_op(kind)?;
         let index = usize::from(var);
         let variable = self.user_variables[index];
+        let registers = match caller {
+            Caller::Host => &mut self.host_registers,
+            Caller::Program => &mut self.app.registers,
+        };
         let current = match register {
-            Register::Accumulator => self.app.accumulator,
-            Register::X => self.app.x,
+            Register::Accumulator => registers.accumulator,
+            Register::X => registers.x,
         };
         let result = match calc {
             CalcOp::Comp => {
-                self.app.note_comparison(current, variable);
+                registers.note_comparison(current, variable);
                 return Ok(());
             }
             CalcOp::Swap => {
@@ -646,21 +664,22 @@ impl Tmcm1110 {
             }
             _ => match calculate(calc, current, variable) {
                 Some(result) => {
-                    self.app.note_result(result);
+                    registers.note_result(result);
                     result
                 }
                 None => current,
             },
         };
         match register {
-            Register::Accumulator => self.app.accumulator = result,
-            Register::X => self.app.x = result,
+            Register::Accumulator => registers.accumulator = result,
+            Register::X => registers.x = result,
         }
         Ok(())
     }
 
-    fn indexed_variable(&mut self) -> Option<&mut i32> {
-        let index = usize::try_from(self.app.x).ok()?;
+    /// The user variable X points at, if X is 0..255 (§3.6.48–3.6.50).
+    fn indexed_variable(&mut self, caller: Caller) -> Option<&mut i32> {
+        let index = usize::try_from(self.registers(caller).x).ok()?;
         self.user_variables.get_mut(index)
     }
 
@@ -669,25 +688,28 @@ impl Tmcm1110 {
     fn control(&mut self, r: Request) -> Answer {
         match r.command {
             op::STOP_APPLICATION => {
-                self.app.status = ApplicationStatus::Stopped;
+                self.app.stop();
                 Answer::ok(0)
             }
             op::RUN_APPLICATION => {
                 if r.kind == 1 {
                     match program_address(r.value) {
-                        Ok(address) => self.app.pc = address,
+                        Ok(address) => self.app.run_from(address),
                         Err(status) => return Answer::error(status),
                     }
                 }
                 self.app.status = ApplicationStatus::Running;
+                self.program_fault = None;
                 Answer::ok(0)
             }
             op::STEP_APPLICATION => {
                 self.app.status = ApplicationStatus::Stepping;
+                self.program_fault = None;
                 Answer::ok(0)
             }
             op::RESET_APPLICATION => {
                 self.app.reset();
+                self.program_fault = None;
                 Answer::ok(0)
             }
             op::ENTER_DOWNLOAD => self.enter_download(r.value).into(),
@@ -748,7 +770,7 @@ impl Tmcm1110 {
             self.app.status,
             ApplicationStatus::Running | ApplicationStatus::Stepping
         ) {
-            self.app.status = ApplicationStatus::Stopped;
+            self.app.stop();
         }
         self.app.downloading = true;
         self.app.memory_pointer = start;
@@ -799,12 +821,37 @@ impl Tmcm1110 {
         };
         match kind {
             0 | 1 => {
-                ((app.status as i32) << 24) | (i32::from(app.waiting) << 16) | i32::from(pointer)
+                let waiting = app.wait.is_some();
+                ((app.status as i32) << 24) | (i32::from(waiting) << 16) | i32::from(pointer)
             }
-            2 => app.accumulator,
-            _ => app.x,
+            2 => app.registers.accumulator,
+            _ => app.registers.x,
         }
     }
+}
+
+/// CALCX (§3.6.28): A op X for 0..7, NOT inverts X, LOAD copies A to X,
+/// SWAP exchanges them.
+fn calculate_with_x(registers: &mut Registers, kind: u8) -> Result<(), Status> {
+    match calc_op(kind)? {
+        CalcOp::Not => registers.x = !registers.x,
+        CalcOp::Load => registers.x = registers.accumulator,
+        CalcOp::Swap => std::mem::swap(&mut registers.accumulator, &mut registers.x),
+        calc => {
+            if let Some(result) = calculate(calc, registers.accumulator, registers.x) {
+                registers.accumulator = result;
+                registers.note_result(result);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Who a command comes from: the host (direct mode) or the stored program.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Caller {
+    Host,
+    Program,
 }
 
 /// The other side of a CALCV*-family operation on a user variable.

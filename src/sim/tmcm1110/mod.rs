@@ -1,5 +1,7 @@
 //! A faithful simulator of the TMCM-1110 StepRocker in TMCL direct mode
-//! (firmware V1.12 manual, §3, §4, §5, §6.2).
+//! and standalone mode (firmware V1.12 manual, §3, §4, §5, §6.2, §8): stored
+//! programs run on virtual time (`interpreter.rs`) beside direct-mode
+//! commands.
 //!
 //! A plain state machine: bytes in ([`SimulatedController::feed`]), virtual
 //! time ([`SimulatedController::advance`]), bytes out
@@ -31,6 +33,8 @@ mod commands;
 pub mod defaults;
 pub mod eeprom;
 mod execute;
+pub mod interpreter;
+pub mod interrupts;
 pub mod io;
 pub mod motion;
 pub mod program;
@@ -47,9 +51,11 @@ use crate::protocol::tmcl::{FRAME_LEN, FrameAssembler, Reply, Request, Status, c
 
 use super::SimulatedController;
 use eeprom::{Eeprom, EepromError, EepromImage};
-use io::Io;
+use interpreter::{DEFAULT_INSTRUCTION_TIME, MIN_INSTRUCTION_TIME, ProgramFault};
+use interrupts::Timers;
+use io::{INPUT_PORTS, Io};
 use motion::{Axis, AxisEvent, SwitchLayout};
-use program::{Application, ApplicationStatus};
+use program::{Application, ApplicationStatus, Registers};
 
 /// The firmware version string of command 136 type 0: module number, 'V',
 /// version digits (digest D4, from sibling Trinamic manuals).
@@ -94,6 +100,9 @@ pub struct SimConfig {
     pub read_only_write: ReadOnlyWrite,
     /// Line silence after which a partial frame is dropped.
     pub frame_gap: Duration,
+    /// Time the interpreter needs per program command (at least
+    /// [`MIN_INSTRUCTION_TIME`]); the manual gives no figure.
+    pub instruction_time: Duration,
 }
 
 /// Default [`SimConfig::frame_gap`]: about ten character times at 9600 baud.
@@ -106,6 +115,7 @@ impl Default for SimConfig {
             eeprom_file: None,
             read_only_write: ReadOnlyWrite::default(),
             frame_gap: DEFAULT_FRAME_GAP,
+            instruction_time: DEFAULT_INSTRUCTION_TIME,
         }
     }
 }
@@ -164,6 +174,17 @@ pub struct ModuleView {
     pub analog_input: u16,
     pub application_status: ApplicationStatus,
     pub program_counter: u16,
+    /// The program's accumulator and X register (135 types 2 and 3).
+    pub accumulator: i32,
+    pub x_register: i32,
+    /// A WAIT holds the program.
+    pub waiting: bool,
+    /// Subroutine return addresses on the stack.
+    pub call_depth: usize,
+    /// The interrupt whose handler runs now.
+    pub handling_interrupt: Option<u8>,
+    /// Why the interpreter last stopped a program on its own.
+    pub program_fault: Option<ProgramFault>,
     pub download_mode: bool,
     /// GP255.
     pub replies_suppressed: bool,
@@ -189,6 +210,14 @@ pub struct Tmcm1110 {
     coordinates: [i32; 21],
     io: Io,
     app: Application,
+    /// A, X and flags of direct-mode calculations: a program's registers are
+    /// its own (§8.6, see `execute.rs`).
+    host_registers: Registers,
+    /// Interrupt timers 0..2 (bank 3 parameters 0..2).
+    timers: Timers,
+    /// Input levels last seen, by GIO bank-0 port, for interrupts 39..44.
+    input_levels: [bool; INPUT_PORTS as usize],
+    program_fault: Option<ProgramFault>,
     eeprom: Eeprom,
     report: TargetReport,
     /// GP255.
@@ -229,6 +258,10 @@ impl Tmcm1110 {
             coordinates: [0; 21],
             io: Io::default(),
             app: Application::default(),
+            host_registers: Registers::default(),
+            timers: Timers::default(),
+            input_levels: [false; INPUT_PORTS as usize],
+            program_fault: None,
             eeprom,
             report: TargetReport::default(),
             suppress_replies: false,
@@ -307,6 +340,12 @@ impl Tmcm1110 {
             analog_input: self.io.analog,
             application_status: self.app.status,
             program_counter: self.app.pc,
+            accumulator: self.app.registers.accumulator,
+            x_register: self.app.registers.x,
+            waiting: self.app.wait.is_some(),
+            call_depth: self.app.call_stack.len(),
+            handling_interrupt: self.app.interrupts.handling.as_ref().map(|c| c.number),
+            program_fault: self.program_fault,
             download_mode: self.app.downloading,
             replies_suppressed: self.suppress_replies,
             target_reached_request: self.report.request,
@@ -371,9 +410,14 @@ impl Tmcm1110 {
             self.coordinates[1..].copy_from_slice(&stored);
         }
         self.interrupt_config.clear();
+        self.timers = Timers::default();
         self.io.power_up();
+        self.sample_inputs();
 
+        // §5.1 GP77, §8.7: the stored program starts at address 0.
         self.app = Application::default();
+        self.host_registers = Registers::default();
+        self.program_fault = None;
         if self.global(GP_AUTO_START) == 1 {
             self.app.status = ApplicationStatus::Running;
         }
@@ -470,6 +514,7 @@ impl Tmcm1110 {
         let mut events = Vec::new();
         self.axis.advance(dt, &mut events);
         for event in events {
+            self.axis_interrupts(event);
             match event {
                 AxisEvent::TargetReached => {
                     if self.report.awaiting {
@@ -591,11 +636,16 @@ pub fn help_line(config: &SimConfig) -> String {
     let chosen: Vec<String> = motion_choices.chain(module_choices).collect();
     format!(
         "TMCM-1110 simulator (firmware {}): address {}, {}, program memory {} commands, \
-         frame gap {} ms, read-only writes answer {}, GP68 heartbeat in ms, AIN0 digital from {}",
+         {} µs per program command, frame gap {} ms, read-only writes answer {}, \
+         GP68 heartbeat in ms, AIN0 digital from {}",
         String::from_utf8_lossy(FIRMWARE_VERSION_STRING),
         config.address,
         chosen.join(", "),
         program::PROGRAM_MEMORY_SIZE,
+        config
+            .instruction_time
+            .max(MIN_INSTRUCTION_TIME)
+            .as_micros(),
         config.frame_gap.as_millis(),
         config.read_only_write.status().0,
         io::AIN0_DIGITAL_THRESHOLD,
@@ -630,8 +680,6 @@ impl SimulatedController for Tmcm1110 {
                 self.silence = Duration::ZERO;
             }
         }
-        self.uptime = self.uptime.saturating_add(dt);
-
         let mut remaining = dt;
         if let Some(limit) = self.heartbeat_limit()
             && !self.heartbeat_expired
@@ -639,7 +687,7 @@ impl SimulatedController for Tmcm1110 {
             let until_stop = limit.saturating_sub(self.since_command);
             if until_stop <= remaining {
                 // §5.1 GP68: no command within the limit stops the motor.
-                self.run_axis(until_stop);
+                self.pass_time(until_stop);
                 remaining -= until_stop;
                 self.axis.stop();
                 self.abandon_move_report();
@@ -647,7 +695,7 @@ impl SimulatedController for Tmcm1110 {
             }
         }
         self.since_command = self.since_command.saturating_add(dt);
-        self.run_axis(remaining);
+        self.pass_time(remaining);
     }
 
     fn take_output(&mut self) -> Vec<u8> {

@@ -840,14 +840,14 @@ fn calculations_act_on_a_x_and_variables() {
     ok(&mut sim, 19, 9, 0, 6); // A = 6
     ok(&mut sim, 33, 9, 0, 0); // X = A
     ok(&mut sim, 19, 2, 0, 7); // A = 42
-    assert_eq!(ok(&mut sim, 135, 2, 0, 0), 42);
-    assert_eq!(ok(&mut sim, 135, 3, 0, 0), 6);
+    assert_eq!(sim.host_registers.accumulator, 42);
+    assert_eq!(sim.host_registers.x, 6);
     ok(&mut sim, 33, 10, 0, 0); // swap
-    assert_eq!(ok(&mut sim, 135, 2, 0, 0), 6);
+    assert_eq!(sim.host_registers.accumulator, 6);
     ok(&mut sim, 33, 8, 0, 0); // X = !X
-    assert_eq!(ok(&mut sim, 135, 3, 0, 0), !42);
+    assert_eq!(sim.host_registers.x, !42);
     ok(&mut sim, 19, 8, 0, 0); // A = !A
-    assert_eq!(ok(&mut sim, 135, 2, 0, 0), !6);
+    assert_eq!(sim.host_registers.accumulator, !6);
 
     ok(&mut sim, 9, 10, 2, 100);
     ok(&mut sim, 9, 11, 2, 30);
@@ -864,14 +864,14 @@ fn calculations_act_on_a_x_and_variables() {
     ok(&mut sim, 41, 9, 12, 0); // v12 = A
     assert_eq!(ok(&mut sim, 10, 12, 2, 0), 3);
     ok(&mut sim, 42, 2, 11, 0); // A *= v11
-    assert_eq!(ok(&mut sim, 135, 2, 0, 0), 3 * !75);
+    assert_eq!(sim.host_registers.accumulator, 3 * !75);
     ok(&mut sim, 44, 9, 12, 0); // X = v12
-    assert_eq!(ok(&mut sim, 135, 3, 0, 0), 3);
+    assert_eq!(sim.host_registers.x, 3);
     ok(&mut sim, 43, 0, 12, 0); // v12 += X
     assert_eq!(ok(&mut sim, 10, 12, 2, 0), 6);
     ok(&mut sim, 42, 11, 11, 0); // A COMP v11
     assert_eq!(
-        sim.app.flags.comparison,
+        sim.host_registers.flags.comparison,
         Some(std::cmp::Ordering::Less) // A = 3 * !75 < v11 = !75
     );
 }
@@ -880,16 +880,16 @@ fn calculations_act_on_a_x_and_variables() {
 /// mode run beside a program without disturbing it: a COMP from the host
 /// must not rewrite the flags the program's next JC tests.
 #[test]
-fn direct_mode_comp_answers_6_and_keeps_the_program_flags() {
+fn direct_mode_comp_answers_6_and_keeps_the_flags() {
     let mut sim = sim();
     ok(&mut sim, 19, 9, 0, 3); // A = 3
     ok(&mut sim, 45, 11, 0, 5); // v0 COMP 5: v0 = 0 is less
-    let flags = sim.app.flags;
+    let flags = sim.host_registers.flags;
     assert_eq!(flags.comparison, Some(std::cmp::Ordering::Less));
     // COMP 3 would make A equal and set the zero flag.
     assert_eq!(status(&mut sim, 20, 0, 0, 3), 6);
-    assert_eq!(sim.app.flags, flags);
-    assert_eq!(ok(&mut sim, 135, 2, 0, 0), 3, "A untouched");
+    assert_eq!(sim.host_registers.flags, flags);
+    assert_eq!(sim.host_registers.accumulator, 3, "A untouched");
 }
 
 #[test]
@@ -900,7 +900,7 @@ fn indexed_variables_use_x_and_ignore_bad_indices() {
     ok(&mut sim, 55, 0, 0, 99); // SIV 99
     assert_eq!(ok(&mut sim, 10, 12, 2, 0), 99);
     assert_eq!(ok(&mut sim, 56, 0, 0, 0), 99); // GIV answers var[X]
-    assert_eq!(ok(&mut sim, 135, 2, 0, 0), 12); // ... and leaves A alone
+    assert_eq!(sim.host_registers.accumulator, 12); // ... and leaves A alone
     ok(&mut sim, 57, 0, 0, 0); // AIV
     assert_eq!(ok(&mut sim, 10, 12, 2, 0), 12);
     ok(&mut sim, 19, 9, 0, 256);
@@ -994,7 +994,10 @@ fn application_status_layout() {
     ok(&mut sim, 129, 1, 0, 300);
     assert_eq!(ok(&mut sim, 135, 1, 0, 0), (1 << 24) | 300);
     assert_eq!(ok(&mut sim, 135, 0, 0, 0), (1 << 24) | 7);
-    sim.app.waiting = true;
+    sim.app.wait = Some(program::Wait {
+        condition: crate::protocol::tmcl::WaitCondition::Ticks,
+        deadline: None,
+    });
     assert_eq!(ok(&mut sim, 135, 1, 0, 0), (1 << 24) | (1 << 16) | 300);
 }
 
@@ -1236,6 +1239,7 @@ fn help_line_lists_the_simulator_defaults() {
         "left limit at -200000",
         "end switches actuated for 51200 beyond that",
         "home switch over -1000..1000",
+        "50 µs per program command",
     ] {
         assert!(line.contains(needle), "{needle} missing from {line}");
     }

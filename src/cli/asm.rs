@@ -1,0 +1,168 @@
+//! `axterm asm FILE [--listing] [-o IMAGE]` and `axterm disasm IMAGEFILE`:
+//! the TMCL program toolchain offline. The work is done by
+//! [`crate::protocol::tmcl::asm`]; this reads and writes the files.
+
+use std::io::{Read, Write};
+use std::path::Path;
+
+use super::{ConnectionArgs, EXIT_OK, EXIT_USAGE};
+use crate::protocol::tmcl::asm::{self, SourceLoader};
+
+/// The name standard input goes by in messages; includes from it are
+/// relative to the working directory.
+const STDIN_NAME: &str = "<stdin>";
+
+/// Source files from the file system, for `#include`.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct SourceFiles;
+
+impl SourceLoader for SourceFiles {
+    fn load(&self, path: &str) -> Result<String, String> {
+        std::fs::read_to_string(path).map_err(|e| describe_io(&e))
+    }
+}
+
+fn describe_io(error: &std::io::Error) -> String {
+    match error.kind() {
+        std::io::ErrorKind::NotFound => "no such file".to_string(),
+        std::io::ErrorKind::PermissionDenied => "permission denied".to_string(),
+        std::io::ErrorKind::InvalidData => "not a text file (UTF-8)".to_string(),
+        _ => error.to_string(),
+    }
+}
+
+/// A file's text, or standard input for `-`; the name to show for it.
+fn read_input(file: &str) -> Result<(String, String), String> {
+    if file == "-" {
+        let mut text = String::new();
+        std::io::stdin()
+            .read_to_string(&mut text)
+            .map_err(|e| format!("cannot read standard input: {}", describe_io(&e)))?;
+        Ok((STDIN_NAME.to_string(), text))
+    } else {
+        let text = std::fs::read_to_string(file)
+            .map_err(|e| format!("cannot read {file}: {}", describe_io(&e)))?;
+        Ok((file.to_string(), text))
+    }
+}
+
+/// `axterm asm`: the image on standard output (or in `output`), or the
+/// listing. On errors: every error on standard error, nothing written,
+/// exit 2.
+pub fn run_asm(file: &str, listing: bool, output: Option<&Path>) -> i32 {
+    let (name, source) = match read_input(file) {
+        Ok(input) => input,
+        Err(message) => {
+            eprintln!("axterm asm: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    let program = match asm::assemble(&name, &source, &SourceFiles) {
+        Ok(program) => program,
+        Err(errors) => {
+            for error in &errors {
+                eprintln!("{error}");
+            }
+            eprintln!(
+                "axterm asm: {} error{} in {name}; nothing written",
+                errors.len(),
+                if errors.len() == 1 { "" } else { "s" }
+            );
+            return EXIT_USAGE;
+        }
+    };
+    let image = asm::format_image(&program.words);
+    if let Some(path) = output
+        && let Err(e) = std::fs::write(path, &image)
+    {
+        eprintln!(
+            "axterm asm: cannot write {}: {}",
+            path.display(),
+            describe_io(&e)
+        );
+        return EXIT_USAGE;
+    }
+    let shown = if listing {
+        asm::listing(&program)
+    } else if output.is_none() {
+        image
+    } else {
+        String::new()
+    };
+    print_out(&shown)
+}
+
+/// `axterm disasm`: the source of an image file. Reading a module's
+/// program needs a connection and comes with the device layer.
+pub fn run_disasm(file: Option<&str>, connection: &ConnectionArgs) -> i32 {
+    let Some(file) = file else {
+        return disasm_from_module(connection);
+    };
+    let (name, text) = match read_input(file) {
+        Ok(input) => input,
+        Err(message) => {
+            eprintln!("axterm disasm: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    match asm::parse_image(&text) {
+        Ok(words) => print_out(&asm::disassemble(&words)),
+        Err(errors) => {
+            for error in &errors {
+                eprintln!("{name}:{}: {}", error.line, error.kind);
+            }
+            eprintln!("axterm disasm: {name} is not a program image");
+            EXIT_USAGE
+        }
+    }
+}
+
+/// The place for `axterm disasm --port …` (upload the program with
+/// command 134 per address, then [`asm::disassemble`] it).
+fn disasm_from_module(connection: &ConnectionArgs) -> i32 {
+    let connected =
+        connection.port.is_some() || connection.tcp.is_some() || connection.sim.is_some();
+    if connected {
+        eprintln!(
+            "axterm disasm: reading the program from a module is not built yet; \
+             give an image file"
+        );
+    } else {
+        eprintln!("axterm disasm: give an image file (written by `axterm asm FILE -o IMAGE`)");
+    }
+    EXIT_USAGE
+}
+
+fn print_out(text: &str) -> i32 {
+    let mut out = std::io::stdout().lock();
+    // A closed pipe (`| head`) is not an error of ours.
+    let _ = out.write_all(text.as_bytes());
+    let _ = out.flush();
+    EXIT_OK
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn missing_files_are_named() {
+        let loaded = SourceFiles.load("no/such/dir/x.inc");
+        assert_eq!(loaded, Err("no such file".to_string()));
+        assert_eq!(run_asm("no/such/dir/x.tmc", false, None), EXIT_USAGE);
+        assert_eq!(
+            run_disasm(Some("no/such/dir/x.hex"), &ConnectionArgs::default()),
+            EXIT_USAGE
+        );
+    }
+
+    #[test]
+    fn disasm_without_a_file_is_not_built_yet() {
+        assert_eq!(run_disasm(None, &ConnectionArgs::default()), EXIT_USAGE);
+        let sim = ConnectionArgs {
+            sim: Some("tmcm1110".to_string()),
+            ..ConnectionArgs::default()
+        };
+        assert_eq!(run_disasm(None, &sim), EXIT_USAGE);
+    }
+}

@@ -1,0 +1,282 @@
+//! A serial port (8N1, no flow control) as a [`Link`].
+//!
+//! On unix the runtime's own poller (epoll) wakes a reader task, which
+//! reads the non-blocking fd directly: measured over a pty, its round trip
+//! is within a few per cent of a bare blocking write/read loop, while a
+//! reader thread forwarding into the channel adds a thread wake-up each
+//! time (see the report on the link branch). Elsewhere a thread does
+//! blocking reads with a short timeout.
+//!
+//! The writer writes straight to a clone of the port: a frame lands in the
+//! driver's buffer at once, so the device task is not held up.
+//!
+//! Losses: a USB adapter unplugged, or the master side of a pseudo-terminal
+//! closed, hangs the tty up. Reads then return 0 bytes (raw mode waits for
+//! at least one byte, so 0 is never "nothing yet"), poll reports POLLHUP
+//! and writes fail with EIO. Any of these reports [`LinkInput::Lost`] once.
+//!
+//! [`LinkInput::Lost`]: super::LinkInput::Lost
+
+use std::io::{self, Read, Write};
+use std::time::{Duration, Instant};
+
+use serialport::{DataBits, FlowControl, Parity, SerialPort, StopBits};
+
+use super::{Inbox, Link, LinkError, LinkWriter, byte_time, io_reason};
+
+/// How long one write may wait for room in the driver's buffer. With no
+/// flow control the UART drains at the baud rate, so only a stuck driver
+/// takes this long; the write then fails and the link counts as lost.
+const WRITE_TIMEOUT: Duration = Duration::from_secs(2);
+
+/// How long the reader thread's blocking read waits before checking
+/// whether the link was dropped (non-unix only).
+#[cfg_attr(unix, allow(dead_code))]
+const READ_POLL: Duration = Duration::from_millis(20);
+
+/// Why the link is gone when a read returned 0 bytes or poll said POLLHUP.
+const HUNG_UP: &str = "the port was hung up (unplugged?)";
+
+pub(super) async fn open(path: &str, baud: u32, name: String) -> Result<Link, LinkError> {
+    let fail = |reason: String| LinkError {
+        link: name.clone(),
+        reason,
+    };
+    let builder = serialport::new(path, baud)
+        .data_bits(DataBits::Eight)
+        .parity(Parity::None)
+        .stop_bits(StopBits::One)
+        .flow_control(FlowControl::None)
+        .timeout(WRITE_TIMEOUT);
+    let port = tokio::task::spawn_blocking(move || builder.open_native())
+        .await
+        .map_err(|e| fail(format!("the opening task failed: {e}")))?
+        .map_err(|e| fail(open_reason(&e)))?;
+    let writer = port.try_clone_native().map_err(|e| {
+        fail(format!(
+            "cannot share the port between reader and writer: {e}"
+        ))
+    })?;
+    let (inbox, incoming) = Inbox::new();
+    #[cfg(unix)]
+    spawn_reader(port, inbox.clone()).map_err(|e| fail(io_reason(&e)))?;
+    #[cfg(not(unix))]
+    spawn_thread_reader(port, inbox.clone(), &name).map_err(|e| fail(io_reason(&e)))?;
+    Ok(Link {
+        name,
+        incoming,
+        outgoing: Box::new(SerialWriter {
+            port: writer,
+            inbox,
+        }),
+        byte_time: Some(byte_time(baud)),
+    })
+}
+
+/// serialport's words for a failed opening, made plain where they are not.
+fn open_reason(e: &serialport::Error) -> String {
+    let text = e.to_string();
+    if text.contains("exclusive lock") || text.contains("Device or resource busy") {
+        "the port is in use by another program".into()
+    } else {
+        text
+    }
+}
+
+/// What a failed read means for the link.
+fn read_loss(e: &io::Error) -> String {
+    match e.kind() {
+        io::ErrorKind::BrokenPipe => HUNG_UP.into(),
+        _ => format!("read failed: {}", io_reason(e)),
+    }
+}
+
+#[cfg(unix)]
+fn spawn_reader(port: serialport::TTYPort, inbox: Inbox) -> io::Result<()> {
+    use std::os::fd::AsRawFd;
+    use tokio::io::Interest;
+    use tokio::io::unix::AsyncFd;
+
+    // The writer's clone shares this open file, so its writes become
+    // non-blocking too; `SerialWriter` waits for room itself.
+    set_nonblocking(port.as_raw_fd())?;
+    // SAFETY: the TTYPort owns its fd, keeps it open until it is dropped
+    // (with the AsyncFd) and never swaps it for another.
+    let fd = unsafe { AsyncFd::register_with_interest(port, Interest::READABLE) }?;
+    tokio::spawn(async move {
+        let mut buf = [0u8; 4096];
+        loop {
+            let ready = tokio::select! {
+                _ = inbox.closed() => return,
+                ready = fd.readable() => ready,
+            };
+            let mut guard = match ready {
+                Ok(guard) => guard,
+                Err(e) => return inbox.lost(read_loss(&e)),
+            };
+            match read_fd(guard.get_inner().as_raw_fd(), &mut buf) {
+                Err(e) if e.kind() == io::ErrorKind::WouldBlock => guard.clear_ready(),
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+                Ok(0) => {
+                    drop(guard);
+                    // Close our end before saying so, so that a reopening
+                    // finds the port free.
+                    drop(fd);
+                    return inbox.lost(HUNG_UP);
+                }
+                Err(e) => {
+                    drop(guard);
+                    drop(fd);
+                    return inbox.lost(read_loss(&e));
+                }
+                Ok(n) => {
+                    // A short read emptied the driver's buffer: wait for
+                    // the next edge rather than read again for nothing.
+                    if n < buf.len() {
+                        guard.clear_ready();
+                    }
+                    if !inbox.bytes(buf.get(..n).unwrap_or_default()) {
+                        return;
+                    }
+                }
+            }
+        }
+    });
+    Ok(())
+}
+
+#[cfg(unix)]
+fn set_nonblocking(fd: std::os::fd::RawFd) -> io::Result<()> {
+    // SAFETY: fcntl on an open fd we own; no memory is passed.
+    let flags = unsafe { libc::fcntl(fd, libc::F_GETFL) };
+    if flags < 0 {
+        return Err(io::Error::last_os_error());
+    }
+    // SAFETY: as above.
+    if unsafe { libc::fcntl(fd, libc::F_SETFL, flags | libc::O_NONBLOCK) } < 0 {
+        return Err(io::Error::last_os_error());
+    }
+    Ok(())
+}
+
+#[cfg(unix)]
+fn read_fd(fd: std::os::fd::RawFd, buf: &mut [u8]) -> io::Result<usize> {
+    // SAFETY: `buf` is valid for writes of its length for the whole call.
+    let n = unsafe { libc::read(fd, buf.as_mut_ptr().cast(), buf.len()) };
+    usize::try_from(n).map_err(|_| io::Error::last_os_error())
+}
+
+/// The reader where there is no fd to poll: a thread doing blocking reads
+/// with a short timeout, so that it notices a dropped link promptly.
+#[cfg_attr(unix, allow(dead_code))]
+fn spawn_thread_reader<P>(mut port: P, inbox: Inbox, name: &str) -> io::Result<()>
+where
+    P: SerialPort + Read + 'static,
+{
+    port.set_timeout(READ_POLL)?;
+    std::thread::Builder::new()
+        .name(format!("read {name}"))
+        .spawn(move || {
+            let mut buf = [0u8; 4096];
+            let reason = loop {
+                if inbox.is_closed() {
+                    return;
+                }
+                match port.read(&mut buf) {
+                    Ok(0) => break HUNG_UP.to_string(),
+                    Ok(n) => {
+                        if !inbox.bytes(buf.get(..n).unwrap_or_default()) {
+                            return;
+                        }
+                    }
+                    Err(e)
+                        if matches!(
+                            e.kind(),
+                            io::ErrorKind::TimedOut | io::ErrorKind::Interrupted
+                        ) => {}
+                    Err(e) => break read_loss(&e),
+                }
+            };
+            // Close our end before saying so, so that a reopening finds
+            // the port free.
+            drop(port);
+            inbox.lost(reason);
+        })?;
+    Ok(())
+}
+
+struct SerialWriter<P> {
+    port: P,
+    inbox: Inbox,
+}
+
+impl<P: Write + Send> LinkWriter for SerialWriter<P> {
+    fn send(&mut self, bytes: &[u8]) -> io::Result<()> {
+        let result = write_all(&mut self.port, bytes);
+        if let Err(e) = &result {
+            let reason = match e.kind() {
+                io::ErrorKind::BrokenPipe => HUNG_UP.to_string(),
+                _ => format!("write failed: {}", io_reason(e)),
+            };
+            self.inbox.lost(reason);
+        }
+        result
+    }
+}
+
+/// `write_all` for a port whose fd may be non-blocking: serialport's write
+/// first waits (up to its timeout) until there is room, so "would block"
+/// only means another writer filled the buffer in between; try again until
+/// [`WRITE_TIMEOUT`] has passed.
+fn write_all(port: &mut impl Write, mut bytes: &[u8]) -> io::Result<()> {
+    let deadline = Instant::now() + WRITE_TIMEOUT;
+    while !bytes.is_empty() {
+        match port.write(bytes) {
+            Ok(0) => return Err(io::ErrorKind::WriteZero.into()),
+            Ok(n) => bytes = bytes.get(n..).unwrap_or_default(),
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    io::ErrorKind::WouldBlock | io::ErrorKind::Interrupted
+                ) && Instant::now() < deadline => {}
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(())
+}
+
+#[cfg(all(test, unix))]
+mod tests {
+    use super::*;
+    use crate::link::LinkInput;
+
+    /// The thread reader is what non-unix systems use; it is tested here
+    /// over a pseudo-terminal.
+    #[tokio::test]
+    async fn the_thread_reader_forwards_bytes_and_reports_a_hangup() {
+        let (mut master, slave) = serialport::TTYPort::pair().expect("pty");
+        let (inbox, mut incoming) = Inbox::new();
+        spawn_thread_reader(slave, inbox, "pty").expect("reader");
+        master.write_all(b"hello").expect("write");
+        let mut got = Vec::new();
+        while got.len() < 5 {
+            match incoming.recv().await {
+                Some(LinkInput::Bytes(bytes)) => got.extend(bytes),
+                other => panic!("unexpected {other:?}"),
+            }
+        }
+        assert_eq!(got, b"hello");
+        drop(master);
+        assert_eq!(incoming.recv().await, Some(LinkInput::Lost(HUNG_UP.into())));
+        assert_eq!(incoming.recv().await, None);
+    }
+
+    #[test]
+    fn busy_ports_are_named_plainly() {
+        let e = serialport::Error::new(
+            serialport::ErrorKind::NoDevice,
+            "Unable to acquire exclusive lock on serial port",
+        );
+        assert_eq!(open_reason(&e), "the port is in use by another program");
+    }
+}

@@ -1,0 +1,135 @@
+//! The serial link over a real pseudo-terminal: the test holds the master
+//! side (standing in for the adapter and the module behind it), the link
+//! opens the slave path as it would open /dev/ttyUSB0.
+//!
+//! What the two sides of a Linux pty do when the other goes away:
+//! - slave (the link's side) when the master closes: hung up for good,
+//!   like an unplugged USB adapter. Reads return 0 bytes, poll says
+//!   POLLHUP, writes fail with EIO, and the /dev/pts node disappears.
+//! - master when no slave fd is open: reads fail with EIO (poll says
+//!   POLLHUP), but only until someone opens the slave path again; that is
+//!   why the served simulator keeps its own slave fd open.
+
+use std::io::{Read, Write};
+use std::time::Duration;
+
+use axterm::link::{Link, LinkInput, LinkSpec, byte_time};
+use serialport::{SerialPort, TTYPort};
+
+/// Only guards against a hung test; a healthy exchange takes microseconds.
+const GIVE_UP_AFTER: Duration = Duration::from_secs(10);
+
+/// A pty whose master the test keeps; the pair's own slave handle is closed
+/// so that the link's is the only one.
+fn pty() -> (TTYPort, String) {
+    let (mut master, slave) = TTYPort::pair().expect("a pseudo-terminal");
+    let path = slave.name().expect("the slave has a path");
+    master.set_timeout(GIVE_UP_AFTER).expect("timeout");
+    drop(slave);
+    (master, path)
+}
+
+async fn read_exactly(link: &mut Link, n: usize) -> Vec<u8> {
+    let mut got = Vec::new();
+    while got.len() < n {
+        match tokio::time::timeout(GIVE_UP_AFTER, link.incoming.recv()).await {
+            Ok(Some(LinkInput::Bytes(bytes))) => got.extend(bytes),
+            other => panic!("expected bytes, got {other:?} after {got:?}"),
+        }
+    }
+    got
+}
+
+async fn next_input(link: &mut Link) -> Option<LinkInput> {
+    tokio::time::timeout(GIVE_UP_AFTER, link.incoming.recv())
+        .await
+        .expect("the link reports within the guard time")
+}
+
+#[tokio::test]
+async fn bytes_pass_both_ways() {
+    let (mut master, path) = pty();
+    let spec = LinkSpec::Serial {
+        path: path.clone(),
+        baud: 9600,
+    };
+    let mut link = spec.open().await.expect("opens");
+    assert_eq!(link.name, format!("{path} at 9600 Bd"));
+    assert_eq!(link.byte_time, Some(byte_time(9600)));
+
+    master.write_all(b"from the module").expect("write");
+    assert_eq!(read_exactly(&mut link, 15).await, b"from the module");
+
+    link.outgoing.send(b"to the module").expect("send");
+    let mut buf = [0u8; 13];
+    master.read_exact(&mut buf).expect("read");
+    assert_eq!(&buf, b"to the module");
+}
+
+#[tokio::test]
+async fn closing_the_far_end_is_a_loss_reported_once() {
+    let (master, path) = pty();
+    let mut link = LinkSpec::Serial {
+        path,
+        baud: 115_200,
+    }
+    .open()
+    .await
+    .expect("opens");
+    drop(master);
+    assert_eq!(
+        next_input(&mut link).await,
+        Some(LinkInput::Lost("the port was hung up (unplugged?)".into()))
+    );
+    assert!(link.outgoing.send(b"x").is_err(), "writes fail too");
+    assert!(
+        link.incoming.try_recv().is_err(),
+        "one loss notice, nothing after it"
+    );
+}
+
+#[tokio::test]
+async fn dropping_the_link_closes_the_port() {
+    let (mut master, path) = pty();
+    let link = LinkSpec::Serial { path, baud: 9600 }
+        .open()
+        .await
+        .expect("opens");
+    drop(link);
+    // The master's read fails (POLLHUP) once no slave fd is open any more,
+    // and waits (up to the guard time) while one still is.
+    let read = tokio::task::spawn_blocking(move || master.read(&mut [0u8; 1]))
+        .await
+        .expect("joins");
+    let error = read.expect_err("no slave left open");
+    assert_eq!(error.kind(), std::io::ErrorKind::BrokenPipe, "{error}");
+}
+
+#[tokio::test]
+async fn a_missing_port_is_named_in_the_error() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("ttyUSB9").to_string_lossy().into_owned();
+    let error = LinkSpec::Serial {
+        path: path.clone(),
+        baud: 9600,
+    }
+    .open()
+    .await
+    .expect_err("no such port");
+    assert_eq!(
+        error.to_string(),
+        format!("cannot open {path} at 9600 Bd: No such file or directory")
+    );
+}
+
+#[tokio::test]
+async fn a_port_in_use_is_refused_plainly() {
+    let (_master, path) = pty();
+    let spec = LinkSpec::Serial { path, baud: 9600 };
+    let _first = spec.open().await.expect("opens");
+    let error = spec.open().await.expect_err("already open");
+    assert!(
+        error.to_string().ends_with("in use by another program"),
+        "{error}"
+    );
+}
