@@ -142,6 +142,36 @@ async fn a_reply_late_by_up_to_one_timeout_is_still_caught() {
 }
 
 #[tokio::test(start_paused = true)]
+async fn after_a_retried_answer_the_other_attempts_reply_is_stale() {
+    let (device, mut script) = tmcl_device(DeviceOptions::default());
+    let (read, next) = (ggp(1), ggp(2));
+    let pending = device.submit(Priority::User, transaction(&read, Retry::Read(1)));
+    let pending_next = device.submit(Priority::User, transaction(&next, Retry::Never));
+    script.request().await;
+    assert_eq!(
+        script.request().await,
+        read.to_bytes().to_vec(),
+        "the retry"
+    );
+    let retried = Instant::now();
+    // One of the two replies comes (whose, nobody can tell) ...
+    sleep(Duration::from_millis(10)).await;
+    script.send(&ok(&read, 111));
+    let answer = pending.await.expect("answered");
+    assert_eq!((value_of(&answer), answer.attempts), (111, 2));
+    // ... and the other one late: more than a timeout after the answer,
+    // less than two after the retry was sent.
+    sleep(nine_bytes() + Duration::from_millis(5)).await;
+    assert!(retried.elapsed() < nine_bytes() * 2);
+    assert!(script.nothing_written());
+    script.send(&ok(&read, 111));
+    assert_eq!(script.request().await, next.to_bytes().to_vec());
+    script.send(&ok(&next, 222));
+    assert_eq!(value_of(&pending_next.await.expect("answered")), 222);
+    assert_eq!(device.counters().borrow().stale_frames, 1);
+}
+
+#[tokio::test(start_paused = true)]
 async fn the_second_reply_of_138_is_an_event_never_an_answer() {
     let (device, mut script) = tmcl_device(DeviceOptions::default());
     let mut events = device.events();

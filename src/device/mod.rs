@@ -40,12 +40,18 @@
 //! Settling: TMCL has no start byte and no sequence number, so a late reply
 //! is told from the next request's answer only by when it arrives. After
 //! garbage the next request waits until the line has been quiet for the
-//! silence time; after a timeout (or an answer that took more than one
-//! attempt, whose other attempts may still be answered) it waits until the
-//! line has been quiet for that request's timeout, so that a reply up to
-//! one timeout late is received as stale instead of being taken for the
-//! next answer. An emergency stop and the retry of the same read wait only
-//! for the silence time.
+//! silence time. After a timeout, a bad answer, or an answer that took more
+//! than one attempt (another attempt may still be answered), it waits until
+//! one timeout has passed after the last attempt's deadline and the line
+//! has been quiet that long: a reply that comes less than two timeouts
+//! after its attempt was sent is received as stale, never taken for the
+//! next request's answer. Later than that, nothing on the wire tells it
+//! from the next answer; the default timeout leaves room for this. Two
+//! sendings skip the wait and wait only for the silence time: the retry of
+//! the same read (any reply to an earlier attempt answers it just as well),
+//! and an emergency stop, which must not wait; a late reply echoing the
+//! same command (an earlier stop's) could then be taken for the stop's own
+//! answer, which is the price of stopping at once.
 //!
 //! When the link is lost (a [`LinkInput::Lost`](crate::link::LinkInput),
 //! its channel closing, a failed write) the request on the wire fails with
@@ -260,7 +266,8 @@ pub struct DeviceCounters {
     pub polls: u64,
     /// Attempts that got no complete answer in time.
     pub timeouts: u64,
-    /// Attempts sent again (after a timeout or a bad answer).
+    /// Failed attempts (a timeout or a bad answer) put back for another
+    /// one; a loss of the link or a shutdown may come before it is sent.
     pub retries: u64,
     /// Well-formed frames that answered nothing and meant nothing.
     pub stale_frames: u64,

@@ -53,12 +53,16 @@ impl Job {
     }
 }
 
-/// After a timeout or an answer that took several attempts: replies may
-/// still come, so the line must be quiet for `quiet` (counted from `since`
-/// or the last byte received, whichever is later) before another request.
+/// After a timeout, a bad answer or an answer that took several attempts:
+/// replies may still come, so the line must be quiet for `quiet` (counted
+/// from `since`, the last attempt's deadline, or the last byte received,
+/// whichever is later) before another request.
 struct Guard {
     since: Instant,
     quiet: Duration,
+    /// The retry of the same read and an emergency stop wait only for the
+    /// silence time, counted from here (or the last byte received).
+    settled: Instant,
     /// The job whose retry needs only the silence time.
     retry_of: Option<u64>,
 }
@@ -110,12 +114,11 @@ impl Line {
         let guard = self.guard.as_ref().map(|guard| {
             let short =
                 priority == Priority::EmergencyStop || (id.is_some() && guard.retry_of == id);
-            let quiet = if short {
-                self.silence
+            if short {
+                quiet_from(guard.settled) + self.silence
             } else {
-                guard.quiet.max(self.silence)
-            };
-            quiet_from(guard.since) + quiet
+                quiet_from(guard.since) + guard.quiet.max(self.silence)
+            }
         });
         [self.partial_deadline(), garbage, guard]
             .into_iter()
@@ -282,9 +285,6 @@ impl Task {
     /// reason the link was lost.
     async fn execute(&mut self, line: &mut Line, mut job: Job) -> Result<(), String> {
         job.attempts += 1;
-        if job.attempts > 1 {
-            self.counters.retries += 1;
-        }
         let bytes = job.transaction.bytes.clone();
         let timeout = job
             .transaction
@@ -367,15 +367,19 @@ impl Task {
             }
         };
         let now = Instant::now();
-        // After a bad answer the line has been quiet since its last byte;
-        // after a timeout the reply may be on its way still.
-        let since = match outcome {
+        // A reply to this attempt may come until one timeout after its
+        // deadline: the guard lasts that long, and longer if bytes keep
+        // coming.
+        let since = (started + timeout).max(line.last_rx);
+        // A bad answer was followed by silence already.
+        let settled = match outcome {
             Attempt::BadAnswer => line.last_rx,
             _ => now,
         };
         let guard = |retry_of| Guard {
             since,
             quiet: timeout,
+            settled,
             retry_of,
         };
         match outcome {
@@ -398,6 +402,8 @@ impl Task {
                 }
                 line.guard = Some(guard(may_retry.then_some(job.id)));
                 if may_retry {
+                    self.counters.retries += 1;
+                    self.publish_counters();
                     self.queues[queue_index(priority)].push_front(job);
                 } else {
                     let attempts = job.attempts;
