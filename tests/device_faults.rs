@@ -314,19 +314,16 @@ async fn run_case(plan: FaultPlan, seed: u64) {
         }
     }
     device.set_poll_plan(None);
-    // Let the last cut, if any, be reopened.
-    let mut state = device.state();
-    state
-        .wait_for(|s| matches!(s, LinkState::Connected { .. }))
-        .await
-        .expect("connected");
-    let result = until_sent(
-        &device,
-        Priority::User,
-        tmcl(&request(GGP, 0, 2, 0), Retry::Read(9)),
-    )
-    .await;
+    let last = tmcl(&request(GGP, 0, 2, 0), Retry::Read(9));
+    let result = until_sent(&device, Priority::User, last).await;
     tally.note(&result.as_ref().map(|a| a.attempts).map_err(Clone::clone));
+    // Let the last cut, if any (that request may have been the one), be
+    // reopened.
+    let mut counters = device.counters();
+    counters
+        .wait_for(|c| c.reconnects >= plan.counts().disconnects)
+        .await
+        .expect("the task runs");
 
     for polled in sink.0.lock().expect("sink").iter() {
         tally.note(
