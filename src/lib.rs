@@ -3,7 +3,8 @@
 //! Layers, data flowing down and back up (see the house plan):
 //! `cli` (front ends) → `session` (what the console knows of a controller)
 //! → `device` (the async task owning a link) → `link` (byte transports)
-//! → `sim` (simulated controllers). `protocol` is pure code used by all.
+//! → `sim` (simulated controllers). `protocol` is pure code used by all;
+//! `ui` holds the console's themes and keymaps.
 
 pub mod cli;
 pub mod device;
@@ -11,3 +12,4 @@ pub mod link;
 pub mod protocol;
 pub mod session;
 pub mod sim;
+pub mod ui;
