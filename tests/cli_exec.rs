@@ -97,3 +97,104 @@ fn a_port_that_cannot_be_opened_exits_3_with_the_reason() {
         stderr(&out)
     );
 }
+
+#[test]
+fn lines_run_in_order_with_one_result_each() {
+    let out = axterm(&["exec", "--sim", "tmcm1110", "SAP 4, 0, 1234", "GAP 4, 0"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(stdout(&out), "ok\n1234\n");
+    assert_eq!(stderr(&out), "");
+}
+
+#[test]
+fn reads_print_their_values() {
+    let out = axterm(&[
+        "exec",
+        "--sim",
+        "tmcm1110",
+        "VERSION",
+        "GGP 0, 3",
+        "SGP 0, 3, 4294967295",
+        "GGP 0, 3",
+        "RFS STATUS, 0",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(stdout(&out), "1110V112\n0\nok\n4294967295\n0\n");
+}
+
+#[test]
+fn a_refusal_by_the_module_stops_the_run_and_exits_1() {
+    // A raw frame passes the console's checks; the module refuses it.
+    let out = axterm(&[
+        "exec",
+        "--sim",
+        "tmcm1110",
+        "GAP 4, 0",
+        "5 6 0 300",
+        "SAP 4, 0, 5",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let lines: Vec<String> = stdout(&out).lines().map(String::from).collect();
+    assert_eq!(lines.len(), 1, "the third line must not run: {lines:?}");
+    assert_eq!(
+        stderr(&out),
+        "axterm exec: line 2: module 1 rejected SAP 6, 0, 300: invalid value (status 4)\n"
+    );
+}
+
+#[test]
+fn json_gives_one_object_per_line() {
+    let out = axterm(&[
+        "exec",
+        "--sim",
+        "tmcm1110",
+        "--format",
+        "json",
+        "SAP 4, 0, 1234",
+        "gap 4 0",
+        "5 6 0 300",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let objects: Vec<serde_json::Value> = stdout(&out)
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("one JSON object per line"))
+        .collect();
+    assert_eq!(objects.len(), 3);
+    let gap = &objects[1];
+    assert_eq!(gap["line"], "gap 4 0");
+    assert_eq!(gap["command"], "GAP 4, 0");
+    assert_eq!(gap["request"], "01 06 04 00 00 00 00 00 0B");
+    assert_eq!(gap["reply"], "02 01 64 06 00 00 04 D2 43");
+    assert_eq!(gap["status"], 100);
+    assert_eq!(gap["value"], 1234);
+    assert_eq!(gap["ok"], true);
+    assert!(gap["elapsed_us"].is_u64(), "{gap}");
+    assert_eq!(objects[0]["value"], serde_json::Value::Null);
+    let refused = &objects[2];
+    assert_eq!(refused["ok"], false);
+    assert_eq!(refused["status"], 4);
+    assert_eq!(refused["reply"], "02 01 04 05 00 00 00 00 0C");
+    assert!(
+        refused["error"]
+            .as_str()
+            .is_some_and(|e| e.contains("invalid value (status 4)")),
+        "{refused}"
+    );
+}
+
+#[test]
+fn a_tcp_bridge_that_refuses_exits_3() {
+    // Bind and drop a listener: nothing listens on that port any more.
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .expect("a free port")
+        .port();
+    let address = format!("127.0.0.1:{port}");
+    let out = axterm(&["exec", "--tcp", &address, "GAP 1, 0"]);
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains(&format!("cannot open tcp {address}")),
+        "{}",
+        stderr(&out)
+    );
+}

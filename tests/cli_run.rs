@@ -107,3 +107,104 @@ fn a_connection_that_cannot_be_opened_exits_3() {
         stderr(&out)
     );
 }
+
+const COMMISSIONING: &str = "\
+# axis 0 set-up
+SAP 4, 0, 1234   // maximum speed
+GAP 4, 0
+:expect GAP 4, 0 == 1234
+:expect GAP 4, 0 == 0x4D2
+:echo speed set
+VERSION
+";
+
+#[test]
+fn a_file_runs_line_by_line_with_one_result_per_console_line() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = script(dir.path(), COMMISSIONING);
+    let out = axterm(&["run", "--sim", "tmcm1110", &file]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(stdout(&out), "ok\n1234\nspeed set\n1110V112\n");
+    assert_eq!(stderr(&out), "");
+}
+
+#[test]
+fn standard_input_works_the_same() {
+    let out = axterm_stdin(&["run", "--sim", "tmcm1110", "-"], COMMISSIONING);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(stdout(&out), "ok\n1234\nspeed set\n1110V112\n");
+}
+
+#[test]
+fn a_failed_expect_stops_the_run_with_file_and_line() {
+    let out = axterm_stdin(
+        &["run", "--sim", "tmcm1110", "-"],
+        "SAP 4, 0, 100\n:expect GAP 4, 0 == 200\n:echo not reached\n",
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(stdout(&out), "ok\n");
+    assert_eq!(
+        stderr(&out),
+        "<stdin>:2: expected GAP 4, 0 == 200, got 100\n"
+    );
+}
+
+#[test]
+fn keep_going_runs_the_rest_and_still_exits_1() {
+    let out = axterm_stdin(
+        &["run", "--sim", "tmcm1110", "--keep-going", "-"],
+        "SAP 4, 0, 100\n:expect GAP 4, 0 == 200\n5 6 0 300\n:echo reached\n",
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(stdout(&out), "ok\nreached\n");
+    let err = stderr(&out);
+    assert!(
+        err.contains("<stdin>:2: expected GAP 4, 0 == 200, got 100"),
+        "{err}"
+    );
+    assert!(
+        err.contains("<stdin>:3: module 1 rejected SAP 6, 0, 300: invalid value (status 4)"),
+        "{err}"
+    );
+}
+
+#[test]
+fn wait_until_reads_until_the_move_is_done() {
+    let out = axterm_stdin(
+        &["run", "--sim", "tmcm1110", "-"],
+        "MVP ABS, 0, 200\n:wait-until GAP 8, 0 == 1 timeout 1m\n:expect GAP 1, 0 == 200\n",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(stdout(&out), "ok\n");
+}
+
+#[test]
+fn wait_until_gives_up_at_its_timeout() {
+    // The position is 0 and nothing moves: it never becomes 5.
+    let out = axterm_stdin(
+        &["run", "--sim", "tmcm1110", "-"],
+        ":wait-until GAP 1, 0 == 5 timeout 50ms\n",
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(
+        stderr(&out),
+        "<stdin>:1: GAP 1, 0 did not become 5 within 50 ms (last 0)\n"
+    );
+}
+
+#[test]
+fn json_output_has_an_object_per_console_line_and_echo() {
+    let out = axterm_stdin(
+        &["run", "--sim", "tmcm1110", "--format", "json", "-"],
+        "GAP 4, 0\n:echo hello\n",
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let objects: Vec<serde_json::Value> = stdout(&out)
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("JSON"))
+        .collect();
+    assert_eq!(objects.len(), 2);
+    assert_eq!(objects[0]["command"], "GAP 4, 0");
+    assert_eq!(objects[0]["ok"], true);
+    assert_eq!(objects[1]["echo"], "hello");
+}

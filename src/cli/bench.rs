@@ -19,7 +19,7 @@ use clap::Args;
 use serde_json::{Value, json};
 use tokio::sync::mpsc;
 
-use super::connection::{Target, runtime};
+use super::connection::{Target, run_to_exit};
 use super::output::Format;
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::device::{
@@ -133,12 +133,8 @@ impl Report {
             self.link, self.requests, self.line, "", "p50", "p99", "per second"
         );
         match &self.bare {
-            Some(f) => out.push_str(&row(
-                &format!("bare write/read ({})", self.bare_note),
-                f,
-                true,
-            )),
-            None => out.push_str(&format!("bare write/read: {}\n", self.bare_note)),
+            Some(f) => out.push_str(&row("bare write/read loop", f, true)),
+            None => out.push_str(&format!("{:<34}{:>12}\n", "bare write/read loop", "-")),
         }
         out.push_str(&row("device task round trip", &self.device, true));
         out.push_str(&row("status polling (saturating)", &self.polls, false));
@@ -147,6 +143,7 @@ impl Report {
             &self.user_while_polling,
             true,
         ));
+        out.push_str(&format!("bare loop: {}\n", self.bare_note));
         out
     }
 }
@@ -176,13 +173,6 @@ pub fn run(connection: &ConnectionArgs, args: &BenchArgs) -> i32 {
         );
         return EXIT_USAGE;
     };
-    let runtime = match runtime() {
-        Ok(runtime) => runtime,
-        Err(message) => {
-            eprintln!("axterm bench: {message}");
-            return EXIT_DEVICE;
-        }
-    };
     // The floor first: a serial port can have only one owner at a time.
     let wire = console.wire();
     let (bare, bare_note) = match bare_loop(&target.spec, wire.as_ref(), &line, args.requests) {
@@ -193,7 +183,8 @@ pub fn run(connection: &ConnectionArgs, args: &BenchArgs) -> i32 {
         }
         Err(BareError::Exchange(message)) => (None, message),
     };
-    runtime.block_on(async {
+    let (requests, format) = (args.requests, args.format);
+    run_to_exit("bench", async move {
         let session = match target.open().await {
             Ok(session) => session,
             Err(e) => {
@@ -201,7 +192,7 @@ pub fn run(connection: &ConnectionArgs, args: &BenchArgs) -> i32 {
                 return EXIT_CONNECTION;
             }
         };
-        let report = match measure(&session, &line, args.requests).await {
+        let report = match measure(&session, &line, requests).await {
             Ok(mut report) => {
                 report.bare = bare;
                 report.bare_note = bare_note;
@@ -213,7 +204,7 @@ pub fn run(connection: &ConnectionArgs, args: &BenchArgs) -> i32 {
                 return EXIT_DEVICE;
             }
         };
-        match args.format {
+        match format {
             Format::Text => print!("{}", report.to_table()),
             Format::Json => println!("{}", report.to_json()),
         }

@@ -5,7 +5,7 @@
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use super::ConnectionArgs;
+use super::{ConnectionArgs, EXIT_DEVICE};
 use crate::device::DeviceOptions;
 use crate::link::{LinkError, LinkSpec};
 use crate::protocol::{self, Family};
@@ -125,12 +125,30 @@ fn unknown_sim(kind: &str) -> String {
     format!("unknown simulator '{kind}' (known: {})", sim::kind_names())
 }
 
-/// The runtime the front ends run their session on.
-pub fn runtime() -> Result<tokio::runtime::Runtime, String> {
-    tokio::runtime::Builder::new_current_thread()
+/// Run a front end's session work to its exit code on a single-threaded
+/// runtime. The work runs as a task of its own, not as the runtime's main
+/// future: tokio polls that one only between batches of other tasks, which
+/// would hold every answer back while the device task keeps polling.
+pub fn run_to_exit<F>(command: &str, work: F) -> i32
+where
+    F: Future<Output = i32> + Send + 'static,
+{
+    let runtime = match tokio::runtime::Builder::new_current_thread()
         .enable_all()
         .build()
-        .map_err(|e| format!("cannot start: {e}"))
+    {
+        Ok(runtime) => runtime,
+        Err(e) => {
+            eprintln!("axterm {command}: cannot start: {e}");
+            return EXIT_DEVICE;
+        }
+    };
+    runtime.block_on(async move {
+        tokio::spawn(work).await.unwrap_or_else(|_| {
+            eprintln!("axterm {command}: stopped unexpectedly");
+            EXIT_DEVICE
+        })
+    })
 }
 
 #[cfg(test)]

@@ -4,7 +4,7 @@
 
 use clap::Args;
 
-use super::connection::{Target, runtime};
+use super::connection::{Target, run_to_exit};
 use super::output::{Format, print_outcome};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 
@@ -31,7 +31,7 @@ pub fn run(connection: &ConnectionArgs, args: &ExecArgs) -> i32 {
     let mut refused = false;
     for (index, line) in args.lines.iter().enumerate() {
         match console.prepare(line, target.address) {
-            Ok(p) => prepared.push((line, p)),
+            Ok(p) => prepared.push((line.clone(), p)),
             Err(message) => {
                 eprintln!(
                     "axterm exec: line {} `{}`: {message}",
@@ -46,14 +46,8 @@ pub fn run(connection: &ConnectionArgs, args: &ExecArgs) -> i32 {
         eprintln!("axterm exec: nothing was sent");
         return EXIT_USAGE;
     }
-    let runtime = match runtime() {
-        Ok(runtime) => runtime,
-        Err(message) => {
-            eprintln!("axterm exec: {message}");
-            return EXIT_DEVICE;
-        }
-    };
-    runtime.block_on(async {
+    let format = args.format;
+    run_to_exit("exec", async move {
         let session = match target.open().await {
             Ok(session) => session,
             Err(e) => {
@@ -64,7 +58,7 @@ pub fn run(connection: &ConnectionArgs, args: &ExecArgs) -> i32 {
         for (index, (line, prepared)) in prepared.iter().enumerate() {
             let outcome = session.execute(prepared).await;
             let context = format!("axterm exec: line {}: ", index + 1);
-            print_outcome(args.format, target.family, line, &context, &outcome);
+            print_outcome(format, target.family, line, &context, &outcome);
             if outcome.is_err() {
                 return EXIT_DEVICE;
             }

@@ -10,7 +10,7 @@ use std::time::Duration;
 use clap::Args;
 use serde_json::json;
 
-use super::connection::{Target, family_of, runtime};
+use super::connection::{Target, family_of, run_to_exit};
 use super::output::{Format, print_outcome};
 use super::script::{Action, Step, parse_script_line, result_matches};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
@@ -159,14 +159,8 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
         eprintln!("axterm run: {name}: {lines} console lines valid, nothing sent (dry run)");
         return EXIT_OK;
     };
-    let runtime = match runtime() {
-        Ok(runtime) => runtime,
-        Err(message) => {
-            eprintln!("axterm run: {message}");
-            return EXIT_DEVICE;
-        }
-    };
-    runtime.block_on(async {
+    let (format, keep_going) = (args.format, args.keep_going);
+    run_to_exit("run", async move {
         let session = match target.open().await {
             Ok(session) => session,
             Err(e) => {
@@ -177,13 +171,13 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
         let runner = Runner {
             session: &session,
             name: &name,
-            format: args.format,
+            format,
         };
         let mut failed = false;
         for item in &checked {
             if !runner.step(item).await {
                 failed = true;
-                if !args.keep_going {
+                if !keep_going {
                     break;
                 }
             }

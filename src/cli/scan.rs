@@ -6,7 +6,7 @@ use std::time::Duration;
 
 use clap::Args;
 
-use super::connection::{Target, runtime};
+use super::connection::{Target, run_to_exit};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::device::DeviceError;
 use crate::session::SessionError;
@@ -76,14 +76,7 @@ pub fn run(connection: &ConnectionArgs, args: &ScanArgs) -> i32 {
         Some(timeout) => timeout,
         None => PROBE_TIMEOUT + target.spec.byte_time().unwrap_or_default() * PROBE_BYTES,
     };
-    let runtime = match runtime() {
-        Ok(runtime) => runtime,
-        Err(message) => {
-            eprintln!("axterm scan: {message}");
-            return EXIT_DEVICE;
-        }
-    };
-    runtime.block_on(async {
+    run_to_exit("scan", async move {
         let session = match target.open().await {
             Ok(session) => session,
             Err(e) => {

@@ -4,16 +4,17 @@
 
 use std::sync::Arc;
 
+use super::DEFAULT_MODULE_ADDRESS;
 use super::command::{Command, RfsAction, VersionFormat};
 use super::frame::{FRAME_LEN, Reply, Request, checksum};
 use super::line::{format_command, parse_line};
 use super::params::{axis_param, global_param};
-use super::{DEFAULT_MODULE_ADDRESS, interim_wire};
+use super::wire::{TmclReplyRule, TmclWire, is_version_string};
 use crate::protocol::console::{
     Answering, AxisFlag, AxisInfo, AxisUpdate, Effect, FamilyConsole, PreparedLine, Reading,
     ReplyError, ReplyValue, StatusPoll, SwitchKind,
 };
-use crate::protocol::wire::{Frame, WireFormat};
+use crate::protocol::wire::{Frame, ReplyRule, Verdict, WireFormat};
 
 /// The TMCM-1110 has one motor, number 0 (§1).
 pub const AXES: &[AxisInfo] = &[AxisInfo {
@@ -162,7 +163,7 @@ impl TmclConsole {
         // A raw frame that is exactly a typed command is judged as that
         // command: `6 1 0 0` reads like `GAP 1, 0`.
         let typed = Command::from_request(&request);
-        let rule = interim_wire::reply_rule(&request);
+        let rule = reply_rule(&request, &typed);
         let answering = match typed {
             // §3.6.53: "this command does not send back a reply".
             Command::FactoryReset => Answering::Nothing,
@@ -186,6 +187,55 @@ impl TmclConsole {
             } else {
                 Effect::Acts
             },
+        }
+    }
+}
+
+/// How the answer to `request` is recognised. 136 type 0 and 134 answer
+/// in layouts of their own (§3.6.53, digest D4); everything else with an
+/// ordinary reply.
+fn reply_rule(request: &Request, typed: &Command) -> Arc<dyn ReplyRule> {
+    match typed {
+        Command::FirmwareVersion {
+            format: VersionFormat::String,
+        }
+        | Command::ReadMemory { .. } => Arc::new(SpecialReplyRule {
+            request: *request,
+            ordinary: TmclReplyRule::for_request(request),
+        }),
+        _ => Arc::new(TmclReplyRule::for_request(request)),
+    }
+}
+
+/// The answer to 136 type 0 (the host address and eight ASCII characters,
+/// no checksum) or 134 (the host address, a 7-byte program word and a
+/// checksum), or an ordinary reply refusing either.
+#[derive(Debug)]
+struct SpecialReplyRule {
+    request: Request,
+    ordinary: TmclReplyRule,
+}
+
+impl ReplyRule for SpecialReplyRule {
+    fn examine(&self, accepted: &[Frame], frame: &[u8]) -> Verdict {
+        if !accepted.is_empty() {
+            return Verdict::NotMine;
+        }
+        if self.ordinary.examine(accepted, frame) == Verdict::Complete {
+            return Verdict::Complete;
+        }
+        let Ok(frame) = <&[u8; FRAME_LEN]>::try_from(frame) else {
+            return Verdict::NotMine;
+        };
+        let answers = if self.request.command == super::command::opcode::FIRMWARE_VERSION {
+            is_version_string(frame)
+        } else {
+            checksum(frame.get(..8).unwrap_or_default()) == frame[8]
+        };
+        if answers {
+            Verdict::Complete
+        } else {
+            Verdict::NotMine
         }
     }
 }
@@ -312,7 +362,7 @@ fn flags_in(table: &[(u32, AxisFlag)], bits: i64) -> Vec<AxisFlag> {
 
 impl FamilyConsole for TmclConsole {
     fn wire(&self) -> Arc<dyn WireFormat> {
-        interim_wire::wire()
+        Arc::new(TmclWire::default())
     }
 
     fn default_address(&self) -> u8 {
@@ -578,6 +628,31 @@ mod tests {
             .interpret(&version, &[reply(6, 136, 0)])
             .unwrap_err();
         assert_eq!(refused.status(), Some(6));
+    }
+
+    #[test]
+    fn special_answers_are_recognised_and_ordinary_ones_too() {
+        let Answering::Reply(version) = prepare("VERSION").answering else {
+            panic!("VERSION expects a reply")
+        };
+        let mut text = vec![2];
+        text.extend_from_slice(b"1110V112");
+        assert_eq!(version.examine(&[], &text), Verdict::Complete);
+        assert_eq!(version.examine(&[], &reply(2, 136, 0)), Verdict::Complete);
+        assert_eq!(version.examine(&[], &reply(100, 6, 0)), Verdict::NotMine);
+        let Answering::Reply(memory) = prepare("READMEM 0").answering else {
+            panic!("READMEM expects a reply")
+        };
+        let mut word = vec![2, 4, 0, 0, 0, 0, 0, 5];
+        word.push(checksum(&word));
+        assert_eq!(memory.examine(&[], &word), Verdict::Complete);
+        word[8] ^= 1;
+        assert_eq!(memory.examine(&[], &word), Verdict::NotMine);
+        let Answering::Reply(gap) = prepare("GAP 1, 0").answering else {
+            panic!("GAP expects a reply")
+        };
+        assert_eq!(gap.examine(&[], &text), Verdict::NotMine);
+        assert_eq!(gap.examine(&[], &reply(100, 6, 0)), Verdict::Complete);
     }
 
     #[test]

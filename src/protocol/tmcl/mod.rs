@@ -7,7 +7,6 @@ pub mod command;
 pub mod console;
 pub mod frame;
 pub mod hex;
-mod interim_wire;
 pub mod line;
 pub mod params;
 pub mod units;

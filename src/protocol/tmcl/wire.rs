@@ -44,6 +44,14 @@ fn checksum_ok(frame: &[u8]) -> bool {
     }
 }
 
+/// The answer to 136 type 0: the host address and eight ASCII characters,
+/// with no checksum (§3.6.53 gives no layout; digest D4 from sibling
+/// manuals, and what PyTrinamic reads). A sliding framer must not step
+/// over it.
+pub fn is_version_string(frame: &[u8]) -> bool {
+    frame.len() == FRAME_LEN && frame.iter().skip(1).all(u8::is_ascii_graphic)
+}
+
 /// A well-formed reply frame, decoded.
 fn decode_reply(frame: &[u8]) -> Option<Reply> {
     let bytes: &[u8; FRAME_LEN] = frame.try_into().ok()?;
@@ -106,7 +114,7 @@ impl Framer for TmclFramer {
         let mut frames = Vec::new();
         let mut start = 0;
         while let Some(window) = self.pending.get(start..start + FRAME_LEN) {
-            if !self.slide || checksum_ok(window) {
+            if !self.slide || checksum_ok(window) || is_version_string(window) {
                 frames.push(window.to_vec());
                 start += FRAME_LEN;
             } else {
@@ -256,6 +264,17 @@ mod tests {
     }
 
     #[test]
+    fn sliding_framer_keeps_the_version_string_that_has_no_checksum() {
+        let mut version = vec![2];
+        version.extend_from_slice(b"1110V112");
+        let mut framer = TmclWire::default().framer();
+        let mut input = vec![0xAA];
+        input.extend_from_slice(&version);
+        assert_eq!(framer.push(&input), vec![version]);
+        assert_eq!(framer.take_skipped(), vec![0xAA]);
+    }
+
+    #[test]
     fn plain_framer_cuts_every_nine_bytes_and_resyncs_on_discard() {
         let good = reply(1, 100, 6, 1234);
         let mut framer = TmclWire { slide: false }.framer();
@@ -304,7 +323,7 @@ mod tests {
                     for frame in framer.push(chunk) {
                         prop_assert_eq!(frame.len(), FRAME_LEN);
                         if slide {
-                            prop_assert!(checksum_ok(&frame));
+                            prop_assert!(checksum_ok(&frame) || is_version_string(&frame));
                         }
                         out += frame.len();
                     }

@@ -1,0 +1,69 @@
+//! `axterm bench` runs against the simulator and prints every figure. Its
+//! numbers are measurements, never asserted.
+
+use std::process::{Command, Output};
+
+fn axterm(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_axterm"))
+        .args(args)
+        .output()
+        .expect("run axterm")
+}
+
+#[test]
+fn bench_prints_a_row_per_measurement() {
+    let out = axterm(&["bench", "--sim", "tmcm1110", "--requests", "20"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for row in [
+        "bare write/read loop",
+        "device task round trip",
+        "status polling (saturating)",
+        "user read while polling",
+    ] {
+        let line = text
+            .lines()
+            .find(|l| l.starts_with(row))
+            .unwrap_or_else(|| panic!("no row {row}: {text}"));
+        assert!(
+            line.split_whitespace()
+                .last()
+                .is_some_and(|rate| rate.parse::<f64>().is_ok()),
+            "{line}"
+        );
+    }
+}
+
+#[test]
+fn bench_json_carries_every_figure() {
+    let out = axterm(&[
+        "bench",
+        "--sim",
+        "tmcm1110",
+        "--requests",
+        "20",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(out.status.code(), Some(0));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    assert_eq!(report["requests"], 20);
+    assert_eq!(report["line"], "GAP 1, 0");
+    for part in ["bare", "device", "user_while_polling"] {
+        assert_eq!(report[part]["count"], 20, "{report}");
+        assert!(report[part]["p50_us"].is_number(), "{report}");
+        assert!(report[part]["p99_us"].is_number(), "{report}");
+    }
+    assert!(report["polling"]["per_second"].is_number(), "{report}");
+}
+
+#[test]
+fn zero_requests_is_a_usage_error() {
+    let out = axterm(&["bench", "--sim", "tmcm1110", "--requests", "0"]);
+    assert_eq!(out.status.code(), Some(2));
+}
