@@ -6,7 +6,8 @@
 //!    simulator called directly);
 //! 2. the device task's round trip for a user read (p50/p99);
 //! 3. status polling with nothing else waiting (polls per second);
-//! 4. a user read's round trip while polling saturates the link (p50/p99).
+//! 4. a user read's round trip while polling saturates the link (p50/p99),
+//!    each read arriving at a different moment of the poll in flight.
 //!
 //! The request is the family's first status query (TMCL `GAP 1, 0`).
 
@@ -271,16 +272,43 @@ async fn measure(
     }
     polls.total = start.elapsed();
     // Polling goes on: a user read now waits for at most the poll in flight.
-    let user_while_polling = timed(session).await;
+    // A technician's command arrives at any moment of a poll, not right
+    // after one has started (as a read issued the instant the previous one
+    // returned would), so each read starts after a spread of fractions of
+    // a round trip.
+    let round_trip = device.quantile(0.5).unwrap_or_default();
+    let user_while_polling = {
+        let mut figures = Figures::default();
+        let start = Instant::now();
+        for i in 0..requests {
+            let offset = round_trip.mul_f64(arrival_fraction(i));
+            let _ = tokio::task::spawn_blocking(move || std::thread::sleep(offset)).await;
+            let sent = Instant::now();
+            if let Err(e) = session.execute(line).await {
+                session.device().set_poll_plan(None);
+                return Err(e.to_string());
+            }
+            figures.samples.push(sent.elapsed());
+        }
+        figures.total = start.elapsed();
+        figures
+    };
     session.device().set_poll_plan(None);
     Ok(Report {
         line: line.canonical.clone(),
         requests,
         device,
         polls,
-        user_while_polling: user_while_polling?,
+        user_while_polling,
         ..Report::default()
     })
+}
+
+/// The i-th of an evenly spread sequence in 0..1 (the golden-ratio
+/// sequence): where in a poll the i-th user read arrives.
+fn arrival_fraction(i: usize) -> f64 {
+    const GOLDEN: f64 = 0.618_033_988_749_894_9;
+    (i as f64 * GOLDEN).fract()
 }
 
 /// Reports each poll's completion to the bench.
@@ -425,6 +453,21 @@ mod tests {
         Figures {
             samples: micros.iter().map(|&m| Duration::from_micros(m)).collect(),
             total: Duration::from_secs(1),
+        }
+    }
+
+    #[test]
+    fn user_reads_arrive_spread_over_a_poll() {
+        let fractions: Vec<f64> = (0..1000).map(arrival_fraction).collect();
+        assert!(fractions.iter().all(|f| (0.0..1.0).contains(f)));
+        // Every tenth of a poll gets its share of arrivals.
+        for tenth in 0..10 {
+            let low = f64::from(tenth) / 10.0;
+            let count = fractions
+                .iter()
+                .filter(|f| (low..low + 0.1).contains(*f))
+                .count();
+            assert!((90..=110).contains(&count), "tenth {tenth}: {count}");
         }
     }
 
