@@ -94,7 +94,7 @@ pub enum Command {
         /// File keeping the simulated EEPROM between runs.
         #[arg(long)]
         eeprom: Option<std::path::PathBuf>,
-        /// Faults to inject: drop=P,corrupt=P,garbage=P,delay=P:MS,disconnect-after=N,seed=N.
+        /// Faults to inject: drop=P,corrupt=P,garbage=P,delay=P:MS,disconnect-after=N,corrupt-store=N,seed=N.
         #[arg(long, value_name = "SPEC")]
         fault: Option<String>,
     },

@@ -96,6 +96,10 @@ pub struct LineOutput {
 #[derive(Debug)]
 pub struct SimLine {
     injector: FaultInjector,
+    /// The plan, for the faults the controller injects itself.
+    faults: FaultPlan,
+    /// Those have been handed to the controller for this connection.
+    armed: bool,
     /// How far the controller has been advanced.
     sim_time: Duration,
     to_controller: Wire,
@@ -113,6 +117,8 @@ impl SimLine {
         let each = baud.map(byte_time);
         SimLine {
             injector: FaultInjector::new(faults),
+            faults: faults.clone(),
+            armed: false,
             sim_time: Duration::ZERO,
             to_controller: Wire::new(each),
             held: VecDeque::new(),
@@ -150,6 +156,10 @@ impl SimLine {
     /// times (it is advanced to each one first, so its clock follows the
     /// wire exactly), replies pass the injector and go on the wire back.
     pub fn run(&mut self, sim: &mut dyn SimulatedController, now: Duration) -> LineOutput {
+        if !self.armed {
+            sim.arm_faults(&self.faults);
+            self.armed = true;
+        }
         if let Some(reason) = &self.cut {
             return LineOutput {
                 to_host: Vec::new(),
@@ -188,8 +198,10 @@ impl SimLine {
     }
 
     /// A new connection on the same line (a served simulator's next
-    /// client): bytes in flight are lost, the fault count starts afresh.
+    /// client): bytes in flight are lost, the fault count starts afresh,
+    /// the controller's own faults are armed again.
     pub fn reconnect(&mut self) {
+        self.armed = false;
         self.to_controller.clear();
         self.to_host.clear();
         self.held.clear();
@@ -358,6 +370,37 @@ mod tests {
                 cut: None
             }
         );
+    }
+
+    /// Counts how often it was armed and with what.
+    #[derive(Default)]
+    struct Armed(Vec<Option<u64>>);
+
+    impl SimulatedController for Armed {
+        fn feed(&mut self, _: &[u8]) {}
+        fn advance(&mut self, _: Duration) {}
+        fn take_output(&mut self) -> Vec<u8> {
+            Vec::new()
+        }
+        fn help(&self) -> String {
+            "armed".into()
+        }
+        fn arm_faults(&mut self, plan: &FaultPlan) {
+            self.0.push(plan.corrupt_store);
+        }
+    }
+
+    #[test]
+    fn the_controller_is_armed_once_per_connection() {
+        let mut sim = Armed::default();
+        let plan = FaultPlan::parse("corrupt-store=4").expect("parses");
+        let mut line = SimLine::new(None, &plan);
+        line.run(&mut sim, Duration::ZERO);
+        line.run(&mut sim, MS);
+        assert_eq!(sim.0, [Some(4)]);
+        line.reconnect();
+        line.run(&mut sim, 2 * MS);
+        assert_eq!(sim.0, [Some(4), Some(4)]);
     }
 
     #[test]

@@ -1,13 +1,19 @@
 //! Faults injected between a simulator and its link, for tests of
 //! everything above: replies dropped or corrupted, garbage on the line,
-//! late replies, a cable pulled after a while.
+//! late replies, a cable pulled after a while, a program word stored wrong.
 //!
 //! A [`FaultPlan`] says what to inject (parsed from the `--fault` spec
-//! `drop=P,corrupt=P,garbage=P,delay=P:MS,disconnect-after=N,seed=N`); a
+//! `drop=P,corrupt=P,garbage=P,delay=P:MS,disconnect-after=N,corrupt-store=N,seed=N`); a
 //! [`FaultInjector`] applies it to the traffic of one connection, drawing
 //! from its own seeded generator so that a failing run can be replayed. Every
 //! fault injected is counted in the plan's [`FaultRecord`], so a test can
 //! check that each one showed up above as an error or a retry.
+//!
+//! Faults inside the controller (`corrupt-store`: a stored program word
+//! with one bit flipped while the reply says all is well) are not the
+//! line's to make: the line hands the plan to the controller when it opens
+//! ([`crate::sim::SimulatedController::arm_faults`]), and the controller
+//! counts what it injected in the same record.
 //!
 //! Pure code: no clock, no I/O. The caller holds delayed replies back.
 
@@ -31,6 +37,10 @@ pub struct FaultPlan {
     pub delay_ms: u64,
     /// The link drops after this many requests (frames fed to the simulator).
     pub disconnect_after: Option<u64>,
+    /// The controller stores the N-th program word downloaded (counting
+    /// from 1, per connection) with one bit flipped, and answers as if it
+    /// had stored it intact: only reading the word back shows it.
+    pub corrupt_store: Option<u64>,
     /// Seed of the fault generator, so that a failing run can be replayed.
     pub seed: u64,
     /// What was injected under this plan, shared by its clones and by
@@ -48,6 +58,7 @@ impl PartialEq for FaultPlan {
             && self.delay == other.delay
             && self.delay_ms == other.delay_ms
             && self.disconnect_after == other.disconnect_after
+            && self.corrupt_store == other.corrupt_store
             && self.seed == other.seed
     }
 }
@@ -65,11 +76,12 @@ impl FaultPlan {
             && self.garbage == 0.0
             && self.delay == 0.0
             && self.disconnect_after.is_none()
+            && self.corrupt_store.is_none()
     }
 
     /// Parse a `--fault` spec: comma-separated `drop=P`, `corrupt=P`,
-    /// `garbage=P`, `delay=P:MS`, `disconnect-after=N`, `seed=N`, each at
-    /// most once. An empty spec injects nothing.
+    /// `garbage=P`, `delay=P:MS`, `disconnect-after=N`, `corrupt-store=N`,
+    /// `seed=N`, each at most once. An empty spec injects nothing.
     pub fn parse(spec: &str) -> Result<FaultPlan, FaultSpecError> {
         let mut plan = FaultPlan::none();
         let mut seen: Vec<String> = Vec::new();
@@ -102,6 +114,16 @@ impl FaultPlan {
                 }
                 "disconnect-after" => {
                     plan.disconnect_after = Some(count(value, "a number of requests").map_err(bad)?)
+                }
+                "corrupt-store" => {
+                    let n = count(value, "a word count from 1").map_err(bad)?;
+                    if n == 0 {
+                        return Err(bad(
+                            "words are counted from 1: corrupt-store=1 is the first word stored"
+                                .into(),
+                        ));
+                    }
+                    plan.corrupt_store = Some(n);
                 }
                 "seed" => plan.seed = count(value, "a seed (0 or more)").map_err(bad)?,
                 _ => {
@@ -147,6 +169,9 @@ impl fmt::Display for FaultPlan {
         if let Some(n) = self.disconnect_after {
             items.push(format!("disconnect-after={n}"));
         }
+        if let Some(n) = self.corrupt_store {
+            items.push(format!("corrupt-store={n}"));
+        }
         if !items.is_empty() || self.seed != 0 {
             items.push(format!("seed={}", self.seed));
         }
@@ -154,7 +179,8 @@ impl fmt::Display for FaultPlan {
     }
 }
 
-const FAULT_NAMES: &str = "drop=P, corrupt=P, garbage=P, delay=P:MS, disconnect-after=N, seed=N";
+const FAULT_NAMES: &str =
+    "drop=P, corrupt=P, garbage=P, delay=P:MS, disconnect-after=N, corrupt-store=N, seed=N";
 
 fn probability(text: &str) -> Result<f64, String> {
     match text.parse::<f64>() {
@@ -191,12 +217,19 @@ pub struct FaultCounts {
     pub delayed: u64,
     /// Links cut by `disconnect-after`.
     pub disconnects: u64,
+    /// Program words stored wrong by `corrupt-store`.
+    pub corrupted_stores: u64,
 }
 
 impl FaultCounts {
     /// Faults of every kind together.
     pub fn injected(&self) -> u64 {
-        self.dropped + self.corrupted + self.garbage + self.delayed + self.disconnects
+        self.dropped
+            + self.corrupted
+            + self.garbage
+            + self.delayed
+            + self.disconnects
+            + self.corrupted_stores
     }
 }
 
@@ -204,14 +237,15 @@ impl fmt::Display for FaultCounts {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "{} requests, {} replies: {} dropped, {} corrupted, {} with garbage, {} delayed, {} disconnects",
+            "{} requests, {} replies: {} dropped, {} corrupted, {} with garbage, {} delayed, {} disconnects, {} program words stored corrupted",
             self.requests,
             self.replies,
             self.dropped,
             self.corrupted,
             self.garbage,
             self.delayed,
-            self.disconnects
+            self.disconnects,
+            self.corrupted_stores
         )
     }
 }
@@ -225,6 +259,11 @@ impl FaultRecord {
     pub fn counts(&self) -> FaultCounts {
         // A poisoned lock still holds valid counters.
         *self.0.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// A controller stored a program word corrupted (`corrupt-store`).
+    pub fn note_corrupted_store(&self) {
+        self.update(|c| c.corrupted_stores += 1);
     }
 
     fn update(&self, change: impl FnOnce(&mut FaultCounts)) {
@@ -402,7 +441,7 @@ mod tests {
     #[test]
     fn a_full_spec_parses() {
         let plan: FaultPlan =
-            "drop=0.1, corrupt=0.2,garbage=1,delay=0.5:40,disconnect-after=7,seed=42"
+            "drop=0.1, corrupt=0.2,garbage=1,delay=0.5:40,disconnect-after=7,corrupt-store=3,seed=42"
                 .parse()
                 .expect("parses");
         assert_eq!(plan.drop, 0.1);
@@ -410,6 +449,7 @@ mod tests {
         assert_eq!(plan.garbage, 1.0);
         assert_eq!((plan.delay, plan.delay_ms), (0.5, 40));
         assert_eq!(plan.disconnect_after, Some(7));
+        assert_eq!(plan.corrupt_store, Some(3));
         assert_eq!(plan.seed, 42);
         assert!(!plan.is_none());
         assert_eq!(FaultPlan::parse(&plan.to_string()), Ok(plan));
@@ -419,6 +459,11 @@ mod tests {
     fn an_empty_spec_injects_nothing() {
         assert!(FaultPlan::parse("").expect("parses").is_none());
         assert!(FaultPlan::parse("seed=3").expect("parses").is_none());
+        assert!(
+            !FaultPlan::parse("corrupt-store=1")
+                .expect("parses")
+                .is_none()
+        );
         assert_eq!(FaultPlan::none().to_string(), "");
     }
 
@@ -459,11 +504,19 @@ mod tests {
             ),
             (
                 "dorp=0.1",
-                "bad fault 'dorp=0.1': unknown fault 'dorp' (known: drop=P, corrupt=P, garbage=P, delay=P:MS, disconnect-after=N, seed=N)",
+                "bad fault 'dorp=0.1': unknown fault 'dorp' (known: drop=P, corrupt=P, garbage=P, delay=P:MS, disconnect-after=N, corrupt-store=N, seed=N)",
             ),
             (
                 "drop",
-                "bad fault 'drop': expected NAME=VALUE (drop=P, corrupt=P, garbage=P, delay=P:MS, disconnect-after=N, seed=N)",
+                "bad fault 'drop': expected NAME=VALUE (drop=P, corrupt=P, garbage=P, delay=P:MS, disconnect-after=N, corrupt-store=N, seed=N)",
+            ),
+            (
+                "corrupt-store=0",
+                "bad fault 'corrupt-store=0': words are counted from 1: corrupt-store=1 is the first word stored",
+            ),
+            (
+                "corrupt-store=x",
+                "bad fault 'corrupt-store=x': 'x' is not a word count from 1",
             ),
             (
                 "drop=0.1,drop=0.2",

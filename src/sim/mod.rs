@@ -19,6 +19,13 @@ pub trait SimulatedController: Send {
     /// One line for the user: what is simulated and the defaults we chose
     /// where the manual gives none.
     fn help(&self) -> String;
+    /// Take the faults of `plan` that happen inside the controller (a
+    /// program word stored corrupted, `corrupt-store`), replacing any armed
+    /// before; the line calls this whenever a connection opens, so they
+    /// count per connection. Controllers without such faults ignore it.
+    fn arm_faults(&mut self, plan: &faults::FaultPlan) {
+        let _ = plan;
+    }
 }
 
 /// Options common to every simulator kind.

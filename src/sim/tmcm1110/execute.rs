@@ -35,7 +35,8 @@
 //! - Download mode: control commands (128–137), 138 and 255 are executed;
 //!   every other known opcode is stored unchecked at the memory pointer,
 //!   answered with status 101 and value = the address it went to; unknown
-//!   opcodes answer 2; beyond the 2048-command memory, 4.
+//!   opcodes answer 2; beyond the 2048-command memory, 4. The reply is
+//!   the same when an injected `corrupt-store` fault stored it wrong.
 //! - GP81 code protection: 1/3 make 134 answer 6 "command not available";
 //!   2/3 make 132 answer 5 "configuration EEPROM locked". Changing GP81 from
 //!   1/3 to 0/2 erases the program first (§5.1).
@@ -783,11 +784,15 @@ impl Tmcm1110 {
         let Some(slot) = self.eeprom.image.program.get_mut(usize::from(address)) else {
             return Answer::error(Status::INVALID_VALUE);
         };
+        let value = match self.store_fault.as_mut() {
+            Some(fault) => fault.corrupt(r.value),
+            None => r.value,
+        };
         *slot = ProgramWord {
             opcode: r.command,
             kind: r.kind,
             motor_bank: r.motor_bank,
-            value: r.value,
+            value,
         };
         self.app.memory_pointer = address.saturating_add(1);
         self.eeprom.changed();

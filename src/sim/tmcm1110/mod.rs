@@ -236,6 +236,35 @@ pub struct Tmcm1110 {
     /// A reboot happened while handling the current input.
     rebooted: bool,
     output: Vec<u8>,
+    /// An injected fault: a downloaded word to store corrupted.
+    store_fault: Option<StoreFault>,
+}
+
+/// The `corrupt-store=N` fault: the N-th word stored in download mode
+/// since it was armed gets one bit flipped, and the reply says nothing of
+/// it. It stands for a failing EEPROM cell, which only reading the word
+/// back (134) can show.
+#[derive(Debug, Clone)]
+struct StoreFault {
+    /// Which word, counting from 1.
+    nth: u64,
+    /// Words stored since it was armed.
+    stored: u64,
+    record: crate::sim::faults::FaultRecord,
+}
+
+impl StoreFault {
+    /// Count one stored word; the value to store instead, if this is the one.
+    fn corrupt(&mut self, value: i32) -> i32 {
+        self.stored += 1;
+        if self.stored != self.nth {
+            return value;
+        }
+        self.record.note_corrupted_store();
+        // The lowest value bit: any single flipped bit makes the word
+        // differ, and this one leaves every other field as sent.
+        value ^ 1
+    }
 }
 
 /// Seed of the GP133 generator at power-up (any non-zero value).
@@ -274,6 +303,7 @@ impl Tmcm1110 {
             reboot_requested: false,
             rebooted: false,
             output: Vec::new(),
+            store_fault: None,
         };
         sim.power_up();
         sim
@@ -700,5 +730,13 @@ impl SimulatedController for Tmcm1110 {
 
     fn take_output(&mut self) -> Vec<u8> {
         std::mem::take(&mut self.output)
+    }
+
+    fn arm_faults(&mut self, plan: &crate::sim::faults::FaultPlan) {
+        self.store_fault = plan.corrupt_store.map(|nth| StoreFault {
+            nth,
+            stored: 0,
+            record: plan.record.clone(),
+        });
     }
 }

@@ -968,6 +968,34 @@ fn download_stores_instead_of_executing() {
 }
 
 #[test]
+fn an_armed_store_fault_corrupts_one_word_and_replies_as_usual() {
+    let mut sim = sim();
+    let plan = crate::sim::faults::FaultPlan::parse("corrupt-store=2").expect("parses");
+    crate::sim::SimulatedController::arm_faults(&mut sim, &plan);
+    // `download` checks each reply: status 101 and the address, as usual.
+    download(
+        &mut sim,
+        5,
+        &[(4, 0, 0, 1000), (4, 0, 0, 2000), (4, 0, 0, 3000)],
+    );
+    assert_eq!(sim.program_word(5), Some([4, 0, 0, 0, 0, 0x03, 0xE8]));
+    assert_eq!(
+        sim.program_word(6),
+        Some([4, 0, 0, 0, 0, 0x07, 0xD1]),
+        "bit 0 flipped"
+    );
+    assert_eq!(sim.program_word(7), Some([4, 0, 0, 0, 0, 0x0B, 0xB8]));
+    assert_eq!(plan.counts().corrupted_stores, 1);
+    // Once only, until armed again.
+    download(&mut sim, 0, &[(4, 0, 0, 1000), (4, 0, 0, 2000)]);
+    assert_eq!(sim.program_word(1), Some([4, 0, 0, 0, 0, 0x07, 0xD0]));
+    crate::sim::SimulatedController::arm_faults(&mut sim, &crate::sim::faults::FaultPlan::none());
+    download(&mut sim, 0, &[(4, 0, 0, 1000), (4, 0, 0, 2000)]);
+    assert_eq!(sim.program_word(1), Some([4, 0, 0, 0, 0, 0x07, 0xD0]));
+    assert_eq!(plan.counts().corrupted_stores, 1);
+}
+
+#[test]
 fn program_memory_reads_back_in_the_special_layout() {
     let mut sim = sim();
     download(&mut sim, 0, &[(4, 1, 0, -10000), (9, 77, 0, 1)]);
