@@ -9,9 +9,10 @@
 //! or writes never), and the answer read back as a value or an error that
 //! names the line and the module's status.
 
+pub mod program;
 mod status;
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use tokio::sync::watch;
@@ -157,6 +158,10 @@ pub struct Session {
     read_retries: u32,
     board: StatusBoard,
     identity: Arc<watch::Sender<Option<String>>>,
+    /// The poll cadence asked for, if polling is on (paused during a
+    /// program download, see [`program`]).
+    polling: Arc<Mutex<Option<PollCadence>>>,
+    transfer: Arc<program::TransferState>,
 }
 
 impl Session {
@@ -184,6 +189,8 @@ impl Session {
             read_retries: options.read_retries,
             board: Arc::new(board),
             identity: Arc::new(identity),
+            polling: Arc::new(Mutex::new(None)),
+            transfer: Arc::new(program::TransferState::default()),
         }
     }
 
@@ -250,19 +257,46 @@ impl Session {
         self.execute(&prepared).await
     }
 
-    /// Send a prepared line at user priority and read the answer.
+    /// Send a prepared line at user priority and read the answer. While a
+    /// program download holds the module in download mode, lines it would
+    /// store instead of executing are refused (nothing is sent).
     pub async fn execute(&self, line: &PreparedLine) -> Result<LineResult, SessionError> {
+        if let Some(message) = self.transfer.refusal(line) {
+            return Err(SessionError::Refused {
+                line: line.canonical.clone(),
+                message,
+            });
+        }
         let retry = match line.effect {
             Effect::Reads => Retry::Read(self.read_retries),
             Effect::Acts => Retry::Never,
         };
-        self.send(Priority::User, line, retry, None).await
+        let result = self.send(Priority::User, line, retry, None).await?;
+        program::after_user_line(self, line);
+        Ok(result)
     }
 
     /// Stop every motor, ahead of everything queued. Every stop line is
     /// sent even if one fails; the first failure is returned.
+    ///
+    /// A program transfer is cancelled. During a download the module
+    /// stores what it is sent instead of executing it, so the stop waits
+    /// for the word on the wire (one transaction at most), and leaves
+    /// download mode first if the download has not (see [`program`]).
     pub async fn emergency_stop(&self) -> Result<(), SessionError> {
+        let halted = program::halt_transfer(self).await;
         let mut first_error = None;
+        if let Some(line) = halted.leave_download() {
+            match self
+                .send(Priority::EmergencyStop, line, Retry::Never, None)
+                .await
+            {
+                Ok(_) => halted.left_download(),
+                Err(e) => {
+                    first_error.get_or_insert(e);
+                }
+            }
+        }
         for line in self.family.console.emergency_stop(self.address) {
             if let Err(e) = self
                 .send(Priority::EmergencyStop, &line, Retry::Never, None)
@@ -271,6 +305,7 @@ impl Session {
                 first_error.get_or_insert(e);
             }
         }
+        drop(halted);
         first_error.map_or(Ok(()), Err)
     }
 
@@ -296,7 +331,25 @@ impl Session {
     }
 
     /// Poll every axis's status at `cadence` (replaces any earlier plan).
+    /// During a program download polling starts once it is over.
     pub fn start_polling(&self, cadence: PollCadence) {
+        *self.polling.lock().unwrap_or_else(|e| e.into_inner()) = Some(cadence);
+        if !self.transfer.downloading() {
+            self.apply_poll_plan(cadence);
+        }
+    }
+
+    pub fn stop_polling(&self) {
+        *self.polling.lock().unwrap_or_else(|e| e.into_inner()) = None;
+        self.device.set_poll_plan(None);
+    }
+
+    /// The poll cadence asked for, if polling is on.
+    pub fn poll_cadence(&self) -> Option<PollCadence> {
+        *self.polling.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    fn apply_poll_plan(&self, cadence: PollCadence) {
         let polls = self.family.console.status_queries(self.address);
         let items = polls
             .iter()
@@ -318,10 +371,6 @@ impl Session {
             items,
             sink: Box::new(sink),
         }));
-    }
-
-    pub fn stop_polling(&self) {
-        self.device.set_poll_plan(None);
     }
 
     fn transaction(

@@ -9,6 +9,7 @@ pub mod frame;
 pub mod hex;
 pub mod line;
 pub mod params;
+pub mod transfer;
 pub mod units;
 pub mod validate;
 pub mod wire;
