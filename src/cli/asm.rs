@@ -1,10 +1,13 @@
 //! `axterm asm FILE [--listing] [-o IMAGE]` and `axterm disasm IMAGEFILE`:
 //! the TMCL program toolchain offline. The work is done by
 //! [`crate::protocol::tmcl::asm`]; this reads and writes the files.
+//! `axterm disasm CONNECTION` reads the program from a module
+//! ([`super::transfer`]).
 
 use std::io::{Read, Write};
 use std::path::Path;
 
+use super::transfer::ExtentArgs;
 use super::{ConnectionArgs, EXIT_OK, EXIT_USAGE};
 use crate::protocol::tmcl::asm::{self, SourceLoader};
 
@@ -32,7 +35,7 @@ fn describe_io(error: &std::io::Error) -> String {
 }
 
 /// A file's text, or standard input for `-`; the name to show for it.
-fn read_input(file: &str) -> Result<(String, String), String> {
+pub(super) fn read_input(file: &str) -> Result<(String, String), String> {
     if file == "-" {
         let mut text = String::new();
         std::io::stdin()
@@ -92,11 +95,11 @@ pub fn run_asm(file: &str, listing: bool, output: Option<&Path>) -> i32 {
     print_out(&shown)
 }
 
-/// `axterm disasm`: the source of an image file. Reading a module's
-/// program needs a connection and comes with the device layer.
-pub fn run_disasm(file: Option<&str>, connection: &ConnectionArgs) -> i32 {
+/// `axterm disasm`: the source of an image file, or of the program of the
+/// module `connection` names when no file is given.
+pub fn run_disasm(file: Option<&str>, connection: &ConnectionArgs, extent: &ExtentArgs) -> i32 {
     let Some(file) = file else {
-        return disasm_from_module(connection);
+        return disasm_from_module(connection, extent);
     };
     let (name, text) = match read_input(file) {
         Ok(input) => input,
@@ -117,20 +120,19 @@ pub fn run_disasm(file: Option<&str>, connection: &ConnectionArgs) -> i32 {
     }
 }
 
-/// The place for `axterm disasm --port …` (upload the program with
-/// command 134 per address, then [`asm::disassemble`] it).
-fn disasm_from_module(connection: &ConnectionArgs) -> i32 {
+/// `axterm disasm --port …`: read the program with 134 per address, then
+/// [`asm::disassemble`] it.
+fn disasm_from_module(connection: &ConnectionArgs, extent: &ExtentArgs) -> i32 {
     let connected =
         connection.port.is_some() || connection.tcp.is_some() || connection.sim.is_some();
-    if connected {
+    if !connected {
         eprintln!(
-            "axterm disasm: reading the program from a module is not built yet; \
-             give an image file"
+            "axterm disasm: give an image file (written by `axterm asm FILE -o IMAGE`) or a \
+             connection (--sim, --port, --tcp) to read the module's program"
         );
-    } else {
-        eprintln!("axterm disasm: give an image file (written by `axterm asm FILE -o IMAGE`)");
+        return EXIT_USAGE;
     }
-    EXIT_USAGE
+    super::transfer::run_disasm(connection, extent)
 }
 
 fn print_out(text: &str) -> i32 {
@@ -151,18 +153,24 @@ mod tests {
         assert_eq!(loaded, Err("no such file".to_string()));
         assert_eq!(run_asm("no/such/dir/x.tmc", false, None), EXIT_USAGE);
         assert_eq!(
-            run_disasm(Some("no/such/dir/x.hex"), &ConnectionArgs::default()),
+            run_disasm(
+                Some("no/such/dir/x.hex"),
+                &ConnectionArgs::default(),
+                &ExtentArgs::default()
+            ),
             EXIT_USAGE
         );
     }
 
     #[test]
-    fn disasm_without_a_file_is_not_built_yet() {
-        assert_eq!(run_disasm(None, &ConnectionArgs::default()), EXIT_USAGE);
+    fn disasm_needs_a_file_or_a_connection() {
+        let none = ConnectionArgs::default();
+        assert_eq!(run_disasm(None, &none, &ExtentArgs::default()), EXIT_USAGE);
+        // A fresh simulator's memory is blank: an empty program.
         let sim = ConnectionArgs {
             sim: Some("tmcm1110".to_string()),
             ..ConnectionArgs::default()
         };
-        assert_eq!(run_disasm(None, &sim), EXIT_USAGE);
+        assert_eq!(run_disasm(None, &sim, &ExtentArgs::default()), EXIT_OK);
     }
 }

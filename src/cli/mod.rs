@@ -9,6 +9,7 @@ pub mod run;
 pub mod scan;
 pub mod script;
 pub mod sim_serve;
+pub mod transfer;
 
 use std::io::Write;
 use std::sync::Arc;
@@ -127,12 +128,27 @@ pub enum Command {
         #[arg(long, short)]
         output: Option<std::path::PathBuf>,
     },
-    /// Disassemble a program image file (- for standard input).
-    Disasm { file: Option<String> },
-    /// Download a program to a module.
-    Download { file: String },
-    /// Read a module's program back as source.
-    Upload,
+    /// Disassemble a program image file (- for standard input), or, with a
+    /// connection and no file, the module's program.
+    Disasm {
+        file: Option<String>,
+        #[command(flatten)]
+        extent: transfer::ExtentArgs,
+    },
+    /// Assemble a program, download it to a module and verify every word.
+    ///
+    /// Stops and resets a running program first (131), stores every word
+    /// (132/133), reads every word back (134) and fails at the first that
+    /// differs. Exit codes: 0 verified, 1 a device error or a failed
+    /// verification, 2 the program does not assemble (nothing sent), 3 the
+    /// connection could not be opened. Ctrl-C cancels and leaves download
+    /// mode.
+    Download(transfer::DownloadArgs),
+    /// Read a module's program back as source (or as an image).
+    ///
+    /// The module does not know its program's length: reading stops at the
+    /// first blank word unless --words N or --all says otherwise.
+    Upload(transfer::UploadArgs),
     /// Measure the link and the device task.
     Bench(bench::BenchArgs),
 }
@@ -149,8 +165,8 @@ impl Command {
             Command::Scan(_) => "scan",
             Command::Asm { .. } => "asm",
             Command::Disasm { .. } => "disasm",
-            Command::Download { .. } => "download",
-            Command::Upload => "upload",
+            Command::Download(_) => "download",
+            Command::Upload(_) => "upload",
             Command::Bench(_) => "bench",
         }
     }
@@ -178,11 +194,11 @@ pub fn run(cli: Cli) -> i32 {
             listing,
             output,
         }) => asm::run_asm(&file, listing, output.as_deref()),
-        Some(Command::Disasm { file }) => asm::run_disasm(file.as_deref(), &cli.connection),
-        Some(other) => {
-            eprintln!("axterm {}: not built yet", other.name());
-            EXIT_USAGE
+        Some(Command::Disasm { file, extent }) => {
+            asm::run_disasm(file.as_deref(), &cli.connection, &extent)
         }
+        Some(Command::Download(args)) => transfer::run_download(&cli.connection, &args),
+        Some(Command::Upload(args)) => transfer::run_upload(&cli.connection, &args),
         None => {
             eprintln!("axterm: the console is not built yet");
             EXIT_USAGE
