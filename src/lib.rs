@@ -1,7 +1,7 @@
 //! axterm: a terminal console for commissioning stepper and servo axes.
 //!
 //! Layers, data flowing down and back up (see the house plan):
-//! `cli` (front ends) → `session` (what the console knows of a controller)
+//! `cli` and `ui` (front ends) → `session` (what the console knows of a controller)
 //! → `device` (the async task owning a link) → `link` (byte transports)
 //! → `sim` (simulated controllers). `protocol` is pure code used by all.
 
@@ -11,3 +11,4 @@ pub mod link;
 pub mod protocol;
 pub mod session;
 pub mod sim;
+pub mod ui;

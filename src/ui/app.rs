@@ -1,0 +1,1285 @@
+//! The console's state and its event loop.
+//!
+//! [`App`] is plain state: it takes [`AppEvent`]s (keys, snapshot changes,
+//! replies), hands them to the panes, and collects what the panes ask for
+//! as [`Effect`]s for the loop to carry out. It draws with [`App::render`]
+//! into any ratatui backend, so tests drive it with `TestBackend` and no
+//! terminal.
+//!
+//! [`run`] is the loop: it sleeps until something happens (a key, a watch
+//! channel of the session changing, traffic, a reply, a signal) and draws
+//! only when the state changed, so an idle console costs nothing.
+
+use std::collections::HashMap;
+use std::future::Future;
+use std::pin::Pin;
+use std::sync::Arc;
+use std::time::Duration;
+
+use ratatui::Frame;
+use ratatui::crossterm::event::{
+    Event as TermEvent, KeyCode, KeyEvent, KeyEventKind, KeyModifiers,
+};
+use ratatui::layout::{Constraint, Layout, Rect};
+use ratatui::style::Style;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Block, Borders, Paragraph};
+use tokio::sync::{broadcast, mpsc, watch};
+use tokio::task::JoinHandle;
+
+use super::keymap::{Action, Keymap};
+use super::pane::{Input, Notice, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View};
+use super::theme::{Role, Theme};
+use crate::device::{DeviceEvent, LinkState, TrafficRecord};
+use crate::protocol::Family;
+use crate::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
+
+/// Below this width or height every pane is a tab of one region.
+pub const TILE_MIN_WIDTH: u16 = 100;
+pub const TILE_MIN_HEIGHT: u16 = 28;
+/// From this width the side panes get a column of their own.
+pub const SIDE_MIN_WIDTH: u16 = 160;
+/// Rows the main region keeps at least when the top region is tall.
+const MAIN_MIN_HEIGHT: u16 = 10;
+
+/// Something that happened, for [`App::handle`].
+#[derive(Debug)]
+pub enum AppEvent {
+    Terminal(TermEvent),
+    /// A watch channel of the session changed: take this copy.
+    Snapshot(Snapshot),
+    /// No controller any more (or not yet).
+    Disconnected,
+    Traffic(TrafficRecord),
+    Device(DeviceEvent),
+    /// The answer to one line a pane sent.
+    Reply {
+        pane: usize,
+        tag: u64,
+        line: String,
+        result: Result<LineResult, SessionError>,
+    },
+    /// The stop lines were sent; what came back for each.
+    Stopped(Vec<Result<LineResult, SessionError>>),
+    Wake {
+        pane: usize,
+        tag: u64,
+    },
+    Notice(Notice),
+    /// SIGTERM, SIGHUP: leave now.
+    Terminate,
+}
+
+/// What the loop must do for the app.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Effect {
+    /// Send lines in order for a pane; each answer back as
+    /// [`AppEvent::Reply`].
+    Send {
+        pane: usize,
+        tag: u64,
+        lines: Vec<String>,
+    },
+    /// Stop everything: abort the lines still waiting to be sent, then the
+    /// session's emergency stop, ahead of anything queued.
+    EmergencyStop,
+    Poll(Option<PollCadence>),
+    SetAddress(u8),
+    /// Forget these latched error flags of an axis.
+    ClearErrors {
+        axis: usize,
+        seen: Vec<AxisFlag>,
+    },
+    Log(Option<std::path::PathBuf>),
+    Connect(Vec<String>),
+    Wake {
+        pane: usize,
+        tag: u64,
+        after: Duration,
+    },
+    Quit,
+}
+
+/// Which part of the screen a pane is drawn in, after the screen size
+/// decided how many parts there are.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+enum Slot {
+    Top,
+    Main,
+    Side,
+}
+
+/// The console.
+pub struct App {
+    panes: Vec<Box<dyn Pane>>,
+    focus: usize,
+    /// When each pane last had the focus: a slot shows the pane of its own
+    /// that had it most recently.
+    focused_at: Vec<u64>,
+    focus_clock: u64,
+    theme: Theme,
+    keymap: Keymap,
+    snapshot: Option<Snapshot>,
+    /// What the last emergency stop did, for the status bar.
+    last_stop: Option<String>,
+    dirty: bool,
+    quit: bool,
+    /// Where each shown pane was drawn last, for mouse clicks.
+    drawn: Vec<(usize, Rect)>,
+}
+
+impl App {
+    /// A console with these panes; the first has the focus.
+    pub fn new(panes: Vec<Box<dyn Pane>>, theme: Theme, keymap: Keymap) -> App {
+        let count = panes.len();
+        let mut focused_at = vec![0; count];
+        if let Some(first) = focused_at.first_mut() {
+            *first = 1;
+        }
+        App {
+            panes,
+            focus: 0,
+            focused_at,
+            focus_clock: 1,
+            theme,
+            keymap,
+            snapshot: None,
+            last_stop: None,
+            dirty: true,
+            quit: false,
+            drawn: Vec::new(),
+        }
+    }
+
+    /// Whether something changed since the last [`App::render`].
+    pub fn needs_redraw(&self) -> bool {
+        self.dirty
+    }
+
+    pub fn should_quit(&self) -> bool {
+        self.quit
+    }
+
+    pub fn snapshot(&self) -> Option<&Snapshot> {
+        self.snapshot.as_ref()
+    }
+
+    pub fn theme(&self) -> &Theme {
+        &self.theme
+    }
+
+    pub fn set_theme(&mut self, theme: Theme) {
+        self.theme = theme;
+        self.dirty = true;
+    }
+
+    pub fn keymap(&self) -> &Keymap {
+        &self.keymap
+    }
+
+    pub fn set_keymap(&mut self, keymap: Keymap) {
+        self.keymap = keymap;
+        self.dirty = true;
+    }
+
+    /// The name of the pane with the focus.
+    pub fn focused(&self) -> Option<&'static str> {
+        self.panes.get(self.focus).map(|p| p.name())
+    }
+
+    /// Give the focus to the pane called `name`.
+    pub fn focus(&mut self, name: &str) -> bool {
+        match self.panes.iter().position(|p| p.name() == name) {
+            Some(index) => {
+                self.focus_index(index);
+                true
+            }
+            None => false,
+        }
+    }
+
+    fn focus_index(&mut self, index: usize) {
+        if index < self.panes.len() {
+            self.focus = index;
+            self.focus_clock += 1;
+            if let Some(at) = self.focused_at.get_mut(index) {
+                *at = self.focus_clock;
+            }
+            self.dirty = true;
+        }
+    }
+
+    /// Take in one event; returns what the loop must do.
+    pub fn handle(&mut self, event: AppEvent) -> Vec<Effect> {
+        let mut effects = Vec::new();
+        match event {
+            AppEvent::Terminal(event) => self.terminal_event(event, &mut effects),
+            AppEvent::Snapshot(snapshot) => {
+                let changed = self
+                    .snapshot
+                    .as_ref()
+                    .is_none_or(|old| !same(old, &snapshot));
+                if changed {
+                    self.snapshot = Some(snapshot);
+                    self.dirty = true;
+                    self.broadcast(&PaneEvent::Snapshot, &mut effects);
+                }
+            }
+            AppEvent::Disconnected => {
+                if self.snapshot.take().is_some() {
+                    self.dirty = true;
+                    self.broadcast(&PaneEvent::Snapshot, &mut effects);
+                }
+            }
+            AppEvent::Traffic(record) => self.broadcast(&PaneEvent::Traffic(record), &mut effects),
+            AppEvent::Device(event) => self.broadcast(&PaneEvent::Device(event), &mut effects),
+            AppEvent::Reply {
+                pane,
+                tag,
+                line,
+                result,
+            } => {
+                let event = PaneEvent::Reply { tag, line, result };
+                self.deliver(pane, &event, &mut effects);
+            }
+            AppEvent::Wake { pane, tag } => {
+                self.deliver(pane, &PaneEvent::Wake { tag }, &mut effects)
+            }
+            AppEvent::Stopped(results) => {
+                let failed = results.iter().filter(|r| r.is_err()).count();
+                self.last_stop = Some(if failed == 0 {
+                    format!("STOP sent, {} replies ok", results.len())
+                } else {
+                    format!("STOP sent, {failed} of {} failed", results.len())
+                });
+                self.dirty = true;
+                self.broadcast(&PaneEvent::EmergencyStop(results), &mut effects);
+            }
+            AppEvent::Notice(notice) => self.broadcast(&PaneEvent::Notice(notice), &mut effects),
+            AppEvent::Terminate => {
+                self.quit = true;
+                effects.push(Effect::Quit);
+            }
+        }
+        effects
+    }
+
+    fn terminal_event(&mut self, event: TermEvent, effects: &mut Vec<Effect>) {
+        match event {
+            TermEvent::Key(key) if key.kind != KeyEventKind::Release => self.key(key, effects),
+            TermEvent::Key(_) => {}
+            TermEvent::Mouse(mouse) => {
+                use ratatui::crossterm::event::MouseEventKind;
+                if let MouseEventKind::Down(_) = mouse.kind {
+                    let hit = self.drawn.iter().find(|(_, r)| {
+                        r.contains(ratatui::layout::Position::new(mouse.column, mouse.row))
+                    });
+                    if let Some(&(index, _)) = hit
+                        && index != self.focus
+                    {
+                        self.focus_index(index);
+                        return;
+                    }
+                }
+                self.give_focused(&Input::Mouse(mouse), effects);
+            }
+            TermEvent::Paste(text) => {
+                self.give_focused(&Input::Paste(text), effects);
+            }
+            TermEvent::Resize(_, _) => self.dirty = true,
+            TermEvent::FocusGained | TermEvent::FocusLost => {}
+        }
+    }
+
+    fn key(&mut self, key: KeyEvent, effects: &mut Vec<Effect>) {
+        // The emergency stop and quit work whatever the focus.
+        match self.keymap.global_action(&key) {
+            Some(Action::EmergencyStop) => {
+                self.emergency_stop(effects);
+                return;
+            }
+            Some(Action::Quit) => {
+                self.quit = true;
+                effects.push(Effect::Quit);
+                return;
+            }
+            _ => {}
+        }
+        // Alt-1 … Alt-9 jump to a pane, whatever the focus.
+        if let (KeyCode::Char(c @ '1'..='9'), true) =
+            (key.code, key.modifiers.contains(KeyModifiers::ALT))
+        {
+            self.focus_index(usize::from(c as u8 - b'1'));
+            return;
+        }
+        if self.give_focused(&Input::Key(key), effects) {
+            return;
+        }
+        match self.keymap.global_action(&key) {
+            Some(Action::NextPane) => self.cycle_focus(1),
+            Some(Action::PreviousPane) => self.cycle_focus(self.panes.len().saturating_sub(1)),
+            Some(Action::Help) => {
+                let help = self.key_help();
+                self.broadcast(&PaneEvent::Notice(Notice::info(help)), effects);
+            }
+            _ => {}
+        }
+    }
+
+    /// One line naming the global keys.
+    pub fn key_help(&self) -> String {
+        let k = &self.keymap;
+        format!(
+            "keys: {} emergency stop, {} quit, {}/{} next/previous pane, Alt-1..9 pane N, {} help",
+            k.key_name(Action::EmergencyStop),
+            k.key_name(Action::Quit),
+            k.key_name(Action::NextPane),
+            k.key_name(Action::PreviousPane),
+            k.key_name(Action::Help),
+        )
+    }
+
+    fn emergency_stop(&mut self, effects: &mut Vec<Effect>) {
+        self.last_stop = Some("STOP sending…".into());
+        self.dirty = true;
+        effects.push(Effect::EmergencyStop);
+    }
+
+    fn cycle_focus(&mut self, step: usize) {
+        if !self.panes.is_empty() {
+            self.focus_index((self.focus + step) % self.panes.len());
+        }
+    }
+
+    /// Hand input to the focused pane; true if it took it.
+    fn give_focused(&mut self, input: &Input, effects: &mut Vec<Effect>) -> bool {
+        let index = self.focus;
+        let view = View {
+            theme: &self.theme,
+            keymap: &self.keymap,
+            session: self.snapshot.as_ref(),
+            focused: true,
+        };
+        let Some(pane) = self.panes.get_mut(index) else {
+            return false;
+        };
+        let outcome = pane.handle_input(input, &view);
+        self.outcome(index, outcome, effects)
+    }
+
+    fn broadcast(&mut self, event: &PaneEvent, effects: &mut Vec<Effect>) {
+        for index in 0..self.panes.len() {
+            self.deliver(index, event, effects);
+        }
+    }
+
+    fn deliver(&mut self, index: usize, event: &PaneEvent, effects: &mut Vec<Effect>) {
+        let view = View {
+            theme: &self.theme,
+            keymap: &self.keymap,
+            session: self.snapshot.as_ref(),
+            focused: index == self.focus,
+        };
+        let Some(pane) = self.panes.get_mut(index) else {
+            return;
+        };
+        let outcome = pane.on_event(event, &view);
+        self.outcome(index, outcome, effects);
+    }
+
+    /// Carry out a pane's outcome; true if it was handled.
+    fn outcome(&mut self, pane: usize, outcome: Outcome, effects: &mut Vec<Effect>) -> bool {
+        let Outcome::Handled(requests) = outcome else {
+            return false;
+        };
+        self.dirty = true;
+        for request in requests {
+            self.request(pane, request, effects);
+        }
+        true
+    }
+
+    fn request(&mut self, pane: usize, request: Request, effects: &mut Vec<Effect>) {
+        match request {
+            Request::Send { lines, tag } => effects.push(Effect::Send { pane, tag, lines }),
+            Request::EmergencyStop => self.emergency_stop(effects),
+            Request::Poll(rate) => effects.push(Effect::Poll(cadence_for(rate))),
+            Request::SelectAxis(axis) => {
+                if let Some(snapshot) = self.snapshot.as_mut()
+                    && axis < snapshot.axes.len()
+                {
+                    snapshot.axis = axis;
+                    self.broadcast(&PaneEvent::Snapshot, effects);
+                }
+            }
+            Request::SetAddress(address) => effects.push(Effect::SetAddress(address)),
+            Request::ClearErrors(axis) => {
+                let seen = self
+                    .snapshot
+                    .as_ref()
+                    .and_then(|s| s.status.get(axis))
+                    .map(|s| s.errors.clone())
+                    .unwrap_or_default();
+                effects.push(Effect::ClearErrors { axis, seen });
+            }
+            Request::Log(path) => effects.push(Effect::Log(path)),
+            Request::Theme(name) => match Theme::builtin(&name) {
+                Some(theme) => self.set_theme(theme),
+                None => self.broadcast(
+                    &PaneEvent::Notice(Notice::error(format!("no theme called '{name}'"))),
+                    effects,
+                ),
+            },
+            Request::Keymap(name) => match Keymap::builtin(&name) {
+                Some(keymap) => self.set_keymap(keymap),
+                None => self.broadcast(
+                    &PaneEvent::Notice(Notice::error(format!("no keymap called '{name}'"))),
+                    effects,
+                ),
+            },
+            Request::Connect(args) => effects.push(Effect::Connect(args)),
+            Request::Focus(name) => {
+                self.focus(name);
+            }
+            Request::WakeAfter { after, tag } => effects.push(Effect::Wake { pane, tag, after }),
+            Request::Quit => {
+                self.quit = true;
+                effects.push(Effect::Quit);
+            }
+        }
+    }
+
+    /// Draw the whole screen.
+    pub fn render(&mut self, frame: &mut Frame) {
+        self.dirty = false;
+        let area = frame.area();
+        let [body, status] =
+            Layout::vertical([Constraint::Min(1), Constraint::Length(1)]).areas(area);
+        self.drawn.clear();
+        for (slot, rect) in self.slots(body) {
+            let members: Vec<usize> = (0..self.panes.len())
+                .filter(|&i| self.slot_of(i, body) == slot)
+                .collect();
+            let Some(&shown) = members
+                .iter()
+                .max_by_key(|&&i| self.focused_at.get(i).copied().unwrap_or(0))
+            else {
+                continue;
+            };
+            self.render_slot(frame, rect, &members, shown);
+        }
+        self.render_status(frame, status);
+    }
+
+    /// The slots the screen has room for, with their areas.
+    fn slots(&self, body: Rect) -> Vec<(Slot, Rect)> {
+        let mode = Mode::of(body);
+        if mode == Mode::Tabs {
+            return vec![(Slot::Main, body)];
+        }
+        let has = |region: Region| self.panes.iter().any(|p| p.region() == region);
+        let mut slots = Vec::new();
+        let mut rest = body;
+        if has(Region::Top) {
+            let view = self.view(false);
+            let inner_width = body.width.saturating_sub(2);
+            let wanted = self
+                .panes
+                .iter()
+                .filter(|p| p.region() == Region::Top)
+                .filter_map(|p| p.height_hint(&view, inner_width))
+                .max()
+                .unwrap_or(body.height / 3)
+                .saturating_add(2);
+            let top = wanted.min(body.height.saturating_sub(MAIN_MIN_HEIGHT));
+            let [top_area, below] =
+                Layout::vertical([Constraint::Length(top), Constraint::Min(0)]).areas(body);
+            slots.push((Slot::Top, top_area));
+            rest = below;
+        }
+        if mode == Mode::Columns && has(Region::Side) && has(Region::Main) {
+            let [main, side] =
+                Layout::horizontal([Constraint::Percentage(55), Constraint::Percentage(45)])
+                    .areas(rest);
+            slots.push((Slot::Main, main));
+            slots.push((Slot::Side, side));
+        } else {
+            slots.push((Slot::Main, rest));
+        }
+        slots
+    }
+
+    fn slot_of(&self, index: usize, body: Rect) -> Slot {
+        let Some(pane) = self.panes.get(index) else {
+            return Slot::Main;
+        };
+        match (Mode::of(body), pane.region()) {
+            (Mode::Tabs, _) => Slot::Main,
+            (_, Region::Top) => Slot::Top,
+            (Mode::Columns, Region::Side)
+                if self.panes.iter().any(|p| p.region() == Region::Main) =>
+            {
+                Slot::Side
+            }
+            _ => Slot::Main,
+        }
+    }
+
+    fn view(&self, focused: bool) -> View<'_> {
+        View {
+            theme: &self.theme,
+            keymap: &self.keymap,
+            session: self.snapshot.as_ref(),
+            focused,
+        }
+    }
+
+    /// A bordered slot: its title is the shown pane's, or a tab strip when
+    /// several panes share the slot.
+    fn render_slot(&mut self, frame: &mut Frame, area: Rect, members: &[usize], shown: usize) {
+        let focused = shown == self.focus;
+        let theme = &self.theme;
+        let border = theme.style(if focused {
+            Role::BorderFocused
+        } else {
+            Role::Border
+        });
+        let view = View {
+            theme,
+            keymap: &self.keymap,
+            session: self.snapshot.as_ref(),
+            focused,
+        };
+        let mut title = vec![Span::raw(" ")];
+        for (n, &index) in members.iter().enumerate() {
+            let Some(pane) = self.panes.get(index) else {
+                continue;
+            };
+            if n > 0 {
+                title.push(Span::styled(" │ ", border));
+            }
+            let text = if members.len() > 1 {
+                format!("{} {}", index + 1, pane.title(&view))
+            } else {
+                pane.title(&view)
+            };
+            let style = if index == shown {
+                theme.style(Role::Title)
+            } else {
+                theme.style(Role::Muted)
+            };
+            title.push(Span::styled(text, style));
+        }
+        title.push(Span::raw(" "));
+        let block = Block::default()
+            .borders(Borders::ALL)
+            .border_style(border)
+            .title(Line::from(title));
+        let inner = block.inner(area);
+        frame.render_widget(block, area);
+        if let Some(pane) = self.panes.get_mut(shown) {
+            pane.render(frame, inner, &view);
+        }
+        self.drawn.push((shown, area));
+    }
+
+    fn render_status(&self, frame: &mut Frame, area: Rect) {
+        let theme = &self.theme;
+        let bar = theme.style(Role::StatusBar);
+        let key = theme.style(Role::StatusKey);
+        let mut spans = vec![
+            Span::styled(
+                format!(" {} STOP ", self.keymap.key_name(Action::EmergencyStop)),
+                theme.style(Role::Emergency),
+            ),
+            Span::styled(" ", bar),
+        ];
+        if let Some(stop) = &self.last_stop {
+            spans.push(Span::styled(format!("{stop} │ "), bar));
+        }
+        match &self.snapshot {
+            Some(s) => {
+                let state = match &s.link {
+                    LinkState::Connected { .. } => "connected".to_string(),
+                    LinkState::Disconnected { reason, .. } => format!("LOST: {reason}"),
+                    LinkState::Closed => "closed".to_string(),
+                };
+                spans.push(Span::styled(
+                    format!("{} #{} {state} │ ", s.link_name, s.address),
+                    bar,
+                ));
+                let poll = match s.poll {
+                    Some(c) if !c.fast.is_zero() => {
+                        format!("poll {} Hz │ ", rate_of(c.fast))
+                    }
+                    Some(_) => "poll max │ ".to_string(),
+                    None => "poll off │ ".to_string(),
+                };
+                spans.push(Span::styled(poll, bar));
+                if let Some(axis) = s.selected_axis() {
+                    spans.push(Span::styled(format!("axis {} │ ", axis.name), bar));
+                }
+            }
+            None => spans.push(Span::styled("not connected │ ", bar)),
+        }
+        spans.push(Span::styled(self.keymap.key_name(Action::Quit), key));
+        spans.push(Span::styled(" quit", bar));
+        let line = Line::from(spans).style(bar);
+        frame.render_widget(Paragraph::new(line).style(Style::default()), area);
+    }
+}
+
+/// How the screen is shared out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Mode {
+    /// One pane at a time, as tabs (80×24).
+    Tabs,
+    /// The top region over the main region.
+    Rows,
+    /// The top region over main and side columns.
+    Columns,
+}
+
+impl Mode {
+    fn of(body: Rect) -> Mode {
+        if body.width < TILE_MIN_WIDTH || body.height < TILE_MIN_HEIGHT - 1 {
+            Mode::Tabs
+        } else if body.width < SIDE_MIN_WIDTH {
+            Mode::Rows
+        } else {
+            Mode::Columns
+        }
+    }
+}
+
+/// Whether two snapshots would draw the same.
+fn same(a: &Snapshot, b: &Snapshot) -> bool {
+    a.address == b.address
+        && a.link_name == b.link_name
+        && a.axes == b.axes
+        && a.status == b.status
+        && a.link == b.link
+        && a.identity == b.identity
+        && a.poll == b.poll
+        && a.axis == b.axis
+        && std::ptr::eq(a.family, b.family)
+}
+
+/// Poll `rate` times a second for what moves and a quarter as often for
+/// the rest (the session's default ratio); 0 or less stops polling.
+pub fn cadence_for(rate: f64) -> Option<PollCadence> {
+    if !rate.is_finite() || rate <= 0.0 {
+        return None;
+    }
+    let fast = Duration::from_secs_f64(1.0 / rate.min(1000.0));
+    Some(PollCadence {
+        fast,
+        slow: fast * 4,
+    })
+}
+
+/// Times a second for a polling period, rounded for the status bar.
+pub fn rate_of(period: Duration) -> String {
+    let hz = 1.0 / period.as_secs_f64();
+    if (hz - hz.round()).abs() < 0.05 {
+        format!("{}", hz.round())
+    } else {
+        format!("{hz:.1}")
+    }
+}
+
+/// A future the loop can spawn.
+pub type Pending<T> = Pin<Box<dyn Future<Output = T> + Send>>;
+
+/// The controller as the console drives it: a [`crate::session::Session`],
+/// or a fake in tests.
+pub trait Controller: Send + Sync {
+    fn family(&self) -> &'static Family;
+    fn address(&self) -> u8;
+    fn axes(&self) -> Vec<AxisInfo>;
+    /// The link as the user named it.
+    fn link_name(&self) -> String;
+    fn status(&self) -> watch::Receiver<Vec<AxisStatus>>;
+    fn link_state(&self) -> watch::Receiver<LinkState>;
+    fn identity(&self) -> watch::Receiver<Option<String>>;
+    fn traffic(&self) -> Option<broadcast::Receiver<TrafficRecord>>;
+    fn events(&self) -> Option<broadcast::Receiver<DeviceEvent>>;
+    /// Send one line at user priority.
+    fn execute(&self, line: String) -> Pending<Result<LineResult, SessionError>>;
+    /// Every stop line, ahead of everything queued; what came back for each.
+    fn emergency_stop(&self) -> Pending<Vec<Result<LineResult, SessionError>>>;
+    fn set_polling(&self, cadence: Option<PollCadence>);
+    fn acknowledge_errors(&self, axis: usize, seen: &[AxisFlag]);
+    /// The same link, sending to another module address.
+    fn with_address(&self, address: u8) -> Arc<dyn Controller>;
+}
+
+/// Opens a connection for `:connect` (and the connect screen).
+pub type Connector =
+    Box<dyn Fn(Vec<String>) -> Pending<Result<Arc<dyn Controller>, String>> + Send>;
+
+/// One connected controller as the loop watches it.
+struct Connection {
+    controller: Arc<dyn Controller>,
+    status: watch::Receiver<Vec<AxisStatus>>,
+    link: watch::Receiver<LinkState>,
+    identity: watch::Receiver<Option<String>>,
+    traffic: Option<broadcast::Receiver<TrafficRecord>>,
+    events: Option<broadcast::Receiver<DeviceEvent>>,
+    poll: Option<PollCadence>,
+}
+
+impl Connection {
+    fn new(controller: Arc<dyn Controller>, poll: Option<PollCadence>) -> Connection {
+        controller.set_polling(poll);
+        Connection {
+            status: controller.status(),
+            link: controller.link_state(),
+            identity: controller.identity(),
+            traffic: controller.traffic(),
+            events: controller.events(),
+            controller,
+            poll,
+        }
+    }
+
+    fn snapshot(&mut self, axis: usize) -> Snapshot {
+        let c = &self.controller;
+        let axes = c.axes();
+        Snapshot {
+            family: c.family(),
+            address: c.address(),
+            link_name: c.link_name(),
+            axis: axis.min(axes.len().saturating_sub(1)),
+            axes,
+            status: self.status.borrow_and_update().clone(),
+            link: self.link.borrow_and_update().clone(),
+            identity: self.identity.borrow_and_update().clone(),
+            poll: self.poll,
+        }
+    }
+}
+
+/// Something the loop waits for, besides the app's own messages.
+enum Wakeup {
+    Input(Option<TermEvent>),
+    Changed,
+    ChannelGone,
+    Traffic(Result<TrafficRecord, broadcast::error::RecvError>),
+    Device(Result<DeviceEvent, broadcast::error::RecvError>),
+    Internal(Option<AppEvent>),
+    Connected(Result<Arc<dyn Controller>, String>),
+}
+
+/// Drives an [`App`] until it quits: `input` carries terminal events,
+/// `draw` paints the app (it is called only when something changed). The
+/// session's watch channels and broadcast streams, the replies and the
+/// timers all wake the loop; nothing else does.
+pub async fn run(
+    app: &mut App,
+    controller: Option<Arc<dyn Controller>>,
+    connector: Connector,
+    mut input: mpsc::UnboundedReceiver<TermEvent>,
+    extra: Option<mpsc::UnboundedReceiver<AppEvent>>,
+    draw: &mut dyn FnMut(&mut App) -> std::io::Result<()>,
+) -> std::io::Result<()> {
+    let (internal_tx, mut internal) = mpsc::unbounded_channel::<AppEvent>();
+    if let Some(mut extra) = extra {
+        let tx = internal_tx.clone();
+        tokio::spawn(async move {
+            while let Some(event) = extra.recv().await {
+                if tx.send(event).is_err() {
+                    break;
+                }
+            }
+        });
+    }
+    let mut connection = controller.map(|c| Connection::new(c, Some(PollCadence::default())));
+    let mut sending: HashMap<u64, JoinHandle<()>> = HashMap::new();
+    let mut next_job = 0u64;
+    let mut connecting: Option<Pending<Result<Arc<dyn Controller>, String>>> = None;
+    if let Some(c) = connection.as_mut() {
+        let snapshot = c.snapshot(0);
+        handle_all(
+            app,
+            AppEvent::Snapshot(snapshot),
+            &mut connection,
+            &internal_tx,
+            &mut sending,
+            &mut next_job,
+            &mut connecting,
+            &connector,
+        );
+    }
+    loop {
+        if app.should_quit() {
+            break;
+        }
+        if app.needs_redraw() {
+            draw(app)?;
+        }
+        let wakeup = wait(
+            &mut input,
+            &mut internal,
+            connection.as_mut(),
+            &mut connecting,
+        )
+        .await;
+        let event = match wakeup {
+            Wakeup::Input(Some(event)) => AppEvent::Terminal(event),
+            Wakeup::Input(None) => AppEvent::Terminate,
+            Wakeup::Changed => match connection.as_mut() {
+                Some(c) => {
+                    let axis = app.snapshot().map_or(0, |s| s.axis);
+                    AppEvent::Snapshot(c.snapshot(axis))
+                }
+                None => continue,
+            },
+            Wakeup::ChannelGone => {
+                connection = None;
+                AppEvent::Disconnected
+            }
+            Wakeup::Traffic(Ok(record)) => AppEvent::Traffic(record),
+            Wakeup::Device(Ok(event)) => AppEvent::Device(event),
+            Wakeup::Traffic(Err(broadcast::error::RecvError::Closed))
+            | Wakeup::Device(Err(broadcast::error::RecvError::Closed)) => {
+                if let Some(c) = connection.as_mut() {
+                    c.traffic = None;
+                    c.events = None;
+                }
+                continue;
+            }
+            Wakeup::Traffic(Err(_)) | Wakeup::Device(Err(_)) => continue,
+            Wakeup::Internal(Some(event)) => event,
+            Wakeup::Internal(None) => continue,
+            Wakeup::Connected(result) => {
+                connecting = None;
+                match result {
+                    Ok(controller) => {
+                        let poll = connection
+                            .as_ref()
+                            .map_or(Some(PollCadence::default()), |c| c.poll);
+                        if let Some(old) = connection.take() {
+                            old.controller.set_polling(None);
+                        }
+                        let mut c = Connection::new(controller, poll);
+                        let snapshot = c.snapshot(0);
+                        connection = Some(c);
+                        AppEvent::Snapshot(snapshot)
+                    }
+                    Err(message) => AppEvent::Notice(Notice::error(message)),
+                }
+            }
+        };
+        handle_all(
+            app,
+            event,
+            &mut connection,
+            &internal_tx,
+            &mut sending,
+            &mut next_job,
+            &mut connecting,
+            &connector,
+        );
+    }
+    if let Some(c) = connection {
+        c.controller.set_polling(None);
+    }
+    for (_, job) in sending {
+        job.abort();
+    }
+    Ok(())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn handle_all(
+    app: &mut App,
+    event: AppEvent,
+    connection: &mut Option<Connection>,
+    internal: &mpsc::UnboundedSender<AppEvent>,
+    sending: &mut HashMap<u64, JoinHandle<()>>,
+    next_job: &mut u64,
+    connecting: &mut Option<Pending<Result<Arc<dyn Controller>, String>>>,
+    connector: &Connector,
+) {
+    sending.retain(|_, job| !job.is_finished());
+    let mut queue = vec![event];
+    while let Some(event) = queue.pop() {
+        for effect in app.handle(event) {
+            carry_out(
+                effect, app, connection, internal, sending, next_job, connecting, connector,
+                &mut queue,
+            );
+        }
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn carry_out(
+    effect: Effect,
+    app: &mut App,
+    connection: &mut Option<Connection>,
+    internal: &mpsc::UnboundedSender<AppEvent>,
+    sending: &mut HashMap<u64, JoinHandle<()>>,
+    next_job: &mut u64,
+    connecting: &mut Option<Pending<Result<Arc<dyn Controller>, String>>>,
+    connector: &Connector,
+    queue: &mut Vec<AppEvent>,
+) {
+    let not_connected = || {
+        AppEvent::Notice(Notice::error(
+            "not connected: give :connect --sim tmcm1110 (or --port PATH, --tcp HOST:PORT)",
+        ))
+    };
+    match effect {
+        Effect::Send { pane, tag, lines } => {
+            let Some(c) = connection.as_ref() else {
+                queue.push(not_connected());
+                return;
+            };
+            let controller = Arc::clone(&c.controller);
+            let tx = internal.clone();
+            let job = tokio::spawn(async move {
+                for line in lines {
+                    let result = controller.execute(line.clone()).await;
+                    let failed = result.is_err();
+                    if tx
+                        .send(AppEvent::Reply {
+                            pane,
+                            tag,
+                            line,
+                            result,
+                        })
+                        .is_err()
+                        || failed
+                    {
+                        break;
+                    }
+                }
+            });
+            *next_job += 1;
+            sending.insert(*next_job, job);
+        }
+        Effect::EmergencyStop => {
+            // Lines still waiting to be sent must not go after the stop.
+            for (_, job) in sending.drain() {
+                job.abort();
+            }
+            let Some(c) = connection.as_ref() else {
+                queue.push(not_connected());
+                return;
+            };
+            let stop = c.controller.emergency_stop();
+            let tx = internal.clone();
+            tokio::spawn(async move {
+                let results = stop.await;
+                let _ = tx.send(AppEvent::Stopped(results));
+            });
+        }
+        Effect::Poll(cadence) => {
+            if let Some(c) = connection.as_mut() {
+                c.poll = cadence;
+                c.controller.set_polling(cadence);
+                let axis = app.snapshot().map_or(0, |s| s.axis);
+                queue.push(AppEvent::Snapshot(c.snapshot(axis)));
+            }
+        }
+        Effect::SetAddress(address) => {
+            if let Some(c) = connection.as_mut() {
+                let poll = c.poll;
+                c.controller.set_polling(None);
+                let controller = c.controller.with_address(address);
+                let mut fresh = Connection::new(controller, poll);
+                let axis = app.snapshot().map_or(0, |s| s.axis);
+                queue.push(AppEvent::Snapshot(fresh.snapshot(axis)));
+                *c = fresh;
+            } else {
+                queue.push(not_connected());
+            }
+        }
+        Effect::ClearErrors { axis, seen } => {
+            if let Some(c) = connection.as_ref() {
+                c.controller.acknowledge_errors(axis, &seen);
+            }
+        }
+        Effect::Log(_) => {
+            queue.push(AppEvent::Notice(Notice::warning(
+                "logging is not built yet",
+            )));
+        }
+        Effect::Connect(args) => {
+            *connecting = Some(connector(args));
+        }
+        Effect::Wake { pane, tag, after } => {
+            let tx = internal.clone();
+            tokio::spawn(async move {
+                tokio::time::sleep(after).await;
+                let _ = tx.send(AppEvent::Wake { pane, tag });
+            });
+        }
+        Effect::Quit => {}
+    }
+}
+
+async fn wait(
+    input: &mut mpsc::UnboundedReceiver<TermEvent>,
+    internal: &mut mpsc::UnboundedReceiver<AppEvent>,
+    connection: Option<&mut Connection>,
+    connecting: &mut Option<Pending<Result<Arc<dyn Controller>, String>>>,
+) -> Wakeup {
+    let connect = async {
+        match connecting.as_mut() {
+            Some(pending) => pending.await,
+            None => std::future::pending().await,
+        }
+    };
+    let Some(c) = connection else {
+        return tokio::select! {
+            event = input.recv() => Wakeup::Input(event),
+            event = internal.recv() => Wakeup::Internal(event),
+            result = connect => Wakeup::Connected(result),
+        };
+    };
+    let traffic = async {
+        match c.traffic.as_mut() {
+            Some(rx) => rx.recv().await,
+            None => std::future::pending().await,
+        }
+    };
+    let events = async {
+        match c.events.as_mut() {
+            Some(rx) => rx.recv().await,
+            None => std::future::pending().await,
+        }
+    };
+    tokio::select! {
+        event = input.recv() => Wakeup::Input(event),
+        event = internal.recv() => Wakeup::Internal(event),
+        result = connect => Wakeup::Connected(result),
+        changed = c.status.changed() => if changed.is_ok() { Wakeup::Changed } else { Wakeup::ChannelGone },
+        changed = c.link.changed() => if changed.is_ok() { Wakeup::Changed } else { Wakeup::ChannelGone },
+        changed = c.identity.changed() => if changed.is_ok() { Wakeup::Changed } else { Wakeup::ChannelGone },
+        record = traffic => Wakeup::Traffic(record),
+        event = events => Wakeup::Device(event),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ratatui::Terminal;
+    use ratatui::backend::TestBackend;
+    use ratatui::crossterm::event::KeyEventState;
+
+    /// A pane that shows its name and keeps every key it is given, unless
+    /// it is told to ignore keys.
+    struct Probe {
+        name: &'static str,
+        region: Region,
+        takes_keys: bool,
+        keys: Vec<KeyCode>,
+    }
+
+    impl Probe {
+        fn boxed(name: &'static str, region: Region, takes_keys: bool) -> Box<dyn Pane> {
+            Box::new(Probe {
+                name,
+                region,
+                takes_keys,
+                keys: Vec::new(),
+            })
+        }
+    }
+
+    impl Pane for Probe {
+        fn name(&self) -> &'static str {
+            self.name
+        }
+        fn title(&self, _view: &View) -> String {
+            self.name.to_uppercase()
+        }
+        fn region(&self) -> Region {
+            self.region
+        }
+        fn height_hint(&self, _view: &View, _width: u16) -> Option<u16> {
+            (self.region == Region::Top).then_some(3)
+        }
+        fn render(&mut self, frame: &mut Frame, area: Rect, _view: &View) {
+            let text = format!("inside {} keys {}", self.name, self.keys.len());
+            frame.render_widget(Paragraph::new(text), area);
+        }
+        fn handle_input(&mut self, input: &Input, _view: &View) -> Outcome {
+            match input {
+                Input::Key(key) if self.takes_keys => {
+                    self.keys.push(key.code);
+                    Outcome::redraw()
+                }
+                _ => Outcome::Ignored,
+            }
+        }
+        fn on_event(&mut self, event: &PaneEvent, _view: &View) -> Outcome {
+            match event {
+                PaneEvent::Snapshot => Outcome::redraw(),
+                _ => Outcome::Ignored,
+            }
+        }
+    }
+
+    fn key(code: KeyCode, modifiers: KeyModifiers) -> AppEvent {
+        AppEvent::Terminal(TermEvent::Key(KeyEvent {
+            code,
+            modifiers,
+            kind: KeyEventKind::Press,
+            state: KeyEventState::NONE,
+        }))
+    }
+
+    fn app(panes: Vec<Box<dyn Pane>>) -> App {
+        App::new(panes, Theme::default(), Keymap::default())
+    }
+
+    fn three() -> App {
+        app(vec![
+            Probe::boxed("command", Region::Main, true),
+            Probe::boxed("axes", Region::Top, false),
+            Probe::boxed("traffic", Region::Side, false),
+        ])
+    }
+
+    fn screen(app: &mut App, width: u16, height: u16) -> Vec<String> {
+        let mut terminal = Terminal::new(TestBackend::new(width, height)).expect("test backend");
+        terminal.draw(|f| app.render(f)).expect("draw");
+        let buffer = terminal.backend().buffer();
+        (0..height)
+            .map(|y| {
+                (0..width)
+                    .map(|x| buffer[(x, y)].symbol().to_string())
+                    .collect::<String>()
+            })
+            .collect()
+    }
+
+    fn snapshot() -> Snapshot {
+        let family = crate::protocol::find_family("tmcl").expect("tmcl");
+        Snapshot {
+            family,
+            address: 1,
+            link_name: "sim tmcm1110".into(),
+            axes: family.console.axes().to_vec(),
+            status: vec![AxisStatus::default()],
+            link: LinkState::Connected { link: "sim".into() },
+            identity: None,
+            poll: Some(PollCadence::default()),
+            axis: 0,
+        }
+    }
+
+    #[test]
+    fn at_80x24_every_pane_is_a_tab_and_the_focused_one_shows() {
+        let mut app = three();
+        let lines = screen(&mut app, 80, 24);
+        assert!(
+            lines[0].contains("1 COMMAND │ 2 AXES │ 3 TRAFFIC"),
+            "{}",
+            lines[0]
+        );
+        assert!(lines[1].contains("inside command"));
+        app.handle(key(KeyCode::Char('2'), KeyModifiers::ALT));
+        let lines = screen(&mut app, 80, 24);
+        assert!(lines[1].contains("inside axes"), "{}", lines[1]);
+    }
+
+    #[test]
+    fn a_large_screen_tiles_top_main_and_side() {
+        let mut app = three();
+        let lines = screen(&mut app, 200, 50);
+        // The axes on top (3 rows inside a border), then two columns.
+        assert!(lines[0].contains(" AXES "), "{}", lines[0]);
+        assert!(lines[1].contains("inside axes"));
+        assert!(lines[5].contains(" COMMAND ") && lines[5].contains(" TRAFFIC "));
+        assert!(lines[6].contains("inside command") && lines[6].contains("inside traffic"));
+        // Between the two sizes the side pane is a tab beside the command.
+        let lines = screen(&mut app, 120, 40);
+        assert!(lines[5].contains("1 COMMAND │ 3 TRAFFIC"), "{}", lines[5]);
+    }
+
+    #[test]
+    fn the_status_bar_always_shows_the_stop_key() {
+        for (w, h) in [(80, 24), (200, 50)] {
+            let mut app = three();
+            let lines = screen(&mut app, w, h);
+            assert!(lines[usize::from(h) - 1].starts_with(" F12 STOP "));
+        }
+        let mut app = three();
+        app.handle(AppEvent::Snapshot(snapshot()));
+        let status = screen(&mut app, 100, 30).pop().unwrap_or_default();
+        assert!(status.contains("sim tmcm1110 #1 connected"), "{status}");
+        assert!(status.contains("poll 20 Hz"), "{status}");
+    }
+
+    #[test]
+    fn the_stop_key_goes_to_the_app_whichever_pane_has_the_focus() {
+        let mut app = three();
+        let f12 = || key(KeyCode::F(12), KeyModifiers::NONE);
+        assert_eq!(app.handle(f12()), [Effect::EmergencyStop]);
+        app.handle(key(KeyCode::Char('3'), KeyModifiers::ALT));
+        assert_eq!(app.focused(), Some("traffic"));
+        assert_eq!(app.handle(f12()), [Effect::EmergencyStop]);
+        // The command pane takes every other key, but never this one.
+        app.focus("command");
+        app.handle(key(KeyCode::Char('x'), KeyModifiers::NONE));
+        assert_eq!(app.handle(f12()), [Effect::EmergencyStop]);
+        let lines = screen(&mut app, 80, 24);
+        assert!(lines[1].contains("keys 1"), "{}", lines[1]);
+        assert!(lines[23].contains("STOP sending"), "{}", lines[23]);
+    }
+
+    #[test]
+    fn tab_moves_the_focus_only_when_the_pane_does_not_use_it() {
+        let mut app = three();
+        app.handle(key(KeyCode::Tab, KeyModifiers::NONE));
+        assert_eq!(app.focused(), Some("command"));
+        app.focus("axes");
+        app.handle(key(KeyCode::Tab, KeyModifiers::NONE));
+        assert_eq!(app.focused(), Some("traffic"));
+        app.handle(key(KeyCode::Tab, KeyModifiers::NONE));
+        assert_eq!(app.focused(), Some("command"));
+        app.focus("axes");
+        app.handle(key(KeyCode::BackTab, KeyModifiers::SHIFT));
+        assert_eq!(app.focused(), Some("command"));
+    }
+
+    #[test]
+    fn the_screen_is_redrawn_only_when_something_changed() {
+        let mut app = three();
+        screen(&mut app, 80, 24);
+        assert!(!app.needs_redraw());
+        app.handle(AppEvent::Snapshot(snapshot()));
+        assert!(app.needs_redraw());
+        screen(&mut app, 80, 24);
+        // The same values again (a poll that read what was there) draw nothing.
+        app.handle(AppEvent::Snapshot(snapshot()));
+        assert!(!app.needs_redraw());
+        let mut moved = snapshot();
+        moved.status[0].position = Some(5);
+        app.handle(AppEvent::Snapshot(moved));
+        assert!(app.needs_redraw());
+        screen(&mut app, 80, 24);
+        // A key no pane and no binding uses changes nothing.
+        app.focus("axes");
+        screen(&mut app, 80, 24);
+        app.handle(key(KeyCode::Char('z'), KeyModifiers::NONE));
+        assert!(!app.needs_redraw());
+    }
+
+    #[test]
+    fn poll_rates_become_cadences() {
+        assert_eq!(cadence_for(0.0), None);
+        assert_eq!(cadence_for(f64::NAN), None);
+        let c = cadence_for(20.0).expect("20 Hz");
+        assert_eq!(c.fast, Duration::from_millis(50));
+        assert_eq!(c.slow, Duration::from_millis(200));
+        assert_eq!(rate_of(c.fast), "20");
+        assert_eq!(rate_of(Duration::from_millis(400)), "2.5");
+    }
+}

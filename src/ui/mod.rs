@@ -1,0 +1,49 @@
+//! The terminal console (TUI): panes drawn with ratatui from the session's
+//! snapshots, keys through the keymap, colours through the theme.
+//!
+//! - [`pane`]: the [`Pane`](pane::Pane) trait and what panes see ([`View`](pane::View),
+//!   [`Snapshot`](pane::Snapshot)) and ask for ([`Request`](pane::Request)).
+//! - [`app`]: the [`App`](app::App) (focus, layout, status bar, dispatch) and
+//!   the event loop that redraws only when something changed.
+//! - [`terminal`]: raw mode and the alternate screen, always restored.
+//! - One file per pane: [`command`] (the console line editor), [`axes`]
+//!   (axis status gauges and lamps).
+//!
+//! # Adding a pane
+//!
+//! 1. Write `src/ui/NAME.rs` with a type implementing [`pane::Pane`]: a
+//!    `name()` (its keymap section, and what `Request::Focus` names), a
+//!    `title()`, its home [`pane::Region`] (`Top`, `Main` or `Side`),
+//!    `render()` into the area inside the border the app draws, and
+//!    `handle_input()` for keys while it has the focus. Override
+//!    `on_event()` to follow traffic, replies to the lines it sent
+//!    ([`pane::Request::Send`] with a tag of its choosing), timers or
+//!    snapshot changes; return `Outcome::Ignored` when nothing it shows
+//!    changed, so an idle console is not redrawn.
+//! 2. Add `pub mod NAME;` below and one line to [`panes`].
+//!
+//! That is all: the app lays the panes out (at 80×24 every pane is a tab;
+//! from 100×28 the `Top` pane sits above the others; from 160 columns
+//! `Side` panes get a column of their own), moves the focus (Tab,
+//! Shift-Tab when the pane does not use them; Alt-1…9), and keeps the
+//! emergency stop and quit keys ahead of every pane. Test a pane alone
+//! with ratatui's `TestBackend` and a [`pane::Snapshot`] built by hand,
+//! or inside an [`app::App`].
+
+pub mod app;
+pub mod axes;
+pub mod command;
+pub mod keymap;
+pub mod pane;
+pub mod terminal;
+pub mod theme;
+
+use pane::Pane;
+
+/// Every pane of the console, in tab order (Alt-1 is the first).
+pub fn panes() -> Vec<Box<dyn Pane>> {
+    vec![
+        Box::new(command::CommandPane::new()),
+        Box::new(axes::AxesPane::new()),
+    ]
+}
