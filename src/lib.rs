@@ -9,6 +9,7 @@ pub mod cli;
 pub mod device;
 pub mod link;
 pub mod protocol;
+pub mod script;
 pub mod session;
 pub mod sim;
 pub mod ui;

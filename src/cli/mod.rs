@@ -3,11 +3,14 @@
 pub mod asm;
 pub mod bench;
 pub mod connection;
+pub mod console;
 pub mod exec;
 pub mod output;
 pub mod run;
 pub mod scan;
-pub mod script;
+/// The batch file syntax, shared with the console's `:run` (moved to
+/// [`crate::script`]; the old path stays for the front ends).
+pub use crate::script;
 pub mod sim_serve;
 
 use std::io::Write;
@@ -183,10 +186,7 @@ pub fn run(cli: Cli) -> i32 {
             eprintln!("axterm {}: not built yet", other.name());
             EXIT_USAGE
         }
-        None => {
-            eprintln!("axterm: the console is not built yet");
-            EXIT_USAGE
-        }
+        None => console::run(&cli.connection),
     }
 }
 

@@ -262,16 +262,24 @@ impl Session {
     /// Stop every motor, ahead of everything queued. Every stop line is
     /// sent even if one fails; the first failure is returned.
     pub async fn emergency_stop(&self) -> Result<(), SessionError> {
-        let mut first_error = None;
+        let results = self.emergency_stop_lines().await;
+        results
+            .into_iter()
+            .find_map(Result::err)
+            .map_or(Ok(()), Err)
+    }
+
+    /// [`Session::emergency_stop`], with what came back for each stop line
+    /// in order, for a console that confirms them.
+    pub async fn emergency_stop_lines(&self) -> Vec<Result<LineResult, SessionError>> {
+        let mut results = Vec::new();
         for line in self.family.console.emergency_stop(self.address) {
-            if let Err(e) = self
-                .send(Priority::EmergencyStop, &line, Retry::Never, None)
-                .await
-            {
-                first_error.get_or_insert(e);
-            }
+            results.push(
+                self.send(Priority::EmergencyStop, &line, Retry::Never, None)
+                    .await,
+            );
         }
-        first_error.map_or(Ok(()), Err)
+        results
     }
 
     /// Read the module's identity (TMCL: the firmware version string) and

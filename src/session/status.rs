@@ -19,6 +19,8 @@ pub struct AxisStatus {
     pub position: Option<i64>,
     pub target: Option<i64>,
     pub speed: Option<i64>,
+    /// The fastest the axis moves when positioning.
+    pub max_speed: Option<i64>,
     /// Standing at the target.
     pub reached: Option<bool>,
     pub left_switch: Option<bool>,
@@ -40,6 +42,7 @@ impl AxisStatus {
             AxisUpdate::Position(v) => self.position = Some(v),
             AxisUpdate::Target(v) => self.target = Some(v),
             AxisUpdate::Speed(v) => self.speed = Some(v),
+            AxisUpdate::MaxSpeed(v) => self.max_speed = Some(v),
             AxisUpdate::Reached(v) => self.reached = Some(v),
             AxisUpdate::Switch(SwitchKind::Left, v) => self.left_switch = Some(v),
             AxisUpdate::Switch(SwitchKind::Right, v) => self.right_switch = Some(v),

@@ -34,9 +34,10 @@ use crate::device::{DeviceEvent, LinkState, TrafficRecord};
 use crate::protocol::Family;
 use crate::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
 
-/// Below this width or height every pane is a tab of one region.
-pub const TILE_MIN_WIDTH: u16 = 100;
-pub const TILE_MIN_HEIGHT: u16 = 28;
+/// Below this many rows (or columns) for the panes, every pane is a tab of
+/// one region.
+pub const TILE_MIN_HEIGHT: u16 = 16;
+pub const TILE_MIN_WIDTH: u16 = 40;
 /// From this width the side panes get a column of their own.
 pub const SIDE_MIN_WIDTH: u16 = 160;
 /// Rows the main region keeps at least when the top region is tall.
@@ -342,7 +343,9 @@ impl App {
     fn emergency_stop(&mut self, effects: &mut Vec<Effect>) {
         self.last_stop = Some("STOP sending…".into());
         self.dirty = true;
+        // The loop drops the lines of every earlier Send before it stops.
         effects.push(Effect::EmergencyStop);
+        self.broadcast(&PaneEvent::Stopping, effects);
     }
 
     fn cycle_focus(&mut self, step: usize) {
@@ -642,7 +645,7 @@ enum Mode {
 
 impl Mode {
     fn of(body: Rect) -> Mode {
-        if body.width < TILE_MIN_WIDTH || body.height < TILE_MIN_HEIGHT - 1 {
+        if body.width < TILE_MIN_WIDTH || body.height < TILE_MIN_HEIGHT {
             Mode::Tabs
         } else if body.width < SIDE_MIN_WIDTH {
             Mode::Rows
@@ -1175,9 +1178,22 @@ mod tests {
     }
 
     #[test]
-    fn at_80x24_every_pane_is_a_tab_and_the_focused_one_shows() {
+    fn at_80x24_the_top_pane_stays_and_the_others_are_tabs() {
         let mut app = three();
         let lines = screen(&mut app, 80, 24);
+        assert!(lines[0].contains(" AXES "), "{}", lines[0]);
+        assert!(lines[1].contains("inside axes"));
+        assert!(lines[5].contains("1 COMMAND │ 3 TRAFFIC"), "{}", lines[5]);
+        assert!(lines[6].contains("inside command"));
+        app.handle(key(KeyCode::Char('3'), KeyModifiers::ALT));
+        let lines = screen(&mut app, 80, 24);
+        assert!(lines[6].contains("inside traffic"), "{}", lines[6]);
+    }
+
+    #[test]
+    fn on_a_tiny_screen_every_pane_is_a_tab() {
+        let mut app = three();
+        let lines = screen(&mut app, 60, 14);
         assert!(
             lines[0].contains("1 COMMAND │ 2 AXES │ 3 TRAFFIC"),
             "{}",
@@ -1185,7 +1201,7 @@ mod tests {
         );
         assert!(lines[1].contains("inside command"));
         app.handle(key(KeyCode::Char('2'), KeyModifiers::ALT));
-        let lines = screen(&mut app, 80, 24);
+        let lines = screen(&mut app, 60, 14);
         assert!(lines[1].contains("inside axes"), "{}", lines[1]);
     }
 
@@ -1230,7 +1246,7 @@ mod tests {
         app.handle(key(KeyCode::Char('x'), KeyModifiers::NONE));
         assert_eq!(app.handle(f12()), [Effect::EmergencyStop]);
         let lines = screen(&mut app, 80, 24);
-        assert!(lines[1].contains("keys 1"), "{}", lines[1]);
+        assert!(lines[6].contains("keys 1"), "{}", lines[6]);
         assert!(lines[23].contains("STOP sending"), "{}", lines[23]);
     }
 

@@ -29,6 +29,8 @@ impl Default for Keymap {
                 (KeyCode::Char('q'), KeyModifiers::CONTROL, Action::Quit),
                 (KeyCode::F(1), KeyModifiers::NONE, Action::Help),
                 (KeyCode::Tab, KeyModifiers::NONE, Action::NextPane),
+                // The command pane keeps Tab for completion.
+                (KeyCode::F(6), KeyModifiers::NONE, Action::NextPane),
                 (KeyCode::BackTab, KeyModifiers::SHIFT, Action::PreviousPane),
             ],
         }

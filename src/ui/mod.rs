@@ -20,30 +20,45 @@
 //!    ([`pane::Request::Send`] with a tag of its choosing), timers or
 //!    snapshot changes; return `Outcome::Ignored` when nothing it shows
 //!    changed, so an idle console is not redrawn.
-//! 2. Add `pub mod NAME;` below and one line to [`panes`].
+//! 2. Add `pub mod NAME;` below and one line to [`panes`] (which gets a
+//!    [`PaneSetup`] for anything a pane is built with).
 //!
-//! That is all: the app lays the panes out (at 80×24 every pane is a tab;
-//! from 100×28 the `Top` pane sits above the others; from 160 columns
-//! `Side` panes get a column of their own), moves the focus (Tab,
-//! Shift-Tab when the pane does not use them; Alt-1…9), and keeps the
+//! That is all: the app lays the panes out (the `Top` pane above the
+//! others, as high as it asks but leaving the rest at least 10 rows; the
+//! `Main` and `Side` panes share the rest as tabs, until from 160 columns
+//! `Side` panes get a column of their own; on a very small screen every
+//! pane is a tab), moves the focus (Tab, Shift-Tab when the pane does not
+//! use them, F6; Alt-1…9), and keeps the
 //! emergency stop and quit keys ahead of every pane. Test a pane alone
 //! with ratatui's `TestBackend` and a [`pane::Snapshot`] built by hand,
 //! or inside an [`app::App`].
 
 pub mod app;
 pub mod axes;
+pub mod batch;
 pub mod command;
 pub mod keymap;
+pub mod live;
 pub mod pane;
 pub mod terminal;
 pub mod theme;
 
+use std::path::PathBuf;
+
 use pane::Pane;
 
+/// What the panes are built with.
+#[derive(Debug, Clone, Default)]
+pub struct PaneSetup {
+    /// Where the command history is kept (one file per protocol family);
+    /// `None` keeps none.
+    pub history_dir: Option<PathBuf>,
+}
+
 /// Every pane of the console, in tab order (Alt-1 is the first).
-pub fn panes() -> Vec<Box<dyn Pane>> {
+pub fn panes(setup: &PaneSetup) -> Vec<Box<dyn Pane>> {
     vec![
-        Box::new(command::CommandPane::new()),
+        Box::new(command::CommandPane::new(setup.history_dir.clone())),
         Box::new(axes::AxesPane::new()),
     ]
 }

@@ -118,6 +118,10 @@ pub enum PaneEvent {
     },
     /// A [`Request::WakeAfter`] came due.
     Wake { tag: u64 },
+    /// The emergency stop key was pressed: lines still waiting to be sent
+    /// were dropped (their replies will never come) and the stop is on its
+    /// way. Forget anything queued, stop running scripts.
+    Stopping,
     /// The emergency stop was sent: each stop line and what came back.
     EmergencyStop(Vec<Result<LineResult, SessionError>>),
     /// A message from the console itself (the answer to `:poll 10`, a
