@@ -3,7 +3,8 @@
 //! Layers, data flowing down and back up (see the house plan):
 //! `cli` and `ui` (front ends) → `session` (what the console knows of a controller)
 //! → `device` (the async task owning a link) → `link` (byte transports)
-//! → `sim` (simulated controllers). `protocol` is pure code used by all.
+//! → `sim` (simulated controllers). `protocol` is pure code used by all;
+//! `ui` holds the console's themes and keymaps.
 
 pub mod cli;
 pub mod device;

@@ -1,33 +1,229 @@
-//! The built-in theme and keymap files ship as valid TOML with the keys
-//! every console needs (the emergency stop above all).
+//! The built-in themes and keymaps (compiled in from `themes/` and
+//! `keymaps/`) load, are complete, and keep their promises: the
+//! high-contrast theme uses the 16 ANSI colours only, the mono theme no
+//! colour at all, every keymap has F12 as its emergency stop in every pane.
 
-fn parse(text: &str, file: &str) -> toml::Table {
-    text.parse::<toml::Table>()
-        .unwrap_or_else(|e| panic!("{file} is not valid TOML: {e}"))
+use axterm::ui::keymap::{
+    ACTIONS, Action, BUILTIN_KEYMAPS, Context, DEFAULT_KEYMAP, KeyChord, Keymap, parse_keymap,
+};
+use axterm::ui::theme::{
+    BUILTIN_THEMES, DEFAULT_THEME, NO_COLOR_THEME, ROLES, Role, Theme, parse_theme,
+};
+use ratatui::style::{Color, Modifier};
+
+fn chord(text: &str) -> KeyChord {
+    text.parse().unwrap_or_else(|e| panic!("{text}: {e}"))
+}
+
+fn theme(name: &str) -> Theme {
+    Theme::builtin(name).unwrap_or_else(|| panic!("built-in theme {name} does not load"))
+}
+
+fn keymap(name: &str) -> Keymap {
+    Keymap::builtin(name).unwrap_or_else(|| panic!("built-in keymap {name} does not load"))
 }
 
 #[test]
-fn the_default_keymap_binds_the_emergency_stop() {
-    let keymap = parse(
-        include_str!("../keymaps/default.toml"),
-        "keymaps/default.toml",
-    );
-    let stop = keymap
-        .get("global")
-        .and_then(|g| g.get("emergency_stop"))
-        .and_then(|k| k.as_str());
-    assert_eq!(stop, Some("f12"));
+fn the_builtin_themes_are_the_promised_ones() {
+    let names: Vec<&str> = Theme::builtin_names().collect();
+    assert_eq!(names, ["dark", "light", "high-contrast", "mono"]);
+    assert_eq!(DEFAULT_THEME, "dark");
+    assert_eq!(NO_COLOR_THEME, "mono");
 }
 
 #[test]
-fn the_dark_theme_names_its_colours() {
-    let theme = parse(include_str!("../themes/dark.toml"), "themes/dark.toml");
-    assert_eq!(theme.get("name").and_then(|n| n.as_str()), Some("dark"));
-    let colors = theme.get("colors").and_then(|c| c.as_table());
-    for role in ["background", "foreground", "error", "emergency"] {
+fn every_builtin_theme_parses_and_gives_every_role() {
+    for (name, text) in BUILTIN_THEMES {
+        // Parsed as a user file would be, to see any mistake spelt out.
+        if let Err(errors) = parse_theme(name, text) {
+            panic!("themes/{name}.toml: {errors:?}");
+        }
+        let table: toml::Table = text.parse().expect("valid TOML");
+        let styles = table.get("styles").and_then(|s| s.as_table());
+        for role in ROLES {
+            assert!(
+                styles.is_some_and(|s| s.contains_key(role.name)),
+                "themes/{name}.toml has no style for {}",
+                role.name
+            );
+        }
+        let theme = theme(name);
+        assert_eq!(theme.name(), *name);
+        assert!(!theme.description().is_empty(), "{name} has no description");
+    }
+}
+
+#[test]
+fn the_high_contrast_theme_uses_the_16_ansi_colours_only() {
+    let ansi = |c: Option<Color>| {
+        matches!(
+            c,
+            None | Some(
+                Color::Black
+                    | Color::Red
+                    | Color::Green
+                    | Color::Yellow
+                    | Color::Blue
+                    | Color::Magenta
+                    | Color::Cyan
+                    | Color::Gray
+                    | Color::DarkGray
+                    | Color::LightRed
+                    | Color::LightGreen
+                    | Color::LightYellow
+                    | Color::LightBlue
+                    | Color::LightMagenta
+                    | Color::LightCyan
+                    | Color::White
+            )
+        )
+    };
+    let theme = theme("high-contrast");
+    for role in ROLES {
+        let style = theme.style(role.role);
+        assert!(ansi(style.fg) && ansi(style.bg), "{}: {style:?}", role.name);
+    }
+    assert_eq!(theme.background(), Color::Black);
+    assert_eq!(theme.foreground(), Color::White);
+}
+
+#[test]
+fn only_the_mono_theme_is_monochrome() {
+    for name in Theme::builtin_names() {
+        assert_eq!(theme(name).is_monochrome(), name == "mono", "{name}");
+    }
+}
+
+#[test]
+fn the_mono_theme_keeps_lamps_selection_and_the_stop_key_readable() {
+    let mono = theme("mono");
+    let has = |role, modifier| mono.style(role).add_modifier.contains(modifier);
+    assert!(has(Role::Selection, Modifier::REVERSED));
+    assert!(has(Role::StatusBar, Modifier::REVERSED));
+    assert!(has(Role::LampOn, Modifier::REVERSED));
+    assert!(!has(Role::LampOff, Modifier::REVERSED));
+    assert!(has(Role::Emergency, Modifier::REVERSED) && has(Role::Emergency, Modifier::BOLD));
+    assert!(has(Role::Error, Modifier::BOLD));
+}
+
+#[test]
+fn every_theme_tells_apart_what_must_differ() {
+    for name in Theme::builtin_names() {
+        let t = theme(name);
+        let differ = |a: Role, b: Role| {
+            assert_ne!(t.style(a), t.style(b), "{name}: {a:?} looks like {b:?}");
+        };
+        differ(Role::LampOn, Role::LampOff);
+        differ(Role::LampAlarm, Role::LampOff);
+        differ(Role::Selection, Role::Normal);
+        differ(Role::Emergency, Role::Normal);
+        differ(Role::Emergency, Role::StatusBar);
+        differ(Role::Error, Role::Normal);
+        differ(Role::Changed, Role::Normal);
+        differ(Role::BorderFocused, Role::Border);
+        differ(Role::CodeCurrent, Role::Normal);
+    }
+}
+
+#[test]
+fn the_builtin_keymaps_are_the_promised_ones() {
+    let names: Vec<&str> = Keymap::builtin_names().collect();
+    assert_eq!(names, ["default", "vim"]);
+    assert_eq!(DEFAULT_KEYMAP, "default");
+    for (name, text) in BUILTIN_KEYMAPS {
+        if let Err(errors) = parse_keymap(name, text) {
+            panic!("keymaps/{name}.toml: {errors:?}");
+        }
+        let keymap = keymap(name);
+        assert_eq!(keymap.name(), *name);
         assert!(
-            colors.is_some_and(|c| c.contains_key(role)),
-            "themes/dark.toml has no colour for {role}"
+            !keymap.description().is_empty(),
+            "{name} has no description"
         );
+    }
+}
+
+#[test]
+fn every_builtin_keymap_binds_every_action() {
+    for name in Keymap::builtin_names() {
+        let keymap = keymap(name);
+        for action in ACTIONS {
+            let bound = Context::ALL
+                .iter()
+                .any(|c| !keymap.chords(*c, action.action).is_empty());
+            assert!(bound, "keymap {name} has no key for {}", action.name);
+        }
+    }
+}
+
+#[test]
+fn f12_is_the_emergency_stop_in_every_pane_of_every_builtin_keymap() {
+    let f12 = chord("f12").to_event();
+    for name in Keymap::builtin_names() {
+        let keymap = keymap(name);
+        assert_eq!(keymap.emergency_stop(), chord("f12"), "{name}");
+        assert_eq!(keymap.stop_hint(), "F12 STOP", "{name}");
+        for context in Context::ALL {
+            assert_eq!(
+                keymap.action_for(context, &f12),
+                Some(Action::EmergencyStop),
+                "{name}, {context}"
+            );
+            assert_eq!(
+                keymap.hint(context, Action::EmergencyStop).as_deref(),
+                Some("F12 STOP")
+            );
+        }
+    }
+}
+
+#[test]
+fn no_builtin_keymap_binds_what_terminals_swallow() {
+    // XON/XOFF flow control (ctrl-q, ctrl-s) and job control (ctrl-z) can
+    // be eaten on the way, and ctrl-h is backspace on some terminals.
+    let swallowed = ["ctrl-q", "ctrl-s", "ctrl-z", "ctrl-h"].map(chord);
+    for name in Keymap::builtin_names() {
+        for binding in keymap(name).bindings() {
+            for chord in &binding.chords {
+                assert!(
+                    !swallowed.contains(chord),
+                    "keymap {name} binds {chord} to {}",
+                    binding.action
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn the_default_keymap_quits_on_f10_and_ctrl_c_only_cancels_a_line() {
+    let keymap = keymap("default");
+    let ctrl_c = chord("ctrl-c").to_event();
+    for context in Context::ALL {
+        assert_eq!(
+            keymap.action_for(context, &chord("f10").to_event()),
+            Some(Action::Quit)
+        );
+        let expected = (context == Context::Command).then_some(Action::Cancel);
+        assert_eq!(keymap.action_for(context, &ctrl_c), expected, "{context}");
+    }
+}
+
+#[test]
+fn typed_characters_stay_text_in_the_command_line_and_the_editor() {
+    for name in Keymap::builtin_names() {
+        let keymap = keymap(name);
+        for context in [Context::Command, Context::Editor] {
+            for c in ['q', 'j', '?', '/', ' ', 'G', '1', '+'] {
+                let event = KeyChord::plain(axterm::ui::keymap::Key::Char(c))
+                    .expect("a plain character")
+                    .to_event();
+                assert_eq!(
+                    keymap.action_for(context, &event),
+                    None,
+                    "{name}, {context}, {c:?}"
+                );
+            }
+        }
     }
 }

@@ -10,7 +10,8 @@ use super::connection::{Target, runtime};
 use super::{Cli, ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::ui::PaneSetup;
 use crate::ui::app::{Connector, Controller};
-use crate::ui::live::{SessionController, identify_later, run_terminal};
+use crate::ui::config::platform_config_dir;
+use crate::ui::live::{Appearance, SessionController, identify_later, run_terminal};
 
 /// Environment variable naming the directory for the console's history
 /// (default: the platform data directory, e.g. ~/.local/share/axterm).
@@ -63,7 +64,7 @@ fn connector() -> Connector {
     })
 }
 
-pub fn run(args: &ConnectionArgs) -> i32 {
+pub fn run(args: &ConnectionArgs, theme: Option<String>, keymap: Option<String>) -> i32 {
     // Usage errors are reported before the terminal is touched.
     if has_connection(args)
         && let Err(message) = Target::resolve(args)
@@ -81,6 +82,11 @@ pub fn run(args: &ConnectionArgs) -> i32 {
     let setup = PaneSetup {
         history_dir: data_dir(),
     };
+    let appearance = Appearance {
+        theme,
+        keymap,
+        config_dir: platform_config_dir(),
+    };
     runtime.block_on(async {
         let controller = if has_connection(args) {
             match open(args).await {
@@ -93,7 +99,7 @@ pub fn run(args: &ConnectionArgs) -> i32 {
         } else {
             None
         };
-        match run_terminal(controller, connector(), &setup).await {
+        match run_terminal(controller, connector(), &setup, &appearance).await {
             Ok(()) => EXIT_OK,
             Err(e) => {
                 eprintln!("axterm: the terminal failed: {e}");

@@ -42,6 +42,13 @@ pub const EXIT_CONNECTION: i32 = 3;
 pub struct Cli {
     #[command(flatten)]
     pub connection: ConnectionArgs,
+    /// The console's colours: dark, light, high-contrast, mono, or a file
+    /// of yours (default dark; mono when NO_COLOR is set).
+    #[arg(long)]
+    pub theme: Option<String>,
+    /// The console's keys: default, vim, or a file of yours.
+    #[arg(long)]
+    pub keymap: Option<String>,
     #[command(subcommand)]
     pub command: Option<Command>,
 }
@@ -186,7 +193,7 @@ pub fn run(cli: Cli) -> i32 {
             eprintln!("axterm {}: not built yet", other.name());
             EXIT_USAGE
         }
-        None => console::run(&cli.connection),
+        None => console::run(&cli.connection, cli.theme, cli.keymap),
     }
 }
 

@@ -251,6 +251,13 @@ pub trait FamilyConsole: Send + Sync {
         Vec::new()
     }
 
+    /// The console line that stops one axis normally (TMCL `MST 0`), for
+    /// a stop key in the axis pane; `None` if the family has none.
+    fn stop_axis_line(&self, axis: u8) -> Option<String> {
+        let _ = axis;
+        None
+    }
+
     /// How to show the load reading on a gauge, if the family has one.
     fn load_scale(&self) -> Option<LoadScale> {
         None

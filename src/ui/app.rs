@@ -17,9 +17,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use ratatui::Frame;
-use ratatui::crossterm::event::{
-    Event as TermEvent, KeyCode, KeyEvent, KeyEventKind, KeyModifiers,
-};
+use ratatui::crossterm::event::{Event as TermEvent, KeyEvent, KeyEventKind};
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::style::Style;
 use ratatui::text::{Line, Span};
@@ -27,9 +25,11 @@ use ratatui::widgets::{Block, Borders, Paragraph};
 use tokio::sync::{broadcast, mpsc, watch};
 use tokio::task::JoinHandle;
 
-use super::keymap::{Action, Keymap};
-use super::pane::{Input, Notice, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View};
-use super::theme::{Role, Theme};
+use super::keymap::{Action, Context, Keymap, load_keymap};
+use super::pane::{
+    Input, Notice, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View, key_label,
+};
+use super::theme::{Role, Theme, load_theme};
 use crate::device::{DeviceEvent, LinkState, TrafficRecord};
 use crate::protocol::Family;
 use crate::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
@@ -127,6 +127,8 @@ pub struct App {
     quit: bool,
     /// Where each shown pane was drawn last, for mouse clicks.
     drawn: Vec<(usize, Rect)>,
+    /// Where the user's themes and keymaps are (`:theme`, `:keymap`).
+    config_dir: Option<std::path::PathBuf>,
 }
 
 impl App {
@@ -149,7 +151,13 @@ impl App {
             dirty: true,
             quit: false,
             drawn: Vec::new(),
+            config_dir: None,
         }
+    }
+
+    /// Look for the user's themes and keymaps in `dir`.
+    pub fn set_config_dir(&mut self, dir: Option<std::path::PathBuf>) {
+        self.config_dir = dir;
     }
 
     /// Whether something changed since the last [`App::render`].
@@ -292,9 +300,18 @@ impl App {
         }
     }
 
+    /// The keymap section of the pane with the focus.
+    fn context(&self) -> Context {
+        self.panes
+            .get(self.focus)
+            .map_or(Context::Global, |p| p.context())
+    }
+
     fn key(&mut self, key: KeyEvent, effects: &mut Vec<Effect>) {
-        // The emergency stop and quit work whatever the focus.
-        match self.keymap.global_action(&key) {
+        let action = self.keymap.action_for(self.context(), &key);
+        // The emergency stop, quit and the pane keys work whatever the
+        // focus, before the pane sees the key.
+        match action {
             Some(Action::EmergencyStop) => {
                 self.emergency_stop(effects);
                 return;
@@ -304,40 +321,58 @@ impl App {
                 effects.push(Effect::Quit);
                 return;
             }
-            _ => {}
-        }
-        // Alt-1 … Alt-9 jump to a pane, whatever the focus.
-        if let (KeyCode::Char(c @ '1'..='9'), true) =
-            (key.code, key.modifiers.contains(KeyModifiers::ALT))
-        {
-            self.focus_index(usize::from(c as u8 - b'1'));
-            return;
+            Some(a) => {
+                if let Some(n) = a.pane_number() {
+                    self.focus_index(usize::from(n).saturating_sub(1));
+                    return;
+                }
+            }
+            None => {}
         }
         if self.give_focused(&Input::Key(key), effects) {
             return;
         }
-        match self.keymap.global_action(&key) {
+        match action {
             Some(Action::NextPane) => self.cycle_focus(1),
             Some(Action::PreviousPane) => self.cycle_focus(self.panes.len().saturating_sub(1)),
             Some(Action::Help) => {
                 let help = self.key_help();
                 self.broadcast(&PaneEvent::Notice(Notice::info(help)), effects);
             }
+            Some(Action::ClearErrors) => {
+                let axis = self.snapshot.as_ref().map(|s| s.axis);
+                if let Some(axis) = axis {
+                    self.request(self.focus, Request::ClearErrors(axis), effects);
+                }
+            }
             _ => {}
         }
     }
 
-    /// One line naming the global keys.
+    /// The keys of the pane with the focus, global ones first, one line.
     pub fn key_help(&self) -> String {
-        let k = &self.keymap;
-        format!(
-            "keys: {} emergency stop, {} quit, {}/{} next/previous pane, Alt-1..9 pane N, {} help",
-            k.key_name(Action::EmergencyStop),
-            k.key_name(Action::Quit),
-            k.key_name(Action::NextPane),
-            k.key_name(Action::PreviousPane),
-            k.key_name(Action::Help),
-        )
+        let context = self.context();
+        let mut parts = Vec::new();
+        for binding in self.keymap.bindings() {
+            if binding.context != Context::Global && binding.context != context {
+                continue;
+            }
+            if binding.action.pane_number().is_some_and(|n| n > 1) {
+                continue;
+            }
+            if let Some(chord) = binding.chords.first() {
+                let title = match binding.action.pane_number() {
+                    Some(_) => "Pane N".to_string(),
+                    None => binding.action.title().to_string(),
+                };
+                let label = match binding.action.pane_number() {
+                    Some(_) => chord.label().replace('1', "N"),
+                    None => chord.label(),
+                };
+                parts.push(format!("{label} {title}"));
+            }
+        }
+        format!("keys: {}", parts.join(" · "))
     }
 
     fn emergency_stop(&mut self, effects: &mut Vec<Effect>) {
@@ -426,20 +461,28 @@ impl App {
                 effects.push(Effect::ClearErrors { axis, seen });
             }
             Request::Log(path) => effects.push(Effect::Log(path)),
-            Request::Theme(name) => match Theme::builtin(&name) {
-                Some(theme) => self.set_theme(theme),
-                None => self.broadcast(
-                    &PaneEvent::Notice(Notice::error(format!("no theme called '{name}'"))),
-                    effects,
-                ),
-            },
-            Request::Keymap(name) => match Keymap::builtin(&name) {
-                Some(keymap) => self.set_keymap(keymap),
-                None => self.broadcast(
-                    &PaneEvent::Notice(Notice::error(format!("no keymap called '{name}'"))),
-                    effects,
-                ),
-            },
+            Request::Theme(name) => {
+                let loaded = load_theme(&name, self.config_dir.as_deref());
+                let notice = match &loaded.problem {
+                    Some(problem) => Notice::error(problem.to_string()),
+                    None => Notice::info(format!("theme {}", loaded.value.name())),
+                };
+                self.set_theme(loaded.value);
+                self.broadcast(&PaneEvent::Notice(notice), effects);
+            }
+            Request::Keymap(name) => {
+                let loaded = load_keymap(&name, self.config_dir.as_deref());
+                let notice = match &loaded.problem {
+                    Some(problem) => Notice::error(problem.to_string()),
+                    None => Notice::info(format!(
+                        "keymap {}: {}",
+                        loaded.value.name(),
+                        loaded.value.stop_hint()
+                    )),
+                };
+                self.set_keymap(loaded.value);
+                self.broadcast(&PaneEvent::Notice(notice), effects);
+            }
             Request::Connect(args) => effects.push(Effect::Connect(args)),
             Request::Focus(name) => {
                 self.focus(name);
@@ -456,6 +499,8 @@ impl App {
     pub fn render(&mut self, frame: &mut Frame) {
         self.dirty = false;
         let area = frame.area();
+        // Ordinary text first; every other role patches over it.
+        frame.render_widget(Block::default().style(self.theme.style(Role::Normal)), area);
         let [body, status] =
             Layout::vertical([Constraint::Min(1), Constraint::Length(1)]).areas(area);
         self.drawn.clear();
@@ -592,7 +637,7 @@ impl App {
         let key = theme.style(Role::StatusKey);
         let mut spans = vec![
             Span::styled(
-                format!(" {} STOP ", self.keymap.key_name(Action::EmergencyStop)),
+                format!(" {} ", self.keymap.stop_hint()),
                 theme.style(Role::Emergency),
             ),
             Span::styled(" ", bar),
@@ -625,8 +670,17 @@ impl App {
             }
             None => spans.push(Span::styled("not connected │ ", bar)),
         }
-        spans.push(Span::styled(self.keymap.key_name(Action::Quit), key));
-        spans.push(Span::styled(" quit", bar));
+        let context = self.context();
+        spans.push(Span::styled(
+            key_label(&self.keymap, context, Action::Quit),
+            key,
+        ));
+        spans.push(Span::styled(" quit ", bar));
+        spans.push(Span::styled(
+            key_label(&self.keymap, context, Action::Help),
+            key,
+        ));
+        spans.push(Span::styled(" help", bar));
         let line = Line::from(spans).style(bar);
         frame.render_widget(Paragraph::new(line).style(Style::default()), area);
     }
@@ -1072,7 +1126,7 @@ mod tests {
     use super::*;
     use ratatui::Terminal;
     use ratatui::backend::TestBackend;
-    use ratatui::crossterm::event::KeyEventState;
+    use ratatui::crossterm::event::{KeyCode, KeyEventState, KeyModifiers};
 
     /// A pane that shows its name and keeps every key it is given, unless
     /// it is told to ignore keys.
@@ -1097,6 +1151,13 @@ mod tests {
     impl Pane for Probe {
         fn name(&self) -> &'static str {
             self.name
+        }
+        fn context(&self) -> Context {
+            match self.name {
+                "command" => Context::Command,
+                "axes" => Context::Axis,
+                _ => Context::Traffic,
+            }
         }
         fn title(&self, _view: &View) -> String {
             self.name.to_uppercase()
@@ -1138,7 +1199,9 @@ mod tests {
     }
 
     fn app(panes: Vec<Box<dyn Pane>>) -> App {
-        App::new(panes, Theme::default(), Keymap::default())
+        let theme = Theme::builtin("dark").expect("built-in theme");
+        let keymap = Keymap::builtin("default").expect("built-in keymap");
+        App::new(panes, theme, keymap)
     }
 
     fn three() -> App {

@@ -8,13 +8,14 @@
 //! 80×24), each axis gets one row.
 
 use ratatui::Frame;
-use ratatui::crossterm::event::{KeyCode, KeyModifiers};
+use ratatui::crossterm::event::KeyCode;
 use ratatui::layout::Rect;
 use ratatui::style::Style;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 
-use super::pane::{Input, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View};
+use super::keymap::{Action, Context};
+use super::pane::{Input, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View, key_label};
 use super::theme::{Role, Theme};
 use crate::device::LinkState;
 use crate::protocol::console::LoadScale;
@@ -238,7 +239,7 @@ impl AxesPane {
             format!(" {:>5}  ", number(status.load)),
             theme.style(Role::Normal),
         ));
-        row3.extend(error_spans(theme, status));
+        row3.extend(error_spans(view, status));
         vec![Line::from(row1), Line::from(row2), Line::from(row3)]
     }
 
@@ -295,12 +296,14 @@ impl AxesPane {
             format!(" ld {:>4} ", number(status.load)),
             theme.style(Role::Normal),
         ));
-        spans.extend(error_spans(theme, status));
+        spans.extend(error_spans(view, status));
         Line::from(spans)
     }
 }
 
-fn error_spans(theme: &Theme, status: &AxisStatus) -> Vec<Span<'static>> {
+fn error_spans(view: &View, status: &AxisStatus) -> Vec<Span<'static>> {
+    let theme = view.theme;
+    let clear = key_label(view.keymap, Context::Axis, Action::ClearErrors);
     let mut spans = Vec::new();
     if status.errors.is_empty() {
         spans.push(Span::styled("no errors", theme.style(Role::Muted)));
@@ -310,7 +313,10 @@ fn error_spans(theme: &Theme, status: &AxisStatus) -> Vec<Span<'static>> {
             format!("ERR {}", names.join(", ")),
             theme.style(Role::LampAlarm),
         ));
-        spans.push(Span::styled(" (c clears)", theme.style(Role::Muted)));
+        spans.push(Span::styled(
+            format!(" ({clear} clears)"),
+            theme.style(Role::Muted),
+        ));
     }
     if let Some(flags) = status.driver_flags.as_ref().filter(|f| !f.is_empty()) {
         let names: Vec<&str> = flags.iter().map(|f| f.name).collect();
@@ -412,6 +418,10 @@ impl Pane for AxesPane {
         "axes"
     }
 
+    fn context(&self) -> Context {
+        Context::Axis
+    }
+
     fn title(&self, view: &View) -> String {
         let Some(s) = view.session else {
             return "Axes — not connected".into();
@@ -493,30 +503,39 @@ impl Pane for AxesPane {
         let (Input::Key(key), Some(session)) = (input, view.session) else {
             return Outcome::Ignored;
         };
-        if key
-            .modifiers
-            .intersects(KeyModifiers::CONTROL | KeyModifiers::ALT)
-        {
-            return Outcome::Ignored;
-        }
         let count = session.axes.len();
-        match key.code {
-            KeyCode::Up | KeyCode::Left | KeyCode::Char('k') if session.axis > 0 => {
+        match view.keymap.action_for(Context::Axis, key) {
+            Some(Action::SelectPrevious) if session.axis > 0 => {
                 Outcome::request(Request::SelectAxis(session.axis - 1))
             }
-            KeyCode::Down | KeyCode::Right | KeyCode::Char('j') if session.axis + 1 < count => {
+            Some(Action::SelectNext) if session.axis + 1 < count => {
                 Outcome::request(Request::SelectAxis(session.axis + 1))
             }
-            KeyCode::Char('c') => Outcome::request(Request::ClearErrors(session.axis)),
-            KeyCode::Char(c @ '1'..='9') => {
-                let index = usize::from(c as u8 - b'1');
-                if index < count {
-                    Outcome::request(Request::SelectAxis(index))
-                } else {
-                    Outcome::Ignored
+            Some(Action::AxisStop) => {
+                let line = session
+                    .selected_axis()
+                    .and_then(|axis| session.family.console.stop_axis_line(axis.number));
+                match line {
+                    Some(line) => Outcome::request(Request::Send {
+                        lines: vec![line],
+                        tag: 0,
+                    }),
+                    None => Outcome::Ignored,
                 }
             }
-            _ => Outcome::Ignored,
+            Some(_) => Outcome::Ignored,
+            // 1…9 pick an axis.
+            None => match key.code {
+                KeyCode::Char(c @ '1'..='9') if key.modifiers.is_empty() => {
+                    let index = usize::from(c as u8 - b'1');
+                    if index < count {
+                        Outcome::request(Request::SelectAxis(index))
+                    } else {
+                        Outcome::Ignored
+                    }
+                }
+                _ => Outcome::Ignored,
+            },
         }
     }
 
@@ -570,7 +589,7 @@ mod tests {
 
     #[test]
     fn gauges_fill_to_their_fraction_and_mark_the_target() {
-        let theme = Theme::default();
+        let theme = Theme::builtin("dark").expect("built-in theme");
         let text = |spans: Vec<Span>| {
             spans
                 .iter()

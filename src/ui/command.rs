@@ -17,8 +17,10 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 
 use super::batch::{Batch, BatchStep};
-use super::keymap::Action;
-use super::pane::{Input, NoticeLevel, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View};
+use super::keymap::{Action, Context};
+use super::pane::{
+    Input, NoticeLevel, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View, key_label,
+};
 use super::theme::Role;
 use crate::protocol::Family;
 use crate::protocol::console::{Candidate, Completions};
@@ -31,6 +33,8 @@ const HISTORY_LIMIT: usize = 1000;
 /// Rows of completion candidates shown at most.
 const CANDIDATE_ROWS: usize = 3;
 const PROMPT: &str = "> ";
+/// Rows a page key scrolls.
+const PAGE: usize = 10;
 
 /// The console commands, for `:help` and completion.
 pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
@@ -399,7 +403,7 @@ impl CommandPane {
 
     fn start_batch(&mut self, name: &str, text: &str, view: &View) -> Outcome {
         if self.batch.is_some() {
-            return self.fail("a batch is running: wait for it, or Esc to stop it");
+            return self.fail("a batch is running: wait for it, or cancel it (Esc)");
         }
         let Some(session) = view.session else {
             return self.fail(not_connected());
@@ -459,20 +463,26 @@ impl CommandPane {
 
     fn help_topic(&mut self, topic: &str, view: &View) {
         if topic.is_empty() {
-            let keys = view.keymap;
+            let key = |action| key_label(view.keymap, Context::Command, action);
             self.say(
                 Role::Accent,
                 format!(
-                    "Type a command (`MVP ABS, 0, 51200`), Tab completes, {} on a word explains it, Up/Down recall.",
-                    keys.key_name(Action::Help)
+                    "Type a command (`MVP ABS, 0, 51200`); {} completes, {} on a word explains it, {}/{} recall.",
+                    key(Action::Complete),
+                    key(Action::Help),
+                    key(Action::HistoryPrevious),
+                    key(Action::HistoryNext),
                 ),
             );
             self.say(
                 Role::Accent,
                 format!(
-                    "{} stops every axis and the standalone program; {} quits; PgUp/PgDn scroll; Esc clears the line.",
-                    keys.key_name(Action::EmergencyStop),
-                    keys.key_name(Action::Quit)
+                    "{} stops every axis and any running program; {} quits; {} next pane; {}/{} scroll.",
+                    key(Action::EmergencyStop),
+                    key(Action::Quit),
+                    key(Action::NextPane),
+                    key(Action::ScrollPageUp),
+                    key(Action::ScrollPageDown),
                 ),
             );
             for (syntax, what) in CONSOLE_COMMANDS {
@@ -688,30 +698,55 @@ impl CommandPane {
     }
 
     fn edit_key(&mut self, key: &KeyEvent, view: &View) -> Outcome {
-        let ctrl = key.modifiers.contains(KeyModifiers::CONTROL);
-        let alt = key.modifiers.contains(KeyModifiers::ALT);
-        if key.code != KeyCode::Tab {
+        let action = view.keymap.action_for(Context::Command, key);
+        if action != Some(Action::Complete) {
             self.completing = None;
             self.hint = None;
         }
+        match action {
+            Some(Action::Submit) => return self.submit(view),
+            Some(Action::Complete) => self.complete(view),
+            Some(Action::Help) => self.help_here(view),
+            Some(Action::Cancel) => {
+                if self.batch.take().is_some() {
+                    self.batch_wake = None;
+                    self.say(Role::Warning, "batch stopped");
+                } else {
+                    self.set_input(String::new());
+                }
+            }
+            Some(Action::HistoryPrevious) => {
+                if let Some(line) = self.history.older(&self.input).map(str::to_string) {
+                    self.set_input(line);
+                }
+            }
+            Some(Action::HistoryNext) => {
+                if let Some(line) = self.history.newer() {
+                    self.set_input(line);
+                }
+            }
+            Some(Action::ScrollUp) => self.scroll = self.scroll.saturating_add(1),
+            Some(Action::ScrollDown) => self.scroll = self.scroll.saturating_sub(1),
+            Some(Action::ScrollPageUp) => self.scroll = self.scroll.saturating_add(PAGE),
+            Some(Action::ScrollPageDown) => self.scroll = self.scroll.saturating_sub(PAGE),
+            Some(Action::ScrollTop) => self.scroll = usize::MAX,
+            Some(Action::ScrollBottom) => self.scroll = 0,
+            Some(Action::ClearOutput) => {
+                self.output.clear();
+                self.scroll = 0;
+            }
+            // Global actions this pane has no use for go to the app.
+            Some(_) => return Outcome::Ignored,
+            None => return self.edit_text(key),
+        }
+        Outcome::redraw()
+    }
+
+    /// Keys that edit the line itself.
+    fn edit_text(&mut self, key: &KeyEvent) -> Outcome {
+        let ctrl = key.modifiers.contains(KeyModifiers::CONTROL);
+        let alt = key.modifiers.contains(KeyModifiers::ALT);
         match key.code {
-            KeyCode::Enter => return self.submit(view),
-            KeyCode::Tab => self.complete(view),
-            KeyCode::F(1) => self.help_here(view),
-            KeyCode::Char('c') if ctrl => {
-                if self.batch.take().is_some() {
-                    self.say(Role::Warning, "batch stopped");
-                } else {
-                    self.set_input(String::new());
-                }
-            }
-            KeyCode::Esc => {
-                if self.batch.take().is_some() {
-                    self.say(Role::Warning, "batch stopped");
-                } else {
-                    self.set_input(String::new());
-                }
-            }
             KeyCode::Char('a') if ctrl => self.cursor = 0,
             KeyCode::Char('e') if ctrl => self.cursor = self.input.len(),
             KeyCode::Char('u') if ctrl => {
@@ -725,10 +760,6 @@ impl CommandPane {
                 let start = trimmed.rfind([' ', ',']).map_or(0, |i| i + 1);
                 self.input.drain(start..self.cursor);
                 self.cursor = start;
-            }
-            KeyCode::Char('l') if ctrl => {
-                self.output.clear();
-                self.scroll = 0;
             }
             KeyCode::Char(c) if !ctrl && !alt => {
                 self.input.insert(self.cursor, c);
@@ -765,18 +796,6 @@ impl CommandPane {
             }
             KeyCode::Home => self.cursor = 0,
             KeyCode::End => self.cursor = self.input.len(),
-            KeyCode::Up => {
-                if let Some(line) = self.history.older(&self.input).map(str::to_string) {
-                    self.set_input(line);
-                }
-            }
-            KeyCode::Down => {
-                if let Some(line) = self.history.newer() {
-                    self.set_input(line);
-                }
-            }
-            KeyCode::PageUp => self.scroll = self.scroll.saturating_add(10),
-            KeyCode::PageDown => self.scroll = self.scroll.saturating_sub(10),
             _ => return Outcome::Ignored,
         }
         Outcome::redraw()
@@ -896,7 +915,10 @@ impl CommandPane {
         if let Some(batch) = &self.batch {
             let _ = batch;
             return vec![Line::styled(
-                "batch running: Esc stops it",
+                format!(
+                    "batch running: {} stops it",
+                    key_label(view.keymap, Context::Command, Action::Cancel)
+                ),
                 theme.style(Role::Warning),
             )];
         }
@@ -907,6 +929,10 @@ impl CommandPane {
 impl Pane for CommandPane {
     fn name(&self) -> &'static str {
         "command"
+    }
+
+    fn context(&self) -> Context {
+        Context::Command
     }
 
     fn title(&self, _view: &View) -> String {
@@ -1031,7 +1057,7 @@ impl Pane for CommandPane {
                 self.sent.clear();
                 self.batch_wake = None;
                 let batch = self.batch.take().is_some();
-                let key = view.keymap.key_name(Action::EmergencyStop);
+                let key = key_label(view.keymap, Context::Global, Action::EmergencyStop);
                 self.say(
                     Role::Emergency,
                     format!("{key} EMERGENCY STOP: stopping every axis and any running program"),

@@ -1,40 +1,764 @@
-//! STAND-IN until the keymap loader lands (branch `uiconf`): the console's
-//! global actions and their default keys (as in `keymaps/default.toml`).
+//! Keys of the console: a [`Keymap`] binds [`KeyChord`]s to [`Action`]s,
+//! per [`Context`] (the global bindings, and one set per pane).
+//!
+//! Global bindings are looked up first, in every pane, so the emergency
+//! stop works everywhere: in the program editor and while typing a
+//! command too. Hence a global key may not be a plain character (it would
+//! be taken from typed text), and a pane may not bind a key that a global
+//! binding already holds (that binding could never fire): both are
+//! refused when the keymap loads, as is a keymap without an emergency
+//! stop, or with two actions on one key in one pane.
+//!
+//! Keymaps are TOML files: one section per context, action names as keys,
+//! a key or a list of keys as values. The built-ins in `keymaps/` are
+//! compiled in; a user's `keymaps/NAME.toml` in the platform config
+//! directory overrides the built-in of the same name action by action:
+//! what it does not mention comes from its `base` (a built-in name, by
+//! default the built-in of the same name, else `default`), and
+//! `action = []` unbinds.
 
-use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
+use std::collections::BTreeMap;
+use std::fmt;
+use std::ops::Range;
+use std::path::Path;
+use std::str::FromStr;
 
-/// What a global key does, whichever pane has the focus.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
+use serde::Deserialize;
+use serde::de::{Deserializer, SeqAccess, Visitor};
+use toml::Spanned;
+
+use super::config::{
+    self, ConfigError, ConfigProblem, Loaded, ProblemKind, UserFile, line_column, read_user_file,
+};
+
+/// Where a key is pressed: a section of a keymap file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Context {
+    /// Checked first, whatever pane has the focus.
+    Global,
+    /// The command line and its output.
+    Command,
+    /// The axis gauges.
+    Axis,
+    /// The parameter table.
+    Parameters,
+    /// The traffic monitor.
+    Traffic,
+    /// The plots.
+    Plot,
+    /// The program editor.
+    Editor,
+}
+
+impl Context {
+    pub const ALL: [Context; 7] = [
+        Context::Global,
+        Context::Command,
+        Context::Axis,
+        Context::Parameters,
+        Context::Traffic,
+        Context::Plot,
+        Context::Editor,
+    ];
+
+    /// The section name in keymap files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Context::Global => "global",
+            Context::Command => "command",
+            Context::Axis => "axis",
+            Context::Parameters => "parameters",
+            Context::Traffic => "traffic",
+            Context::Plot => "plot",
+            Context::Editor => "editor",
+        }
+    }
+
+    /// Whether plain characters are typed text here: the command line and
+    /// the editor, and the global bindings, which are active in both. A
+    /// pane that takes typed text for a moment (a parameter value, a
+    /// filter) looks keys up in [`Context::Command`] meanwhile.
+    pub fn takes_text(self) -> bool {
+        matches!(self, Context::Global | Context::Command | Context::Editor)
+    }
+}
+
+impl fmt::Display for Context {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Everything a key can do in the console.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Action {
     EmergencyStop,
     Quit,
     Help,
     NextPane,
     PreviousPane,
+    FocusPane1,
+    FocusPane2,
+    FocusPane3,
+    FocusPane4,
+    FocusPane5,
+    FocusPane6,
+    FocusPane7,
+    FocusPane8,
+    FocusPane9,
+    ClearErrors,
+    Submit,
+    Cancel,
+    Complete,
+    HistoryPrevious,
+    HistoryNext,
+    ScrollUp,
+    ScrollDown,
+    ScrollPageUp,
+    ScrollPageDown,
+    ScrollTop,
+    ScrollBottom,
+    ClearOutput,
+    SelectPrevious,
+    SelectNext,
+    AxisStop,
+    ToggleUnits,
+    ParameterEdit,
+    ParameterWrite,
+    ParameterStore,
+    ParameterRestore,
+    ParameterRefresh,
+    ParameterFilter,
+    PauseTraffic,
+    ToggleHidePolls,
+    ClearTraffic,
+    PlotZoomIn,
+    PlotZoomOut,
+    PlotZoomReset,
+    PlotPause,
+    EditorSave,
+    EditorOpen,
+    EditorAssemble,
+    EditorDownload,
+    EditorRun,
+    EditorStop,
+    EditorStep,
 }
 
-/// Keys to actions.
+/// An action's name in keymap files, its word in the status bar, what it
+/// does (for the help), and the sections that may bind it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ActionInfo {
+    pub action: Action,
+    pub name: &'static str,
+    pub title: &'static str,
+    pub description: &'static str,
+    pub contexts: &'static [Context],
+}
+
+use Context::{Axis, Command, Editor, Global, Parameters, Plot, Traffic};
+
+const ONLY_GLOBAL: &[Context] = &[Global];
+/// Moving about: global, and in the panes where letters are not text.
+const NAVIGATION: &[Context] = &[Global, Axis, Parameters, Traffic, Plot];
+const EVERYWHERE: &[Context] = &[Global, Command, Axis, Parameters, Traffic, Plot, Editor];
+const COMMAND_LINE: &[Context] = &[Command];
+const CANCELLING: &[Context] = &[Command, Parameters];
+const SCROLLING: &[Context] = &[Command, Parameters, Traffic];
+const LISTS: &[Context] = &[Axis, Parameters];
+const AXES: &[Context] = &[Axis];
+const UNITS: &[Context] = &[Axis, Parameters, Plot];
+const PARAMETERS: &[Context] = &[Parameters];
+const TRAFFIC_ANYWHERE: &[Context] = &[Global, Traffic];
+const TRAFFIC: &[Context] = &[Traffic];
+const PLOTS: &[Context] = &[Plot];
+const EDITOR: &[Context] = &[Editor];
+
+const fn info(
+    action: Action,
+    name: &'static str,
+    title: &'static str,
+    description: &'static str,
+    contexts: &'static [Context],
+) -> ActionInfo {
+    ActionInfo {
+        action,
+        name,
+        title,
+        description,
+        contexts,
+    }
+}
+
+/// Every action, in [`Action`] order.
+#[rustfmt::skip]
+pub const ACTIONS: &[ActionInfo] = &[
+    info(Action::EmergencyStop, "emergency_stop", "STOP", "stop every axis now, ahead of anything queued", ONLY_GLOBAL),
+    info(Action::Quit, "quit", "Quit", "leave axterm", NAVIGATION),
+    info(Action::Help, "help", "Help", "show the keys of the pane", NAVIGATION),
+    info(Action::NextPane, "next_pane", "Next pane", "move the focus to the next pane", NAVIGATION),
+    info(Action::PreviousPane, "previous_pane", "Prev pane", "move the focus to the previous pane", NAVIGATION),
+    info(Action::FocusPane1, "focus_pane_1", "Pane 1", "focus pane 1", NAVIGATION),
+    info(Action::FocusPane2, "focus_pane_2", "Pane 2", "focus pane 2", NAVIGATION),
+    info(Action::FocusPane3, "focus_pane_3", "Pane 3", "focus pane 3", NAVIGATION),
+    info(Action::FocusPane4, "focus_pane_4", "Pane 4", "focus pane 4", NAVIGATION),
+    info(Action::FocusPane5, "focus_pane_5", "Pane 5", "focus pane 5", NAVIGATION),
+    info(Action::FocusPane6, "focus_pane_6", "Pane 6", "focus pane 6", NAVIGATION),
+    info(Action::FocusPane7, "focus_pane_7", "Pane 7", "focus pane 7", NAVIGATION),
+    info(Action::FocusPane8, "focus_pane_8", "Pane 8", "focus pane 8", NAVIGATION),
+    info(Action::FocusPane9, "focus_pane_9", "Pane 9", "focus pane 9", NAVIGATION),
+    info(Action::ClearErrors, "clear_errors", "Clear errors", "acknowledge and clear the error messages", EVERYWHERE),
+    info(Action::Submit, "submit", "Send", "send the command line", COMMAND_LINE),
+    info(Action::Cancel, "cancel", "Cancel", "drop the line being typed, or the filter", CANCELLING),
+    info(Action::Complete, "complete", "Complete", "complete the word being typed", COMMAND_LINE),
+    info(Action::HistoryPrevious, "history_previous", "History back", "recall the previous command", COMMAND_LINE),
+    info(Action::HistoryNext, "history_next", "History fwd", "recall the next command", COMMAND_LINE),
+    info(Action::ScrollUp, "scroll_up", "Scroll up", "scroll up one line", SCROLLING),
+    info(Action::ScrollDown, "scroll_down", "Scroll down", "scroll down one line", SCROLLING),
+    info(Action::ScrollPageUp, "scroll_page_up", "Page up", "scroll up one page", SCROLLING),
+    info(Action::ScrollPageDown, "scroll_page_down", "Page down", "scroll down one page", SCROLLING),
+    info(Action::ScrollTop, "scroll_top", "Top", "go to the first line", SCROLLING),
+    info(Action::ScrollBottom, "scroll_bottom", "Bottom", "go to the last line and follow new ones", SCROLLING),
+    info(Action::ClearOutput, "clear_output", "Clear", "clear the command output", COMMAND_LINE),
+    info(Action::SelectPrevious, "select_previous", "Previous", "select the previous axis or row", LISTS),
+    info(Action::SelectNext, "select_next", "Next", "select the next axis or row", LISTS),
+    info(Action::AxisStop, "axis_stop", "Stop axis", "stop the selected axis (a normal stop)", AXES),
+    info(Action::ToggleUnits, "toggle_units", "Units", "switch between raw and physical units", UNITS),
+    info(Action::ParameterEdit, "parameter_edit", "Edit", "type a new value for the selected parameter", PARAMETERS),
+    info(Action::ParameterWrite, "parameter_write", "Write", "send the edited value to the controller", PARAMETERS),
+    info(Action::ParameterStore, "parameter_store", "Store", "store the parameter in the controller's EEPROM", PARAMETERS),
+    info(Action::ParameterRestore, "parameter_restore", "Restore", "restore the parameter from the controller's EEPROM", PARAMETERS),
+    info(Action::ParameterRefresh, "parameter_refresh", "Refresh", "read every parameter again", PARAMETERS),
+    info(Action::ParameterFilter, "parameter_filter", "Filter", "show only parameters whose name matches", PARAMETERS),
+    info(Action::PauseTraffic, "pause_traffic", "Pause", "freeze or resume the traffic monitor", TRAFFIC_ANYWHERE),
+    info(Action::ToggleHidePolls, "toggle_hide_polls", "Hide polls", "hide or show the console's status polls", TRAFFIC_ANYWHERE),
+    info(Action::ClearTraffic, "clear_traffic", "Clear", "clear the traffic monitor", TRAFFIC),
+    info(Action::PlotZoomIn, "plot_zoom_in", "Zoom in", "show a shorter time span", PLOTS),
+    info(Action::PlotZoomOut, "plot_zoom_out", "Zoom out", "show a longer time span", PLOTS),
+    info(Action::PlotZoomReset, "plot_zoom_reset", "Zoom reset", "show the default time span", PLOTS),
+    info(Action::PlotPause, "plot_pause", "Freeze", "freeze or resume the plots", PLOTS),
+    info(Action::EditorSave, "editor_save", "Save", "save the program source", EDITOR),
+    info(Action::EditorOpen, "editor_open", "Open", "open a program source file", EDITOR),
+    info(Action::EditorAssemble, "editor_assemble", "Assemble", "assemble the program and show its errors", EDITOR),
+    info(Action::EditorDownload, "editor_download", "Download", "assemble and download the program to the controller", EDITOR),
+    info(Action::EditorRun, "editor_run", "Run", "run the program on the controller", EDITOR),
+    info(Action::EditorStop, "editor_stop", "Stop", "stop the program on the controller", EDITOR),
+    info(Action::EditorStep, "editor_step", "Step", "execute one instruction of the program", EDITOR),
+];
+
+impl Action {
+    fn info(self) -> Option<&'static ActionInfo> {
+        ACTIONS.iter().find(|info| info.action == self)
+    }
+
+    /// Its name in keymap files.
+    pub fn name(self) -> &'static str {
+        self.info().map_or("?", |info| info.name)
+    }
+
+    /// Its word in the status bar ("STOP", "Quit").
+    pub fn title(self) -> &'static str {
+        self.info().map_or("?", |info| info.title)
+    }
+
+    /// What it does, for the help.
+    pub fn description(self) -> &'static str {
+        self.info().map_or("", |info| info.description)
+    }
+
+    /// The sections of a keymap that may bind it.
+    pub fn contexts(self) -> &'static [Context] {
+        self.info().map_or(&[], |info| info.contexts)
+    }
+
+    /// The action a keymap file names, if any.
+    pub fn from_name(name: &str) -> Option<Action> {
+        ACTIONS
+            .iter()
+            .find(|info| info.name == name)
+            .map(|info| info.action)
+    }
+
+    /// For the focus actions, the pane number (1–9).
+    pub fn pane_number(self) -> Option<u8> {
+        let number = match self {
+            Action::FocusPane1 => 1,
+            Action::FocusPane2 => 2,
+            Action::FocusPane3 => 3,
+            Action::FocusPane4 => 4,
+            Action::FocusPane5 => 5,
+            Action::FocusPane6 => 6,
+            Action::FocusPane7 => 7,
+            Action::FocusPane8 => 8,
+            Action::FocusPane9 => 9,
+            _ => return None,
+        };
+        Some(number)
+    }
+}
+
+impl fmt::Display for Action {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A key, without modifiers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Key {
+    /// A character as typed (`'a'`, `'A'`, `'+'`, `' '`).
+    Char(char),
+    /// A function key, 1 to 24.
+    F(u8),
+    Esc,
+    Enter,
+    Tab,
+    Backspace,
+    Delete,
+    Insert,
+    Home,
+    End,
+    PageUp,
+    PageDown,
+    Up,
+    Down,
+    Left,
+    Right,
+}
+
+/// Key names in keymap files: the first name of a key is the one written
+/// back; the others are accepted.
+const KEY_NAMES: &[(&str, Key)] = &[
+    ("space", Key::Char(' ')),
+    ("esc", Key::Esc),
+    ("escape", Key::Esc),
+    ("enter", Key::Enter),
+    ("return", Key::Enter),
+    ("tab", Key::Tab),
+    ("backspace", Key::Backspace),
+    ("delete", Key::Delete),
+    ("del", Key::Delete),
+    ("insert", Key::Insert),
+    ("ins", Key::Insert),
+    ("home", Key::Home),
+    ("end", Key::End),
+    ("pageup", Key::PageUp),
+    ("pgup", Key::PageUp),
+    ("pagedown", Key::PageDown),
+    ("pgdn", Key::PageDown),
+    ("up", Key::Up),
+    ("down", Key::Down),
+    ("left", Key::Left),
+    ("right", Key::Right),
+];
+
+/// How keys are shown in the status bar and the help.
+const KEY_LABELS: &[(Key, &str)] = &[
+    (Key::Char(' '), "Space"),
+    (Key::Esc, "Esc"),
+    (Key::Enter, "Enter"),
+    (Key::Tab, "Tab"),
+    (Key::Backspace, "Bksp"),
+    (Key::Delete, "Del"),
+    (Key::Insert, "Ins"),
+    (Key::Home, "Home"),
+    (Key::End, "End"),
+    (Key::PageUp, "PgUp"),
+    (Key::PageDown, "PgDn"),
+    (Key::Up, "Up"),
+    (Key::Down, "Down"),
+    (Key::Left, "Left"),
+    (Key::Right, "Right"),
+];
+
+/// The highest function key a chord may name.
+pub const MAX_FUNCTION_KEY: u8 = 24;
+
+/// Modifier keys held with a key.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
+pub struct Modifiers {
+    pub ctrl: bool,
+    pub alt: bool,
+    pub shift: bool,
+}
+
+impl Modifiers {
+    pub const NONE: Modifiers = Modifiers {
+        ctrl: false,
+        alt: false,
+        shift: false,
+    };
+    pub const CTRL: Modifiers = Modifiers {
+        ctrl: true,
+        ..Modifiers::NONE
+    };
+    pub const ALT: Modifiers = Modifiers {
+        alt: true,
+        ..Modifiers::NONE
+    };
+    pub const SHIFT: Modifiers = Modifiers {
+        shift: true,
+        ..Modifiers::NONE
+    };
+}
+
+/// A key with its modifiers, as a keymap file writes it (`"ctrl-c"`,
+/// `"f12"`, `"shift-tab"`, `"alt-1"`, `"pageup"`, `"+"`).
+///
+/// Chords are kept in one form so that what a terminal reports matches
+/// what a file says: a character never carries shift (`"shift-a"` is
+/// `"A"`), and a ctrl character is lower case (terminals send the same
+/// byte for ctrl-a and ctrl-A).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct KeyChord {
+    key: Key,
+    modifiers: Modifiers,
+}
+
+/// Why a text is not a key chord.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ChordError {
+    #[error("no key given")]
+    Empty,
+    #[error(
+        "unknown key `{0}` (keys: a single character, f1 to f24, esc, enter, tab, backspace, \
+         delete, insert, home, end, pageup, pagedown, up, down, left, right, space; \
+         modifiers: ctrl-, alt-, shift-)"
+    )]
+    UnknownKey(String),
+    #[error("`{0}` names the modifier `{1}` twice")]
+    RepeatedModifier(String, String),
+    #[error("f{0}: function keys go from f1 to f{MAX_FUNCTION_KEY}")]
+    FunctionKeyOutOfRange(u32),
+    #[error("a control character cannot be bound; write the key's name (tab, enter, esc)")]
+    ControlCharacter,
+    #[error(
+        "shift-{0}: write the character the shifted key types instead (such as `!` for \
+         shift-1), since that depends on the keyboard layout"
+    )]
+    ShiftedSymbol(char),
+    #[error("ctrl-shift-{0}: most terminals send the same as ctrl-{0}; bind that instead")]
+    CtrlShift(char),
+    #[error("ctrl-{0}: terminals send the same byte for it as for `{1}`; bind `{1}` instead")]
+    SameAs(char, &'static str),
+}
+
+/// The one upper-case form of a letter, if it has exactly one.
+fn upper(c: char) -> Option<char> {
+    let mut up = c.to_uppercase();
+    match (up.next(), up.next()) {
+        (Some(u), None) if u != c || c.is_uppercase() => Some(u),
+        _ => None,
+    }
+}
+
+impl KeyChord {
+    /// The chord of `key` with `modifiers`, in the one form chords are
+    /// kept in; refused where a terminal could not report it as written.
+    pub fn new(key: Key, modifiers: Modifiers) -> Result<KeyChord, ChordError> {
+        let mut modifiers = modifiers;
+        let key = match key {
+            Key::Char(c) => {
+                if c.is_control() {
+                    return Err(ChordError::ControlCharacter);
+                }
+                let mut c = c;
+                if modifiers.shift {
+                    if modifiers.ctrl && c.is_ascii_alphabetic() {
+                        return Err(ChordError::CtrlShift(c.to_ascii_lowercase()));
+                    }
+                    c = upper(c).ok_or(ChordError::ShiftedSymbol(c))?;
+                    modifiers.shift = false;
+                }
+                if modifiers.ctrl {
+                    c = c.to_ascii_lowercase();
+                    // The C0 control codes: ctrl-i is 0x09 (tab), ctrl-m
+                    // 0x0D (enter), ctrl-[ 0x1B (esc).
+                    let same = match c {
+                        'i' => Some("tab"),
+                        'm' => Some("enter"),
+                        '[' => Some("esc"),
+                        _ => None,
+                    };
+                    if let Some(same) = same {
+                        return Err(ChordError::SameAs(c, same));
+                    }
+                }
+                Key::Char(c)
+            }
+            Key::F(n) => {
+                if n == 0 || n > MAX_FUNCTION_KEY {
+                    return Err(ChordError::FunctionKeyOutOfRange(u32::from(n)));
+                }
+                Key::F(n)
+            }
+            other => other,
+        };
+        Ok(KeyChord { key, modifiers })
+    }
+
+    /// A key alone.
+    pub fn plain(key: Key) -> Result<KeyChord, ChordError> {
+        KeyChord::new(key, Modifiers::NONE)
+    }
+
+    pub fn key(self) -> Key {
+        self.key
+    }
+
+    pub fn modifiers(self) -> Modifiers {
+        self.modifiers
+    }
+
+    /// A printable character without ctrl or alt: text, where text is
+    /// typed.
+    pub fn is_text(self) -> bool {
+        matches!(self.key, Key::Char(_)) && !self.modifiers.ctrl && !self.modifiers.alt
+    }
+
+    /// The chord of a key event from the terminal; `None` for keys no
+    /// chord names (media keys, lone modifiers) and for super, hyper and
+    /// meta, which keymaps do not use.
+    pub fn from_event(event: &KeyEvent) -> Option<KeyChord> {
+        let m = event.modifiers;
+        if m.intersects(KeyModifiers::SUPER | KeyModifiers::HYPER | KeyModifiers::META) {
+            return None;
+        }
+        let mut modifiers = Modifiers {
+            ctrl: m.contains(KeyModifiers::CONTROL),
+            alt: m.contains(KeyModifiers::ALT),
+            shift: m.contains(KeyModifiers::SHIFT),
+        };
+        let key = match event.code {
+            KeyCode::Char(c) if c.is_control() => return None,
+            KeyCode::Char(c) => {
+                // Terminals differ in whether they add shift to a shifted
+                // character; the character itself says it. Ctrl chords
+                // are case-blind at the terminal (one byte for both).
+                let c = if modifiers.ctrl {
+                    c.to_ascii_lowercase()
+                } else if modifiers.shift {
+                    upper(c).unwrap_or(c)
+                } else {
+                    c
+                };
+                modifiers.shift = false;
+                Key::Char(c)
+            }
+            KeyCode::BackTab => {
+                modifiers.shift = true;
+                Key::Tab
+            }
+            KeyCode::F(n) if (1..=MAX_FUNCTION_KEY).contains(&n) => Key::F(n),
+            KeyCode::Esc => Key::Esc,
+            KeyCode::Enter => Key::Enter,
+            KeyCode::Tab => Key::Tab,
+            KeyCode::Backspace => Key::Backspace,
+            KeyCode::Delete => Key::Delete,
+            KeyCode::Insert => Key::Insert,
+            KeyCode::Home => Key::Home,
+            KeyCode::End => Key::End,
+            KeyCode::PageUp => Key::PageUp,
+            KeyCode::PageDown => Key::PageDown,
+            KeyCode::Up => Key::Up,
+            KeyCode::Down => Key::Down,
+            KeyCode::Left => Key::Left,
+            KeyCode::Right => Key::Right,
+            _ => return None,
+        };
+        Some(KeyChord { key, modifiers })
+    }
+
+    /// A key press event a terminal would report for this chord (as
+    /// crossterm reports shift-tab: `BackTab` with shift).
+    pub fn to_event(self) -> KeyEvent {
+        let mut m = KeyModifiers::NONE;
+        if self.modifiers.ctrl {
+            m |= KeyModifiers::CONTROL;
+        }
+        if self.modifiers.alt {
+            m |= KeyModifiers::ALT;
+        }
+        if self.modifiers.shift {
+            m |= KeyModifiers::SHIFT;
+        }
+        let code = match self.key {
+            Key::Char(c) => KeyCode::Char(c),
+            Key::F(n) => KeyCode::F(n),
+            Key::Esc => KeyCode::Esc,
+            Key::Enter => KeyCode::Enter,
+            Key::Tab if self.modifiers.shift => KeyCode::BackTab,
+            Key::Tab => KeyCode::Tab,
+            Key::Backspace => KeyCode::Backspace,
+            Key::Delete => KeyCode::Delete,
+            Key::Insert => KeyCode::Insert,
+            Key::Home => KeyCode::Home,
+            Key::End => KeyCode::End,
+            Key::PageUp => KeyCode::PageUp,
+            Key::PageDown => KeyCode::PageDown,
+            Key::Up => KeyCode::Up,
+            Key::Down => KeyCode::Down,
+            Key::Left => KeyCode::Left,
+            Key::Right => KeyCode::Right,
+        };
+        KeyEvent::new(code, m)
+    }
+
+    /// How the status bar and the help show it: `F12`, `Ctrl-C`,
+    /// `Shift-Tab`, `Alt-1`, `PgUp`.
+    pub fn label(self) -> String {
+        let mut label = String::new();
+        if self.modifiers.ctrl {
+            label.push_str("Ctrl-");
+        }
+        if self.modifiers.alt {
+            label.push_str("Alt-");
+        }
+        if self.modifiers.shift {
+            label.push_str("Shift-");
+        }
+        match self.key {
+            Key::F(n) => label.push_str(&format!("F{n}")),
+            Key::Char(c) if c != ' ' => {
+                if self.modifiers.ctrl {
+                    label.extend(c.to_uppercase());
+                } else {
+                    label.push(c);
+                }
+            }
+            key => {
+                let name = KEY_LABELS
+                    .iter()
+                    .find(|(k, _)| *k == key)
+                    .map_or("?", |(_, name)| *name);
+                label.push_str(name);
+            }
+        }
+        label
+    }
+}
+
+impl fmt::Display for KeyChord {
+    /// The form keymap files use, which parses back to the same chord.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.modifiers.ctrl {
+            f.write_str("ctrl-")?;
+        }
+        if self.modifiers.alt {
+            f.write_str("alt-")?;
+        }
+        if self.modifiers.shift {
+            f.write_str("shift-")?;
+        }
+        match self.key {
+            Key::F(n) => write!(f, "f{n}"),
+            Key::Char(c) if c != ' ' => write!(f, "{c}"),
+            key => {
+                let name = KEY_NAMES
+                    .iter()
+                    .find(|(_, k)| *k == key)
+                    .map_or("?", |(name, _)| *name);
+                f.write_str(name)
+            }
+        }
+    }
+}
+
+impl FromStr for KeyChord {
+    type Err = ChordError;
+
+    fn from_str(text: &str) -> Result<KeyChord, ChordError> {
+        let mut modifiers = Modifiers::NONE;
+        let mut rest = text;
+        // Modifiers end in `-`; a lone `-` after them is the minus key
+        // (`ctrl--`).
+        while let Some((word, tail)) = rest.split_once('-') {
+            if tail.is_empty() {
+                break;
+            }
+            let lower = word.to_ascii_lowercase();
+            let (flag, name) = match lower.as_str() {
+                "ctrl" | "control" => (&mut modifiers.ctrl, "ctrl"),
+                "alt" => (&mut modifiers.alt, "alt"),
+                "shift" => (&mut modifiers.shift, "shift"),
+                _ => break,
+            };
+            if *flag {
+                return Err(ChordError::RepeatedModifier(
+                    text.to_string(),
+                    name.to_string(),
+                ));
+            }
+            *flag = true;
+            rest = tail;
+        }
+        // crossterm's name for shift-tab.
+        if rest.eq_ignore_ascii_case("backtab") {
+            if modifiers.shift {
+                return Err(ChordError::RepeatedModifier(
+                    text.to_string(),
+                    "shift".to_string(),
+                ));
+            }
+            modifiers.shift = true;
+            rest = "tab";
+        }
+        let key = parse_key(rest)?;
+        KeyChord::new(key, modifiers)
+    }
+}
+
+fn parse_key(text: &str) -> Result<Key, ChordError> {
+    let mut chars = text.chars();
+    match (chars.next(), chars.next()) {
+        (None, _) => return Err(ChordError::Empty),
+        (Some(c), None) => return Ok(Key::Char(c)),
+        _ => {}
+    }
+    let lower = text.to_ascii_lowercase();
+    if let Some((_, key)) = KEY_NAMES.iter().find(|(name, _)| *name == lower) {
+        return Ok(*key);
+    }
+    if let Some(digits) = lower.strip_prefix('f')
+        && !digits.is_empty()
+        && digits.chars().all(|c| c.is_ascii_digit())
+    {
+        let n: u32 = digits.parse().unwrap_or(u32::MAX);
+        return match u8::try_from(n) {
+            Ok(n) if (1..=MAX_FUNCTION_KEY).contains(&n) => Ok(Key::F(n)),
+            _ => Err(ChordError::FunctionKeyOutOfRange(n)),
+        };
+    }
+    Err(ChordError::UnknownKey(text.to_string()))
+}
+
+/// The keys of one action in one section, as loaded.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Binding {
+    pub context: Context,
+    pub action: Action,
+    /// In the order the file gives them; the first is the one shown.
+    pub chords: Vec<KeyChord>,
+}
+
+/// The keymap the console starts with when none is asked for.
+pub const DEFAULT_KEYMAP: &str = "default";
+
+/// The built-in keymaps, compiled in: name and TOML text.
+pub const BUILTIN_KEYMAPS: &[(&str, &str)] = &[
+    ("default", include_str!("../../keymaps/default.toml")),
+    ("vim", include_str!("../../keymaps/vim.toml")),
+];
+
+/// Keys to actions, per context; always with an emergency stop.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Keymap {
     name: String,
-    global: Vec<(KeyCode, KeyModifiers, Action)>,
-}
-
-impl Default for Keymap {
-    fn default() -> Keymap {
-        Keymap {
-            name: "default".into(),
-            global: vec![
-                (KeyCode::F(12), KeyModifiers::NONE, Action::EmergencyStop),
-                (KeyCode::Char('q'), KeyModifiers::CONTROL, Action::Quit),
-                (KeyCode::F(1), KeyModifiers::NONE, Action::Help),
-                (KeyCode::Tab, KeyModifiers::NONE, Action::NextPane),
-                // The command pane keeps Tab for completion.
-                (KeyCode::F(6), KeyModifiers::NONE, Action::NextPane),
-                (KeyCode::BackTab, KeyModifiers::SHIFT, Action::PreviousPane),
-            ],
-        }
-    }
+    description: String,
+    bindings: Vec<Binding>,
+    lookup: BTreeMap<(Context, KeyChord), Action>,
+    emergency_stop: KeyChord,
 }
 
 impl Keymap {
@@ -42,45 +766,737 @@ impl Keymap {
         &self.name
     }
 
+    /// One line on what the keymap is for, from its file.
+    pub fn description(&self) -> &str {
+        &self.description
+    }
+
+    /// What a key press does in `context`: the global bindings first (so
+    /// the emergency stop wins everywhere), then the context's. Key
+    /// releases (reported on Windows) do nothing.
+    pub fn action_for(&self, context: Context, event: &KeyEvent) -> Option<Action> {
+        if event.kind == KeyEventKind::Release {
+            return None;
+        }
+        self.action_for_chord(context, KeyChord::from_event(event)?)
+    }
+
+    /// What `chord` does in `context`, global bindings first.
+    pub fn action_for_chord(&self, context: Context, chord: KeyChord) -> Option<Action> {
+        self.lookup
+            .get(&(Context::Global, chord))
+            .or_else(|| self.lookup.get(&(context, chord)))
+            .copied()
+    }
+
+    /// The keys that do `action` in `context` (global ones first).
+    pub fn chords(&self, context: Context, action: Action) -> Vec<KeyChord> {
+        let mut chords: Vec<KeyChord> = Vec::new();
+        for binding in &self.bindings {
+            let applies = binding.context == Context::Global || binding.context == context;
+            if applies && binding.action == action {
+                for chord in &binding.chords {
+                    if !chords.contains(chord) {
+                        chords.push(*chord);
+                    }
+                }
+            }
+        }
+        chords
+    }
+
+    /// The status bar hint for `action` in `context`: its first key and
+    /// its word, `"F12 STOP"`; `None` when nothing does it there.
+    pub fn hint(&self, context: Context, action: Action) -> Option<String> {
+        let chord = self.chords(context, action).into_iter().next()?;
+        Some(format!("{} {}", chord.label(), action.title()))
+    }
+
+    /// The emergency stop's (first) key: every keymap has one.
+    pub fn emergency_stop(&self) -> KeyChord {
+        self.emergency_stop
+    }
+
+    /// The status bar's emergency stop hint, `"F12 STOP"`.
+    pub fn stop_hint(&self) -> String {
+        format!(
+            "{} {}",
+            self.emergency_stop.label(),
+            Action::EmergencyStop.title()
+        )
+    }
+
+    /// Every binding, section by section, for the help.
+    pub fn bindings(&self) -> &[Binding] {
+        &self.bindings
+    }
+
+    /// The built-in keymap `name`.
     pub fn builtin(name: &str) -> Option<Keymap> {
-        (name == "default").then(Keymap::default)
+        let (name, text) = BUILTIN_KEYMAPS.iter().find(|(n, _)| *n == name)?;
+        let draft = read_keymap(text, Some(name)).ok()?;
+        if draft.base.is_some() {
+            return None;
+        }
+        assemble(
+            name,
+            draft.description.unwrap_or_default(),
+            draft.entries,
+            text,
+        )
+        .ok()
     }
 
-    /// The global action bound to `key`, if any.
-    pub fn global_action(&self, key: &KeyEvent) -> Option<Action> {
-        self.global
-            .iter()
-            .find(|(code, modifiers, _)| *code == key.code && key.modifiers == *modifiers)
-            .map(|(_, _, action)| *action)
+    /// The names of the built-in keymaps.
+    pub fn builtin_names() -> impl Iterator<Item = &'static str> {
+        BUILTIN_KEYMAPS.iter().map(|(name, _)| *name)
     }
 
-    /// How the key of `action` is written ("F12", "Ctrl-Q").
-    pub fn key_name(&self, action: Action) -> String {
-        self.global
-            .iter()
-            .find(|(_, _, a)| *a == action)
-            .map(|(code, modifiers, _)| describe_key(*code, *modifiers))
-            .unwrap_or_else(|| "(unbound)".into())
+    /// The default built-in; if that were ever broken (the tests see that
+    /// it is not), F12 to stop and F10 to quit.
+    fn fallback() -> Keymap {
+        Keymap::builtin(DEFAULT_KEYMAP).unwrap_or_else(|| {
+            let stop = KeyChord {
+                key: Key::F(12),
+                modifiers: Modifiers::NONE,
+            };
+            let quit = KeyChord {
+                key: Key::F(10),
+                modifiers: Modifiers::NONE,
+            };
+            let bindings = vec![
+                Binding {
+                    context: Context::Global,
+                    action: Action::EmergencyStop,
+                    chords: vec![stop],
+                },
+                Binding {
+                    context: Context::Global,
+                    action: Action::Quit,
+                    chords: vec![quit],
+                },
+            ];
+            let lookup = BTreeMap::from([
+                ((Context::Global, stop), Action::EmergencyStop),
+                ((Context::Global, quit), Action::Quit),
+            ]);
+            Keymap {
+                name: DEFAULT_KEYMAP.to_string(),
+                description: String::new(),
+                bindings,
+                lookup,
+                emergency_stop: stop,
+            }
+        })
     }
 }
 
-/// A key as the status bar shows it.
-pub fn describe_key(code: KeyCode, modifiers: KeyModifiers) -> String {
-    let mut text = String::new();
-    if modifiers.contains(KeyModifiers::CONTROL) {
-        text.push_str("Ctrl-");
+/// The keymap the console starts with: `flag` (the `--keymap` value) when
+/// given, else `default`; looked up in `config_dir` first, then among the
+/// built-ins. Never fails: a problem comes back beside the fallback.
+pub fn choose_keymap(flag: Option<&str>, config_dir: Option<&Path>) -> Loaded<Keymap> {
+    load_keymap(flag.unwrap_or(DEFAULT_KEYMAP), config_dir)
+}
+
+/// The keymap `name`: the user's `keymaps/NAME.toml` in `config_dir` over
+/// the built-in of that name. A user file that cannot be used gives a
+/// [`ConfigProblem`] and the built-in of that name (else `default`).
+pub fn load_keymap(name: &str, config_dir: Option<&Path>) -> Loaded<Keymap> {
+    let builtin = Keymap::builtin(name);
+    let fallback_name = if builtin.is_some() {
+        name
+    } else {
+        DEFAULT_KEYMAP
+    };
+    let fallback = || builtin.clone().unwrap_or_else(Keymap::fallback);
+    let problem = |kind, file, errors| ConfigProblem {
+        kind,
+        file,
+        errors,
+        fallback: format!("the built-in keymap `{fallback_name}`"),
+    };
+    match read_user_file(config_dir, "keymaps", name) {
+        UserFile::Absent => match &builtin {
+            Some(keymap) => Loaded {
+                value: keymap.clone(),
+                problem: None,
+            },
+            None => {
+                let file = match config_dir {
+                    Some(dir) => config::user_file_path(dir, "keymaps", name),
+                    None => Path::new("keymaps").join(format!("{name}.toml")),
+                };
+                let names: Vec<&str> = Keymap::builtin_names().collect();
+                let message = format!(
+                    "no keymap named `{name}`: not a built-in ({}) and no such file",
+                    names.join(", ")
+                );
+                Loaded {
+                    value: fallback(),
+                    problem: Some(problem(
+                        ProblemKind::NotFound,
+                        file,
+                        vec![ConfigError::general(message)],
+                    )),
+                }
+            }
+        },
+        UserFile::Unreadable { path, reason } => Loaded {
+            value: fallback(),
+            problem: Some(problem(
+                ProblemKind::Unreadable,
+                path,
+                vec![ConfigError::general(reason)],
+            )),
+        },
+        UserFile::Text { path, text } => match parse_keymap(name, &text) {
+            Ok(keymap) => Loaded {
+                value: keymap,
+                problem: None,
+            },
+            Err(errors) => Loaded {
+                value: fallback(),
+                problem: Some(problem(ProblemKind::Invalid, path, errors)),
+            },
+        },
     }
-    if modifiers.contains(KeyModifiers::ALT) {
-        text.push_str("Alt-");
+}
+
+/// Parses a user's keymap file named `name` over its base (a built-in; by
+/// default the built-in of the same name, else `default`): each action it
+/// mentions in a section replaces the base's keys for that action there.
+/// Every mistake found is returned, in file order.
+pub fn parse_keymap(name: &str, text: &str) -> Result<Keymap, Vec<ConfigError>> {
+    let draft = read_keymap(text, None)?;
+    let base_name = match &draft.base {
+        Some((base, span)) => {
+            if !Keymap::builtin_names().any(|n| n == base) {
+                let names: Vec<&str> = Keymap::builtin_names().collect();
+                return Err(vec![ConfigError::at(
+                    text,
+                    span.clone(),
+                    "base",
+                    format!(
+                        "no built-in keymap named `{base}` (built-ins: {})",
+                        names.join(", ")
+                    ),
+                )]);
+            }
+            base.as_str()
+        }
+        None if Keymap::builtin_names().any(|n| n == name) => name,
+        None => DEFAULT_KEYMAP,
+    };
+    let (base_name, base_text) = BUILTIN_KEYMAPS
+        .iter()
+        .find(|(n, _)| *n == base_name)
+        .copied()
+        .unwrap_or(("", ""));
+    let base = read_keymap(base_text, Some(base_name)).map_err(|_| {
+        vec![ConfigError::general(format!(
+            "the built-in keymap `{base_name}` is broken"
+        ))]
+    })?;
+    let mut entries = base.entries;
+    entries.extend(draft.entries);
+    let description = draft.description.or(base.description).unwrap_or_default();
+    assemble(name, description, entries, text)
+}
+
+/// Where a binding was written: the file being read (`source` `None`), or
+/// a built-in base.
+#[derive(Debug, Clone)]
+struct Place {
+    source: Option<&'static str>,
+    span: Range<usize>,
+    line: usize,
+    column: usize,
+}
+
+impl Place {
+    fn describe(&self) -> String {
+        match self.source {
+            None => format!("line {}", self.line),
+            Some(builtin) => format!("built-in keymap `{builtin}`, line {}", self.line),
+        }
     }
-    match code {
-        KeyCode::F(n) => text.push_str(&format!("F{n}")),
-        KeyCode::Char(c) => text.push(c.to_ascii_uppercase()),
-        KeyCode::Tab => text.push_str("Tab"),
-        KeyCode::BackTab => text.push_str("Shift-Tab"),
-        KeyCode::Esc => text.push_str("Esc"),
-        KeyCode::Enter => text.push_str("Enter"),
-        other => text.push_str(&format!("{other:?}")),
+}
+
+/// One action's keys in one section, as read.
+#[derive(Debug, Clone)]
+struct Entry {
+    key_place: Place,
+    chords: Vec<(KeyChord, Place)>,
+}
+
+type Entries = BTreeMap<(Context, Action), Entry>;
+
+struct KeymapDraft {
+    description: Option<String>,
+    base: Option<(String, Range<usize>)>,
+    entries: Entries,
+}
+
+/// A keymap file as written.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct KeymapFile {
+    /// Informational: the file name is the keymap's name.
+    #[serde(default, rename = "name")]
+    _name: Option<String>,
+    #[serde(default)]
+    description: Option<String>,
+    #[serde(default)]
+    base: Option<Spanned<String>>,
+    #[serde(default)]
+    global: Section,
+    #[serde(default)]
+    command: Section,
+    #[serde(default)]
+    axis: Section,
+    #[serde(default)]
+    parameters: Section,
+    #[serde(default)]
+    traffic: Section,
+    #[serde(default)]
+    plot: Section,
+    #[serde(default)]
+    editor: Section,
+}
+
+type Section = BTreeMap<Spanned<String>, Spanned<ChordList>>;
+
+/// `"f12"` or `["f1", "alt-h"]`, each key with its place when the file
+/// gives one (a lone string takes the place of its value).
+struct ChordList(Vec<(String, Option<Range<usize>>)>);
+
+impl<'de> Deserialize<'de> for ChordList {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct ChordListVisitor;
+
+        impl<'de> Visitor<'de> for ChordListVisitor {
+            type Value = ChordList;
+
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str(r#"a key such as "f12", or a list of keys such as ["f1", "alt-h"]"#)
+            }
+
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<ChordList, E> {
+                Ok(ChordList(vec![(v.to_string(), None)]))
+            }
+
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<ChordList, A::Error> {
+                let mut keys = Vec::new();
+                while let Some(key) = seq.next_element::<Spanned<String>>()? {
+                    let span = key.span();
+                    keys.push((key.into_inner(), Some(span)));
+                }
+                Ok(ChordList(keys))
+            }
+        }
+
+        deserializer.deserialize_any(ChordListVisitor)
     }
-    text
+}
+
+impl KeymapFile {
+    fn sections(&self) -> [(Context, &Section); 7] {
+        [
+            (Context::Global, &self.global),
+            (Context::Command, &self.command),
+            (Context::Axis, &self.axis),
+            (Context::Parameters, &self.parameters),
+            (Context::Traffic, &self.traffic),
+            (Context::Plot, &self.plot),
+            (Context::Editor, &self.editor),
+        ]
+    }
+}
+
+/// Reads a keymap file's entries, refusing unknown actions, actions in a
+/// section that cannot bind them, chords that do not parse, and
+/// characters where text is typed. `source` names a built-in.
+fn read_keymap(text: &str, source: Option<&'static str>) -> Result<KeymapDraft, Vec<ConfigError>> {
+    let file: KeymapFile =
+        toml::from_str(text).map_err(|e| vec![ConfigError::from_toml(text, &e)])?;
+    let place = |span: Range<usize>| {
+        let (line, column) = line_column(text, span.start);
+        Place {
+            source,
+            span,
+            line,
+            column,
+        }
+    };
+    let mut errors = Vec::new();
+    let mut entries = Entries::new();
+    for (context, section) in file.sections() {
+        for (action_name, list) in section {
+            let key = format!("{context}.{}", action_name.get_ref());
+            let Some(action) = Action::from_name(action_name.get_ref()) else {
+                errors.push(ConfigError::at(
+                    text,
+                    action_name.span(),
+                    &key,
+                    format!("unknown action `{}`", action_name.get_ref()),
+                ));
+                continue;
+            };
+            if !action.contexts().contains(&context) {
+                let homes: Vec<String> =
+                    action.contexts().iter().map(|c| format!("[{c}]")).collect();
+                errors.push(ConfigError::at(
+                    text,
+                    action_name.span(),
+                    &key,
+                    format!(
+                        "`{action}` cannot be bound in [{context}]; it belongs in {}",
+                        homes.join(", ")
+                    ),
+                ));
+                continue;
+            }
+            let mut chords = Vec::new();
+            for (written, span) in &list.get_ref().0 {
+                let span = span.clone().unwrap_or_else(|| list.span());
+                match written.parse::<KeyChord>() {
+                    Ok(chord) if context.takes_text() && chord.is_text() => {
+                        let why = if context == Context::Global {
+                            "global keys work in every pane, so it would be taken from text \
+                             typed in the command line and the editor"
+                        } else {
+                            "it is text there"
+                        };
+                        errors.push(ConfigError::at(
+                            text,
+                            span,
+                            &key,
+                            format!(
+                                "`{written}` cannot be bound in [{context}]: {why}; use a \
+                                 function key or a ctrl- or alt- chord"
+                            ),
+                        ));
+                    }
+                    Ok(chord) => {
+                        if !chords.iter().any(|(c, _)| *c == chord) {
+                            chords.push((chord, place(span)));
+                        }
+                    }
+                    Err(e) => errors.push(ConfigError::at(
+                        text,
+                        span,
+                        &key,
+                        format!("`{written}`: {e}"),
+                    )),
+                }
+            }
+            entries.insert(
+                (context, action),
+                Entry {
+                    key_place: place(action_name.span()),
+                    chords,
+                },
+            );
+        }
+    }
+    if !errors.is_empty() {
+        config::sort_errors(&mut errors);
+        return Err(errors);
+    }
+    Ok(KeymapDraft {
+        description: file.description,
+        base: file.base.map(|b| {
+            let span = b.span();
+            (b.into_inner(), span)
+        }),
+        entries,
+    })
+}
+
+/// The error for a mistake at `place`, in the file being read (`text`) or
+/// in a built-in.
+fn error_at(text: &str, place: &Place, key: &str, message: String) -> ConfigError {
+    match place.source {
+        None => ConfigError::at(text, place.span.clone(), key, message),
+        Some(builtin) => ConfigError {
+            line: Some(place.line),
+            column: Some(place.column),
+            key: Some(key.to_string()),
+            message: format!("(in the built-in keymap `{builtin}`) {message}"),
+        },
+    }
+}
+
+/// The keymap of `entries`, once it is seen to have an emergency stop and
+/// no key that does two things in one pane.
+fn assemble(
+    name: &str,
+    description: String,
+    entries: Entries,
+    text: &str,
+) -> Result<Keymap, Vec<ConfigError>> {
+    let mut errors = Vec::new();
+    let stop_key = format!("{}.{}", Context::Global, Action::EmergencyStop);
+    let emergency_stop = match entries.get(&(Context::Global, Action::EmergencyStop)) {
+        Some(entry) => match entry.chords.first() {
+            Some((chord, _)) => Some(*chord),
+            None => {
+                errors.push(error_at(
+                    text,
+                    &entry.key_place,
+                    &stop_key,
+                    "the keymap has no emergency stop: give `emergency_stop` a key in [global]; \
+                     a console without one must not start"
+                        .to_string(),
+                ));
+                None
+            }
+        },
+        None => {
+            errors.push(ConfigError {
+                line: None,
+                column: None,
+                key: Some(stop_key),
+                message: "the keymap has no emergency stop: give `emergency_stop` a key in \
+                          [global]; a console without one must not start"
+                    .to_string(),
+            });
+            None
+        }
+    };
+
+    // Global bindings first (BTreeMap order: Context::Global sorts first),
+    // then each pane's, each in file order.
+    let mut ordered: Vec<(&(Context, Action), &Entry)> = entries.iter().collect();
+    ordered.sort_by_key(|((context, _), entry)| {
+        (
+            *context,
+            entry.key_place.source.is_none(),
+            entry.key_place.span.start,
+        )
+    });
+    let mut lookup: BTreeMap<(Context, KeyChord), Action> = BTreeMap::new();
+    let mut places: BTreeMap<(Context, KeyChord), Place> = BTreeMap::new();
+    let mut bindings = Vec::new();
+    for ((context, action), entry) in ordered {
+        let (context, action) = (*context, *action);
+        let mut chords = Vec::new();
+        for (chord, place) in &entry.chords {
+            let held = |c: Context| {
+                lookup
+                    .get(&(c, *chord))
+                    .filter(|other| **other != action)
+                    .map(|other| (c, *other))
+            };
+            let shadowing = match context {
+                Context::Global => None,
+                _ => held(Context::Global),
+            };
+            let holder = shadowing
+                .map(|(c, other)| (c, other, true))
+                .or_else(|| held(context).map(|(c, other)| (c, other, false)));
+            if let Some((other_context, other, shadowed)) = holder {
+                let other_place = places.get(&(other_context, *chord)).cloned();
+                let other_where = other_place
+                    .as_ref()
+                    .map_or(String::new(), |p| format!(" ({})", p.describe()));
+                let mut message = format!(
+                    "`{chord}` is bound to both `{other}` in [{other_context}]{other_where} and \
+                     `{action}` in [{context}] ({})",
+                    place.describe()
+                );
+                if shadowed {
+                    message.push_str(
+                        "; global keys work in every pane, so the pane's binding could never be used",
+                    );
+                }
+                // Blame the binding in the file being read.
+                let (blamed, key) = match (&place.source, other_place) {
+                    (Some(_), Some(other_place)) if other_place.source.is_none() => {
+                        (other_place, format!("{other_context}.{other}"))
+                    }
+                    _ => (place.clone(), format!("{context}.{action}")),
+                };
+                errors.push(error_at(text, &blamed, &key, message));
+                continue;
+            }
+            lookup.insert((context, *chord), action);
+            places.insert((context, *chord), place.clone());
+            chords.push(*chord);
+        }
+        if !chords.is_empty() {
+            bindings.push(Binding {
+                context,
+                action,
+                chords,
+            });
+        }
+    }
+    match emergency_stop {
+        Some(emergency_stop) if errors.is_empty() => Ok(Keymap {
+            name: name.to_string(),
+            description,
+            bindings,
+            lookup,
+            emergency_stop,
+        }),
+        _ => {
+            config::sort_errors(&mut errors);
+            Err(errors)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn chord(text: &str) -> KeyChord {
+        text.parse().unwrap_or_else(|e| panic!("{text}: {e}"))
+    }
+
+    #[test]
+    fn the_action_table_follows_the_enum_order_and_names_are_unique() {
+        for (index, info) in ACTIONS.iter().enumerate() {
+            assert_eq!(info.action as usize, index, "{}", info.name);
+            assert_eq!(Action::from_name(info.name), Some(info.action));
+            assert!(!info.contexts.is_empty(), "{}", info.name);
+        }
+    }
+
+    #[test]
+    fn chords_parse_as_written() {
+        assert_eq!(
+            chord("ctrl-c"),
+            KeyChord::new(Key::Char('c'), Modifiers::CTRL).unwrap()
+        );
+        assert_eq!(chord("F12"), KeyChord::plain(Key::F(12)).unwrap());
+        assert_eq!(chord("shift-tab").to_string(), "shift-tab");
+        assert_eq!(chord("backtab"), chord("shift-tab"));
+        assert_eq!(chord("shift-tab").key(), Key::Tab);
+        assert_eq!(chord("alt-1").modifiers(), Modifiers::ALT);
+        assert_eq!(chord("esc").key(), Key::Esc);
+        assert_eq!(chord("Escape").key(), Key::Esc);
+        assert_eq!(chord("space").key(), Key::Char(' '));
+        assert_eq!(chord("pageup").key(), Key::PageUp);
+        assert_eq!(chord("PgDn").key(), Key::PageDown);
+        assert_eq!(chord("-").key(), Key::Char('-'));
+        assert_eq!(
+            chord("ctrl--"),
+            KeyChord::new(Key::Char('-'), Modifiers::CTRL).unwrap()
+        );
+        assert_eq!(chord("f").key(), Key::Char('f'));
+    }
+
+    #[test]
+    fn chords_take_one_form() {
+        assert_eq!(chord("shift-a"), chord("A"));
+        assert_eq!(chord("ctrl-C"), chord("ctrl-c"));
+        assert_eq!(chord("Control-Alt-x"), chord("ctrl-alt-x"));
+        assert_eq!(chord("ctrl-alt-x").to_string(), "ctrl-alt-x");
+        assert_eq!(chord("alt-A").to_string(), "alt-A");
+    }
+
+    #[test]
+    fn chords_a_terminal_cannot_send_are_refused() {
+        assert_eq!("".parse::<KeyChord>(), Err(ChordError::Empty));
+        assert_eq!(
+            "ctrl-".parse::<KeyChord>(),
+            Err(ChordError::UnknownKey("ctrl-".into()))
+        );
+        assert_eq!(
+            "f25".parse::<KeyChord>(),
+            Err(ChordError::FunctionKeyOutOfRange(25))
+        );
+        assert_eq!(
+            "f0".parse::<KeyChord>(),
+            Err(ChordError::FunctionKeyOutOfRange(0))
+        );
+        assert_eq!(
+            "f99999999999".parse::<KeyChord>(),
+            Err(ChordError::FunctionKeyOutOfRange(u32::MAX))
+        );
+        assert_eq!(
+            "shift-1".parse::<KeyChord>(),
+            Err(ChordError::ShiftedSymbol('1'))
+        );
+        assert_eq!(
+            "ctrl-shift-a".parse::<KeyChord>(),
+            Err(ChordError::CtrlShift('a'))
+        );
+        assert_eq!(
+            "ctrl-i".parse::<KeyChord>(),
+            Err(ChordError::SameAs('i', "tab"))
+        );
+        assert_eq!(
+            "ctrl-M".parse::<KeyChord>(),
+            Err(ChordError::SameAs('m', "enter"))
+        );
+        assert_eq!(
+            "ctrl-[".parse::<KeyChord>(),
+            Err(ChordError::SameAs('[', "esc"))
+        );
+        assert_eq!(
+            "ctrl-ctrl-a".parse::<KeyChord>(),
+            Err(ChordError::RepeatedModifier(
+                "ctrl-ctrl-a".into(),
+                "ctrl".into()
+            ))
+        );
+        assert_eq!("\t".parse::<KeyChord>(), Err(ChordError::ControlCharacter));
+        assert_eq!(
+            "hyper-x".parse::<KeyChord>(),
+            Err(ChordError::UnknownKey("hyper-x".into()))
+        );
+    }
+
+    #[test]
+    fn labels_read_like_key_caps() {
+        assert_eq!(chord("f12").label(), "F12");
+        assert_eq!(chord("ctrl-c").label(), "Ctrl-C");
+        assert_eq!(chord("shift-tab").label(), "Shift-Tab");
+        assert_eq!(chord("alt-1").label(), "Alt-1");
+        assert_eq!(chord("pageup").label(), "PgUp");
+        assert_eq!(chord("space").label(), "Space");
+        assert_eq!(chord("q").label(), "q");
+    }
+
+    #[test]
+    fn terminal_events_become_chords() {
+        let event = |code, m| KeyChord::from_event(&KeyEvent::new(code, m));
+        assert_eq!(
+            event(KeyCode::BackTab, KeyModifiers::SHIFT),
+            Some(chord("shift-tab"))
+        );
+        assert_eq!(
+            event(KeyCode::Char('A'), KeyModifiers::SHIFT),
+            Some(chord("A"))
+        );
+        assert_eq!(
+            event(KeyCode::Char('A'), KeyModifiers::NONE),
+            Some(chord("A"))
+        );
+        assert_eq!(
+            event(KeyCode::Char('a'), KeyModifiers::SHIFT),
+            Some(chord("A"))
+        );
+        assert_eq!(
+            event(KeyCode::Char('!'), KeyModifiers::SHIFT),
+            Some(chord("!"))
+        );
+        assert_eq!(
+            event(
+                KeyCode::Char('C'),
+                KeyModifiers::CONTROL | KeyModifiers::SHIFT
+            ),
+            Some(chord("ctrl-c"))
+        );
+        assert_eq!(
+            event(KeyCode::F(12), KeyModifiers::NONE),
+            Some(chord("f12"))
+        );
+        assert_eq!(event(KeyCode::F(30), KeyModifiers::NONE), None);
+        assert_eq!(event(KeyCode::CapsLock, KeyModifiers::NONE), None);
+        assert_eq!(event(KeyCode::Char('x'), KeyModifiers::SUPER), None);
+    }
 }

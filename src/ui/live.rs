@@ -3,6 +3,7 @@
 //! for SIGTERM/SIGHUP and runs the loop.
 
 use std::io;
+use std::path::PathBuf;
 use std::sync::Arc;
 
 use ratatui::Terminal;
@@ -10,9 +11,10 @@ use ratatui::backend::CrosstermBackend;
 use tokio::sync::{broadcast, mpsc, watch};
 
 use super::app::{self, App, AppEvent, Connector, Controller, Pending};
-use super::keymap::Keymap;
+use super::keymap::choose_keymap;
+use super::pane::Notice;
 use super::terminal::{TerminalGuard, spawn_reader};
-use super::theme::Theme;
+use super::theme::{choose_theme, no_color_in_env};
 use super::{PaneSetup, panes};
 use crate::device::{DeviceEvent, LinkState, TrafficRecord};
 use crate::protocol::Family;
@@ -120,6 +122,17 @@ pub fn identify_later(session: &Session) {
     });
 }
 
+/// The console's colours and keys as asked for.
+#[derive(Debug, Clone, Default)]
+pub struct Appearance {
+    /// `--theme`; `None`: `dark`, or `mono` under `NO_COLOR`.
+    pub theme: Option<String>,
+    /// `--keymap`; `None`: `default`.
+    pub keymap: Option<String>,
+    /// Where the user's themes/ and keymaps/ are.
+    pub config_dir: Option<PathBuf>,
+}
+
 /// Run the console on this process's terminal until the user quits or a
 /// SIGTERM/SIGHUP comes. Must be called inside a tokio runtime. The
 /// terminal is restored whatever happens.
@@ -127,8 +140,25 @@ pub async fn run_terminal(
     controller: Option<Arc<dyn Controller>>,
     connector: Connector,
     setup: &PaneSetup,
+    appearance: &Appearance,
 ) -> io::Result<()> {
-    let signals = termination_signals()?;
+    let config_dir = appearance.config_dir.as_deref();
+    let theme = choose_theme(appearance.theme.as_deref(), no_color_in_env(), config_dir);
+    let keymap = choose_keymap(appearance.keymap.as_deref(), config_dir);
+    let (tx, signals) = mpsc::unbounded_channel();
+    // A theme or keymap file with a mistake: said in the console, which
+    // goes on with the built-in.
+    for problem in [&theme.problem, &keymap.problem].into_iter().flatten() {
+        let _ = tx.send(AppEvent::Notice(Notice::error(problem.to_string())));
+    }
+    let mut terminating = termination_signals()?;
+    tokio::spawn(async move {
+        while let Some(event) = terminating.recv().await {
+            if tx.send(event).is_err() {
+                break;
+            }
+        }
+    });
     let guard = TerminalGuard::enter(false)?;
     let input = spawn_reader();
     // Not `Terminal::clear`: it asks the terminal where the cursor is, and
@@ -139,7 +169,8 @@ pub async fn run_terminal(
         ratatui::crossterm::terminal::Clear(ratatui::crossterm::terminal::ClearType::All)
     )?;
     let mut terminal = Terminal::new(CrosstermBackend::new(io::stdout()))?;
-    let mut app = App::new(panes(setup), Theme::default(), Keymap::default());
+    let mut app = App::new(panes(setup), theme.value, keymap.value);
+    app.set_config_dir(appearance.config_dir.clone());
     let result = app::run(
         &mut app,
         controller,

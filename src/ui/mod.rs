@@ -1,6 +1,9 @@
 //! The terminal console (TUI): panes drawn with ratatui from the session's
 //! snapshots, keys through the keymap, colours through the theme.
 //!
+//! - [`theme`] gives every part of the screen a style, [`keymap`] turns key
+//!   presses into actions, per pane; [`config`] finds the user's own files
+//!   and reports what is wrong with them.
 //! - [`pane`]: the [`Pane`](pane::Pane) trait and what panes see ([`View`](pane::View),
 //!   [`Snapshot`](pane::Snapshot)) and ask for ([`Request`](pane::Request)).
 //! - [`app`]: the [`App`](app::App) (focus, layout, status bar, dispatch) and
@@ -37,6 +40,7 @@ pub mod app;
 pub mod axes;
 pub mod batch;
 pub mod command;
+pub mod config;
 pub mod keymap;
 pub mod live;
 pub mod pane;

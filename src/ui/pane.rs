@@ -15,7 +15,7 @@ use ratatui::Frame;
 use ratatui::crossterm::event::{KeyEvent, MouseEvent};
 use ratatui::layout::Rect;
 
-use super::keymap::Keymap;
+use super::keymap::{Action, Context, Keymap};
 use super::theme::Theme;
 use crate::device::{DeviceEvent, LinkState, TrafficRecord};
 use crate::protocol::Family;
@@ -224,9 +224,15 @@ impl Outcome {
 /// One pane of the console. See the module documentation of [`crate::ui`]
 /// for how a pane is added.
 pub trait Pane {
-    /// A short stable name: the keymap section of its own keys, and what
-    /// [`Request::Focus`] names ("command", "axes", "params").
+    /// A short stable name: what [`Request::Focus`] names ("command",
+    /// "axes", "params").
     fn name(&self) -> &'static str;
+
+    /// The keymap section of its own keys. The app looks keys up there
+    /// (after the global ones) to move the focus when the pane ignores a
+    /// key; the pane looks its own actions up with
+    /// `view.keymap.action_for(self.context(), key)`.
+    fn context(&self) -> Context;
 
     /// Shown in its border and on its tab.
     fn title(&self, view: &View) -> String;
@@ -246,7 +252,9 @@ pub trait Pane {
     fn render(&mut self, frame: &mut Frame, area: Rect, view: &View);
 
     /// A key, mouse or paste while this pane has the focus. The emergency
-    /// stop and quit keys never get here.
+    /// stop, quit and focus-pane-N keys never get here; the other global
+    /// actions (help, clear errors, next pane) come here first and go to
+    /// the app if the pane ignores them.
     fn handle_input(&mut self, input: &Input, view: &View) -> Outcome;
 
     /// News for every pane; return [`Outcome::Ignored`] when it changes
@@ -255,4 +263,13 @@ pub trait Pane {
         let _ = (event, view);
         Outcome::Ignored
     }
+}
+
+/// The first key of `action` in `context` as the status bar shows it
+/// ("F12"), or "(unbound)".
+pub fn key_label(keymap: &Keymap, context: Context, action: Action) -> String {
+    keymap
+        .chords(context, action)
+        .first()
+        .map_or_else(|| "(unbound)".to_string(), |chord| chord.label())
 }

@@ -327,6 +327,12 @@ impl FamilyConsole for TmclConsole {
         super::assist::help(line, cursor)
     }
 
+    fn stop_axis_line(&self, axis: u8) -> Option<String> {
+        AXES.iter()
+            .any(|a| a.number == axis)
+            .then(|| format_command(&Command::Mst { motor: axis }))
+    }
+
     fn load_scale(&self) -> Option<LoadScale> {
         // AP206, StallGuard2 load reading 0..1023: 0 is the highest load
         // (§4 Table 16).
