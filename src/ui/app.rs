@@ -531,15 +531,16 @@ impl App {
         if has(Region::Top) {
             let view = self.view(false);
             let inner_width = body.width.saturating_sub(2);
+            let room = body.height.saturating_sub(MAIN_MIN_HEIGHT);
             let wanted = self
                 .panes
                 .iter()
                 .filter(|p| p.region() == Region::Top)
-                .filter_map(|p| p.height_hint(&view, inner_width))
+                .filter_map(|p| p.height_hint(&view, inner_width, room.saturating_sub(2)))
                 .max()
                 .unwrap_or(body.height / 3)
                 .saturating_add(2);
-            let top = wanted.min(body.height.saturating_sub(MAIN_MIN_HEIGHT));
+            let top = wanted.min(room);
             let [top_area, below] =
                 Layout::vertical([Constraint::Length(top), Constraint::Min(0)]).areas(body);
             slots.push((Slot::Top, top_area));
@@ -1165,7 +1166,7 @@ mod tests {
         fn region(&self) -> Region {
             self.region
         }
-        fn height_hint(&self, _view: &View, _width: u16) -> Option<u16> {
+        fn height_hint(&self, _view: &View, _width: u16, _room: u16) -> Option<u16> {
             (self.region == Region::Top).then_some(3)
         }
         fn render(&mut self, frame: &mut Frame, area: Rect, _view: &View) {

@@ -24,7 +24,7 @@ use crate::session::{AxisInfo, AxisStatus};
 /// Rows of one axis card.
 const CARD_ROWS: u16 = 3;
 /// A card is at least this wide; wider panes put cards side by side.
-const CARD_MIN_WIDTH: u16 = 64;
+const CARD_MIN_WIDTH: u16 = 84;
 /// Columns between cards side by side.
 const CARD_GAP: u16 = 2;
 
@@ -50,6 +50,18 @@ impl Ramp {
             Ramp::Cruising => "at max speed",
             Ramp::Constant => "constant speed",
             Ramp::Decelerating => "decelerating",
+        }
+    }
+
+    /// At most six characters, for one-row-per-axis tables.
+    pub fn short_label(self) -> &'static str {
+        match self {
+            Ramp::Unknown => "—",
+            Ramp::Standing => "stand",
+            Ramp::Accelerating => "accel",
+            Ramp::Cruising => "cruise",
+            Ramp::Constant => "const",
+            Ramp::Decelerating => "decel",
         }
     }
 
@@ -168,7 +180,9 @@ impl AxesPane {
             Some(false) => lamp(theme, false, false, "moving"),
             None => lamp(theme, false, false, "reached?"),
         };
-        let fixed = label_width + 4 + 11 + 1 + 1 + 4 + 11 + 1 + 9;
+        // The widest fixed part is the speed row's: label, "spd ", number,
+        // " max ", number, the longest ramp label.
+        let fixed = label_width + 4 + 12 + 5 + 12 + 14;
         let gauge_width = width.saturating_sub(fixed).max(4);
         let (low, high) = self.span(index, status);
         let position_gauge = gauge(
@@ -243,22 +257,25 @@ impl AxesPane {
         vec![Line::from(row1), Line::from(row2), Line::from(row3)]
     }
 
-    /// One row per axis, for a low pane.
+    /// One row per axis, for a low pane; `widths` are the widest position,
+    /// target, speed and maximum of all axes, so columns line up.
     fn row(
         &self,
         index: usize,
         axis: &AxisInfo,
         status: &AxisStatus,
         selected: bool,
+        widths: [usize; 4],
         view: &View,
     ) -> Line<'static> {
         let theme = view.theme;
+        let [wp, wt, ws, wm] = widths;
         let mut spans = vec![
             Span::styled(
                 format!(
-                    "{}{:<8}",
+                    "{}{:<4}",
                     if selected { "▶" } else { " " },
-                    truncate(axis.name, 8)
+                    truncate(axis.name, 4)
                 ),
                 if selected {
                     theme.style(Role::Accent)
@@ -268,7 +285,7 @@ impl AxesPane {
             ),
             Span::styled(
                 format!(
-                    "{:>11} →{:>11} ",
+                    "{:>wp$}→{:<wt$} ",
                     number(status.position),
                     number(status.target)
                 ),
@@ -278,10 +295,10 @@ impl AxesPane {
         spans.extend(lamp(theme, status.reached == Some(true), false, ""));
         spans.push(Span::styled(
             format!(
-                " {:>6}/{:<6} {:<12} ",
+                " v{:>ws$}/{:<wm$} {:<6} ",
                 number(status.speed),
                 number(status.max_speed),
-                self.ramp(index, status).label()
+                self.ramp(index, status).short_label()
             ),
             theme.style(Role::Normal),
         ));
@@ -293,7 +310,7 @@ impl AxesPane {
             spans.extend(switch_lamp(theme, on, name));
         }
         spans.push(Span::styled(
-            format!(" ld {:>4} ", number(status.load)),
+            format!(" ld {} ", number(status.load)),
             theme.style(Role::Normal),
         ));
         spans.extend(error_spans(view, status));
@@ -407,10 +424,14 @@ fn switch_lamp(theme: &Theme, on: Option<bool>, name: &str) -> Vec<Span<'static>
     ]
 }
 
-/// How many cards go side by side at this width.
+/// How many cards go side by side at this width: as many as fit, then
+/// spread evenly over the rows they need (4 axes in 3 columns would leave
+/// one alone; 2 by 2 reads better).
 fn columns(width: u16, axes: usize) -> usize {
-    let fit = usize::from((width + CARD_GAP) / (CARD_MIN_WIDTH + CARD_GAP)).max(1);
-    fit.min(axes.max(1))
+    let axes = axes.max(1);
+    let fit = usize::from((width + CARD_GAP) / (CARD_MIN_WIDTH + CARD_GAP)).clamp(1, axes);
+    let rows = axes.div_ceil(fit);
+    axes.div_ceil(rows)
 }
 
 impl Pane for AxesPane {
@@ -443,14 +464,13 @@ impl Pane for AxesPane {
         Region::Top
     }
 
-    fn height_hint(&self, view: &View, width: u16) -> Option<u16> {
+    fn height_hint(&self, view: &View, width: u16, room: u16) -> Option<u16> {
         let axes = view.session.map_or(1, |s| s.axes.len().max(1));
-        let rows = axes.div_ceil(columns(width, axes));
-        Some(
-            u16::try_from(rows)
-                .unwrap_or(u16::MAX)
-                .saturating_mul(CARD_ROWS),
-        )
+        let cards = u16::try_from(axes.div_ceil(columns(width, axes)))
+            .unwrap_or(u16::MAX)
+            .saturating_mul(CARD_ROWS);
+        let rows = u16::try_from(axes).unwrap_or(u16::MAX);
+        Some(if cards <= room { cards } else { rows })
     }
 
     fn render(&mut self, frame: &mut Frame, area: Rect, view: &View) {
@@ -477,9 +497,23 @@ impl Pane for AxesPane {
         if usize::from(area.height) < card_rows * usize::from(CARD_ROWS) {
             // Too low for cards: one row each, scrolled to keep the
             // selected axis in view.
+            let width_of = |field: fn(&AxisStatus) -> Option<i64>| {
+                axes.iter()
+                    .map(|(_, _, s)| number(field(s)).chars().count())
+                    .max()
+                    .unwrap_or(1)
+            };
+            let widths = [
+                width_of(|s| s.position),
+                width_of(|s| s.target),
+                width_of(|s| s.speed),
+                width_of(|s| s.max_speed),
+            ];
             let lines: Vec<Line> = axes
                 .iter()
-                .map(|(i, axis, status)| self.row(*i, axis, status, *i == session.axis, view))
+                .map(|(i, axis, status)| {
+                    self.row(*i, axis, status, *i == session.axis, widths, view)
+                })
                 .collect();
             let skip = (session.axis + 1).saturating_sub(usize::from(area.height));
             frame.render_widget(Paragraph::new(lines).scroll((skip as u16, 0)), area);

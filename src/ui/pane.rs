@@ -240,10 +240,12 @@ pub trait Pane {
     /// Where it goes when there is room for several panes.
     fn region(&self) -> Region;
 
-    /// Rows it would like inside its border at this inner width, if it
-    /// has a natural height (the axis gauges); `None` takes what is left.
-    fn height_hint(&self, view: &View, width: u16) -> Option<u16> {
-        let _ = (view, width);
+    /// Rows it would like inside its border at this inner width, given
+    /// that at most `room` rows are to be had, if it has a natural height
+    /// (the axis gauges: cards when they fit, one row per axis when not);
+    /// `None` takes a third of the screen.
+    fn height_hint(&self, view: &View, width: u16, room: u16) -> Option<u16> {
+        let _ = (view, width, room);
         None
     }
 
