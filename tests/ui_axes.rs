@@ -185,6 +185,21 @@ fn keys_in_the_axis_pane_select_an_axis_and_clear_its_errors() {
 }
 
 #[test]
+fn the_pane_title_names_the_link_the_module_and_the_poll_rate() {
+    let mut app = console();
+    let mut s = snapshot(axes(&["motor 0"]));
+    s.identity = Some("1110V1.12".into());
+    s.poll = None;
+    app.handle(axterm::ui::app::AppEvent::Snapshot(s));
+    let lines = screen(&mut app, 80, 24);
+    assert!(
+        lines[0].contains("Axes — sim tmcm1110 #1 (1110V1.12) connected, poll off"),
+        "{}",
+        lines[0]
+    );
+}
+
+#[test]
 fn unknown_values_show_as_dashes_not_zeros() {
     let mut app = console();
     app.handle(axterm::ui::app::AppEvent::Snapshot(snapshot(axes(&[

@@ -10,7 +10,7 @@ mod ui_support;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use axterm::device::{DeviceEvent, LinkState, TrafficRecord};
+use axterm::device::{DeviceEvent, Direction, LinkState, Priority, TrafficKind, TrafficRecord};
 use axterm::protocol::console::ReplyValue;
 use axterm::protocol::{Family, find_family};
 use axterm::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
@@ -34,6 +34,7 @@ struct Fake {
     status: watch::Sender<Vec<AxisStatus>>,
     link: watch::Sender<LinkState>,
     identity: watch::Sender<Option<String>>,
+    traffic: broadcast::Sender<TrafficRecord>,
     calls: mpsc::UnboundedSender<Call>,
 }
 
@@ -55,6 +56,7 @@ impl Fake {
             })
             .0,
             identity: watch::channel(None).0,
+            traffic: broadcast::channel(64).0,
             axes,
             calls,
         };
@@ -97,7 +99,7 @@ impl Controller for Fake {
         self.identity.subscribe()
     }
     fn traffic(&self) -> Option<broadcast::Receiver<TrafficRecord>> {
-        None
+        Some(self.traffic.subscribe())
     }
     fn events(&self) -> Option<broadcast::Receiver<DeviceEvent>> {
         None
@@ -343,4 +345,50 @@ async fn connect_opens_a_controller_and_the_console_follows_it() {
     .await;
     let asked = asked.lock().map(|a| a.clone()).unwrap_or_default();
     assert_eq!(asked[0], ["--sim", "tmcm1110"]);
+}
+
+#[tokio::test(start_paused = true)]
+async fn log_writes_every_frame_to_a_file_until_it_is_turned_off() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("wire.log");
+    let (fake, _calls) = Fake::new(&["motor 0"]);
+    run_console(Some(fake.clone()), no_connector(), async |mut rig: Rig| {
+        type_line(&rig, &format!(":log {}", file.display()));
+        rig.screens.until("logging every frame to").await;
+        let at = std::time::Instant::now();
+        let record = |direction, kind, priority, bytes: &[u8], ms| TrafficRecord {
+            at: at + Duration::from_millis(ms),
+            direction,
+            kind,
+            bytes: bytes.to_vec(),
+            priority,
+        };
+        let _ = fake.traffic.send(record(
+            Direction::Sent,
+            TrafficKind::Request,
+            Some(Priority::User),
+            &[1, 6, 1, 0, 0, 0, 0, 0, 8],
+            0,
+        ));
+        let _ = fake.traffic.send(record(
+            Direction::Received,
+            TrafficKind::Answer,
+            None,
+            &[2, 1, 100, 6, 0, 0, 0, 0, 109],
+            2,
+        ));
+        type_line(&rig, ":log off");
+        rig.screens.until("closed: 2 frames").await;
+        press(&rig, KeyCode::F(10));
+    })
+    .await;
+    let log = std::fs::read_to_string(&file).expect("log file");
+    let lines: Vec<&str> = log.lines().collect();
+    assert_eq!(
+        lines,
+        [
+            "       0.000 ms -> request     user     01 06 01 00 00 00 00 00 08",
+            "       2.000 ms <- answer      -        02 01 64 06 00 00 00 00 6D",
+        ]
+    );
 }

@@ -10,11 +10,12 @@
 //! channel of the session changing, traffic, a reply, a signal) and draws
 //! only when the state changed, so an idle console costs nothing.
 
-use std::collections::HashMap;
 use std::future::Future;
+use std::io::Write;
+use std::path::Path;
 use std::pin::Pin;
 use std::sync::Arc;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use ratatui::Frame;
 use ratatui::crossterm::event::{Event as TermEvent, KeyEvent, KeyEventKind};
@@ -22,7 +23,7 @@ use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::style::Style;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Paragraph};
-use tokio::sync::{broadcast, mpsc, watch};
+use tokio::sync::{broadcast, mpsc, oneshot, watch};
 use tokio::task::JoinHandle;
 
 use super::keymap::{Action, Context, Keymap, load_keymap};
@@ -30,7 +31,7 @@ use super::pane::{
     Input, Notice, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View, key_label,
 };
 use super::theme::{Role, Theme, load_theme};
-use crate::device::{DeviceEvent, LinkState, TrafficRecord};
+use crate::device::{DeviceEvent, Direction, LinkState, Priority, TrafficKind, TrafficRecord};
 use crate::protocol::Family;
 use crate::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
 
@@ -829,10 +830,141 @@ enum Wakeup {
     Connected(Result<Arc<dyn Controller>, String>),
 }
 
+/// A log of every frame to a file (`:log FILE`), written by a task of its
+/// own from the device's traffic stream.
+struct TrafficLog {
+    stop: oneshot::Sender<()>,
+}
+
+impl TrafficLog {
+    /// Start logging `connection`'s traffic to `path`; the task reports
+    /// when it ends.
+    fn start(
+        path: &Path,
+        connection: &Connection,
+        internal: &mpsc::UnboundedSender<AppEvent>,
+    ) -> Result<TrafficLog, String> {
+        let Some(mut traffic) = connection.controller.traffic() else {
+            return Err("this connection has no traffic to log".into());
+        };
+        let file = std::fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(path)
+            .map_err(|e| format!("cannot log to {}: {e}", path.display()))?;
+        let out = std::io::LineWriter::new(file);
+        let family = connection.controller.family();
+        let name = path.display().to_string();
+        let (stop, mut stopped) = oneshot::channel();
+        let report = internal.clone();
+        tokio::spawn(async move {
+            let mut log = LogWriter {
+                out,
+                family,
+                start: None,
+                frames: 0,
+                failure: None,
+            };
+            loop {
+                tokio::select! {
+                    _ = &mut stopped => {
+                        // Everything sent before the stop is written.
+                        while let Ok(record) = traffic.try_recv() {
+                            log.write(&record);
+                        }
+                        break;
+                    }
+                    record = traffic.recv() => match record {
+                        Ok(record) => log.write(&record),
+                        Err(broadcast::error::RecvError::Lagged(n)) => {
+                            log.failure
+                                .get_or_insert(format!("{n} frames were missed (the disk was too slow)"));
+                        }
+                        Err(broadcast::error::RecvError::Closed) => break,
+                    },
+                }
+            }
+            let frames = log.frames;
+            let notice = match log.failure {
+                None => Notice::info(format!("log {name} closed: {frames} frames")),
+                Some(e) => Notice::error(format!("log {name} closed after {frames} frames: {e}")),
+            };
+            let _ = report.send(AppEvent::Notice(notice));
+        });
+        Ok(TrafficLog { stop })
+    }
+
+    fn stop(self) {
+        let _ = self.stop.send(());
+    }
+}
+
+struct LogWriter {
+    out: std::io::LineWriter<std::fs::File>,
+    family: &'static Family,
+    start: Option<Instant>,
+    frames: u64,
+    /// The first write that failed; later frames are counted, not written.
+    failure: Option<String>,
+}
+
+impl LogWriter {
+    fn write(&mut self, record: &TrafficRecord) {
+        let start = *self.start.get_or_insert(record.at);
+        self.frames += 1;
+        if self.failure.is_none()
+            && let Err(e) = writeln!(self.out, "{}", log_line(self.family, start, record))
+        {
+            self.failure = Some(e.to_string());
+        }
+    }
+}
+
+/// One logged frame: milliseconds since the log began, direction, what it
+/// was, who asked, the bytes as the family shows them.
+pub fn log_line(family: &Family, start: Instant, record: &TrafficRecord) -> String {
+    let at = record.at.saturating_duration_since(start).as_secs_f64() * 1000.0;
+    let direction = match record.direction {
+        Direction::Sent => "->",
+        Direction::Received => "<-",
+    };
+    let kind = match record.kind {
+        TrafficKind::Request => "request",
+        TrafficKind::Answer => "answer",
+        TrafficKind::Unsolicited => "unsolicited",
+        TrafficKind::Stale => "stale",
+        TrafficKind::Garbage => "garbage",
+    };
+    let by = match record.priority {
+        Some(Priority::EmergencyStop) => "stop",
+        Some(Priority::User) => "user",
+        Some(Priority::Transfer) => "transfer",
+        Some(Priority::Poll) => "poll",
+        None => "-",
+    };
+    format!(
+        "{at:>12.3} ms {direction} {kind:<11} {by:<8} {}",
+        (family.show_bytes)(&record.bytes)
+    )
+}
+
+/// The loop's side of the console: the connection and everything in
+/// flight for the app.
+struct Runner {
+    connection: Option<Connection>,
+    internal: mpsc::UnboundedSender<AppEvent>,
+    /// Tasks sending lines, which the emergency stop aborts.
+    sending: Vec<JoinHandle<()>>,
+    connecting: Option<Pending<Result<Arc<dyn Controller>, String>>>,
+    connector: Connector,
+    log: Option<TrafficLog>,
+}
+
 /// Drives an [`App`] until it quits: `input` carries terminal events,
-/// `draw` paints the app (it is called only when something changed). The
-/// session's watch channels and broadcast streams, the replies and the
-/// timers all wake the loop; nothing else does.
+/// `extra` anything else (signals, start-up notices), `draw` paints the
+/// app (it is called only when something changed). The session's watch
+/// channels and broadcast streams, the replies and the timers all wake the
+/// loop; nothing else does.
 pub async fn run(
     app: &mut App,
     controller: Option<Arc<dyn Controller>>,
@@ -841,9 +973,9 @@ pub async fn run(
     extra: Option<mpsc::UnboundedReceiver<AppEvent>>,
     draw: &mut dyn FnMut(&mut App) -> std::io::Result<()>,
 ) -> std::io::Result<()> {
-    let (internal_tx, mut internal) = mpsc::unbounded_channel::<AppEvent>();
+    let (internal, mut internal_rx) = mpsc::unbounded_channel::<AppEvent>();
     if let Some(mut extra) = extra {
-        let tx = internal_tx.clone();
+        let tx = internal.clone();
         tokio::spawn(async move {
             while let Some(event) = extra.recv().await {
                 if tx.send(event).is_err() {
@@ -852,22 +984,17 @@ pub async fn run(
             }
         });
     }
-    let mut connection = controller.map(|c| Connection::new(c, Some(PollCadence::default())));
-    let mut sending: HashMap<u64, JoinHandle<()>> = HashMap::new();
-    let mut next_job = 0u64;
-    let mut connecting: Option<Pending<Result<Arc<dyn Controller>, String>>> = None;
-    if let Some(c) = connection.as_mut() {
+    let mut runner = Runner {
+        connection: controller.map(|c| Connection::new(c, Some(PollCadence::default()))),
+        internal,
+        sending: Vec::new(),
+        connecting: None,
+        connector,
+        log: None,
+    };
+    if let Some(c) = runner.connection.as_mut() {
         let snapshot = c.snapshot(0);
-        handle_all(
-            app,
-            AppEvent::Snapshot(snapshot),
-            &mut connection,
-            &internal_tx,
-            &mut sending,
-            &mut next_job,
-            &mut connecting,
-            &connector,
-        );
+        runner.handle(app, AppEvent::Snapshot(snapshot));
     }
     loop {
         if app.should_quit() {
@@ -876,249 +1003,249 @@ pub async fn run(
         if app.needs_redraw() {
             draw(app)?;
         }
-        let wakeup = wait(
-            &mut input,
-            &mut internal,
-            connection.as_mut(),
-            &mut connecting,
-        )
-        .await;
-        let event = match wakeup {
+        let wakeup = runner.wait(&mut input, &mut internal_rx).await;
+        let Some(event) = runner.event(app, wakeup) else {
+            continue;
+        };
+        runner.handle(app, event);
+    }
+    if let Some(log) = runner.log.take() {
+        log.stop();
+    }
+    if let Some(c) = runner.connection {
+        c.controller.set_polling(None);
+    }
+    for job in runner.sending {
+        job.abort();
+    }
+    Ok(())
+}
+
+impl Runner {
+    async fn wait(
+        &mut self,
+        input: &mut mpsc::UnboundedReceiver<TermEvent>,
+        internal: &mut mpsc::UnboundedReceiver<AppEvent>,
+    ) -> Wakeup {
+        let connecting = &mut self.connecting;
+        let connect = async {
+            match connecting.as_mut() {
+                Some(pending) => pending.await,
+                None => std::future::pending().await,
+            }
+        };
+        let Some(c) = self.connection.as_mut() else {
+            return tokio::select! {
+                event = input.recv() => Wakeup::Input(event),
+                event = internal.recv() => Wakeup::Internal(event),
+                result = connect => Wakeup::Connected(result),
+            };
+        };
+        let traffic = async {
+            match c.traffic.as_mut() {
+                Some(rx) => rx.recv().await,
+                None => std::future::pending().await,
+            }
+        };
+        let events = async {
+            match c.events.as_mut() {
+                Some(rx) => rx.recv().await,
+                None => std::future::pending().await,
+            }
+        };
+        let gone = |changed: Result<(), watch::error::RecvError>| match changed {
+            Ok(()) => Wakeup::Changed,
+            Err(_) => Wakeup::ChannelGone,
+        };
+        tokio::select! {
+            event = input.recv() => Wakeup::Input(event),
+            event = internal.recv() => Wakeup::Internal(event),
+            result = connect => Wakeup::Connected(result),
+            changed = c.status.changed() => gone(changed),
+            changed = c.link.changed() => gone(changed),
+            changed = c.identity.changed() => gone(changed),
+            record = traffic => Wakeup::Traffic(record),
+            event = events => Wakeup::Device(event),
+        }
+    }
+
+    /// What a wake-up means for the app, if anything.
+    fn event(&mut self, app: &App, wakeup: Wakeup) -> Option<AppEvent> {
+        Some(match wakeup {
             Wakeup::Input(Some(event)) => AppEvent::Terminal(event),
             Wakeup::Input(None) => AppEvent::Terminate,
-            Wakeup::Changed => match connection.as_mut() {
-                Some(c) => {
-                    let axis = app.snapshot().map_or(0, |s| s.axis);
-                    AppEvent::Snapshot(c.snapshot(axis))
-                }
-                None => continue,
-            },
+            Wakeup::Changed => {
+                let axis = app.snapshot().map_or(0, |s| s.axis);
+                AppEvent::Snapshot(self.connection.as_mut()?.snapshot(axis))
+            }
             Wakeup::ChannelGone => {
-                connection = None;
+                self.disconnect();
                 AppEvent::Disconnected
             }
             Wakeup::Traffic(Ok(record)) => AppEvent::Traffic(record),
             Wakeup::Device(Ok(event)) => AppEvent::Device(event),
             Wakeup::Traffic(Err(broadcast::error::RecvError::Closed))
             | Wakeup::Device(Err(broadcast::error::RecvError::Closed)) => {
-                if let Some(c) = connection.as_mut() {
+                if let Some(c) = self.connection.as_mut() {
                     c.traffic = None;
                     c.events = None;
                 }
-                continue;
+                return None;
             }
-            Wakeup::Traffic(Err(_)) | Wakeup::Device(Err(_)) => continue,
-            Wakeup::Internal(Some(event)) => event,
-            Wakeup::Internal(None) => continue,
+            // A pane that could not keep up misses some traffic; the next
+            // record comes.
+            Wakeup::Traffic(Err(_)) | Wakeup::Device(Err(_)) => return None,
+            Wakeup::Internal(event) => event?,
             Wakeup::Connected(result) => {
-                connecting = None;
+                self.connecting = None;
                 match result {
                     Ok(controller) => {
-                        let poll = connection
+                        let poll = self
+                            .connection
                             .as_ref()
                             .map_or(Some(PollCadence::default()), |c| c.poll);
-                        if let Some(old) = connection.take() {
-                            old.controller.set_polling(None);
-                        }
+                        self.disconnect();
                         let mut c = Connection::new(controller, poll);
                         let snapshot = c.snapshot(0);
-                        connection = Some(c);
+                        self.connection = Some(c);
                         AppEvent::Snapshot(snapshot)
                     }
                     Err(message) => AppEvent::Notice(Notice::error(message)),
                 }
             }
-        };
-        handle_all(
-            app,
-            event,
-            &mut connection,
-            &internal_tx,
-            &mut sending,
-            &mut next_job,
-            &mut connecting,
-            &connector,
-        );
+        })
     }
-    if let Some(c) = connection {
-        c.controller.set_polling(None);
-    }
-    for (_, job) in sending {
-        job.abort();
-    }
-    Ok(())
-}
 
-#[allow(clippy::too_many_arguments)]
-fn handle_all(
-    app: &mut App,
-    event: AppEvent,
-    connection: &mut Option<Connection>,
-    internal: &mpsc::UnboundedSender<AppEvent>,
-    sending: &mut HashMap<u64, JoinHandle<()>>,
-    next_job: &mut u64,
-    connecting: &mut Option<Pending<Result<Arc<dyn Controller>, String>>>,
-    connector: &Connector,
-) {
-    sending.retain(|_, job| !job.is_finished());
-    let mut queue = vec![event];
-    while let Some(event) = queue.pop() {
-        for effect in app.handle(event) {
-            carry_out(
-                effect, app, connection, internal, sending, next_job, connecting, connector,
-                &mut queue,
-            );
+    /// Let go of the connection: no polling, no log.
+    fn disconnect(&mut self) {
+        if let Some(log) = self.log.take() {
+            log.stop();
+        }
+        if let Some(old) = self.connection.take() {
+            old.controller.set_polling(None);
         }
     }
-}
 
-#[allow(clippy::too_many_arguments)]
-fn carry_out(
-    effect: Effect,
-    app: &mut App,
-    connection: &mut Option<Connection>,
-    internal: &mpsc::UnboundedSender<AppEvent>,
-    sending: &mut HashMap<u64, JoinHandle<()>>,
-    next_job: &mut u64,
-    connecting: &mut Option<Pending<Result<Arc<dyn Controller>, String>>>,
-    connector: &Connector,
-    queue: &mut Vec<AppEvent>,
-) {
-    let not_connected = || {
-        AppEvent::Notice(Notice::error(
-            "not connected: give :connect --sim tmcm1110 (or --port PATH, --tcp HOST:PORT)",
-        ))
-    };
-    match effect {
-        Effect::Send { pane, tag, lines } => {
-            let Some(c) = connection.as_ref() else {
-                queue.push(not_connected());
-                return;
-            };
-            let controller = Arc::clone(&c.controller);
-            let tx = internal.clone();
-            let job = tokio::spawn(async move {
-                for line in lines {
-                    let result = controller.execute(line.clone()).await;
-                    let failed = result.is_err();
-                    if tx
-                        .send(AppEvent::Reply {
+    /// Hand an event to the app and carry out what it asks for; events
+    /// that come of it are handled in turn.
+    fn handle(&mut self, app: &mut App, event: AppEvent) {
+        self.sending.retain(|job| !job.is_finished());
+        let mut queue = vec![event];
+        while let Some(event) = queue.pop() {
+            for effect in app.handle(event) {
+                self.carry_out(effect, app, &mut queue);
+            }
+        }
+    }
+
+    fn carry_out(&mut self, effect: Effect, app: &App, queue: &mut Vec<AppEvent>) {
+        let not_connected = || {
+            AppEvent::Notice(Notice::error(
+                "not connected: give :connect --sim tmcm1110 (or --port PATH, --tcp HOST:PORT)",
+            ))
+        };
+        match effect {
+            Effect::Send { pane, tag, lines } => {
+                let Some(c) = self.connection.as_ref() else {
+                    queue.push(not_connected());
+                    return;
+                };
+                let controller = Arc::clone(&c.controller);
+                let tx = self.internal.clone();
+                self.sending.push(tokio::spawn(async move {
+                    for line in lines {
+                        let result = controller.execute(line.clone()).await;
+                        let failed = result.is_err();
+                        let reply = AppEvent::Reply {
                             pane,
                             tag,
                             line,
                             result,
-                        })
-                        .is_err()
-                        || failed
-                    {
-                        break;
+                        };
+                        if tx.send(reply).is_err() || failed {
+                            break;
+                        }
                     }
+                }));
+            }
+            Effect::EmergencyStop => {
+                // Lines still waiting to be sent must not go after the stop.
+                for job in self.sending.drain(..) {
+                    job.abort();
                 }
-            });
-            *next_job += 1;
-            sending.insert(*next_job, job);
-        }
-        Effect::EmergencyStop => {
-            // Lines still waiting to be sent must not go after the stop.
-            for (_, job) in sending.drain() {
-                job.abort();
+                let Some(c) = self.connection.as_ref() else {
+                    queue.push(AppEvent::Stopped(Vec::new()));
+                    return;
+                };
+                let stop = c.controller.emergency_stop();
+                let tx = self.internal.clone();
+                tokio::spawn(async move {
+                    let results = stop.await;
+                    let _ = tx.send(AppEvent::Stopped(results));
+                });
             }
-            let Some(c) = connection.as_ref() else {
-                queue.push(not_connected());
-                return;
-            };
-            let stop = c.controller.emergency_stop();
-            let tx = internal.clone();
-            tokio::spawn(async move {
-                let results = stop.await;
-                let _ = tx.send(AppEvent::Stopped(results));
-            });
-        }
-        Effect::Poll(cadence) => {
-            if let Some(c) = connection.as_mut() {
-                c.poll = cadence;
-                c.controller.set_polling(cadence);
-                let axis = app.snapshot().map_or(0, |s| s.axis);
-                queue.push(AppEvent::Snapshot(c.snapshot(axis)));
+            Effect::Poll(cadence) => {
+                if let Some(c) = self.connection.as_mut() {
+                    c.poll = cadence;
+                    c.controller.set_polling(cadence);
+                    let axis = app.snapshot().map_or(0, |s| s.axis);
+                    queue.push(AppEvent::Snapshot(c.snapshot(axis)));
+                } else {
+                    queue.push(not_connected());
+                }
             }
-        }
-        Effect::SetAddress(address) => {
-            if let Some(c) = connection.as_mut() {
+            Effect::SetAddress(address) => {
+                let Some(c) = self.connection.as_ref() else {
+                    queue.push(not_connected());
+                    return;
+                };
                 let poll = c.poll;
-                c.controller.set_polling(None);
                 let controller = c.controller.with_address(address);
+                self.disconnect();
                 let mut fresh = Connection::new(controller, poll);
                 let axis = app.snapshot().map_or(0, |s| s.axis);
                 queue.push(AppEvent::Snapshot(fresh.snapshot(axis)));
-                *c = fresh;
-            } else {
-                queue.push(not_connected());
+                self.connection = Some(fresh);
             }
-        }
-        Effect::ClearErrors { axis, seen } => {
-            if let Some(c) = connection.as_ref() {
-                c.controller.acknowledge_errors(axis, &seen);
+            Effect::ClearErrors { axis, seen } => {
+                if let Some(c) = self.connection.as_ref() {
+                    c.controller.acknowledge_errors(axis, &seen);
+                }
             }
+            Effect::Log(path) => {
+                if let Some(log) = self.log.take() {
+                    log.stop();
+                }
+                let Some(path) = path else {
+                    return;
+                };
+                let Some(c) = self.connection.as_ref() else {
+                    queue.push(not_connected());
+                    return;
+                };
+                match TrafficLog::start(&path, c, &self.internal) {
+                    Ok(log) => {
+                        self.log = Some(log);
+                        queue.push(AppEvent::Notice(Notice::info(format!(
+                            "logging every frame to {}",
+                            path.display()
+                        ))));
+                    }
+                    Err(message) => queue.push(AppEvent::Notice(Notice::error(message))),
+                }
+            }
+            Effect::Connect(args) => {
+                self.connecting = Some((self.connector)(args));
+            }
+            Effect::Wake { pane, tag, after } => {
+                let tx = self.internal.clone();
+                tokio::spawn(async move {
+                    tokio::time::sleep(after).await;
+                    let _ = tx.send(AppEvent::Wake { pane, tag });
+                });
+            }
+            Effect::Quit => {}
         }
-        Effect::Log(_) => {
-            queue.push(AppEvent::Notice(Notice::warning(
-                "logging is not built yet",
-            )));
-        }
-        Effect::Connect(args) => {
-            *connecting = Some(connector(args));
-        }
-        Effect::Wake { pane, tag, after } => {
-            let tx = internal.clone();
-            tokio::spawn(async move {
-                tokio::time::sleep(after).await;
-                let _ = tx.send(AppEvent::Wake { pane, tag });
-            });
-        }
-        Effect::Quit => {}
-    }
-}
-
-async fn wait(
-    input: &mut mpsc::UnboundedReceiver<TermEvent>,
-    internal: &mut mpsc::UnboundedReceiver<AppEvent>,
-    connection: Option<&mut Connection>,
-    connecting: &mut Option<Pending<Result<Arc<dyn Controller>, String>>>,
-) -> Wakeup {
-    let connect = async {
-        match connecting.as_mut() {
-            Some(pending) => pending.await,
-            None => std::future::pending().await,
-        }
-    };
-    let Some(c) = connection else {
-        return tokio::select! {
-            event = input.recv() => Wakeup::Input(event),
-            event = internal.recv() => Wakeup::Internal(event),
-            result = connect => Wakeup::Connected(result),
-        };
-    };
-    let traffic = async {
-        match c.traffic.as_mut() {
-            Some(rx) => rx.recv().await,
-            None => std::future::pending().await,
-        }
-    };
-    let events = async {
-        match c.events.as_mut() {
-            Some(rx) => rx.recv().await,
-            None => std::future::pending().await,
-        }
-    };
-    tokio::select! {
-        event = input.recv() => Wakeup::Input(event),
-        event = internal.recv() => Wakeup::Internal(event),
-        result = connect => Wakeup::Connected(result),
-        changed = c.status.changed() => if changed.is_ok() { Wakeup::Changed } else { Wakeup::ChannelGone },
-        changed = c.link.changed() => if changed.is_ok() { Wakeup::Changed } else { Wakeup::ChannelGone },
-        changed = c.identity.changed() => if changed.is_ok() { Wakeup::Changed } else { Wakeup::ChannelGone },
-        record = traffic => Wakeup::Traffic(record),
-        event = events => Wakeup::Device(event),
     }
 }
 

@@ -457,7 +457,15 @@ impl Pane for AxesPane {
             Some(_) => "poll max".into(),
             None => "poll off".into(),
         };
-        format!("Axes — {} #{} {state}, {poll}", s.link_name, s.address)
+        let identity = s
+            .identity
+            .as_ref()
+            .map(|i| format!(" ({i})"))
+            .unwrap_or_default();
+        format!(
+            "Axes — {} #{}{identity} {state}, {poll}",
+            s.link_name, s.address
+        )
     }
 
     fn region(&self) -> Region {
