@@ -5,15 +5,76 @@
 //! survives timeouts, garbage and lost links.
 //!
 //! It knows nothing of any family beyond [`crate::protocol::wire`].
+//!
+//! # The loop
+//!
+//! One tokio task per link ([`spawn`], [`connect`]) owns the link's two
+//! channels. While connected it goes round one loop:
+//!
+//! 1. Take every order waiting (requests go into one queue per
+//!    [`Priority`]; requests that arrive while a transaction is on the wire
+//!    are queued the same way) and, when no poll of the current plan is
+//!    pending, the newest [`PollPlan`].
+//! 2. Process the input already received: complete frames answer nothing
+//!    now, so each is unsolicited news ([`WireFormat::unsolicited`],
+//!    published as [`DeviceEvent::Unsolicited`]) or stale (logged, counted,
+//!    never delivered). A partial frame is dropped as garbage once the line
+//!    has been quiet for [`WireFormat::silence`].
+//! 3. Pick the next job: the head of the highest non-empty queue
+//!    (emergency stop, user, transfer, poll); only when every queue is empty,
+//!    the most overdue item of the poll plan. If the line must settle first
+//!    (see below), wait, still taking orders, so that an emergency stop that
+//!    arrives meanwhile goes first.
+//! 4. Send it (one attempt) and wait for its answer: each frame received
+//!    is put to the request's [`ReplyRule`]; frames it does not claim are
+//!    unsolicited or stale as in step 2. The attempt ends when the rule says
+//!    the answer is complete, at the timeout, when a burst of garbage ends in
+//!    silence with nothing accepted (a bad answer), or when the link is lost.
+//!    [`Expect::Nothing`] ends as soon as the bytes are written.
+//! 5. A read ([`Retry::Read`]) that timed out or got a bad answer goes back
+//!    to the head of its queue for another attempt; anything else finishes:
+//!    the caller gets its [`Answer`] or [`DeviceError`], a poll's result goes
+//!    to the plan's [`PollSink`]. A [`Retry::Never`] request is written once,
+//!    whatever happens.
+//!
+//! Settling: TMCL has no start byte and no sequence number, so a late reply
+//! is told from the next request's answer only by when it arrives. After
+//! garbage the next request waits until the line has been quiet for the
+//! silence time. After a timeout, a bad answer, or an answer that took more
+//! than one attempt (another attempt may still be answered), it waits until
+//! one timeout has passed after the last attempt's deadline and the line
+//! has been quiet that long: a reply that comes less than two timeouts
+//! after its attempt was sent is received as stale, never taken for the
+//! next request's answer. Later than that, nothing on the wire tells it
+//! from the next answer; the default timeout leaves room for this. Two
+//! sendings skip the wait and wait only for the silence time: the retry of
+//! the same read (any reply to an earlier attempt answers it just as well),
+//! and an emergency stop, which must not wait; a late reply echoing the
+//! same command (an earlier stop's) could then be taken for the stop's own
+//! answer, which is the price of stopping at once.
+//!
+//! When the link is lost (a [`LinkInput::Lost`](crate::link::LinkInput),
+//! its channel closing, a failed write) the request on the wire fails with
+//! [`DeviceError::LinkLost`] (it may or may not have been carried out), every
+//! queued one with [`DeviceError::Disconnected`] (never sent), and so does
+//! every request submitted until the link is back: nothing is kept to be
+//! sent later. The task reopens the link after `reconnect_initial`, doubling
+//! the wait after each failure up to `reconnect_max`, and polling resumes
+//! with the plan it had.
 
 use std::fmt;
+use std::future::Future;
+use std::pin::Pin;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use tokio::sync::{broadcast, mpsc, oneshot, watch};
 
-use crate::link::{LinkError, LinkSpec};
+use crate::link::{Link, LinkError, LinkSpec};
 use crate::protocol::wire::{Frame, ReplyRule, WireFormat};
+
+mod poll;
+mod task;
 
 /// Who is asking, in the order the device task serves them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -175,11 +236,11 @@ impl fmt::Debug for PollPlan {
     }
 }
 
-/// How the device task behaves; [`DeviceOptions::for_link`] picks defaults.
+/// How the device task behaves; the default suits every link.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct DeviceOptions {
     /// Reply timeout when a transaction gives none. `None`: derived from
-    /// the link's byte time and the request's size.
+    /// the link's byte time and the request's size ([`default_timeout`]).
     pub timeout: Option<Duration>,
     /// First and longest wait between attempts to reopen a lost link.
     pub reconnect_initial: Duration,
@@ -199,28 +260,46 @@ impl Default for DeviceOptions {
 /// Counters for benchmarks and the status line.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct DeviceCounters {
+    /// Transactions finished (answered or failed), polls included.
     pub transactions: u64,
+    /// Of which polls of the poll plan.
     pub polls: u64,
+    /// Attempts that got no complete answer in time.
     pub timeouts: u64,
+    /// Failed attempts (a timeout or a bad answer) put back for another
+    /// one; a loss of the link or a shutdown may come before it is sent.
     pub retries: u64,
+    /// Well-formed frames that answered nothing and meant nothing.
     pub stale_frames: u64,
+    /// Bytes that never made a frame.
     pub garbage_bytes: u64,
+    /// Successful reopenings of a lost link.
     pub reconnects: u64,
+    /// Unsolicited frames with news (TMCL 138's second reply).
+    pub unsolicited: u64,
 }
 
 /// A request handed to the device task.
 #[derive(Debug)]
-#[allow(dead_code)] // read by the task, which lands next
 struct Submission {
     priority: Priority,
     transaction: Transaction,
     reply: oneshot::Sender<Result<Answer, DeviceError>>,
 }
 
-/// Talks to the device task; cheap to clone.
+/// What a handle asks of the device task.
+#[derive(Debug)]
+enum Order {
+    Submit(Submission),
+    /// Finish the attempt on the wire, fail everything else, close the link.
+    Shutdown,
+}
+
+/// Talks to the device task; cheap to clone. The task ends when the last
+/// handle is dropped or [`DeviceHandle::shutdown`] is called.
 #[derive(Clone)]
 pub struct DeviceHandle {
-    submissions: mpsc::UnboundedSender<Submission>,
+    orders: mpsc::UnboundedSender<Order>,
     plans: mpsc::UnboundedSender<Option<PollPlan>>,
     traffic: broadcast::Sender<TrafficRecord>,
     events: broadcast::Sender<DeviceEvent>,
@@ -229,24 +308,44 @@ pub struct DeviceHandle {
 }
 
 impl DeviceHandle {
-    /// Queue a transaction and wait for its answer.
+    /// Queue a transaction and wait for its answer. While the link is down
+    /// this fails at once with [`DeviceError::Disconnected`].
     pub async fn transact(
         &self,
         priority: Priority,
         transaction: Transaction,
     ) -> Result<Answer, DeviceError> {
+        self.submit(priority, transaction).await
+    }
+
+    /// Queue a transaction now and return the future of its answer:
+    /// transactions submitted one after the other from one place are queued
+    /// in that order, however their futures are awaited.
+    pub fn submit(
+        &self,
+        priority: Priority,
+        transaction: Transaction,
+    ) -> impl Future<Output = Result<Answer, DeviceError>> + Send + 'static {
         let (reply, answer) = oneshot::channel();
-        self.submissions
-            .send(Submission {
+        let queued = self
+            .orders
+            .send(Order::Submit(Submission {
                 priority,
                 transaction,
                 reply,
-            })
-            .map_err(|_| DeviceError::Closed)?;
-        answer.await.unwrap_or(Err(DeviceError::Closed))
+            }))
+            .is_ok();
+        async move {
+            if !queued {
+                return Err(DeviceError::Closed);
+            }
+            answer.await.unwrap_or(Err(DeviceError::Closed))
+        }
     }
 
-    /// Replace the poll plan (`None` stops polling).
+    /// Replace the poll plan (`None` stops polling). It takes effect once
+    /// no poll of the current plan is on the wire or waiting for a retry,
+    /// so that every poll's result reaches the sink of the plan that made it.
     pub fn set_poll_plan(&self, plan: Option<PollPlan>) {
         let _ = self.plans.send(plan);
     }
@@ -268,6 +367,39 @@ impl DeviceHandle {
     pub fn counters(&self) -> watch::Receiver<DeviceCounters> {
         self.counters.clone()
     }
+
+    /// Let the attempt on the wire finish, fail every other request with
+    /// [`DeviceError::Closed`], close the link. The order is given at once;
+    /// the future returned ends with the task (state [`LinkState::Closed`]).
+    pub fn shutdown(&self) -> impl Future<Output = ()> + Send + 'static {
+        let _ = self.orders.send(Order::Shutdown);
+        let mut state = self.state.clone();
+        async move {
+            // An error means the task is gone already.
+            let _ = state.wait_for(|s| *s == LinkState::Closed).await;
+        }
+    }
+}
+
+/// The future of one attempt to (re)open a link.
+pub type OpenFuture = Pin<Box<dyn Future<Output = Result<Link, LinkError>> + Send>>;
+
+/// How the device task reopens its link after a loss: called once per
+/// attempt. [`connect`] makes one from the [`LinkSpec`]; tests hand in
+/// links of their own.
+pub type Reopen = Box<dyn FnMut() -> OpenFuture + Send>;
+
+/// A [`Reopen`] for a link that cannot be opened again: every attempt fails
+/// with `reason`.
+pub fn never_reopen(link: impl Into<String>, reason: impl Into<String>) -> Reopen {
+    let error = LinkError {
+        link: link.into(),
+        reason: reason.into(),
+    };
+    Box::new(move || {
+        let error = error.clone();
+        Box::pin(async move { Err(error) })
+    })
 }
 
 /// Open `spec` and start its device task. Fails only if the first opening
@@ -277,10 +409,123 @@ pub async fn connect(
     wire: Arc<dyn WireFormat>,
     options: DeviceOptions,
 ) -> Result<DeviceHandle, LinkError> {
-    let _ = (wire, options);
-    let _link = spec.open().await?;
-    Err(LinkError {
-        link: spec.describe(),
-        reason: "the device task is not built yet".into(),
-    })
+    let link = spec.open().await?;
+    let reopen: Reopen = Box::new(move || {
+        let spec = spec.clone();
+        Box::pin(async move { spec.open().await })
+    });
+    Ok(spawn(link, reopen, wire, options))
+}
+
+/// Start the device task on a link that is already open; `reopen` opens it
+/// again after a loss. Must be called within a tokio runtime.
+pub fn spawn(
+    link: Link,
+    reopen: Reopen,
+    wire: Arc<dyn WireFormat>,
+    options: DeviceOptions,
+) -> DeviceHandle {
+    let (orders_tx, orders) = mpsc::unbounded_channel();
+    let (plans_tx, plans) = mpsc::unbounded_channel();
+    let (traffic, _) = broadcast::channel(TRAFFIC_CAPACITY);
+    let (events, _) = broadcast::channel(EVENTS_CAPACITY);
+    let (state_tx, state) = watch::channel(LinkState::Connected {
+        link: link.name.clone(),
+    });
+    let (counters_tx, counters) = watch::channel(DeviceCounters::default());
+    let outlets = task::Outlets {
+        traffic: traffic.clone(),
+        events: events.clone(),
+        state: state_tx,
+        counters: counters_tx,
+    };
+    let task = task::Task::new(wire, options, reopen, orders, plans, outlets);
+    tokio::spawn(task.run(link));
+    DeviceHandle {
+        orders: orders_tx,
+        plans: plans_tx,
+        traffic,
+        events,
+        state,
+        counters,
+    }
+}
+
+/// Records the traffic stream holds for a slow subscriber before it lags.
+const TRAFFIC_CAPACITY: usize = 4096;
+const EVENTS_CAPACITY: usize = 256;
+
+/// Reply bytes the default timeout leaves wire time for: more than any TMCL
+/// (9) or CMD-4CR (63) reply, a few MCCL lines.
+pub const REPLY_ALLOWANCE_BYTES: u32 = 64;
+
+/// Time the controller and the adapters add on top of wire time: command
+/// processing (an EEPROM write takes milliseconds), a USB-serial adapter's
+/// latency timer in each direction (16 ms by default on FTDI chips), an
+/// RS-485 turnaround.
+pub const PROCESSING_MARGIN: Duration = Duration::from_millis(50);
+
+/// Timeout on links without a baud rate (TCP, unthrottled simulators): a
+/// serial-over-TCP bridge may sit in front of a slow serial line we know
+/// nothing about.
+pub const UNTIMED_LINK_TIMEOUT: Duration = Duration::from_millis(500);
+
+/// The reply timeout of a request of `request_len` bytes when neither the
+/// transaction nor the options give one: twice the wire time of the
+/// request and [`REPLY_ALLOWANCE_BYTES`] of reply, plus
+/// [`PROCESSING_MARGIN`]; [`UNTIMED_LINK_TIMEOUT`] without a byte time.
+/// At 9600 Bd a TMCL request gets 2 × 73 × 1.04 ms + 50 ms ≈ 202 ms; at
+/// 115200 Bd ≈ 63 ms.
+pub fn default_timeout(byte_time: Option<Duration>, request_len: usize) -> Duration {
+    match byte_time {
+        None => UNTIMED_LINK_TIMEOUT,
+        Some(byte_time) => {
+            let bytes = u32::try_from(request_len)
+                .unwrap_or(u32::MAX)
+                .saturating_add(REPLY_ALLOWANCE_BYTES);
+            byte_time
+                .saturating_mul(bytes)
+                .saturating_mul(2)
+                .saturating_add(PROCESSING_MARGIN)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_timeout_follows_the_byte_time() {
+        assert_eq!(default_timeout(None, 9), UNTIMED_LINK_TIMEOUT);
+        let at_9600 = crate::link::byte_time(9600);
+        assert_eq!(
+            default_timeout(Some(at_9600), 9),
+            at_9600 * 146 + PROCESSING_MARGIN
+        );
+        assert!(
+            default_timeout(Some(crate::link::byte_time(115_200)), 9) < Duration::from_millis(70)
+        );
+        assert!(
+            default_timeout(Some(at_9600), 200) > default_timeout(Some(at_9600), 9),
+            "a longer request gets longer"
+        );
+        assert_eq!(
+            default_timeout(Some(Duration::MAX), usize::MAX),
+            Duration::MAX,
+            "saturates, never panics"
+        );
+    }
+
+    #[test]
+    fn errors_name_what_went_wrong() {
+        let timeout = DeviceError::Timeout {
+            timeout: Duration::from_millis(202),
+            attempts: 3,
+        };
+        assert_eq!(
+            timeout.to_string(),
+            "no reply within 202 ms (after 3 attempts)"
+        );
+    }
 }

@@ -1,6 +1,7 @@
 //! Protocol knowledge of every controller family: frames, typed commands,
 //! console line syntax, parameter tables. No I/O here.
 
+pub mod ascii;
 pub mod console;
 pub mod tmcl;
 pub mod wire;

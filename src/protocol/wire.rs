@@ -22,6 +22,14 @@ pub trait Framer: Send {
     /// Drop an incomplete frame (after line silence, or before a new
     /// request) and return its bytes so they can be logged as garbage.
     fn discard_pending(&mut self) -> Vec<u8>;
+    /// Bytes the framer has stepped over since the last call while looking
+    /// for a frame boundary (garbage before a good frame, the tail of an
+    /// overlong line), so that the device task can log them as garbage
+    /// instead of letting them vanish. Framers that never skip keep the
+    /// default.
+    fn take_skipped(&mut self) -> Vec<u8> {
+        Vec::new()
+    }
 }
 
 /// How a request's answer is recognised, judged one frame at a time.

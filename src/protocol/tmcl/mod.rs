@@ -13,6 +13,7 @@ pub mod line;
 pub mod params;
 pub mod units;
 pub mod validate;
+pub mod wire;
 
 pub use catalog::{COMMANDS, CommandInfo, command_by_opcode, find_command};
 pub use command::{
@@ -27,6 +28,7 @@ pub use line::{
     parse_line_with, parse_number, parse_syntax,
 };
 pub use validate::validate;
+pub use wire::{TmclReplyRule, TmclWire};
 
 /// The module address every manual example uses and modules ship with (GP66).
 pub const DEFAULT_MODULE_ADDRESS: u8 = 1;

@@ -11,53 +11,14 @@ use crate::protocol::tmcl::command::{
     CalcOp, ClearFlag, Condition, GLOBAL_INTERRUPT, WaitCondition,
 };
 
-/// Program memory size in commands. The manual does not give it; a public
-/// Trinamic TMCL interpreter header for another product uses 2048 (digest
-/// D10.2), whose stack depth and coordinate count match this manual.
-pub const PROGRAM_MEMORY_SIZE: usize = 2048;
+/// Program memory size in commands and the stored word: the protocol's
+/// (the manual does not give the size; digest D10.2 takes 2048 from a
+/// public Trinamic interpreter header whose stack depth and coordinate
+/// count match this manual).
+pub use crate::protocol::tmcl::asm::{PROGRAM_MEMORY_WORDS as PROGRAM_MEMORY_SIZE, ProgramWord};
 
 /// Subroutine stack depth (§3.6.20, §8.5).
 pub const CALL_STACK_DEPTH: usize = 8;
-
-/// One stored command: the 7-byte binary form of §3.1 without address and
-/// checksum.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct ProgramWord {
-    pub opcode: u8,
-    pub kind: u8,
-    pub motor_bank: u8,
-    pub value: i32,
-}
-
-impl ProgramWord {
-    pub fn to_bytes(self) -> [u8; 7] {
-        let v = self.value.to_be_bytes();
-        [
-            self.opcode,
-            self.kind,
-            self.motor_bank,
-            v[0],
-            v[1],
-            v[2],
-            v[3],
-        ]
-    }
-
-    pub fn from_bytes(bytes: [u8; 7]) -> Self {
-        let [opcode, kind, motor_bank, v3, v2, v1, v0] = bytes;
-        ProgramWord {
-            opcode,
-            kind,
-            motor_bank,
-            value: i32::from_be_bytes([v3, v2, v1, v0]),
-        }
-    }
-
-    /// An erased cell: all zeros (opcode 0 is not a TMCL command).
-    pub fn is_empty(self) -> bool {
-        self == ProgramWord::default()
-    }
-}
 
 /// GP128 (§5.1 Table 18).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -88,6 +88,11 @@ impl ProgramWord {
         }
     }
 
+    /// An erased cell: all zeros (opcode 0 is not a TMCL command).
+    pub fn is_empty(self) -> bool {
+        self == ProgramWord::default()
+    }
+
     /// The typed command this word holds ([`Command::Raw`] if none).
     pub fn command(self) -> Command {
         Command::from_request(&Request {

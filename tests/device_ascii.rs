@@ -1,0 +1,174 @@
+//! The device task serves a line-oriented ASCII family through the same
+//! interface as TMCL, unchanged: CMD-4CR's one reply line, and MCCL's echo,
+//! reply lines and prompt.
+
+mod device_support;
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use tokio::time::Instant;
+
+use axterm::device::{
+    DeviceError, DeviceHandle, DeviceOptions, Expect, Priority, Retry, TrafficKind, Transaction,
+};
+use axterm::protocol::ascii::{AsciiWire, EchoThenPrompt, MCCL_PROMPT, NextLine, line_bytes};
+use axterm::protocol::wire::WireFormat;
+use device_support::*;
+
+fn cmd4cr_line(line: &str) -> Transaction {
+    Transaction {
+        bytes: line_bytes(line),
+        expect: Expect::Reply(Arc::new(NextLine)),
+        retry: Retry::Read(1),
+        timeout: None,
+    }
+}
+
+fn mccl_line(line: &str) -> Transaction {
+    let bytes = line_bytes(line);
+    Transaction {
+        expect: Expect::Reply(Arc::new(EchoThenPrompt::new(&bytes, MCCL_PROMPT))),
+        bytes,
+        retry: Retry::Never,
+        timeout: None,
+    }
+}
+
+fn frames(answer: &axterm::device::Answer) -> Vec<String> {
+    answer
+        .frames
+        .iter()
+        .map(|f| String::from_utf8_lossy(f).into_owned())
+        .collect()
+}
+
+fn cmd4cr() -> (DeviceHandle, Script) {
+    device_with(Arc::new(AsciiWire::cmd4cr()), DeviceOptions::default())
+}
+
+fn mccl() -> (DeviceHandle, Script) {
+    device_with(Arc::new(AsciiWire::mccl()), DeviceOptions::default())
+}
+
+#[tokio::test(start_paused = true)]
+async fn cmd4cr_the_next_line_is_the_answer() {
+    let (device, mut script) = cmd4cr();
+    let pending = device.submit(Priority::User, cmd4cr_line("@01POLX"));
+    assert_eq!(script.request().await, b"@01POLX\r".to_vec());
+    script.send(b"7\r");
+    assert_eq!(frames(&pending.await.expect("answered")), ["7"]);
+
+    // Split anywhere, ended by CRLF.
+    let pending = device.submit(Priority::User, cmd4cr_line("@01STORE"));
+    script.request().await;
+    script.send(b"O");
+    script.send(b"K\r\n");
+    assert_eq!(frames(&pending.await.expect("answered")), ["OK"]);
+}
+
+#[tokio::test(start_paused = true)]
+async fn cmd4cr_noise_without_terminator_is_dropped_and_bounded() {
+    let (device, mut script) = cmd4cr();
+    let mut traffic = device.traffic();
+    script.send(&[b'#'; 200]);
+    let noise = Instant::now();
+    let pending = device.submit(Priority::User, cmd4cr_line("@01DI"));
+    script.request().await;
+    assert!(
+        noise.elapsed() >= AsciiWire::cmd4cr().silence(at_9600()),
+        "the line is quiet first"
+    );
+    script.send(b"8\r");
+    assert_eq!(frames(&pending.await.expect("answered")), ["8"]);
+    let garbage: usize = drain(&mut traffic)
+        .iter()
+        .filter(|r| r.kind == TrafficKind::Garbage)
+        .map(|r| r.bytes.len())
+        .sum();
+    assert_eq!(garbage, 200);
+}
+
+#[tokio::test(start_paused = true)]
+async fn cmd4cr_a_read_is_retried_after_a_timeout() {
+    let (device, mut script) = cmd4cr();
+    let pending = device.submit(Priority::User, cmd4cr_line("@01PX"));
+    script.request().await;
+    assert_eq!(script.request().await, b"@01PX\r".to_vec());
+    script.send(b"-1200\r");
+    let answer = pending.await.expect("answered");
+    assert_eq!(
+        (frames(&answer), answer.attempts),
+        (vec!["-1200".into()], 2)
+    );
+}
+
+#[tokio::test(start_paused = true)]
+async fn mccl_echo_reply_lines_then_a_prompt_without_terminator() {
+    let (device, mut script) = mccl();
+    let pending = device.submit(Priority::User, mccl_line("1TP"));
+    assert_eq!(script.request().await, b"1TP\r".to_vec());
+    script.send(b"1TP\r\n");
+    script.send(b"01 997\r\n");
+    script.send(b">");
+    assert_eq!(
+        frames(&pending.await.expect("answered")),
+        ["1TP", "01 997", ">"]
+    );
+
+    // No reply lines: echo and prompt in one chunk.
+    let pending = device.submit(Priority::User, mccl_line("1MR100"));
+    script.request().await;
+    script.send(b"1MR100\r\n>");
+    assert_eq!(frames(&pending.await.expect("answered")), ["1MR100", ">"]);
+}
+
+#[tokio::test(start_paused = true)]
+async fn mccl_an_earlier_commands_late_answer_is_never_this_ones() {
+    let (device, mut script) = mccl();
+    let mut traffic = device.traffic();
+    let result = device.transact(Priority::User, mccl_line("1TP")).await;
+    assert!(matches!(
+        result,
+        Err(DeviceError::Timeout { attempts: 1, .. })
+    ));
+    script.request().await;
+
+    let pending = device.submit(Priority::User, mccl_line("1TV"));
+    // The late answer of 1TP straddles the new request.
+    script.send(b"1TP\r\n01 997\r\n");
+    assert_eq!(script.request().await, b"1TV\r".to_vec());
+    script.send(b">");
+    script.send(b"1TV\r\n01 0.5\r\n>");
+    assert_eq!(
+        frames(&pending.await.expect("answered")),
+        ["1TV", "01 0.5", ">"]
+    );
+    let stale: Vec<_> = drain(&mut traffic)
+        .into_iter()
+        .filter(|r| r.kind == TrafficKind::Stale)
+        .map(|r| String::from_utf8_lossy(&r.bytes).into_owned())
+        .collect();
+    assert_eq!(stale, ["1TP", "01 997", ">"]);
+}
+
+#[tokio::test(start_paused = true)]
+async fn mccl_an_answer_cut_short_times_out() {
+    let (device, mut script) = mccl();
+    let pending = device.submit(
+        Priority::User,
+        Transaction {
+            timeout: Some(Duration::from_millis(300)),
+            ..mccl_line("1WS")
+        },
+    );
+    script.request().await;
+    script.send(b"1WS\r\n");
+    assert_eq!(
+        pending.await,
+        Err(DeviceError::Timeout {
+            timeout: Duration::from_millis(300),
+            attempts: 1
+        })
+    );
+}
