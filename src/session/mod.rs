@@ -262,16 +262,46 @@ impl Session {
     /// Stop every motor, ahead of everything queued. Every stop line is
     /// sent even if one fails; the first failure is returned.
     pub async fn emergency_stop(&self) -> Result<(), SessionError> {
-        let mut first_error = None;
-        for line in self.family.console.emergency_stop(self.address) {
-            if let Err(e) = self
-                .send(Priority::EmergencyStop, &line, Retry::Never, None)
-                .await
-            {
-                first_error.get_or_insert(e);
+        let results = self.emergency_stop_lines().await;
+        results
+            .into_iter()
+            .find_map(Result::err)
+            .map_or(Ok(()), Err)
+    }
+
+    /// [`Session::emergency_stop`], with what came back for each stop line
+    /// in order, for a console that confirms them.
+    ///
+    /// Every line is queued at once, in order: sent one after the other's
+    /// answer, a line waiting in the user queue would go on the wire
+    /// between two stop lines (a move between `MST` and `STOPAPP`).
+    pub async fn emergency_stop_lines(&self) -> Vec<Result<LineResult, SessionError>> {
+        let lines = self.family.console.emergency_stop(self.address);
+        let mut sends: Vec<_> = lines
+            .iter()
+            .map(|line| Box::pin(self.send(Priority::EmergencyStop, line, Retry::Never, None)))
+            .collect();
+        let mut results: Vec<Option<Result<LineResult, SessionError>>> =
+            sends.iter().map(|_| None).collect();
+        // Polled in order, so the first poll of each queues it in order.
+        std::future::poll_fn(|cx| {
+            let mut pending = false;
+            for (send, result) in sends.iter_mut().zip(results.iter_mut()) {
+                if result.is_none() {
+                    match send.as_mut().poll(cx) {
+                        std::task::Poll::Ready(r) => *result = Some(r),
+                        std::task::Poll::Pending => pending = true,
+                    }
+                }
             }
-        }
-        first_error.map_or(Ok(()), Err)
+            if pending {
+                std::task::Poll::Pending
+            } else {
+                std::task::Poll::Ready(())
+            }
+        })
+        .await;
+        results.into_iter().flatten().collect()
     }
 
     /// Read the module's identity (TMCL: the firmware version string) and

@@ -11,8 +11,8 @@ use super::line::{format_command, parse_line};
 use super::params::{axis_param, global_param};
 use super::wire::{TmclReplyRule, TmclWire, is_version_string};
 use crate::protocol::console::{
-    Answering, AxisFlag, AxisInfo, AxisUpdate, Effect, FamilyConsole, PreparedLine, Reading,
-    ReplyError, ReplyValue, StatusPoll, SwitchKind,
+    Answering, AxisFlag, AxisInfo, AxisUpdate, Completions, Effect, FamilyConsole, LoadScale,
+    PreparedLine, Reading, ReplyError, ReplyValue, StatusPoll, SwitchKind,
 };
 use crate::protocol::wire::{Frame, ReplyRule, Verdict, WireFormat};
 
@@ -121,6 +121,10 @@ const STATUS_PARAMS: &[StatusParam] = &[
     StatusParam {
         number: 8, // position reached
         fast: true,
+    },
+    StatusParam {
+        number: 4, // maximum positioning speed, the speed gauge's scale
+        fast: false,
     },
     StatusParam {
         number: 0, // target position
@@ -365,6 +369,38 @@ impl FamilyConsole for TmclConsole {
         Arc::new(TmclWire::default())
     }
 
+    fn complete(&self, line: &str, cursor: usize) -> Completions {
+        super::assist::complete(line, cursor)
+    }
+
+    fn help(&self, line: &str, cursor: usize) -> Vec<String> {
+        super::assist::help(line, cursor)
+    }
+
+    fn stop_axis_line(&self, axis: u8) -> Option<String> {
+        AXES.iter()
+            .any(|a| a.number == axis)
+            .then(|| format_command(&Command::Mst { motor: axis }))
+    }
+
+    fn load_scale(&self) -> Option<LoadScale> {
+        // AP206, StallGuard2 load reading 0..1023: 0 is the highest load
+        // (§4 Table 16).
+        let full_scale = axis_param(206).map_or(1023, |p| match p.range {
+            super::params::ValueRange::Span { max, .. } => max,
+            super::params::ValueRange::OneOf(_) => 1023,
+        });
+        Some(LoadScale {
+            full_scale,
+            zero_is_highest: true,
+        })
+    }
+
+    fn status_meaning(&self, status: u32) -> Option<String> {
+        let status = u8::try_from(status).ok()?;
+        Some(super::frame::Status(status).meaning().to_string())
+    }
+
     fn default_address(&self) -> u8 {
         DEFAULT_MODULE_ADDRESS
     }
@@ -480,6 +516,7 @@ impl FamilyConsole for TmclConsole {
             0 => AxisUpdate::Target(value),
             1 => AxisUpdate::Position(value),
             3 => AxisUpdate::Speed(value),
+            4 => AxisUpdate::MaxSpeed(value),
             8 => AxisUpdate::Reached(value != 0),
             9 => AxisUpdate::Switch(SwitchKind::Home, value != 0),
             10 => AxisUpdate::Switch(SwitchKind::Right, value != 0),

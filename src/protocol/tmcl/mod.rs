@@ -2,6 +2,7 @@
 //! manual). Pure code: bytes and meanings, no I/O.
 
 pub mod asm;
+pub mod assist;
 pub mod catalog;
 pub mod command;
 pub mod console;
