@@ -9,6 +9,7 @@
 use std::fmt;
 use std::sync::Arc;
 
+use super::parameters::ParameterSet;
 use super::wire::{Frame, ReplyRule, WireFormat};
 
 /// How a prepared line is answered.
@@ -266,6 +267,21 @@ pub trait FamilyConsole: Send + Sync {
     /// What an answer's status code means, in the manual's words.
     fn status_meaning(&self, status: u32) -> Option<String> {
         let _ = status;
+        None
+    }
+
+    /// The family's parameter tables and how to read, write, store and
+    /// restore one, for the parameter table; `None` if it has none.
+    fn parameters(&self) -> Option<&'static dyn ParameterSet> {
+        None
+    }
+
+    /// One frame in words, for the traffic monitor: a request as its
+    /// console line; a reply (when `request`, the last request sent, is
+    /// given) as its status meaning and value. `None`: the family has no
+    /// decoder and the monitor shows the bytes only.
+    fn describe_frame(&self, bytes: &[u8], request: Option<&[u8]>) -> Option<String> {
+        let _ = (bytes, request);
         None
     }
 }

@@ -222,6 +222,7 @@ impl App {
     /// Take in one event; returns what the loop must do.
     pub fn handle(&mut self, event: AppEvent) -> Vec<Effect> {
         let mut effects = Vec::new();
+        let focus_before = self.focus;
         match event {
             AppEvent::Terminal(event) => self.terminal_event(event, &mut effects),
             AppEvent::Snapshot(snapshot) => {
@@ -270,6 +271,9 @@ impl App {
                 self.quit = true;
                 effects.push(Effect::Quit);
             }
+        }
+        if self.focus != focus_before {
+            self.deliver(self.focus, &PaneEvent::Focused, &mut effects);
         }
         effects
     }

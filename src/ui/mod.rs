@@ -41,9 +41,11 @@ pub mod axes;
 pub mod batch;
 pub mod command;
 pub mod config;
+pub mod field;
 pub mod keymap;
 pub mod live;
 pub mod pane;
+pub mod params;
 pub mod terminal;
 pub mod theme;
 
@@ -64,5 +66,6 @@ pub fn panes(setup: &PaneSetup) -> Vec<Box<dyn Pane>> {
     vec![
         Box::new(command::CommandPane::new(setup.history_dir.clone())),
         Box::new(axes::AxesPane::new()),
+        Box::new(params::ParamsPane::new()),
     ]
 }

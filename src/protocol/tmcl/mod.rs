@@ -10,7 +10,9 @@ pub mod frame;
 pub mod hex;
 mod interim_wire;
 pub mod line;
+pub mod parameter_set;
 pub mod params;
+pub mod traffic;
 pub mod units;
 pub mod validate;
 
