@@ -330,7 +330,7 @@ fn the_emergency_stop_drops_a_running_batch_and_confirms_what_was_sent() {
         "{screen}"
     );
     assert!(
-        screen.contains("STOP sent, 3 replies ok"),
+        screen.contains("STOP: 3 sent, all ok"),
         "the status bar says so too: {screen}"
     );
 }

@@ -271,15 +271,37 @@ impl Session {
 
     /// [`Session::emergency_stop`], with what came back for each stop line
     /// in order, for a console that confirms them.
+    ///
+    /// Every line is queued at once, in order: sent one after the other's
+    /// answer, a line waiting in the user queue would go on the wire
+    /// between two stop lines (a move between `MST` and `STOPAPP`).
     pub async fn emergency_stop_lines(&self) -> Vec<Result<LineResult, SessionError>> {
-        let mut results = Vec::new();
-        for line in self.family.console.emergency_stop(self.address) {
-            results.push(
-                self.send(Priority::EmergencyStop, &line, Retry::Never, None)
-                    .await,
-            );
-        }
-        results
+        let lines = self.family.console.emergency_stop(self.address);
+        let mut sends: Vec<_> = lines
+            .iter()
+            .map(|line| Box::pin(self.send(Priority::EmergencyStop, line, Retry::Never, None)))
+            .collect();
+        let mut results: Vec<Option<Result<LineResult, SessionError>>> =
+            sends.iter().map(|_| None).collect();
+        // Polled in order, so the first poll of each queues it in order.
+        std::future::poll_fn(|cx| {
+            let mut pending = false;
+            for (send, result) in sends.iter_mut().zip(results.iter_mut()) {
+                if result.is_none() {
+                    match send.as_mut().poll(cx) {
+                        std::task::Poll::Ready(r) => *result = Some(r),
+                        std::task::Poll::Pending => pending = true,
+                    }
+                }
+            }
+            if pending {
+                std::task::Poll::Pending
+            } else {
+                std::task::Poll::Ready(())
+            }
+        })
+        .await;
+        results.into_iter().flatten().collect()
     }
 
     /// Read the module's identity (TMCL: the firmware version string) and

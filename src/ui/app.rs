@@ -258,10 +258,10 @@ impl App {
             }
             AppEvent::Stopped(results) => {
                 let failed = results.iter().filter(|r| r.is_err()).count();
-                self.last_stop = Some(if failed == 0 {
-                    format!("STOP sent, {} replies ok", results.len())
-                } else {
-                    format!("STOP sent, {failed} of {} failed", results.len())
+                self.last_stop = Some(match (failed, results.len()) {
+                    (_, 0) => "STOP not sent".to_string(),
+                    (0, n) => format!("STOP: {n} sent, all ok"),
+                    (failed, n) => format!("STOP: {failed} of {n} FAILED"),
                 });
                 self.dirty = true;
                 self.broadcast(&PaneEvent::EmergencyStop(results), &mut effects);
@@ -670,7 +670,7 @@ impl App {
                     None => "poll off │ ".to_string(),
                 };
                 spans.push(Span::styled(poll, bar));
-                if let Some(axis) = s.selected_axis() {
+                if let Some(axis) = s.selected_axis().filter(|_| s.axes.len() > 1) {
                     spans.push(Span::styled(format!("axis {} │ ", axis.name), bar));
                 }
             }

@@ -27,6 +27,11 @@ const CARD_ROWS: u16 = 3;
 const CARD_MIN_WIDTH: u16 = 84;
 /// Columns between cards side by side.
 const CARD_GAP: u16 = 2;
+/// Snapshots with the same speed (below the maximum) before the axis
+/// counts as moving at a constant speed rather than still ramping: every
+/// reading makes a snapshot, and the speed is read about as often as the
+/// position.
+const STEADY_SNAPSHOTS: u32 = 4;
 
 /// What the axis is doing, read from how its speed changes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -91,6 +96,8 @@ impl Ramp {
 struct AxisMemory {
     speed: Option<i64>,
     ramp: Option<Ramp>,
+    /// Snapshots since the speed last changed.
+    unchanged: u32,
     /// The span of positions and targets seen: the position gauge's range.
     low: i64,
     high: i64,
@@ -112,16 +119,25 @@ impl AxesPane {
         self.memory
             .resize(session.status.len(), AxisMemory::default());
         for (memory, status) in self.memory.iter_mut().zip(&session.status) {
-            if status.speed != memory.speed || memory.ramp.is_none() {
-                let ramp = Ramp::from_speeds(memory.speed, status.speed, status.max_speed);
-                // A poll that reads the same speed twice keeps the trend
-                // unless the axis stands or cruises.
-                let keep = status.speed == memory.speed
-                    && !matches!(ramp, Ramp::Standing | Ramp::Cruising);
-                if !keep {
-                    memory.ramp = Some(ramp);
-                }
+            if status.speed != memory.speed {
+                memory.ramp = Some(Ramp::from_speeds(
+                    memory.speed,
+                    status.speed,
+                    status.max_speed,
+                ));
                 memory.speed = status.speed;
+                memory.unchanged = 0;
+            } else {
+                // Snapshots change for other readings too: the speed is
+                // steady only once it has been the same for a while.
+                memory.unchanged = memory.unchanged.saturating_add(1);
+                let steady = Ramp::from_speeds(status.speed, status.speed, status.max_speed);
+                if memory.ramp.is_none()
+                    || matches!(steady, Ramp::Standing | Ramp::Cruising | Ramp::Unknown)
+                    || memory.unchanged >= STEADY_SNAPSHOTS
+                {
+                    memory.ramp = Some(steady);
+                }
             }
             for value in [status.position, status.target].into_iter().flatten() {
                 memory.low = memory.low.min(value);
@@ -356,7 +372,8 @@ fn truncate(text: &str, max: usize) -> String {
 /// Where `value` lies between `low` and `high`, 0..1.
 fn fraction(value: i64, low: i64, high: i64) -> f64 {
     if high <= low {
-        return if value >= high { 1.0 } else { 0.0 };
+        // Nothing to show a distance on yet (everything at 0).
+        return 0.0;
     }
     let (value, low, high) = (i128::from(value), i128::from(low), i128::from(high));
     ((value - low) as f64 / (high - low) as f64).clamp(0.0, 1.0)
@@ -630,6 +647,41 @@ mod tests {
     }
 
     #[test]
+    fn a_speed_read_again_while_ramping_keeps_the_trend_until_it_is_steady() {
+        let mut pane = AxesPane::new();
+        let family = crate::protocol::find_family("tmcl").expect("tmcl");
+        let mut snapshot = Snapshot {
+            family,
+            address: 1,
+            link_name: "sim".into(),
+            axes: family.console.axes().to_vec(),
+            status: vec![AxisStatus::default()],
+            link: LinkState::Closed,
+            identity: None,
+            poll: None,
+            axis: 0,
+        };
+        let mut step = |speed: i64, pane: &mut AxesPane| {
+            snapshot.status[0].speed = Some(speed);
+            snapshot.status[0].max_speed = Some(1000);
+            pane.remember(&snapshot);
+            pane.ramp(0, &snapshot.status[0])
+        };
+        assert_eq!(step(100, &mut pane), Ramp::Accelerating);
+        // The position was read: same speed, still accelerating.
+        assert_eq!(step(100, &mut pane), Ramp::Accelerating);
+        assert_eq!(step(300, &mut pane), Ramp::Accelerating);
+        assert_eq!(step(1000, &mut pane), Ramp::Accelerating);
+        assert_eq!(step(1000, &mut pane), Ramp::Cruising);
+        assert_eq!(step(600, &mut pane), Ramp::Decelerating);
+        for _ in 0..STEADY_SNAPSHOTS - 1 {
+            assert_eq!(step(600, &mut pane), Ramp::Decelerating);
+        }
+        assert_eq!(step(600, &mut pane), Ramp::Constant);
+        assert_eq!(step(0, &mut pane), Ramp::Standing);
+    }
+
+    #[test]
     fn gauges_fill_to_their_fraction_and_mark_the_target() {
         let theme = Theme::builtin("dark").expect("built-in theme");
         let text = |spans: Vec<Span>| {
@@ -642,7 +694,7 @@ mod tests {
         assert_eq!(text(gauge(&theme, Some(0.0), Some(1.0), 5)), "░░░░┃");
         assert_eq!(text(gauge(&theme, None, None, 3)), "···");
         assert_eq!(fraction(5, 0, 10), 0.5);
-        assert_eq!(fraction(5, 5, 5), 1.0);
+        assert_eq!(fraction(5, 5, 5), 0.0);
         assert_eq!(fraction(i64::MIN, i64::MIN, i64::MAX), 0.0);
     }
 }

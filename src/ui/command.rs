@@ -1066,7 +1066,7 @@ impl Pane for CommandPane {
                     self.say(
                         Role::Warning,
                         format!(
-                            "  {dropped} line(s) waiting were not sent{}",
+                            "  {dropped} line(s) waiting for their turn or answer were dropped{}",
                             if batch { "; the batch was stopped" } else { "" }
                         ),
                     );

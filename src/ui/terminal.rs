@@ -4,7 +4,7 @@
 //! message is printed, so the message is readable), and on SIGTERM/SIGHUP
 //! (the loop ends and the guard is dropped).
 
-use std::io::{self, Write};
+use std::io::{self, IsTerminal, Write};
 use std::sync::Once;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -63,7 +63,14 @@ pub fn restore() {
     if !ACTIVE.swap(false, Ordering::SeqCst) {
         return;
     }
+    let _ = disable_raw_mode();
     let mut out = io::stdout();
+    // Escape sequences only to a terminal: a file or pipe has no alternate
+    // screen to leave.
+    if !out.is_terminal() {
+        MOUSE.store(false, Ordering::SeqCst);
+        return;
+    }
     if MOUSE.swap(false, Ordering::SeqCst) {
         let _ = execute!(out, DisableMouseCapture);
     }
@@ -73,7 +80,6 @@ pub fn restore() {
         LeaveAlternateScreen,
         ratatui::crossterm::cursor::Show
     );
-    let _ = disable_raw_mode();
     let _ = out.flush();
 }
 
@@ -106,4 +112,24 @@ pub fn spawn_reader() -> mpsc::UnboundedReceiver<Event> {
         })
         .ok();
     rx
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_panic_gives_the_terminal_back_before_its_message_is_printed() {
+        install_panic_hook();
+        ACTIVE.store(true, Ordering::SeqCst);
+        let outcome = std::panic::catch_unwind(|| panic!("a bug while the console is up"));
+        assert!(outcome.is_err());
+        assert!(
+            !ACTIVE.load(Ordering::SeqCst),
+            "the hook restored the terminal"
+        );
+        // Restoring twice does nothing.
+        restore();
+        assert!(!ACTIVE.load(Ordering::SeqCst));
+    }
 }
