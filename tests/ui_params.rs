@@ -115,7 +115,9 @@ fn module_value(module: &mut SimModule, line: &str) -> String {
 #[test]
 fn the_table_at_a_large_size_has_range_and_description_columns() {
     let (mut app, _module, _) = reading("default");
-    let (lines, _) = draw(&mut app, 200, 50);
+    // Wide enough that the parameter column, beside traffic and plot, has
+    // room for every column.
+    let (lines, _) = draw(&mut app, 250, 60);
     let text = lines.join("\n");
     assert!(
         text.contains("Range") && text.contains("Description"),

@@ -276,11 +276,17 @@ pub trait FamilyConsole: Send + Sync {
         None
     }
 
-    /// One frame in words, for the traffic monitor: a request as its
-    /// console line; a reply (when `request`, the last request sent, is
-    /// given) as its status meaning and value. `None`: the family has no
-    /// decoder and the monitor shows the bytes only.
-    fn describe_frame(&self, bytes: &[u8], request: Option<&[u8]>) -> Option<String> {
+    /// A frame sent to the module in words, for the traffic monitor: its
+    /// console line. `None`: the family has no decoder and the monitor
+    /// shows the bytes only.
+    fn describe_request(&self, bytes: &[u8]) -> Option<String> {
+        let _ = bytes;
+        None
+    }
+
+    /// A frame from the module in words: its status meaning and value,
+    /// read in the light of `request`, the last frame sent, if any.
+    fn describe_reply(&self, bytes: &[u8], request: Option<&[u8]>) -> Option<String> {
         let _ = (bytes, request);
         None
     }

@@ -46,8 +46,10 @@ pub mod keymap;
 pub mod live;
 pub mod pane;
 pub mod params;
+pub mod plot;
 pub mod terminal;
 pub mod theme;
+pub mod traffic;
 
 use std::path::PathBuf;
 
@@ -67,5 +69,7 @@ pub fn panes(setup: &PaneSetup) -> Vec<Box<dyn Pane>> {
         Box::new(command::CommandPane::new(setup.history_dir.clone())),
         Box::new(axes::AxesPane::new()),
         Box::new(params::ParamsPane::new()),
+        Box::new(traffic::TrafficPane::new()),
+        Box::new(plot::PlotPane::new()),
     ]
 }

@@ -356,8 +356,12 @@ impl FamilyConsole for TmclConsole {
         Some(&super::parameter_set::TmclParameters)
     }
 
-    fn describe_frame(&self, bytes: &[u8], request: Option<&[u8]>) -> Option<String> {
-        Some(super::traffic::describe_frame(bytes, request))
+    fn describe_request(&self, bytes: &[u8]) -> Option<String> {
+        Some(super::traffic::describe_request(bytes))
+    }
+
+    fn describe_reply(&self, bytes: &[u8], request: Option<&[u8]>) -> Option<String> {
+        Some(super::traffic::describe_reply(bytes, request))
     }
 
     fn default_address(&self) -> u8 {

@@ -8,22 +8,31 @@ use super::frame::{FRAME_LEN, Reply, Request};
 use super::line::format_command;
 use crate::protocol::console::ReplyValue;
 
-/// One frame in words. `request` is the last request sent before a reply,
-/// if any; it decides how the reply's value reads.
-pub fn describe_frame(bytes: &[u8], request: Option<&[u8]>) -> String {
-    let Ok(frame) = <&[u8; FRAME_LEN]>::try_from(bytes) else {
-        return format!(
-            "{} bytes: not a TMCL frame ({FRAME_LEN} bytes)",
-            bytes.len()
-        );
-    };
-    match request {
-        None => describe_request(frame),
-        Some(request) => describe_reply(frame, request),
+/// A request in words: its console line and the module it goes to.
+pub fn describe_request(bytes: &[u8]) -> String {
+    match <&[u8; FRAME_LEN]>::try_from(bytes) {
+        Ok(frame) => request_words(frame),
+        Err(_) => not_a_frame(bytes),
     }
 }
 
-fn describe_request(frame: &[u8; FRAME_LEN]) -> String {
+/// A reply in words: status meaning and value. `request`, the last
+/// request sent, decides how the value reads (and names the command).
+pub fn describe_reply(bytes: &[u8], request: Option<&[u8]>) -> String {
+    match <&[u8; FRAME_LEN]>::try_from(bytes) {
+        Ok(frame) => reply_words(frame, request),
+        Err(_) => not_a_frame(bytes),
+    }
+}
+
+fn not_a_frame(bytes: &[u8]) -> String {
+    format!(
+        "{} bytes: not a TMCL frame ({FRAME_LEN} bytes)",
+        bytes.len()
+    )
+}
+
+fn request_words(frame: &[u8; FRAME_LEN]) -> String {
     match Request::from_bytes(frame) {
         Ok(request) => format!(
             "{} to module {}",
@@ -34,9 +43,9 @@ fn describe_request(frame: &[u8; FRAME_LEN]) -> String {
     }
 }
 
-fn describe_reply(frame: &[u8; FRAME_LEN], request: &[u8]) -> String {
-    let request = <&[u8; FRAME_LEN]>::try_from(request)
-        .ok()
+fn reply_words(frame: &[u8; FRAME_LEN], request: Option<&[u8]>) -> String {
+    let request = request
+        .and_then(|r| <&[u8; FRAME_LEN]>::try_from(r).ok())
         .map(Request::from_bytes_unchecked);
     let command = request.as_ref().map(Command::from_request);
     // §3.6.53 / digest D4: the version string comes as the host address and
@@ -114,38 +123,43 @@ mod tests {
     #[test]
     fn requests_read_as_console_lines() {
         assert_eq!(
-            describe_frame(&request("GAP 4, 0"), None),
+            describe_request(&request("GAP 4, 0")),
             "GAP 4, 0 to module 1"
         );
         assert_eq!(
-            describe_frame(&request("MVP ABS, 0, 1000"), None),
+            describe_request(&request("MVP ABS, 0, 1000")),
             "MVP ABS, 0, 1000 to module 1"
         );
         let mut bad = request("GAP 4, 0");
         bad[8] ^= 1;
-        assert!(describe_frame(&bad, None).contains("wrong checksum"));
-        assert!(describe_frame(&[1, 2], None).contains("2 bytes"));
+        assert!(describe_request(&bad).contains("wrong checksum"));
+        assert!(describe_request(&[1, 2]).contains("2 bytes"));
     }
 
     #[test]
     fn replies_read_as_status_and_value_of_their_request() {
         let gap = request("GAP 4, 0");
         assert_eq!(
-            describe_frame(&reply(100, 6, 1234), Some(&gap)),
+            describe_reply(&reply(100, 6, 1234), Some(&gap)),
             "GAP from module 1: 1234 (100 successfully executed, no error)"
         );
         let sap = request("SAP 4, 0, 1234");
         assert_eq!(
-            describe_frame(&reply(100, 5, 1234), Some(&sap)),
+            describe_reply(&reply(100, 5, 1234), Some(&sap)),
             "SAP from module 1: 100 successfully executed, no error"
         );
         assert_eq!(
-            describe_frame(&reply(4, 5, 0), Some(&sap)),
+            describe_reply(&reply(4, 5, 0), Some(&sap)),
             "SAP from module 1: 4 invalid value"
         );
         // Timer periods read back unsigned (§5.4).
         let ggp = request("GGP 0, 3");
-        assert!(describe_frame(&reply(100, 10, -1), Some(&ggp)).contains("4294967295"));
+        assert!(describe_reply(&reply(100, 10, -1), Some(&ggp)).contains("4294967295"));
+        // With no request to go by, the command is named by its number.
+        assert_eq!(
+            describe_reply(&reply(100, 6, 7), None),
+            "command 6 from module 1: 7 (100 successfully executed, no error)"
+        );
     }
 
     #[test]
@@ -155,7 +169,7 @@ mod tests {
         frame[0] = 2;
         frame[1..].copy_from_slice(b"1110V112");
         assert_eq!(
-            describe_frame(&frame, Some(&version)),
+            describe_reply(&frame, Some(&version)),
             "version \"1110V112\""
         );
     }
