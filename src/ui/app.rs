@@ -50,6 +50,9 @@ pub enum AppEvent {
     Terminal(TermEvent),
     /// A watch channel of the session changed: take this copy.
     Snapshot(Snapshot),
+    /// A connection was just opened (at start or by `:connect`): its
+    /// first snapshot.
+    Connected(Snapshot),
     /// No controller any more (or not yet).
     Disconnected,
     Traffic(TrafficRecord),
@@ -130,6 +133,9 @@ pub struct App {
     drawn: Vec<(usize, Rect)>,
     /// Where the user's themes and keymaps are (`:theme`, `:keymap`).
     config_dir: Option<std::path::PathBuf>,
+    /// The options of the last `Request::Connect`, told to the panes
+    /// when that connection opens.
+    connect_args: Option<Vec<String>>,
 }
 
 impl App {
@@ -153,6 +159,7 @@ impl App {
             quit: false,
             drawn: Vec::new(),
             config_dir: None,
+            connect_args: None,
         }
     }
 
@@ -235,6 +242,13 @@ impl App {
                     self.dirty = true;
                     self.broadcast(&PaneEvent::Snapshot, &mut effects);
                 }
+            }
+            AppEvent::Connected(snapshot) => {
+                self.snapshot = Some(snapshot);
+                self.dirty = true;
+                self.broadcast(&PaneEvent::Snapshot, &mut effects);
+                let args = self.connect_args.take();
+                self.broadcast(&PaneEvent::Connected { args }, &mut effects);
             }
             AppEvent::Disconnected => {
                 if self.snapshot.take().is_some() {
@@ -488,7 +502,10 @@ impl App {
                 self.set_keymap(loaded.value);
                 self.broadcast(&PaneEvent::Notice(notice), effects);
             }
-            Request::Connect(args) => effects.push(Effect::Connect(args)),
+            Request::Connect(args) => {
+                self.connect_args = Some(args.clone());
+                effects.push(Effect::Connect(args));
+            }
             Request::Focus(name) => {
                 self.focus(name);
             }
@@ -998,7 +1015,7 @@ pub async fn run(
     };
     if let Some(c) = runner.connection.as_mut() {
         let snapshot = c.snapshot(0);
-        runner.handle(app, AppEvent::Snapshot(snapshot));
+        runner.handle(app, AppEvent::Connected(snapshot));
     }
     loop {
         if app.should_quit() {
@@ -1112,7 +1129,7 @@ impl Runner {
                         let mut c = Connection::new(controller, poll);
                         let snapshot = c.snapshot(0);
                         self.connection = Some(c);
-                        AppEvent::Snapshot(snapshot)
+                        AppEvent::Connected(snapshot)
                     }
                     Err(message) => AppEvent::Notice(Notice::error(message)),
                 }

@@ -41,6 +41,7 @@ pub mod axes;
 pub mod batch;
 pub mod command;
 pub mod config;
+pub mod connect;
 pub mod field;
 pub mod keymap;
 pub mod live;
@@ -58,8 +59,8 @@ use pane::Pane;
 /// What the panes are built with.
 #[derive(Debug, Clone, Default)]
 pub struct PaneSetup {
-    /// Where the command history is kept (one file per protocol family);
-    /// `None` keeps none.
+    /// Where the command history (one file per protocol family) and the
+    /// recent connections are kept; `None` keeps none.
     pub history_dir: Option<PathBuf>,
 }
 
@@ -71,5 +72,9 @@ pub fn panes(setup: &PaneSetup) -> Vec<Box<dyn Pane>> {
         Box::new(params::ParamsPane::new()),
         Box::new(traffic::TrafficPane::new()),
         Box::new(plot::PlotPane::new()),
+        Box::new(connect::ConnectPane::new(
+            setup.history_dir.as_deref(),
+            crate::link::ports::available_ports,
+        )),
     ]
 }

@@ -1551,6 +1551,13 @@ impl Pane for ParamsPane {
                     Outcome::Ignored
                 }
             }
+            PaneEvent::Connected { .. } => {
+                // A connection opened again may hold other values (the
+                // module was reset): forget what was read.
+                self.connection = None;
+                self.follow(view);
+                Outcome::redraw()
+            }
             PaneEvent::Focused => {
                 self.follow(view);
                 if view.session.is_some() && !self.tables.is_empty() {
