@@ -345,3 +345,27 @@ fn a_line_typed_without_a_connection_says_how_to_connect() {
         "{screen}"
     );
 }
+
+#[test]
+fn news_from_the_module_and_the_link_is_shown() {
+    let mut app = connected();
+    app.handle(AppEvent::Device(axterm::device::DeviceEvent::Unsolicited {
+        frame: vec![2, 1, 128, 138, 0, 0, 0, 1, 12],
+        description: "motor 0 reached its target (138)".into(),
+    }));
+    app.handle(AppEvent::Device(axterm::device::DeviceEvent::StateChanged(
+        axterm::device::LinkState::Disconnected {
+            reason: "/dev/ttyUSB0 unplugged".into(),
+            retry_in: Duration::from_millis(400),
+        },
+    )));
+    let screen = text(&mut app, 100, 30);
+    assert!(
+        screen.contains("module: motor 0 reached its target (138)"),
+        "{screen}"
+    );
+    assert!(
+        screen.contains("link lost: /dev/ttyUSB0 unplugged; trying again in 400 ms"),
+        "{screen}"
+    );
+}

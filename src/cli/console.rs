@@ -10,7 +10,6 @@ use super::connection::{Target, runtime};
 use super::{Cli, ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::ui::PaneSetup;
 use crate::ui::app::{Connector, Controller};
-use crate::ui::config::platform_config_dir;
 use crate::ui::live::{Appearance, SessionController, identify_later, run_terminal};
 
 /// Environment variable naming the directory for the console's history
@@ -64,7 +63,7 @@ fn connector() -> Connector {
     })
 }
 
-pub fn run(args: &ConnectionArgs, theme: Option<String>, keymap: Option<String>) -> i32 {
+pub fn run(args: &ConnectionArgs, appearance: Appearance) -> i32 {
     // Usage errors are reported before the terminal is touched.
     if has_connection(args)
         && let Err(message) = Target::resolve(args)
@@ -81,11 +80,6 @@ pub fn run(args: &ConnectionArgs, theme: Option<String>, keymap: Option<String>)
     };
     let setup = PaneSetup {
         history_dir: data_dir(),
-    };
-    let appearance = Appearance {
-        theme,
-        keymap,
-        config_dir: platform_config_dir(),
     };
     runtime.block_on(async {
         let controller = if has_connection(args) {

@@ -23,6 +23,7 @@ use crate::link::ports;
 use crate::protocol;
 use crate::sim::faults::FaultPlan;
 use crate::sim::{self, SimOptions};
+use crate::ui::live::Appearance;
 
 /// Exit code when everything went well.
 pub const EXIT_OK: i32 = 0;
@@ -49,6 +50,10 @@ pub struct Cli {
     /// The console's keys: default, vim, or a file of yours.
     #[arg(long)]
     pub keymap: Option<String>,
+    /// Let the console take the mouse: click a pane to focus it, wheel to
+    /// scroll (the terminal's own text selection then needs Shift).
+    #[arg(long)]
+    pub mouse: bool,
     #[command(subcommand)]
     pub command: Option<Command>,
 }
@@ -193,7 +198,15 @@ pub fn run(cli: Cli) -> i32 {
             eprintln!("axterm {}: not built yet", other.name());
             EXIT_USAGE
         }
-        None => console::run(&cli.connection, cli.theme, cli.keymap),
+        None => console::run(
+            &cli.connection,
+            Appearance {
+                theme: cli.theme,
+                keymap: cli.keymap,
+                config_dir: crate::ui::config::platform_config_dir(),
+                mouse: cli.mouse,
+            },
+        ),
     }
 }
 

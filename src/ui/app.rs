@@ -1501,6 +1501,25 @@ mod tests {
     }
 
     #[test]
+    fn a_click_focuses_the_pane_under_it() {
+        use ratatui::crossterm::event::{MouseButton, MouseEvent, MouseEventKind};
+        let click = |row| {
+            AppEvent::Terminal(TermEvent::Mouse(MouseEvent {
+                kind: MouseEventKind::Down(MouseButton::Left),
+                column: 10,
+                row,
+                modifiers: KeyModifiers::NONE,
+            }))
+        };
+        let mut app = three();
+        screen(&mut app, 120, 40);
+        app.handle(click(2));
+        assert_eq!(app.focused(), Some("axes"));
+        app.handle(click(20));
+        assert_eq!(app.focused(), Some("command"));
+    }
+
+    #[test]
     fn poll_rates_become_cadences() {
         assert_eq!(cadence_for(0.0), None);
         assert_eq!(cadence_for(f64::NAN), None);

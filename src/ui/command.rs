@@ -22,6 +22,7 @@ use super::pane::{
     Input, NoticeLevel, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View, key_label,
 };
 use super::theme::Role;
+use crate::device::{DeviceEvent, LinkState};
 use crate::protocol::Family;
 use crate::protocol::console::{Candidate, Completions};
 use crate::session::{LineResult, SessionError};
@@ -1108,6 +1109,26 @@ impl Pane for CommandPane {
                     self.load_history(session.family);
                 }
                 Outcome::Ignored
+            }
+            PaneEvent::Device(DeviceEvent::Unsolicited { description, .. }) => {
+                self.say(Role::Accent, format!("module: {description}"));
+                Outcome::redraw()
+            }
+            PaneEvent::Device(DeviceEvent::StateChanged(state)) => {
+                match state {
+                    LinkState::Connected { link } => {
+                        self.say(Role::Ok, format!("link {link} open"))
+                    }
+                    LinkState::Disconnected { reason, retry_in } => self.say(
+                        Role::Error,
+                        format!(
+                            "link lost: {reason}; trying again in {} ms",
+                            retry_in.as_millis()
+                        ),
+                    ),
+                    LinkState::Closed => self.say(Role::Warning, "link closed"),
+                }
+                Outcome::redraw()
             }
             _ => Outcome::Ignored,
         }

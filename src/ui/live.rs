@@ -131,6 +131,8 @@ pub struct Appearance {
     pub keymap: Option<String>,
     /// Where the user's themes/ and keymaps/ are.
     pub config_dir: Option<PathBuf>,
+    /// Take the mouse (clicks focus panes, the wheel scrolls).
+    pub mouse: bool,
 }
 
 /// Run the console on this process's terminal until the user quits or a
@@ -159,7 +161,7 @@ pub async fn run_terminal(
             }
         }
     });
-    let guard = TerminalGuard::enter(false)?;
+    let guard = TerminalGuard::enter(appearance.mouse)?;
     let input = spawn_reader();
     // Not `Terminal::clear`: it asks the terminal where the cursor is, and
     // the answer would race the input thread (and never come over a dumb

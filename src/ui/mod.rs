@@ -4,25 +4,30 @@
 //! - [`theme`] gives every part of the screen a style, [`keymap`] turns key
 //!   presses into actions, per pane; [`config`] finds the user's own files
 //!   and reports what is wrong with them.
-//! - [`pane`]: the [`Pane`](pane::Pane) trait and what panes see ([`View`](pane::View),
+//! - [`pane`]: the [`pane::Pane`] trait and what panes see ([`View`](pane::View),
 //!   [`Snapshot`](pane::Snapshot)) and ask for ([`Request`](pane::Request)).
 //! - [`app`]: the [`App`](app::App) (focus, layout, status bar, dispatch) and
 //!   the event loop that redraws only when something changed.
-//! - [`terminal`]: raw mode and the alternate screen, always restored.
-//! - One file per pane: [`command`] (the console line editor), [`axes`]
-//!   (axis status gauges and lamps).
+//! - [`terminal`]: raw mode and the alternate screen, always restored;
+//!   [`live`]: the console on a real terminal and a real session.
+//! - One file per pane: [`command`] (the console line editor, with
+//!   [`batch`] for `:run`), [`axes`] (axis status gauges and lamps).
 //!
 //! # Adding a pane
 //!
 //! 1. Write `src/ui/NAME.rs` with a type implementing [`pane::Pane`]: a
-//!    `name()` (its keymap section, and what `Request::Focus` names), a
-//!    `title()`, its home [`pane::Region`] (`Top`, `Main` or `Side`),
-//!    `render()` into the area inside the border the app draws, and
-//!    `handle_input()` for keys while it has the focus. Override
+//!    `name()` (what `Request::Focus` names), its keymap `context()`
+//!    (`Context::Parameters`, `Traffic`, `Plot`…: look your keys up with
+//!    `view.keymap.action_for(self.context(), key)`), a `title()`, its
+//!    home [`pane::Region`] (`Top`, `Main` or `Side`), `render()` into the
+//!    area inside the border the app draws, and `handle_input()` for keys
+//!    while it has the focus (return `Outcome::Ignored` for keys it does
+//!    not use, so Tab and the global keys reach the app). Override
 //!    `on_event()` to follow traffic, replies to the lines it sent
-//!    ([`pane::Request::Send`] with a tag of its choosing), timers or
-//!    snapshot changes; return `Outcome::Ignored` when nothing it shows
-//!    changed, so an idle console is not redrawn.
+//!    ([`pane::Request::Send`] with a tag of its choosing), timers
+//!    ([`pane::Request::WakeAfter`]) or snapshot changes; return
+//!    `Outcome::Ignored` when nothing it shows changed, so an idle console
+//!    is not redrawn. Colours only through `view.theme.style(Role::…)`.
 //! 2. Add `pub mod NAME;` below and one line to [`panes`] (which gets a
 //!    [`PaneSetup`] for anything a pane is built with).
 //!
@@ -30,11 +35,13 @@
 //! others, as high as it asks but leaving the rest at least 10 rows; the
 //! `Main` and `Side` panes share the rest as tabs, until from 160 columns
 //! `Side` panes get a column of their own; on a very small screen every
-//! pane is a tab), moves the focus (Tab, Shift-Tab when the pane does not
-//! use them, F6; Alt-1…9), and keeps the
-//! emergency stop and quit keys ahead of every pane. Test a pane alone
-//! with ratatui's `TestBackend` and a [`pane::Snapshot`] built by hand,
-//! or inside an [`app::App`].
+//! pane is a tab), moves the focus (the keymap's next/previous pane keys
+//! when the pane ignores them, Alt-1…9, a click with `--mouse`), and
+//! keeps the emergency stop and quit keys ahead of every pane. A
+//! connect screen is a pane too: it sees `view.session == None` and asks
+//! for [`pane::Request::Connect`]. Test a pane alone with ratatui's
+//! `TestBackend` and a [`pane::Snapshot`] built by hand, or inside an
+//! [`app::App`] (see `tests/ui_support/`).
 
 pub mod app;
 pub mod axes;
