@@ -11,7 +11,10 @@
 //! - [`terminal`]: raw mode and the alternate screen, always restored;
 //!   [`live`]: the console on a real terminal and a real session.
 //! - One file per pane: [`command`] (the console line editor, with
-//!   [`batch`] for `:run`), [`axes`] (axis status gauges and lamps).
+//!   [`batch`] for `:run`), [`axes`] (axis status gauges and lamps),
+//!   [`params`] (the parameter table, export and import), [`traffic`]
+//!   (every frame), [`plot`] (position and speed over time), [`connect`]
+//!   (the connect screen); [`field`] is the one-line text field they share.
 //!
 //! # Adding a pane
 //!
