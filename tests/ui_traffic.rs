@@ -10,11 +10,11 @@ use std::time::{Duration, Instant};
 use axterm::device::{Direction, Priority, TrafficKind, TrafficRecord};
 use axterm::protocol::find_family;
 use axterm::protocol::tmcl::{Reply, Status, parse_line};
-use axterm::ui::app::{App, AppEvent};
+use axterm::ui::app::{App, AppEvent, Effect};
 use axterm::ui::keymap::Keymap;
 use axterm::ui::pane::{Pane, PaneEvent, View};
 use axterm::ui::theme::Theme;
-use axterm::ui::traffic::TrafficPane;
+use axterm::ui::traffic::{REFRESH, TrafficPane};
 use panes_support::draw;
 use ratatui::crossterm::event::{KeyCode, KeyModifiers};
 use ui_support::{key, key_with, snapshot, type_text};
@@ -262,4 +262,44 @@ fn garbage_and_late_frames_say_what_they_are() {
         all.contains("late, nobody waited: command 6 from module 1: 7"),
         "{all}"
     );
+}
+
+#[test]
+fn a_flood_of_frames_is_drawn_at_most_every_refresh() {
+    let mut app = console();
+    let t0 = Instant::now();
+    let wakes = |effects: &[Effect]| -> Vec<(usize, u64)> {
+        effects
+            .iter()
+            .filter_map(|e| match e {
+                Effect::Wake { pane, tag, after } if *after == REFRESH => Some((*pane, *tag)),
+                _ => None,
+            })
+            .collect()
+    };
+    // The first frame is drawn at once, with a wake-up asked for.
+    draw(&mut app, 80, 24);
+    let first = app.handle(AppEvent::Traffic(request("GAP 1, 0", t0, Priority::Poll)));
+    assert!(app.needs_redraw());
+    let woken = wakes(&first);
+    assert_eq!(woken.len(), 1, "{first:?}");
+    draw(&mut app, 80, 24);
+    // The next ones wait for it.
+    for n in 1..50 {
+        let effects = app.handle(AppEvent::Traffic(request(
+            "GAP 1, 0",
+            t0 + Duration::from_millis(n),
+            Priority::Poll,
+        )));
+        assert!(wakes(&effects).is_empty());
+    }
+    assert!(!app.needs_redraw());
+    let (pane, tag) = woken[0];
+    let again = app.handle(AppEvent::Wake { pane, tag });
+    assert!(app.needs_redraw());
+    assert!(text(&mut app, 80, 24).contains("50 frames"));
+    // Nothing new by the next wake-up: nothing to draw, no more wake-ups.
+    let (pane, tag) = wakes(&again)[0];
+    assert!(app.handle(AppEvent::Wake { pane, tag }).is_empty());
+    assert!(!app.needs_redraw());
 }

@@ -10,7 +10,7 @@
 //! A value is edited in place and checked (range, access) before it is
 //! sent; a write is read back. Values that differ from what was first
 //! read this session are highlighted. The whole configuration exports to
-//! a TOML file ([`file`]); importing one shows the differences before
+//! a TOML file ([`file`](mod@file)); importing one shows the differences before
 //! anything is written.
 
 pub mod file;

@@ -21,7 +21,7 @@ use ratatui::widgets::Paragraph;
 
 use super::field::Field;
 use super::keymap::{Action, Context};
-use super::pane::{Input, Outcome, Pane, PaneEvent, Region, View, key_label};
+use super::pane::{Input, Outcome, Pane, PaneEvent, Region, Request, View, key_label};
 use super::theme::Role;
 use crate::device::{Direction, Priority, TrafficKind, TrafficRecord};
 use crate::protocol::Family;
@@ -32,6 +32,11 @@ pub const TRAFFIC_LIMIT: usize = 10_000;
 
 /// The file name offered when saving.
 pub const DEFAULT_FILE: &str = "axterm-traffic.txt";
+
+/// The monitor is redrawn at most this often while frames pour in: status
+/// polling alone makes a hundred or more a second, and the screen need
+/// not follow each one.
+pub const REFRESH: Duration = Duration::from_millis(100);
 
 /// One frame as the monitor shows it.
 #[derive(Debug, Clone)]
@@ -69,6 +74,12 @@ pub struct TrafficPane {
     message: Option<(Role, String)>,
     /// Frames dropped off the ring since the last clear.
     evicted: u64,
+    /// A wake-up to redraw is asked for; frames shown meanwhile wait for
+    /// it ([`REFRESH`]).
+    waking: bool,
+    /// Frames came in to show since the last redraw.
+    unseen: bool,
+    next_tag: u64,
 }
 
 impl Default for TrafficPane {
@@ -97,6 +108,9 @@ impl TrafficPane {
             saving: None,
             message: None,
             evicted: 0,
+            waking: false,
+            unseen: false,
+            next_tag: 1,
         }
     }
 
@@ -300,6 +314,17 @@ impl TrafficPane {
         Outcome::redraw()
     }
 
+    /// Redraw now and ask to be woken after [`REFRESH`].
+    fn wake(&mut self) -> Outcome {
+        self.waking = true;
+        let tag = self.next_tag;
+        self.next_tag += 1;
+        Outcome::request(Request::WakeAfter {
+            after: REFRESH,
+            tag,
+        })
+    }
+
     fn status_text(&self, view: &View) -> String {
         let shown = self.shown().count();
         let mut parts = vec![format!("{shown} frames")];
@@ -457,8 +482,21 @@ impl Pane for TrafficPane {
         match event {
             PaneEvent::Traffic(record) => {
                 let family = view.session.map(|s| s.family);
-                if self.record(record, family) {
-                    Outcome::redraw()
+                if !self.record(record, family) {
+                    Outcome::Ignored
+                } else if self.waking {
+                    self.unseen = true;
+                    Outcome::Ignored
+                } else {
+                    // Shown now; what follows within REFRESH waits for
+                    // the wake-up.
+                    self.wake()
+                }
+            }
+            PaneEvent::Wake { .. } => {
+                self.waking = false;
+                if std::mem::take(&mut self.unseen) {
+                    self.wake()
                 } else {
                     Outcome::Ignored
                 }
