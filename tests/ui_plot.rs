@@ -81,7 +81,7 @@ fn position_and_speed_are_drawn_at_80x24_and_large() {
     a_move(&mut app, &hand);
     for (w, h) in [(80, 24), (200, 50)] {
         let all = text(&mut app, w, h);
-        assert!(all.contains("position µsteps"), "{all}");
+        assert!(all.contains("position (raw)"), "{all}");
         assert!(all.contains("speed"), "{all}");
         assert!(all.contains("-20 s") && all.contains("now"), "{all}");
         assert!(all.contains("last 20 s"), "{all}");
@@ -191,7 +191,7 @@ fn another_axis_or_link_starts_the_plot_over() {
     let all = text(&mut app, 80, 24);
     // Only the new link's position 7 (±1) is on the axis.
     assert!(
-        !all.contains("4200") && all.contains(" 8│position µsteps"),
+        !all.contains("4200") && all.contains(" 8│position (raw)"),
         "{all}"
     );
 }

@@ -394,7 +394,7 @@ impl Pane for PlotPane {
             .max()
             .unwrap_or(1);
         let position_chart = self.chart(
-            "position µsteps",
+            "position (raw)",
             vec![
                 Signal {
                     name: "position",
@@ -416,7 +416,7 @@ impl Pane for PlotPane {
         );
         frame.render_widget(position_chart, top);
         let speed_chart = self.chart(
-            "speed",
+            "speed (raw)",
             vec![Signal {
                 name: "speed",
                 points: &speed,

@@ -22,9 +22,10 @@ const BANKS: &[(Bank, &str)] = &[
 
 /// Axis parameters that are motion state, not configuration: writing a
 /// saved AP0 or AP2 back would start the motor (§4 Table 16: the target
-/// position in position mode, the target speed in velocity mode), AP1
-/// would move the reference.
-const AXIS_STATE: &[u16] = &[0, 1, 2];
+/// position in position mode, the target speed in velocity mode), AP1 and
+/// AP209 would move the position and encoder references, and AP138 (ramp
+/// mode) is what the last ROR, ROL, MST or MVP left.
+const AXIS_STATE: &[u16] = &[0, 1, 2, 138, 209];
 
 /// Global parameters of bank 0 that are run-time state: the tick timer and
 /// the random number (§5.1 Table 18), and GP255, which with 1 silences the
@@ -369,6 +370,8 @@ mod tests {
     fn motion_state_and_link_settings_are_told_apart() {
         assert_eq!(row(Scope::Axis(0), 0).role, ParamRole::State);
         assert_eq!(row(Scope::Axis(0), 3).role, ParamRole::State);
+        assert_eq!(row(Scope::Axis(0), 209).role, ParamRole::State);
+        assert_eq!(row(Scope::Axis(0), 4).role, ParamRole::Setting);
         assert_eq!(row(Scope::Bank(0), 66).role, ParamRole::Link);
         assert_eq!(row(Scope::Bank(0), 255).role, ParamRole::State);
         assert_eq!(row(Scope::Bank(0), 79).role, ParamRole::Setting);
