@@ -44,8 +44,10 @@ pub struct Exported<'a> {
 /// top (what module, which link).
 pub fn render(family: &str, header: &[String], rows: &[Exported]) -> String {
     let mut out = String::new();
+    // Header lines name the link and the firmware the module reported:
+    // a line break in either must not end the comment.
     for line in header {
-        let _ = writeln!(out, "# {line}");
+        let _ = writeln!(out, "# {}", line.replace(['\n', '\r'], " "));
     }
     out.push_str(
         "# Raw values, as the module reads and writes them. Importing this file\n\
