@@ -9,6 +9,7 @@
 use std::fmt;
 use std::sync::Arc;
 
+use super::parameters::ParameterSet;
 use super::wire::{Frame, ReplyRule, WireFormat};
 
 /// How a prepared line is answered.
@@ -266,6 +267,27 @@ pub trait FamilyConsole: Send + Sync {
     /// What an answer's status code means, in the manual's words.
     fn status_meaning(&self, status: u32) -> Option<String> {
         let _ = status;
+        None
+    }
+
+    /// The family's parameter tables and how to read, write, store and
+    /// restore one, for the parameter table; `None` if it has none.
+    fn parameters(&self) -> Option<&'static dyn ParameterSet> {
+        None
+    }
+
+    /// A frame sent to the module in words, for the traffic monitor: its
+    /// console line. `None`: the family has no decoder and the monitor
+    /// shows the bytes only.
+    fn describe_request(&self, bytes: &[u8]) -> Option<String> {
+        let _ = bytes;
+        None
+    }
+
+    /// A frame from the module in words: its status meaning and value,
+    /// read in the light of `request`, the last frame sent, if any.
+    fn describe_reply(&self, bytes: &[u8], request: Option<&[u8]>) -> Option<String> {
+        let _ = (bytes, request);
         None
     }
 }

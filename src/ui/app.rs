@@ -50,6 +50,9 @@ pub enum AppEvent {
     Terminal(TermEvent),
     /// A watch channel of the session changed: take this copy.
     Snapshot(Snapshot),
+    /// A connection was just opened (at start or by `:connect`): its
+    /// first snapshot.
+    Connected(Snapshot),
     /// No controller any more (or not yet).
     Disconnected,
     Traffic(TrafficRecord),
@@ -130,6 +133,9 @@ pub struct App {
     drawn: Vec<(usize, Rect)>,
     /// Where the user's themes and keymaps are (`:theme`, `:keymap`).
     config_dir: Option<std::path::PathBuf>,
+    /// The options of the last `Request::Connect`, told to the panes
+    /// when that connection opens.
+    connect_args: Option<Vec<String>>,
 }
 
 impl App {
@@ -153,6 +159,7 @@ impl App {
             quit: false,
             drawn: Vec::new(),
             config_dir: None,
+            connect_args: None,
         }
     }
 
@@ -222,6 +229,7 @@ impl App {
     /// Take in one event; returns what the loop must do.
     pub fn handle(&mut self, event: AppEvent) -> Vec<Effect> {
         let mut effects = Vec::new();
+        let focus_before = self.focus;
         match event {
             AppEvent::Terminal(event) => self.terminal_event(event, &mut effects),
             AppEvent::Snapshot(snapshot) => {
@@ -234,6 +242,13 @@ impl App {
                     self.dirty = true;
                     self.broadcast(&PaneEvent::Snapshot, &mut effects);
                 }
+            }
+            AppEvent::Connected(snapshot) => {
+                self.snapshot = Some(snapshot);
+                self.dirty = true;
+                self.broadcast(&PaneEvent::Snapshot, &mut effects);
+                let args = self.connect_args.take();
+                self.broadcast(&PaneEvent::Connected { args }, &mut effects);
             }
             AppEvent::Disconnected => {
                 if self.snapshot.take().is_some() {
@@ -270,6 +285,9 @@ impl App {
                 self.quit = true;
                 effects.push(Effect::Quit);
             }
+        }
+        if self.focus != focus_before {
+            self.deliver(self.focus, &PaneEvent::Focused, &mut effects);
         }
         effects
     }
@@ -484,7 +502,10 @@ impl App {
                 self.set_keymap(loaded.value);
                 self.broadcast(&PaneEvent::Notice(notice), effects);
             }
-            Request::Connect(args) => effects.push(Effect::Connect(args)),
+            Request::Connect(args) => {
+                self.connect_args = Some(args.clone());
+                effects.push(Effect::Connect(args));
+            }
             Request::Focus(name) => {
                 self.focus(name);
             }
@@ -994,7 +1015,7 @@ pub async fn run(
     };
     if let Some(c) = runner.connection.as_mut() {
         let snapshot = c.snapshot(0);
-        runner.handle(app, AppEvent::Snapshot(snapshot));
+        runner.handle(app, AppEvent::Connected(snapshot));
     }
     loop {
         if app.should_quit() {
@@ -1108,7 +1129,7 @@ impl Runner {
                         let mut c = Connection::new(controller, poll);
                         let snapshot = c.snapshot(0);
                         self.connection = Some(c);
-                        AppEvent::Snapshot(snapshot)
+                        AppEvent::Connected(snapshot)
                     }
                     Err(message) => AppEvent::Notice(Notice::error(message)),
                 }

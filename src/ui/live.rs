@@ -173,6 +173,10 @@ pub async fn run_terminal(
     let mut terminal = Terminal::new(CrosstermBackend::new(io::stdout()))?;
     let mut app = App::new(panes(setup), theme.value, keymap.value);
     app.set_config_dir(appearance.config_dir.clone());
+    if controller.is_none() {
+        // `axterm` alone: choose a connection first.
+        app.focus("connect");
+    }
     let result = app::run(
         &mut app,
         controller,

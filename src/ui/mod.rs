@@ -11,7 +11,10 @@
 //! - [`terminal`]: raw mode and the alternate screen, always restored;
 //!   [`live`]: the console on a real terminal and a real session.
 //! - One file per pane: [`command`] (the console line editor, with
-//!   [`batch`] for `:run`), [`axes`] (axis status gauges and lamps).
+//!   [`batch`] for `:run`), [`axes`] (axis status gauges and lamps),
+//!   [`params`] (the parameter table, export and import), [`traffic`]
+//!   (every frame), [`plot`] (position and speed over time), [`connect`]
+//!   (the connect screen); [`field`] is the one-line text field they share.
 //!
 //! # Adding a pane
 //!
@@ -48,11 +51,16 @@ pub mod axes;
 pub mod batch;
 pub mod command;
 pub mod config;
+pub mod connect;
+pub mod field;
 pub mod keymap;
 pub mod live;
 pub mod pane;
+pub mod params;
+pub mod plot;
 pub mod terminal;
 pub mod theme;
+pub mod traffic;
 
 use std::path::PathBuf;
 
@@ -61,8 +69,8 @@ use pane::Pane;
 /// What the panes are built with.
 #[derive(Debug, Clone, Default)]
 pub struct PaneSetup {
-    /// Where the command history is kept (one file per protocol family);
-    /// `None` keeps none.
+    /// Where the command history (one file per protocol family) and the
+    /// recent connections are kept; `None` keeps none.
     pub history_dir: Option<PathBuf>,
 }
 
@@ -71,5 +79,12 @@ pub fn panes(setup: &PaneSetup) -> Vec<Box<dyn Pane>> {
     vec![
         Box::new(command::CommandPane::new(setup.history_dir.clone())),
         Box::new(axes::AxesPane::new()),
+        Box::new(params::ParamsPane::new()),
+        Box::new(traffic::TrafficPane::new()),
+        Box::new(plot::PlotPane::new()),
+        Box::new(connect::ConnectPane::new(
+            setup.history_dir.as_deref(),
+            crate::link::ports::available_ports,
+        )),
     ]
 }

@@ -118,6 +118,15 @@ pub enum PaneEvent {
     },
     /// A [`Request::WakeAfter`] came due.
     Wake { tag: u64 },
+    /// A connection was just opened (after [`PaneEvent::Snapshot`] with
+    /// its first snapshot). `args` are its connection options when a pane
+    /// asked for it ([`Request::Connect`]); `None` for the one given on
+    /// the command line.
+    Connected { args: Option<Vec<String>> },
+    /// This pane was just given the keyboard (for the pane concerned
+    /// only): a pane that reads from the module when first looked at
+    /// starts here.
+    Focused,
     /// The emergency stop key was pressed: lines still waiting to be sent
     /// were dropped (their replies will never come) and the stop is on its
     /// way. Forget anything queued, stop running scripts.

@@ -14,6 +14,7 @@ use crate::protocol::console::{
     Answering, AxisFlag, AxisInfo, AxisUpdate, Completions, Effect, FamilyConsole, LoadScale,
     PreparedLine, Reading, ReplyError, ReplyValue, StatusPoll, SwitchKind,
 };
+use crate::protocol::parameters::ParameterSet;
 use crate::protocol::wire::{Frame, ReplyRule, Verdict, WireFormat};
 
 /// The TMCM-1110 has one motor, number 0 (§1).
@@ -336,7 +337,7 @@ fn program_word(line: &PreparedLine, frame: &[u8; FRAME_LEN]) -> Result<String, 
 }
 
 /// The value a successful reply to `command` carries, if it carries one.
-fn reply_value(command: &Command, raw: i32) -> ReplyValue {
+pub(super) fn reply_value(command: &Command, raw: i32) -> ReplyValue {
     match *command {
         Command::Gap { param, .. } => ReplyValue::Number(
             axis_param(param).map_or(i64::from(raw), |info| info.value_from_wire(raw)),
@@ -399,6 +400,18 @@ impl FamilyConsole for TmclConsole {
     fn status_meaning(&self, status: u32) -> Option<String> {
         let status = u8::try_from(status).ok()?;
         Some(super::frame::Status(status).meaning().to_string())
+    }
+
+    fn parameters(&self) -> Option<&'static dyn ParameterSet> {
+        Some(&super::parameter_set::TmclParameters)
+    }
+
+    fn describe_request(&self, bytes: &[u8]) -> Option<String> {
+        Some(super::traffic::describe_request(bytes))
+    }
+
+    fn describe_reply(&self, bytes: &[u8], request: Option<&[u8]>) -> Option<String> {
+        Some(super::traffic::describe_reply(bytes, request))
     }
 
     fn default_address(&self) -> u8 {
