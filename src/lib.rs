@@ -1,7 +1,7 @@
 //! axterm: a terminal console for commissioning stepper and servo axes.
 //!
 //! Layers, data flowing down and back up (see the house plan):
-//! `cli` (front ends) → `session` (what the console knows of a controller)
+//! `cli` and `ui` (front ends) → `session` (what the console knows of a controller)
 //! → `device` (the async task owning a link) → `link` (byte transports)
 //! → `sim` (simulated controllers). `protocol` is pure code used by all;
 //! `ui` holds the console's themes and keymaps.
@@ -10,6 +10,7 @@ pub mod cli;
 pub mod device;
 pub mod link;
 pub mod protocol;
+pub mod script;
 pub mod session;
 pub mod sim;
 pub mod ui;

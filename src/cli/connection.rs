@@ -125,6 +125,14 @@ fn unknown_sim(kind: &str) -> String {
     format!("unknown simulator '{kind}' (known: {})", sim::kind_names())
 }
 
+/// A single-threaded runtime for the console.
+pub fn runtime() -> Result<tokio::runtime::Runtime, String> {
+    tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .map_err(|e| format!("cannot start: {e}"))
+}
+
 /// Run a front end's session work to its exit code on a single-threaded
 /// runtime. The work runs as a task of its own, not as the runtime's main
 /// future: tokio polls that one only between batches of other tasks, which

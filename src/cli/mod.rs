@@ -3,11 +3,14 @@
 pub mod asm;
 pub mod bench;
 pub mod connection;
+pub mod console;
 pub mod exec;
 pub mod output;
 pub mod run;
 pub mod scan;
-pub mod script;
+/// The batch file syntax, shared with the console's `:run` (moved to
+/// [`crate::script`]; the old path stays for the front ends).
+pub use crate::script;
 pub mod sim_serve;
 pub mod transfer;
 
@@ -21,6 +24,7 @@ use crate::link::ports;
 use crate::protocol;
 use crate::sim::faults::FaultPlan;
 use crate::sim::{self, SimOptions};
+use crate::ui::live::Appearance;
 
 /// Exit code when everything went well.
 pub const EXIT_OK: i32 = 0;
@@ -40,6 +44,17 @@ pub const EXIT_CONNECTION: i32 = 3;
 pub struct Cli {
     #[command(flatten)]
     pub connection: ConnectionArgs,
+    /// The console's colours: dark, light, high-contrast, mono, or a file
+    /// of yours (default dark; mono when NO_COLOR is set).
+    #[arg(long)]
+    pub theme: Option<String>,
+    /// The console's keys: default, vim, or a file of yours.
+    #[arg(long)]
+    pub keymap: Option<String>,
+    /// Let the console take the mouse: click a pane to focus it, wheel to
+    /// scroll (the terminal's own text selection then needs Shift).
+    #[arg(long)]
+    pub mouse: bool,
     #[command(subcommand)]
     pub command: Option<Command>,
 }
@@ -199,10 +214,15 @@ pub fn run(cli: Cli) -> i32 {
         }
         Some(Command::Download(args)) => transfer::run_download(&cli.connection, &args),
         Some(Command::Upload(args)) => transfer::run_upload(&cli.connection, &args),
-        None => {
-            eprintln!("axterm: the console is not built yet");
-            EXIT_USAGE
-        }
+        None => console::run(
+            &cli.connection,
+            Appearance {
+                theme: cli.theme,
+                keymap: cli.keymap,
+                config_dir: crate::ui::config::platform_config_dir(),
+                mouse: cli.mouse,
+            },
+        ),
     }
 }
 

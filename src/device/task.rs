@@ -245,6 +245,7 @@ impl Task {
             }
             let now = Instant::now();
             self.expire_partial(&mut line, now);
+            self.drop_abandoned();
 
             // When the next job may go: `Some(None)` now, `None` never.
             let wake_for_work = match self.next(now) {
@@ -620,6 +621,18 @@ impl Task {
                     schedule.record(index, result.as_ref());
                 }
             }
+        }
+    }
+
+    /// Forget queued jobs whose caller has stopped waiting: a console
+    /// that drops the lines still queued behind an emergency stop must not
+    /// see them sent after it (a move after the stop).
+    fn drop_abandoned(&mut self) {
+        for queue in &mut self.queues {
+            queue.retain(|job| match &job.origin {
+                Origin::Caller(reply) => !reply.is_closed(),
+                Origin::Plan(_) => true,
+            });
         }
     }
 

@@ -9,6 +9,7 @@
 use std::fmt;
 use std::sync::Arc;
 
+use super::parameters::ParameterSet;
 use super::wire::{Frame, ReplyRule, WireFormat};
 
 /// How a prepared line is answered.
@@ -138,6 +139,9 @@ pub enum AxisUpdate {
     Position(i64),
     Target(i64),
     Speed(i64),
+    /// The fastest the axis moves when positioning (TMCL AP4), for a speed
+    /// gauge.
+    MaxSpeed(i64),
     /// The axis stands at its target.
     Reached(bool),
     /// A switch is active (true) or not.
@@ -160,6 +164,38 @@ pub struct StatusPoll {
     /// Whether it changes fast (position, speed) and is worth reading more
     /// often than the rest.
     pub fast: bool,
+}
+
+/// How a family's load reading ([`AxisUpdate::Load`]) reads on a gauge.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LoadScale {
+    /// The reading at one end of the scale (the other end is 0).
+    pub full_scale: i64,
+    /// Whether 0 means the highest load (TMCL StallGuard2, AP206).
+    pub zero_is_highest: bool,
+}
+
+/// One way to finish the word under the cursor of a console line.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Candidate {
+    /// What replaces the word (`MVP`, `ABS`, `4`).
+    pub text: String,
+    /// What it is, for the list shown to the user
+    /// ("Maximum positioning speed").
+    pub note: String,
+}
+
+/// What completing the word under the cursor offers.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Completions {
+    /// Byte offsets of the word a candidate replaces (`start..end`; equal
+    /// when the cursor is between words).
+    pub start: usize,
+    pub end: usize,
+    pub candidates: Vec<Candidate>,
+    /// What follows a chosen candidate when the line goes on: a space
+    /// after a mnemonic, `, ` between operands, nothing after the last.
+    pub separator: &'static str,
 }
 
 /// What the session layer needs of a controller family. One implementation
@@ -197,4 +233,61 @@ pub trait FamilyConsole: Send + Sync {
     /// reads status (a poll, or the user reading an error flag register:
     /// its flags must not be lost either). Returns the axis index.
     fn status_update(&self, line: &PreparedLine, reading: &Reading) -> Option<(usize, AxisUpdate)>;
+
+    /// Candidates for the word of `line` at byte offset `cursor`: command
+    /// names, symbolic operands, parameter numbers (found by number or by
+    /// name), from the family's catalogue. None by default.
+    fn complete(&self, line: &str, cursor: usize) -> Completions {
+        let _ = (line, cursor);
+        Completions::default()
+    }
+
+    /// Help from the manual's tables for the word of `line` at `cursor`,
+    /// read in its line (a command: its syntax, operands and ranges; a
+    /// parameter number after `SAP`: that parameter's row), or for a topic
+    /// (`line` = `SAP`, `SAP 4`, a parameter name). Empty when there is
+    /// none.
+    fn help(&self, line: &str, cursor: usize) -> Vec<String> {
+        let _ = (line, cursor);
+        Vec::new()
+    }
+
+    /// The console line that stops one axis normally (TMCL `MST 0`), for
+    /// a stop key in the axis pane; `None` if the family has none.
+    fn stop_axis_line(&self, axis: u8) -> Option<String> {
+        let _ = axis;
+        None
+    }
+
+    /// How to show the load reading on a gauge, if the family has one.
+    fn load_scale(&self) -> Option<LoadScale> {
+        None
+    }
+
+    /// What an answer's status code means, in the manual's words.
+    fn status_meaning(&self, status: u32) -> Option<String> {
+        let _ = status;
+        None
+    }
+
+    /// The family's parameter tables and how to read, write, store and
+    /// restore one, for the parameter table; `None` if it has none.
+    fn parameters(&self) -> Option<&'static dyn ParameterSet> {
+        None
+    }
+
+    /// A frame sent to the module in words, for the traffic monitor: its
+    /// console line. `None`: the family has no decoder and the monitor
+    /// shows the bytes only.
+    fn describe_request(&self, bytes: &[u8]) -> Option<String> {
+        let _ = bytes;
+        None
+    }
+
+    /// A frame from the module in words: its status meaning and value,
+    /// read in the light of `request`, the last frame sent, if any.
+    fn describe_reply(&self, bytes: &[u8], request: Option<&[u8]>) -> Option<String> {
+        let _ = (bytes, request);
+        None
+    }
 }

@@ -3,6 +3,7 @@
 
 pub mod ascii;
 pub mod console;
+pub mod parameters;
 pub mod tmcl;
 pub mod wire;
 

@@ -284,29 +284,61 @@ impl Session {
     /// for the word on the wire (one transaction at most), and leaves
     /// download mode first if the download has not (see [`program`]).
     pub async fn emergency_stop(&self) -> Result<(), SessionError> {
+        let results = self.emergency_stop_lines().await;
+        results
+            .into_iter()
+            .find_map(Result::err)
+            .map_or(Ok(()), Err)
+    }
+
+    /// [`Session::emergency_stop`], with what came back for each stop line
+    /// in order, for a console that confirms them.
+    ///
+    /// Every line is queued at once, in order: sent one after the other's
+    /// answer, a line waiting in the user queue would go on the wire
+    /// between two stop lines (a move between `MST` and `STOPAPP`).
+    ///
+    /// During a program download, the stop first waits for the download to
+    /// leave download mode (see [`Session::emergency_stop`]), or sends 133
+    /// itself as the first line.
+    pub async fn emergency_stop_lines(&self) -> Vec<Result<LineResult, SessionError>> {
         let halted = program::halt_transfer(self).await;
-        let mut first_error = None;
-        if let Some(line) = halted.leave_download() {
-            match self
-                .send(Priority::EmergencyStop, line, Retry::Never, None)
-                .await
-            {
-                Ok(_) => halted.left_download(),
-                Err(e) => {
-                    first_error.get_or_insert(e);
+        let leave = halted.leave_download().cloned();
+        let lines: Vec<PreparedLine> = leave
+            .iter()
+            .cloned()
+            .chain(self.family.console.emergency_stop(self.address))
+            .collect();
+        let mut sends: Vec<_> = lines
+            .iter()
+            .map(|line| Box::pin(self.send(Priority::EmergencyStop, line, Retry::Never, None)))
+            .collect();
+        let mut results: Vec<Option<Result<LineResult, SessionError>>> =
+            sends.iter().map(|_| None).collect();
+        // Polled in order, so the first poll of each queues it in order.
+        std::future::poll_fn(|cx| {
+            let mut pending = false;
+            for (send, result) in sends.iter_mut().zip(results.iter_mut()) {
+                if result.is_none() {
+                    match send.as_mut().poll(cx) {
+                        std::task::Poll::Ready(r) => *result = Some(r),
+                        std::task::Poll::Pending => pending = true,
+                    }
                 }
             }
-        }
-        for line in self.family.console.emergency_stop(self.address) {
-            if let Err(e) = self
-                .send(Priority::EmergencyStop, &line, Retry::Never, None)
-                .await
-            {
-                first_error.get_or_insert(e);
+            if pending {
+                std::task::Poll::Pending
+            } else {
+                std::task::Poll::Ready(())
             }
+        })
+        .await;
+        drop(sends);
+        let results: Vec<_> = results.into_iter().flatten().collect();
+        if leave.is_some() && results.first().is_some_and(Result::is_ok) {
+            halted.left_download();
         }
-        drop(halted);
-        first_error.map_or(Ok(()), Err)
+        results
     }
 
     /// Read the module's identity (TMCL: the firmware version string) and

@@ -19,6 +19,8 @@ pub struct AxisStatus {
     pub position: Option<i64>,
     pub target: Option<i64>,
     pub speed: Option<i64>,
+    /// The fastest the axis moves when positioning.
+    pub max_speed: Option<i64>,
     /// Standing at the target.
     pub reached: Option<bool>,
     pub left_switch: Option<bool>,
@@ -40,6 +42,7 @@ impl AxisStatus {
             AxisUpdate::Position(v) => self.position = Some(v),
             AxisUpdate::Target(v) => self.target = Some(v),
             AxisUpdate::Speed(v) => self.speed = Some(v),
+            AxisUpdate::MaxSpeed(v) => self.max_speed = Some(v),
             AxisUpdate::Reached(v) => self.reached = Some(v),
             AxisUpdate::Switch(SwitchKind::Left, v) => self.left_switch = Some(v),
             AxisUpdate::Switch(SwitchKind::Right, v) => self.right_switch = Some(v),
@@ -69,11 +72,16 @@ impl AxisStatus {
 pub(crate) type StatusBoard = Arc<watch::Sender<Vec<AxisStatus>>>;
 
 /// Applies an update to the board, if `axis` exists.
+/// Subscribers are woken only when a value changed: a console polling a
+/// motor at rest then has nothing to do.
 pub(crate) fn post(board: &StatusBoard, axis: usize, update: AxisUpdate) {
-    board.send_modify(|axes| {
-        if let Some(status) = axes.get_mut(axis) {
-            status.apply(update);
-        }
+    board.send_if_modified(|axes| {
+        let Some(status) = axes.get_mut(axis) else {
+            return false;
+        };
+        let before = status.clone();
+        status.apply(update);
+        *status != before
     });
 }
 
@@ -197,6 +205,22 @@ mod tests {
         assert_eq!(axis.reached, Some(true));
         assert_eq!(axis.left_switch, Some(true));
         assert_eq!(axis.right_switch, None);
+    }
+
+    #[test]
+    fn a_reading_that_changes_nothing_wakes_no_one() {
+        let (mut sink, mut status) = sink();
+        let position = index_of(&sink, "GAP 1, 0");
+        sink.record(position, Ok(&answer(7)));
+        assert!(status.has_changed().unwrap_or(false));
+        status.borrow_and_update();
+        sink.record(position, Ok(&answer(7)));
+        assert!(
+            !status.has_changed().unwrap_or(true),
+            "the same value again"
+        );
+        sink.record(position, Ok(&answer(8)));
+        assert!(status.has_changed().unwrap_or(false));
     }
 
     #[test]

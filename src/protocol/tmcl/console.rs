@@ -11,9 +11,10 @@ use super::line::{format_command, parse_line};
 use super::params::{axis_param, global_param};
 use super::wire::{TmclReplyRule, TmclWire, is_version_string};
 use crate::protocol::console::{
-    Answering, AxisFlag, AxisInfo, AxisUpdate, Effect, FamilyConsole, PreparedLine, Reading,
-    ReplyError, ReplyValue, StatusPoll, SwitchKind,
+    Answering, AxisFlag, AxisInfo, AxisUpdate, Completions, Effect, FamilyConsole, LoadScale,
+    PreparedLine, Reading, ReplyError, ReplyValue, StatusPoll, SwitchKind,
 };
+use crate::protocol::parameters::ParameterSet;
 use crate::protocol::wire::{Frame, ReplyRule, Verdict, WireFormat};
 
 /// The TMCM-1110 has one motor, number 0 (§1).
@@ -121,6 +122,10 @@ const STATUS_PARAMS: &[StatusParam] = &[
     StatusParam {
         number: 8, // position reached
         fast: true,
+    },
+    StatusParam {
+        number: 4, // maximum positioning speed, the speed gauge's scale
+        fast: false,
     },
     StatusParam {
         number: 0, // target position
@@ -332,7 +337,7 @@ fn program_word(line: &PreparedLine, frame: &[u8; FRAME_LEN]) -> Result<String, 
 }
 
 /// The value a successful reply to `command` carries, if it carries one.
-fn reply_value(command: &Command, raw: i32) -> ReplyValue {
+pub(super) fn reply_value(command: &Command, raw: i32) -> ReplyValue {
     match *command {
         Command::Gap { param, .. } => ReplyValue::Number(
             axis_param(param).map_or(i64::from(raw), |info| info.value_from_wire(raw)),
@@ -363,6 +368,50 @@ fn flags_in(table: &[(u32, AxisFlag)], bits: i64) -> Vec<AxisFlag> {
 impl FamilyConsole for TmclConsole {
     fn wire(&self) -> Arc<dyn WireFormat> {
         Arc::new(TmclWire::default())
+    }
+
+    fn complete(&self, line: &str, cursor: usize) -> Completions {
+        super::assist::complete(line, cursor)
+    }
+
+    fn help(&self, line: &str, cursor: usize) -> Vec<String> {
+        super::assist::help(line, cursor)
+    }
+
+    fn stop_axis_line(&self, axis: u8) -> Option<String> {
+        AXES.iter()
+            .any(|a| a.number == axis)
+            .then(|| format_command(&Command::Mst { motor: axis }))
+    }
+
+    fn load_scale(&self) -> Option<LoadScale> {
+        // AP206, StallGuard2 load reading 0..1023: 0 is the highest load
+        // (§4 Table 16).
+        let full_scale = axis_param(206).map_or(1023, |p| match p.range {
+            super::params::ValueRange::Span { max, .. } => max,
+            super::params::ValueRange::OneOf(_) => 1023,
+        });
+        Some(LoadScale {
+            full_scale,
+            zero_is_highest: true,
+        })
+    }
+
+    fn status_meaning(&self, status: u32) -> Option<String> {
+        let status = u8::try_from(status).ok()?;
+        Some(super::frame::Status(status).meaning().to_string())
+    }
+
+    fn parameters(&self) -> Option<&'static dyn ParameterSet> {
+        Some(&super::parameter_set::TmclParameters)
+    }
+
+    fn describe_request(&self, bytes: &[u8]) -> Option<String> {
+        Some(super::traffic::describe_request(bytes))
+    }
+
+    fn describe_reply(&self, bytes: &[u8], request: Option<&[u8]>) -> Option<String> {
+        Some(super::traffic::describe_reply(bytes, request))
     }
 
     fn default_address(&self) -> u8 {
@@ -480,6 +529,7 @@ impl FamilyConsole for TmclConsole {
             0 => AxisUpdate::Target(value),
             1 => AxisUpdate::Position(value),
             3 => AxisUpdate::Speed(value),
+            4 => AxisUpdate::MaxSpeed(value),
             8 => AxisUpdate::Reached(value != 0),
             9 => AxisUpdate::Switch(SwitchKind::Home, value != 0),
             10 => AxisUpdate::Switch(SwitchKind::Right, value != 0),

@@ -2,13 +2,16 @@
 //! manual). Pure code: bytes and meanings, no I/O.
 
 pub mod asm;
+pub mod assist;
 pub mod catalog;
 pub mod command;
 pub mod console;
 pub mod frame;
 pub mod hex;
 pub mod line;
+pub mod parameter_set;
 pub mod params;
+pub mod traffic;
 pub mod transfer;
 pub mod units;
 pub mod validate;

@@ -1,5 +1,7 @@
-//! The batch file syntax of `axterm run`: one console line per line, with
-//! comments and a few directives.
+//! The batch file syntax of `axterm run` and of the console's `:run`
+//! (and its directives typed one at a time): one console line per line,
+//! with comments and a few directives. Shared by both front ends, so it
+//! lives outside `cli/`.
 //!
 //! ```text
 //! # comment              // comment          (blank lines are ignored too)

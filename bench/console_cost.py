@@ -1,0 +1,115 @@
+"""What the console costs: time to the first frame, then CPU and bytes
+written to the terminal per second while one axis is polled at 20 Hz,
+standing still and moving. Runs the console in a pseudo-terminal of
+100x30 and reads everything it writes. Standard library only.
+
+    cargo build --release
+    python3 bench/console_cost.py target/release/axterm [SECONDS] [served]
+
+By default the console runs `--sim tmcm1110`, the simulator inside the
+console's process (its 1 ms clock counts against the console's CPU).
+With `served`, the simulator runs in a process of its own (`axterm sim
+tmcm1110 --pty`) and the console talks to it as to a serial port, which
+is what the console costs on a real line.
+"""
+
+import fcntl
+import os
+import pty
+import select
+import subprocess
+import struct
+import sys
+import tempfile
+import termios
+import time
+
+F10 = b"\x1b[21~"
+CLOCK_TICK = os.sysconf("SC_CLK_TCK")
+
+
+def cpu_seconds(pid):
+    with open(f"/proc/{pid}/stat") as stat:
+        fields = stat.read().rsplit(")", 1)[1].split()
+    # utime and stime are fields 14 and 15 of the whole line; after the
+    # command name's ")" they are the 12th and 13th.
+    return (int(fields[11]) + int(fields[12])) / CLOCK_TICK
+
+
+def main():
+    binary = sys.argv[1]
+    seconds = float(sys.argv[2]) if len(sys.argv) > 2 else 10.0
+    served = len(sys.argv) > 3 and sys.argv[3] == "served"
+    connection = ["--sim", "tmcm1110"]
+    if served:
+        sim = subprocess.Popen([binary, "sim", "tmcm1110", "--pty"],
+                               stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+        connection = ["--port", sim.stdout.readline().strip()]
+    data = tempfile.mkdtemp()
+    master, slave = pty.openpty()
+    fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 30, 100, 0, 0))
+    started = time.monotonic()
+    pid = os.fork()
+    if pid == 0:
+        os.setsid()
+        fcntl.ioctl(slave, termios.TIOCSCTTY, 0)
+        for fd in (0, 1, 2):
+            os.dup2(slave, fd)
+        os.environ["AXTERM_DATA_DIR"] = data
+        os.environ["TERM"] = "xterm-256color"
+        os.execv(binary, [binary] + connection)
+    os.close(slave)
+    seen = bytearray()
+    total = 0
+
+    def pump(until):
+        nonlocal total
+        while True:
+            left = until - time.monotonic()
+            if left <= 0:
+                return
+            ready, _, _ = select.select([master], [], [], left)
+            if ready:
+                try:
+                    chunk = os.read(master, 65536)
+                except OSError:
+                    return
+                total += len(chunk)
+                if len(seen) < 1_000_000:
+                    seen.extend(chunk)
+
+    first_frame = None
+    deadline = started + 10
+    while first_frame is None and time.monotonic() < deadline:
+        pump(time.monotonic() + 0.001)
+        if b"F12 STOP" in seen:
+            first_frame = time.monotonic() - started
+    first_bytes = total
+    # Let the first values come in and settle.
+    pump(time.monotonic() + 3)
+
+    def window(label):
+        bytes_before, cpu_before, t0 = total, cpu_seconds(pid), time.monotonic()
+        pump(t0 + seconds)
+        elapsed = time.monotonic() - t0
+        cpu = cpu_seconds(pid) - cpu_before
+        print(f"{label:<12} {(total - bytes_before) / elapsed:9.0f} B/s   "
+              f"{100 * cpu / elapsed:6.2f} % of a core   ({elapsed:.1f} s)")
+
+    print(f"first frame  {1000 * first_frame:9.1f} ms   ({first_bytes} bytes)"
+          if first_frame else "first frame  never seen")
+    window("standing")
+    os.write(master, b"ROR 0, 300\r")
+    pump(time.monotonic() + 1)
+    window("moving")
+    os.write(master, b"MST 0\r")
+    pump(time.monotonic() + 1)
+    os.write(master, F10)
+    pump(time.monotonic() + 2)
+    os.waitpid(pid, 0)
+    if served:
+        sim.terminate()
+        sim.wait()
+
+
+main()

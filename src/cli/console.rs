@@ -1,0 +1,104 @@
+//! `axterm CONNECTION` with no subcommand: the terminal console on that
+//! link (or, with no connection, the console waiting for `:connect`).
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use clap::Parser;
+
+use super::connection::{Target, runtime};
+use super::{Cli, ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
+use crate::ui::PaneSetup;
+use crate::ui::app::{Connector, Controller};
+use crate::ui::live::{Appearance, SessionController, identify_later, run_terminal};
+
+/// Environment variable naming the directory for the console's history
+/// (default: the platform data directory, e.g. ~/.local/share/axterm).
+pub const DATA_DIR_VAR: &str = "AXTERM_DATA_DIR";
+
+/// Where the console keeps its history.
+pub fn data_dir() -> Option<PathBuf> {
+    match std::env::var_os(DATA_DIR_VAR) {
+        Some(dir) if !dir.is_empty() => Some(PathBuf::from(dir)),
+        _ => directories::ProjectDirs::from("", "", "axterm").map(|d| d.data_dir().to_path_buf()),
+    }
+}
+
+fn has_connection(args: &ConnectionArgs) -> bool {
+    args.sim.is_some() || args.port.is_some() || args.tcp.is_some()
+}
+
+/// Open the connection the options describe and start polling its status.
+async fn open(args: &ConnectionArgs) -> Result<Arc<dyn Controller>, (i32, String)> {
+    let target = Target::resolve(args).map_err(|m| (EXIT_USAGE, m))?;
+    let session = target
+        .open()
+        .await
+        .map_err(|e| (EXIT_CONNECTION, e.to_string()))?;
+    identify_later(&session);
+    Ok(Arc::new(SessionController::new(
+        session,
+        target.spec.describe(),
+        target.options.clone(),
+    )))
+}
+
+/// `:connect ARGS`: the same options as on the command line.
+fn connector() -> Connector {
+    Box::new(|args: Vec<String>| {
+        Box::pin(async move {
+            let argv = std::iter::once("axterm".to_string()).chain(args.iter().cloned());
+            let cli = Cli::try_parse_from(argv).map_err(|e| {
+                let text = e.to_string();
+                let first = text.lines().next().unwrap_or("bad connection options");
+                format!(":connect: {}", first.trim_start_matches("error: "))
+            })?;
+            if !has_connection(&cli.connection) {
+                return Err(":connect needs --sim KIND, --port PATH or --tcp HOST:PORT".into());
+            }
+            open(&cli.connection)
+                .await
+                .map_err(|(_, message)| format!(":connect: {message}"))
+        })
+    })
+}
+
+pub fn run(args: &ConnectionArgs, appearance: Appearance) -> i32 {
+    // Usage errors are reported before the terminal is touched.
+    if has_connection(args)
+        && let Err(message) = Target::resolve(args)
+    {
+        eprintln!("axterm: {message}");
+        return EXIT_USAGE;
+    }
+    let runtime = match runtime() {
+        Ok(runtime) => runtime,
+        Err(message) => {
+            eprintln!("axterm: {message}");
+            return EXIT_DEVICE;
+        }
+    };
+    let setup = PaneSetup {
+        history_dir: data_dir(),
+    };
+    runtime.block_on(async {
+        let controller = if has_connection(args) {
+            match open(args).await {
+                Ok(controller) => Some(controller),
+                Err((code, message)) => {
+                    eprintln!("axterm: {message}");
+                    return code;
+                }
+            }
+        } else {
+            None
+        };
+        match run_terminal(controller, connector(), &setup, &appearance).await {
+            Ok(()) => EXIT_OK,
+            Err(e) => {
+                eprintln!("axterm: the terminal failed: {e}");
+                EXIT_DEVICE
+            }
+        }
+    })
+}

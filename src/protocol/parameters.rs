@@ -1,0 +1,284 @@
+//! Parameters as the console's parameter table sees them, whatever the
+//! family: tables of rows (number, name, unit, range, access), the console
+//! line that reads, writes, stores or restores one, and the real-world
+//! value of a raw one where the family knows a conversion.
+//!
+//! A family offers this through [`super::console::FamilyConsole::parameters`];
+//! the rows come from its own manual tables (TMCL: `tmcl::params`). Pure
+//! code, no I/O.
+
+use std::fmt;
+
+/// Which table a parameter lives in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Scope {
+    /// A parameter of one axis (TMCL axis parameters of motor N).
+    Axis(u8),
+    /// A global parameter of a bank (TMCL global parameter banks).
+    Bank(u8),
+}
+
+impl Scope {
+    /// The section of a parameter file (`axis.0`, `bank.2`).
+    pub fn key(self) -> String {
+        match self {
+            Scope::Axis(n) => format!("axis.{n}"),
+            Scope::Bank(n) => format!("bank.{n}"),
+        }
+    }
+}
+
+/// The values a parameter accepts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ParamRange {
+    /// Every value from `min` to `max` inclusive.
+    Span { min: i64, max: i64 },
+    /// Only the listed values.
+    OneOf(&'static [i64]),
+}
+
+impl ParamRange {
+    pub fn contains(&self, value: i64) -> bool {
+        match self {
+            ParamRange::Span { min, max } => (*min..=*max).contains(&value),
+            ParamRange::OneOf(values) => values.contains(&value),
+        }
+    }
+}
+
+impl fmt::Display for ParamRange {
+    /// `0..255`, or the listed values separated by commas.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ParamRange::Span { min, max } => write!(f, "{min}..{max}"),
+            ParamRange::OneOf(values) => {
+                let list: Vec<String> = values.iter().map(|v| v.to_string()).collect();
+                f.write_str(&list.join(", "))
+            }
+        }
+    }
+}
+
+/// What the host may do with a parameter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct ParamAccess {
+    pub read: bool,
+    pub write: bool,
+    /// Can be stored to and restored from the module's EEPROM.
+    pub store: bool,
+    /// Written through to EEPROM by every write (no store needed).
+    pub auto_stored: bool,
+}
+
+impl fmt::Display for ParamAccess {
+    /// `R`, `RW`, `RWE`, `RWA`, `W`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (flag, letter) in [
+            (self.read, "R"),
+            (self.write, "W"),
+            (self.store, "E"),
+            (self.auto_stored, "A"),
+        ] {
+            if flag {
+                f.write_str(letter)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// What a parameter is to a saved configuration.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ParamRole {
+    /// Part of the configuration: exported, and written back on import.
+    Setting,
+    /// Motion or run-time state (a target position, a counter): never
+    /// exported, since writing it back would move a motor or mean nothing.
+    State,
+    /// Decides how the module is reached (baud rate, bus address):
+    /// exported, but an import only shows a difference and leaves writing
+    /// it to the user, since it would cut the connection it is made over.
+    Link,
+}
+
+/// One parameter of a table.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ParamRow {
+    pub scope: Scope,
+    pub number: u16,
+    pub name: String,
+    /// The raw value's unit; empty for plain numbers, flags and codes.
+    pub unit: &'static str,
+    pub range: ParamRange,
+    pub access: ParamAccess,
+    pub role: ParamRole,
+    /// The factory default, where the manual gives one.
+    pub default: Option<i64>,
+    /// One line from the manual.
+    pub description: &'static str,
+}
+
+/// One table: the parameters of an axis, or of a global bank.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ParamTable {
+    pub scope: Scope,
+    /// "Axis parameters, motor 0", "Bank 0: module configuration".
+    pub title: String,
+    pub rows: Vec<ParamRow>,
+}
+
+/// What to do with one parameter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ParamOp {
+    Read,
+    Write(i64),
+    /// Copy the value in RAM to EEPROM.
+    Store,
+    /// Copy the value in EEPROM back to RAM.
+    Restore,
+}
+
+/// A raw value in real-world units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Physical {
+    pub value: f64,
+    pub unit: &'static str,
+}
+
+impl fmt::Display for Physical {
+    /// Four significant digits are plenty on a console; integers stay
+    /// integers.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let v = self.value;
+        if !v.is_finite() {
+            return write!(f, "? {}", self.unit);
+        }
+        let magnitude = v.abs();
+        let decimals = if v.fract() == 0.0 || magnitude >= 1000.0 {
+            0
+        } else if magnitude >= 100.0 {
+            1
+        } else if magnitude >= 10.0 {
+            2
+        } else {
+            3
+        };
+        write!(f, "{v:.decimals$} {}", self.unit)
+    }
+}
+
+/// Which real-world unit a conversion should give where there is a choice.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SpeedUnit {
+    /// Microsteps per second (and per second² for accelerations).
+    #[default]
+    Pps,
+    /// Revolutions per minute.
+    Rpm,
+}
+
+/// A family's parameters, for the parameter table.
+pub trait ParameterSet: Send + Sync {
+    /// The tables for the axis numbered `axis`: its axis parameters first,
+    /// then every global bank.
+    fn tables(&self, axis: u8) -> Vec<ParamTable>;
+
+    /// The console line doing `op` on `row`, or why there is none (the
+    /// parameter cannot be stored, the value is out of range).
+    fn line(&self, row: &ParamRow, op: ParamOp) -> Result<String, String>;
+
+    /// `value` of `row` in real-world units, if the family converts it;
+    /// `axis_value` gives other parameters of the same axis (divisors,
+    /// resolution) as read from the module, `None` where not read yet.
+    fn physical(
+        &self,
+        row: &ParamRow,
+        value: i64,
+        unit: SpeedUnit,
+        axis_value: &dyn Fn(u16) -> Option<i64>,
+    ) -> Option<Physical> {
+        let _ = (row, value, unit, axis_value);
+        None
+    }
+
+    /// A value as the user typed it for `row`: a number, or (where the
+    /// family converts) a number with a real-world unit (`51200 pps`).
+    fn parse_value(
+        &self,
+        row: &ParamRow,
+        text: &str,
+        axis_value: &dyn Fn(u16) -> Option<i64>,
+    ) -> Result<i64, String> {
+        let _ = (row, axis_value);
+        parse_integer(text)
+    }
+}
+
+/// A decimal (`-12`) or hexadecimal (`0x1F`) integer.
+pub fn parse_integer(text: &str) -> Result<i64, String> {
+    let text = text.trim();
+    let (negative, digits) = match text.strip_prefix('-') {
+        Some(rest) => (true, rest),
+        None => (false, text.strip_prefix('+').unwrap_or(text)),
+    };
+    let magnitude = match digits
+        .strip_prefix("0x")
+        .or_else(|| digits.strip_prefix("0X"))
+    {
+        Some(hex) => i64::from_str_radix(hex, 16),
+        None => digits.parse::<i64>(),
+    };
+    match magnitude {
+        Ok(m) if negative => Ok(-m),
+        Ok(m) => Ok(m),
+        Err(_) if text.is_empty() => Err("no value given".into()),
+        Err(_) => Err(format!("`{text}` is not a number")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn integers_parse_in_decimal_and_hex() {
+        assert_eq!(parse_integer(" 1234 "), Ok(1234));
+        assert_eq!(parse_integer("-5"), Ok(-5));
+        assert_eq!(parse_integer("+7"), Ok(7));
+        assert_eq!(parse_integer("0x1F"), Ok(31));
+        assert!(parse_integer("").unwrap_err().contains("no value"));
+        assert!(parse_integer("12a").unwrap_err().contains("`12a`"));
+        assert!(parse_integer("99999999999999999999").is_err());
+    }
+
+    #[test]
+    fn access_and_ranges_read_as_in_the_manuals() {
+        let rwe = ParamAccess {
+            read: true,
+            write: true,
+            store: true,
+            auto_stored: false,
+        };
+        assert_eq!(rwe.to_string(), "RWE");
+        assert_eq!(ParamRange::Span { min: 0, max: 255 }.to_string(), "0..255");
+        assert_eq!(ParamRange::OneOf(&[1, 2, 65]).to_string(), "1, 2, 65");
+        assert!(ParamRange::OneOf(&[1, 2, 65]).contains(65));
+        assert!(!ParamRange::Span { min: 1, max: 2 }.contains(0));
+    }
+
+    #[test]
+    fn physical_values_keep_a_sensible_precision() {
+        let pps = |value| Physical { value, unit: "pps" }.to_string();
+        assert_eq!(pps(51208.49), "51208 pps");
+        assert_eq!(pps(60.0), "60 pps");
+        assert_eq!(pps(15.2587), "15.26 pps");
+        assert_eq!(pps(0.25), "0.250 pps");
+        assert_eq!(pps(f64::NAN), "? pps");
+    }
+
+    #[test]
+    fn scopes_name_their_file_sections() {
+        assert_eq!(Scope::Axis(0).key(), "axis.0");
+        assert_eq!(Scope::Bank(3).key(), "bank.3");
+    }
+}

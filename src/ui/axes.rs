@@ -1,0 +1,700 @@
+//! The axis status pane: per axis, live from the session's snapshots,
+//! position against target, speed against the maximum speed, the ramp
+//! state and the reached flag, the switch lamps, the load gauge and the
+//! latched error flags (cleared with `c`, or `:clear`).
+//!
+//! Each axis gets a card of three rows; cards sit side by side when the
+//! pane is wide. When the pane is too low for the cards (6 axes at
+//! 80×24), each axis gets one row.
+
+use ratatui::Frame;
+use ratatui::crossterm::event::KeyCode;
+use ratatui::layout::Rect;
+use ratatui::style::Style;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::Paragraph;
+
+use super::keymap::{Action, Context};
+use super::pane::{Input, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View, key_label};
+use super::theme::{Role, Theme};
+use crate::device::LinkState;
+use crate::protocol::console::LoadScale;
+use crate::session::{AxisInfo, AxisStatus};
+
+/// Rows of one axis card.
+const CARD_ROWS: u16 = 3;
+/// A card is at least this wide; wider panes put cards side by side.
+const CARD_MIN_WIDTH: u16 = 84;
+/// Columns between cards side by side.
+const CARD_GAP: u16 = 2;
+/// Snapshots with the same speed (below the maximum) before the axis
+/// counts as moving at a constant speed rather than still ramping: every
+/// reading makes a snapshot, and the speed is read about as often as the
+/// position.
+const STEADY_SNAPSHOTS: u32 = 4;
+
+/// What the axis is doing, read from how its speed changes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Ramp {
+    Unknown,
+    Standing,
+    Accelerating,
+    /// Moving at the maximum (positioning) speed.
+    Cruising,
+    /// Moving at a constant speed below the maximum (velocity mode).
+    Constant,
+    Decelerating,
+}
+
+impl Ramp {
+    pub fn label(self) -> &'static str {
+        match self {
+            Ramp::Unknown => "—",
+            Ramp::Standing => "standing",
+            Ramp::Accelerating => "accelerating",
+            Ramp::Cruising => "at max speed",
+            Ramp::Constant => "constant speed",
+            Ramp::Decelerating => "decelerating",
+        }
+    }
+
+    /// At most six characters, for one-row-per-axis tables.
+    pub fn short_label(self) -> &'static str {
+        match self {
+            Ramp::Unknown => "—",
+            Ramp::Standing => "stand",
+            Ramp::Accelerating => "accel",
+            Ramp::Cruising => "cruise",
+            Ramp::Constant => "const",
+            Ramp::Decelerating => "decel",
+        }
+    }
+
+    /// The ramp state after `previous` speed became `speed`.
+    pub fn from_speeds(previous: Option<i64>, speed: Option<i64>, max: Option<i64>) -> Ramp {
+        let Some(speed) = speed else {
+            return Ramp::Unknown;
+        };
+        let now = speed.unsigned_abs();
+        if now == 0 {
+            return Ramp::Standing;
+        }
+        let before = previous.map_or(0, i64::unsigned_abs);
+        match now.cmp(&before) {
+            std::cmp::Ordering::Greater => Ramp::Accelerating,
+            std::cmp::Ordering::Less => Ramp::Decelerating,
+            std::cmp::Ordering::Equal if max.is_some_and(|m| m.unsigned_abs() == now) => {
+                Ramp::Cruising
+            }
+            std::cmp::Ordering::Equal => Ramp::Constant,
+        }
+    }
+}
+
+/// What the pane remembers of one axis between snapshots.
+#[derive(Debug, Clone, Default)]
+struct AxisMemory {
+    speed: Option<i64>,
+    ramp: Option<Ramp>,
+    /// Snapshots since the speed last changed.
+    unchanged: u32,
+    /// The span of positions and targets seen: the position gauge's range.
+    low: i64,
+    high: i64,
+}
+
+/// Axis gauges and lamps.
+#[derive(Debug, Default)]
+pub struct AxesPane {
+    memory: Vec<AxisMemory>,
+}
+
+impl AxesPane {
+    pub fn new() -> AxesPane {
+        AxesPane::default()
+    }
+
+    /// Follow a new snapshot: speed trends and position ranges.
+    fn remember(&mut self, session: &Snapshot) {
+        self.memory
+            .resize(session.status.len(), AxisMemory::default());
+        for (memory, status) in self.memory.iter_mut().zip(&session.status) {
+            if status.speed != memory.speed {
+                memory.ramp = Some(Ramp::from_speeds(
+                    memory.speed,
+                    status.speed,
+                    status.max_speed,
+                ));
+                memory.speed = status.speed;
+                memory.unchanged = 0;
+            } else {
+                // Snapshots change for other readings too: the speed is
+                // steady only once it has been the same for a while.
+                memory.unchanged = memory.unchanged.saturating_add(1);
+                let steady = Ramp::from_speeds(status.speed, status.speed, status.max_speed);
+                if memory.ramp.is_none()
+                    || matches!(steady, Ramp::Standing | Ramp::Cruising | Ramp::Unknown)
+                    || memory.unchanged >= STEADY_SNAPSHOTS
+                {
+                    memory.ramp = Some(steady);
+                }
+            }
+            for value in [status.position, status.target].into_iter().flatten() {
+                memory.low = memory.low.min(value);
+                memory.high = memory.high.max(value);
+            }
+        }
+    }
+
+    fn ramp(&self, index: usize, status: &AxisStatus) -> Ramp {
+        self.memory
+            .get(index)
+            .and_then(|m| m.ramp)
+            .unwrap_or_else(|| Ramp::from_speeds(None, status.speed, status.max_speed))
+    }
+
+    /// The position gauge's range for an axis: every position and target
+    /// seen, and 0.
+    fn span(&self, index: usize, status: &AxisStatus) -> (i64, i64) {
+        let (mut low, mut high) = self.memory.get(index).map_or((0, 0), |m| (m.low, m.high));
+        for value in [status.position, status.target].into_iter().flatten() {
+            low = low.min(value);
+            high = high.max(value);
+        }
+        (low, high)
+    }
+
+    fn card(
+        &self,
+        index: usize,
+        axis: &AxisInfo,
+        status: &AxisStatus,
+        selected: bool,
+        width: u16,
+        view: &View,
+    ) -> Vec<Line<'static>> {
+        let theme = view.theme;
+        let scale: Option<LoadScale> = view.session.and_then(|s| s.family.console.load_scale());
+        let width = usize::from(width);
+        let label_width = 10;
+        let name = format!(
+            "{}{:<w$}",
+            if selected { "▶" } else { " " },
+            truncate(axis.name, label_width - 1),
+            w = label_width - 1
+        );
+        let name_style = if selected {
+            theme.style(Role::Accent)
+        } else {
+            theme.style(Role::Title)
+        };
+        // Row 1: position, gauge, target, reached.
+        let position = number(status.position);
+        let target = number(status.target);
+        let reached = match status.reached {
+            Some(true) => lamp(theme, true, false, "reached"),
+            Some(false) => lamp(theme, false, false, "moving"),
+            None => lamp(theme, false, false, "reached?"),
+        };
+        // The widest fixed part is the speed row's: label, "spd ", number,
+        // " max ", number, the longest ramp label.
+        let fixed = label_width + 4 + 12 + 5 + 12 + 14;
+        let gauge_width = width.saturating_sub(fixed).max(4);
+        let (low, high) = self.span(index, status);
+        let position_gauge = gauge(
+            theme,
+            status.position.map(|p| fraction(p, low, high)),
+            status.target.map(|t| fraction(t, low, high)),
+            gauge_width,
+        );
+        let mut row1 = vec![
+            Span::styled(name, name_style),
+            Span::styled("pos ", theme.style(Role::Muted)),
+            Span::styled(format!("{position:>11} "), theme.style(Role::Normal)),
+        ];
+        row1.extend(position_gauge);
+        row1.push(Span::styled(" tgt ", theme.style(Role::Muted)));
+        row1.push(Span::styled(
+            format!("{target:>11} "),
+            theme.style(Role::Normal),
+        ));
+        row1.extend(reached);
+
+        // Row 2: speed against max, ramp.
+        let speed = number(status.speed);
+        let max = number(status.max_speed);
+        let speed_fraction = match (status.speed, status.max_speed) {
+            (Some(s), Some(m)) if m != 0 => {
+                Some((s.unsigned_abs() as f64 / m.unsigned_abs() as f64).min(1.0))
+            }
+            (Some(0), _) => Some(0.0),
+            _ => None,
+        };
+        let mut row2 = vec![
+            Span::raw(" ".repeat(label_width)),
+            Span::styled("spd ", theme.style(Role::Muted)),
+            Span::styled(format!("{speed:>11} "), theme.style(Role::Normal)),
+        ];
+        row2.extend(gauge(theme, speed_fraction, None, gauge_width));
+        row2.push(Span::styled(" max ", theme.style(Role::Muted)));
+        row2.push(Span::styled(
+            format!("{max:>11} "),
+            theme.style(Role::Normal),
+        ));
+        row2.push(Span::styled(
+            self.ramp(index, status).label(),
+            theme.style(Role::Normal),
+        ));
+
+        // Row 3: switches, load, errors.
+        let mut row3 = vec![Span::raw(" ".repeat(label_width))];
+        for (on, name) in [
+            (status.left_switch, "L"),
+            (status.right_switch, "R"),
+            (status.home_switch, "H"),
+        ] {
+            row3.extend(switch_lamp(theme, on, name));
+            row3.push(Span::raw(" "));
+        }
+        row3.push(Span::styled(" load ", theme.style(Role::Muted)));
+        let load_fraction = match (status.load, scale) {
+            (Some(v), Some(s)) if s.full_scale > 0 => {
+                let f = (v as f64 / s.full_scale as f64).clamp(0.0, 1.0);
+                Some(if s.zero_is_highest { 1.0 - f } else { f })
+            }
+            _ => None,
+        };
+        row3.extend(gauge(theme, load_fraction, None, 10));
+        row3.push(Span::styled(
+            format!(" {:>5}  ", number(status.load)),
+            theme.style(Role::Normal),
+        ));
+        row3.extend(error_spans(view, status));
+        vec![Line::from(row1), Line::from(row2), Line::from(row3)]
+    }
+
+    /// One row per axis, for a low pane; `widths` are the widest position,
+    /// target, speed and maximum of all axes, so columns line up.
+    fn row(
+        &self,
+        index: usize,
+        axis: &AxisInfo,
+        status: &AxisStatus,
+        selected: bool,
+        widths: [usize; 4],
+        view: &View,
+    ) -> Line<'static> {
+        let theme = view.theme;
+        let [wp, wt, ws, wm] = widths;
+        let mut spans = vec![
+            Span::styled(
+                format!(
+                    "{}{:<4}",
+                    if selected { "▶" } else { " " },
+                    truncate(axis.name, 4)
+                ),
+                if selected {
+                    theme.style(Role::Accent)
+                } else {
+                    theme.style(Role::Title)
+                },
+            ),
+            Span::styled(
+                format!(
+                    "{:>wp$}→{:<wt$} ",
+                    number(status.position),
+                    number(status.target)
+                ),
+                theme.style(Role::Normal),
+            ),
+        ];
+        spans.extend(lamp(theme, status.reached == Some(true), false, ""));
+        spans.push(Span::styled(
+            format!(
+                " v{:>ws$}/{:<wm$} {:<6} ",
+                number(status.speed),
+                number(status.max_speed),
+                self.ramp(index, status).short_label()
+            ),
+            theme.style(Role::Normal),
+        ));
+        for (on, name) in [
+            (status.left_switch, "L"),
+            (status.right_switch, "R"),
+            (status.home_switch, "H"),
+        ] {
+            spans.extend(switch_lamp(theme, on, name));
+        }
+        spans.push(Span::styled(
+            format!(" ld {} ", number(status.load)),
+            theme.style(Role::Normal),
+        ));
+        spans.extend(error_spans(view, status));
+        Line::from(spans)
+    }
+}
+
+fn error_spans(view: &View, status: &AxisStatus) -> Vec<Span<'static>> {
+    let theme = view.theme;
+    let clear = key_label(view.keymap, Context::Axis, Action::ClearErrors);
+    let mut spans = Vec::new();
+    if status.errors.is_empty() {
+        spans.push(Span::styled("no errors", theme.style(Role::Muted)));
+    } else {
+        let names: Vec<&str> = status.errors.iter().map(|f| f.name).collect();
+        spans.push(Span::styled(
+            format!("ERR {}", names.join(", ")),
+            theme.style(Role::LampAlarm),
+        ));
+        spans.push(Span::styled(
+            format!(" ({clear} clears)"),
+            theme.style(Role::Muted),
+        ));
+    }
+    if let Some(flags) = status.driver_flags.as_ref().filter(|f| !f.is_empty()) {
+        let names: Vec<&str> = flags.iter().map(|f| f.name).collect();
+        spans.push(Span::styled(
+            format!("  drv {}", names.join(", ")),
+            theme.style(Role::Warning),
+        ));
+    }
+    spans
+}
+
+fn number(value: Option<i64>) -> String {
+    value.map_or_else(|| "—".to_string(), |v| v.to_string())
+}
+
+fn truncate(text: &str, max: usize) -> String {
+    text.chars().take(max).collect()
+}
+
+/// Where `value` lies between `low` and `high`, 0..1.
+fn fraction(value: i64, low: i64, high: i64) -> f64 {
+    if high <= low {
+        // Nothing to show a distance on yet (everything at 0).
+        return 0.0;
+    }
+    let (value, low, high) = (i128::from(value), i128::from(low), i128::from(high));
+    ((value - low) as f64 / (high - low) as f64).clamp(0.0, 1.0)
+}
+
+/// A bar `width` cells wide filled to `fill`, with a mark at `mark`.
+fn gauge(theme: &Theme, fill: Option<f64>, mark: Option<f64>, width: usize) -> Vec<Span<'static>> {
+    let Some(fill) = fill else {
+        return vec![Span::styled(
+            "·".repeat(width),
+            theme.style(Role::GaugeEmpty),
+        )];
+    };
+    let filled = ((fill * width as f64).round() as usize).min(width);
+    let mark = mark.map(|m| ((m * width as f64).round() as usize).min(width.saturating_sub(1)));
+    let mut spans = Vec::new();
+    let cell = |i: usize| -> (char, Role) {
+        if Some(i) == mark {
+            ('┃', Role::Accent)
+        } else if i < filled {
+            ('█', Role::GaugeFill)
+        } else {
+            ('░', Role::GaugeEmpty)
+        }
+    };
+    let mut run = String::new();
+    let mut run_role = None;
+    for i in 0..width {
+        let (c, role) = cell(i);
+        if let Some(r) = run_role.filter(|r| *r != role) {
+            spans.push(Span::styled(std::mem::take(&mut run), theme.style(r)));
+        }
+        run_role = Some(role);
+        run.push(c);
+    }
+    if let Some(r) = run_role {
+        spans.push(Span::styled(run, theme.style(r)));
+    }
+    spans
+}
+
+fn lamp(theme: &Theme, on: bool, alarm: bool, label: &str) -> Vec<Span<'static>> {
+    let (symbol, role) = match (on, alarm) {
+        (true, true) => ("●", Role::LampAlarm),
+        (true, false) => ("●", Role::LampOn),
+        (false, _) => ("○", Role::LampOff),
+    };
+    let mut spans = vec![Span::styled(symbol, theme.style(role))];
+    if !label.is_empty() {
+        spans.push(Span::styled(format!(" {label}"), theme.style(Role::Normal)));
+    }
+    spans
+}
+
+/// A switch lamp: its letter, lit when the switch is active.
+fn switch_lamp(theme: &Theme, on: Option<bool>, name: &str) -> Vec<Span<'static>> {
+    let (symbol, role) = match on {
+        Some(true) => ("●", Role::LampAlarm),
+        Some(false) => ("○", Role::LampOff),
+        None => ("·", Role::Muted),
+    };
+    vec![
+        Span::styled(name.to_string(), theme.style(Role::Muted)),
+        Span::styled(symbol, theme.style(role)),
+    ]
+}
+
+/// How many cards go side by side at this width: as many as fit, then
+/// spread evenly over the rows they need (4 axes in 3 columns would leave
+/// one alone; 2 by 2 reads better).
+fn columns(width: u16, axes: usize) -> usize {
+    let axes = axes.max(1);
+    let fit = usize::from((width + CARD_GAP) / (CARD_MIN_WIDTH + CARD_GAP)).clamp(1, axes);
+    let rows = axes.div_ceil(fit);
+    axes.div_ceil(rows)
+}
+
+impl Pane for AxesPane {
+    fn name(&self) -> &'static str {
+        "axes"
+    }
+
+    fn context(&self) -> Context {
+        Context::Axis
+    }
+
+    fn title(&self, view: &View) -> String {
+        let Some(s) = view.session else {
+            return "Axes — not connected".into();
+        };
+        let state = match &s.link {
+            LinkState::Connected { .. } => "connected".to_string(),
+            LinkState::Disconnected { reason, .. } => format!("link lost: {reason}"),
+            LinkState::Closed => "closed".into(),
+        };
+        let poll = match s.poll {
+            Some(c) if !c.fast.is_zero() => format!("poll {} Hz", super::app::rate_of(c.fast)),
+            Some(_) => "poll max".into(),
+            None => "poll off".into(),
+        };
+        let identity = s
+            .identity
+            .as_ref()
+            .map(|i| format!(" ({i})"))
+            .unwrap_or_default();
+        format!(
+            "Axes — {} #{}{identity} {state}, {poll}",
+            s.link_name, s.address
+        )
+    }
+
+    fn region(&self) -> Region {
+        Region::Top
+    }
+
+    fn height_hint(&self, view: &View, width: u16, room: u16) -> Option<u16> {
+        let axes = view.session.map_or(1, |s| s.axes.len().max(1));
+        let cards = u16::try_from(axes.div_ceil(columns(width, axes)))
+            .unwrap_or(u16::MAX)
+            .saturating_mul(CARD_ROWS);
+        let rows = u16::try_from(axes).unwrap_or(u16::MAX);
+        Some(if cards <= room { cards } else { rows })
+    }
+
+    fn render(&mut self, frame: &mut Frame, area: Rect, view: &View) {
+        let Some(session) = view.session else {
+            frame.render_widget(
+                Paragraph::new("not connected: :connect --sim tmcm1110 in the command pane")
+                    .style(view.theme.style(Role::Muted)),
+                area,
+            );
+            return;
+        };
+        if self.memory.len() != session.status.len() {
+            self.remember(session);
+        }
+        let axes: Vec<(usize, &AxisInfo, AxisStatus)> = session
+            .axes
+            .iter()
+            .enumerate()
+            .map(|(i, axis)| (i, axis, session.status.get(i).cloned().unwrap_or_default()))
+            .collect();
+        let count = axes.len();
+        let cols = columns(area.width, count);
+        let card_rows = count.div_ceil(cols);
+        if usize::from(area.height) < card_rows * usize::from(CARD_ROWS) {
+            // Too low for cards: one row each, scrolled to keep the
+            // selected axis in view.
+            let width_of = |field: fn(&AxisStatus) -> Option<i64>| {
+                axes.iter()
+                    .map(|(_, _, s)| number(field(s)).chars().count())
+                    .max()
+                    .unwrap_or(1)
+            };
+            let widths = [
+                width_of(|s| s.position),
+                width_of(|s| s.target),
+                width_of(|s| s.speed),
+                width_of(|s| s.max_speed),
+            ];
+            let lines: Vec<Line> = axes
+                .iter()
+                .map(|(i, axis, status)| {
+                    self.row(*i, axis, status, *i == session.axis, widths, view)
+                })
+                .collect();
+            let skip = (session.axis + 1).saturating_sub(usize::from(area.height));
+            frame.render_widget(Paragraph::new(lines).scroll((skip as u16, 0)), area);
+            return;
+        }
+        let card_width = (area.width + CARD_GAP) / cols as u16 - CARD_GAP;
+        for (n, (i, axis, status)) in axes.iter().enumerate() {
+            let (row, col) = (n / cols, n % cols);
+            let rect = Rect {
+                x: area.x + col as u16 * (card_width + CARD_GAP),
+                y: area.y + row as u16 * CARD_ROWS,
+                width: card_width,
+                height: CARD_ROWS,
+            };
+            let lines = self.card(*i, axis, status, *i == session.axis, card_width, view);
+            frame.render_widget(Paragraph::new(lines).style(Style::default()), rect);
+        }
+    }
+
+    fn handle_input(&mut self, input: &Input, view: &View) -> Outcome {
+        let (Input::Key(key), Some(session)) = (input, view.session) else {
+            return Outcome::Ignored;
+        };
+        let count = session.axes.len();
+        match view.keymap.action_for(Context::Axis, key) {
+            Some(Action::SelectPrevious) if session.axis > 0 => {
+                Outcome::request(Request::SelectAxis(session.axis - 1))
+            }
+            Some(Action::SelectNext) if session.axis + 1 < count => {
+                Outcome::request(Request::SelectAxis(session.axis + 1))
+            }
+            Some(Action::AxisStop) => {
+                let line = session
+                    .selected_axis()
+                    .and_then(|axis| session.family.console.stop_axis_line(axis.number));
+                match line {
+                    Some(line) => Outcome::request(Request::Send {
+                        lines: vec![line],
+                        tag: 0,
+                    }),
+                    None => Outcome::Ignored,
+                }
+            }
+            Some(_) => Outcome::Ignored,
+            // 1…9 pick an axis.
+            None => match key.code {
+                KeyCode::Char(c @ '1'..='9') if key.modifiers.is_empty() => {
+                    let index = usize::from(c as u8 - b'1');
+                    if index < count {
+                        Outcome::request(Request::SelectAxis(index))
+                    } else {
+                        Outcome::Ignored
+                    }
+                }
+                _ => Outcome::Ignored,
+            },
+        }
+    }
+
+    fn on_event(&mut self, event: &PaneEvent, view: &View) -> Outcome {
+        match (event, view.session) {
+            (PaneEvent::Snapshot, Some(session)) => {
+                self.remember(session);
+                Outcome::redraw()
+            }
+            (PaneEvent::Snapshot, None) => {
+                self.memory.clear();
+                Outcome::redraw()
+            }
+            _ => Outcome::Ignored,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_ramp_follows_the_speed() {
+        assert_eq!(Ramp::from_speeds(None, None, None), Ramp::Unknown);
+        assert_eq!(
+            Ramp::from_speeds(Some(5), Some(0), Some(100)),
+            Ramp::Standing
+        );
+        assert_eq!(
+            Ramp::from_speeds(Some(5), Some(50), Some(100)),
+            Ramp::Accelerating
+        );
+        assert_eq!(
+            Ramp::from_speeds(Some(-5), Some(-50), Some(100)),
+            Ramp::Accelerating
+        );
+        assert_eq!(
+            Ramp::from_speeds(Some(100), Some(100), Some(100)),
+            Ramp::Cruising
+        );
+        assert_eq!(
+            Ramp::from_speeds(Some(60), Some(60), Some(100)),
+            Ramp::Constant
+        );
+        assert_eq!(
+            Ramp::from_speeds(Some(60), Some(20), Some(100)),
+            Ramp::Decelerating
+        );
+    }
+
+    #[test]
+    fn a_speed_read_again_while_ramping_keeps_the_trend_until_it_is_steady() {
+        let mut pane = AxesPane::new();
+        let family = crate::protocol::find_family("tmcl").expect("tmcl");
+        let mut snapshot = Snapshot {
+            family,
+            address: 1,
+            link_name: "sim".into(),
+            axes: family.console.axes().to_vec(),
+            status: vec![AxisStatus::default()],
+            link: LinkState::Closed,
+            identity: None,
+            poll: None,
+            axis: 0,
+        };
+        let mut step = |speed: i64, pane: &mut AxesPane| {
+            snapshot.status[0].speed = Some(speed);
+            snapshot.status[0].max_speed = Some(1000);
+            pane.remember(&snapshot);
+            pane.ramp(0, &snapshot.status[0])
+        };
+        assert_eq!(step(100, &mut pane), Ramp::Accelerating);
+        // The position was read: same speed, still accelerating.
+        assert_eq!(step(100, &mut pane), Ramp::Accelerating);
+        assert_eq!(step(300, &mut pane), Ramp::Accelerating);
+        assert_eq!(step(1000, &mut pane), Ramp::Accelerating);
+        assert_eq!(step(1000, &mut pane), Ramp::Cruising);
+        assert_eq!(step(600, &mut pane), Ramp::Decelerating);
+        for _ in 0..STEADY_SNAPSHOTS - 1 {
+            assert_eq!(step(600, &mut pane), Ramp::Decelerating);
+        }
+        assert_eq!(step(600, &mut pane), Ramp::Constant);
+        assert_eq!(step(0, &mut pane), Ramp::Standing);
+    }
+
+    #[test]
+    fn gauges_fill_to_their_fraction_and_mark_the_target() {
+        let theme = Theme::builtin("dark").expect("built-in theme");
+        let text = |spans: Vec<Span>| {
+            spans
+                .iter()
+                .map(|s| s.content.to_string())
+                .collect::<String>()
+        };
+        assert_eq!(text(gauge(&theme, Some(0.5), None, 10)), "█████░░░░░");
+        assert_eq!(text(gauge(&theme, Some(0.0), Some(1.0), 5)), "░░░░┃");
+        assert_eq!(text(gauge(&theme, None, None, 3)), "···");
+        assert_eq!(fraction(5, 0, 10), 0.5);
+        assert_eq!(fraction(5, 5, 5), 0.0);
+        assert_eq!(fraction(i64::MIN, i64::MIN, i64::MAX), 0.0);
+    }
+}

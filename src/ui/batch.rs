@@ -1,0 +1,294 @@
+//! `:run FILE` and the run directives typed one at a time (`:expect`,
+//! `:wait-until`, `:sleep`, `:echo`) inside the console: the batch syntax
+//! of `axterm run` ([`crate::script`]), checked whole before anything is
+//! sent, then run step by step through the pane's requests.
+
+use std::time::Duration;
+
+use tokio::time::Instant;
+
+use crate::protocol::Family;
+use crate::protocol::console::Effect;
+use crate::script::{Action, Step, parse_script_line, result_matches};
+use crate::session::{LineResult, SessionError};
+
+/// Pause between the reads of `:wait-until`, as in `axterm run`.
+pub const WAIT_INTERVAL: Duration = Duration::from_millis(20);
+
+/// What the batch needs done next.
+#[derive(Debug, Clone, PartialEq)]
+pub enum BatchStep {
+    /// Send this line; call [`Batch::on_reply`] with its answer.
+    Send(String),
+    /// Call [`Batch::on_wake`] after this long.
+    Wake(Duration),
+    /// Show this text.
+    Echo(String),
+    /// A step failed: show this, the batch is over.
+    Failed(String),
+    /// Every step done.
+    Done,
+}
+
+/// A checked batch being run.
+#[derive(Debug)]
+pub struct Batch {
+    /// "FILE" or the typed directive, for messages.
+    name: String,
+    steps: Vec<Step>,
+    next: usize,
+    /// The `:wait-until` in progress gives up at this instant.
+    deadline: Option<Instant>,
+}
+
+impl Batch {
+    /// Parse and check a file's text: every console line is validated for
+    /// `family` at `address` first, every problem listed as `NAME:LINE:
+    /// message`. Nothing is sent when anything is wrong.
+    pub fn check(
+        name: &str,
+        text: &str,
+        family: &Family,
+        address: u8,
+    ) -> Result<Batch, Vec<String>> {
+        let mut steps = Vec::new();
+        let mut problems = Vec::new();
+        for (index, raw) in text.lines().enumerate() {
+            let line_number = index + 1;
+            let action = match parse_script_line(raw) {
+                Ok(Some(action)) => action,
+                Ok(None) => continue,
+                Err(message) => {
+                    problems.push(format!("{name}:{line_number}: {message}"));
+                    continue;
+                }
+            };
+            let (line, must_only_read) = match &action {
+                Action::Line(line) | Action::Expect { line, .. } => (Some(line), false),
+                Action::WaitUntil { line, .. } => (Some(line), true),
+                Action::Sleep(_) | Action::Echo(_) => (None, false),
+            };
+            if let Some(line) = line {
+                match family.console.prepare(line, address) {
+                    Ok(prepared) if must_only_read && prepared.effect != Effect::Reads => problems
+                        .push(format!(
+                            "{name}:{line_number}: :wait-until sends `{}` again and again: \
+                             give a line that only reads",
+                            prepared.canonical
+                        )),
+                    Ok(_) => {}
+                    Err(message) => problems.push(format!("{name}:{line_number}: {message}")),
+                }
+            }
+            steps.push(Step {
+                line_number,
+                action,
+            });
+        }
+        if problems.is_empty() {
+            Ok(Batch {
+                name: name.to_string(),
+                steps,
+                next: 0,
+                deadline: None,
+            })
+        } else {
+            Err(problems)
+        }
+    }
+
+    /// How many steps the batch has.
+    pub fn len(&self) -> usize {
+        self.steps.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.steps.is_empty()
+    }
+
+    fn at(&self) -> String {
+        match self.steps.get(self.next) {
+            Some(step) if self.steps.len() > 1 || self.name.contains('.') => {
+                format!("{}:{}: ", self.name, step.line_number)
+            }
+            _ => String::new(),
+        }
+    }
+
+    /// Start the current step (the first, or the one after the last
+    /// answered), running echoes straight through.
+    pub fn advance(&mut self) -> Vec<BatchStep> {
+        let mut out = Vec::new();
+        loop {
+            let Some(step) = self.steps.get(self.next) else {
+                out.push(BatchStep::Done);
+                return out;
+            };
+            match &step.action {
+                Action::Echo(text) => {
+                    out.push(BatchStep::Echo(text.clone()));
+                    self.next += 1;
+                }
+                Action::Line(line) | Action::Expect { line, .. } => {
+                    out.push(BatchStep::Send(line.clone()));
+                    return out;
+                }
+                Action::WaitUntil { line, timeout, .. } => {
+                    self.deadline = Some(Instant::now() + *timeout);
+                    out.push(BatchStep::Send(line.clone()));
+                    return out;
+                }
+                Action::Sleep(duration) => {
+                    out.push(BatchStep::Wake(*duration));
+                    return out;
+                }
+            }
+        }
+    }
+
+    /// The answer to the line of the current step.
+    pub fn on_reply(&mut self, result: &Result<LineResult, SessionError>) -> Vec<BatchStep> {
+        let at = self.at();
+        let Some(step) = self.steps.get(self.next) else {
+            return vec![BatchStep::Done];
+        };
+        let result = match result {
+            Ok(result) => result,
+            Err(e) => return vec![BatchStep::Failed(format!("{at}{e}"))],
+        };
+        let got = result.value.to_string();
+        match &step.action {
+            Action::Expect { value, .. } if !result_matches(&got, value) => {
+                return vec![BatchStep::Failed(format!(
+                    "{at}expected {} == {value}, got {got}",
+                    result.line
+                ))];
+            }
+            Action::WaitUntil { value, timeout, .. } if !result_matches(&got, value) => {
+                let over = self.deadline.is_none_or(|d| Instant::now() >= d);
+                if over {
+                    return vec![BatchStep::Failed(format!(
+                        "{at}{} did not become {value} within {} ms (last {got})",
+                        result.line,
+                        timeout.as_millis()
+                    ))];
+                }
+                return vec![BatchStep::Wake(WAIT_INTERVAL)];
+            }
+            _ => {}
+        }
+        self.deadline = None;
+        self.next += 1;
+        self.advance()
+    }
+
+    /// A wake-up asked for by the current step.
+    pub fn on_wake(&mut self) -> Vec<BatchStep> {
+        match self.steps.get(self.next).map(|s| &s.action) {
+            Some(Action::Sleep(_)) => {
+                self.next += 1;
+                self.advance()
+            }
+            // Read again.
+            Some(Action::WaitUntil { line, .. }) => vec![BatchStep::Send(line.clone())],
+            _ => Vec::new(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::protocol::console::ReplyValue;
+    use crate::protocol::find_family;
+
+    fn tmcl() -> &'static Family {
+        find_family("tmcl").expect("tmcl")
+    }
+
+    fn reply(value: ReplyValue) -> Result<LineResult, SessionError> {
+        Ok(LineResult {
+            line: "GAP 8, 0".into(),
+            request: Vec::new(),
+            reply: Vec::new(),
+            status: Some(100),
+            value,
+            elapsed: Duration::ZERO,
+            attempts: 1,
+        })
+    }
+
+    #[test]
+    fn a_file_with_bad_lines_lists_them_all_and_sends_nothing() {
+        let problems = Batch::check("f.txt", "GAP 1, 0\nSAP 6, 0, 100000\n:bogus\n", tmcl(), 1)
+            .expect_err("bad");
+        assert_eq!(problems.len(), 2, "{problems:?}");
+        assert!(problems[0].starts_with("f.txt:2: "));
+        assert!(problems[1].starts_with("f.txt:3: unknown directive"));
+        let problems = Batch::check("f.txt", ":wait-until MVP ABS, 0, 1 == ok\n", tmcl(), 1)
+            .expect_err("acts");
+        assert!(problems[0].contains("only reads"));
+    }
+
+    #[test]
+    fn steps_run_in_order_and_an_expect_that_fails_ends_the_batch() {
+        let text = ":echo go\nSAP 4, 0, 5\n:sleep 1s\n:expect GAP 4, 0 == 5\nMST 0\n";
+        let mut batch = Batch::check("f.txt", text, tmcl(), 1).expect("valid");
+        assert_eq!(batch.len(), 5);
+        assert_eq!(
+            batch.advance(),
+            [
+                BatchStep::Echo("go".into()),
+                BatchStep::Send("SAP 4, 0, 5".into())
+            ]
+        );
+        assert_eq!(
+            batch.on_reply(&reply(ReplyValue::None)),
+            [BatchStep::Wake(Duration::from_secs(1))]
+        );
+        assert_eq!(batch.on_wake(), [BatchStep::Send("GAP 4, 0".into())]);
+        let failed = batch.on_reply(&reply(ReplyValue::Number(6)));
+        assert_eq!(
+            failed,
+            [BatchStep::Failed(
+                "f.txt:4: expected GAP 8, 0 == 5, got 6".into()
+            )]
+        );
+    }
+
+    #[tokio::test(start_paused = true)]
+    async fn wait_until_reads_again_until_the_value_comes_or_time_is_up() {
+        let mut batch = Batch::check(
+            ":wait-until",
+            ":wait-until GAP 8, 0 == 1 timeout 1s",
+            tmcl(),
+            1,
+        )
+        .expect("valid");
+        assert_eq!(batch.advance(), [BatchStep::Send("GAP 8, 0".into())]);
+        assert_eq!(
+            batch.on_reply(&reply(ReplyValue::Number(0))),
+            [BatchStep::Wake(WAIT_INTERVAL)]
+        );
+        assert_eq!(batch.on_wake(), [BatchStep::Send("GAP 8, 0".into())]);
+        assert_eq!(
+            batch.on_reply(&reply(ReplyValue::Number(1))),
+            [BatchStep::Done]
+        );
+
+        let mut batch = Batch::check(
+            ":wait-until",
+            ":wait-until GAP 8, 0 == 1 timeout 1s",
+            tmcl(),
+            1,
+        )
+        .expect("valid");
+        batch.advance();
+        tokio::time::advance(Duration::from_secs(1)).await;
+        let steps = batch.on_reply(&reply(ReplyValue::Number(0)));
+        assert!(
+            matches!(&steps[..], [BatchStep::Failed(m)] if m.contains("did not become 1 within 1000 ms")),
+            "{steps:?}"
+        );
+    }
+}

@@ -1,0 +1,1209 @@
+//! The command pane: the direct-mode console. A line editor with history
+//! (kept per protocol family in the data directory), tab completion and
+//! inline help from the family's catalogue (F1 on a word, `:help TOPIC`),
+//! console commands starting with `:`, and the output: each line sent,
+//! its decoded answer and status meaning, errors in plain words, the
+//! bytes on the wire.
+
+use std::collections::HashMap;
+use std::fs::{self, OpenOptions};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use ratatui::Frame;
+use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers, MouseEventKind};
+use ratatui::layout::{Position, Rect};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::Paragraph;
+
+use super::batch::{Batch, BatchStep};
+use super::keymap::{Action, Context};
+use super::pane::{
+    Input, NoticeLevel, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View, key_label,
+};
+use super::theme::Role;
+use crate::device::{DeviceEvent, LinkState};
+use crate::protocol::Family;
+use crate::protocol::console::{Candidate, Completions};
+use crate::session::{LineResult, SessionError};
+
+/// Lines of output kept; older ones scroll away for good.
+const OUTPUT_LIMIT: usize = 5000;
+/// History entries kept per family.
+const HISTORY_LIMIT: usize = 1000;
+/// Rows of completion candidates shown at most.
+const CANDIDATE_ROWS: usize = 3;
+const PROMPT: &str = "> ";
+/// Rows a page key scrolls.
+const PAGE: usize = 10;
+
+/// The console commands, for `:help` and completion.
+pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
+    (
+        ":help [TOPIC]",
+        "help on a command (`:help SAP`), a parameter (`:help SAP 4`, `:help baud`) or this list",
+    ),
+    (
+        ":poll RATE",
+        "poll status RATE times a second (0 or off: stop polling)",
+    ),
+    (":axis N", "work with axis N (its number or name)"),
+    (":address N", "send to the module at address N"),
+    (
+        ":clear [N]",
+        "forget the latched error flags of axis N (default: the selected axis)",
+    ),
+    (":stop", "emergency stop, like its key"),
+    (
+        ":log FILE | off",
+        "log every frame sent and received to FILE",
+    ),
+    (":theme NAME", "switch colours"),
+    (":keymap NAME", "switch key bindings"),
+    (
+        ":connect CONNECTION",
+        "connect: --sim KIND | --port PATH [--baud N] | --tcp HOST:PORT, with --protocol, --address",
+    ),
+    (
+        ":run FILE",
+        "run a batch file as `axterm run` does (checked whole first)",
+    ),
+    (
+        ":expect LINE == VALUE",
+        "run LINE, fail unless its result is VALUE",
+    ),
+    (
+        ":wait-until LINE == VALUE [timeout D]",
+        "read LINE again until it gives VALUE",
+    ),
+    (":sleep D", "wait (500ms, 2s, 1m)"),
+    (":echo TEXT", "show TEXT"),
+    (":quit", "leave the console"),
+];
+
+/// One row of output.
+#[derive(Debug, Clone, PartialEq, Eq)]
+struct Output {
+    role: Role,
+    text: String,
+}
+
+/// Who sent a line, so its answer goes to the right place.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Origin {
+    Typed,
+    Batch,
+}
+
+/// A list of completions being offered.
+#[derive(Debug, Clone)]
+struct Completing {
+    /// Where the completed word starts in the line.
+    start: usize,
+    /// Bytes of the line the current choice takes.
+    len: usize,
+    candidates: Vec<Candidate>,
+    /// The candidate shown in the line (Tab cycles), if any yet.
+    chosen: Option<usize>,
+    /// The line as completion left it: any edit ends the cycle.
+    line: String,
+}
+
+/// Past lines of one family, newest last.
+#[derive(Debug, Default)]
+struct History {
+    entries: Vec<String>,
+    /// Position while browsing with Up/Down.
+    browsing: Option<usize>,
+    /// What was typed before browsing began.
+    draft: String,
+    file: Option<PathBuf>,
+}
+
+impl History {
+    /// Load `family`'s history from `dir` (missing or unreadable: empty).
+    fn load(dir: Option<&Path>, family: &str) -> History {
+        let file = dir.map(|d| d.join(format!("history-{family}.txt")));
+        let mut entries: Vec<String> = file
+            .as_ref()
+            .and_then(|f| fs::read_to_string(f).ok())
+            .map(|text| {
+                text.lines()
+                    .filter(|l| !l.trim().is_empty())
+                    .map(str::to_string)
+                    .collect()
+            })
+            .unwrap_or_default();
+        if entries.len() > HISTORY_LIMIT {
+            entries.drain(..entries.len() - HISTORY_LIMIT);
+            // Keep the file from growing without end.
+            if let Some(f) = &file {
+                let _ = fs::write(f, entries.join("\n") + "\n");
+            }
+        }
+        History {
+            entries,
+            file,
+            ..History::default()
+        }
+    }
+
+    /// Remember a line, in memory and on disk.
+    fn push(&mut self, line: &str) -> Result<(), String> {
+        self.browsing = None;
+        if line.trim().is_empty() || self.entries.last().is_some_and(|l| l == line) {
+            return Ok(());
+        }
+        self.entries.push(line.to_string());
+        let Some(file) = &self.file else {
+            return Ok(());
+        };
+        let written = file
+            .parent()
+            .map_or(Ok(()), fs::create_dir_all)
+            .and_then(|()| OpenOptions::new().create(true).append(true).open(file))
+            .and_then(|mut f| writeln!(f, "{line}"));
+        written.map_err(|e| format!("history not saved to {}: {e}", file.display()))
+    }
+
+    fn older(&mut self, current: &str) -> Option<&str> {
+        let at = match self.browsing {
+            None => {
+                self.draft = current.to_string();
+                self.entries.len().checked_sub(1)?
+            }
+            Some(at) => at.checked_sub(1)?,
+        };
+        self.browsing = Some(at);
+        self.entries.get(at).map(String::as_str)
+    }
+
+    fn newer(&mut self) -> Option<String> {
+        let at = self.browsing? + 1;
+        if at >= self.entries.len() {
+            self.browsing = None;
+            return Some(std::mem::take(&mut self.draft));
+        }
+        self.browsing = Some(at);
+        self.entries.get(at).cloned()
+    }
+}
+
+/// The console line editor and its output.
+#[derive(Debug)]
+pub struct CommandPane {
+    input: String,
+    /// Byte offset of the cursor in `input`, on a character boundary.
+    cursor: usize,
+    output: Vec<Output>,
+    /// Rows scrolled back from the newest output.
+    scroll: usize,
+    completing: Option<Completing>,
+    /// A one-line remark under the output (no completion, a syntax hint).
+    hint: Option<Output>,
+    history: History,
+    history_dir: Option<PathBuf>,
+    /// The family whose history is loaded.
+    family: Option<&'static str>,
+    next_tag: u64,
+    sent: HashMap<u64, Origin>,
+    batch: Option<Batch>,
+    /// The tag of the batch's current wake-up.
+    batch_wake: Option<u64>,
+}
+
+impl Default for CommandPane {
+    fn default() -> CommandPane {
+        CommandPane::new(None)
+    }
+}
+
+impl CommandPane {
+    /// A console whose history is kept in `history_dir` (none: not kept).
+    pub fn new(history_dir: Option<PathBuf>) -> CommandPane {
+        CommandPane {
+            input: String::new(),
+            cursor: 0,
+            output: Vec::new(),
+            scroll: 0,
+            completing: None,
+            hint: None,
+            history: History::default(),
+            history_dir,
+            family: None,
+            next_tag: 0,
+            sent: HashMap::new(),
+            batch: None,
+            batch_wake: None,
+        }
+    }
+
+    /// The text typed so far.
+    pub fn input(&self) -> &str {
+        &self.input
+    }
+
+    /// Every output row, oldest first.
+    pub fn output_lines(&self) -> impl Iterator<Item = &str> {
+        self.output.iter().map(|o| o.text.as_str())
+    }
+
+    fn say(&mut self, role: Role, text: impl Into<String>) {
+        let text = text.into();
+        for line in text.lines() {
+            self.output.push(Output {
+                role,
+                text: line.to_string(),
+            });
+        }
+        if self.output.len() > OUTPUT_LIMIT {
+            self.output.drain(..self.output.len() - OUTPUT_LIMIT);
+        }
+        self.scroll = 0;
+    }
+
+    fn tag(&mut self, origin: Origin) -> u64 {
+        self.next_tag += 1;
+        self.sent.insert(self.next_tag, origin);
+        self.next_tag
+    }
+
+    fn load_history(&mut self, family: &'static Family) {
+        if self.family != Some(family.name) {
+            self.history = History::load(self.history_dir.as_deref(), family.name);
+            self.family = Some(family.name);
+        }
+    }
+
+    fn set_input(&mut self, text: String) {
+        self.cursor = text.len();
+        self.input = text;
+    }
+
+    /// Enter: run the line.
+    fn submit(&mut self, view: &View) -> Outcome {
+        let line = std::mem::take(&mut self.input);
+        self.cursor = 0;
+        self.hint = None;
+        let trimmed = line.trim().to_string();
+        if trimmed.is_empty() {
+            return Outcome::redraw();
+        }
+        if let Err(message) = self.history.push(&trimmed) {
+            self.say(Role::Warning, message);
+        }
+        self.say(Role::Prompt, format!("{PROMPT}{trimmed}"));
+        if trimmed.starts_with(':') {
+            return self.console_command(&trimmed, view);
+        }
+        if view.session.is_none() {
+            self.say(Role::Error, not_connected());
+            return Outcome::redraw();
+        }
+        let tag = self.tag(Origin::Typed);
+        Outcome::request(Request::Send {
+            lines: vec![trimmed],
+            tag,
+        })
+    }
+
+    fn console_command(&mut self, line: &str, view: &View) -> Outcome {
+        let body = line.trim_start_matches(':');
+        let (name, rest) = match body.split_once(char::is_whitespace) {
+            Some((name, rest)) => (name.to_ascii_lowercase(), rest.trim()),
+            None => (body.to_ascii_lowercase(), ""),
+        };
+        let session = view.session;
+        let request = match name.as_str() {
+            "help" | "h" => {
+                self.help_topic(rest, view);
+                return Outcome::redraw();
+            }
+            "quit" | "q" | "exit" => Request::Quit,
+            "stop" => Request::EmergencyStop,
+            "poll" => match parse_rate(rest) {
+                Some(rate) => Request::Poll(rate),
+                None => {
+                    return self.fail(format!(
+                        ":poll needs a rate in Hz (e.g. `:poll 20`; 0 or off stops), not `{rest}`"
+                    ));
+                }
+            },
+            "axis" => match session.map(|s| find_axis(s, rest)) {
+                None => return self.fail(not_connected()),
+                Some(Ok(index)) => Request::SelectAxis(index),
+                Some(Err(message)) => return self.fail(message),
+            },
+            "clear" => {
+                let Some(session) = session else {
+                    return self.fail(not_connected());
+                };
+                let axis = if rest.is_empty() {
+                    Ok(session.axis)
+                } else {
+                    find_axis(session, rest)
+                };
+                match axis {
+                    Ok(axis) => {
+                        let name = session.axes.get(axis).map_or("", |a| a.name);
+                        self.say(Role::Muted, format!("error flags of {name} cleared"));
+                        Request::ClearErrors(axis)
+                    }
+                    Err(message) => return self.fail(message),
+                }
+            }
+            "address" => match rest.parse::<u8>() {
+                Ok(address) => Request::SetAddress(address),
+                Err(_) => {
+                    return self.fail(format!(
+                        ":address needs a module address 0..255, not `{rest}`"
+                    ));
+                }
+            },
+            "log" => match rest {
+                "" => return self.fail(":log needs a file name (or `off`)"),
+                "off" => Request::Log(None),
+                file => Request::Log(Some(PathBuf::from(file))),
+            },
+            "theme" if !rest.is_empty() => Request::Theme(rest.to_string()),
+            "keymap" if !rest.is_empty() => Request::Keymap(rest.to_string()),
+            "theme" | "keymap" => return self.fail(format!(":{name} needs a name")),
+            "connect" => {
+                if rest.is_empty() {
+                    return self.fail(
+                        ":connect needs a connection: --sim tmcm1110, --port PATH or --tcp HOST:PORT",
+                    );
+                }
+                Request::Connect(rest.split_whitespace().map(str::to_string).collect())
+            }
+            "run" => {
+                if rest.is_empty() {
+                    return self.fail(":run needs a file name");
+                }
+                return match fs::read_to_string(rest) {
+                    Ok(text) => self.start_batch(rest, &text, view),
+                    Err(e) => self.fail(format!("cannot read {rest}: {e}")),
+                };
+            }
+            "expect" | "wait-until" | "sleep" | "echo" => {
+                return self.start_batch(&format!(":{name}"), line, view);
+            }
+            _ => {
+                return self.fail(format!(
+                    "unknown console command `:{name}` (`:help` lists them)"
+                ));
+            }
+        };
+        Outcome::request(request)
+    }
+
+    fn fail(&mut self, message: impl Into<String>) -> Outcome {
+        self.say(Role::Error, message);
+        Outcome::redraw()
+    }
+
+    fn start_batch(&mut self, name: &str, text: &str, view: &View) -> Outcome {
+        if self.batch.is_some() {
+            return self.fail("a batch is running: wait for it, or cancel it (Esc)");
+        }
+        let Some(session) = view.session else {
+            return self.fail(not_connected());
+        };
+        match Batch::check(name, text, session.family, session.address) {
+            Err(problems) => {
+                for problem in problems {
+                    self.say(Role::Error, problem);
+                }
+                self.fail(format!("{name}: nothing was sent"))
+            }
+            Ok(batch) => {
+                if batch.len() > 1 {
+                    self.say(Role::Muted, format!("{name}: {} steps", batch.len()));
+                }
+                self.batch = Some(batch);
+                let steps = self.batch.as_mut().map(Batch::advance).unwrap_or_default();
+                self.batch_steps(steps)
+            }
+        }
+    }
+
+    /// Carry out what the batch asks for next.
+    fn batch_steps(&mut self, steps: Vec<BatchStep>) -> Outcome {
+        let mut requests = Vec::new();
+        for step in steps {
+            match step {
+                BatchStep::Send(line) => {
+                    let tag = self.tag(Origin::Batch);
+                    requests.push(Request::Send {
+                        lines: vec![line],
+                        tag,
+                    });
+                }
+                BatchStep::Wake(after) => {
+                    self.next_tag += 1;
+                    self.batch_wake = Some(self.next_tag);
+                    requests.push(Request::WakeAfter {
+                        after,
+                        tag: self.next_tag,
+                    });
+                }
+                BatchStep::Echo(text) => self.say(Role::Normal, text),
+                BatchStep::Failed(message) => {
+                    self.batch = None;
+                    self.say(Role::Error, message);
+                }
+                BatchStep::Done => {
+                    if self.batch.take().is_some_and(|b| b.len() > 1) {
+                        self.say(Role::Ok, "batch done");
+                    }
+                }
+            }
+        }
+        Outcome::Handled(requests)
+    }
+
+    fn help_topic(&mut self, topic: &str, view: &View) {
+        if topic.is_empty() {
+            let key = |action| key_label(view.keymap, Context::Command, action);
+            self.say(
+                Role::Accent,
+                format!(
+                    "Type a command (`MVP ABS, 0, 51200`); {} completes, {} on a word explains it, {}/{} recall.",
+                    key(Action::Complete),
+                    key(Action::Help),
+                    key(Action::HistoryPrevious),
+                    key(Action::HistoryNext),
+                ),
+            );
+            self.say(
+                Role::Accent,
+                format!(
+                    "{} stops every axis and any running program; {} quits; {} next pane; {}/{} scroll.",
+                    key(Action::EmergencyStop),
+                    key(Action::Quit),
+                    key(Action::NextPane),
+                    key(Action::ScrollPageUp),
+                    key(Action::ScrollPageDown),
+                ),
+            );
+            for (syntax, what) in CONSOLE_COMMANDS {
+                self.say(Role::Normal, format!("  {syntax:<24} {what}"));
+            }
+            return;
+        }
+        if topic.starts_with(':') {
+            let word = topic.split_whitespace().next().unwrap_or(topic);
+            let found: Vec<_> = CONSOLE_COMMANDS
+                .iter()
+                .filter(|(syntax, _)| {
+                    syntax
+                        .split_whitespace()
+                        .next()
+                        .is_some_and(|w| w.eq_ignore_ascii_case(word))
+                })
+                .collect();
+            if found.is_empty() {
+                self.say(
+                    Role::Error,
+                    format!("no console command `{word}` (`:help` lists them)"),
+                );
+            }
+            for (syntax, what) in found {
+                self.say(Role::Normal, format!("{syntax}: {what}"));
+            }
+            return;
+        }
+        let Some(session) = view.session else {
+            self.say(Role::Error, not_connected());
+            return;
+        };
+        let lines = session.family.console.help(topic, topic.len());
+        if lines.is_empty() {
+            self.say(Role::Warning, format!("no help on `{topic}`"));
+        }
+        for line in lines {
+            self.say(Role::Normal, line);
+        }
+    }
+
+    /// F1: help on the word under the cursor, read in its line.
+    fn help_here(&mut self, view: &View) {
+        let line = self.input.trim_end().to_string();
+        if line.trim().is_empty() {
+            self.help_topic("", view);
+        } else if let Some(topic) = line.strip_prefix(":help") {
+            self.help_topic(topic.trim(), view);
+        } else if line.starts_with(':') {
+            self.help_topic(&line, view);
+        } else if let Some(session) = view.session {
+            let lines = session
+                .family
+                .console
+                .help(&self.input, self.cursor.min(self.input.len()));
+            if lines.is_empty() {
+                self.say(Role::Warning, format!("no help on `{}`", line.trim()));
+            }
+            for l in lines {
+                self.say(Role::Normal, l);
+            }
+        } else {
+            self.say(Role::Error, not_connected());
+        }
+    }
+
+    fn complete(&mut self, view: &View) {
+        self.hint = None;
+        // Tab again: the next candidate.
+        if let Some(c) = self.completing.as_mut()
+            && c.line == self.input
+            && !c.candidates.is_empty()
+        {
+            let next = c.chosen.map_or(0, |i| (i + 1) % c.candidates.len());
+            let text = c
+                .candidates
+                .get(next)
+                .map(|k| k.text.clone())
+                .unwrap_or_default();
+            let end = c.start + c.len;
+            if self.input.is_char_boundary(c.start) && self.input.is_char_boundary(end) {
+                self.input.replace_range(c.start..end, &text);
+                c.len = text.len();
+                c.chosen = Some(next);
+                self.cursor = c.start + c.len;
+                c.line = self.input.clone();
+            }
+            return;
+        }
+        self.completing = None;
+        let completions = self.completions(view);
+        let Completions {
+            start,
+            end,
+            candidates,
+            separator,
+        } = completions;
+        if candidates.is_empty() {
+            self.hint = Some(Output {
+                role: Role::Muted,
+                text: "nothing to complete here".into(),
+            });
+            return;
+        }
+        if !(self.input.is_char_boundary(start) && self.input.is_char_boundary(end) && start <= end)
+        {
+            return;
+        }
+        let at_end = self
+            .input
+            .get(end..)
+            .is_none_or(|rest| rest.trim().is_empty());
+        if let [only] = candidates.as_slice() {
+            let mut text = only.text.clone();
+            if at_end {
+                text.push_str(separator);
+                self.input.truncate(end);
+            }
+            self.input.replace_range(start..end, &text);
+            self.cursor = start + text.len();
+            return;
+        }
+        let typed = self
+            .input
+            .get(start..self.cursor.max(start).min(end))
+            .unwrap_or("");
+        let common = common_prefix(&candidates);
+        let len = if common.len() > typed.len() {
+            self.input.replace_range(start..end, &common);
+            self.cursor = start + common.len();
+            common.len()
+        } else {
+            end - start
+        };
+        self.completing = Some(Completing {
+            start,
+            len,
+            candidates,
+            chosen: None,
+            line: self.input.clone(),
+        });
+    }
+
+    /// What Tab offers here: console commands and their arguments, or the
+    /// family's completions of a console line.
+    fn completions(&self, view: &View) -> Completions {
+        let line = self.input.as_str();
+        let cursor = self.cursor.min(line.len());
+        if let Some(body) = line.strip_prefix(':') {
+            let head_end = body.find(char::is_whitespace).map_or(line.len(), |i| i + 1);
+            if cursor <= head_end {
+                let typed = line.get(..cursor).unwrap_or("");
+                return Completions {
+                    start: 0,
+                    end: head_end,
+                    candidates: CONSOLE_COMMANDS
+                        .iter()
+                        .filter_map(|(syntax, what)| {
+                            let word = syntax.split_whitespace().next()?;
+                            word.starts_with(&typed.to_ascii_lowercase())
+                                .then(|| Candidate {
+                                    text: word.to_string(),
+                                    note: what.to_string(),
+                                })
+                        })
+                        .collect(),
+                    separator: " ",
+                };
+            }
+            let head = line.get(1..head_end).unwrap_or("").to_ascii_lowercase();
+            let offset = line.get(head_end..).map_or(line.len(), |rest| {
+                head_end + (rest.len() - rest.trim_start().len())
+            });
+            return match (head.as_str(), view.session) {
+                ("axis" | "clear", Some(session)) => {
+                    let typed = line.get(offset..cursor).unwrap_or("");
+                    Completions {
+                        start: offset,
+                        end: line.len(),
+                        candidates: session
+                            .axes
+                            .iter()
+                            .filter(|a| a.number.to_string().starts_with(typed))
+                            .map(|a| Candidate {
+                                text: a.number.to_string(),
+                                note: a.name.to_string(),
+                            })
+                            .collect(),
+                        separator: "",
+                    }
+                }
+                // `:help SAP 4`, `:expect GAP 8, 0 == 1`: the console line
+                // inside.
+                ("help" | "expect" | "wait-until", Some(session)) if cursor >= offset => {
+                    let inner = line.get(offset..).unwrap_or("");
+                    let inner_line = inner.split("==").next().unwrap_or(inner);
+                    if cursor - offset > inner_line.len() {
+                        return Completions::default();
+                    }
+                    let mut c = session.family.console.complete(inner_line, cursor - offset);
+                    c.start += offset;
+                    c.end += offset;
+                    c
+                }
+                _ => Completions::default(),
+            };
+        }
+        match view.session {
+            Some(session) => session.family.console.complete(line, cursor),
+            None => Completions::default(),
+        }
+    }
+
+    fn edit_key(&mut self, key: &KeyEvent, view: &View) -> Outcome {
+        let action = view.keymap.action_for(Context::Command, key);
+        if action != Some(Action::Complete) {
+            self.completing = None;
+            self.hint = None;
+        }
+        match action {
+            Some(Action::Submit) => return self.submit(view),
+            Some(Action::Complete) => self.complete(view),
+            Some(Action::Help) => self.help_here(view),
+            Some(Action::Cancel) => {
+                if self.batch.take().is_some() {
+                    self.batch_wake = None;
+                    self.say(Role::Warning, "batch stopped");
+                } else {
+                    self.set_input(String::new());
+                }
+            }
+            Some(Action::HistoryPrevious) => {
+                if let Some(line) = self.history.older(&self.input).map(str::to_string) {
+                    self.set_input(line);
+                }
+            }
+            Some(Action::HistoryNext) => {
+                if let Some(line) = self.history.newer() {
+                    self.set_input(line);
+                }
+            }
+            Some(Action::ScrollUp) => self.scroll = self.scroll.saturating_add(1),
+            Some(Action::ScrollDown) => self.scroll = self.scroll.saturating_sub(1),
+            Some(Action::ScrollPageUp) => self.scroll = self.scroll.saturating_add(PAGE),
+            Some(Action::ScrollPageDown) => self.scroll = self.scroll.saturating_sub(PAGE),
+            Some(Action::ScrollTop) => self.scroll = usize::MAX,
+            Some(Action::ScrollBottom) => self.scroll = 0,
+            Some(Action::ClearOutput) => {
+                self.output.clear();
+                self.scroll = 0;
+            }
+            // Global actions this pane has no use for go to the app.
+            Some(_) => return Outcome::Ignored,
+            None => return self.edit_text(key),
+        }
+        Outcome::redraw()
+    }
+
+    /// Keys that edit the line itself.
+    fn edit_text(&mut self, key: &KeyEvent) -> Outcome {
+        let ctrl = key.modifiers.contains(KeyModifiers::CONTROL);
+        let alt = key.modifiers.contains(KeyModifiers::ALT);
+        match key.code {
+            KeyCode::Char('a') if ctrl => self.cursor = 0,
+            KeyCode::Char('e') if ctrl => self.cursor = self.input.len(),
+            KeyCode::Char('u') if ctrl => {
+                self.input.drain(..self.cursor);
+                self.cursor = 0;
+            }
+            KeyCode::Char('k') if ctrl => self.input.truncate(self.cursor),
+            KeyCode::Char('w') if ctrl => {
+                let before = self.input.get(..self.cursor).unwrap_or("");
+                let trimmed = before.trim_end_matches([' ', ',']);
+                let start = trimmed.rfind([' ', ',']).map_or(0, |i| i + 1);
+                self.input.drain(start..self.cursor);
+                self.cursor = start;
+            }
+            KeyCode::Char(c) if !ctrl && !alt => {
+                self.input.insert(self.cursor, c);
+                self.cursor += c.len_utf8();
+            }
+            KeyCode::Backspace => {
+                if let Some(c) = self
+                    .input
+                    .get(..self.cursor)
+                    .and_then(|s| s.chars().next_back())
+                {
+                    self.cursor -= c.len_utf8();
+                    self.input.remove(self.cursor);
+                }
+            }
+            KeyCode::Delete => {
+                if self.cursor < self.input.len() {
+                    self.input.remove(self.cursor);
+                }
+            }
+            KeyCode::Left => {
+                if let Some(c) = self
+                    .input
+                    .get(..self.cursor)
+                    .and_then(|s| s.chars().next_back())
+                {
+                    self.cursor -= c.len_utf8();
+                }
+            }
+            KeyCode::Right => {
+                if let Some(c) = self.input.get(self.cursor..).and_then(|s| s.chars().next()) {
+                    self.cursor += c.len_utf8();
+                }
+            }
+            KeyCode::Home => self.cursor = 0,
+            KeyCode::End => self.cursor = self.input.len(),
+            _ => return Outcome::Ignored,
+        }
+        Outcome::redraw()
+    }
+
+    fn show_reply(
+        &mut self,
+        family: Option<&'static Family>,
+        result: &Result<LineResult, SessionError>,
+    ) {
+        match result {
+            Ok(result) => {
+                let meaning = match (result.status, family) {
+                    (Some(status), Some(f)) => match f.console.status_meaning(status) {
+                        Some(meaning) => format!("  (status {status}: {meaning})"),
+                        None => format!("  (status {status})"),
+                    },
+                    (Some(status), None) => format!("  (status {status})"),
+                    (None, _) => String::new(),
+                };
+                self.say(Role::Ok, format!("  {}{meaning}", result.value));
+                if let Some(f) = family {
+                    let mut wire = format!("  sent {}", (f.show_bytes)(&result.request));
+                    if !result.reply.is_empty() {
+                        wire.push_str(&format!("  got {}", (f.show_bytes)(&result.reply)));
+                    }
+                    if result.attempts > 1 {
+                        wire.push_str(&format!("  ({} attempts)", result.attempts));
+                    }
+                    self.say(Role::Muted, wire);
+                }
+            }
+            Err(error) => {
+                let prefix = match error {
+                    SessionError::Refused { .. } => "not sent: ",
+                    SessionError::Reply { .. } => "error: ",
+                    SessionError::Device { .. } => "no answer: ",
+                };
+                self.say(Role::Error, format!("  {prefix}{error}"));
+                if let (Some(f), Some(request)) = (family, error.request()) {
+                    let mut wire = format!("  sent {}", (f.show_bytes)(request));
+                    if let Some(reply) = error.reply() {
+                        wire.push_str(&format!("  got {}", (f.show_bytes)(reply)));
+                    }
+                    self.say(Role::Muted, wire);
+                }
+            }
+        }
+    }
+
+    /// The output rows wrapped to `width`, newest last.
+    fn wrapped(&self, width: usize) -> Vec<(Role, String)> {
+        let width = width.max(1);
+        let mut rows = Vec::new();
+        for line in &self.output {
+            let chars: Vec<char> = line.text.chars().collect();
+            if chars.is_empty() {
+                rows.push((line.role, String::new()));
+            }
+            for chunk in chars.chunks(width) {
+                rows.push((line.role, chunk.iter().collect()));
+            }
+        }
+        rows
+    }
+
+    /// The rows under the output: completion candidates, or a hint.
+    fn hint_rows(&self, view: &View, width: usize) -> Vec<Line<'static>> {
+        let theme = view.theme;
+        if let Some(c) = &self.completing {
+            let mut rows: Vec<Line> = Vec::new();
+            let mut row: Vec<Span> = Vec::new();
+            let mut used = 0;
+            for (i, candidate) in c.candidates.iter().enumerate() {
+                let note = truncate(&candidate.note, 28);
+                let cell = if note.is_empty() {
+                    candidate.text.clone()
+                } else {
+                    format!("{} {note}", candidate.text)
+                };
+                let cell_width = cell.chars().count() + 3;
+                if used + cell_width > width && !row.is_empty() {
+                    rows.push(Line::from(std::mem::take(&mut row)));
+                    used = 0;
+                    if rows.len() == CANDIDATE_ROWS {
+                        break;
+                    }
+                }
+                let style = if c.chosen == Some(i) {
+                    theme.style(Role::Selection)
+                } else {
+                    theme.style(Role::Accent)
+                };
+                row.push(Span::styled(candidate.text.clone(), style));
+                if !note.is_empty() {
+                    row.push(Span::styled(format!(" {note}"), theme.style(Role::Muted)));
+                }
+                row.push(Span::raw("   "));
+                used += cell_width;
+            }
+            if !row.is_empty() && rows.len() < CANDIDATE_ROWS {
+                rows.push(Line::from(row));
+            }
+            return rows;
+        }
+        if let Some(hint) = &self.hint {
+            return vec![Line::styled(hint.text.clone(), theme.style(hint.role))];
+        }
+        // The syntax of the command being typed.
+        if let Some(session) = view.session
+            && !self.input.trim().is_empty()
+            && !self.input.starts_with(':')
+            && let Some(first) = session.family.console.help(&self.input, 0).first()
+        {
+            return vec![Line::styled(first.clone(), theme.style(Role::Muted))];
+        }
+        if let Some(batch) = &self.batch {
+            let _ = batch;
+            return vec![Line::styled(
+                format!(
+                    "batch running: {} stops it",
+                    key_label(view.keymap, Context::Command, Action::Cancel)
+                ),
+                theme.style(Role::Warning),
+            )];
+        }
+        Vec::new()
+    }
+}
+
+impl Pane for CommandPane {
+    fn name(&self) -> &'static str {
+        "command"
+    }
+
+    fn context(&self) -> Context {
+        Context::Command
+    }
+
+    fn title(&self, _view: &View) -> String {
+        "Command".into()
+    }
+
+    fn region(&self) -> Region {
+        Region::Main
+    }
+
+    fn render(&mut self, frame: &mut Frame, area: Rect, view: &View) {
+        if area.height == 0 || area.width == 0 {
+            return;
+        }
+        if let Some(session) = view.session {
+            self.load_history(session.family);
+        }
+        let theme = view.theme;
+        let width = usize::from(area.width);
+        let mut hint = self.hint_rows(view, width);
+        let max_hint = usize::from(area.height.saturating_sub(2));
+        hint.truncate(max_hint);
+        let output_rows = usize::from(area.height).saturating_sub(1 + hint.len());
+        let rows = self.wrapped(width);
+        let max_scroll = rows.len().saturating_sub(output_rows);
+        self.scroll = self.scroll.min(max_scroll);
+        let end = rows.len() - self.scroll;
+        let start = end.saturating_sub(output_rows);
+        let mut lines: Vec<Line> = rows
+            .get(start..end)
+            .unwrap_or_default()
+            .iter()
+            .map(|(role, text)| Line::styled(text.clone(), theme.style(*role)))
+            .collect();
+        // Output sits right above the prompt, as in a shell.
+        let blank = output_rows.saturating_sub(lines.len());
+        let mut all: Vec<Line> = vec![Line::raw(""); blank];
+        all.append(&mut lines);
+        all.extend(hint);
+        // The prompt, scrolled sideways to keep the cursor in view.
+        let before: Vec<char> = self
+            .input
+            .get(..self.cursor)
+            .unwrap_or("")
+            .chars()
+            .collect();
+        let room = width.saturating_sub(PROMPT.len() + 1).max(1);
+        let skip = before.len().saturating_sub(room);
+        let shown: String = self.input.chars().skip(skip).take(room + 1).collect();
+        all.push(Line::from(vec![
+            Span::styled(PROMPT, theme.style(Role::Prompt)),
+            Span::styled(shown, theme.style(Role::Normal)),
+        ]));
+        let prompt_row = area.y + (all.len() as u16).saturating_sub(1).min(area.height - 1);
+        frame.render_widget(Paragraph::new(all), area);
+        if view.focused {
+            let column = (PROMPT.len() + before.len() - skip).min(width.saturating_sub(1));
+            frame.set_cursor_position(Position::new(area.x + column as u16, prompt_row));
+        }
+    }
+
+    fn handle_input(&mut self, input: &Input, view: &View) -> Outcome {
+        match input {
+            Input::Key(key) => self.edit_key(key, view),
+            Input::Paste(text) => {
+                let mut lines = text.lines();
+                let first = lines.next().unwrap_or("");
+                self.input.insert_str(self.cursor, first);
+                self.cursor += first.len();
+                if lines.next().is_some() {
+                    self.hint = Some(Output {
+                        role: Role::Warning,
+                        text: "only the first pasted line was taken: use :run FILE for several"
+                            .into(),
+                    });
+                }
+                Outcome::redraw()
+            }
+            Input::Mouse(mouse) => match mouse.kind {
+                MouseEventKind::ScrollUp => {
+                    self.scroll = self.scroll.saturating_add(3);
+                    Outcome::redraw()
+                }
+                MouseEventKind::ScrollDown => {
+                    self.scroll = self.scroll.saturating_sub(3);
+                    Outcome::redraw()
+                }
+                _ => Outcome::Ignored,
+            },
+        }
+    }
+
+    fn on_event(&mut self, event: &PaneEvent, view: &View) -> Outcome {
+        let family = view.session.map(|s| s.family);
+        match event {
+            PaneEvent::Reply { tag, result, .. } => {
+                let Some(origin) = self.sent.remove(tag) else {
+                    return Outcome::Ignored;
+                };
+                if origin == Origin::Batch
+                    && let Ok(r) = result
+                {
+                    self.say(Role::Normal, format!("{PROMPT}{}", r.line));
+                }
+                self.show_reply(family, result);
+                if origin == Origin::Batch {
+                    let steps = match self.batch.as_mut() {
+                        Some(batch) => batch.on_reply(result),
+                        None => return Outcome::redraw(),
+                    };
+                    return self.batch_steps(steps);
+                }
+                Outcome::redraw()
+            }
+            PaneEvent::Wake { tag } if self.batch_wake == Some(*tag) => {
+                self.batch_wake = None;
+                let steps = self.batch.as_mut().map(Batch::on_wake).unwrap_or_default();
+                self.batch_steps(steps)
+            }
+            PaneEvent::Stopping => {
+                let dropped = self.sent.len();
+                self.sent.clear();
+                self.batch_wake = None;
+                let batch = self.batch.take().is_some();
+                let key = key_label(view.keymap, Context::Global, Action::EmergencyStop);
+                self.say(
+                    Role::Emergency,
+                    format!("{key} EMERGENCY STOP: stopping every axis and any running program"),
+                );
+                if dropped > 0 || batch {
+                    self.say(
+                        Role::Warning,
+                        format!(
+                            "  {dropped} line(s) waiting for their turn or answer were dropped{}",
+                            if batch { "; the batch was stopped" } else { "" }
+                        ),
+                    );
+                }
+                Outcome::redraw()
+            }
+            PaneEvent::EmergencyStop(results) => {
+                for result in results {
+                    match result {
+                        Ok(r) => {
+                            let line = r.line.clone();
+                            self.say(Role::Emergency, format!("  sent {line}"));
+                        }
+                        Err(e) => self.say(Role::Error, format!("  stop line failed: {e}")),
+                    }
+                    self.show_reply(family, result);
+                }
+                let ok = results.iter().all(Result::is_ok);
+                if ok && !results.is_empty() {
+                    self.say(Role::Ok, "STOP confirmed: every stop line answered ok");
+                } else if results.is_empty() {
+                    self.say(Role::Error, "STOP: nothing was sent (not connected)");
+                } else {
+                    self.say(Role::Error, "STOP: some stop lines failed; check the axes");
+                }
+                Outcome::redraw()
+            }
+            PaneEvent::Notice(notice) => {
+                let role = match notice.level {
+                    NoticeLevel::Info => Role::Accent,
+                    NoticeLevel::Warning => Role::Warning,
+                    NoticeLevel::Error => Role::Error,
+                };
+                self.say(role, notice.text.clone());
+                Outcome::redraw()
+            }
+            PaneEvent::Snapshot => {
+                if let Some(session) = view.session {
+                    self.load_history(session.family);
+                }
+                Outcome::Ignored
+            }
+            PaneEvent::Device(DeviceEvent::Unsolicited { description, .. }) => {
+                self.say(Role::Accent, format!("module: {description}"));
+                Outcome::redraw()
+            }
+            PaneEvent::Device(DeviceEvent::StateChanged(state)) => {
+                match state {
+                    LinkState::Connected { link } => {
+                        self.say(Role::Ok, format!("link {link} open"))
+                    }
+                    LinkState::Disconnected { reason, retry_in } => self.say(
+                        Role::Error,
+                        format!(
+                            "link lost: {reason}; trying again in {} ms",
+                            retry_in.as_millis()
+                        ),
+                    ),
+                    LinkState::Closed => self.say(Role::Warning, "link closed"),
+                }
+                Outcome::redraw()
+            }
+            _ => Outcome::Ignored,
+        }
+    }
+}
+
+fn not_connected() -> String {
+    "not connected: `:connect --sim tmcm1110` (or --port PATH, --tcp HOST:PORT)".into()
+}
+
+/// A rate in Hz: a number, or `off`.
+fn parse_rate(text: &str) -> Option<f64> {
+    let text = text
+        .trim()
+        .trim_end_matches("Hz")
+        .trim_end_matches("hz")
+        .trim();
+    if text.eq_ignore_ascii_case("off") {
+        return Some(0.0);
+    }
+    text.parse::<f64>()
+        .ok()
+        .filter(|r| r.is_finite() && *r >= 0.0)
+}
+
+/// The index of the axis named `text` (its number or its name).
+fn find_axis(session: &Snapshot, text: &str) -> Result<usize, String> {
+    let text = text.trim();
+    let by_number = text
+        .parse::<u8>()
+        .ok()
+        .and_then(|n| session.axes.iter().position(|a| a.number == n));
+    let by_name = || {
+        session
+            .axes
+            .iter()
+            .position(|a| a.name.eq_ignore_ascii_case(text))
+    };
+    by_number.or_else(by_name).ok_or_else(|| {
+        let known: Vec<String> = session
+            .axes
+            .iter()
+            .map(|a| format!("{} ({})", a.number, a.name))
+            .collect();
+        format!("no axis `{text}`: this module has {}", known.join(", "))
+    })
+}
+
+/// The longest start all candidates share (case-insensitive), in the
+/// first candidate's spelling.
+fn common_prefix(candidates: &[Candidate]) -> String {
+    let Some(first) = candidates.first() else {
+        return String::new();
+    };
+    let mut len = first.text.len();
+    for c in candidates.iter().skip(1) {
+        len = first
+            .text
+            .char_indices()
+            .zip(c.text.chars())
+            .take_while(|((_, a), b)| a.eq_ignore_ascii_case(b))
+            .map(|((i, a), _)| i + a.len_utf8())
+            .last()
+            .unwrap_or(0)
+            .min(len);
+    }
+    first.text.get(..len).unwrap_or("").to_string()
+}
+
+fn truncate(text: &str, max: usize) -> String {
+    if text.chars().count() <= max {
+        text.to_string()
+    } else {
+        let mut t: String = text.chars().take(max.saturating_sub(1)).collect();
+        t.push('…');
+        t
+    }
+}

@@ -1,0 +1,564 @@
+//! The connect screen: what `axterm` alone opens on. It lists the recent
+//! connections, every built-in simulator, the serial ports found (the
+//! link layer's listing, as `axterm ports` shows them) and a TCP bridge,
+//! with the protocol, baud rate and module address to use; choosing one
+//! connects ([`Request::Connect`] with the same options as the command
+//! line) and, once it is open, hands the keyboard to the command line.
+//! Connections that open are remembered ([`recent`]).
+//!
+//! The form takes typed text (baud, address, host), so its keys are the
+//! command line's ([`Context::Command`]): Up/Down choose, Enter connects,
+//! Tab moves between the fields, Esc goes back to the list.
+
+pub mod recent;
+
+use std::io;
+use std::path::Path;
+
+use ratatui::Frame;
+use ratatui::crossterm::event::{KeyCode, KeyEvent};
+use ratatui::layout::{Position, Rect};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::Paragraph;
+
+use super::field::Field;
+use super::keymap::{Action, Context};
+use super::pane::{Input, NoticeLevel, Outcome, Pane, PaneEvent, Region, Request, View, key_label};
+use super::theme::Role;
+use crate::link::ports::PortInfo;
+use crate::protocol::FAMILIES;
+use crate::sim::SIM_KINDS;
+use recent::Recents;
+
+/// Lists the serial ports of the machine: the link layer's listing, or a
+/// test's.
+pub type PortLister = fn() -> io::Result<Vec<PortInfo>>;
+
+/// The baud rate offered first: the TMCM-1110's default (§5.1 GP65 = 0).
+pub const DEFAULT_BAUD: &str = "9600";
+
+/// The bridge offered first: `axterm sim --tcp` on this machine.
+pub const DEFAULT_TCP: &str = "127.0.0.1:4001";
+
+/// One line of the list one can choose.
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum Choice {
+    Recent(Vec<String>),
+    Sim {
+        name: &'static str,
+        description: &'static str,
+    },
+    Port(String),
+    /// Look for serial ports again.
+    Rescan,
+    Tcp,
+}
+
+/// What the keys type into.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Focus {
+    List,
+    Protocol,
+    Baud,
+    Address,
+    Tcp,
+}
+
+impl Focus {
+    fn next(self) -> Focus {
+        match self {
+            Focus::List => Focus::Protocol,
+            Focus::Protocol => Focus::Baud,
+            Focus::Baud => Focus::Address,
+            Focus::Address => Focus::Tcp,
+            Focus::Tcp => Focus::List,
+        }
+    }
+}
+
+/// The connect screen.
+pub struct ConnectPane {
+    recents: Recents,
+    list_ports: PortLister,
+    ports: Vec<PortInfo>,
+    port_problem: Option<String>,
+    scanned: bool,
+    selected: usize,
+    focus: Focus,
+    /// Index into [`FAMILIES`].
+    protocol: usize,
+    baud: Field,
+    address: Field,
+    tcp: Field,
+    /// The options of the connection being opened.
+    connecting: Option<Vec<String>>,
+    message: Option<(Role, String)>,
+}
+
+impl ConnectPane {
+    /// Recent connections kept in `data_dir`; ports listed by `list_ports`.
+    pub fn new(data_dir: Option<&Path>, list_ports: PortLister) -> ConnectPane {
+        let recents = Recents::load(data_dir);
+        let message = recents.problem().map(|p| (Role::Warning, p.to_string()));
+        ConnectPane {
+            recents,
+            list_ports,
+            ports: Vec::new(),
+            port_problem: None,
+            scanned: false,
+            selected: 0,
+            focus: Focus::List,
+            protocol: 0,
+            baud: Field::new(DEFAULT_BAUD),
+            address: Field::new(""),
+            tcp: Field::new(DEFAULT_TCP),
+            connecting: None,
+            message,
+        }
+    }
+
+    /// The recent connections, newest first.
+    pub fn recents(&self) -> &[Vec<String>] {
+        self.recents.entries()
+    }
+
+    fn scan(&mut self) {
+        self.scanned = true;
+        match (self.list_ports)() {
+            Ok(ports) => {
+                self.ports = ports;
+                self.port_problem = None;
+            }
+            Err(e) => {
+                self.ports.clear();
+                self.port_problem = Some(format!("cannot list serial ports: {e}"));
+            }
+        }
+    }
+
+    fn choices(&self) -> Vec<Choice> {
+        let mut choices: Vec<Choice> = self
+            .recents
+            .entries()
+            .iter()
+            .cloned()
+            .map(Choice::Recent)
+            .collect();
+        choices.extend(SIM_KINDS.iter().map(|kind| Choice::Sim {
+            name: kind.name,
+            description: kind.description,
+        }));
+        choices.extend(self.ports.iter().map(|p| Choice::Port(p.path.clone())));
+        choices.push(Choice::Rescan);
+        choices.push(Choice::Tcp);
+        choices
+    }
+
+    fn protocol_name(&self) -> &'static str {
+        FAMILIES.get(self.protocol).map_or("tmcl", |f| f.name)
+    }
+
+    /// The address typed, checked; `None` when left empty (the family's
+    /// default).
+    fn address(&self) -> Result<Option<String>, String> {
+        let text = self.address.text().trim();
+        if text.is_empty() {
+            return Ok(None);
+        }
+        text.parse::<u8>()
+            .map(|a| Some(a.to_string()))
+            .map_err(|_| format!("address {text}: give a number from 0 to 255"))
+    }
+
+    fn baud(&self) -> Result<String, String> {
+        let text = self.baud.text().trim();
+        match text.parse::<u32>() {
+            Ok(b) if b > 0 => Ok(b.to_string()),
+            _ => Err(format!("baud {text}: give a rate such as 9600 or 115200")),
+        }
+    }
+
+    /// The connection options of a choice, as on the command line.
+    fn args(&self, choice: &Choice) -> Result<Vec<String>, String> {
+        let mut args: Vec<String> = match choice {
+            Choice::Recent(args) => return Ok(args.clone()),
+            Choice::Rescan => return Ok(Vec::new()),
+            Choice::Sim { name, .. } => vec!["--sim".into(), (*name).into()],
+            Choice::Port(path) => vec![
+                "--port".into(),
+                path.clone(),
+                "--protocol".into(),
+                self.protocol_name().into(),
+                "--baud".into(),
+                self.baud()?,
+            ],
+            Choice::Tcp => {
+                let host = self.tcp.text().trim();
+                if !host.contains(':') || host.ends_with(':') {
+                    return Err(format!("tcp {host}: give HOST:PORT, e.g. {DEFAULT_TCP}"));
+                }
+                vec![
+                    "--tcp".into(),
+                    host.into(),
+                    "--protocol".into(),
+                    self.protocol_name().into(),
+                ]
+            }
+        };
+        if let Some(address) = self.address()? {
+            args.push("--address".into());
+            args.push(address);
+        }
+        Ok(args)
+    }
+
+    fn connect(&mut self) -> Outcome {
+        let choices = self.choices();
+        let Some(choice) = choices.get(self.selected) else {
+            return Outcome::redraw();
+        };
+        if *choice == Choice::Rescan {
+            self.scan();
+            self.message = Some((
+                Role::Accent,
+                format!("{} serial port(s) found", self.ports.len()),
+            ));
+            return Outcome::redraw();
+        }
+        match self.args(choice) {
+            Ok(args) => {
+                self.message = Some((Role::Accent, format!("connecting: {}…", args.join(" "))));
+                self.connecting = Some(args.clone());
+                Outcome::request(Request::Connect(args))
+            }
+            Err(why) => {
+                self.message = Some((Role::Error, format!("{why}; nothing opened")));
+                Outcome::redraw()
+            }
+        }
+    }
+
+    fn key(&mut self, key: &KeyEvent, view: &View) -> Outcome {
+        if !self.scanned {
+            self.scan();
+        }
+        let action = view.keymap.action_for(Context::Command, key);
+        let count = self.choices().len();
+        match action {
+            Some(Action::HistoryPrevious) => self.selected = self.selected.saturating_sub(1),
+            Some(Action::HistoryNext) => {
+                self.selected = (self.selected + 1).min(count.saturating_sub(1));
+            }
+            Some(Action::Submit) => return self.connect(),
+            Some(Action::Complete) => self.focus = self.focus.next(),
+            Some(Action::Cancel) => {
+                self.focus = Focus::List;
+                self.message = None;
+            }
+            Some(_) => return Outcome::Ignored,
+            None => return self.type_key(key),
+        }
+        Outcome::redraw()
+    }
+
+    fn type_key(&mut self, key: &KeyEvent) -> Outcome {
+        let field = match self.focus {
+            Focus::List => return Outcome::Ignored,
+            Focus::Protocol => {
+                let step = match key.code {
+                    KeyCode::Left => FAMILIES.len().saturating_sub(1),
+                    KeyCode::Right | KeyCode::Char(' ') => 1,
+                    _ => return Outcome::Ignored,
+                };
+                self.protocol = (self.protocol + step) % FAMILIES.len().max(1);
+                return Outcome::redraw();
+            }
+            Focus::Baud => &mut self.baud,
+            Focus::Address => &mut self.address,
+            Focus::Tcp => &mut self.tcp,
+        };
+        if field.edit(key) {
+            Outcome::redraw()
+        } else {
+            Outcome::Ignored
+        }
+    }
+
+    fn choice_line(
+        &self,
+        choice: &Choice,
+        selected: bool,
+        view: &View,
+        width: usize,
+    ) -> Line<'static> {
+        let theme = view.theme;
+        let (text, note) = match choice {
+            Choice::Recent(args) => (args.join(" "), String::new()),
+            Choice::Sim { name, description } => (format!("sim {name}"), description.to_string()),
+            Choice::Port(path) => {
+                let info = self
+                    .ports
+                    .iter()
+                    .find(|p| p.path == *path)
+                    .map(|p| p.to_string())
+                    .unwrap_or_default();
+                let note = info
+                    .strip_prefix(path.as_str())
+                    .unwrap_or("")
+                    .trim()
+                    .to_string();
+                (path.clone(), note)
+            }
+            Choice::Rescan => ("↻ look for serial ports again".into(), String::new()),
+            Choice::Tcp => (
+                format!("tcp {}", self.tcp.text().trim()),
+                "serial-over-TCP bridge (ser2net, axterm sim --tcp)".into(),
+            ),
+        };
+        let marker = if selected { "▶ " } else { "  " };
+        let line = fit(&format!("{marker}{text:<24} {note}"), width);
+        let style = if selected {
+            theme.style(if view.focused && self.focus == Focus::List {
+                Role::Selection
+            } else {
+                Role::Accent
+            })
+        } else {
+            theme.style(Role::Normal)
+        };
+        Line::styled(line, style)
+    }
+
+    fn form_line(&self, view: &View) -> (Line<'static>, Option<usize>) {
+        let theme = view.theme;
+        let mut spans = Vec::new();
+        let mut cursor = None;
+        let mut column = 0;
+        let fields = [
+            (
+                Focus::Protocol,
+                "protocol ",
+                self.protocol_name().to_string(),
+                None,
+            ),
+            (
+                Focus::Baud,
+                "baud ",
+                self.baud.text().to_string(),
+                Some(&self.baud),
+            ),
+            (
+                Focus::Address,
+                "address ",
+                self.address.text().to_string(),
+                Some(&self.address),
+            ),
+            (
+                Focus::Tcp,
+                "tcp ",
+                self.tcp.text().to_string(),
+                Some(&self.tcp),
+            ),
+        ];
+        for (focus, label, value, field) in fields {
+            let shown = if value.is_empty() && focus == Focus::Address {
+                "default".to_string()
+            } else {
+                value
+            };
+            let active = self.focus == focus && view.focused;
+            spans.push(Span::styled(label, theme.style(Role::Muted)));
+            column += label.chars().count();
+            spans.push(Span::styled("[", theme.style(Role::Muted)));
+            column += 1;
+            if active && let Some(field) = field {
+                cursor = Some(column + field.cursor_column());
+            }
+            let style = theme.style(if active {
+                Role::Selection
+            } else {
+                Role::Normal
+            });
+            column += shown.chars().count();
+            spans.push(Span::styled(shown, style));
+            spans.push(Span::styled("]  ", theme.style(Role::Muted)));
+            column += 3;
+        }
+        (Line::from(spans), cursor)
+    }
+}
+
+fn fit(text: &str, width: usize) -> String {
+    if text.chars().count() <= width {
+        return text.to_string();
+    }
+    if width == 0 {
+        return String::new();
+    }
+    let mut out: String = text.chars().take(width - 1).collect();
+    out.push('…');
+    out
+}
+
+impl Pane for ConnectPane {
+    fn name(&self) -> &'static str {
+        "connect"
+    }
+
+    fn context(&self) -> Context {
+        Context::Command
+    }
+
+    fn title(&self, _view: &View) -> String {
+        "Connect".into()
+    }
+
+    fn region(&self) -> Region {
+        Region::Main
+    }
+
+    fn render(&mut self, frame: &mut Frame, area: Rect, view: &View) {
+        if area.height == 0 || area.width == 0 {
+            return;
+        }
+        if !self.scanned {
+            self.scan();
+        }
+        let theme = view.theme;
+        let width = usize::from(area.width);
+        let key = |action| key_label(view.keymap, Context::Command, action);
+        let mut head = vec![Line::styled(
+            fit(
+                &match view.session {
+                    Some(s) => format!(
+                        "Connected to {} #{}: choose another connection to switch to it",
+                        s.link_name, s.address
+                    ),
+                    None => "Connect to a controller".to_string(),
+                },
+                width,
+            ),
+            theme.style(Role::Title),
+        )];
+        let (form, form_cursor) = self.form_line(view);
+        let mut footer = vec![
+            form,
+            Line::styled(
+                fit(
+                    &format!(
+                        "↑↓ choose · {} connect · {} next field · ←→ protocol · {} back to the list",
+                        key(Action::Submit),
+                        key(Action::Complete),
+                        key(Action::Cancel)
+                    ),
+                    width,
+                ),
+                theme.style(Role::Muted),
+            ),
+        ];
+        if let Some((role, text)) = &self.message {
+            footer.push(Line::styled(fit(text, width), theme.style(*role)));
+        }
+        // The list, in sections, scrolled to keep the selection in view.
+        let choices = self.choices();
+        self.selected = self.selected.min(choices.len().saturating_sub(1));
+        let mut list: Vec<(Option<usize>, Line)> = Vec::new();
+        let mut section = "";
+        for (i, choice) in choices.iter().enumerate() {
+            let title = match choice {
+                Choice::Recent(_) => "Recent",
+                Choice::Sim { .. } => "Simulators (no hardware needed)",
+                Choice::Port(_) | Choice::Rescan => "Serial ports",
+                Choice::Tcp => "TCP",
+            };
+            if title != section {
+                section = title;
+                list.push((None, Line::styled(title, theme.style(Role::Accent))));
+                if title == "Serial ports" {
+                    if let Some(problem) = &self.port_problem {
+                        list.push((
+                            None,
+                            Line::styled(format!("  {problem}"), theme.style(Role::Warning)),
+                        ));
+                    } else if self.ports.is_empty() {
+                        list.push((None, Line::styled("  none found", theme.style(Role::Muted))));
+                    }
+                }
+            }
+            list.push((
+                Some(i),
+                self.choice_line(choice, i == self.selected, view, width),
+            ));
+        }
+        let room = usize::from(area.height).saturating_sub(head.len() + footer.len());
+        let at = list
+            .iter()
+            .position(|(i, _)| *i == Some(self.selected))
+            .unwrap_or(0);
+        let skip = (at + 1).saturating_sub(room);
+        let mut lines: Vec<Line> = std::mem::take(&mut head);
+        lines.extend(list.into_iter().skip(skip).take(room).map(|(_, l)| l));
+        while lines.len() < usize::from(area.height).saturating_sub(footer.len()) {
+            lines.push(Line::raw(""));
+        }
+        let form_row = lines.len();
+        lines.append(&mut footer);
+        frame.render_widget(Paragraph::new(lines), area);
+        if view.focused
+            && let Some(column) = form_cursor
+        {
+            let x = area.x + column.min(width.saturating_sub(1)) as u16;
+            let y = area.y + (form_row as u16).min(area.height - 1);
+            frame.set_cursor_position(Position::new(x, y));
+        }
+    }
+
+    fn handle_input(&mut self, input: &Input, view: &View) -> Outcome {
+        match input {
+            Input::Key(key) => self.key(key, view),
+            Input::Paste(text) => {
+                let line = text.lines().next().unwrap_or("");
+                match self.focus {
+                    Focus::Baud => self.baud.insert_str(line),
+                    Focus::Address => self.address.insert_str(line),
+                    Focus::Tcp => self.tcp.insert_str(line),
+                    Focus::List | Focus::Protocol => return Outcome::Ignored,
+                }
+                Outcome::redraw()
+            }
+            Input::Mouse(_) => Outcome::Ignored,
+        }
+    }
+
+    fn on_event(&mut self, event: &PaneEvent, _view: &View) -> Outcome {
+        match event {
+            PaneEvent::Focused => {
+                self.scan();
+                Outcome::redraw()
+            }
+            PaneEvent::Connected { args } => {
+                let ours = self.connecting.take();
+                if let Some(args) = args.clone().or(ours.clone())
+                    && let Err(why) = self.recents.remember(args)
+                {
+                    self.message = Some((Role::Warning, why));
+                    return Outcome::redraw();
+                }
+                if ours.is_some() {
+                    self.message = None;
+                    // Connected from here: on to the console.
+                    return Outcome::request(Request::Focus("command"));
+                }
+                Outcome::redraw()
+            }
+            PaneEvent::Notice(notice)
+                if notice.level == NoticeLevel::Error && self.connecting.is_some() =>
+            {
+                self.connecting = None;
+                self.message = Some((Role::Error, notice.text.clone()));
+                Outcome::redraw()
+            }
+            _ => Outcome::Ignored,
+        }
+    }
+}

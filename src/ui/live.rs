@@ -1,0 +1,221 @@
+//! The console on a real terminal and a real session: [`Controller`] for
+//! [`Session`], and [`run_terminal`], which holds the terminal, watches
+//! for SIGTERM/SIGHUP and runs the loop.
+
+use std::io;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use ratatui::Terminal;
+use ratatui::backend::CrosstermBackend;
+use tokio::sync::{broadcast, mpsc, watch};
+
+use super::app::{self, App, AppEvent, Connector, Controller, Pending};
+use super::keymap::choose_keymap;
+use super::pane::Notice;
+use super::terminal::{TerminalGuard, spawn_reader};
+use super::theme::{choose_theme, no_color_in_env};
+use super::{PaneSetup, panes};
+use crate::device::{DeviceEvent, LinkState, TrafficRecord};
+use crate::protocol::Family;
+use crate::session::{
+    AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, Session, SessionError, SessionOptions,
+};
+
+/// A session as the console drives it.
+pub struct SessionController {
+    session: Session,
+    /// The link as the user named it.
+    link_name: String,
+    options: SessionOptions,
+}
+
+impl SessionController {
+    pub fn new(session: Session, link_name: String, options: SessionOptions) -> SessionController {
+        SessionController {
+            session,
+            link_name,
+            options,
+        }
+    }
+}
+
+impl Controller for SessionController {
+    fn family(&self) -> &'static Family {
+        self.session.family()
+    }
+
+    fn address(&self) -> u8 {
+        self.session.address()
+    }
+
+    fn axes(&self) -> Vec<AxisInfo> {
+        self.session.axes().to_vec()
+    }
+
+    fn link_name(&self) -> String {
+        self.link_name.clone()
+    }
+
+    fn status(&self) -> watch::Receiver<Vec<AxisStatus>> {
+        self.session.status()
+    }
+
+    fn link_state(&self) -> watch::Receiver<LinkState> {
+        self.session.link_state()
+    }
+
+    fn identity(&self) -> watch::Receiver<Option<String>> {
+        self.session.identity()
+    }
+
+    fn traffic(&self) -> Option<broadcast::Receiver<TrafficRecord>> {
+        Some(self.session.device().traffic())
+    }
+
+    fn events(&self) -> Option<broadcast::Receiver<DeviceEvent>> {
+        Some(self.session.device().events())
+    }
+
+    fn execute(&self, line: String) -> Pending<Result<LineResult, SessionError>> {
+        let session = self.session.clone();
+        Box::pin(async move { session.execute_line(&line).await })
+    }
+
+    fn emergency_stop(&self) -> Pending<Vec<Result<LineResult, SessionError>>> {
+        let session = self.session.clone();
+        Box::pin(async move { session.emergency_stop_lines().await })
+    }
+
+    fn set_polling(&self, cadence: Option<PollCadence>) {
+        match cadence {
+            Some(cadence) => self.session.start_polling(cadence),
+            None => self.session.stop_polling(),
+        }
+    }
+
+    fn acknowledge_errors(&self, axis: usize, seen: &[AxisFlag]) {
+        self.session.acknowledge_errors(axis, seen);
+    }
+
+    fn with_address(&self, address: u8) -> Arc<dyn Controller> {
+        let options = SessionOptions {
+            address: Some(address),
+            ..self.options.clone()
+        };
+        let session = Session::new(self.session.device().clone(), self.family(), &options);
+        identify_later(&session);
+        Arc::new(SessionController::new(
+            session,
+            self.link_name.clone(),
+            options,
+        ))
+    }
+}
+
+/// Read the module's identity in the background: the status bar shows it
+/// when it comes, and a module that does not answer is no reason to wait.
+pub fn identify_later(session: &Session) {
+    let session = session.clone();
+    tokio::spawn(async move {
+        let _ = session.identify().await;
+    });
+}
+
+/// The console's colours and keys as asked for.
+#[derive(Debug, Clone, Default)]
+pub struct Appearance {
+    /// `--theme`; `None`: `dark`, or `mono` under `NO_COLOR`.
+    pub theme: Option<String>,
+    /// `--keymap`; `None`: `default`.
+    pub keymap: Option<String>,
+    /// Where the user's themes/ and keymaps/ are.
+    pub config_dir: Option<PathBuf>,
+    /// Take the mouse (clicks focus panes, the wheel scrolls).
+    pub mouse: bool,
+}
+
+/// Run the console on this process's terminal until the user quits or a
+/// SIGTERM/SIGHUP comes. Must be called inside a tokio runtime. The
+/// terminal is restored whatever happens.
+pub async fn run_terminal(
+    controller: Option<Arc<dyn Controller>>,
+    connector: Connector,
+    setup: &PaneSetup,
+    appearance: &Appearance,
+) -> io::Result<()> {
+    let config_dir = appearance.config_dir.as_deref();
+    let theme = choose_theme(appearance.theme.as_deref(), no_color_in_env(), config_dir);
+    let keymap = choose_keymap(appearance.keymap.as_deref(), config_dir);
+    let (tx, signals) = mpsc::unbounded_channel();
+    // A theme or keymap file with a mistake: said in the console, which
+    // goes on with the built-in.
+    for problem in [&theme.problem, &keymap.problem].into_iter().flatten() {
+        let _ = tx.send(AppEvent::Notice(Notice::error(problem.to_string())));
+    }
+    let mut terminating = termination_signals()?;
+    tokio::spawn(async move {
+        while let Some(event) = terminating.recv().await {
+            if tx.send(event).is_err() {
+                break;
+            }
+        }
+    });
+    let guard = TerminalGuard::enter(appearance.mouse)?;
+    let input = spawn_reader();
+    // Not `Terminal::clear`: it asks the terminal where the cursor is, and
+    // the answer would race the input thread (and never come over a dumb
+    // pipe). The alternate screen starts blank; this makes sure.
+    ratatui::crossterm::execute!(
+        io::stdout(),
+        ratatui::crossterm::terminal::Clear(ratatui::crossterm::terminal::ClearType::All)
+    )?;
+    let mut terminal = Terminal::new(CrosstermBackend::new(io::stdout()))?;
+    let mut app = App::new(panes(setup), theme.value, keymap.value);
+    app.set_config_dir(appearance.config_dir.clone());
+    if controller.is_none() {
+        // `axterm` alone: choose a connection first.
+        app.focus("connect");
+    }
+    let result = app::run(
+        &mut app,
+        controller,
+        connector,
+        input,
+        Some(signals),
+        &mut |app: &mut App| terminal.draw(|frame| app.render(frame)).map(|_| ()),
+    )
+    .await;
+    drop(terminal);
+    drop(guard);
+    result
+}
+
+/// SIGTERM, SIGHUP (the SSH session dropped) and SIGINT from outside, as
+/// [`AppEvent::Terminate`]. Registered before the terminal is touched.
+fn termination_signals() -> io::Result<mpsc::UnboundedReceiver<AppEvent>> {
+    let (tx, rx) = mpsc::unbounded_channel();
+    #[cfg(unix)]
+    {
+        use tokio::signal::unix::{SignalKind, signal};
+        let mut terminate = signal(SignalKind::terminate())?;
+        let mut hangup = signal(SignalKind::hangup())?;
+        let mut interrupt = signal(SignalKind::interrupt())?;
+        tokio::spawn(async move {
+            tokio::select! {
+                _ = terminate.recv() => {}
+                _ = hangup.recv() => {}
+                _ = interrupt.recv() => {}
+            }
+            let _ = tx.send(AppEvent::Terminate);
+        });
+    }
+    #[cfg(not(unix))]
+    {
+        tokio::spawn(async move {
+            let _ = tokio::signal::ctrl_c().await;
+            let _ = tx.send(AppEvent::Terminate);
+        });
+    }
+    Ok(rx)
+}

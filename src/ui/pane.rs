@@ -1,0 +1,286 @@
+//! What a pane is to the console: a title, a home region on the screen, a
+//! way to draw itself from a [`View`] (theme, keymap, the session's
+//! snapshots) and a way to react to input and to news.
+//!
+//! Panes never talk to the session directly: they return [`Request`]s in
+//! an [`Outcome`], the app carries them out and answers with
+//! [`PaneEvent`]s (a reply to a line a pane sent comes back to that pane
+//! only, under the tag it chose). So a pane is plain state and can be
+//! tested without a terminal or a device.
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use ratatui::Frame;
+use ratatui::crossterm::event::{KeyEvent, MouseEvent};
+use ratatui::layout::Rect;
+
+use super::keymap::{Action, Context, Keymap};
+use super::theme::Theme;
+use crate::device::{DeviceEvent, LinkState, TrafficRecord};
+use crate::protocol::Family;
+use crate::session::{AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
+
+/// Where a pane lives when the screen is large enough to show several at
+/// once. When it is not (80×24), every pane becomes a tab of one region.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Region {
+    /// Full width across the top, as high as the pane asks
+    /// ([`Pane::height_hint`]): the axis status.
+    Top,
+    /// Below the top region, on the left (the whole width when the screen
+    /// is not wide enough for two columns): the command console.
+    Main,
+    /// Below the top region, on the right when the screen is wide;
+    /// otherwise these panes are tabs of [`Region::Main`].
+    Side,
+}
+
+/// What the console knows of the connected controller, copied from the
+/// session's watch channels whenever one of them changes.
+#[derive(Clone)]
+pub struct Snapshot {
+    pub family: &'static Family,
+    /// The module address lines are sent to.
+    pub address: u8,
+    /// The link as the user named it ("sim tmcm1110", "/dev/ttyUSB0").
+    pub link_name: String,
+    /// The module's axes, in the order of `status`.
+    pub axes: Vec<AxisInfo>,
+    pub status: Vec<AxisStatus>,
+    pub link: LinkState,
+    /// The module's identity (firmware string), once read.
+    pub identity: Option<String>,
+    /// How often status is polled; `None` when polling is off.
+    pub poll: Option<PollCadence>,
+    /// The axis the user works with (`:axis N`): index into `axes`.
+    pub axis: usize,
+}
+
+impl std::fmt::Debug for Snapshot {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Snapshot")
+            .field("family", &self.family.name)
+            .field("address", &self.address)
+            .field("link_name", &self.link_name)
+            .field("axes", &self.axes)
+            .field("status", &self.status)
+            .field("link", &self.link)
+            .field("identity", &self.identity)
+            .field("poll", &self.poll)
+            .field("axis", &self.axis)
+            .finish()
+    }
+}
+
+impl Snapshot {
+    /// The selected axis's number and name, if the module has axes.
+    pub fn selected_axis(&self) -> Option<&AxisInfo> {
+        self.axes.get(self.axis)
+    }
+}
+
+/// Everything a pane may read while drawing or reacting.
+#[derive(Clone, Copy)]
+pub struct View<'a> {
+    pub theme: &'a Theme,
+    pub keymap: &'a Keymap,
+    /// `None` when no controller is connected (the connect screen shows).
+    pub session: Option<&'a Snapshot>,
+    /// Whether this pane has the keyboard.
+    pub focused: bool,
+}
+
+/// Input for the pane that has the focus.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Input {
+    Key(KeyEvent),
+    Mouse(MouseEvent),
+    Paste(String),
+}
+
+/// News for every pane (or, for [`PaneEvent::Reply`] and
+/// [`PaneEvent::Wake`], for the pane that asked).
+#[derive(Debug, Clone)]
+pub enum PaneEvent {
+    /// The snapshot changed (status, link, identity, axis, poll rate).
+    Snapshot,
+    /// A frame went out or came in.
+    Traffic(TrafficRecord),
+    /// Unsolicited news from the device task.
+    Device(DeviceEvent),
+    /// The answer to one line of a [`Request::Send`].
+    Reply {
+        tag: u64,
+        /// The line as sent (before the session made it canonical).
+        line: String,
+        result: Result<LineResult, SessionError>,
+    },
+    /// A [`Request::WakeAfter`] came due.
+    Wake { tag: u64 },
+    /// A connection was just opened (after [`PaneEvent::Snapshot`] with
+    /// its first snapshot). `args` are its connection options when a pane
+    /// asked for it ([`Request::Connect`]); `None` for the one given on
+    /// the command line.
+    Connected { args: Option<Vec<String>> },
+    /// This pane was just given the keyboard (for the pane concerned
+    /// only): a pane that reads from the module when first looked at
+    /// starts here.
+    Focused,
+    /// The emergency stop key was pressed: lines still waiting to be sent
+    /// were dropped (their replies will never come) and the stop is on its
+    /// way. Forget anything queued, stop running scripts.
+    Stopping,
+    /// The emergency stop was sent: each stop line and what came back.
+    EmergencyStop(Vec<Result<LineResult, SessionError>>),
+    /// A message from the console itself (the answer to `:poll 10`, a
+    /// theme that failed to load…), shown by the command pane.
+    Notice(Notice),
+}
+
+/// A console message and how it should look.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Notice {
+    pub level: NoticeLevel,
+    pub text: String,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NoticeLevel {
+    Info,
+    Warning,
+    Error,
+}
+
+impl Notice {
+    pub fn info(text: impl Into<String>) -> Notice {
+        Notice {
+            level: NoticeLevel::Info,
+            text: text.into(),
+        }
+    }
+
+    pub fn warning(text: impl Into<String>) -> Notice {
+        Notice {
+            level: NoticeLevel::Warning,
+            text: text.into(),
+        }
+    }
+
+    pub fn error(text: impl Into<String>) -> Notice {
+        Notice {
+            level: NoticeLevel::Error,
+            text: text.into(),
+        }
+    }
+}
+
+/// Something a pane asks the app to do.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Request {
+    /// Send these console lines in order at user priority; each answer
+    /// comes back to this pane as [`PaneEvent::Reply`] with `tag`. A line
+    /// is sent only after the previous one was answered.
+    Send { lines: Vec<String>, tag: u64 },
+    /// Stop every axis and any standalone program, ahead of everything.
+    EmergencyStop,
+    /// Poll status this many times a second (0: stop polling).
+    Poll(f64),
+    /// Work with this axis (index into [`Snapshot::axes`]).
+    SelectAxis(usize),
+    /// Send lines to this module address from now on.
+    SetAddress(u8),
+    /// Forget the latched error flags of this axis that the user has seen.
+    ClearErrors(usize),
+    /// Log every frame to this file (`None`: stop logging).
+    Log(Option<PathBuf>),
+    /// Switch colours.
+    Theme(String),
+    /// Switch key bindings.
+    Keymap(String),
+    /// Connect (or reconnect) with these connection options
+    /// (`--sim tmcm1110`, `--port /dev/ttyUSB0 --baud 115200`).
+    Connect(Vec<String>),
+    /// Give the keyboard to the pane called this ([`Pane::name`]).
+    Focus(&'static str),
+    /// Answer with [`PaneEvent::Wake`] after this long.
+    WakeAfter { after: Duration, tag: u64 },
+    /// Leave the console.
+    Quit,
+}
+
+/// What a pane did with an input or an event.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub enum Outcome {
+    /// Not for this pane: the app may use the key (Tab moves the focus).
+    #[default]
+    Ignored,
+    /// Taken; the screen is redrawn and the requests carried out in order.
+    Handled(Vec<Request>),
+}
+
+impl Outcome {
+    /// Taken, nothing to ask: just redraw.
+    pub fn redraw() -> Outcome {
+        Outcome::Handled(Vec::new())
+    }
+
+    pub fn request(request: Request) -> Outcome {
+        Outcome::Handled(vec![request])
+    }
+}
+
+/// One pane of the console. See the module documentation of [`crate::ui`]
+/// for how a pane is added.
+pub trait Pane {
+    /// A short stable name: what [`Request::Focus`] names ("command",
+    /// "axes", "params").
+    fn name(&self) -> &'static str;
+
+    /// The keymap section of its own keys. The app looks keys up there
+    /// (after the global ones) to move the focus when the pane ignores a
+    /// key; the pane looks its own actions up with
+    /// `view.keymap.action_for(self.context(), key)`.
+    fn context(&self) -> Context;
+
+    /// Shown in its border and on its tab.
+    fn title(&self, view: &View) -> String;
+
+    /// Where it goes when there is room for several panes.
+    fn region(&self) -> Region;
+
+    /// Rows it would like inside its border at this inner width, given
+    /// that at most `room` rows are to be had, if it has a natural height
+    /// (the axis gauges: cards when they fit, one row per axis when not);
+    /// `None` takes a third of the screen.
+    fn height_hint(&self, view: &View, width: u16, room: u16) -> Option<u16> {
+        let _ = (view, width, room);
+        None
+    }
+
+    /// Draw into `area` (inside the border the app draws). A focused pane
+    /// with a text cursor sets it with `frame.set_cursor_position`.
+    fn render(&mut self, frame: &mut Frame, area: Rect, view: &View);
+
+    /// A key, mouse or paste while this pane has the focus. The emergency
+    /// stop, quit and focus-pane-N keys never get here; the other global
+    /// actions (help, clear errors, next pane) come here first and go to
+    /// the app if the pane ignores them.
+    fn handle_input(&mut self, input: &Input, view: &View) -> Outcome;
+
+    /// News for every pane; return [`Outcome::Ignored`] when it changes
+    /// nothing this pane shows, so that an idle screen is not redrawn.
+    fn on_event(&mut self, event: &PaneEvent, view: &View) -> Outcome {
+        let _ = (event, view);
+        Outcome::Ignored
+    }
+}
+
+/// The first key of `action` in `context` as the status bar shows it
+/// ("F12"), or "(unbound)".
+pub fn key_label(keymap: &Keymap, context: Context, action: Action) -> String {
+    keymap
+        .chords(context, action)
+        .first()
+        .map_or_else(|| "(unbound)".to_string(), |chord| chord.label())
+}

@@ -1,0 +1,1617 @@
+//! The parameter table: every axis parameter of the selected axis and
+//! every global parameter by bank, from the family's tables
+//! ([`ParameterSet`]), with the value read from the module, its unit and
+//! real-world equivalent, range and access.
+//!
+//! Values are read one row at a time through the session (each read is
+//! sent when the previous one is answered, so typed commands and status
+//! polls get their turn and the screen never waits): when the pane first
+//! gets the keyboard, on refresh, and before an export or a comparison.
+//! A value is edited in place and checked (range, access) before it is
+//! sent; a write is read back. Values that differ from what was first
+//! read this session are highlighted. The whole configuration exports to
+//! a TOML file ([`file`](mod@file)); importing one shows the differences before
+//! anything is written.
+
+pub mod file;
+
+use std::collections::{HashMap, VecDeque};
+use std::path::PathBuf;
+
+use ratatui::Frame;
+use ratatui::crossterm::event::{KeyEvent, MouseEventKind};
+use ratatui::layout::{Position, Rect};
+use ratatui::style::Style;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::Paragraph;
+
+use super::field::Field;
+use super::keymap::{Action, Context};
+use super::pane::{Input, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View, key_label};
+use super::theme::Role;
+use crate::protocol::console::ReplyValue;
+use crate::protocol::parameters::{
+    ParamOp, ParamRole, ParamRow, ParamTable, ParameterSet, Scope, SpeedUnit,
+};
+use crate::session::{LineResult, SessionError};
+use file::{Entry, Exported, ParamFile};
+
+/// The file name offered for exports and imports.
+pub const DEFAULT_FILE: &str = "axterm-params.toml";
+
+/// Rows a page key moves when the pane has not been drawn yet.
+const DEFAULT_PAGE: usize = 10;
+
+/// A parameter: its table and number.
+type Key = (Scope, u16);
+
+/// What the pane knows of one parameter's value.
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum Cell {
+    Value(i64),
+    /// The module refused to read it, or the answer made no sense.
+    Unreadable(String),
+    /// No answer came (timeout, link lost).
+    NoAnswer(String),
+}
+
+/// Why a line is sent.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Purpose {
+    /// Reading values (a table, an export, a comparison).
+    Read,
+    /// Reading a value back after a write or restore.
+    ReadBack,
+    /// What the user asked for: a write, store or restore.
+    User,
+    /// A write of an imported file's value.
+    Import,
+}
+
+/// One line waiting to be sent, for one parameter.
+#[derive(Debug, Clone)]
+struct Job {
+    row: ParamRow,
+    op: ParamOp,
+    line: String,
+    purpose: Purpose,
+}
+
+/// What the text field is for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum FileUse {
+    Export,
+    Import,
+    Compare,
+}
+
+/// What the keys do right now.
+#[derive(Debug, Clone)]
+enum Mode {
+    Browse,
+    Filter(Field),
+    Edit {
+        row: ParamRow,
+        field: Field,
+    },
+    File {
+        purpose: FileUse,
+        field: Field,
+    },
+    /// The module against a file.
+    Diff(Diff),
+}
+
+/// A file compared with the module.
+#[derive(Debug, Clone)]
+struct Diff {
+    path: PathBuf,
+    /// Whether `w` writes the file's values (import) or this only shows
+    /// the differences.
+    import: bool,
+    /// Parameters whose value in the module is not the file's.
+    differences: Vec<Difference>,
+    /// Entries found equal.
+    same: usize,
+    /// What was not taken from the file, and why.
+    problems: Vec<String>,
+    scroll: usize,
+}
+
+#[derive(Debug, Clone)]
+struct Difference {
+    row: ParamRow,
+    device: Cell,
+    file: i64,
+}
+
+/// A comparison waiting for its reads.
+#[derive(Debug, Clone)]
+struct Comparing {
+    path: PathBuf,
+    import: bool,
+    entries: Vec<(ParamRow, i64)>,
+    problems: Vec<String>,
+}
+
+/// Reads and writes in progress, for the status line.
+#[derive(Debug, Clone, Copy, Default)]
+struct Progress {
+    done: usize,
+    total: usize,
+}
+
+/// Which connection the values belong to.
+#[derive(Debug, Clone, PartialEq, Eq)]
+struct Connection {
+    family: &'static str,
+    link: String,
+    address: u8,
+}
+
+/// A line of the table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Item {
+    Header(usize),
+    Row(usize, usize),
+}
+
+/// The parameter table pane.
+pub struct ParamsPane {
+    connection: Option<Connection>,
+    /// The tables of the selected axis; rebuilt when the axis changes.
+    tables: Vec<ParamTable>,
+    tables_for: Option<(&'static str, u8)>,
+    values: HashMap<Key, Cell>,
+    /// The first value read of each parameter this session.
+    first: HashMap<Key, i64>,
+    queue: VecDeque<Job>,
+    in_flight: Option<(u64, Job)>,
+    next_tag: u64,
+    progress: Progress,
+    /// Index into the rows shown (headers not counted).
+    selected: usize,
+    /// First line of the table shown.
+    offset: usize,
+    page: usize,
+    filter: String,
+    mode: Mode,
+    message: Option<(Role, String)>,
+    unit: SpeedUnit,
+    /// Where to write an export once its reads are done.
+    export: Option<PathBuf>,
+    comparing: Option<Comparing>,
+    /// The path last used, offered next time.
+    last_file: String,
+    importing: Option<Importing>,
+}
+
+/// An import being written, for the message when it is done.
+#[derive(Debug, Clone)]
+struct Importing {
+    path: PathBuf,
+    written: usize,
+    failed: usize,
+    /// Link settings that differ, left to the user.
+    skipped: usize,
+}
+
+impl Default for ParamsPane {
+    fn default() -> Self {
+        ParamsPane::new()
+    }
+}
+
+impl ParamsPane {
+    pub fn new() -> ParamsPane {
+        ParamsPane {
+            connection: None,
+            tables: Vec::new(),
+            tables_for: None,
+            values: HashMap::new(),
+            first: HashMap::new(),
+            queue: VecDeque::new(),
+            in_flight: None,
+            next_tag: 1,
+            progress: Progress::default(),
+            selected: 0,
+            offset: 0,
+            page: DEFAULT_PAGE,
+            filter: String::new(),
+            mode: Mode::Browse,
+            message: None,
+            unit: SpeedUnit::Pps,
+            export: None,
+            comparing: None,
+            last_file: DEFAULT_FILE.to_string(),
+            importing: None,
+        }
+    }
+
+    /// The value read for a parameter, if one was.
+    pub fn value(&self, scope: Scope, number: u16) -> Option<i64> {
+        match self.values.get(&(scope, number)) {
+            Some(Cell::Value(v)) => Some(*v),
+            _ => None,
+        }
+    }
+
+    /// Lines waiting to be sent (the one in flight included).
+    pub fn pending(&self) -> usize {
+        self.queue.len() + usize::from(self.in_flight.is_some())
+    }
+
+    fn set_message(&mut self, role: Role, text: impl Into<String>) {
+        self.message = Some((role, text.into()));
+    }
+
+    fn parameters(view: &View) -> Option<&'static dyn ParameterSet> {
+        view.session.and_then(|s| s.family.console.parameters())
+    }
+
+    /// Follow the snapshot: a new connection forgets everything, another
+    /// axis brings its tables.
+    fn follow(&mut self, view: &View) {
+        let Some(session) = view.session else {
+            // Lines not answered yet never will be.
+            self.drop_work();
+            return;
+        };
+        let connection = Connection {
+            family: session.family.name,
+            link: session.link_name.clone(),
+            address: session.address,
+        };
+        if self.connection.as_ref() != Some(&connection) {
+            self.drop_work();
+            self.values.clear();
+            self.first.clear();
+            self.message = None;
+            self.mode = Mode::Browse;
+            self.connection = Some(connection);
+            self.tables_for = None;
+        }
+        let axis = session.selected_axis().map_or(0, |a| a.number);
+        if self.tables_for != Some((session.family.name, axis)) {
+            self.tables = Self::parameters(view).map_or_else(Vec::new, |p| p.tables(axis));
+            self.tables_for = Some((session.family.name, axis));
+            self.selected = 0;
+            self.offset = 0;
+        }
+    }
+
+    fn drop_work(&mut self) {
+        self.queue.clear();
+        self.in_flight = None;
+        self.progress = Progress::default();
+        self.export = None;
+        self.comparing = None;
+        self.importing = None;
+    }
+
+    /// The lines of the table: a header for each table with rows shown,
+    /// then its rows that match the filter.
+    fn items(&self) -> Vec<Item> {
+        let filter = self.filter.trim().to_lowercase();
+        let mut items = Vec::new();
+        for (t, table) in self.tables.iter().enumerate() {
+            let rows: Vec<usize> = table
+                .rows
+                .iter()
+                .enumerate()
+                .filter(|(_, row)| matches(row, &filter))
+                .map(|(r, _)| r)
+                .collect();
+            if rows.is_empty() {
+                continue;
+            }
+            items.push(Item::Header(t));
+            items.extend(rows.into_iter().map(|r| Item::Row(t, r)));
+        }
+        items
+    }
+
+    fn shown_rows(&self) -> Vec<(usize, usize)> {
+        self.items()
+            .into_iter()
+            .filter_map(|item| match item {
+                Item::Row(t, r) => Some((t, r)),
+                Item::Header(_) => None,
+            })
+            .collect()
+    }
+
+    fn selected_row(&self) -> Option<&ParamRow> {
+        let (t, r) = *self.shown_rows().get(self.selected)?;
+        self.tables.get(t)?.rows.get(r)
+    }
+
+    /// The value of another parameter of the same axis, for conversions.
+    fn axis_value(&self, scope: Scope) -> impl Fn(u16) -> Option<i64> + '_ {
+        move |number| match self.values.get(&(scope, number)) {
+            Some(Cell::Value(v)) => Some(*v),
+            _ => None,
+        }
+    }
+
+    /// Queue `op` on `row`; says why not if the family has no line for it.
+    fn queue_job(
+        &mut self,
+        parameters: &dyn ParameterSet,
+        row: &ParamRow,
+        op: ParamOp,
+        purpose: Purpose,
+    ) -> Result<(), String> {
+        let line = parameters.line(row, op)?;
+        let job = Job {
+            row: row.clone(),
+            op,
+            line,
+            purpose,
+        };
+        if purpose == Purpose::ReadBack {
+            self.queue.push_front(job);
+        } else {
+            self.queue.push_back(job);
+        }
+        self.progress.total += 1;
+        Ok(())
+    }
+
+    /// Read these rows (the readable ones), skipping any already waiting.
+    fn queue_reads<'a>(
+        &mut self,
+        parameters: &dyn ParameterSet,
+        rows: impl IntoIterator<Item = &'a ParamRow>,
+    ) {
+        for row in rows {
+            if !row.access.read {
+                continue;
+            }
+            let key = (row.scope, row.number);
+            let waiting = self
+                .queue
+                .iter()
+                .chain(self.in_flight.as_ref().map(|(_, job)| job))
+                .any(|j| j.op == ParamOp::Read && (j.row.scope, j.row.number) == key);
+            if !waiting {
+                let _ = self.queue_job(parameters, row, ParamOp::Read, Purpose::Read);
+            }
+        }
+    }
+
+    /// Send the next line if none is in flight.
+    fn pump(&mut self, view: &View) -> Outcome {
+        if self.in_flight.is_some() || view.session.is_none() {
+            return Outcome::redraw();
+        }
+        let Some(job) = self.queue.pop_front() else {
+            self.progress = Progress::default();
+            return self.finish(view);
+        };
+        let tag = self.next_tag;
+        self.next_tag += 1;
+        let lines = vec![job.line.clone()];
+        self.in_flight = Some((tag, job));
+        Outcome::request(Request::Send { lines, tag })
+    }
+
+    /// Everything asked for was answered: write a waiting export, show a
+    /// waiting comparison.
+    fn finish(&mut self, view: &View) -> Outcome {
+        if let Some(path) = self.export.take() {
+            self.write_export(&path, view);
+        }
+        if let Some(comparing) = self.comparing.take() {
+            self.show_diff(comparing);
+        }
+        if let Some(run) = self.importing.take() {
+            let mut text = format!("wrote {} value(s) from {}", run.written, run.path.display());
+            if run.failed > 0 {
+                text.push_str(&format!(", {} failed", run.failed));
+            }
+            if run.skipped > 0 {
+                text.push_str(&format!(
+                    "; {} link setting(s) left for you to write",
+                    run.skipped
+                ));
+            }
+            let role = if run.failed > 0 {
+                Role::Error
+            } else {
+                Role::Ok
+            };
+            self.set_message(role, text);
+        }
+        Outcome::redraw()
+    }
+
+    fn answer(
+        &mut self,
+        tag: u64,
+        result: &Result<LineResult, SessionError>,
+        view: &View,
+    ) -> Outcome {
+        let Some((sent, job)) = self.in_flight.take() else {
+            return Outcome::Ignored;
+        };
+        if sent != tag {
+            self.in_flight = Some((sent, job));
+            return Outcome::Ignored;
+        }
+        self.progress.done += 1;
+        let key = (job.row.scope, job.row.number);
+        match (job.op, result) {
+            (ParamOp::Read, Ok(r)) => {
+                let cell = match r.value {
+                    ReplyValue::Number(v) => {
+                        self.first.entry(key).or_insert(v);
+                        Cell::Value(v)
+                    }
+                    ref other => Cell::Unreadable(format!("answer {other} is not a number")),
+                };
+                self.values.insert(key, cell);
+            }
+            (ParamOp::Read, Err(e)) => {
+                let cell = match e {
+                    SessionError::Device { error, .. } => Cell::NoAnswer(error.to_string()),
+                    other => Cell::Unreadable(other.to_string()),
+                };
+                self.values.insert(key, cell);
+            }
+            (op, Ok(r)) => {
+                if job.purpose == Purpose::Import
+                    && let Some(run) = self.importing.as_mut()
+                {
+                    run.written += 1;
+                }
+                let done = match op {
+                    ParamOp::Store => "stored in EEPROM",
+                    ParamOp::Restore => "restored from EEPROM",
+                    _ => "ok",
+                };
+                if job.purpose == Purpose::User {
+                    self.set_message(Role::Ok, format!("{}: {done}", r.line));
+                }
+                if matches!(op, ParamOp::Write(_) | ParamOp::Restore)
+                    && let Some(parameters) = Self::parameters(view)
+                {
+                    let _ = self.queue_job(parameters, &job.row, ParamOp::Read, Purpose::ReadBack);
+                }
+            }
+            (_, Err(e)) => {
+                if job.purpose == Purpose::Import
+                    && let Some(run) = self.importing.as_mut()
+                {
+                    run.failed += 1;
+                }
+                let nothing = if e.nothing_sent() {
+                    " (nothing sent)"
+                } else {
+                    ""
+                };
+                self.set_message(Role::Error, format!("{} failed{nothing}: {e}", job.line));
+            }
+        }
+        self.pump(view)
+    }
+
+    fn start_reading(&mut self, view: &View, all: bool) -> Outcome {
+        let Some(parameters) = Self::parameters(view) else {
+            return self.no_parameters(view);
+        };
+        let rows: Vec<ParamRow> = self
+            .shown_rows()
+            .into_iter()
+            .filter_map(|(t, r)| self.tables.get(t)?.rows.get(r).cloned())
+            .filter(|row| all || !self.values.contains_key(&(row.scope, row.number)))
+            .collect();
+        self.queue_reads(parameters, &rows);
+        self.pump(view)
+    }
+
+    fn no_parameters(&mut self, view: &View) -> Outcome {
+        match view.session {
+            None => self.set_message(Role::Error, "not connected"),
+            Some(s) => self.set_message(
+                Role::Warning,
+                format!("the {} family has no parameter tables", s.family.name),
+            ),
+        }
+        Outcome::redraw()
+    }
+
+    /// Every setting of every axis and bank, for export and comparison.
+    fn setting_rows(session: &Snapshot, parameters: &dyn ParameterSet) -> Vec<ParamRow> {
+        let mut rows = Vec::new();
+        let mut banks_done = false;
+        for axis in &session.axes {
+            for table in parameters.tables(axis.number) {
+                let bank = matches!(table.scope, Scope::Bank(_));
+                if bank && banks_done {
+                    continue;
+                }
+                rows.extend(
+                    table
+                        .rows
+                        .into_iter()
+                        .filter(|r| r.access.read && r.access.write && r.role != ParamRole::State),
+                );
+            }
+            banks_done = true;
+        }
+        rows
+    }
+
+    fn start_export(&mut self, path: PathBuf, view: &View) -> Outcome {
+        let (Some(session), Some(parameters)) = (view.session, Self::parameters(view)) else {
+            return self.no_parameters(view);
+        };
+        let rows = Self::setting_rows(session, parameters);
+        // Fresh values: what was read earlier may have been changed since
+        // by a typed command or a program.
+        self.queue_reads(parameters, &rows);
+        self.export = Some(path.clone());
+        self.set_message(
+            Role::Accent,
+            format!("reading {} settings for {}…", rows.len(), path.display()),
+        );
+        self.pump(view)
+    }
+
+    fn write_export(&mut self, path: &std::path::Path, view: &View) {
+        let (Some(session), Some(parameters)) = (view.session, Self::parameters(view)) else {
+            return;
+        };
+        let rows = Self::setting_rows(session, parameters);
+        let exported: Vec<Exported> = rows
+            .iter()
+            .map(|row| Exported {
+                row,
+                value: match self.values.get(&(row.scope, row.number)) {
+                    Some(Cell::Value(v)) => Ok(*v),
+                    Some(Cell::Unreadable(why) | Cell::NoAnswer(why)) => Err(why.clone()),
+                    None => Err("not read".into()),
+                },
+            })
+            .collect();
+        let failed = exported.iter().filter(|e| e.value.is_err()).count();
+        let mut header = vec![format!(
+            "axterm parameter file: module {} on {}",
+            session.address, session.link_name
+        )];
+        if let Some(identity) = &session.identity {
+            header.push(format!("firmware {identity}"));
+        }
+        let text = file::render(session.family.name, &header, &exported);
+        match std::fs::write(path, text) {
+            Ok(()) if failed == 0 => self.set_message(
+                Role::Ok,
+                format!("exported {} settings to {}", exported.len(), path.display()),
+            ),
+            Ok(()) => self.set_message(
+                Role::Warning,
+                format!(
+                    "exported {} settings to {}; {failed} could not be read (commented out)",
+                    exported.len() - failed,
+                    path.display()
+                ),
+            ),
+            Err(e) => {
+                self.set_message(Role::Error, format!("cannot write {}: {e}", path.display()))
+            }
+        }
+    }
+
+    /// Read a file, check its entries against the tables, and read the
+    /// module's values of those that are fine; the diff shows when they
+    /// are in.
+    fn start_compare(&mut self, path: PathBuf, import: bool, view: &View) -> Outcome {
+        let (Some(session), Some(parameters)) = (view.session, Self::parameters(view)) else {
+            return self.no_parameters(view);
+        };
+        let parsed = std::fs::read_to_string(&path)
+            .map_err(|e| format!("cannot read {}: {e}", path.display()))
+            .and_then(|text| {
+                file::parse(&text)
+                    .map_err(|e| format!("{} is not a parameter file: {e}", path.display()))
+            });
+        let parsed: ParamFile = match parsed {
+            Ok(parsed) => parsed,
+            Err(message) => {
+                self.set_message(Role::Error, message);
+                return Outcome::redraw();
+            }
+        };
+        if let Some(family) = &parsed.family
+            && !family.eq_ignore_ascii_case(session.family.name)
+        {
+            self.set_message(
+                Role::Error,
+                format!(
+                    "{} holds {family} parameters; this module speaks {}",
+                    path.display(),
+                    session.family.name
+                ),
+            );
+            return Outcome::redraw();
+        }
+        let mut problems = parsed.problems;
+        let mut entries = Vec::new();
+        let mut tables: HashMap<Scope, Vec<ParamRow>> = HashMap::new();
+        for axis in &session.axes {
+            for table in parameters.tables(axis.number) {
+                tables.entry(table.scope).or_insert(table.rows);
+            }
+        }
+        for Entry {
+            scope,
+            number,
+            value,
+        } in parsed.entries
+        {
+            let label = format!("[{}] {number}", scope.key());
+            let Some(row) = tables
+                .get(&scope)
+                .and_then(|rows| rows.iter().find(|r| r.number == number))
+            else {
+                problems.push(format!("{label}: no such parameter on this module"));
+                continue;
+            };
+            let name = &row.name;
+            if !row.access.write || row.role == ParamRole::State {
+                problems.push(format!("{label} {name}: not a setting, left alone"));
+            } else if !row.range.contains(value) {
+                problems.push(format!(
+                    "{label} {name}: {value} is outside {}, left alone",
+                    row.range
+                ));
+            } else {
+                entries.push((row.clone(), value));
+            }
+        }
+        let rows: Vec<ParamRow> = entries.iter().map(|(row, _)| row.clone()).collect();
+        self.queue_reads(parameters, &rows);
+        self.comparing = Some(Comparing {
+            path: path.clone(),
+            import,
+            entries,
+            problems,
+        });
+        self.set_message(
+            Role::Accent,
+            format!("reading the module to compare with {}…", path.display()),
+        );
+        self.pump(view)
+    }
+
+    fn show_diff(&mut self, comparing: Comparing) {
+        let mut differences = Vec::new();
+        let mut same = 0;
+        for (row, file) in comparing.entries {
+            let device = self
+                .values
+                .get(&(row.scope, row.number))
+                .cloned()
+                .unwrap_or_else(|| Cell::NoAnswer("not read".into()));
+            if device == Cell::Value(file) {
+                same += 1;
+            } else {
+                differences.push(Difference { row, device, file });
+            }
+        }
+        self.message = None;
+        self.mode = Mode::Diff(Diff {
+            path: comparing.path,
+            import: comparing.import,
+            differences,
+            same,
+            problems: comparing.problems,
+            scroll: 0,
+        });
+    }
+
+    /// Write the file's values that differ (settings only), each read
+    /// back after it is written.
+    fn write_diff(&mut self, diff: Diff, view: &View) -> Outcome {
+        let Some(parameters) = Self::parameters(view) else {
+            return self.no_parameters(view);
+        };
+        let mut run = Importing {
+            path: diff.path.clone(),
+            written: 0,
+            failed: 0,
+            skipped: 0,
+        };
+        let mut queued = 0;
+        for d in &diff.differences {
+            if d.row.role != ParamRole::Setting {
+                run.skipped += 1;
+                continue;
+            }
+            match self.queue_job(parameters, &d.row, ParamOp::Write(d.file), Purpose::Import) {
+                Ok(()) => queued += 1,
+                Err(_) => run.failed += 1,
+            }
+        }
+        self.set_message(
+            Role::Accent,
+            format!("writing {queued} value(s) from {}…", diff.path.display()),
+        );
+        self.importing = Some(run);
+        self.mode = Mode::Browse;
+        self.pump(view)
+    }
+
+    fn edit_submit(&mut self, row: ParamRow, field: Field, view: &View) -> Outcome {
+        let Some(parameters) = Self::parameters(view) else {
+            return self.no_parameters(view);
+        };
+        let checked = parameters
+            .parse_value(&row, field.text(), &self.axis_value(row.scope))
+            .and_then(|value| {
+                if !row.range.contains(value) {
+                    return Err(format!("{} takes {}, not {value}", row.name, row.range));
+                }
+                Ok((value, parameters.line(&row, ParamOp::Write(value))?))
+            });
+        match checked {
+            Err(why) => {
+                self.set_message(Role::Error, format!("{why}: nothing sent"));
+                self.mode = Mode::Edit { row, field };
+                Outcome::redraw()
+            }
+            Ok((value, line)) => {
+                self.set_message(Role::Accent, format!("{line}…"));
+                self.queue.push_back(Job {
+                    row,
+                    op: ParamOp::Write(value),
+                    line,
+                    purpose: Purpose::User,
+                });
+                self.progress.total += 1;
+                self.mode = Mode::Browse;
+                self.pump(view)
+            }
+        }
+    }
+
+    fn user_op(&mut self, op: ParamOp, view: &View) -> Outcome {
+        let Some(parameters) = Self::parameters(view) else {
+            return self.no_parameters(view);
+        };
+        let Some(row) = self.selected_row().cloned() else {
+            return Outcome::redraw();
+        };
+        match self.queue_job(parameters, &row, op, Purpose::User) {
+            Ok(()) => self.pump(view),
+            Err(why) => {
+                self.set_message(Role::Error, format!("{why}: nothing sent"));
+                Outcome::redraw()
+            }
+        }
+    }
+
+    fn begin_edit(&mut self, view: &View) -> Outcome {
+        let Some(row) = self.selected_row().cloned() else {
+            return Outcome::redraw();
+        };
+        if !row.access.write {
+            self.set_message(
+                Role::Warning,
+                format!("{} is read-only (access {})", row.name, row.access),
+            );
+            return Outcome::redraw();
+        }
+        if view.session.is_none() {
+            return self.no_parameters(view);
+        }
+        let current = match self.values.get(&(row.scope, row.number)) {
+            Some(Cell::Value(v)) => v.to_string(),
+            _ => String::new(),
+        };
+        self.message = None;
+        self.mode = Mode::Edit {
+            row,
+            field: Field::new(current),
+        };
+        Outcome::redraw()
+    }
+
+    fn move_selection(&mut self, action: Action) {
+        let count = self.shown_rows().len();
+        let last = count.saturating_sub(1);
+        self.selected = match action {
+            Action::SelectPrevious => self.selected.saturating_sub(1),
+            Action::SelectNext => (self.selected + 1).min(last),
+            Action::ScrollPageUp => self.selected.saturating_sub(self.page),
+            Action::ScrollPageDown => (self.selected + self.page).min(last),
+            Action::ScrollTop => 0,
+            Action::ScrollBottom => last,
+            _ => self.selected,
+        }
+        .min(last);
+    }
+
+    fn browse_key(&mut self, key: &KeyEvent, view: &View) -> Outcome {
+        let Some(action) = view.keymap.action_for(Context::Parameters, key) else {
+            return Outcome::Ignored;
+        };
+        match action {
+            Action::SelectPrevious
+            | Action::SelectNext
+            | Action::ScrollPageUp
+            | Action::ScrollPageDown
+            | Action::ScrollTop
+            | Action::ScrollBottom => self.move_selection(action),
+            Action::ParameterEdit | Action::ParameterWrite => return self.begin_edit(view),
+            Action::ParameterStore => return self.user_op(ParamOp::Store, view),
+            Action::ParameterRestore => return self.user_op(ParamOp::Restore, view),
+            Action::ParameterRefresh => return self.start_reading(view, true),
+            Action::ParameterFilter => {
+                self.mode = Mode::Filter(Field::new(self.filter.clone()));
+            }
+            Action::Cancel => {
+                if self.message.take().is_none() {
+                    self.filter.clear();
+                    self.selected = 0;
+                }
+            }
+            Action::ToggleUnits => {
+                self.unit = match self.unit {
+                    SpeedUnit::Pps => SpeedUnit::Rpm,
+                    SpeedUnit::Rpm => SpeedUnit::Pps,
+                };
+            }
+            Action::ParameterExport | Action::ParameterImport | Action::ParameterDiff => {
+                let purpose = match action {
+                    Action::ParameterExport => FileUse::Export,
+                    Action::ParameterImport => FileUse::Import,
+                    _ => FileUse::Compare,
+                };
+                self.mode = Mode::File {
+                    purpose,
+                    field: Field::new(self.last_file.clone()),
+                };
+            }
+            _ => return Outcome::Ignored,
+        }
+        Outcome::redraw()
+    }
+
+    fn diff_key(&mut self, mut diff: Diff, key: &KeyEvent, view: &View) -> Outcome {
+        let action = view.keymap.action_for(Context::Parameters, key);
+        let lines = diff.differences.len() + diff.problems.len();
+        match action {
+            Some(Action::ParameterWrite) if diff.import => return self.write_diff(diff, view),
+            Some(Action::Cancel) => {
+                self.mode = Mode::Browse;
+                return Outcome::redraw();
+            }
+            Some(Action::SelectNext | Action::ScrollDown) => {
+                diff.scroll = (diff.scroll + 1).min(lines.saturating_sub(1));
+            }
+            Some(Action::SelectPrevious | Action::ScrollUp) => {
+                diff.scroll = diff.scroll.saturating_sub(1);
+            }
+            Some(Action::ScrollPageDown) => {
+                diff.scroll = (diff.scroll + self.page).min(lines.saturating_sub(1));
+            }
+            Some(Action::ScrollPageUp) => diff.scroll = diff.scroll.saturating_sub(self.page),
+            Some(Action::ScrollTop) => diff.scroll = 0,
+            Some(_) | None => {
+                self.mode = Mode::Diff(diff);
+                return Outcome::Ignored;
+            }
+        }
+        self.mode = Mode::Diff(diff);
+        Outcome::redraw()
+    }
+
+    /// Keys while a text field is open: submit and cancel through the
+    /// command line's bindings, the rest edits.
+    fn field_key(&mut self, mode: Mode, key: &KeyEvent, view: &View) -> Outcome {
+        let action = view.keymap.action_for(Context::Command, key);
+        match (mode, action) {
+            (Mode::Edit { .. } | Mode::File { .. }, Some(Action::Cancel)) => {
+                self.message = None;
+                Outcome::redraw()
+            }
+            (Mode::Filter(_), Some(Action::Cancel)) => {
+                self.filter.clear();
+                self.selected = 0;
+                Outcome::redraw()
+            }
+            (Mode::Filter(_), Some(Action::Submit)) => Outcome::redraw(),
+            (Mode::Edit { row, field }, Some(Action::Submit)) => self.edit_submit(row, field, view),
+            (Mode::File { purpose, field }, Some(Action::Submit)) => {
+                let text = field.text().trim().to_string();
+                if text.is_empty() {
+                    self.mode = Mode::File { purpose, field };
+                    self.set_message(Role::Error, "no file name given");
+                    return Outcome::redraw();
+                }
+                self.last_file = text.clone();
+                let path = PathBuf::from(text);
+                match purpose {
+                    FileUse::Export => self.start_export(path, view),
+                    FileUse::Import => self.start_compare(path, true, view),
+                    FileUse::Compare => self.start_compare(path, false, view),
+                }
+            }
+            (mut mode, _) => {
+                let field = match &mut mode {
+                    Mode::Filter(field) | Mode::Edit { field, .. } | Mode::File { field, .. } => {
+                        field
+                    }
+                    _ => {
+                        self.mode = mode;
+                        return Outcome::Ignored;
+                    }
+                };
+                let edited = field.edit(key);
+                if let Mode::Filter(field) = &mode {
+                    self.filter = field.text().to_string();
+                    self.selected = 0;
+                }
+                self.mode = mode;
+                if edited {
+                    Outcome::redraw()
+                } else {
+                    Outcome::Ignored
+                }
+            }
+        }
+    }
+
+    // Drawing.
+
+    fn value_text(&self, row: &ParamRow) -> (String, Role) {
+        let key = (row.scope, row.number);
+        let reading = self
+            .in_flight
+            .as_ref()
+            .is_some_and(|(_, j)| (j.row.scope, j.row.number) == key && j.op == ParamOp::Read);
+        match self.values.get(&key) {
+            _ if !row.access.read => ("write-only".into(), Role::Muted),
+            Some(Cell::Value(v)) => {
+                let changed = self.first.get(&key).is_some_and(|first| first != v);
+                (
+                    v.to_string(),
+                    if changed { Role::Changed } else { Role::Normal },
+                )
+            }
+            Some(Cell::Unreadable(_)) => ("unreadable".into(), Role::Warning),
+            Some(Cell::NoAnswer(_)) => ("no answer".into(), Role::Error),
+            None if reading => ("reading".into(), Role::Muted),
+            None => ("·".into(), Role::Muted),
+        }
+    }
+
+    fn physical_text(&self, row: &ParamRow, view: &View) -> String {
+        let (Some(parameters), Some(Cell::Value(v))) = (
+            Self::parameters(view),
+            self.values.get(&(row.scope, row.number)),
+        ) else {
+            return String::new();
+        };
+        parameters
+            .physical(row, *v, self.unit, &self.axis_value(row.scope))
+            .map_or_else(String::new, |p| p.to_string())
+    }
+
+    fn row_line(
+        &self,
+        row: &ParamRow,
+        columns: &Columns,
+        selected: bool,
+        view: &View,
+    ) -> Line<'static> {
+        let theme = view.theme;
+        let base = if selected {
+            theme.style(if view.focused {
+                Role::Selection
+            } else {
+                Role::Accent
+            })
+        } else {
+            Style::default()
+        };
+        let on = |role: Role| {
+            if selected { base } else { theme.style(role) }
+        };
+        let mut spans = vec![Span::styled(format!("{:>4} ", row.number), on(Role::Muted))];
+        spans.extend(name_spans(
+            &row.name,
+            &self.filter,
+            columns.name,
+            on(Role::Normal),
+            on(Role::Matched),
+        ));
+        let (value, role) = self.value_text(row);
+        spans.push(Span::styled(format!(" {:>11}", fit(&value, 11)), on(role)));
+        spans.push(Span::styled(
+            format!(" {:<9}", fit(row.unit, 9)),
+            on(Role::Muted),
+        ));
+        if columns.real > 0 {
+            let real = self.physical_text(row, view);
+            spans.push(Span::styled(
+                format!(" {:>w$}", fit(&real, columns.real), w = columns.real),
+                on(Role::Accent),
+            ));
+        }
+        if columns.range > 0 {
+            let range = row.range.to_string();
+            spans.push(Span::styled(
+                format!(" {:<w$}", fit(&range, columns.range), w = columns.range),
+                on(Role::Muted),
+            ));
+        }
+        spans.push(Span::styled(
+            format!(" {:<4}", row.access.to_string()),
+            on(Role::Muted),
+        ));
+        if columns.description > 0 {
+            spans.push(Span::styled(
+                format!(" {}", fit(row.description, columns.description)),
+                on(Role::Muted),
+            ));
+        }
+        Line::from(spans).style(base)
+    }
+
+    fn heading(columns: &Columns) -> String {
+        let mut text = format!("{:>4} {:<w$}", "No", "Name", w = columns.name);
+        text.push_str(&format!(" {:>11} {:<9}", "Value", "Unit"));
+        if columns.real > 0 {
+            text.push_str(&format!(" {:>w$}", "Real", w = columns.real));
+        }
+        if columns.range > 0 {
+            text.push_str(&format!(" {:<w$}", "Range", w = columns.range));
+        }
+        text.push_str(" Acc.");
+        if columns.description > 0 {
+            text.push_str(" Description");
+        }
+        text
+    }
+
+    fn status_text(&self, view: &View) -> String {
+        let rows = self.shown_rows().len();
+        let mut parts = vec![match view.session.and_then(Snapshot::selected_axis) {
+            Some(axis) => format!("{rows} parameters · {}", axis.name),
+            None => format!("{rows} parameters"),
+        }];
+        if !self.filter.is_empty() {
+            parts.push(format!("filter \"{}\"", self.filter));
+        }
+        if self.progress.total > 0 {
+            parts.push(format!(
+                "busy {}/{}",
+                self.progress.done, self.progress.total
+            ));
+        }
+        parts.push(match self.unit {
+            SpeedUnit::Pps => "real: pps".into(),
+            SpeedUnit::Rpm => "real: rpm".into(),
+        });
+        parts.join(" · ")
+    }
+
+    /// The footer: a prompt while typing, else the message, else the
+    /// selected row's details and the keys.
+    fn footer(&self, view: &View, width: usize) -> Vec<(Line<'static>, Option<usize>)> {
+        let theme = view.theme;
+        let key = |action| key_label(view.keymap, Context::Parameters, action);
+        let cmd = |action| key_label(view.keymap, Context::Command, action);
+        let prompt = |label: String, field: &Field, hint: String| {
+            let column = label.chars().count() + field.cursor_column();
+            (
+                Line::from(vec![
+                    Span::styled(label, theme.style(Role::Prompt)),
+                    Span::styled(field.text().to_string(), theme.style(Role::Normal)),
+                    Span::styled(format!("  {hint}"), theme.style(Role::Muted)),
+                ]),
+                Some(column),
+            )
+        };
+        let mut lines = Vec::new();
+        match &self.mode {
+            Mode::Edit { row, field } => lines.push(prompt(
+                format!("{} = ", row.name),
+                field,
+                format!(
+                    "{} {} · {} writes, {} cancels",
+                    row.range,
+                    row.unit,
+                    cmd(Action::Submit),
+                    cmd(Action::Cancel)
+                ),
+            )),
+            Mode::Filter(field) => lines.push(prompt(
+                "filter: ".into(),
+                field,
+                format!(
+                    "{} keeps it, {} clears it",
+                    cmd(Action::Submit),
+                    cmd(Action::Cancel)
+                ),
+            )),
+            Mode::File { purpose, field } => {
+                let label = match purpose {
+                    FileUse::Export => "export to: ",
+                    FileUse::Import => "import from: ",
+                    FileUse::Compare => "compare with: ",
+                };
+                lines.push(prompt(
+                    label.into(),
+                    field,
+                    format!("{} · {} cancels", cmd(Action::Submit), cmd(Action::Cancel)),
+                ));
+            }
+            Mode::Browse | Mode::Diff(_) => {}
+        }
+        if let Some((role, text)) = &self.message {
+            lines.push((Line::styled(fit(text, width), theme.style(*role)), None));
+        }
+        if let (Mode::Browse, Some(row)) = (&self.mode, self.selected_row()) {
+            let mut detail = format!("{}: {} {}", row.name, row.range, row.access);
+            if let Some(default) = row.default {
+                detail.push_str(&format!(", default {default}"));
+            }
+            match self.values.get(&(row.scope, row.number)) {
+                Some(Cell::Unreadable(why) | Cell::NoAnswer(why)) => {
+                    detail.push_str(&format!(" · {why}"));
+                }
+                _ => detail.push_str(&format!(" · {}", row.description)),
+            }
+            lines.push((
+                Line::styled(fit(&detail, width), theme.style(Role::Muted)),
+                None,
+            ));
+            lines.push((
+                Line::styled(
+                    fit(
+                        &format!(
+                            "{} edit · {} store · {} restore · {} refresh · {} filter · {} export · {} import · {} diff",
+                            key(Action::ParameterEdit),
+                            key(Action::ParameterStore),
+                            key(Action::ParameterRestore),
+                            key(Action::ParameterRefresh),
+                            key(Action::ParameterFilter),
+                            key(Action::ParameterExport),
+                            key(Action::ParameterImport),
+                            key(Action::ParameterDiff),
+                        ),
+                        width,
+                    ),
+                    theme.style(Role::Muted),
+                ),
+                None,
+            ));
+        }
+        lines
+    }
+
+    fn render_diff(&self, diff: &Diff, frame: &mut Frame, area: Rect, view: &View) {
+        let theme = view.theme;
+        let width = usize::from(area.width);
+        let key = |action| key_label(view.keymap, Context::Parameters, action);
+        let verb = if diff.import { "Import" } else { "Compare" };
+        let mut lines = vec![Line::styled(
+            fit(
+                &format!(
+                    "{verb} {}: {} differ, {} the same",
+                    diff.path.display(),
+                    diff.differences.len(),
+                    diff.same
+                ),
+                width,
+            ),
+            theme.style(Role::Title),
+        )];
+        let writable = diff
+            .differences
+            .iter()
+            .filter(|d| d.row.role == ParamRole::Setting)
+            .count();
+        let hint = if diff.import && writable > 0 {
+            format!(
+                "{} writes the {writable} file value(s) below, {} drops them; nothing is written yet",
+                key(Action::ParameterWrite),
+                key(Action::Cancel)
+            )
+        } else {
+            format!("{} closes", key(Action::Cancel))
+        };
+        lines.push(Line::styled(fit(&hint, width), theme.style(Role::Accent)));
+        let mut body: Vec<Line> = Vec::new();
+        for d in &diff.differences {
+            let device = match &d.device {
+                Cell::Value(v) => v.to_string(),
+                Cell::Unreadable(_) => "unreadable".into(),
+                Cell::NoAnswer(_) => "no answer".into(),
+            };
+            let label = match d.row.scope {
+                Scope::Axis(n) => format!("axis {n} #{}", d.row.number),
+                Scope::Bank(n) => format!("bank {n} #{}", d.row.number),
+            };
+            let mut text = format!(
+                "{label:<12} {:<28} module {device:>11} → file {:>11}",
+                fit(&d.row.name, 28),
+                d.file
+            );
+            if d.row.role == ParamRole::Link {
+                text.push_str("  (link setting: not written)");
+            }
+            let role = if d.row.role == ParamRole::Setting {
+                Role::Changed
+            } else {
+                Role::Warning
+            };
+            body.push(Line::styled(fit(&text, width), theme.style(role)));
+        }
+        for problem in &diff.problems {
+            body.push(Line::styled(
+                fit(problem, width),
+                theme.style(Role::Warning),
+            ));
+        }
+        if body.is_empty() {
+            body.push(Line::styled(
+                "the module holds every value of the file",
+                theme.style(Role::Ok),
+            ));
+        }
+        lines.extend(body.into_iter().skip(diff.scroll));
+        frame.render_widget(Paragraph::new(lines), area);
+    }
+}
+
+/// How wide each column is at this width.
+#[derive(Debug, Clone, Copy)]
+struct Columns {
+    name: usize,
+    real: usize,
+    range: usize,
+    description: usize,
+}
+
+impl Columns {
+    /// Number, value, unit and access always; the real-world value, the
+    /// range and the description when there is room, in that order.
+    fn for_width(width: usize) -> Columns {
+        const FIXED: usize = 5 + 12 + 10 + 5;
+        const NAME_MIN: usize = 16;
+        const NAME_MAX: usize = 34;
+        let mut columns = Columns {
+            name: 0,
+            real: 0,
+            range: 0,
+            description: 0,
+        };
+        let mut room = width.saturating_sub(FIXED);
+        if room >= NAME_MIN + 13 {
+            columns.real = 12;
+            room -= 13;
+        }
+        // A full 32-bit span is 23 characters; at 80 columns the footer
+        // shows the selected row's range instead.
+        if room >= NAME_MAX + 24 + 20 {
+            columns.range = 23;
+            room -= 24;
+        } else if room >= 28 + 16 {
+            columns.range = 15;
+            room -= 16;
+        }
+        if room > NAME_MAX + 20 {
+            columns.name = NAME_MAX;
+            columns.description = room - NAME_MAX - 1;
+        } else {
+            columns.name = room.max(1);
+        }
+        columns
+    }
+}
+
+/// Whether a row passes the filter: its name contains it, or it is its
+/// number.
+fn matches(row: &ParamRow, filter: &str) -> bool {
+    filter.is_empty()
+        || row.name.to_lowercase().contains(filter)
+        || row.number.to_string() == filter
+}
+
+/// `text` cut to `width` characters, with an ellipsis when cut.
+fn fit(text: &str, width: usize) -> String {
+    if text.chars().count() <= width {
+        return text.to_string();
+    }
+    if width == 0 {
+        return String::new();
+    }
+    let mut out: String = text.chars().take(width - 1).collect();
+    out.push('…');
+    out
+}
+
+/// The name in a column of `width`, the part matching `filter` marked.
+fn name_spans(
+    name: &str,
+    filter: &str,
+    width: usize,
+    normal: Style,
+    matched: Style,
+) -> Vec<Span<'static>> {
+    let shown = fit(name, width);
+    let padded = format!("{shown:<width$}");
+    let filter = filter.trim().to_lowercase();
+    let lower = padded.to_lowercase();
+    let found = (!filter.is_empty())
+        .then(|| lower.find(&filter))
+        .flatten()
+        // Lower-casing may change byte lengths outside ASCII: mark only
+        // when the offsets still fall on the same characters.
+        .filter(|&at| {
+            padded.is_char_boundary(at)
+                && padded.is_char_boundary(at + filter.len())
+                && lower.len() == padded.len()
+        });
+    match found {
+        Some(at) => vec![
+            Span::styled(padded[..at].to_string(), normal),
+            Span::styled(padded[at..at + filter.len()].to_string(), matched),
+            Span::styled(padded[at + filter.len()..].to_string(), normal),
+        ],
+        None => vec![Span::styled(padded, normal)],
+    }
+}
+
+impl Pane for ParamsPane {
+    fn name(&self) -> &'static str {
+        "params"
+    }
+
+    /// While a value, filter or file name is typed, keys are looked up
+    /// as on the command line, so that letters are text (the vim keymap's
+    /// `q` does not quit in the middle of a filter).
+    fn context(&self) -> Context {
+        match self.mode {
+            Mode::Filter(_) | Mode::Edit { .. } | Mode::File { .. } => Context::Command,
+            Mode::Browse | Mode::Diff(_) => Context::Parameters,
+        }
+    }
+
+    fn title(&self, _view: &View) -> String {
+        "Parameters".into()
+    }
+
+    fn region(&self) -> Region {
+        Region::Main
+    }
+
+    fn render(&mut self, frame: &mut Frame, area: Rect, view: &View) {
+        if area.height == 0 || area.width == 0 {
+            return;
+        }
+        self.follow(view);
+        let theme = view.theme;
+        let width = usize::from(area.width);
+        if view.session.is_none() {
+            frame.render_widget(
+                Paragraph::new(Line::styled(
+                    "not connected: the parameters show once a module is",
+                    theme.style(Role::Muted),
+                )),
+                area,
+            );
+            return;
+        }
+        if let Mode::Diff(diff) = &self.mode {
+            self.render_diff(diff, frame, area, view);
+            return;
+        }
+        if self.tables.is_empty() {
+            let family = view.session.map_or("", |s| s.family.name);
+            frame.render_widget(
+                Paragraph::new(Line::styled(
+                    format!("the {family} family has no parameter tables"),
+                    theme.style(Role::Muted),
+                )),
+                area,
+            );
+            return;
+        }
+        let footer = self.footer(view, width);
+        let footer_rows = footer.len().min(usize::from(area.height).saturating_sub(3));
+        let body_rows = usize::from(area.height).saturating_sub(2 + footer_rows);
+        self.page = body_rows.max(1);
+        let columns = Columns::for_width(width);
+        let mut lines = vec![
+            Line::styled(
+                fit(&self.status_text(view), width),
+                theme.style(Role::Muted),
+            ),
+            Line::styled(
+                fit(&Self::heading(&columns), width),
+                theme.style(Role::Title),
+            ),
+        ];
+        let items = self.items();
+        let rows = items.iter().filter(|i| matches!(i, Item::Row(..))).count();
+        self.selected = self.selected.min(rows.saturating_sub(1));
+        // Where the selected row is among the lines; keep it in view (and
+        // its table's header too when at the top).
+        let mut seen = 0;
+        let selected_line = items
+            .iter()
+            .position(|item| {
+                if let Item::Row(..) = item {
+                    seen += 1;
+                    seen == self.selected + 1
+                } else {
+                    false
+                }
+            })
+            .unwrap_or(0);
+        if selected_line < self.offset + 1 {
+            self.offset = selected_line.saturating_sub(1);
+        }
+        if body_rows > 0 && selected_line >= self.offset + body_rows {
+            self.offset = selected_line + 1 - body_rows;
+        }
+        let mut row_index = items
+            .iter()
+            .take(self.offset)
+            .filter(|i| matches!(i, Item::Row(..)))
+            .count();
+        for item in items.iter().skip(self.offset).take(body_rows) {
+            match *item {
+                Item::Header(t) => {
+                    let title = self.tables.get(t).map_or("", |table| table.title.as_str());
+                    lines.push(Line::styled(
+                        fit(&format!("── {title} ──"), width),
+                        theme.style(Role::Title),
+                    ));
+                }
+                Item::Row(t, r) => {
+                    if let Some(row) = self.tables.get(t).and_then(|table| table.rows.get(r)) {
+                        lines.push(self.row_line(row, &columns, row_index == self.selected, view));
+                    }
+                    row_index += 1;
+                }
+            }
+        }
+        while lines.len() < 2 + body_rows {
+            lines.push(Line::raw(""));
+        }
+        let mut cursor = None;
+        for (i, (line, column)) in footer.into_iter().take(footer_rows).enumerate() {
+            if let Some(column) = column {
+                cursor = Some((column, 2 + body_rows + i));
+            }
+            lines.push(line);
+        }
+        frame.render_widget(Paragraph::new(lines), area);
+        if view.focused
+            && let Some((column, row)) = cursor
+        {
+            let x = area.x + (column.min(width.saturating_sub(1)) as u16);
+            let y = area.y + (row as u16).min(area.height - 1);
+            frame.set_cursor_position(Position::new(x, y));
+        }
+    }
+
+    fn handle_input(&mut self, input: &Input, view: &View) -> Outcome {
+        self.follow(view);
+        match input {
+            Input::Key(key) => {
+                let mode = std::mem::replace(&mut self.mode, Mode::Browse);
+                match mode {
+                    Mode::Browse => self.browse_key(key, view),
+                    Mode::Diff(diff) => self.diff_key(diff, key, view),
+                    typing => self.field_key(typing, key, view),
+                }
+            }
+            Input::Paste(text) => match &mut self.mode {
+                Mode::Filter(field) => {
+                    field.insert_str(text);
+                    self.filter = field.text().to_string();
+                    Outcome::redraw()
+                }
+                Mode::Edit { field, .. } | Mode::File { field, .. } => {
+                    field.insert_str(text.lines().next().unwrap_or(""));
+                    Outcome::redraw()
+                }
+                _ => Outcome::Ignored,
+            },
+            Input::Mouse(mouse) => match mouse.kind {
+                MouseEventKind::ScrollUp => {
+                    self.move_selection(Action::SelectPrevious);
+                    Outcome::redraw()
+                }
+                MouseEventKind::ScrollDown => {
+                    self.move_selection(Action::SelectNext);
+                    Outcome::redraw()
+                }
+                _ => Outcome::Ignored,
+            },
+        }
+    }
+
+    fn on_event(&mut self, event: &PaneEvent, view: &View) -> Outcome {
+        match event {
+            PaneEvent::Snapshot => {
+                let before = (self.connection.clone(), self.tables_for);
+                self.follow(view);
+                if before != (self.connection.clone(), self.tables_for) {
+                    Outcome::redraw()
+                } else {
+                    Outcome::Ignored
+                }
+            }
+            PaneEvent::Connected { .. } => {
+                // A connection opened again may hold other values (the
+                // module was reset): forget what was read.
+                self.connection = None;
+                self.follow(view);
+                Outcome::redraw()
+            }
+            PaneEvent::Focused => {
+                self.follow(view);
+                if view.session.is_some() && !self.tables.is_empty() {
+                    self.start_reading(view, false)
+                } else {
+                    Outcome::Ignored
+                }
+            }
+            PaneEvent::Reply { tag, result, .. } => self.answer(*tag, result, view),
+            PaneEvent::Stopping => {
+                let dropped = self.pending();
+                if dropped == 0 {
+                    return Outcome::Ignored;
+                }
+                self.drop_work();
+                self.set_message(
+                    Role::Warning,
+                    format!("emergency stop: {dropped} parameter line(s) not sent"),
+                );
+                Outcome::redraw()
+            }
+            _ => Outcome::Ignored,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn columns_grow_with_the_width() {
+        let narrow = Columns::for_width(80);
+        assert!(narrow.real > 0 && narrow.range == 0 && narrow.description == 0);
+        assert!(narrow.name >= 16, "{narrow:?}");
+        let wide = Columns::for_width(200);
+        assert!(wide.range > 0 && wide.description > 0);
+        let tiny = Columns::for_width(20);
+        assert_eq!(tiny.real, 0);
+        assert!(tiny.name >= 1);
+    }
+
+    #[test]
+    fn names_are_cut_with_an_ellipsis_and_marked_where_they_match() {
+        assert_eq!(fit("Maximum positioning speed", 10), "Maximum p…");
+        assert_eq!(fit("short", 10), "short");
+        let spans = name_spans(
+            "Maximum speed",
+            "SPEED",
+            15,
+            Style::default(),
+            Style::default(),
+        );
+        let parts: Vec<&str> = spans.iter().map(|s| s.content.as_ref()).collect();
+        assert_eq!(parts, ["Maximum ", "speed", "  "]);
+    }
+}

@@ -1,0 +1,221 @@
+//! The real binary in a real pseudo-terminal (tmux): `axterm --sim
+//! tmcm1110`, a move typed in the command pane, the position changing on
+//! screen, the emergency stop, quitting, and the terminal given back.
+//!
+//! Synchronisation is by polling the screen (`tmux capture-pane`) until
+//! the expected text appears, with one overall deadline so that a broken
+//! build fails instead of hanging; nothing here measures how fast
+//! anything is.
+
+use std::path::Path;
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+/// Give up on the whole test after this long (a debug build on a loaded
+/// machine is slow; a working one needs a few seconds).
+const DEADLINE: Duration = Duration::from_secs(60);
+/// Between two looks at the screen.
+const LOOK_AGAIN: Duration = Duration::from_millis(50);
+
+/// A tmux server of our own, killed when dropped.
+struct Tmux {
+    socket: String,
+    started: Instant,
+}
+
+impl Tmux {
+    /// `name` keeps the servers of tests running side by side apart.
+    fn start(name: &str, command: &str, dir: &Path) -> Tmux {
+        let version = Command::new("tmux").arg("-V").output();
+        assert!(
+            version.is_ok_and(|o| o.status.success()),
+            "this test needs tmux (apt-get install tmux; .ci/run installs it)"
+        );
+        let socket = format!("axterm-e2e-{name}-{}", std::process::id());
+        let tmux = Tmux {
+            socket,
+            started: Instant::now(),
+        };
+        let status = Command::new("tmux")
+            .args(["-L", &tmux.socket, "-f", "/dev/null"])
+            .args(["new-session", "-d", "-x", "100", "-y", "30", "-c"])
+            .arg(dir)
+            .arg(command)
+            .env_remove("TMUX")
+            .status()
+            .expect("tmux runs");
+        assert!(status.success(), "tmux new-session failed");
+        tmux
+    }
+
+    fn keys(&self, keys: &[&str]) {
+        let status = Command::new("tmux")
+            .args(["-L", &self.socket, "send-keys"])
+            .args(keys)
+            .status()
+            .expect("tmux send-keys");
+        assert!(status.success());
+    }
+
+    fn resize(&self, width: u16, height: u16) {
+        let status = Command::new("tmux")
+            .args(["-L", &self.socket, "resize-window", "-x"])
+            .arg(width.to_string())
+            .arg("-y")
+            .arg(height.to_string())
+            .status()
+            .expect("tmux resize-window");
+        assert!(status.success());
+    }
+
+    /// Type text literally.
+    fn type_text(&self, text: &str) {
+        self.keys(&["-l", text]);
+    }
+
+    fn screen(&self) -> String {
+        let out = Command::new("tmux")
+            .args(["-L", &self.socket, "capture-pane", "-p", "-J"])
+            .output()
+            .expect("tmux capture-pane");
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    }
+
+    /// Look at the screen until `ready` says yes; the screen it said yes
+    /// to.
+    fn until(&self, what: &str, ready: impl Fn(&str) -> bool) -> String {
+        loop {
+            let screen = self.screen();
+            if ready(&screen) {
+                return screen;
+            }
+            assert!(
+                self.started.elapsed() < DEADLINE,
+                "gave up waiting for {what}; the screen:\n{screen}"
+            );
+            std::thread::sleep(LOOK_AGAIN);
+        }
+    }
+}
+
+impl Drop for Tmux {
+    fn drop(&mut self) {
+        let _ = Command::new("tmux")
+            .args(["-L", &self.socket, "kill-server"])
+            .status();
+    }
+}
+
+/// The position the axes pane shows for the first axis.
+fn position(screen: &str) -> Option<i64> {
+    let line = screen.lines().find(|l| l.contains("▶motor 0"))?;
+    let after = line.split("pos").nth(1)?;
+    after.split_whitespace().next()?.parse().ok()
+}
+
+fn speed(screen: &str) -> Option<i64> {
+    let line = screen.lines().find(|l| l.contains(" spd "))?;
+    let after = line.split(" spd ").nth(1)?;
+    after.split_whitespace().next()?.parse().ok()
+}
+
+#[test]
+fn a_move_an_emergency_stop_and_the_terminal_given_back() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let binary = env!("CARGO_BIN_EXE_axterm");
+    // After axterm: its exit code, the terminal's settings, an end marker;
+    // then the shell waits so the screen can be read.
+    let command = format!(
+        "AXTERM_DATA_DIR={data} {binary} --sim tmcm1110; echo AXTERM-EXIT-$?; stty -a; echo MARKER-END; sleep 600",
+        data = dir.path().display(),
+    );
+    let tmux = Tmux::start("move", &command, dir.path());
+    let first = tmux.until("the console", |s| {
+        s.contains("poll 20 Hz") && position(s) == Some(0)
+    });
+    assert!(first.contains("F12 STOP"), "{first}");
+
+    tmux.type_text("MVP ABS, 0, 51200");
+    tmux.keys(&["Enter"]);
+    tmux.until("the axis to move toward its new target", |s| {
+        s.contains("ok  (status 100: successfully executed, no error)")
+            && position(s).is_some_and(|p| p > 0)
+            && s.contains("tgt       51200")
+    });
+
+    tmux.keys(&["F12"]);
+    let stopped = tmux.until("the stop to be confirmed and the axis to stand", |s| {
+        s.contains("STOP confirmed: every stop line answered ok")
+            && speed(s) == Some(0)
+            && s.contains("standing")
+    });
+    assert!(
+        stopped.contains("sent MST 0") && stopped.contains("sent STOPAPP"),
+        "{stopped}"
+    );
+    assert!(stopped.contains("F12 EMERGENCY STOP"), "{stopped}");
+
+    // A smaller terminal: the console follows, and still shows the stop key.
+    tmux.resize(80, 24);
+    tmux.until("the console at 80x24", |s| {
+        let lines: Vec<&str> = s.lines().collect();
+        lines.len() == 24
+            && lines
+                .first()
+                .is_some_and(|l| l.chars().count() == 80 && l.contains("Axes —"))
+            && lines.last().is_some_and(|l| l.starts_with(" F12 STOP "))
+    });
+
+    tmux.keys(&["F10"]);
+    let after = tmux.until("axterm to exit", |s| s.contains("MARKER-END"));
+    assert!(after.contains("AXTERM-EXIT-0"), "{after}");
+    // The alternate screen was left: none of the console is on screen.
+    assert!(
+        !after.contains("F12 STOP") && !after.contains("Axes —"),
+        "{after}"
+    );
+    // Cooked mode again: canonical input and echo on.
+    let stty: String = after
+        .split("AXTERM-EXIT-0")
+        .nth(1)
+        .unwrap_or_default()
+        .to_string();
+    let words: Vec<&str> = stty.split_whitespace().collect();
+    for setting in ["icanon", "echo", "isig", "icrnl", "opost"] {
+        assert!(
+            words.contains(&setting),
+            "{setting} is not set again:\n{stty}"
+        );
+    }
+}
+
+/// SIGTERM (a service manager) and SIGHUP (the SSH session dropped).
+#[test]
+fn a_termination_signal_gives_the_terminal_back_too() {
+    for (name, signal) in [("sigterm", libc::SIGTERM), ("sighup", libc::SIGHUP)] {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let binary = env!("CARGO_BIN_EXE_axterm");
+        let command = format!(
+            "AXTERM_DATA_DIR={data} {binary} --sim tmcm1110 & pid=$!; echo $pid > pid; wait $pid; echo AXTERM-EXIT-$?; stty -a; echo MARKER-END; sleep 600",
+            data = dir.path().display(),
+        );
+        let tmux = Tmux::start(name, &command, dir.path());
+        tmux.until("the console", |s| s.contains("poll 20 Hz"));
+        let pid: i32 = std::fs::read_to_string(dir.path().join("pid"))
+            .expect("pid file")
+            .trim()
+            .parse()
+            .expect("a pid");
+        // SAFETY: kill(2) with a pid we started and a valid signal number.
+        let sent = unsafe { libc::kill(pid, signal) };
+        assert_eq!(sent, 0, "{name} could not be sent");
+        let after = tmux.until("axterm to exit", |s| s.contains("MARKER-END"));
+        assert!(after.contains("AXTERM-EXIT-0"), "{name}: {after}");
+        assert!(!after.contains("F12 STOP"), "{name}: {after}");
+        let words: Vec<&str> = after.split_whitespace().collect();
+        assert!(
+            words.contains(&"icanon") && words.contains(&"echo"),
+            "{name}: {after}"
+        );
+    }
+}

@@ -1,0 +1,371 @@
+//! The command pane inside the console, driven by keys and replies as the
+//! event loop would deliver them, drawn with ratatui's TestBackend.
+
+mod ui_support;
+
+use std::time::Duration;
+
+use axterm::protocol::console::{ReplyError, ReplyValue};
+use axterm::session::{LineResult, SessionError};
+use axterm::ui::PaneSetup;
+use axterm::ui::app::{App, AppEvent, Effect};
+use ratatui::crossterm::event::KeyCode;
+use ui_support::{axes, console, console_with, key, screen, snapshot, type_text};
+
+fn connected() -> App {
+    let mut app = console();
+    app.handle(AppEvent::Snapshot(snapshot(axes(&["motor 0"]))));
+    app
+}
+
+/// Type a line and press Enter; the effects.
+fn enter(app: &mut App, line: &str) -> Vec<Effect> {
+    let mut effects = type_text(app, line);
+    effects.extend(app.handle(key(KeyCode::Enter)));
+    effects
+}
+
+/// The pane and tag of the one line sent.
+fn sent(effects: &[Effect]) -> (usize, u64, Vec<String>) {
+    match effects {
+        [Effect::Send { pane, tag, lines }] => (*pane, *tag, lines.clone()),
+        other => panic!("expected one Send, got {other:?}"),
+    }
+}
+
+fn ok(line: &str, value: ReplyValue) -> Result<LineResult, SessionError> {
+    Ok(LineResult {
+        line: line.into(),
+        request: vec![0x01, 0x04, 0x00, 0x00, 0x00, 0x00, 0xC8, 0x00, 0xCD],
+        reply: vec![0x02, 0x01, 0x64, 0x04, 0x00, 0x00, 0xC8, 0x00, 0x33],
+        status: Some(100),
+        value,
+        elapsed: Duration::from_millis(3),
+        attempts: 1,
+    })
+}
+
+fn text(app: &mut App, width: u16, height: u16) -> String {
+    screen(app, width, height).join("\n")
+}
+
+#[test]
+fn a_typed_line_is_sent_and_its_answer_shown_with_status_meaning_and_bytes() {
+    let mut app = connected();
+    let (pane, tag, lines) = sent(&enter(&mut app, "MVP ABS, 0, 51200"));
+    assert_eq!(lines, ["MVP ABS, 0, 51200"]);
+    app.handle(AppEvent::Reply {
+        pane,
+        tag,
+        line: "MVP ABS, 0, 51200".into(),
+        result: ok("MVP ABS, 0, 51200", ReplyValue::None),
+    });
+    let screen = text(&mut app, 80, 24);
+    assert!(screen.contains("> MVP ABS, 0, 51200"), "{screen}");
+    assert!(
+        screen.contains("ok  (status 100: successfully executed, no error)"),
+        "{screen}"
+    );
+    assert!(
+        screen.contains("sent 01 04 00 00 00 00 C8 00 CD  got 02 01 64 04 00 00 C8 00 33"),
+        "{screen}"
+    );
+}
+
+#[test]
+fn errors_are_shown_in_plain_words() {
+    let mut app = connected();
+    let (pane, tag, _) = sent(&enter(&mut app, "SAP 6, 0, 200"));
+    app.handle(AppEvent::Reply {
+        pane,
+        tag,
+        line: "SAP 6, 0, 200".into(),
+        result: Err(SessionError::Reply {
+            error: Box::new(ReplyError::Rejected {
+                module: "module 1".into(),
+                line: "SAP 6, 0, 200".into(),
+                status: 4,
+                meaning: "invalid value".into(),
+            }),
+            request: vec![1, 5, 6, 0, 0, 0, 0, 200, 212],
+            reply: vec![2, 1, 4, 5, 0, 0, 0, 200, 212],
+            elapsed: Duration::ZERO,
+        }),
+    });
+    let (pane, tag, _) = sent(&enter(&mut app, "SAP 6, 0, 999"));
+    app.handle(AppEvent::Reply {
+        pane,
+        tag,
+        line: "SAP 6, 0, 999".into(),
+        result: Err(SessionError::Refused {
+            line: "SAP 6, 0, 999".into(),
+            message: "SAP 6 (Maximum current): value 999 outside 0..255".into(),
+        }),
+    });
+    let screen = text(&mut app, 100, 30);
+    assert!(
+        screen.contains("error: module 1 rejected SAP 6, 0, 200: invalid value (status 4)"),
+        "{screen}"
+    );
+    assert!(
+        screen.contains("not sent: SAP 6 (Maximum current): value 999 outside 0..255"),
+        "{screen}"
+    );
+}
+
+#[test]
+fn tab_completes_mnemonics_symbols_and_parameters_from_the_catalogue() {
+    let mut app = connected();
+    type_text(&mut app, "ms");
+    app.handle(key(KeyCode::Tab));
+    assert!(
+        text(&mut app, 80, 24).contains("> MST "),
+        "a unique mnemonic completes"
+    );
+    app.handle(key(KeyCode::Esc));
+
+    type_text(&mut app, "MVP ");
+    app.handle(key(KeyCode::Tab));
+    let screen = text(&mut app, 80, 24);
+    assert!(
+        screen.contains("ABS 0   REL 1   COORD 2"),
+        "the choices are listed: {screen}"
+    );
+    app.handle(key(KeyCode::Tab));
+    assert!(text(&mut app, 80, 24).contains("> MVP ABS"));
+    app.handle(key(KeyCode::Tab));
+    assert!(
+        text(&mut app, 80, 24).contains("> MVP REL"),
+        "Tab again takes the next"
+    );
+    app.handle(key(KeyCode::Esc));
+
+    type_text(&mut app, "SAP maxim");
+    app.handle(key(KeyCode::Tab));
+    let screen = text(&mut app, 120, 30);
+    assert!(screen.contains("4 Maximum positioning speed"), "{screen}");
+    assert!(screen.contains("5 Maximum acceleration"), "{screen}");
+}
+
+#[test]
+fn f1_explains_the_word_under_the_cursor_and_help_takes_topics() {
+    let mut app = connected();
+    type_text(&mut app, "SAP 4, 0, 100");
+    for _ in 0..8 {
+        app.handle(key(KeyCode::Left));
+    }
+    app.handle(key(KeyCode::F(1)));
+    let screen = text(&mut app, 120, 30);
+    assert!(
+        screen.contains("SAP <parameter>, <motor>, <value>   (§3.6.5, instruction 5)"),
+        "{screen}"
+    );
+    assert!(
+        screen.contains(
+            "axis parameter 4 “Maximum positioning speed”: 1..2047 int (vel), access RWE"
+        ),
+        "{screen}"
+    );
+    // The line is still there to finish.
+    assert!(screen.contains("> SAP 4, 0, 100"), "{screen}");
+
+    app.handle(key(KeyCode::Esc));
+    enter(&mut app, ":help MVP");
+    let screen = text(&mut app, 120, 30);
+    assert!(
+        screen.contains("<mode>: ABS (0), REL (1), COORD (2)"),
+        "{screen}"
+    );
+    enter(&mut app, ":help");
+    let screen = text(&mut app, 120, 40);
+    assert!(screen.contains(":poll RATE"), "{screen}");
+    assert!(screen.contains("F12 stops every axis"), "{screen}");
+}
+
+#[test]
+fn history_is_kept_per_family_in_the_data_directory() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let setup = PaneSetup {
+        history_dir: Some(dir.path().to_path_buf()),
+    };
+    let mut app = console_with(&setup);
+    app.handle(AppEvent::Snapshot(snapshot(axes(&["motor 0"]))));
+    enter(&mut app, "GAP 1, 0");
+    enter(&mut app, "GAP 3, 0");
+    let saved = std::fs::read_to_string(dir.path().join("history-tmcl.txt")).expect("history");
+    assert_eq!(saved, "GAP 1, 0\nGAP 3, 0\n");
+
+    // A new console remembers; Up goes back, Down comes forward again.
+    let mut app = console_with(&setup);
+    app.handle(AppEvent::Snapshot(snapshot(axes(&["motor 0"]))));
+    type_text(&mut app, "draft");
+    app.handle(key(KeyCode::Up));
+    assert!(text(&mut app, 80, 24).contains("> GAP 3, 0"));
+    app.handle(key(KeyCode::Up));
+    assert!(text(&mut app, 80, 24).contains("> GAP 1, 0"));
+    app.handle(key(KeyCode::Down));
+    app.handle(key(KeyCode::Down));
+    assert!(text(&mut app, 80, 24).contains("> draft"));
+}
+
+#[test]
+fn console_commands_become_requests() {
+    let mut app = console();
+    let mut s = snapshot(axes(&["X", "Y", "Z", "U"]));
+    s.poll = None;
+    app.handle(AppEvent::Snapshot(s));
+    let poll = enter(&mut app, ":poll 10");
+    assert!(
+        matches!(&poll[..], [Effect::Poll(Some(c))] if c.fast == Duration::from_millis(100)),
+        "{poll:?}"
+    );
+    assert_eq!(enter(&mut app, ":poll off"), [Effect::Poll(None)]);
+    enter(&mut app, ":axis z");
+    assert_eq!(app.snapshot().map(|s| s.axis), Some(2));
+    enter(&mut app, ":axis 3");
+    assert_eq!(app.snapshot().map(|s| s.axis), Some(3));
+    assert_eq!(enter(&mut app, ":address 3"), [Effect::SetAddress(3)]);
+    assert_eq!(
+        enter(&mut app, ":connect --sim tmcm1110"),
+        [Effect::Connect(vec!["--sim".into(), "tmcm1110".into()])]
+    );
+    assert_eq!(
+        enter(&mut app, ":log traffic.log"),
+        [Effect::Log(Some("traffic.log".into()))]
+    );
+    assert_eq!(enter(&mut app, ":stop"), [Effect::EmergencyStop]);
+    // Nothing is asked for a command that is wrong; it says why.
+    assert!(enter(&mut app, ":axis W").is_empty());
+    assert!(enter(&mut app, ":poll fast").is_empty());
+    assert!(enter(&mut app, ":bogus").is_empty());
+    let screen = text(&mut app, 120, 40);
+    assert!(
+        screen.contains("no axis `W`: this module has 0 (X), 1 (Y), 2 (Z), 3 (U)"),
+        "{screen}"
+    );
+    assert!(screen.contains(":poll needs a rate in Hz"), "{screen}");
+    assert!(
+        screen.contains("unknown console command `:bogus`"),
+        "{screen}"
+    );
+    assert_eq!(enter(&mut app, ":quit"), [Effect::Quit]);
+    assert!(app.should_quit());
+}
+
+#[test]
+fn run_checks_the_whole_file_first_and_then_sends_line_after_line() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let bad = dir.path().join("bad.txt");
+    std::fs::write(&bad, "GAP 1, 0\nSAP 6, 0, 100000\n").expect("write");
+    let mut app = connected();
+    assert!(enter(&mut app, &format!(":run {}", bad.display())).is_empty());
+    let screen = text(&mut app, 160, 40);
+    assert!(screen.contains("bad.txt:2: "), "{screen}");
+    assert!(screen.contains("nothing was sent"), "{screen}");
+
+    let good = dir.path().join("good.txt");
+    std::fs::write(
+        &good,
+        "# move\n:echo homing\nSAP 4, 0, 1000\n:expect GAP 4, 0 == 1000\n",
+    )
+    .expect("write");
+    let (pane, tag, lines) = sent(&enter(&mut app, &format!(":run {}", good.display())));
+    assert_eq!(lines, ["SAP 4, 0, 1000"]);
+    let next = app.handle(AppEvent::Reply {
+        pane,
+        tag,
+        line: "SAP 4, 0, 1000".into(),
+        result: ok("SAP 4, 0, 1000", ReplyValue::None),
+    });
+    let (pane, tag, lines) = sent(&next);
+    assert_eq!(lines, ["GAP 4, 0"]);
+    let done = app.handle(AppEvent::Reply {
+        pane,
+        tag,
+        line: "GAP 4, 0".into(),
+        result: ok("GAP 4, 0", ReplyValue::Number(999)),
+    });
+    assert!(done.is_empty());
+    let screen = text(&mut app, 160, 40);
+    assert!(screen.contains("homing"), "{screen}");
+    assert!(
+        screen.contains("good.txt:4: expected GAP 4, 0 == 1000, got 999"),
+        "{screen}"
+    );
+}
+
+#[test]
+fn the_emergency_stop_drops_a_running_batch_and_confirms_what_was_sent() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("moves.txt");
+    std::fs::write(&file, "MVP ABS, 0, 51200\nMVP ABS, 0, 0\n").expect("write");
+    let mut app = connected();
+    let (pane, tag, _) = sent(&enter(&mut app, &format!(":run {}", file.display())));
+    assert_eq!(app.handle(key(KeyCode::F(12))), [Effect::EmergencyStop]);
+    // Had the first move's answer come after all, the batch goes no further.
+    let late = app.handle(AppEvent::Reply {
+        pane,
+        tag,
+        line: "MVP ABS, 0, 51200".into(),
+        result: ok("MVP ABS, 0, 51200", ReplyValue::None),
+    });
+    assert!(late.is_empty(), "{late:?}");
+    app.handle(AppEvent::Stopped(vec![
+        ok("MST 0", ReplyValue::None),
+        ok("STOPAPP", ReplyValue::None),
+        ok("MST 0", ReplyValue::None),
+    ]));
+    let screen = text(&mut app, 100, 40);
+    assert!(
+        screen.contains("F12 EMERGENCY STOP: stopping every axis and any running program"),
+        "{screen}"
+    );
+    assert!(screen.contains("the batch was stopped"), "{screen}");
+    assert!(
+        screen.contains("sent MST 0") && screen.contains("sent STOPAPP"),
+        "{screen}"
+    );
+    assert!(
+        screen.contains("STOP confirmed: every stop line answered ok"),
+        "{screen}"
+    );
+    assert!(
+        screen.contains("STOP: 3 sent, all ok"),
+        "the status bar says so too: {screen}"
+    );
+}
+
+#[test]
+fn a_line_typed_without_a_connection_says_how_to_connect() {
+    let mut app = console();
+    assert!(enter(&mut app, "GAP 1, 0").is_empty());
+    let screen = text(&mut app, 80, 24);
+    assert!(
+        screen.contains("not connected: `:connect --sim tmcm1110`"),
+        "{screen}"
+    );
+}
+
+#[test]
+fn news_from_the_module_and_the_link_is_shown() {
+    let mut app = connected();
+    app.handle(AppEvent::Device(axterm::device::DeviceEvent::Unsolicited {
+        frame: vec![2, 1, 128, 138, 0, 0, 0, 1, 12],
+        description: "motor 0 reached its target (138)".into(),
+    }));
+    app.handle(AppEvent::Device(axterm::device::DeviceEvent::StateChanged(
+        axterm::device::LinkState::Disconnected {
+            reason: "/dev/ttyUSB0 unplugged".into(),
+            retry_in: Duration::from_millis(400),
+        },
+    )));
+    let screen = text(&mut app, 100, 30);
+    assert!(
+        screen.contains("module: motor 0 reached its target (138)"),
+        "{screen}"
+    );
+    assert!(
+        screen.contains("link lost: /dev/ttyUSB0 unplugged; trying again in 400 ms"),
+        "{screen}"
+    );
+}

@@ -1,0 +1,197 @@
+//! The plot pane inside the console, on a clock moved by hand: position
+//! and speed drawn from status snapshots, the window zoomed, frozen, the
+//! signals told apart by marker in the mono theme, and redraw wake-ups
+//! only while the picture moves.
+
+mod panes_support;
+mod ui_support;
+
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use axterm::protocol::find_family;
+use axterm::ui::app::{App, AppEvent, Effect};
+use axterm::ui::axes::AxesPane;
+use axterm::ui::keymap::Keymap;
+use axterm::ui::pane::{Pane, Snapshot};
+use axterm::ui::plot::PlotPane;
+use axterm::ui::theme::Theme;
+use panes_support::draw;
+use ratatui::crossterm::event::KeyCode;
+use ui_support::{key, moving_status, snapshot};
+
+/// A clock the test moves.
+#[derive(Clone)]
+struct Hand(Arc<Mutex<Instant>>);
+
+impl Hand {
+    fn new() -> Hand {
+        Hand(Arc::new(Mutex::new(Instant::now())))
+    }
+    fn advance(&self, by: Duration) {
+        let mut now = self.0.lock().expect("clock");
+        *now += by;
+    }
+    fn clock(&self) -> axterm::ui::plot::Clock {
+        let hand = Arc::clone(&self.0);
+        Arc::new(move || *hand.lock().expect("clock"))
+    }
+}
+
+fn console(theme: &str, hand: &Hand) -> App {
+    let panes: Vec<Box<dyn Pane>> = vec![
+        Box::new(AxesPane::new()),
+        Box::new(PlotPane::with_clock(hand.clock())),
+    ];
+    let theme = Theme::builtin(theme).expect("theme");
+    let keymap = Keymap::builtin("default").expect("keymap");
+    let mut app = App::new(panes, theme, keymap);
+    app.focus("plot");
+    app
+}
+
+fn at(position: i64, speed: i64) -> Snapshot {
+    let family = find_family("tmcl").expect("tmcl");
+    let mut s = snapshot(family.console.axes().to_vec());
+    s.status = vec![moving_status(position, 4000, speed, 1000)];
+    s
+}
+
+/// A move from 0 to 4000 over four seconds, sampled every half second.
+fn a_move(app: &mut App, hand: &Hand) -> Vec<Effect> {
+    let mut effects = Vec::new();
+    for step in 0..=8 {
+        effects.extend(app.handle(AppEvent::Snapshot(at(
+            step * 500,
+            if step < 8 { 1000 } else { 0 },
+        ))));
+        hand.advance(Duration::from_millis(500));
+    }
+    effects
+}
+
+fn text(app: &mut App, w: u16, h: u16) -> String {
+    draw(app, w, h).0.join("\n")
+}
+
+#[test]
+fn position_and_speed_are_drawn_at_80x24_and_large() {
+    let hand = Hand::new();
+    let mut app = console("dark", &hand);
+    a_move(&mut app, &hand);
+    for (w, h) in [(80, 24), (200, 50)] {
+        let all = text(&mut app, w, h);
+        assert!(all.contains("position (raw)"), "{all}");
+        assert!(all.contains("speed"), "{all}");
+        assert!(all.contains("-20 s") && all.contains("now"), "{all}");
+        assert!(all.contains("last 20 s"), "{all}");
+        // The y axis spans the move.
+        assert!(all.contains("4200") || all.contains("4199"), "{all}");
+        // Something was plotted.
+        assert!(
+            all.chars().any(|c| ('\u{2801}'..='\u{28FF}').contains(&c)),
+            "{all}"
+        );
+    }
+}
+
+#[test]
+fn the_window_zooms_in_out_and_resets() {
+    let hand = Hand::new();
+    let mut app = console("dark", &hand);
+    a_move(&mut app, &hand);
+    app.handle(key(KeyCode::Char('+')));
+    let all = text(&mut app, 80, 24);
+    assert!(all.contains("last 10 s") && all.contains("-10 s"), "{all}");
+    app.handle(key(KeyCode::Char('-')));
+    app.handle(key(KeyCode::Char('-')));
+    let all = text(&mut app, 80, 24);
+    assert!(all.contains("last 30 s") && all.contains("-30 s"), "{all}");
+    app.handle(key(KeyCode::Char('0')));
+    assert!(text(&mut app, 80, 24).contains("last 20 s"));
+}
+
+#[test]
+fn freezing_holds_the_picture_while_samples_go_on() {
+    let hand = Hand::new();
+    let mut app = console("dark", &hand);
+    a_move(&mut app, &hand);
+    app.handle(key(KeyCode::Char(' ')));
+    hand.advance(Duration::from_secs(1));
+    app.handle(AppEvent::Snapshot(at(90_000, 2000)));
+    let all = text(&mut app, 80, 24);
+    assert!(
+        all.contains("FROZEN") && all.contains("Plot (frozen)"),
+        "{all}"
+    );
+    assert!(!all.contains("94"), "the new sample is not shown: {all}");
+    app.handle(key(KeyCode::Char(' ')));
+    let all = text(&mut app, 80, 24);
+    assert!(!all.contains("FROZEN"), "{all}");
+    assert!(
+        all.contains("94"),
+        "the y axis now reaches the new value: {all}"
+    );
+}
+
+#[test]
+fn in_the_mono_theme_the_target_has_its_own_marker() {
+    let hand = Hand::new();
+    let mut app = console("mono", &hand);
+    a_move(&mut app, &hand);
+    let all = text(&mut app, 100, 30);
+    assert!(all.contains('•'), "target drawn with dots: {all}");
+    assert!(
+        all.chars().any(|c| ('\u{2801}'..='\u{28FF}').contains(&c)),
+        "position in braille: {all}"
+    );
+    assert!(all.contains("target •"), "legend: {all}");
+}
+
+#[test]
+fn redraws_are_asked_for_only_while_the_picture_moves() {
+    let hand = Hand::new();
+    let mut app = console("dark", &hand);
+    let effects = a_move(&mut app, &hand);
+    let wakes: Vec<(usize, u64)> = effects
+        .iter()
+        .filter_map(|e| match e {
+            Effect::Wake { pane, tag, after } => {
+                assert_eq!(*after, Duration::from_millis(200));
+                Some((*pane, *tag))
+            }
+            _ => None,
+        })
+        .collect();
+    // One wake-up pending at a time, however many samples came.
+    assert_eq!(wakes.len(), 1, "{effects:?}");
+    let (pane, tag) = wakes[0];
+    // Within the window the next wake-up follows.
+    let next = app.handle(AppEvent::Wake { pane, tag });
+    let Some(Effect::Wake { tag, .. }) = next.first().cloned() else {
+        panic!("{next:?}")
+    };
+    // Once the last change has left the window the picture stands still.
+    hand.advance(Duration::from_secs(30));
+    let last = app.handle(AppEvent::Wake { pane, tag });
+    assert!(last.is_empty(), "{last:?}");
+    // The same values again are no new sample and ask for nothing.
+    assert!(app.handle(AppEvent::Snapshot(at(4000, 0))).is_empty());
+}
+
+#[test]
+fn another_axis_or_link_starts_the_plot_over() {
+    let hand = Hand::new();
+    let mut app = console("dark", &hand);
+    a_move(&mut app, &hand);
+    let mut other = at(7, 0);
+    other.status[0].target = Some(7);
+    other.link_name = "/dev/ttyUSB0".into();
+    app.handle(AppEvent::Snapshot(other));
+    let all = text(&mut app, 80, 24);
+    // Only the new link's position 7 (±1) is on the axis.
+    assert!(
+        !all.contains("4200") && all.contains(" 8│position (raw)"),
+        "{all}"
+    );
+}

@@ -1,0 +1,102 @@
+//! Shared by the console's render tests: a console with the real panes,
+//! hand-made snapshots, keys, and the screen as text.
+#![allow(dead_code)]
+
+use axterm::device::LinkState;
+use axterm::protocol::find_family;
+use axterm::session::{AxisInfo, AxisStatus, PollCadence};
+use axterm::ui::app::{App, AppEvent};
+use axterm::ui::keymap::Keymap;
+use axterm::ui::pane::Snapshot;
+use axterm::ui::theme::Theme;
+use axterm::ui::{PaneSetup, panes};
+use ratatui::Terminal;
+use ratatui::backend::TestBackend;
+use ratatui::crossterm::event::{Event, KeyCode, KeyEvent, KeyModifiers};
+
+pub fn console() -> App {
+    console_with(&PaneSetup::default())
+}
+
+pub fn console_with(setup: &PaneSetup) -> App {
+    let theme = Theme::builtin("dark").expect("built-in theme");
+    let keymap = Keymap::builtin("default").expect("built-in keymap");
+    App::new(panes(setup), theme, keymap)
+}
+
+/// Axes with these names, numbered from 0. The names must live for the
+/// whole test run, as a family's names do.
+pub fn axes(names: &[&'static str]) -> Vec<AxisInfo> {
+    names
+        .iter()
+        .enumerate()
+        .map(|(i, name)| AxisInfo {
+            number: i as u8,
+            name,
+        })
+        .collect()
+}
+
+/// A connected TMCL module with `axes`, polled at 20 Hz, nothing read yet.
+pub fn snapshot(axes: Vec<AxisInfo>) -> Snapshot {
+    Snapshot {
+        family: find_family("tmcl").expect("tmcl"),
+        address: 1,
+        link_name: "sim tmcm1110".into(),
+        status: vec![AxisStatus::default(); axes.len()],
+        axes,
+        link: LinkState::Connected {
+            link: "sim tmcm1110".into(),
+        },
+        identity: None,
+        poll: Some(PollCadence::default()),
+        axis: 0,
+    }
+}
+
+pub fn moving_status(position: i64, target: i64, speed: i64, max_speed: i64) -> AxisStatus {
+    AxisStatus {
+        position: Some(position),
+        target: Some(target),
+        speed: Some(speed),
+        max_speed: Some(max_speed),
+        reached: Some(position == target),
+        left_switch: Some(false),
+        right_switch: Some(false),
+        home_switch: Some(false),
+        load: Some(800),
+        errors: Vec::new(),
+        driver_flags: Some(Vec::new()),
+    }
+}
+
+pub fn key(code: KeyCode) -> AppEvent {
+    AppEvent::Terminal(Event::Key(KeyEvent::new(code, KeyModifiers::NONE)))
+}
+
+pub fn key_with(code: KeyCode, modifiers: KeyModifiers) -> AppEvent {
+    AppEvent::Terminal(Event::Key(KeyEvent::new(code, modifiers)))
+}
+
+/// Type `text` key by key.
+pub fn type_text(app: &mut App, text: &str) -> Vec<axterm::ui::app::Effect> {
+    let mut effects = Vec::new();
+    for c in text.chars() {
+        effects.extend(app.handle(key(KeyCode::Char(c))));
+    }
+    effects
+}
+
+/// The screen as lines of text.
+pub fn screen(app: &mut App, width: u16, height: u16) -> Vec<String> {
+    let mut terminal = Terminal::new(TestBackend::new(width, height)).expect("test backend");
+    terminal.draw(|f| app.render(f)).expect("draw");
+    let buffer = terminal.backend().buffer();
+    (0..height)
+        .map(|y| {
+            (0..width)
+                .map(|x| buffer[(x, y)].symbol().to_string())
+                .collect::<String>()
+        })
+        .collect()
+}
