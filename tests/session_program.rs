@@ -621,3 +621,58 @@ async fn one_transfer_at_a_time() {
     let error = second.await.expect("task").unwrap_err();
     assert_eq!(error, TransferError::Busy);
 }
+
+/// A download whose 133 is lost with the link: the session stays marked
+/// as in download mode once the link is back.
+async fn stranded() -> Session {
+    let words = long_program(3);
+    // GP128, 131, 132 and the words get through; the link is cut at 133.
+    let faults =
+        FaultPlan::parse(&format!("disconnect-after={}", 3 + words.len())).expect("parses");
+    let session = connect_with(faults, None).await;
+    let error = download(&session, &words, DownloadOptions::default())
+        .await
+        .expect_err("133 was lost");
+    let message = error.to_string();
+    assert!(
+        message.starts_with("cannot leave download mode (133)"),
+        "{message}"
+    );
+    assert!(message.contains("send ENDDOWNLOAD"), "{message}");
+    // 135 is executed in download mode: it is let through, and answers
+    // once the link is back.
+    let back = async {
+        while session.execute_line("APPSTATUS").await.is_err() {
+            tokio::time::sleep(Duration::from_millis(10)).await;
+        }
+    };
+    tokio::time::timeout(GIVE_UP_AFTER, back)
+        .await
+        .expect("reconnected");
+    let refused = session.execute_line("SAP 4, 0, 100").await.unwrap_err();
+    assert!(refused.nothing_sent(), "{refused}");
+    session
+}
+
+#[tokio::test(start_paused = true)]
+async fn enddownload_by_hand_ends_a_stranded_download_mode() {
+    let session = stranded().await;
+    assert_eq!(value(&session, "ENDDOWNLOAD").await, ReplyValue::None);
+    assert_eq!(value(&session, "SAP 4, 0, 100").await, ReplyValue::None);
+    assert_eq!(value(&session, "GAP 4, 0").await, ReplyValue::Number(100));
+}
+
+#[tokio::test(start_paused = true)]
+async fn the_emergency_stop_leaves_a_stranded_download_mode_first() {
+    let session = stranded().await;
+    let results = session.emergency_stop_lines().await;
+    let sent: Vec<String> = results
+        .iter()
+        .map(|r| r.as_ref().expect("sent").line.clone())
+        .collect();
+    // Download mode was left before the MST: it was executed, not stored.
+    assert_eq!(sent, ["ENDDOWNLOAD", "MST 0", "STOPAPP", "MST 0"]);
+    // The sixth request of this connection, the last before the fault
+    // cuts it again.
+    assert_eq!(value(&session, "SAP 4, 0, 100").await, ReplyValue::None);
+}

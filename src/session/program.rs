@@ -758,7 +758,9 @@ impl Session {
                 return Err(TransferError::Step {
                     step: "leave download mode (133)",
                     error: Box::new(error),
-                    hint: String::new(),
+                    hint: "; the module may still store what it is sent instead of executing \
+                           it: send ENDDOWNLOAD"
+                        .into(),
                 });
             }
             (Err(cause), Err(exit)) => {
