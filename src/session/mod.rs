@@ -281,8 +281,9 @@ impl Session {
     ///
     /// A program transfer is cancelled. During a download the module
     /// stores what it is sent instead of executing it, so the stop waits
-    /// for the word on the wire (one transaction at most), and leaves
-    /// download mode first if the download has not (see [`program`]).
+    /// until the download has left download mode (the word on the wire and
+    /// its 133: two transactions), or sends 133 first if that failed (see
+    /// [`program`]).
     pub async fn emergency_stop(&self) -> Result<(), SessionError> {
         let results = self.emergency_stop_lines().await;
         results

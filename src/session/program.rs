@@ -40,14 +40,15 @@
 //! Everything goes at [`Priority::Transfer`]: user lines and the emergency
 //! stop go first. But in download mode the module stores whatever is not a
 //! control command instead of executing it, so while it is in download mode
-//! ([`TransferState::downloading`]):
+//! (the session marks itself so until 133 is answered):
 //! - polling is paused ([`Session::start_polling`] only takes note, and
 //!   polling resumes when download mode is left);
 //! - user lines other than 133–136 are refused before sending;
 //! - the emergency stop cancels the transfer and waits for the word on the
-//!   wire (one transaction at most), after which the download leaves
-//!   download mode itself; if that failed, the stop sends 133 first. Its
-//!   MST is never stored as a program word.
+//!   wire, after which the download leaves download mode itself (two
+//!   transactions in all); if that failed, the stop sends 133 first. Its
+//!   MST is never stored as a program word: a stop that waits two
+//!   transactions is the price of one that stops at all.
 //!
 //! Anything that slipped through anyway (a line racing the start of a
 //! download on another thread) is caught by the verification.
@@ -84,7 +85,9 @@ use crate::protocol::tmcl::transfer::{
 };
 use crate::protocol::tmcl::{TmclConsole, TmclReplyRule};
 
-/// Stops a transfer between two words. Cheap to clone; clones share.
+/// Stops a transfer between two words. Cheap to clone; clones share. One
+/// serves one transfer: once cancelled (by its owner or an emergency
+/// stop) it stays cancelled.
 #[derive(Debug, Clone, Default)]
 pub struct Cancel(Arc<AtomicBool>);
 
