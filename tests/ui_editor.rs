@@ -328,3 +328,98 @@ fn a_long_program_scrolls_to_keep_the_cursor_in_view() {
         lines.join("\n")
     );
 }
+
+/// The module's answer to one register read.
+fn number_reply(pane: usize, line: &str, value: i64) -> AppEvent {
+    AppEvent::Reply {
+        pane,
+        tag: (1 << 48) + 1,
+        line: line.to_string(),
+        result: Ok(axterm::session::LineResult {
+            line: line.to_string(),
+            request: Vec::new(),
+            reply: Vec::new(),
+            status: Some(100),
+            value: axterm::session::ReplyValue::Number(value),
+            elapsed: std::time::Duration::ZERO,
+            attempts: 1,
+        }),
+    }
+}
+
+#[test]
+fn run_reads_the_registers_and_marks_the_line_the_program_counter_is_on() {
+    let mut app = editor_console(None);
+    type_program(&mut app, PROGRAM);
+    let effects = app.handle(key(KeyCode::F(5)));
+    let sends: Vec<(usize, Vec<String>)> = effects
+        .iter()
+        .filter_map(|e| match e {
+            Effect::Send { pane, lines, .. } => Some((*pane, lines.clone())),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(sends.len(), 2, "{effects:?}");
+    assert_eq!(sends[0].1, ["RUNAPP"]);
+    assert_eq!(
+        sends[1].1,
+        [
+            "APPSTATUS MODE",
+            "APPSTATUS PC",
+            "APPSTATUS ACCU",
+            "APPSTATUS X"
+        ]
+    );
+    let pane = sends[0].0;
+    // Running, at address 1: `WAIT POS, 0, 0`, source line 3.
+    app.handle(number_reply(pane, "APPSTATUS MODE", 1));
+    app.handle(number_reply(pane, "APPSTATUS PC", 1));
+    app.handle(number_reply(pane, "APPSTATUS ACCU", 7));
+    let effects = app.handle(number_reply(pane, "APPSTATUS X", -3));
+    // Still running: read again later.
+    assert!(
+        effects.iter().any(|e| matches!(e, Effect::Wake { .. })),
+        "{effects:?}"
+    );
+    for (w, h) in [(80, 24), (200, 50)] {
+        let lines = screen(&mut app, w, h);
+        let (_, current) = row_with(&lines, "WAIT POS").expect("line 3");
+        assert!(current.contains("▶  3"), "{current}");
+        let (_, other) = row_with(&lines, "JA Loop").expect("line 4");
+        assert!(!other.contains('▶'), "{other}");
+        let all = lines.join("\n");
+        assert!(all.contains("running PC 1 ACC 7 X -3"), "{all}");
+    }
+    // The timer comes due: the registers are read again; the program has
+    // stopped at the jump, and nothing more is asked.
+    let effects = app.handle(AppEvent::Wake {
+        pane,
+        tag: (1 << 48) + 2,
+    });
+    assert!(effects.iter().any(|e| matches!(e, Effect::Send { .. })));
+    app.handle(number_reply(pane, "APPSTATUS MODE", 0));
+    app.handle(number_reply(pane, "APPSTATUS PC", 2));
+    app.handle(number_reply(pane, "APPSTATUS ACCU", 7));
+    let effects = app.handle(number_reply(pane, "APPSTATUS X", -3));
+    assert!(!effects.iter().any(|e| matches!(e, Effect::Wake { .. })));
+    let lines = screen(&mut app, 80, 24);
+    let (_, current) = row_with(&lines, "JA Loop").expect("line 4");
+    assert!(current.contains("▶  4"), "{current}");
+}
+
+#[test]
+fn stop_step_and_reset_send_their_control_commands() {
+    let mut app = editor_console(None);
+    type_program(&mut app, PROGRAM);
+    for (code, line) in [(KeyCode::F(7), "STEPAPP"), (KeyCode::F(5), "RUNAPP")] {
+        let effects = app.handle(key(code));
+        assert!(
+            matches!(effects.first(), Some(Effect::Send { lines, .. }) if lines == &[line]),
+            "{effects:?}"
+        );
+    }
+    let effects = app.handle(key_with(KeyCode::F(5), KeyModifiers::SHIFT));
+    assert!(matches!(effects.first(), Some(Effect::Send { lines, .. }) if lines == &["STOPAPP"]));
+    let effects = app.handle(key_with(KeyCode::F(7), KeyModifiers::SHIFT));
+    assert!(matches!(effects.first(), Some(Effect::Send { lines, .. }) if lines == &["RESETAPP"]));
+}

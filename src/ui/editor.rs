@@ -63,6 +63,46 @@ pub struct Recovered {
     pub written: u64,
 }
 
+/// Tags of the lines this pane sends, and of its register timer; the
+/// safety-copy timers use the change count, far below these.
+const TAG_CONTROL: u64 = 1 << 48;
+const TAG_WATCH: u64 = (1 << 48) + 1;
+const TAG_WATCH_TIMER: u64 = (1 << 48) + 2;
+
+/// How often the registers are read while the program runs.
+pub const WATCH_PERIOD: Duration = Duration::from_millis(200);
+
+/// The lines that read the program's state (command 135, §3.6.53).
+pub const WATCH_LINES: [&str; 4] = [
+    "APPSTATUS MODE",
+    "APPSTATUS PC",
+    "APPSTATUS ACCU",
+    "APPSTATUS X",
+];
+
+/// The program's state as the module last told it (command 135).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Watch {
+    /// 0 stopped, 1 running, 2 stepping, 3 reset (§3.6.53).
+    pub mode: Option<i64>,
+    pub pc: Option<i64>,
+    pub accu: Option<i64>,
+    pub x: Option<i64>,
+}
+
+impl Watch {
+    fn mode_name(&self) -> &'static str {
+        match self.mode {
+            Some(0) => "stopped",
+            Some(1) => "running",
+            Some(2) => "stepping",
+            Some(3) => "reset",
+            Some(_) => "?",
+            None => "-",
+        }
+    }
+}
+
 /// The program editor pane.
 pub struct EditorPane {
     text: TextArea<'static>,
@@ -82,6 +122,10 @@ pub struct EditorPane {
     open_confirmed: bool,
     /// The source line (0-based) the program counter is on.
     current: Option<usize>,
+    /// The program's registers as last read from the module.
+    watch: Watch,
+    /// Reading the registers again and again while the program runs.
+    watching: bool,
     /// First line and column shown, and rows shown at the last draw.
     top: usize,
     left: usize,
@@ -106,6 +150,8 @@ impl EditorPane {
             recovered: None,
             open_confirmed: false,
             current: None,
+            watch: Watch::default(),
+            watching: false,
             top: 0,
             left: 0,
             rows: 1,
@@ -190,6 +236,66 @@ impl EditorPane {
 
     pub fn current_line(&self) -> Option<usize> {
         self.current
+    }
+
+    /// The program's registers as last read.
+    pub fn watched(&self) -> Watch {
+        self.watch
+    }
+
+    /// The source line (0-based) of program address `pc`, through the
+    /// assembled program's address map.
+    pub fn line_of_pc(&self, pc: i64) -> Option<usize> {
+        let name = self.source_name();
+        let program = self.program.as_ref()?;
+        let line = program.lines.iter().find(|l| i64::from(l.address) == pc)?;
+        (line.file == name).then(|| line.line.saturating_sub(1))
+    }
+
+    /// Ask for the registers.
+    fn read_registers(&self) -> Request {
+        Request::Send {
+            lines: WATCH_LINES.iter().map(|l| l.to_string()).collect(),
+            tag: TAG_WATCH,
+        }
+    }
+
+    /// Send a program control line, then read the registers.
+    fn control(&mut self, line: &str, watch: bool) -> Outcome {
+        self.watching = watch;
+        Outcome::Handled(vec![
+            Request::Send {
+                lines: vec![line.to_string()],
+                tag: TAG_CONTROL,
+            },
+            self.read_registers(),
+        ])
+    }
+
+    fn register_reply(&mut self, line: &str, value: Option<i64>) -> Vec<Request> {
+        let mut requests = Vec::new();
+        match line {
+            "APPSTATUS MODE" => self.watch.mode = value,
+            "APPSTATUS PC" => {
+                self.watch.pc = value;
+                self.current = value.and_then(|pc| self.line_of_pc(pc));
+            }
+            "APPSTATUS ACCU" => self.watch.accu = value,
+            "APPSTATUS X" => {
+                self.watch.x = value;
+                // The last of the four: again later while the program runs.
+                if self.watching && self.watch.mode == Some(1) {
+                    requests.push(Request::WakeAfter {
+                        after: WATCH_PERIOD,
+                        tag: TAG_WATCH_TIMER,
+                    });
+                } else {
+                    self.watching = false;
+                }
+            }
+            _ => {}
+        }
+        requests
     }
 
     /// The name the text is assembled under: its file, or `untitled.tmc`.
@@ -416,13 +522,11 @@ impl EditorPane {
                     return Outcome::Ignored;
                 }
             }
-            Action::EditorDownload
-            | Action::EditorVerify
-            | Action::EditorRun
-            | Action::EditorStop
-            | Action::EditorStep
-            | Action::EditorReset
-            | Action::EditorUpload => {
+            Action::EditorRun => return self.control("RUNAPP", true),
+            Action::EditorStop => return self.control("STOPAPP", false),
+            Action::EditorStep => return self.control("STEPAPP", false),
+            Action::EditorReset => return self.control("RESETAPP", false),
+            Action::EditorDownload | Action::EditorVerify | Action::EditorUpload => {
                 self.message = Some(Notice::warning(format!(
                     "{}: not available yet in the editor",
                     action.title()
@@ -531,10 +635,24 @@ impl EditorPane {
         } else {
             Role::Error
         };
-        Line::from(vec![
+        let mut spans = vec![
             Span::styled(format!("{file}{changed} — "), theme.style(Role::Muted)),
             Span::styled(state, theme.style(role)),
-        ])
+        ];
+        if self.watch != Watch::default() {
+            let show = |v: Option<i64>| v.map_or_else(|| "-".to_string(), |v| v.to_string());
+            spans.push(Span::styled(
+                format!(
+                    " │ {} PC {} ACC {} X {}",
+                    self.watch.mode_name(),
+                    show(self.watch.pc),
+                    show(self.watch.accu),
+                    show(self.watch.x)
+                ),
+                theme.style(Role::Accent),
+            ));
+        }
+        Line::from(spans)
     }
 
     fn recovery_line(&self, recovered: &Recovered, view: &View) -> Line<'static> {
@@ -763,6 +881,37 @@ impl Pane for EditorPane {
                 } else {
                     Outcome::Ignored
                 }
+            }
+            PaneEvent::Reply { tag, line, result } if *tag == TAG_WATCH => {
+                let value = match result {
+                    Ok(r) => match r.value {
+                        crate::session::ReplyValue::Number(n) => Some(n),
+                        _ => None,
+                    },
+                    Err(_) => {
+                        self.watching = false;
+                        None
+                    }
+                };
+                Outcome::Handled(self.register_reply(line, value))
+            }
+            PaneEvent::Reply {
+                tag,
+                line,
+                result: Err(e),
+            } if *tag == TAG_CONTROL => {
+                self.watching = false;
+                self.message = Some(Notice::error(format!("{line}: {e}")));
+                Outcome::redraw()
+            }
+            PaneEvent::Wake { tag } if *tag == TAG_WATCH_TIMER && self.watching => {
+                Outcome::request(self.read_registers())
+            }
+            PaneEvent::Stopping | PaneEvent::EmergencyStop(_) => {
+                // The stop ends the program (TMCL 128): read where it
+                // stopped, once.
+                self.watching = false;
+                Outcome::Ignored
             }
             _ => Outcome::Ignored,
         }
