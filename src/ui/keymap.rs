@@ -148,6 +148,11 @@ pub enum Action {
     EditorRun,
     EditorStop,
     EditorStep,
+    EditorSaveAs,
+    EditorNextError,
+    EditorVerify,
+    EditorUpload,
+    EditorReset,
 }
 
 /// An action's name in keymap files, its word in the status bar, what it
@@ -168,7 +173,7 @@ const ONLY_GLOBAL: &[Context] = &[Global];
 const NAVIGATION: &[Context] = &[Global, Axis, Parameters, Traffic, Plot];
 const EVERYWHERE: &[Context] = &[Global, Command, Axis, Parameters, Traffic, Plot, Editor];
 const COMMAND_LINE: &[Context] = &[Command];
-const CANCELLING: &[Context] = &[Command, Parameters];
+const CANCELLING: &[Context] = &[Command, Parameters, Editor];
 const SCROLLING: &[Context] = &[Command, Parameters, Traffic];
 const LISTS: &[Context] = &[Axis, Parameters];
 const AXES: &[Context] = &[Axis];
@@ -214,7 +219,7 @@ pub const ACTIONS: &[ActionInfo] = &[
     info(Action::FocusPane9, "focus_pane_9", "Pane 9", "focus pane 9", NAVIGATION),
     info(Action::ClearErrors, "clear_errors", "Clear errors", "acknowledge and clear the error messages", EVERYWHERE),
     info(Action::Submit, "submit", "Send", "send the command line", COMMAND_LINE),
-    info(Action::Cancel, "cancel", "Cancel", "drop the line being typed, or the filter", CANCELLING),
+    info(Action::Cancel, "cancel", "Cancel", "drop the line being typed, the filter, or the editor's prompt", CANCELLING),
     info(Action::Complete, "complete", "Complete", "complete the word being typed", COMMAND_LINE),
     info(Action::HistoryPrevious, "history_previous", "History back", "recall the previous command", COMMAND_LINE),
     info(Action::HistoryNext, "history_next", "History fwd", "recall the next command", COMMAND_LINE),
@@ -253,6 +258,11 @@ pub const ACTIONS: &[ActionInfo] = &[
     info(Action::EditorRun, "editor_run", "Run", "run the program on the controller", EDITOR),
     info(Action::EditorStop, "editor_stop", "Stop", "stop the program on the controller", EDITOR),
     info(Action::EditorStep, "editor_step", "Step", "execute one instruction of the program", EDITOR),
+    info(Action::EditorSaveAs, "editor_save_as", "Save as", "save the program source under a new name", EDITOR),
+    info(Action::EditorNextError, "editor_next_error", "Next error", "go to the next line that does not assemble", EDITOR),
+    info(Action::EditorVerify, "editor_verify", "Verify", "compare the program in the controller with the source", EDITOR),
+    info(Action::EditorUpload, "editor_upload", "Upload", "read the program from the controller into a new buffer", EDITOR),
+    info(Action::EditorReset, "editor_reset", "Reset", "reset the program on the controller to its start", EDITOR),
 ];
 
 impl Action {

@@ -14,7 +14,7 @@
 //!   [`batch`] for `:run`), [`axes`] (axis status gauges and lamps),
 //!   [`params`] (the parameter table, export and import), [`traffic`]
 //!   (every frame), [`plot`] (position and speed over time), [`connect`]
-//!   (the connect screen); [`field`] is the one-line text field they share.
+//!   (the connect screen), [`editor`] (TMCL programs); [`field`] is the one-line text field they share.
 //!
 //! # Adding a pane
 //!
@@ -52,6 +52,7 @@ pub mod batch;
 pub mod command;
 pub mod config;
 pub mod connect;
+pub mod editor;
 pub mod field;
 pub mod keymap;
 pub mod live;
@@ -86,5 +87,6 @@ pub fn panes(setup: &PaneSetup) -> Vec<Box<dyn Pane>> {
             setup.history_dir.as_deref(),
             crate::link::ports::available_ports,
         )),
+        Box::new(editor::EditorPane::new(setup.history_dir.clone())),
     ]
 }

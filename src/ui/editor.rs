@@ -1,0 +1,919 @@
+//! The program editor: TMCL program source with syntax colours and line
+//! numbers, assembled after every change so that the lines that do not
+//! assemble are marked as they are typed; open, save, save as; and a
+//! safety copy in the data directory ([`autosave`]) written shortly after
+//! each change, offered again when the console starts after a crash.
+//!
+//! The text is kept and edited by `ratatui-textarea`; this pane draws it
+//! itself, because the colours come from the assembler's syntax.
+
+pub mod autosave;
+pub mod highlight;
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use ratatui::Frame;
+use ratatui::crossterm::event::{KeyCode, KeyEvent};
+use ratatui::layout::{Position, Rect};
+use ratatui::style::Style;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::Paragraph;
+use ratatui_textarea::{CursorMove, TextArea};
+
+use super::field::Field;
+use super::keymap::{Action, Context};
+use super::pane::{
+    Input, Notice, NoticeLevel, Outcome, Pane, PaneEvent, Region, Request, View, key_label,
+};
+use super::theme::Role;
+use crate::protocol::tmcl::asm::{AsmError, Program, SourceLoader, assemble};
+use autosave::{Autosave, read_autosave, remove_autosave, utc_time, write_autosave};
+use highlight::{Names, Token, highlight};
+
+/// How long the text must stay unchanged before the safety copy is
+/// written: a burst of typing is one write, and a pause of this long
+/// is the most that a crash can lose.
+pub const AUTOSAVE_QUIET: Duration = Duration::from_millis(300);
+
+/// The name a buffer without a file is assembled under.
+const UNTITLED: &str = "untitled.tmc";
+
+/// Reads `#include`d files from disk, relative to the including file.
+struct SourceFiles;
+
+impl SourceLoader for SourceFiles {
+    fn load(&self, path: &str) -> Result<String, String> {
+        std::fs::read_to_string(path).map_err(|e| e.to_string())
+    }
+}
+
+/// A file name being typed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum PromptKind {
+    Open,
+    SaveAs,
+}
+
+/// Text the console recovered from the safety copy at start.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Recovered {
+    pub file: Option<PathBuf>,
+    /// When the copy was written (seconds since 1970, UTC).
+    pub written: u64,
+}
+
+/// Tags of the lines this pane sends, and of its register timer; the
+/// safety-copy timers use the change count, far below these.
+const TAG_CONTROL: u64 = 1 << 48;
+const TAG_WATCH: u64 = (1 << 48) + 1;
+const TAG_WATCH_TIMER: u64 = (1 << 48) + 2;
+
+/// How often the registers are read while the program runs.
+pub const WATCH_PERIOD: Duration = Duration::from_millis(200);
+
+/// The lines that read the program's state (command 135, §3.6.53).
+pub const WATCH_LINES: [&str; 4] = [
+    "APPSTATUS MODE",
+    "APPSTATUS PC",
+    "APPSTATUS ACCU",
+    "APPSTATUS X",
+];
+
+/// The program's state as the module last told it (command 135).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Watch {
+    /// 0 stopped, 1 running, 2 stepping, 3 reset (§3.6.53).
+    pub mode: Option<i64>,
+    pub pc: Option<i64>,
+    pub accu: Option<i64>,
+    pub x: Option<i64>,
+}
+
+impl Watch {
+    fn mode_name(&self) -> &'static str {
+        match self.mode {
+            Some(0) => "stopped",
+            Some(1) => "running",
+            Some(2) => "stepping",
+            Some(3) => "reset",
+            Some(_) => "?",
+            None => "-",
+        }
+    }
+}
+
+/// The program editor pane.
+pub struct EditorPane {
+    text: TextArea<'static>,
+    file: Option<PathBuf>,
+    /// The text as last opened or saved: anything else is unsaved.
+    saved: String,
+    data_dir: Option<PathBuf>,
+    /// Changes so far; a safety-copy timer carries the count it was set
+    /// at, and writes only if no change came since.
+    changes: u64,
+    program: Option<Program>,
+    errors: Vec<AsmError>,
+    prompt: Option<(PromptKind, Field)>,
+    message: Option<Notice>,
+    recovered: Option<Recovered>,
+    /// F3 was pressed with unsaved changes: the next F3 opens anyway.
+    open_confirmed: bool,
+    /// The source line (0-based) the program counter is on.
+    current: Option<usize>,
+    /// The program's registers as last read from the module.
+    watch: Watch,
+    /// Reading the registers again and again while the program runs.
+    watching: bool,
+    /// First line and column shown, and rows shown at the last draw.
+    top: usize,
+    left: usize,
+    rows: usize,
+}
+
+impl EditorPane {
+    /// An empty editor keeping its safety copy in `data_dir` (`None`: no
+    /// copy). A copy left there by a console that did not get to save is
+    /// loaded and offered.
+    pub fn new(data_dir: Option<PathBuf>) -> EditorPane {
+        let mut pane = EditorPane {
+            text: TextArea::default(),
+            file: None,
+            saved: String::new(),
+            data_dir,
+            changes: 0,
+            program: None,
+            errors: Vec::new(),
+            prompt: None,
+            message: None,
+            recovered: None,
+            open_confirmed: false,
+            current: None,
+            watch: Watch::default(),
+            watching: false,
+            top: 0,
+            left: 0,
+            rows: 1,
+        };
+        if let Some(copy) = pane.data_dir.as_deref().and_then(read_autosave) {
+            pane.saved = copy
+                .file
+                .as_deref()
+                .and_then(|f| std::fs::read_to_string(f).ok())
+                .unwrap_or_default();
+            pane.file = copy.file.clone();
+            pane.set_text(&copy.text);
+            pane.recovered = Some(Recovered {
+                file: copy.file,
+                written: copy.written,
+            });
+        }
+        pane.assemble();
+        pane
+    }
+
+    /// The whole text, lines joined with `\n`.
+    pub fn text(&self) -> String {
+        self.text.lines().join("\n")
+    }
+
+    pub fn lines(&self) -> &[String] {
+        self.text.lines()
+    }
+
+    pub fn file(&self) -> Option<&Path> {
+        self.file.as_deref()
+    }
+
+    /// Whether the text differs from the file as last opened or saved.
+    pub fn modified(&self) -> bool {
+        self.text() != self.saved
+    }
+
+    /// What the assembler found wrong, in source order.
+    pub fn errors(&self) -> &[AsmError] {
+        &self.errors
+    }
+
+    /// The program, when the text assembles.
+    pub fn program(&self) -> Option<&Program> {
+        self.program.as_ref()
+    }
+
+    /// Lines (1-based) of this buffer that do not assemble.
+    pub fn error_lines(&self) -> Vec<usize> {
+        let name = self.source_name();
+        let mut lines: Vec<usize> = self
+            .errors
+            .iter()
+            .filter(|e| e.file == name)
+            .map(|e| e.line)
+            .collect();
+        lines.dedup();
+        lines
+    }
+
+    /// The cursor: line and column, 0-based.
+    pub fn cursor(&self) -> (usize, usize) {
+        let c = self.text.cursor();
+        (c.0, c.1)
+    }
+
+    pub fn recovered(&self) -> Option<&Recovered> {
+        self.recovered.as_ref()
+    }
+
+    /// The message shown at the bottom, if any.
+    pub fn message(&self) -> Option<&Notice> {
+        self.message.as_ref()
+    }
+
+    /// Mark the source line (0-based) the program counter is on, or none.
+    pub fn set_current_line(&mut self, line: Option<usize>) {
+        self.current = line;
+    }
+
+    pub fn current_line(&self) -> Option<usize> {
+        self.current
+    }
+
+    /// The program's registers as last read.
+    pub fn watched(&self) -> Watch {
+        self.watch
+    }
+
+    /// The source line (0-based) of program address `pc`, through the
+    /// assembled program's address map.
+    pub fn line_of_pc(&self, pc: i64) -> Option<usize> {
+        let name = self.source_name();
+        let program = self.program.as_ref()?;
+        let line = program.lines.iter().find(|l| i64::from(l.address) == pc)?;
+        (line.file == name).then(|| line.line.saturating_sub(1))
+    }
+
+    /// Ask for the registers.
+    fn read_registers(&self) -> Request {
+        Request::Send {
+            lines: WATCH_LINES.iter().map(|l| l.to_string()).collect(),
+            tag: TAG_WATCH,
+        }
+    }
+
+    /// Send a program control line, then read the registers.
+    fn control(&mut self, line: &str, watch: bool) -> Outcome {
+        self.watching = watch;
+        Outcome::Handled(vec![
+            Request::Send {
+                lines: vec![line.to_string()],
+                tag: TAG_CONTROL,
+            },
+            self.read_registers(),
+        ])
+    }
+
+    fn register_reply(&mut self, line: &str, value: Option<i64>) -> Vec<Request> {
+        let mut requests = Vec::new();
+        match line {
+            "APPSTATUS MODE" => self.watch.mode = value,
+            "APPSTATUS PC" => {
+                self.watch.pc = value;
+                self.current = value.and_then(|pc| self.line_of_pc(pc));
+            }
+            "APPSTATUS ACCU" => self.watch.accu = value,
+            "APPSTATUS X" => {
+                self.watch.x = value;
+                // The last of the four: again later while the program runs.
+                if self.watching && self.watch.mode == Some(1) {
+                    requests.push(Request::WakeAfter {
+                        after: WATCH_PERIOD,
+                        tag: TAG_WATCH_TIMER,
+                    });
+                } else {
+                    self.watching = false;
+                }
+            }
+            _ => {}
+        }
+        requests
+    }
+
+    /// The name the text is assembled under: its file, or `untitled.tmc`.
+    pub fn source_name(&self) -> String {
+        self.file
+            .as_ref()
+            .map_or_else(|| UNTITLED.to_string(), |f| f.display().to_string())
+    }
+
+    fn set_text(&mut self, text: &str) {
+        let lines: Vec<String> = text.split('\n').map(str::to_string).collect();
+        self.text = TextArea::new(lines);
+        self.top = 0;
+        self.left = 0;
+    }
+
+    fn assemble(&mut self) {
+        match assemble(&self.source_name(), &self.text(), &SourceFiles) {
+            Ok(program) => {
+                self.program = Some(program);
+                self.errors.clear();
+            }
+            Err(errors) => {
+                self.program = None;
+                self.errors = errors;
+            }
+        }
+    }
+
+    /// After a change to the text: assemble again, and ask for a timer
+    /// for the safety copy.
+    fn changed(&mut self) -> Outcome {
+        self.changes += 1;
+        self.open_confirmed = false;
+        self.assemble();
+        if self.data_dir.is_none() {
+            return Outcome::redraw();
+        }
+        Outcome::request(Request::WakeAfter {
+            after: AUTOSAVE_QUIET,
+            tag: self.changes,
+        })
+    }
+
+    /// Write the safety copy now (or remove it when nothing is unsaved).
+    pub fn write_safety_copy(&mut self) {
+        let Some(dir) = self.data_dir.clone() else {
+            return;
+        };
+        let result = if self.modified() {
+            write_autosave(&dir, &Autosave::now(self.file.clone(), self.text()))
+        } else {
+            remove_autosave(&dir)
+        };
+        if let Err(e) = result {
+            self.message = Some(Notice::error(e));
+        }
+    }
+
+    /// Open `path` in place of the text.
+    pub fn open_file(&mut self, path: &Path) -> Result<(), String> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| format!("cannot open {}: {e}", path.display()))?;
+        self.file = Some(path.to_path_buf());
+        self.saved = text.clone();
+        self.set_text(&text);
+        self.recovered = None;
+        self.current = None;
+        self.assemble();
+        self.write_safety_copy();
+        self.message = Some(Notice::info(format!(
+            "opened {} ({} lines)",
+            path.display(),
+            self.text.lines().len()
+        )));
+        Ok(())
+    }
+
+    /// Save the text to `path` (atomically), which becomes its file.
+    pub fn save_to(&mut self, path: &Path) -> Result<(), String> {
+        let text = self.text();
+        autosave::write_atomically(path, text.as_bytes())?;
+        self.file = Some(path.to_path_buf());
+        self.saved = text;
+        self.recovered = None;
+        self.assemble();
+        self.write_safety_copy();
+        self.message = Some(Notice::info(format!(
+            "saved {} ({} lines)",
+            path.display(),
+            self.text.lines().len()
+        )));
+        Ok(())
+    }
+
+    /// Forget the recovered text: back to the file as it is on disk (or
+    /// an empty buffer), and the safety copy removed.
+    fn discard_recovered(&mut self) {
+        let Some(recovered) = self.recovered.take() else {
+            return;
+        };
+        let text = recovered
+            .file
+            .as_deref()
+            .and_then(|f| std::fs::read_to_string(f).ok())
+            .unwrap_or_default();
+        self.saved = text.clone();
+        self.set_text(&text);
+        self.assemble();
+        self.write_safety_copy();
+        self.message = Some(Notice::info("recovered text discarded"));
+    }
+
+    /// Move the cursor to the next line that does not assemble, after the
+    /// cursor (round to the first).
+    fn next_error(&mut self) {
+        let name = self.source_name();
+        let here = self.cursor().0 + 1;
+        let mine: Vec<&AsmError> = self.errors.iter().filter(|e| e.file == name).collect();
+        let next = mine
+            .iter()
+            .find(|e| e.line > here)
+            .or_else(|| mine.first())
+            .copied();
+        match next {
+            Some(e) => {
+                let row = u16::try_from(e.line.saturating_sub(1)).unwrap_or(u16::MAX);
+                let col = u16::try_from(e.column.saturating_sub(1)).unwrap_or(u16::MAX);
+                self.text.move_cursor(CursorMove::Jump(row, col));
+                self.message = Some(Notice::error(e.to_string()));
+            }
+            None => {
+                self.message = Some(match self.errors.first() {
+                    Some(e) => Notice::error(e.to_string()),
+                    None => Notice::info("no errors: the program assembles"),
+                })
+            }
+        }
+    }
+
+    fn prompt_input(&mut self, key: &KeyEvent, view: &View) -> Outcome {
+        let Some((kind, field)) = self.prompt.as_mut() else {
+            return Outcome::Ignored;
+        };
+        match view.keymap.action_for(Context::Command, key) {
+            Some(Action::Cancel) => {
+                self.prompt = None;
+                return Outcome::redraw();
+            }
+            Some(Action::Submit) => {
+                let kind = *kind;
+                let name = field.text().trim().to_string();
+                self.prompt = None;
+                if name.is_empty() {
+                    return Outcome::redraw();
+                }
+                let path = PathBuf::from(name);
+                let result = match kind {
+                    PromptKind::Open => self.open_file(&path),
+                    PromptKind::SaveAs => self.save_to(&path),
+                };
+                if let Err(e) = result {
+                    self.message = Some(Notice::error(e));
+                }
+                return Outcome::redraw();
+            }
+            _ => {}
+        }
+        if field.edit(key) {
+            Outcome::redraw()
+        } else {
+            Outcome::Ignored
+        }
+    }
+
+    fn action(&mut self, action: Action, view: &View) -> Outcome {
+        match action {
+            Action::EditorSave => match self.file.clone() {
+                Some(path) => {
+                    if let Err(e) = self.save_to(&path) {
+                        self.message = Some(Notice::error(e));
+                    }
+                }
+                None => self.prompt = Some((PromptKind::SaveAs, Field::default())),
+            },
+            Action::EditorSaveAs => {
+                let name = self.file.as_ref().map(|f| f.display().to_string());
+                self.prompt = Some((PromptKind::SaveAs, Field::new(name.unwrap_or_default())));
+            }
+            Action::EditorOpen => {
+                if self.modified() && !self.open_confirmed {
+                    self.open_confirmed = true;
+                    self.message = Some(Notice::warning(format!(
+                        "unsaved changes: {} saves them; {} again opens another file anyway",
+                        key_label(view.keymap, Context::Editor, Action::EditorSave),
+                        key_label(view.keymap, Context::Editor, Action::EditorOpen),
+                    )));
+                } else {
+                    self.open_confirmed = false;
+                    self.prompt = Some((PromptKind::Open, Field::default()));
+                }
+            }
+            Action::EditorAssemble => {
+                self.assemble();
+                match &self.program {
+                    Some(p) => {
+                        self.message = Some(Notice::info(format!(
+                            "assembled: {} words, {} labels",
+                            p.words.len(),
+                            p.symbols.len()
+                        )))
+                    }
+                    None => {
+                        self.text.move_cursor(CursorMove::Jump(0, 0));
+                        self.next_error_from_top();
+                    }
+                }
+            }
+            Action::EditorNextError => self.next_error(),
+            Action::Cancel => {
+                if self.recovered.is_some() {
+                    self.discard_recovered();
+                } else if self.message.take().is_none() {
+                    return Outcome::Ignored;
+                }
+            }
+            Action::EditorRun => return self.control("RUNAPP", true),
+            Action::EditorStop => return self.control("STOPAPP", false),
+            Action::EditorStep => return self.control("STEPAPP", false),
+            Action::EditorReset => return self.control("RESETAPP", false),
+            Action::EditorDownload | Action::EditorVerify | Action::EditorUpload => {
+                self.message = Some(Notice::warning(format!(
+                    "{}: not available yet in the editor",
+                    action.title()
+                )));
+            }
+            _ => return Outcome::Ignored,
+        }
+        Outcome::redraw()
+    }
+
+    /// The first error of this buffer, the cursor on it.
+    fn next_error_from_top(&mut self) {
+        let name = self.source_name();
+        if let Some(first) = self.errors.iter().find(|e| e.file == name) {
+            let row = u16::try_from(first.line.saturating_sub(1)).unwrap_or(u16::MAX);
+            let col = u16::try_from(first.column.saturating_sub(1)).unwrap_or(u16::MAX);
+            self.text.move_cursor(CursorMove::Jump(row, col));
+        }
+        self.message = self.errors.first().map(|e| {
+            let more = self.errors.len() - 1;
+            Notice::error(if more > 0 {
+                format!("{e} (and {more} more)")
+            } else {
+                e.to_string()
+            })
+        });
+    }
+
+    fn edit(&mut self, key: &KeyEvent) -> Outcome {
+        let page = self.rows.max(1);
+        let (row, col) = self.cursor();
+        let jump = |row: usize, col: usize| {
+            CursorMove::Jump(
+                u16::try_from(row).unwrap_or(u16::MAX),
+                u16::try_from(col).unwrap_or(u16::MAX),
+            )
+        };
+        match key.code {
+            KeyCode::PageUp => {
+                self.text.move_cursor(jump(row.saturating_sub(page), col));
+                return Outcome::redraw();
+            }
+            KeyCode::PageDown => {
+                self.text.move_cursor(jump(row.saturating_add(page), col));
+                return Outcome::redraw();
+            }
+            // Function keys the keymap does not bind here belong to nobody.
+            KeyCode::F(_) | KeyCode::Esc => return Outcome::Ignored,
+            _ => {}
+        }
+        let before = self.text.lines().to_vec();
+        self.text.input(ratatui_textarea::Input::from(*key));
+        if self.text.lines() != before.as_slice() {
+            self.changed()
+        } else {
+            Outcome::redraw()
+        }
+    }
+
+    /// The bottom line: the prompt, a message, or what the assembler says
+    /// of the line under the cursor.
+    fn bottom_line(&self, view: &View) -> Line<'static> {
+        let theme = view.theme;
+        if let Some((kind, field)) = &self.prompt {
+            let label = match kind {
+                PromptKind::Open => "open file: ",
+                PromptKind::SaveAs => "save as: ",
+            };
+            return Line::from(vec![
+                Span::styled(label, theme.style(Role::Prompt)),
+                Span::raw(field.text().to_string()),
+            ]);
+        }
+        if let Some(message) = &self.message {
+            let role = match message.level {
+                NoticeLevel::Info => Role::Ok,
+                NoticeLevel::Warning => Role::Warning,
+                NoticeLevel::Error => Role::Error,
+            };
+            return Line::from(Span::styled(message.text.clone(), theme.style(role)));
+        }
+        let name = self.source_name();
+        let here = self.cursor().0 + 1;
+        if let Some(e) = self
+            .errors
+            .iter()
+            .find(|e| e.file == name && e.line == here)
+        {
+            return Line::from(Span::styled(e.to_string(), theme.style(Role::Error)));
+        }
+        let file = match &self.file {
+            Some(f) => f.display().to_string(),
+            None => "untitled".to_string(),
+        };
+        let changed = if self.modified() { " [modified]" } else { "" };
+        let state = match (&self.program, self.errors.len()) {
+            (Some(p), _) => format!("assembles: {} words", p.words.len()),
+            (None, n) => format!(
+                "{n} error{} ({} next)",
+                if n == 1 { "" } else { "s" },
+                key_label(view.keymap, Context::Editor, Action::EditorNextError)
+            ),
+        };
+        let role = if self.program.is_some() {
+            Role::Muted
+        } else {
+            Role::Error
+        };
+        let mut spans = vec![
+            Span::styled(format!("{file}{changed} — "), theme.style(Role::Muted)),
+            Span::styled(state, theme.style(role)),
+        ];
+        if self.watch != Watch::default() {
+            let show = |v: Option<i64>| v.map_or_else(|| "-".to_string(), |v| v.to_string());
+            spans.push(Span::styled(
+                format!(
+                    " │ {} PC {} ACC {} X {}",
+                    self.watch.mode_name(),
+                    show(self.watch.pc),
+                    show(self.watch.accu),
+                    show(self.watch.x)
+                ),
+                theme.style(Role::Accent),
+            ));
+        }
+        Line::from(spans)
+    }
+
+    fn recovery_line(&self, recovered: &Recovered, view: &View) -> Line<'static> {
+        let file = Autosave {
+            file: recovered.file.clone(),
+            written: recovered.written,
+            text: String::new(),
+        }
+        .file_label();
+        let save = key_label(view.keymap, Context::Editor, Action::EditorSave);
+        let discard = key_label(view.keymap, Context::Editor, Action::Cancel);
+        Line::from(Span::styled(
+            format!(
+                "recovered unsaved text of {file} from {} — {save} to save, or discard with {discard}",
+                utc_time(recovered.written)
+            ),
+            view.theme.style(Role::Warning),
+        ))
+    }
+}
+
+/// One line of source as styled cells, `left` characters scrolled off,
+/// at most `width` shown.
+fn styled_line(
+    line: &str,
+    names: &Names,
+    view: &View,
+    base: Style,
+    left: usize,
+    width: usize,
+) -> Vec<Span<'static>> {
+    let theme = view.theme;
+    let mut spans: Vec<Span<'static>> = Vec::new();
+    let mut skipped = 0;
+    let mut shown = 0;
+    for (range, token) in highlight(line, names) {
+        let role = match token {
+            Token::Plain => None,
+            Token::Mnemonic => Some(Role::CodeMnemonic),
+            Token::Label => Some(Role::CodeLabel),
+            Token::Number => Some(Role::CodeNumber),
+            Token::Comment => Some(Role::CodeComment),
+        };
+        let style = role.map_or(base, |r| base.patch(theme.style(r)));
+        let mut piece = String::new();
+        for c in line.get(range).unwrap_or("").chars() {
+            if skipped < left {
+                skipped += 1;
+                continue;
+            }
+            if shown >= width {
+                break;
+            }
+            piece.push(if c.is_control() { ' ' } else { c });
+            shown += 1;
+        }
+        if !piece.is_empty() {
+            spans.push(Span::styled(piece, style));
+        }
+    }
+    spans
+}
+
+impl Pane for EditorPane {
+    fn name(&self) -> &'static str {
+        "editor"
+    }
+
+    fn context(&self) -> Context {
+        Context::Editor
+    }
+
+    fn title(&self, _view: &View) -> String {
+        let name = self.file.as_ref().and_then(|f| f.file_name()).map_or_else(
+            || "untitled".to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        let changed = if self.modified() { "*" } else { "" };
+        format!("Program — {name}{changed}")
+    }
+
+    fn region(&self) -> Region {
+        Region::Main
+    }
+
+    fn render(&mut self, frame: &mut Frame, area: Rect, view: &View) {
+        if area.height == 0 || area.width == 0 {
+            return;
+        }
+        let theme = view.theme;
+        let mut y = area.y;
+        let mut rows = usize::from(area.height);
+        if let Some(recovered) = &self.recovered
+            && rows > 2
+        {
+            let line = self.recovery_line(recovered, view);
+            frame.render_widget(Paragraph::new(line), Rect::new(area.x, y, area.width, 1));
+            y += 1;
+            rows -= 1;
+        }
+        // The bottom line.
+        rows = rows.saturating_sub(1);
+        let bottom_y = y + u16::try_from(rows).unwrap_or(0);
+        frame.render_widget(
+            Paragraph::new(self.bottom_line(view)),
+            Rect::new(area.x, bottom_y, area.width, 1),
+        );
+        self.rows = rows.max(1);
+        let lines = self.text.lines();
+        let (row, col) = self.cursor();
+        if row < self.top {
+            self.top = row;
+        } else if rows > 0 && row >= self.top + rows {
+            self.top = row + 1 - rows;
+        }
+        let digits = lines.len().to_string().len().max(3);
+        let gutter = digits + 2;
+        let text_width = usize::from(area.width).saturating_sub(gutter);
+        if col < self.left {
+            self.left = col;
+        } else if text_width > 0 && col >= self.left + text_width {
+            self.left = col + 1 - text_width;
+        }
+        let error_lines = self.error_lines();
+        let names = Names::declared(lines.iter().map(String::as_str));
+        let mut shown = Vec::with_capacity(rows);
+        for (index, line) in lines.iter().enumerate().skip(self.top).take(rows) {
+            let is_error = error_lines.contains(&(index + 1));
+            let is_current = self.current == Some(index);
+            let (marker, gutter_role) = if is_current {
+                ("▶", Role::CodeCurrent)
+            } else if is_error {
+                ("!", Role::CodeError)
+            } else {
+                (" ", Role::CodeGutter)
+            };
+            let base = if is_current {
+                theme.style(Role::CodeCurrent)
+            } else {
+                Style::default()
+            };
+            let mut spans = vec![Span::styled(
+                format!("{marker}{:>digits$} ", index + 1),
+                theme.style(gutter_role),
+            )];
+            spans.extend(styled_line(line, &names, view, base, self.left, text_width));
+            let mut styled = Line::from(spans);
+            if is_current {
+                styled = styled.style(base);
+            }
+            shown.push(styled);
+        }
+        let text_area = Rect::new(
+            area.x,
+            y,
+            area.width,
+            u16::try_from(rows).unwrap_or(u16::MAX),
+        );
+        frame.render_widget(Paragraph::new(shown), text_area);
+        if view.focused {
+            match &self.prompt {
+                Some((kind, field)) => {
+                    let label = match kind {
+                        PromptKind::Open => "open file: ",
+                        PromptKind::SaveAs => "save as: ",
+                    };
+                    let x = label.chars().count() + field.cursor_column();
+                    let x = area.x + u16::try_from(x).unwrap_or(0).min(area.width - 1);
+                    frame.set_cursor_position(Position::new(x, bottom_y));
+                }
+                None if rows > 0 => {
+                    let x = gutter + col.saturating_sub(self.left);
+                    let x = area.x + u16::try_from(x).unwrap_or(0).min(area.width - 1);
+                    let y = y + u16::try_from(row - self.top).unwrap_or(0);
+                    frame.set_cursor_position(Position::new(x, y));
+                }
+                None => {}
+            }
+        }
+    }
+
+    fn handle_input(&mut self, input: &Input, view: &View) -> Outcome {
+        match input {
+            Input::Key(key) => {
+                if self.prompt.is_some() {
+                    return self.prompt_input(key, view);
+                }
+                if let Some(action) = view.keymap.action_for(Context::Editor, key) {
+                    return self.action(action, view);
+                }
+                // Help, next pane, clear errors: the app's.
+                if view.keymap.action_for(Context::Global, key).is_some() {
+                    return Outcome::Ignored;
+                }
+                self.edit(key)
+            }
+            Input::Paste(text) => {
+                if let Some((_, field)) = self.prompt.as_mut() {
+                    field.insert_str(text);
+                    return Outcome::redraw();
+                }
+                if self
+                    .text
+                    .insert_str(text.replace("\r\n", "\n").replace('\r', "\n"))
+                {
+                    self.changed()
+                } else {
+                    Outcome::Ignored
+                }
+            }
+            Input::Mouse(_) => Outcome::Ignored,
+        }
+    }
+
+    fn on_event(&mut self, event: &PaneEvent, _view: &View) -> Outcome {
+        match event {
+            PaneEvent::Wake { tag } if *tag == self.changes => {
+                self.write_safety_copy();
+                // Nothing on screen changed unless writing failed.
+                if self
+                    .message
+                    .as_ref()
+                    .is_some_and(|m| m.level == NoticeLevel::Error)
+                {
+                    Outcome::redraw()
+                } else {
+                    Outcome::Ignored
+                }
+            }
+            PaneEvent::Reply { tag, line, result } if *tag == TAG_WATCH => {
+                let value = match result {
+                    Ok(r) => match r.value {
+                        crate::session::ReplyValue::Number(n) => Some(n),
+                        _ => None,
+                    },
+                    Err(_) => {
+                        self.watching = false;
+                        None
+                    }
+                };
+                Outcome::Handled(self.register_reply(line, value))
+            }
+            PaneEvent::Reply {
+                tag,
+                line,
+                result: Err(e),
+            } if *tag == TAG_CONTROL => {
+                self.watching = false;
+                self.message = Some(Notice::error(format!("{line}: {e}")));
+                Outcome::redraw()
+            }
+            PaneEvent::Wake { tag } if *tag == TAG_WATCH_TIMER && self.watching => {
+                Outcome::request(self.read_registers())
+            }
+            PaneEvent::Stopping | PaneEvent::EmergencyStop(_) => {
+                // The stop ends the program (TMCL 128): read where it
+                // stopped, once.
+                self.watching = false;
+                Outcome::Ignored
+            }
+            _ => Outcome::Ignored,
+        }
+    }
+}

@@ -1,0 +1,162 @@
+//! The editor's safety copy: the text being edited, written to the data
+//! directory shortly after each change, so that a crash, a dropped SSH
+//! session or a killed process loses nothing. Written atomically (a
+//! temporary file beside it, then a rename), so the copy on disk is always
+//! a whole one: the old or the new, never half of each.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::{SystemTime, UNIX_EPOCH};
+
+use serde::{Deserialize, Serialize};
+
+/// The safety copy's file name in the data directory.
+pub const AUTOSAVE_FILE: &str = "editor-autosave.json";
+
+/// What the safety copy holds.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Autosave {
+    /// The file the text belongs to, if it had a name.
+    pub file: Option<PathBuf>,
+    /// When it was written, in seconds since 1970 (UTC).
+    pub written: u64,
+    pub text: String,
+}
+
+impl Autosave {
+    pub fn now(file: Option<PathBuf>, text: String) -> Autosave {
+        let written = SystemTime::now()
+            .duration_since(UNIX_EPOCH)
+            .map_or(0, |d| d.as_secs());
+        Autosave {
+            file,
+            written,
+            text,
+        }
+    }
+
+    /// The file's name for the recovery message ("untitled" if none).
+    pub fn file_label(&self) -> String {
+        self.file
+            .as_ref()
+            .map_or_else(|| "untitled".to_string(), |f| f.display().to_string())
+    }
+}
+
+/// Where the safety copy lives in `data_dir`.
+pub fn autosave_path(data_dir: &Path) -> PathBuf {
+    data_dir.join(AUTOSAVE_FILE)
+}
+
+/// Write `copy` to `data_dir` atomically.
+pub fn write_autosave(data_dir: &Path, copy: &Autosave) -> Result<(), String> {
+    let json = serde_json::to_string(copy)
+        .map_err(|e| format!("cannot keep a safety copy of the text: {e}"))?;
+    write_atomically(&autosave_path(data_dir), json.as_bytes())
+}
+
+/// The safety copy in `data_dir`, if there is a readable one.
+pub fn read_autosave(data_dir: &Path) -> Option<Autosave> {
+    let text = std::fs::read_to_string(autosave_path(data_dir)).ok()?;
+    serde_json::from_str(&text).ok()
+}
+
+/// Forget the safety copy (the text was saved, or discarded).
+pub fn remove_autosave(data_dir: &Path) -> Result<(), String> {
+    let path = autosave_path(data_dir);
+    match std::fs::remove_file(&path) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        Err(e) => Err(format!("cannot remove {}: {e}", path.display())),
+    }
+}
+
+/// Write `bytes` to `path` through a temporary file in the same directory
+/// and a rename, so that `path` is never seen half written (a rename
+/// within one file system replaces the old file in one step).
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    let dir = match path.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => dir.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let name = path
+        .file_name()
+        .map_or_else(|| "file".into(), |n| n.to_string_lossy().into_owned());
+    let temporary = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    let written = std::fs::File::create(&temporary).and_then(|mut file| {
+        file.write_all(bytes)?;
+        file.sync_all()
+    });
+    if let Err(e) = written {
+        let _ = std::fs::remove_file(&temporary);
+        return Err(format!("cannot write {}: {e}", temporary.display()));
+    }
+    std::fs::rename(&temporary, path).map_err(|e| {
+        let _ = std::fs::remove_file(&temporary);
+        format!("cannot write {}: {e}", path.display())
+    })
+}
+
+/// Seconds since 1970 as `YYYY-MM-DD HH:MM UTC`.
+pub fn utc_time(seconds: u64) -> String {
+    let days = i64::try_from(seconds / 86_400).unwrap_or(0);
+    let rest = seconds % 86_400;
+    // Days to a civil date in the proleptic Gregorian calendar (the
+    // well-known era/day-of-era conversion).
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!(
+        "{year:04}-{month:02}-{day:02} {:02}:{:02} UTC",
+        rest / 3600,
+        rest % 3600 / 60
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn times_are_civil_dates() {
+        assert_eq!(utc_time(0), "1970-01-01 00:00 UTC");
+        assert_eq!(utc_time(951_782_400), "2000-02-29 00:00 UTC");
+        assert_eq!(utc_time(1_700_000_000), "2023-11-14 22:13 UTC");
+    }
+
+    #[test]
+    fn a_copy_is_written_whole_and_read_back() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let copy = Autosave {
+            file: Some(PathBuf::from("prog.tmc")),
+            written: 5,
+            text: "MVP ABS, 0, 1\n".into(),
+        };
+        write_autosave(dir.path(), &copy).expect("written");
+        assert_eq!(read_autosave(dir.path()), Some(copy));
+        // Nothing left beside it.
+        let files: Vec<_> = std::fs::read_dir(dir.path())
+            .expect("dir")
+            .filter_map(Result::ok)
+            .map(|e| e.file_name())
+            .collect();
+        assert_eq!(files, [AUTOSAVE_FILE]);
+        remove_autosave(dir.path()).expect("removed");
+        assert_eq!(read_autosave(dir.path()), None);
+        remove_autosave(dir.path()).expect("removing twice is fine");
+    }
+
+    #[test]
+    fn a_damaged_copy_is_no_copy() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        std::fs::write(autosave_path(dir.path()), "{\"file\": nul").expect("write");
+        assert_eq!(read_autosave(dir.path()), None);
+    }
+}
