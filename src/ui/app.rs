@@ -28,11 +28,13 @@ use tokio::task::JoinHandle;
 
 use super::keymap::{Action, Context, Keymap, load_keymap};
 use super::pane::{
-    Input, Notice, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View, key_label,
+    Input, Notice, Outcome, Pane, PaneEvent, Region, Request, Snapshot, TransferDone, TransferJob,
+    View, key_label,
 };
 use super::theme::{Role, Theme, load_theme};
 use crate::device::{DeviceEvent, Direction, LinkState, Priority, TrafficKind, TrafficRecord};
 use crate::protocol::Family;
+use crate::session::program::{Cancel, Progress, TransferError};
 use crate::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
 
 /// Below this many rows (or columns) for the panes, every pane is a tab of
@@ -71,6 +73,18 @@ pub enum AppEvent {
         tag: u64,
     },
     Notice(Notice),
+    /// How far a pane's program transfer has come.
+    TransferProgress {
+        pane: usize,
+        tag: u64,
+        progress: Progress,
+    },
+    /// A pane's program transfer ended.
+    Transferred {
+        pane: usize,
+        tag: u64,
+        result: Result<TransferDone, TransferError>,
+    },
     /// SIGTERM, SIGHUP: leave now.
     Terminate,
 }
@@ -102,6 +116,15 @@ pub enum Effect {
         tag: u64,
         after: Duration,
     },
+    /// Run a program transfer for a pane; progress and the end come back
+    /// as [`AppEvent::TransferProgress`] and [`AppEvent::Transferred`].
+    Transfer {
+        pane: usize,
+        tag: u64,
+        job: TransferJob,
+    },
+    /// Cancel the running transfer (between two words).
+    CancelTransfer,
     Quit,
 }
 
@@ -281,6 +304,18 @@ impl App {
                 self.broadcast(&PaneEvent::EmergencyStop(results), &mut effects);
             }
             AppEvent::Notice(notice) => self.broadcast(&PaneEvent::Notice(notice), &mut effects),
+            AppEvent::TransferProgress {
+                pane,
+                tag,
+                progress,
+            } => {
+                let event = PaneEvent::TransferProgress { tag, progress };
+                self.deliver(pane, &event, &mut effects);
+            }
+            AppEvent::Transferred { pane, tag, result } => {
+                let event = PaneEvent::Transferred { tag, result };
+                self.deliver(pane, &event, &mut effects);
+            }
             AppEvent::Terminate => {
                 self.quit = true;
                 effects.push(Effect::Quit);
@@ -510,6 +545,8 @@ impl App {
                 self.focus(name);
             }
             Request::WakeAfter { after, tag } => effects.push(Effect::Wake { pane, tag, after }),
+            Request::Transfer { job, tag } => effects.push(Effect::Transfer { pane, tag, job }),
+            Request::CancelTransfer => effects.push(Effect::CancelTransfer),
             Request::Quit => {
                 self.quit = true;
                 effects.push(Effect::Quit);
@@ -792,6 +829,19 @@ pub trait Controller: Send + Sync {
     fn acknowledge_errors(&self, axis: usize, seen: &[AxisFlag]);
     /// The same link, sending to another module address.
     fn with_address(&self, address: u8) -> Arc<dyn Controller>;
+    /// Run a program transfer, telling `progress` how far it came;
+    /// `cancel` stops it between two words (so does the emergency stop).
+    /// Controllers without program memory refuse.
+    fn transfer(
+        &self,
+        job: TransferJob,
+        cancel: Cancel,
+        progress: Box<dyn FnMut(Progress) + Send>,
+    ) -> Pending<Result<TransferDone, TransferError>> {
+        let _ = (job, cancel, progress);
+        let family = self.family().name;
+        Box::pin(async move { Err(TransferError::Unsupported { family }) })
+    }
 }
 
 /// Opens a connection for `:connect` (and the connect screen).
@@ -979,6 +1029,10 @@ struct Runner {
     connecting: Option<Pending<Result<Arc<dyn Controller>, String>>>,
     connector: Connector,
     log: Option<TrafficLog>,
+    /// The cancel handle of the last transfer started (one at a time:
+    /// the session refuses a second). Not aborted by the emergency stop:
+    /// the session cancels it, and its end is still reported.
+    transfer: Option<Cancel>,
 }
 
 /// Drives an [`App`] until it quits: `input` carries terminal events,
@@ -1012,6 +1066,7 @@ pub async fn run(
         connecting: None,
         connector,
         log: None,
+        transfer: None,
     };
     if let Some(c) = runner.connection.as_mut() {
         let snapshot = c.snapshot(0);
@@ -1038,6 +1093,10 @@ pub async fn run(
     }
     for job in runner.sending {
         job.abort();
+    }
+    // A download leaves download mode before it ends.
+    if let Some(cancel) = runner.transfer {
+        cancel.cancel();
     }
     Ok(())
 }
@@ -1265,8 +1324,76 @@ impl Runner {
                     let _ = tx.send(AppEvent::Wake { pane, tag });
                 });
             }
+            Effect::Transfer { pane, tag, job } => {
+                let Some(c) = self.connection.as_ref() else {
+                    queue.push(AppEvent::Transferred {
+                        pane,
+                        tag,
+                        result: Err(not_connected_transfer()),
+                    });
+                    return;
+                };
+                let cancel = Cancel::new();
+                self.transfer = Some(cancel.clone());
+                let tx = self.internal.clone();
+                let mut last: Option<Progress> = None;
+                let progress = Box::new(move |progress: Progress| {
+                    if worth_showing(last.as_ref(), &progress) {
+                        last = Some(progress);
+                        let _ = tx.send(AppEvent::TransferProgress {
+                            pane,
+                            tag,
+                            progress,
+                        });
+                    }
+                });
+                let running = c.controller.transfer(job, cancel, progress);
+                let tx = self.internal.clone();
+                tokio::spawn(async move {
+                    let result = running.await;
+                    let _ = tx.send(AppEvent::Transferred { pane, tag, result });
+                });
+            }
+            Effect::CancelTransfer => {
+                if let Some(cancel) = self.transfer.as_ref() {
+                    cancel.cancel();
+                }
+            }
             Effect::Quit => {}
         }
+    }
+}
+
+/// A transfer asked for with no controller connected.
+fn not_connected_transfer() -> TransferError {
+    TransferError::Step {
+        step: "start the transfer",
+        error: Box::new(SessionError::Refused {
+            line: String::new(),
+            message: "not connected: give :connect --sim tmcm1110 (or --port PATH, --tcp \
+                      HOST:PORT)"
+                .into(),
+        }),
+        hint: String::new(),
+    }
+}
+
+/// Whether a transfer's progress is worth a redraw: the start of each
+/// phase, every whole percent, the last word (a download of 2048 words
+/// on a fast link would otherwise redraw 4096 times). Without a total
+/// (an upload until the first blank word), every 16th word.
+pub fn worth_showing(last: Option<&Progress>, next: &Progress) -> bool {
+    let Some(last) = last else {
+        return true;
+    };
+    if last.phase != next.phase || next.done == 0 {
+        return true;
+    }
+    match next.total {
+        Some(total) if total > 0 => {
+            next.done >= total || last.done * 100 / total != next.done * 100 / total
+        }
+        _ => next.done.is_multiple_of(16),
     }
 }
 
@@ -1517,6 +1644,36 @@ mod tests {
         assert_eq!(app.focused(), Some("axes"));
         app.handle(click(20));
         assert_eq!(app.focused(), Some("command"));
+    }
+
+    #[test]
+    fn transfer_progress_is_shown_at_each_phase_each_percent_and_the_end() {
+        use crate::session::program::Phase;
+        let at = |phase, done, total| Progress { phase, done, total };
+        let mut shown = Vec::new();
+        let mut last: Option<Progress> = None;
+        let steps = (0..=300)
+            .map(|n| at(Phase::Storing, n, Some(300)))
+            .chain((0..=300).map(|n| at(Phase::Verifying, n, Some(300))));
+        for p in steps {
+            if worth_showing(last.as_ref(), &p) {
+                last = Some(p);
+                shown.push(p);
+            }
+        }
+        // 0 and 100 percent of each phase and every percent between.
+        assert_eq!(shown.len(), 2 * 101, "{shown:?}");
+        assert_eq!(shown.first(), Some(&at(Phase::Storing, 0, Some(300))));
+        assert!(shown.contains(&at(Phase::Storing, 300, Some(300))));
+        assert!(shown.contains(&at(Phase::Verifying, 0, Some(300))));
+        assert_eq!(shown.last(), Some(&at(Phase::Verifying, 300, Some(300))));
+        // A short program: every word.
+        let small = at(Phase::Storing, 1, Some(3));
+        assert!(worth_showing(Some(&at(Phase::Storing, 0, Some(3))), &small));
+        // Reading until a blank word: every 16th.
+        let reading = |n| at(Phase::Reading, n, None);
+        assert!(!worth_showing(Some(&reading(0)), &reading(15)));
+        assert!(worth_showing(Some(&reading(0)), &reading(16)));
     }
 
     #[test]

@@ -9,6 +9,7 @@
 
 pub mod autosave;
 pub mod highlight;
+pub mod transfer;
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -120,6 +121,12 @@ pub struct EditorPane {
     recovered: Option<Recovered>,
     /// F3 was pressed with unsaved changes: the next F3 opens anyway.
     open_confirmed: bool,
+    /// Shift-F3 was pressed with unsaved changes: the next uploads anyway.
+    upload_confirmed: bool,
+    /// The program transfer under way.
+    transfer: Option<transfer::Running>,
+    /// The source line (0-based) of the word the last transfer failed at.
+    failed_line: Option<usize>,
     /// The source line (0-based) the program counter is on.
     current: Option<usize>,
     /// The program's registers as last read from the module.
@@ -149,6 +156,9 @@ impl EditorPane {
             message: None,
             recovered: None,
             open_confirmed: false,
+            upload_confirmed: false,
+            transfer: None,
+            failed_line: None,
             current: None,
             watch: Watch::default(),
             watching: false,
@@ -330,6 +340,8 @@ impl EditorPane {
     fn changed(&mut self) -> Outcome {
         self.changes += 1;
         self.open_confirmed = false;
+        self.upload_confirmed = false;
+        self.failed_line = None;
         self.assemble();
         if self.data_dir.is_none() {
             return Outcome::redraw();
@@ -472,6 +484,18 @@ impl EditorPane {
     }
 
     fn action(&mut self, action: Action, view: &View) -> Outcome {
+        let free = matches!(
+            action,
+            Action::Cancel
+                | Action::EditorNextError
+                | Action::EditorDownload
+                | Action::EditorVerify
+                | Action::EditorUpload
+        );
+        if !free && self.transfer.is_some() {
+            self.locked(view);
+            return Outcome::redraw();
+        }
         match action {
             Action::EditorSave => match self.file.clone() {
                 Some(path) => {
@@ -516,6 +540,9 @@ impl EditorPane {
             }
             Action::EditorNextError => self.next_error(),
             Action::Cancel => {
+                if let Some(outcome) = self.cancel_transfer() {
+                    return outcome;
+                }
                 if self.recovered.is_some() {
                     self.discard_recovered();
                 } else if self.message.take().is_none() {
@@ -526,12 +553,9 @@ impl EditorPane {
             Action::EditorStop => return self.control("STOPAPP", false),
             Action::EditorStep => return self.control("STEPAPP", false),
             Action::EditorReset => return self.control("RESETAPP", false),
-            Action::EditorDownload | Action::EditorVerify | Action::EditorUpload => {
-                self.message = Some(Notice::warning(format!(
-                    "{}: not available yet in the editor",
-                    action.title()
-                )));
-            }
+            Action::EditorDownload => return self.start_download(view),
+            Action::EditorVerify => return self.start_verify(view),
+            Action::EditorUpload => return self.start_upload(view),
             _ => return Outcome::Ignored,
         }
         Outcome::redraw()
@@ -555,7 +579,33 @@ impl EditorPane {
         });
     }
 
-    fn edit(&mut self, key: &KeyEvent) -> Outcome {
+    /// Say that the text waits for the transfer.
+    fn locked(&mut self, view: &View) {
+        if let Some((kind, _)) = self.transfer() {
+            self.message = Some(Notice::warning(format!(
+                "the text is locked while the {} runs: {} cancels it",
+                kind.name(),
+                key_label(view.keymap, Context::Editor, Action::Cancel)
+            )));
+        }
+    }
+
+    fn edit(&mut self, key: &KeyEvent, view: &View) -> Outcome {
+        let moves = matches!(
+            key.code,
+            KeyCode::Up
+                | KeyCode::Down
+                | KeyCode::Left
+                | KeyCode::Right
+                | KeyCode::Home
+                | KeyCode::End
+                | KeyCode::PageUp
+                | KeyCode::PageDown
+        );
+        if self.transfer.is_some() && !moves && !matches!(key.code, KeyCode::F(_) | KeyCode::Esc) {
+            self.locked(view);
+            return Outcome::redraw();
+        }
         let page = self.rows.max(1);
         let (row, col) = self.cursor();
         let jump = |row: usize, col: usize| {
@@ -760,6 +810,12 @@ impl Pane for EditorPane {
             Paragraph::new(self.bottom_line(view)),
             Rect::new(area.x, bottom_y, area.width, 1),
         );
+        // The progress of a transfer, above the bottom line.
+        if self.transfer.is_some() && rows > 1 {
+            rows -= 1;
+            let gauge_y = y + u16::try_from(rows).unwrap_or(0);
+            self.render_transfer(frame, Rect::new(area.x, gauge_y, area.width, 1), view);
+        }
         self.rows = rows.max(1);
         let lines = self.text.lines();
         let (row, col) = self.cursor();
@@ -784,6 +840,8 @@ impl Pane for EditorPane {
             let is_current = self.current == Some(index);
             let (marker, gutter_role) = if is_current {
                 ("▶", Role::CodeCurrent)
+            } else if self.failed_line == Some(index) {
+                ("✗", Role::CodeError)
             } else if is_error {
                 ("!", Role::CodeError)
             } else {
@@ -847,11 +905,15 @@ impl Pane for EditorPane {
                 if view.keymap.action_for(Context::Global, key).is_some() {
                     return Outcome::Ignored;
                 }
-                self.edit(key)
+                self.edit(key, view)
             }
             Input::Paste(text) => {
                 if let Some((_, field)) = self.prompt.as_mut() {
                     field.insert_str(text);
+                    return Outcome::redraw();
+                }
+                if self.transfer.is_some() {
+                    self.locked(view);
                     return Outcome::redraw();
                 }
                 if self
@@ -868,6 +930,9 @@ impl Pane for EditorPane {
     }
 
     fn on_event(&mut self, event: &PaneEvent, _view: &View) -> Outcome {
+        if let Some(outcome) = self.transfer_event(event) {
+            return outcome;
+        }
         match event {
             PaneEvent::Wake { tag } if *tag == self.changes => {
                 self.write_safety_copy();

@@ -12,12 +12,13 @@ use tokio::sync::{broadcast, mpsc, watch};
 
 use super::app::{self, App, AppEvent, Connector, Controller, Pending};
 use super::keymap::choose_keymap;
-use super::pane::Notice;
+use super::pane::{Notice, TransferDone, TransferJob};
 use super::terminal::{TerminalGuard, spawn_reader};
 use super::theme::{choose_theme, no_color_in_env};
 use super::{PaneSetup, panes};
 use crate::device::{DeviceEvent, LinkState, TrafficRecord};
 use crate::protocol::Family;
+use crate::session::program::{Cancel, Progress, TransferError};
 use crate::session::{
     AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, Session, SessionError, SessionOptions,
 };
@@ -110,6 +111,27 @@ impl Controller for SessionController {
             self.link_name.clone(),
             options,
         ))
+    }
+
+    fn transfer(
+        &self,
+        job: TransferJob,
+        cancel: Cancel,
+        mut progress: Box<dyn FnMut(Progress) + Send>,
+    ) -> Pending<Result<TransferDone, TransferError>> {
+        let session = self.session.clone();
+        Box::pin(async move {
+            match job {
+                TransferJob::Download { words, options } => session
+                    .download_program(&words, options, &cancel, &mut *progress)
+                    .await
+                    .map(TransferDone::Downloaded),
+                TransferJob::Upload(extent) => session
+                    .upload_program(extent, &cancel, &mut *progress)
+                    .await
+                    .map(TransferDone::Uploaded),
+            }
+        })
     }
 }
 

@@ -19,6 +19,10 @@ use super::keymap::{Action, Context, Keymap};
 use super::theme::Theme;
 use crate::device::{DeviceEvent, LinkState, TrafficRecord};
 use crate::protocol::Family;
+use crate::protocol::tmcl::asm::ProgramWord;
+use crate::session::program::{
+    DownloadOptions, DownloadReport, Progress, TransferError, UploadExtent, UploadReport,
+};
 use crate::session::{AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
 
 /// Where a pane lives when the screen is large enough to show several at
@@ -136,6 +140,34 @@ pub enum PaneEvent {
     /// A message from the console itself (the answer to `:poll 10`, a
     /// theme that failed to load…), shown by the command pane.
     Notice(Notice),
+    /// How far the [`Request::Transfer`] under `tag` has come (for the
+    /// pane that asked; not after every word, but at every phase, every
+    /// percent and the last word).
+    TransferProgress { tag: u64, progress: Progress },
+    /// The [`Request::Transfer`] under `tag` ended.
+    Transferred {
+        tag: u64,
+        result: Result<TransferDone, TransferError>,
+    },
+}
+
+/// A program transfer a pane asks for ([`Request::Transfer`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum TransferJob {
+    /// Store these words from address 0 and verify them by reading back.
+    Download {
+        words: Vec<ProgramWord>,
+        options: DownloadOptions,
+    },
+    /// Read the program memory back.
+    Upload(UploadExtent),
+}
+
+/// What a finished transfer brought.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TransferDone {
+    Downloaded(DownloadReport),
+    Uploaded(UploadReport),
 }
 
 /// A console message and how it should look.
@@ -205,6 +237,13 @@ pub enum Request {
     Focus(&'static str),
     /// Answer with [`PaneEvent::Wake`] after this long.
     WakeAfter { after: Duration, tag: u64 },
+    /// Run a program transfer (one at a time per connection): progress
+    /// comes back as [`PaneEvent::TransferProgress`], the end as
+    /// [`PaneEvent::Transferred`], both under `tag`.
+    Transfer { job: TransferJob, tag: u64 },
+    /// Stop the running transfer between two words (a download leaves
+    /// download mode); its [`PaneEvent::Transferred`] still comes.
+    CancelTransfer,
     /// Leave the console.
     Quit,
 }
