@@ -484,11 +484,21 @@ impl App {
         let Outcome::Handled(requests) = outcome else {
             return false;
         };
-        self.dirty = true;
+        // A pane behind a tab draws nothing: it is drawn afresh when it
+        // comes to the front (the focus moving marks the screen dirty).
+        if self.is_shown(pane) {
+            self.dirty = true;
+        }
         for request in requests {
             self.request(pane, request, effects);
         }
         true
+    }
+
+    /// Whether `pane` was on the screen at the last draw (before the
+    /// first draw, every pane counts as shown).
+    fn is_shown(&self, pane: usize) -> bool {
+        self.drawn.is_empty() || self.drawn.iter().any(|(index, _)| *index == pane)
     }
 
     fn request(&mut self, pane: usize, request: Request, effects: &mut Vec<Effect>) {
@@ -1625,6 +1635,27 @@ mod tests {
         screen(&mut app, 80, 24);
         app.handle(key(KeyCode::Char('z'), KeyModifiers::NONE));
         assert!(!app.needs_redraw());
+    }
+
+    #[test]
+    fn a_pane_behind_a_tab_does_not_redraw_the_screen() {
+        let mut app = three();
+        app.handle(AppEvent::Snapshot(snapshot()));
+        // 120x40: the axes on top, the command in front of the traffic tab.
+        screen(&mut app, 120, 40);
+        assert!(!app.needs_redraw());
+        // Every probe redraws on a snapshot; only shown ones count.
+        let mut moved = snapshot();
+        moved.status[0].position = Some(1);
+        app.handle(AppEvent::Snapshot(moved));
+        assert!(app.needs_redraw());
+        screen(&mut app, 120, 40);
+        let traffic = 2;
+        let mut effects = Vec::new();
+        app.deliver(traffic, &PaneEvent::Snapshot, &mut effects);
+        assert!(!app.needs_redraw(), "the traffic tab is hidden");
+        app.deliver(0, &PaneEvent::Snapshot, &mut effects);
+        assert!(app.needs_redraw(), "the command pane is shown");
     }
 
     #[test]
