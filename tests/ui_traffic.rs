@@ -228,6 +228,7 @@ fn memory_is_a_ring_of_the_last_frames() {
         keymap: &keymap,
         session: Some(&session),
         focused: true,
+        shown: true,
     };
     let mut pane = TrafficPane::with_limit(100);
     let t0 = Instant::now();

@@ -451,6 +451,7 @@ impl App {
             keymap: &self.keymap,
             session: self.snapshot.as_ref(),
             focused: true,
+            shown: true,
         };
         let Some(pane) = self.panes.get_mut(index) else {
             return false;
@@ -471,6 +472,7 @@ impl App {
             keymap: &self.keymap,
             session: self.snapshot.as_ref(),
             focused: index == self.focus,
+            shown: self.is_shown(index),
         };
         let Some(pane) = self.panes.get_mut(index) else {
             return;
@@ -649,6 +651,7 @@ impl App {
             keymap: &self.keymap,
             session: self.snapshot.as_ref(),
             focused,
+            shown: true,
         }
     }
 
@@ -667,6 +670,7 @@ impl App {
             keymap: &self.keymap,
             session: self.snapshot.as_ref(),
             focused,
+            shown: true,
         };
         let mut title = vec![Span::raw(" ")];
         for (n, &index) in members.iter().enumerate() {
@@ -1421,6 +1425,8 @@ mod tests {
         region: Region,
         takes_keys: bool,
         keys: Vec<KeyCode>,
+        /// `View::shown` at the last event.
+        shown: Option<bool>,
     }
 
     impl Probe {
@@ -1430,6 +1436,7 @@ mod tests {
                 region,
                 takes_keys,
                 keys: Vec::new(),
+                shown: None,
             })
         }
     }
@@ -1455,7 +1462,12 @@ mod tests {
             (self.region == Region::Top).then_some(3)
         }
         fn render(&mut self, frame: &mut Frame, area: Rect, _view: &View) {
-            let text = format!("inside {} keys {}", self.name, self.keys.len());
+            let text = format!(
+                "inside {} keys {} shown at the last event {:?}",
+                self.name,
+                self.keys.len(),
+                self.shown
+            );
             frame.render_widget(Paragraph::new(text), area);
         }
         fn handle_input(&mut self, input: &Input, _view: &View) -> Outcome {
@@ -1467,7 +1479,8 @@ mod tests {
                 _ => Outcome::Ignored,
             }
         }
-        fn on_event(&mut self, event: &PaneEvent, _view: &View) -> Outcome {
+        fn on_event(&mut self, event: &PaneEvent, view: &View) -> Outcome {
+            self.shown = Some(view.shown);
             match event {
                 PaneEvent::Snapshot => Outcome::redraw(),
                 _ => Outcome::Ignored,
@@ -1656,6 +1669,19 @@ mod tests {
         assert!(!app.needs_redraw(), "the traffic tab is hidden");
         app.deliver(0, &PaneEvent::Snapshot, &mut effects);
         assert!(app.needs_redraw(), "the command pane is shown");
+        screen(&mut app, 120, 40);
+        app.deliver(traffic, &PaneEvent::Snapshot, &mut effects);
+        // Panes are told, and may skip wake-ups that only refresh.
+        app.handle(AppEvent::Terminal(TermEvent::Key(KeyEvent::new(
+            KeyCode::Char('3'),
+            KeyModifiers::ALT,
+        ))));
+        let lines = screen(&mut app, 120, 40);
+        assert!(
+            lines[6].contains("inside traffic keys 0 shown at the last event Some(false)"),
+            "{}",
+            lines[6]
+        );
     }
 
     #[test]

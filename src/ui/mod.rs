@@ -30,7 +30,8 @@
 //!    ([`pane::Request::Send`] with a tag of its choosing), timers
 //!    ([`pane::Request::WakeAfter`]) or snapshot changes; return
 //!    `Outcome::Ignored` when nothing it shows changed, so an idle console
-//!    is not redrawn. Colours only through `view.theme.style(Role::…)`.
+//!    is not redrawn, and skip refresh timers while `view.shown` is false
+//!    (behind a tab). Colours only through `view.theme.style(Role::…)`.
 //! 2. Add `pub mod NAME;` below and one line to [`panes`] (which gets a
 //!    [`PaneSetup`] for anything a pane is built with).
 //!

@@ -93,6 +93,10 @@ pub struct View<'a> {
     pub session: Option<&'a Snapshot>,
     /// Whether this pane has the keyboard.
     pub focused: bool,
+    /// Whether this pane was on the screen at the last draw (not behind a
+    /// tab). A hidden pane's redraws are not drawn, so it may skip the
+    /// wake-ups that only serve to refresh its picture.
+    pub shown: bool,
 }
 
 /// Input for the pane that has the focus.

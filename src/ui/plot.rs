@@ -453,8 +453,9 @@ impl Pane for PlotPane {
 
     fn on_event(&mut self, event: &PaneEvent, view: &View) -> Outcome {
         match event {
+            // Sampled always; behind a tab nothing asks for refreshes.
             PaneEvent::Snapshot => {
-                if self.sample(view) && self.paused.is_none() {
+                if self.sample(view) && self.paused.is_none() && view.shown {
                     self.tick()
                 } else {
                     Outcome::Ignored
@@ -462,7 +463,11 @@ impl Pane for PlotPane {
             }
             PaneEvent::Wake { .. } => {
                 self.ticking = false;
-                self.tick()
+                if view.shown {
+                    self.tick()
+                } else {
+                    Outcome::Ignored
+                }
             }
             _ => Outcome::Ignored,
         }

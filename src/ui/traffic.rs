@@ -484,6 +484,11 @@ impl Pane for TrafficPane {
                 let family = view.session.map(|s| s.family);
                 if !self.record(record, family) {
                     Outcome::Ignored
+                } else if !view.shown {
+                    // Behind a tab: kept, drawn when it comes to the front,
+                    // no refresh wake-ups meanwhile.
+                    self.unseen = true;
+                    Outcome::Ignored
                 } else if self.waking {
                     self.unseen = true;
                     Outcome::Ignored
