@@ -253,6 +253,85 @@ pub(crate) fn read_user_file(config_dir: Option<&Path>, kind: &str, name: &str) 
 }
 
 /// Errors in file order (line, then column; placeless ones last).
+/// What the loader needs to know of one kind of configuration file
+/// (themes, keymaps).
+pub(crate) struct ConfigKind<T> {
+    /// Folder under the config directory, and the file kind in messages.
+    pub folder: &'static str,
+    pub noun: &'static str,
+    /// The built-in used when a name is neither built in nor a user file.
+    pub default_name: &'static str,
+    pub builtin: fn(&str) -> Option<T>,
+    pub builtin_names: fn() -> Vec<&'static str>,
+    /// The default built-in (what a name that is not built in falls back to).
+    pub last_resort: fn() -> T,
+    pub parse: fn(&str, &str) -> Result<T, Vec<ConfigError>>,
+}
+
+/// The file `name` of `kind`: the user's `FOLDER/NAME.toml` in
+/// `config_dir` over the built-in of that name. A user file that cannot be
+/// used gives a [`ConfigProblem`] and the built-in of that name (else the
+/// default).
+pub(crate) fn load_config<T: Clone>(
+    kind: &ConfigKind<T>,
+    name: &str,
+    config_dir: Option<&Path>,
+) -> Loaded<T> {
+    let builtin = (kind.builtin)(name);
+    let fallback_name = if builtin.is_some() {
+        name
+    } else {
+        kind.default_name
+    };
+    let fallback = || builtin.clone().unwrap_or_else(kind.last_resort);
+    let problem = |problem_kind, file, errors| ConfigProblem {
+        kind: problem_kind,
+        file,
+        errors,
+        fallback: format!("the built-in {} `{fallback_name}`", kind.noun),
+    };
+    let failed = |problem_kind, file, errors| Loaded {
+        value: fallback(),
+        problem: Some(problem(problem_kind, file, errors)),
+    };
+    match read_user_file(config_dir, kind.folder, name) {
+        UserFile::Absent => match &builtin {
+            Some(value) => Loaded {
+                value: value.clone(),
+                problem: None,
+            },
+            None => {
+                let file = match config_dir {
+                    Some(dir) => user_file_path(dir, kind.folder, name),
+                    None => Path::new(kind.folder).join(format!("{name}.toml")),
+                };
+                let message = format!(
+                    "no {} named `{name}`: not a built-in ({}) and no such file",
+                    kind.noun,
+                    (kind.builtin_names)().join(", ")
+                );
+                failed(
+                    ProblemKind::NotFound,
+                    file,
+                    vec![ConfigError::general(message)],
+                )
+            }
+        },
+        UserFile::Unreadable { path, reason } => failed(
+            ProblemKind::Unreadable,
+            path,
+            vec![ConfigError::general(reason)],
+        ),
+        UserFile::Text { path, text } => match (kind.parse)(name, &text) {
+            Ok(value) => Loaded {
+                value,
+                problem: None,
+            },
+            Err(errors) => failed(ProblemKind::Invalid, path, errors),
+        },
+    }
+}
+
 pub(crate) fn sort_errors(errors: &mut [ConfigError]) {
     errors.sort_by_key(|e| (e.line.is_none(), e.line, e.column));
 }

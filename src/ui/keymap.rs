@@ -28,9 +28,7 @@ use serde::Deserialize;
 use serde::de::{Deserializer, SeqAccess, Visitor};
 use toml::Spanned;
 
-use super::config::{
-    self, ConfigError, ConfigProblem, Loaded, ProblemKind, UserFile, line_column, read_user_file,
-};
+use super::config::{self, ConfigError, ConfigKind, Loaded, line_column, load_config};
 
 /// Where a key is pressed: a section of a keymap file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -920,64 +918,19 @@ pub fn choose_keymap(flag: Option<&str>, config_dir: Option<&Path>) -> Loaded<Ke
 /// the built-in of that name. A user file that cannot be used gives a
 /// [`ConfigProblem`] and the built-in of that name (else `default`).
 pub fn load_keymap(name: &str, config_dir: Option<&Path>) -> Loaded<Keymap> {
-    let builtin = Keymap::builtin(name);
-    let fallback_name = if builtin.is_some() {
-        name
-    } else {
-        DEFAULT_KEYMAP
-    };
-    let fallback = || builtin.clone().unwrap_or_else(Keymap::fallback);
-    let problem = |kind, file, errors| ConfigProblem {
-        kind,
-        file,
-        errors,
-        fallback: format!("the built-in keymap `{fallback_name}`"),
-    };
-    match read_user_file(config_dir, "keymaps", name) {
-        UserFile::Absent => match &builtin {
-            Some(keymap) => Loaded {
-                value: keymap.clone(),
-                problem: None,
-            },
-            None => {
-                let file = match config_dir {
-                    Some(dir) => config::user_file_path(dir, "keymaps", name),
-                    None => Path::new("keymaps").join(format!("{name}.toml")),
-                };
-                let names: Vec<&str> = Keymap::builtin_names().collect();
-                let message = format!(
-                    "no keymap named `{name}`: not a built-in ({}) and no such file",
-                    names.join(", ")
-                );
-                Loaded {
-                    value: fallback(),
-                    problem: Some(problem(
-                        ProblemKind::NotFound,
-                        file,
-                        vec![ConfigError::general(message)],
-                    )),
-                }
-            }
+    load_config(
+        &ConfigKind {
+            folder: "keymaps",
+            noun: "keymap",
+            default_name: DEFAULT_KEYMAP,
+            builtin: Keymap::builtin,
+            builtin_names: || Keymap::builtin_names().collect(),
+            last_resort: Keymap::fallback,
+            parse: parse_keymap,
         },
-        UserFile::Unreadable { path, reason } => Loaded {
-            value: fallback(),
-            problem: Some(problem(
-                ProblemKind::Unreadable,
-                path,
-                vec![ConfigError::general(reason)],
-            )),
-        },
-        UserFile::Text { path, text } => match parse_keymap(name, &text) {
-            Ok(keymap) => Loaded {
-                value: keymap,
-                problem: None,
-            },
-            Err(errors) => Loaded {
-                value: fallback(),
-                problem: Some(problem(ProblemKind::Invalid, path, errors)),
-            },
-        },
-    }
+        name,
+        config_dir,
+    )
 }
 
 /// Parses a user's keymap file named `name` over its base (a built-in; by

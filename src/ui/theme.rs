@@ -30,9 +30,7 @@ use ratatui::style::{Color, Modifier, Style};
 use serde::Deserialize;
 use toml::Spanned;
 
-use super::config::{
-    self, ConfigError, ConfigProblem, Loaded, ProblemKind, UserFile, read_user_file,
-};
+use super::config::{self, ConfigError, ConfigKind, Loaded, load_config};
 
 /// What a piece of the screen is, for colouring. The TUI styles
 /// everything through these.
@@ -269,64 +267,19 @@ pub fn choose_theme(
 /// the built-in of that name. A user file that cannot be used gives a
 /// [`ConfigProblem`] and the built-in of that name (else `dark`).
 pub fn load_theme(name: &str, config_dir: Option<&Path>) -> Loaded<Theme> {
-    let builtin = Theme::builtin(name);
-    let fallback_name = if builtin.is_some() {
-        name
-    } else {
-        DEFAULT_THEME
-    };
-    let fallback = || builtin.clone().unwrap_or_else(Theme::fallback);
-    let problem = |kind, file, errors| ConfigProblem {
-        kind,
-        file,
-        errors,
-        fallback: format!("the built-in theme `{fallback_name}`"),
-    };
-    match read_user_file(config_dir, "themes", name) {
-        UserFile::Absent => match &builtin {
-            Some(theme) => Loaded {
-                value: theme.clone(),
-                problem: None,
-            },
-            None => {
-                let file = match config_dir {
-                    Some(dir) => config::user_file_path(dir, "themes", name),
-                    None => Path::new("themes").join(format!("{name}.toml")),
-                };
-                let names: Vec<&str> = Theme::builtin_names().collect();
-                let message = format!(
-                    "no theme named `{name}`: not a built-in ({}) and no such file",
-                    names.join(", ")
-                );
-                Loaded {
-                    value: fallback(),
-                    problem: Some(problem(
-                        ProblemKind::NotFound,
-                        file,
-                        vec![ConfigError::general(message)],
-                    )),
-                }
-            }
+    load_config(
+        &ConfigKind {
+            folder: "themes",
+            noun: "theme",
+            default_name: DEFAULT_THEME,
+            builtin: Theme::builtin,
+            builtin_names: || Theme::builtin_names().collect(),
+            last_resort: Theme::fallback,
+            parse: parse_theme,
         },
-        UserFile::Unreadable { path, reason } => Loaded {
-            value: fallback(),
-            problem: Some(problem(
-                ProblemKind::Unreadable,
-                path,
-                vec![ConfigError::general(reason)],
-            )),
-        },
-        UserFile::Text { path, text } => match parse_theme(name, &text) {
-            Ok(theme) => Loaded {
-                value: theme,
-                problem: None,
-            },
-            Err(errors) => Loaded {
-                value: fallback(),
-                problem: Some(problem(ProblemKind::Invalid, path, errors)),
-            },
-        },
-    }
+        name,
+        config_dir,
+    )
 }
 
 /// Parses a user's theme file named `name`: roles it leaves out come from
