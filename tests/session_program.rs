@@ -676,3 +676,43 @@ async fn the_emergency_stop_leaves_a_stranded_download_mode_first() {
     // cuts it again.
     assert_eq!(value(&session, "SAP 4, 0, 100").await, ReplyValue::None);
 }
+
+/// The manual's first program (§2.4) downloaded with `run`: the motor
+/// turns left (ROL), then travels between ±512000; the session's polled
+/// status sees both, through the device task like the console's gauges.
+#[tokio::test(start_paused = true)]
+async fn the_first_program_of_the_manual_moves_the_motor_seen_by_polling() {
+    let session = connect().await;
+    let words = example("s2_4_first_program.tmc");
+    let report = download(
+        &session,
+        &words,
+        DownloadOptions {
+            run: true,
+            autostart: false,
+        },
+    )
+    .await
+    .expect("verified");
+    assert!(report.started);
+    session.start_polling(PollCadence::default());
+    let status = session.status();
+    let position_seen = |wanted: fn(i64) -> bool| {
+        let mut status = status.clone();
+        async move {
+            loop {
+                let position = status.borrow_and_update().first().and_then(|a| a.position);
+                if position.is_some_and(wanted) {
+                    return;
+                }
+                status.changed().await.expect("the session lives");
+            }
+        }
+    };
+    tokio::time::timeout(GIVE_UP_AFTER, position_seen(|p| p < -1000))
+        .await
+        .expect("ROL 0, 1000 turns the motor left");
+    tokio::time::timeout(GIVE_UP_AFTER, position_seen(|p| p > 100_000))
+        .await
+        .expect("MVP ABS, 0, 512000 moves it right");
+}
