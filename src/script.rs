@@ -17,6 +17,13 @@
 
 use std::time::Duration;
 
+use crate::protocol::Family;
+use crate::protocol::console::{Effect, PreparedLine};
+
+/// Pause between the reads of `:wait-until`: quick enough to notice a move
+/// ending, and leaves the line free for others in between.
+pub const WAIT_INTERVAL: Duration = Duration::from_millis(20);
+
 /// How long `:wait-until` waits when the line gives no `timeout`.
 pub const DEFAULT_WAIT_TIMEOUT: Duration = Duration::from_secs(10);
 
@@ -51,6 +58,71 @@ pub enum Action {
 pub struct Step {
     pub line_number: usize,
     pub action: Action,
+}
+
+/// A step with its console line (if it has one) checked and encoded.
+#[derive(Debug, Clone)]
+pub struct CheckedStep {
+    pub step: Step,
+    pub line: Option<PreparedLine>,
+}
+
+/// Parse a whole script and validate every console line in it for
+/// `family` at `address`, before anything is sent. Every problem is listed
+/// as `NAME:LINE: message`, in line order.
+pub fn check_script(
+    name: &str,
+    text: &str,
+    family: &Family,
+    address: u8,
+) -> Result<Vec<CheckedStep>, Vec<String>> {
+    let mut checked = Vec::new();
+    let mut problems = Vec::new();
+    for (index, raw) in text.lines().enumerate() {
+        let line_number = index + 1;
+        let action = match parse_script_line(raw) {
+            Ok(Some(action)) => action,
+            Ok(None) => continue,
+            Err(message) => {
+                problems.push(format!("{name}:{line_number}: {message}"));
+                continue;
+            }
+        };
+        let (line, must_only_read) = match &action {
+            Action::Line(line) | Action::Expect { line, .. } => (Some(line), false),
+            Action::WaitUntil { line, .. } => (Some(line), true),
+            Action::Sleep(_) | Action::Echo(_) => (None, false),
+        };
+        let prepared = match line.map(|l| family.console.prepare(l, address)) {
+            None => None,
+            Some(Ok(prepared)) => {
+                if must_only_read && prepared.effect != Effect::Reads {
+                    problems.push(format!(
+                        "{name}:{line_number}: :wait-until sends `{}` again and again: give \
+                         a line that only reads (GAP, GGP, GIO…)",
+                        prepared.canonical
+                    ));
+                }
+                Some(prepared)
+            }
+            Some(Err(message)) => {
+                problems.push(format!("{name}:{line_number}: {message}"));
+                None
+            }
+        };
+        checked.push(CheckedStep {
+            step: Step {
+                line_number,
+                action,
+            },
+            line: prepared,
+        });
+    }
+    if problems.is_empty() {
+        Ok(checked)
+    } else {
+        Err(problems)
+    }
 }
 
 /// A line of the file that cannot be understood.

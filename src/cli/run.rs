@@ -12,15 +12,11 @@ use serde_json::json;
 
 use super::connection::{Target, family_of, run_to_exit};
 use super::output::{Format, print_outcome};
-use super::script::{Action, Step, parse_script_line, result_matches};
+use super::script::{Action, CheckedStep, WAIT_INTERVAL, check_script, result_matches};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
-use crate::protocol::Family;
-use crate::protocol::console::{Effect, PreparedLine};
-use crate::session::Session;
 
-/// Pause between the reads of `:wait-until`: quick enough to notice a move
-/// ending, and leaves the line free for others in between.
-pub const WAIT_INTERVAL: Duration = Duration::from_millis(20);
+use crate::protocol::console::PreparedLine;
+use crate::session::Session;
 
 #[derive(Debug, Clone, Args)]
 pub struct RunArgs {
@@ -36,73 +32,6 @@ pub struct RunArgs {
     /// text: the value (or ok) per console line; json: one object per line.
     #[arg(long, value_enum, default_value_t)]
     pub format: Format,
-}
-
-/// A step with its console line checked and encoded.
-struct Checked {
-    step: Step,
-    line: Option<PreparedLine>,
-}
-
-/// Read, parse and validate a whole file; every problem as `FILE:LINE: …`.
-fn check_file(
-    name: &str,
-    text: &str,
-    family: &Family,
-    address: u8,
-) -> Result<Vec<Checked>, Vec<String>> {
-    let mut checked = Vec::new();
-    let mut problems = Vec::new();
-    let mut steps = Vec::new();
-    for (index, raw) in text.lines().enumerate() {
-        match parse_script_line(raw) {
-            Ok(Some(action)) => steps.push(Step {
-                line_number: index + 1,
-                action,
-            }),
-            Ok(None) => {}
-            Err(message) => problems.push((index + 1, message)),
-        }
-    }
-    for step in steps {
-        let (line, must_only_read) = match &step.action {
-            Action::Line(line) | Action::Expect { line, .. } => (Some(line), false),
-            Action::WaitUntil { line, .. } => (Some(line), true),
-            Action::Sleep(_) | Action::Echo(_) => (None, false),
-        };
-        let prepared = match line.map(|l| family.console.prepare(l, address)) {
-            None => None,
-            Some(Ok(prepared)) => {
-                if must_only_read && prepared.effect != Effect::Reads {
-                    problems.push((
-                        step.line_number,
-                        format!(
-                            ":wait-until sends `{}` again and again: give a line that only \
-                             reads (GAP, GGP, GIO…)",
-                            prepared.canonical
-                        ),
-                    ));
-                }
-                Some(prepared)
-            }
-            Some(Err(message)) => {
-                problems.push((step.line_number, message));
-                None
-            }
-        };
-        checked.push(Checked {
-            step,
-            line: prepared,
-        });
-    }
-    if problems.is_empty() {
-        return Ok(checked);
-    }
-    problems.sort_by_key(|(line_number, _)| *line_number);
-    Err(problems
-        .into_iter()
-        .map(|(line_number, message)| format!("{name}:{line_number}: {message}"))
-        .collect())
 }
 
 fn read_source(file: &str) -> Result<(String, String), String> {
@@ -144,7 +73,7 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
             return EXIT_USAGE;
         }
     };
-    let checked = match check_file(&name, &text, family, address) {
+    let checked = match check_script(&name, &text, family, address) {
         Ok(checked) => checked,
         Err(problems) => {
             for problem in problems {
@@ -194,7 +123,7 @@ struct Runner<'a> {
 
 impl Runner<'_> {
     /// Run one step; false if it failed (the failure is reported).
-    async fn step(&self, item: &Checked) -> bool {
+    async fn step(&self, item: &CheckedStep) -> bool {
         let at = format!("{}:{}: ", self.name, item.step.line_number);
         let family = self.session.family();
         match (&item.step.action, &item.line) {
@@ -231,7 +160,7 @@ impl Runner<'_> {
                 }
                 true
             }
-            // check_file prepares a line for every step that has one.
+            // check_script prepares a line for every step that has one.
             (_, None) => {
                 eprintln!("{at}internal error: the line was not checked");
                 false
@@ -284,8 +213,8 @@ mod tests {
     use super::*;
     use crate::protocol::find_family;
 
-    fn check(text: &str) -> Result<Vec<Checked>, Vec<String>> {
-        check_file("f.txt", text, find_family("tmcl").unwrap(), 1)
+    fn check(text: &str) -> Result<Vec<CheckedStep>, Vec<String>> {
+        check_script("f.txt", text, find_family("tmcl").unwrap(), 1)
     }
 
     #[test]

@@ -8,12 +8,8 @@ use std::time::Duration;
 use tokio::time::Instant;
 
 use crate::protocol::Family;
-use crate::protocol::console::Effect;
-use crate::script::{Action, Step, parse_script_line, result_matches};
+use crate::script::{Action, Step, WAIT_INTERVAL, check_script, result_matches};
 use crate::session::{LineResult, SessionError};
-
-/// Pause between the reads of `:wait-until`, as in `axterm run`.
-pub const WAIT_INTERVAL: Duration = Duration::from_millis(20);
 
 /// What the batch needs done next.
 #[derive(Debug, Clone, PartialEq)]
@@ -51,50 +47,16 @@ impl Batch {
         family: &Family,
         address: u8,
     ) -> Result<Batch, Vec<String>> {
-        let mut steps = Vec::new();
-        let mut problems = Vec::new();
-        for (index, raw) in text.lines().enumerate() {
-            let line_number = index + 1;
-            let action = match parse_script_line(raw) {
-                Ok(Some(action)) => action,
-                Ok(None) => continue,
-                Err(message) => {
-                    problems.push(format!("{name}:{line_number}: {message}"));
-                    continue;
-                }
-            };
-            let (line, must_only_read) = match &action {
-                Action::Line(line) | Action::Expect { line, .. } => (Some(line), false),
-                Action::WaitUntil { line, .. } => (Some(line), true),
-                Action::Sleep(_) | Action::Echo(_) => (None, false),
-            };
-            if let Some(line) = line {
-                match family.console.prepare(line, address) {
-                    Ok(prepared) if must_only_read && prepared.effect != Effect::Reads => problems
-                        .push(format!(
-                            "{name}:{line_number}: :wait-until sends `{}` again and again: \
-                             give a line that only reads",
-                            prepared.canonical
-                        )),
-                    Ok(_) => {}
-                    Err(message) => problems.push(format!("{name}:{line_number}: {message}")),
-                }
-            }
-            steps.push(Step {
-                line_number,
-                action,
-            });
-        }
-        if problems.is_empty() {
-            Ok(Batch {
-                name: name.to_string(),
-                steps,
-                next: 0,
-                deadline: None,
-            })
-        } else {
-            Err(problems)
-        }
+        let steps = check_script(name, text, family, address)?
+            .into_iter()
+            .map(|checked| checked.step)
+            .collect();
+        Ok(Batch {
+            name: name.to_string(),
+            steps,
+            next: 0,
+            deadline: None,
+        })
     }
 
     /// How many steps the batch has.
