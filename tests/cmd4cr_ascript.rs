@@ -10,6 +10,7 @@ use axterm::protocol::cmd4cr::ascript::{
     Action, ERROR_CODES, ErrorCode, Op, Program, Statement, TokenClass, VARIABLES,
     ascii_equivalent, buffered_move, check, compile, tokens,
 };
+use axterm::protocol::cmd4cr::parse_command;
 use serde_json::Value;
 
 fn vectors() -> Vec<Value> {
@@ -165,7 +166,12 @@ fn example_1_is_the_ascii_sequence_a_host_would_send() {
     let sent: Vec<Option<String>> = program
         .statements
         .iter()
-        .map(|s| ascii_equivalent(&s.statement, &variables))
+        .map(|s| {
+            ascii_equivalent(&s.statement, &variables).map(|c| match c {
+                Ok(command) => command.to_string(),
+                Err(e) => panic!("{}: {e}", s.statement),
+            })
+        })
         .collect();
     let expected = [
         None,
@@ -192,6 +198,7 @@ fn standalone_names_become_their_ascii_commands() {
             .statements
             .get(1)
             .and_then(|s| ascii_equivalent(&s.statement, &variables))
+            .map(|c| c.map(|c| c.to_string()).unwrap_or_else(|e| e.to_string()))
     };
     for (line, expected) in [
         ("XV1", Some("X1500")),
@@ -225,6 +232,41 @@ fn standalone_names_become_their_ascii_commands() {
 }
 
 #[test]
+fn every_statement_of_the_examples_is_a_command_the_ascii_parser_reads_back() {
+    let mut variables = [0; VARIABLES];
+    // Example 6 moves to V1: give it a value a move takes.
+    variables[1] = 1000;
+    let mut translated = 0;
+    for entry in programs().iter().filter(|e| e.get("title").is_some()) {
+        let program = compile(text(entry, "program")).unwrap_or_default();
+        for s in &program.statements {
+            if let Some(command) = ascii_equivalent(&s.statement, &variables) {
+                let command = command.unwrap_or_else(|e| panic!("{}: {e}", s.statement));
+                assert_eq!(parse_command(&command.to_string()), Ok(command));
+                translated += 1;
+            }
+        }
+    }
+    assert!(translated > 100, "{translated}");
+}
+
+#[test]
+fn a_variable_out_of_a_commands_range_gets_the_ascii_parsers_error() {
+    let program = compile("PRG 0\nHSPD=V1\nEND").unwrap_or_default();
+    let statement = &program.statements[1].statement;
+    let mut variables = [0; VARIABLES];
+    assert!(matches!(
+        ascii_equivalent(statement, &variables),
+        Some(Err(_))
+    ));
+    variables[1] = 5000;
+    assert_eq!(
+        ascii_equivalent(statement, &variables).map(|c| c.map(|c| c.to_string())),
+        Some(Ok("HSPD=5000".to_string()))
+    );
+}
+
+#[test]
 fn buffered_moves_become_i_commands_at_the_global_high_speed() {
     let program = example("5.4.2");
     let variables = [0; VARIABLES];
@@ -238,7 +280,13 @@ fn buffered_moves_become_i_commands_at_the_global_high_speed() {
                 speed = value.resolve(&variables);
             }
             Op::Action(Action::Move(targets)) => {
-                queued.extend(buffered_move(targets, speed, &variables));
+                if let Some(command) = buffered_move(targets, speed, &variables) {
+                    queued.push(
+                        command
+                            .map(|c| c.to_string())
+                            .unwrap_or_else(|e| e.to_string()),
+                    );
+                }
             }
             _ => {}
         }

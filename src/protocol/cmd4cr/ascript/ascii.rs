@@ -5,58 +5,137 @@
 
 use std::fmt;
 
-use super::ast::{Action, Statement, Target, VARIABLES};
-use super::commands::Axis;
+use super::super::command::{Cmd4crCommand, CommandError, parse_command};
+use super::ast::{Action, Axis, Statement, Target, VARIABLES};
+use super::commands::Ascii;
 use super::program::Program;
 
-/// The ASCII console command that does what `statement` does, its
-/// variables given their values from `variables`: `HSPD=20000`,
-/// `XV1` → `X1500`, `ECLEARX` → `CLRX`, `SR0=1` → `SACTRL0=1`,
-/// `JOGX+` → `JX+`, `HOMEX-6` → `HX-6`.
+/// The ASCII command that does what `statement` does, its variables given
+/// their values from `variables`: `HSPD=20000`, `XV1` → `X1500`,
+/// `ECLEARX` → `CLRX`, `SR0=1` → `SACTRL0=1`, `JOGX+` → `JX+`, `HOMEX-6` →
+/// `HX-6`. Print it for the wire; the simulator can act on it as it is.
+///
+/// The command is checked by the one ASCII parser
+/// ([`parse_command`]): a variable whose value is out of the command's
+/// range (`HSPD=V1` with V1 = 0) gives the parser's error, which is also
+/// the controller's §4.2 reply ([`CommandError::reply`]); for an executor
+/// it is a runtime error of the program.
 ///
 /// None for what has no ASCII command and is the executor's own work:
 /// block structure and control flow, GOSUB, `V[n]=` (variables live with
 /// the program), `DELAY` (a timer) and `WAIT[axis]` (poll `MST[axis]`
 /// until bits 0–2 are clear, §2.6.2.1). While the move buffer is on, a
-/// move is queued instead: see [`buffered_move`].
-pub fn ascii_equivalent(statement: &Statement, variables: &[i32; VARIABLES]) -> Option<String> {
+/// straight move is queued instead: see [`buffered_move`].
+pub fn ascii_equivalent(
+    statement: &Statement,
+    variables: &[i32; VARIABLES],
+) -> Option<Result<Cmd4crCommand, CommandError>> {
     let Statement::Action(action) = statement else {
         return None;
     };
-    Some(match action {
+    let command = match action {
         Action::Let { .. } | Action::Delay(_) | Action::Wait(_) => return None,
-        Action::Set { command, value } => {
-            format!("{}={}", command.ascii()?, value.resolve(variables))
+        Action::Set { command, value } => match command.info.ascii {
+            Ascii::Register(register) => Cmd4crCommand::Write {
+                register,
+                selector: command.selector(),
+                value: value.resolve(variables),
+            },
+            _ => return None,
+        },
+        Action::Do(command) => match command.info.ascii {
+            Ascii::Action(action) => Cmd4crCommand::Action {
+                action,
+                selector: command.selector(),
+            },
+            _ => return None,
+        },
+        Action::Move(targets) => {
+            let mut by_axis = [None; 4];
+            for t in targets {
+                if let Some(slot) = by_axis.get_mut(t.axis.index()) {
+                    *slot = Some(t.value.resolve(variables));
+                }
+            }
+            Cmd4crCommand::Move { targets: by_axis }
         }
-        Action::Do(command) => command.ascii()?,
-        Action::Move(targets) => targets
-            .iter()
-            .map(|t| format!("{}{}", t.axis, t.value.resolve(variables)))
-            .collect(),
-        Action::Jog { axis, direction } => format!("J{axis}{}", direction.sign()),
+        Action::Jog { axis, direction } => Cmd4crCommand::Jog {
+            axis: *axis,
+            direction: *direction,
+        },
         Action::Home {
             axis,
             direction,
             mode,
-        } => format!("H{axis}{}{mode}", direction.sign()),
-        // The circle, arc and Z-move forms are the same in both sets.
-        Action::ZMove { .. }
-        | Action::Circle { .. }
-        | Action::Arc { .. }
-        | Action::HelixCircle { .. }
-        | Action::HelixArc { .. } => action.to_string(),
-    })
+        } => Cmd4crCommand::Home {
+            axis: *axis,
+            direction: *direction,
+            mode: *mode,
+        },
+        Action::ZMove { axis, direction } => Cmd4crCommand::ZMove {
+            axis: *axis,
+            direction: *direction,
+        },
+        Action::Circle {
+            axes,
+            rotation,
+            centre,
+        } => Cmd4crCommand::Circle {
+            axes: *axes,
+            rotation: *rotation,
+            centre: *centre,
+        },
+        Action::Arc {
+            axes,
+            rotation,
+            centre,
+            angle,
+        } => Cmd4crCommand::Arc {
+            axes: *axes,
+            rotation: *rotation,
+            centre: *centre,
+            angle: *angle,
+        },
+        Action::HelixCircle {
+            rotation,
+            centre,
+            z,
+        } => Cmd4crCommand::HelicalCircle {
+            rotation: *rotation,
+            centre: *centre,
+            z: *z,
+        },
+        Action::HelixArc {
+            rotation,
+            centre,
+            angle,
+            z,
+        } => Cmd4crCommand::HelicalArc {
+            rotation: *rotation,
+            centre: *centre,
+            angle: *angle,
+            z: *z,
+        },
+    };
+    Some(checked(command))
 }
 
-/// A move queued while the buffer is on (`BUFON`): the ASCII command is
-/// `I[X]:[Y]:[Z]:[speed]` (§2.3.4), the speed being the high speed in force
-/// ("the current global high-speed setting", §2.3.4). None unless the move names X, Y and Z and not U:
-/// `I` has exactly those three fields.
+/// The command as the ASCII parser reads its text: values in range, the
+/// same command back.
+fn checked(command: Cmd4crCommand) -> Result<Cmd4crCommand, CommandError> {
+    parse_command(&command.to_string())
+}
+
+/// A straight move queued while the buffer is on (`BUFON`): the ASCII
+/// command is `I[X]:[Y]:[Z]:[speed]` (§2.3.4), the speed being the global
+/// high speed in force ("the current global high-speed setting", §2.3.4).
+/// None unless the move names X, Y and Z and not U: `I` has exactly those
+/// three fields. Checked by the ASCII parser like [`ascii_equivalent`].
 pub fn buffered_move(
     targets: &[Target],
     speed: i64,
     variables: &[i32; VARIABLES],
-) -> Option<String> {
+) -> Option<Result<Cmd4crCommand, CommandError>> {
     let target = |axis| {
         targets
             .iter()
@@ -66,12 +145,8 @@ pub fn buffered_move(
     if targets.len() != 3 {
         return None;
     }
-    Some(format!(
-        "I{}:{}:{}:{speed}",
-        target(Axis::X)?,
-        target(Axis::Y)?,
-        target(Axis::Z)?
-    ))
+    let target = [target(Axis::X)?, target(Axis::Y)?, target(Axis::Z)?];
+    Some(checked(Cmd4crCommand::BufferMove { target, speed }))
 }
 
 /// A statement a host cannot carry out with ASCII commands.
