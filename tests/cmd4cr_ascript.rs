@@ -7,8 +7,8 @@
 //! host would send.
 
 use axterm::protocol::cmd4cr::ascript::{
-    Action, ERROR_CODES, ErrorCode, Op, Program, Statement, TokenClass, VARIABLES,
-    ascii_equivalent, buffered_move, check, compile, tokens,
+    Action, ERROR_CODES, ErrorCode, Op, Program, Statement, TokenClass, VARIABLES, ascii_command,
+    ascii_equivalent, buffered_move, buffered_move_command, check, compile, tokens,
 };
 use axterm::protocol::cmd4cr::parse_command;
 use serde_json::Value;
@@ -166,12 +166,7 @@ fn example_1_is_the_ascii_sequence_a_host_would_send() {
     let sent: Vec<Option<String>> = program
         .statements
         .iter()
-        .map(|s| {
-            ascii_equivalent(&s.statement, &variables).map(|c| match c {
-                Ok(command) => command.to_string(),
-                Err(e) => panic!("{}: {e}", s.statement),
-            })
-        })
+        .map(|s| ascii_equivalent(&s.statement, &variables))
         .collect();
     let expected = [
         None,
@@ -198,7 +193,6 @@ fn standalone_names_become_their_ascii_commands() {
             .statements
             .get(1)
             .and_then(|s| ascii_equivalent(&s.statement, &variables))
-            .map(|c| c.map(|c| c.to_string()).unwrap_or_else(|e| e.to_string()))
     };
     for (line, expected) in [
         ("XV1", Some("X1500")),
@@ -240,9 +234,13 @@ fn every_statement_of_the_examples_is_a_command_the_ascii_parser_reads_back() {
     for entry in programs().iter().filter(|e| e.get("title").is_some()) {
         let program = compile(text(entry, "program")).unwrap_or_default();
         for s in &program.statements {
-            if let Some(command) = ascii_equivalent(&s.statement, &variables) {
+            if let Some(command) = ascii_command(&s.statement, &variables) {
                 let command = command.unwrap_or_else(|e| panic!("{}: {e}", s.statement));
-                assert_eq!(parse_command(&command.to_string()), Ok(command));
+                assert_eq!(parse_command(&command.to_string()), Ok(command.clone()));
+                assert_eq!(
+                    ascii_equivalent(&s.statement, &variables),
+                    Some(command.to_string())
+                );
                 translated += 1;
             }
         }
@@ -255,13 +253,15 @@ fn a_variable_out_of_a_commands_range_gets_the_ascii_parsers_error() {
     let program = compile("PRG 0\nHSPD=V1\nEND").unwrap_or_default();
     let statement = &program.statements[1].statement;
     let mut variables = [0; VARIABLES];
-    assert!(matches!(
-        ascii_equivalent(statement, &variables),
-        Some(Err(_))
-    ));
+    assert!(matches!(ascii_command(statement, &variables), Some(Err(_))));
+    // The text is still sent as it is: the controller refuses it itself.
+    assert_eq!(
+        ascii_equivalent(statement, &variables).as_deref(),
+        Some("HSPD=0")
+    );
     variables[1] = 5000;
     assert_eq!(
-        ascii_equivalent(statement, &variables).map(|c| c.map(|c| c.to_string())),
+        ascii_command(statement, &variables).map(|c| c.map(|c| c.to_string())),
         Some(Ok("HSPD=5000".to_string()))
     );
 }
@@ -280,13 +280,11 @@ fn buffered_moves_become_i_commands_at_the_global_high_speed() {
                 speed = value.resolve(&variables);
             }
             Op::Action(Action::Move(targets)) => {
-                if let Some(command) = buffered_move(targets, speed, &variables) {
-                    queued.push(
-                        command
-                            .map(|c| c.to_string())
-                            .unwrap_or_else(|e| e.to_string()),
-                    );
-                }
+                queued.extend(buffered_move(targets, speed, &variables));
+                assert!(matches!(
+                    buffered_move_command(targets, speed, &variables),
+                    Some(Ok(_))
+                ));
             }
             _ => {}
         }

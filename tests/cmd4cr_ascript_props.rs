@@ -6,8 +6,8 @@
 
 use axterm::protocol::cmd4cr::ascript::{
     Action, Address, Axis, BinaryOp, COMMANDS, Command, Comparison, Condition, Direction, Expr, Op,
-    Operand, Rotation, Shape, Statement, Target, VARIABLES, Value, ascii_equivalent, check,
-    compile, parse_statement, tokens,
+    Operand, Rotation, Shape, Statement, Target, VARIABLES, Value, ascii_command, check, compile,
+    parse_statement, tokens,
 };
 use axterm::protocol::cmd4cr::catalog::Form;
 use axterm::protocol::cmd4cr::parse_command;
@@ -324,7 +324,7 @@ proptest! {
             }
             _ => true,
         };
-        if let (true, Some(command)) = (literal, ascii_equivalent(&statement, &[0; VARIABLES])) {
+        if let (true, Some(command)) = (literal, ascii_command(&statement, &[0; VARIABLES])) {
             let command = command.map_err(|e| e.to_string());
             prop_assert!(command.is_ok(), "{}: {:?}", statement, command);
             let command = command.unwrap_or_else(|_| unreachable!());

@@ -10,26 +10,37 @@ use super::ast::{Action, Axis, Statement, Target, VARIABLES};
 use super::commands::Ascii;
 use super::program::Program;
 
-/// The ASCII command that does what `statement` does, its variables given
-/// their values from `variables`: `HSPD=20000`, `XV1` → `X1500`,
-/// `ECLEARX` → `CLRX`, `SR0=1` → `SACTRL0=1`, `JOGX+` → `JX+`, `HOMEX-6` →
-/// `HX-6`. Print it for the wire; the simulator can act on it as it is.
+/// The ASCII command text that does what `statement` does, its
+/// variables given their values from `variables`: `HSPD=20000`, `XV1` →
+/// `X1500`, `ECLEARX` → `CLRX`, `SR0=1` → `SACTRL0=1`, `JOGX+` → `JX+`,
+/// `HOMEX-6` → `HX-6`. What a host sends after `@ID`.
 ///
-/// The command is checked by the one ASCII parser
-/// ([`parse_command`]): a variable whose value is out of the command's
-/// range (`HSPD=V1` with V1 = 0) gives the parser's error, which is also
-/// the controller's §4.2 reply ([`CommandError::reply`]); for an executor
-/// it is a runtime error of the program.
+/// A variable may hold a value the command refuses (`HSPD=V1` with V1 =
+/// 0): the text is still the command (`HSPD=0`), and the controller
+/// answers it with its §4.2 error; [`ascii_command`] checks it first.
 ///
 /// None for what has no ASCII command and is the executor's own work:
 /// block structure and control flow, GOSUB, `V[n]=` (variables live with
 /// the program), `DELAY` (a timer) and `WAIT[axis]` (poll `MST[axis]`
 /// until bits 0–2 are clear, §2.6.2.1). While the move buffer is on, a
 /// straight move is queued instead: see [`buffered_move`].
-pub fn ascii_equivalent(
+pub fn ascii_equivalent(statement: &Statement, variables: &[i32; VARIABLES]) -> Option<String> {
+    translate(statement, variables).map(|c| c.to_string())
+}
+
+/// [`ascii_equivalent`] as the typed command of the one ASCII parser
+/// ([`parse_command`]), which has read it back: a value out of the
+/// command's range gives the parser's error, which is also the
+/// controller's §4.2 reply ([`CommandError::reply`]).
+pub fn ascii_command(
     statement: &Statement,
     variables: &[i32; VARIABLES],
 ) -> Option<Result<Cmd4crCommand, CommandError>> {
+    translate(statement, variables).map(checked)
+}
+
+/// The ASCII command of a statement, its values unchecked.
+fn translate(statement: &Statement, variables: &[i32; VARIABLES]) -> Option<Cmd4crCommand> {
     let Statement::Action(action) = statement else {
         return None;
     };
@@ -72,52 +83,13 @@ pub fn ascii_equivalent(
             direction: *direction,
             mode: *mode,
         },
-        Action::ZMove { axis, direction } => Cmd4crCommand::ZMove {
-            axis: *axis,
-            direction: *direction,
-        },
-        Action::Circle {
-            axes,
-            rotation,
-            centre,
-        } => Cmd4crCommand::Circle {
-            axes: *axes,
-            rotation: *rotation,
-            centre: *centre,
-        },
-        Action::Arc {
-            axes,
-            rotation,
-            centre,
-            angle,
-        } => Cmd4crCommand::Arc {
-            axes: *axes,
-            rotation: *rotation,
-            centre: *centre,
-            angle: *angle,
-        },
-        Action::HelixCircle {
-            rotation,
-            centre,
-            z,
-        } => Cmd4crCommand::HelicalCircle {
-            rotation: *rotation,
-            centre: *centre,
-            z: *z,
-        },
-        Action::HelixArc {
-            rotation,
-            centre,
-            angle,
-            z,
-        } => Cmd4crCommand::HelicalArc {
-            rotation: *rotation,
-            centre: *centre,
-            angle: *angle,
-            z: *z,
-        },
+        Action::ZMove { .. }
+        | Action::Circle { .. }
+        | Action::Arc { .. }
+        | Action::HelixCircle { .. }
+        | Action::HelixArc { .. } => action.same_in_ascii()?,
     };
-    Some(checked(command))
+    Some(command)
 }
 
 /// The command as the ASCII parser reads its text: values in range, the
@@ -127,15 +99,33 @@ fn checked(command: Cmd4crCommand) -> Result<Cmd4crCommand, CommandError> {
 }
 
 /// A straight move queued while the buffer is on (`BUFON`): the ASCII
-/// command is `I[X]:[Y]:[Z]:[speed]` (§2.3.4), the speed being the global
-/// high speed in force ("the current global high-speed setting", §2.3.4).
-/// None unless the move names X, Y and Z and not U: `I` has exactly those
-/// three fields. Checked by the ASCII parser like [`ascii_equivalent`].
+/// command text `I[X]:[Y]:[Z]:[speed]` (§2.3.4), the speed being the
+/// global high speed in force ("the current global high-speed setting",
+/// §2.3.4). None unless the move names X, Y and Z and not U: `I` has
+/// exactly those three fields.
 pub fn buffered_move(
     targets: &[Target],
     speed: i64,
     variables: &[i32; VARIABLES],
+) -> Option<String> {
+    buffer_entry(targets, speed, variables).map(|c| c.to_string())
+}
+
+/// [`buffered_move`] as the typed command the ASCII parser has read back
+/// (see [`ascii_command`]).
+pub fn buffered_move_command(
+    targets: &[Target],
+    speed: i64,
+    variables: &[i32; VARIABLES],
 ) -> Option<Result<Cmd4crCommand, CommandError>> {
+    buffer_entry(targets, speed, variables).map(checked)
+}
+
+fn buffer_entry(
+    targets: &[Target],
+    speed: i64,
+    variables: &[i32; VARIABLES],
+) -> Option<Cmd4crCommand> {
     let target = |axis| {
         targets
             .iter()
@@ -146,7 +136,7 @@ pub fn buffered_move(
         return None;
     }
     let target = [target(Axis::X)?, target(Axis::Y)?, target(Axis::Z)?];
-    Some(checked(Cmd4crCommand::BufferMove { target, speed }))
+    Some(Cmd4crCommand::BufferMove { target, speed })
 }
 
 /// A statement a host cannot carry out with ASCII commands.

@@ -71,6 +71,15 @@ impl Command {
         }
     }
 
+    /// The ASCII command of the same meaning, addressed the same way, as
+    /// text: `ECLEARX` → `CLRX`, `SR0` → `SACTRL0`, `JOYHSX` → `JSPDX`,
+    /// `MSTX` → `MSTX`. None for `WAIT` and `DELAY`, which only a program
+    /// has.
+    pub fn ascii(&self) -> Option<String> {
+        let keyword = self.info.ascii_row()?.keyword;
+        Some(format!("{keyword}{}", self.address))
+    }
+
     /// The ASCII command that reads this one (`MSTX`, `DI1`, `HSPD`), for
     /// an executor that asks the controller for an operand's value. None
     /// for what cannot be read.
@@ -449,8 +458,63 @@ pub enum Action {
     },
 }
 
+impl Action {
+    /// The ASCII command of a motion statement written the same way in
+    /// both sets: circles and arcs (§2.3.4: "The syntax for these commands
+    /// is the same in ASCII and standalone mode") and ZMOVE.
+    pub fn same_in_ascii(&self) -> Option<Cmd4crCommand> {
+        Some(match *self {
+            Action::ZMove { axis, direction } => Cmd4crCommand::ZMove { axis, direction },
+            Action::Circle {
+                axes,
+                rotation,
+                centre,
+            } => Cmd4crCommand::Circle {
+                axes,
+                rotation,
+                centre,
+            },
+            Action::Arc {
+                axes,
+                rotation,
+                centre,
+                angle,
+            } => Cmd4crCommand::Arc {
+                axes,
+                rotation,
+                centre,
+                angle,
+            },
+            Action::HelixCircle {
+                rotation,
+                centre,
+                z,
+            } => Cmd4crCommand::HelicalCircle {
+                rotation,
+                centre,
+                z,
+            },
+            Action::HelixArc {
+                rotation,
+                centre,
+                angle,
+                z,
+            } => Cmd4crCommand::HelicalArc {
+                rotation,
+                centre,
+                angle,
+                z,
+            },
+            _ => return None,
+        })
+    }
+}
+
 impl fmt::Display for Action {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if let Some(command) = self.same_in_ascii() {
+            return write!(f, "{command}");
+        }
         match self {
             Action::Let { variable, value } => write!(f, "V{variable}={value}"),
             Action::Set { command, value } => write!(f, "{command}={value}"),
@@ -468,43 +532,11 @@ impl fmt::Display for Action {
                 direction,
                 mode,
             } => write!(f, "HOME{}{}{mode}", axis.letter(), direction.sign()),
-            Action::ZMove { axis, direction } => {
-                write!(f, "ZMOVE{}{}", axis.letter(), direction.sign())
-            }
-            Action::Circle {
-                axes: [a, b],
-                rotation,
-                centre: [c1, c2],
-            } => write!(
-                f,
-                "CIR{}{}{}{c1}:{c2}",
-                a.letter(),
-                b.letter(),
-                rotation.letter()
-            ),
-            Action::Arc {
-                axes: [a, b],
-                rotation,
-                centre: [c1, c2],
-                angle,
-            } => write!(
-                f,
-                "ARC{}{}{}{c1}:{c2}:{angle}",
-                a.letter(),
-                b.letter(),
-                rotation.letter()
-            ),
-            Action::HelixCircle {
-                rotation,
-                centre: [c1, c2],
-                z,
-            } => write!(f, "CIRT{}{c1}:{c2}:{z}", rotation.letter()),
-            Action::HelixArc {
-                rotation,
-                centre: [c1, c2],
-                angle,
-                z,
-            } => write!(f, "ARCT{}{c1}:{c2}:{angle}:{z}", rotation.letter()),
+            Action::ZMove { .. }
+            | Action::Circle { .. }
+            | Action::Arc { .. }
+            | Action::HelixCircle { .. }
+            | Action::HelixArc { .. } => Ok(()),
         }
     }
 }

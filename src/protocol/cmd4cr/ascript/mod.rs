@@ -72,7 +72,9 @@ mod lexer;
 mod parser;
 mod program;
 
-pub use ascii::{HostProblem, ascii_equivalent, buffered_move};
+pub use ascii::{
+    HostProblem, ascii_command, ascii_equivalent, buffered_move, buffered_move_command,
+};
 pub use ast::{
     Action, Address, ArithmeticError, Axis, BinaryOp, Command, Comparison, Condition, Direction,
     EvalError, Expr, Operand, Rotation, Statement, Target, VARIABLES, Value,

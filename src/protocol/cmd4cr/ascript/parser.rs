@@ -181,6 +181,28 @@ impl Parser<'_> {
         }
     }
 
+    /// Take the `=` of an assignment. Without it: `==` is "Error", an
+    /// expression left of a later `=` is "= Error" (`V2+1=V3`), and no `=`
+    /// at all is `missing` ("Missing =" for `HSPD*1000`).
+    fn expect_equals(&mut self, missing: impl FnOnce(&Self) -> LineError) -> Result<(), LineError> {
+        match self.peek_lex() {
+            Some(Lex::Symbol(Symbol::Equals)) => {
+                self.bump();
+                Ok(())
+            }
+            Some(Lex::Symbol(Symbol::DoubleEquals)) => self.refuse_double_equals(),
+            Some(_) if self.has_later(Symbol::Equals) => Err(self.error_at(
+                0,
+                ErrorCode::EqualsError,
+                format!(
+                    "the left of `=` must be one variable or command, not `{}`",
+                    self.left_of_equals()
+                ),
+            )),
+            _ => Err(missing(self)),
+        }
+    }
+
     fn statement(&mut self) -> Result<Statement, LineError> {
         let Some(first) = self.bump() else {
             return Err(self.error_next(ErrorCode::Error, "empty statement".into()));
@@ -613,48 +635,39 @@ impl Parser<'_> {
 
     /// `NAME=value` for a register (and what goes wrong with it).
     fn set(&mut self, command: Command) -> Result<Statement, LineError> {
-        let writable = command.info.writable();
-        let at = self.next;
-        match self.peek_lex() {
-            Some(Lex::Symbol(Symbol::Equals)) if writable => {
-                self.bump();
-                let value = self.value(&command)?;
-                Ok(Statement::Action(Action::Set { command, value }))
-            }
-            Some(Lex::Symbol(Symbol::Equals)) => Err(self.error_at(
-                0,
-                ErrorCode::EqualsError,
-                format!("`{command}` returns a value and cannot be set"),
-            )),
-            Some(Lex::Symbol(Symbol::DoubleEquals)) => {
-                self.refuse_double_equals()?;
-                Err(self.error_next(ErrorCode::Error, String::new()))
-            }
-            Some(_) if self.has_later(Symbol::Equals) => Err(self.error_at(
-                0,
-                ErrorCode::EqualsError,
-                format!(
-                    "the left of `=` must be one variable or command, not `{}`",
-                    self.left_of_equals()
+        if !command.info.writable() {
+            let only_read = |parser: &Self| {
+                parser.error_at(
+                    0,
+                    ErrorCode::Error,
+                    format!(
+                        "`{command}` only returns a value: use it in an assignment (V1={command}) or a condition (IF {command}=1)"
+                    ),
+                )
+            };
+            return Err(match self.expect_equals(only_read) {
+                Ok(()) => self.error_at(
+                    0,
+                    ErrorCode::EqualsError,
+                    format!("`{command}` returns a value and cannot be set"),
                 ),
-            )),
-            _ if writable => Err(self.error_at(
+                Err(e) => e,
+            });
+        }
+        let at = self.next;
+        self.expect_equals(|parser| {
+            parser.error_at(
                 at,
                 ErrorCode::MissingEquals,
                 format!(
                     "`{}`: set {command} with `=`, e.g. {command}={}",
-                    self.statement_text(),
+                    parser.statement_text(),
                     command.info.values().map_or(0, |r| r.min.max(0))
                 ),
-            )),
-            _ => Err(self.error_at(
-                0,
-                ErrorCode::Error,
-                format!(
-                    "`{command}` only returns a value: use it in an assignment (V1={command}) or a condition (IF {command}=1)"
-                ),
-            )),
-        }
+            )
+        })?;
+        let value = self.value(&command)?;
+        Ok(Statement::Action(Action::Set { command, value }))
     }
 
     /// The source left of the first `=`.
@@ -764,33 +777,15 @@ impl Parser<'_> {
     /// `DELAY=ms`: a number or a variable (T5-43 "Token Error":
     /// `DELAY=V1+200`).
     fn delay(&mut self, command: &Command) -> Result<Value, LineError> {
-        match self.peek_lex() {
-            Some(Lex::Symbol(Symbol::Equals)) => {
-                self.bump();
-            }
-            Some(Lex::Symbol(Symbol::DoubleEquals)) => {
-                self.refuse_double_equals()?;
-            }
-            Some(_) if self.has_later(Symbol::Equals) => {
-                return Err(self.error_at(
-                    0,
-                    ErrorCode::EqualsError,
-                    format!(
-                        "the left of `=` must be DELAY alone, not `{}`",
-                        self.left_of_equals()
-                    ),
-                ));
-            }
-            _ => {
-                return Err(self.error_next(
-                    ErrorCode::MissingEquals,
-                    format!(
-                        "`{}`: write DELAY=ms, e.g. DELAY=100",
-                        self.statement_text()
-                    ),
-                ));
-            }
-        }
+        self.expect_equals(|parser| {
+            parser.error_next(
+                ErrorCode::MissingEquals,
+                format!(
+                    "`{}`: write DELAY=ms, e.g. DELAY=100",
+                    parser.statement_text()
+                ),
+            )
+        })?;
         let start = self.next;
         let rest = self.text_from(start).to_string();
         let token_error = |parser: &Self| {
@@ -1037,32 +1032,17 @@ impl Parser<'_> {
     /// A line starting with `V[n]`: `V1=expr`.
     fn variable_statement(&mut self, index: Option<u64>) -> Result<Statement, LineError> {
         let variable = self.variable_index(index)?;
-        match self.peek_lex() {
-            Some(Lex::Symbol(Symbol::Equals)) => {
-                self.bump();
-                let value = self.expression()?;
-                Ok(Statement::Action(Action::Let { variable, value }))
-            }
-            Some(Lex::Symbol(Symbol::DoubleEquals)) => {
-                self.refuse_double_equals()?;
-                Err(self.error_next(ErrorCode::Error, String::new()))
-            }
-            Some(_) if self.has_later(Symbol::Equals) => Err(self.error_at(
-                0,
-                ErrorCode::EqualsError,
-                format!(
-                    "the left of `=` must be one variable or command, not `{}`",
-                    self.left_of_equals()
-                ),
-            )),
-            _ => Err(self.error_next(
+        self.expect_equals(|parser| {
+            parser.error_next(
                 ErrorCode::MissingEquals,
                 format!(
                     "`{}`: set V{variable} with `=`, e.g. V{variable}=0",
-                    self.statement_text()
+                    parser.statement_text()
                 ),
-            )),
-        }
+            )
+        })?;
+        let value = self.expression()?;
+        Ok(Statement::Action(Action::Let { variable, value }))
     }
 
     /// The right of `V[n]=`: an operand, `~operand`, or one operation of
