@@ -147,15 +147,16 @@ fn tab_completes_mnemonics_symbols_and_parameters_from_the_catalogue() {
     assert!(screen.contains("5 Maximum acceleration"), "{screen}");
 }
 
-#[test]
-fn f1_explains_the_word_under_the_cursor_and_help_takes_topics() {
-    let mut app = connected();
-    type_text(&mut app, "SAP 4, 0, 100");
+/// Type `SAP 4, 0, 100`, F1 on the 4: the command's syntax and the
+/// parameter's row are shown, the line stays to be finished; then Esc
+/// and `:help MVP`. The screen after F1.
+fn help_on_sap_4_and_mvp(app: &mut App) -> String {
+    type_text(app, "SAP 4, 0, 100");
     for _ in 0..8 {
         app.handle(key(KeyCode::Left));
     }
     app.handle(key(KeyCode::F(1)));
-    let screen = text(&mut app, 120, 30);
+    let screen = text(app, 120, 30);
     assert!(
         screen.contains("SAP <parameter>, <motor>, <value>   (§3.6.5, instruction 5)"),
         "{screen}"
@@ -166,16 +167,22 @@ fn f1_explains_the_word_under_the_cursor_and_help_takes_topics() {
         ),
         "{screen}"
     );
-    // The line is still there to finish.
     assert!(screen.contains("> SAP 4, 0, 100"), "{screen}");
-
     app.handle(key(KeyCode::Esc));
-    enter(&mut app, ":help MVP");
-    let screen = text(&mut app, 120, 30);
+    enter(app, ":help MVP");
+    let after = text(app, 120, 30);
     assert!(
-        screen.contains("<mode>: ABS (0), REL (1), COORD (2)"),
-        "{screen}"
+        after.contains("<mode>: ABS (0), REL (1), COORD (2)"),
+        "{after}"
     );
+    screen
+}
+
+#[test]
+fn f1_explains_the_word_under_the_cursor_and_help_takes_topics() {
+    let mut app = connected();
+    let screen = help_on_sap_4_and_mvp(&mut app);
+    assert!(!screen.contains("not connected"), "{screen}");
     enter(&mut app, ":help");
     let screen = text(&mut app, 120, 40);
     assert!(screen.contains(":poll RATE"), "{screen}");
@@ -377,32 +384,9 @@ fn news_from_the_module_and_the_link_is_shown() {
 fn help_and_completion_work_before_connecting() {
     let mut app = console();
     assert!(app.snapshot().is_none());
-    type_text(&mut app, "SAP 4, 0, 100");
-    for _ in 0..8 {
-        app.handle(key(KeyCode::Left));
-    }
-    app.handle(key(KeyCode::F(1)));
-    let screen = text(&mut app, 120, 30);
+    let screen = help_on_sap_4_and_mvp(&mut app);
     assert!(
         screen.contains("not connected: help from the tmcl tables"),
-        "{screen}"
-    );
-    assert!(
-        screen.contains("SAP <parameter>, <motor>, <value>   (§3.6.5, instruction 5)"),
-        "{screen}"
-    );
-    assert!(
-        screen.contains(
-            "axis parameter 4 “Maximum positioning speed”: 1..2047 int (vel), access RWE"
-        ),
-        "{screen}"
-    );
-    app.handle(key(KeyCode::Esc));
-
-    enter(&mut app, ":help MVP");
-    let screen = text(&mut app, 120, 30);
-    assert!(
-        screen.contains("<mode>: ABS (0), REL (1), COORD (2)"),
         "{screen}"
     );
 

@@ -905,6 +905,19 @@ impl EditorPane {
     }
 }
 
+/// The number an answer carries, if it is one.
+fn number_read(
+    result: &Result<crate::session::LineResult, crate::session::SessionError>,
+) -> Option<i64> {
+    match result {
+        Ok(r) => match r.value {
+            crate::session::ReplyValue::Number(n) => Some(n),
+            _ => None,
+        },
+        Err(_) => None,
+    }
+}
+
 /// One line of source as styled cells, `left` characters scrolled off,
 /// at most `width` shown.
 fn styled_line(
@@ -1132,17 +1145,10 @@ impl Pane for EditorPane {
                 }
             }
             PaneEvent::Reply { tag, line, result } if *tag == TAG_WATCH => {
-                let value = match result {
-                    Ok(r) => match r.value {
-                        crate::session::ReplyValue::Number(n) => Some(n),
-                        _ => None,
-                    },
-                    Err(_) => {
-                        self.watching = false;
-                        None
-                    }
-                };
-                Outcome::Handled(self.register_reply(line, value))
+                if result.is_err() {
+                    self.watching = false;
+                }
+                Outcome::Handled(self.register_reply(line, number_read(result)))
             }
             PaneEvent::Reply {
                 tag,
@@ -1167,17 +1173,10 @@ impl Pane for EditorPane {
                 }])
             }
             PaneEvent::Reply { tag, line, result } if *tag == TAG_VARIABLE => {
-                let value = match result {
-                    Ok(r) => match r.value {
-                        crate::session::ReplyValue::Number(n) => Some(n),
-                        _ => None,
-                    },
-                    Err(e) => {
-                        self.message = Some(Notice::error(format!("{line}: {e}")));
-                        None
-                    }
-                };
-                self.variable_reply(line, value);
+                if let Err(e) = result {
+                    self.message = Some(Notice::error(format!("{line}: {e}")));
+                }
+                self.variable_reply(line, number_read(result));
                 Outcome::redraw()
             }
             PaneEvent::Stopping | PaneEvent::EmergencyStop(_) => {
