@@ -235,3 +235,23 @@ fn scan_asks_every_id_of_the_family_and_only_those() {
         stderr(&out)
     );
 }
+
+#[test]
+fn an_id_above_99_is_a_usage_error_before_connecting() {
+    let out = axterm(&[
+        "exec",
+        "--tcp",
+        "127.0.0.1:1",
+        "--protocol",
+        "cmd4cr",
+        "--address",
+        "100",
+        "PX",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("--address 100 is outside 0..99, the addresses of the cmd4cr family"),
+        "{}",
+        stderr(&out)
+    );
+}
