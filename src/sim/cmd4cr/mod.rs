@@ -1,0 +1,3 @@
+//! A faithful simulator of the Nippon Pulse Commander core CMD-4CR.
+
+pub mod motion;
