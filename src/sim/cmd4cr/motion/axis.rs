@@ -7,7 +7,7 @@ use std::time::Duration;
 use super::profile::{PhaseKind, Shape};
 use super::stage::Stage;
 use super::sync::{Latch, Sync};
-use super::{AxisName, Direction};
+use super::{Axis, Direction};
 
 /// MST bits (T2-28).
 pub mod mst {
@@ -176,8 +176,8 @@ pub(super) struct ErcPulse {
 
 /// One axis.
 #[derive(Debug, Clone)]
-pub struct Axis {
-    pub name: AxisName,
+pub struct AxisState {
+    pub name: Axis,
     pub settings: AxisSettings,
     pub stage: Stage,
     pub inputs: AxisInputs,
@@ -199,6 +199,9 @@ pub struct Axis {
     pub(super) levels: Levels,
     pub latch: Latch,
     pub sync: Sync,
+    /// The axis follows its MPG input or the joystick: motion commands are
+    /// refused (§2.2.2 "operating conditions").
+    pub manual_control: bool,
 }
 
 /// The 28-bit position range (§1.2): counters wrap within it.
@@ -207,9 +210,9 @@ pub fn wrap28(value: i64) -> i64 {
     (value + (1 << 27)).rem_euclid(SPAN) - (1 << 27)
 }
 
-impl Axis {
-    pub fn new(name: AxisName, stage: Stage) -> Axis {
-        let mut axis = Axis {
+impl AxisState {
+    pub fn new(name: Axis, stage: Stage) -> AxisState {
+        let mut axis = AxisState {
             name,
             settings: AxisSettings::default(),
             stage,
@@ -226,6 +229,7 @@ impl Axis {
             levels: Levels::default(),
             latch: Latch::default(),
             sync: Sync::default(),
+            manual_control: false,
         };
         axis.levels = axis.levels_at(0);
         axis
@@ -234,6 +238,20 @@ impl Axis {
     /// Where the carriage is (machine position, pulses).
     pub fn machine_position(&self) -> i64 {
         self.position
+    }
+
+    /// Power-on: settings, counters, flags and latches afresh; the
+    /// carriage, its stage and what is wired stay as they are.
+    pub(super) fn power_up(&mut self) {
+        *self = AxisState {
+            stage: self.stage.clone(),
+            inputs: self.inputs.clone(),
+            position: self.position,
+            counter_offset: self.position,
+            encoder_offset: self.stage.encoder_at(self.position),
+            ..AxisState::new(self.name, Stage::bare())
+        };
+        self.levels = self.levels_at(self.position);
     }
 
     /// `P[axis]`: the command pulse counter.

@@ -16,12 +16,12 @@
 
 use std::collections::VecDeque;
 
-use super::AxisName;
-use super::axis::{Axis, mst};
-use super::path::{Path, Turn};
+use super::axis::{AxisState, mst};
+use super::path::Path;
 use super::profile::{self, PhaseKind, Profile, Ramps};
 use super::run::{TICK_SECONDS, marks};
 use super::stage::Mark;
+use super::{Axis, Rotation};
 
 /// Buffer registers (§2.3.4).
 pub const BUFFER_SIZE: usize = 100;
@@ -34,8 +34,8 @@ pub enum BufferedMove {
     Linear { target: [i64; 3], speed: u32 },
     /// `CIR…`/`ARC…` (and the helical forms), at `speed` along the arc.
     Arc {
-        axes: (AxisName, AxisName),
-        turn: Turn,
+        axes: (Axis, Axis),
+        rotation: Rotation,
         centre: (i64, i64),
         end_mdeg: Option<i64>,
         helix_z: Option<i64>,
@@ -107,7 +107,7 @@ pub(super) struct Group {
     /// Fed from the buffer: constant speed.
     pub buffered: bool,
     /// Axes held busy without moving (U during helical moves, C.5).
-    pub helpers: Vec<AxisName>,
+    pub helpers: Vec<Axis>,
 }
 
 impl Group {
@@ -135,7 +135,7 @@ impl Group {
     }
 
     /// Every axis the group holds.
-    pub fn members(&self) -> Vec<AxisName> {
+    pub fn members(&self) -> Vec<Axis> {
         let mut axes = self.path.axes();
         axes.extend(self.helpers.iter().copied());
         axes
@@ -160,7 +160,7 @@ impl Group {
     }
 
     /// Pulse rate of each moving member.
-    pub fn rates(&self) -> Vec<(AxisName, f64)> {
+    pub fn rates(&self) -> Vec<(Axis, f64)> {
         self.path.rates(self.covered, self.speed())
     }
 
@@ -189,7 +189,7 @@ impl Group {
         self.replan();
     }
 
-    pub fn tick(&mut self, axes: &mut [Axis; 4], ignore_errors: bool) -> GroupOutcome {
+    pub fn tick(&mut self, axes: &mut [AxisState; 4], ignore_errors: bool) -> GroupOutcome {
         self.ticks += 1;
         let t = self.elapsed();
         let finished = self.profile.finished_at(t);

@@ -37,9 +37,10 @@ mod tests;
 use std::collections::VecDeque;
 use std::time::Duration;
 
-use axis::{Axis, mst};
+use crate::protocol::cmd4cr::ErrorCode;
+use axis::{AxisState, mst};
 use group::{Group, GroupOutcome};
-use path::{Arc, Path, Turn};
+use path::{Arc, Path};
 use profile::{PhaseKind, Ramps, Shape};
 use run::{Goal, Outcome, ProcedureRun, Purpose, Run};
 use stage::Stage;
@@ -49,92 +50,67 @@ pub use group::{BUFFER_SIZE, BufferStatus, BufferedMove};
 /// The engine's time step.
 pub const TICK: Duration = Duration::from_micros(100);
 
-/// One of the four axes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum AxisName {
-    X,
-    Y,
-    Z,
-    U,
-}
+pub use crate::protocol::cmd4cr::{Axis, Direction, Rotation};
 
-impl AxisName {
-    pub const ALL: [AxisName; 4] = [AxisName::X, AxisName::Y, AxisName::Z, AxisName::U];
-
-    pub fn index(self) -> usize {
-        self as usize
-    }
-
-    pub fn letter(self) -> char {
-        match self {
-            AxisName::X => 'X',
-            AxisName::Y => 'Y',
-            AxisName::Z => 'Z',
-            AxisName::U => 'U',
-        }
-    }
-
-    pub fn from_letter(letter: char) -> Option<AxisName> {
-        AxisName::ALL.into_iter().find(|a| a.letter() == letter)
-    }
-
-    /// Axis number n (0..3), as DIn/DOn/EOn pair with axes (T2-3, T2-6).
-    pub fn from_index(index: usize) -> Option<AxisName> {
-        AxisName::ALL.get(index).copied()
+/// +1 or −1.
+pub fn sign(direction: Direction) -> i64 {
+    match direction {
+        Direction::Plus => 1,
+        Direction::Minus => -1,
     }
 }
 
-/// `+` or `-`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Direction {
-    Plus,
-    Minus,
-}
-
-impl Direction {
-    pub fn sign(self) -> i64 {
-        match self {
-            Direction::Plus => 1,
-            Direction::Minus => -1,
-        }
-    }
-
-    fn of(delta: i64) -> Option<Direction> {
-        match delta.signum() {
-            1 => Some(Direction::Plus),
-            -1 => Some(Direction::Minus),
-            _ => None,
-        }
+fn direction_of(delta: i64) -> Option<Direction> {
+    match delta.signum() {
+        1 => Some(Direction::Plus),
+        -1 => Some(Direction::Minus),
+        _ => None,
     }
 }
 
 /// Why a motion command is not processed: the `?…` replies of T4-41 that
 /// the motion engine gives.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Refusal {
-    #[error("?Error Moving")]
     Moving,
-    #[error("?Error Alarm")]
     Alarm,
-    #[error("?Error +Limit")]
     PlusLimit,
-    #[error("?Error -Limit")]
     MinusLimit,
-    #[error("?Error ESTOP")]
     Estop,
-    #[error("?Error SNL")]
     StepNLoop,
-    #[error("?Buffer Full")]
     BufferFull,
-    #[error("?Buffer Disabled")]
     BufferDisabled,
-    #[error("?Buffer Enabled")]
     BufferEnabled,
-    #[error("?SSPD Error")]
     SpeedWindow,
-    #[error("?Override Failed")]
     OverrideFailed,
 }
+
+impl Refusal {
+    /// The reply of Table 4-41.
+    pub fn code(self) -> ErrorCode {
+        match self {
+            Refusal::Moving => ErrorCode::ErrorMoving,
+            Refusal::Alarm => ErrorCode::ErrorAlarm,
+            Refusal::PlusLimit => ErrorCode::ErrorPlusLimit,
+            Refusal::MinusLimit => ErrorCode::ErrorMinusLimit,
+            Refusal::Estop => ErrorCode::ErrorEstop,
+            Refusal::StepNLoop => ErrorCode::ErrorSnl,
+            Refusal::BufferFull => ErrorCode::BufferFull,
+            Refusal::BufferDisabled => ErrorCode::BufferDisabled,
+            Refusal::BufferEnabled => ErrorCode::BufferEnabled,
+            Refusal::SpeedWindow => ErrorCode::SspdError,
+            Refusal::OverrideFailed => ErrorCode::OverrideFailed,
+        }
+    }
+}
+
+impl std::fmt::Display for Refusal {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.code().info().reply)
+    }
+}
+
+impl std::error::Error for Refusal {}
 
 /// Settings of the whole core.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -183,27 +159,21 @@ impl Default for GlobalSettings {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Start {
     /// `J[axis]±`.
-    Jog {
-        axis: AxisName,
-        direction: Direction,
-    },
+    Jog { axis: Axis, direction: Direction },
     /// `X…Y…Z…U…`: targets as written (ABS/INC applies when it starts).
-    Position { targets: Vec<(AxisName, i64)> },
+    Position { targets: Vec<(Axis, i64)> },
     /// `H[axis]±mode`.
     Home {
-        axis: AxisName,
+        axis: Axis,
         direction: Direction,
         mode: u8,
     },
     /// `ZMOVE[axis]±`.
-    ZMove {
-        axis: AxisName,
-        direction: Direction,
-    },
+    ZMove { axis: Axis, direction: Direction },
     /// `CIR…`, `ARC…`, `CIRT…`, `ARCT…` (centre absolute, §2.3.2).
     Arc {
-        axes: (AxisName, AxisName),
-        turn: Turn,
+        axes: (Axis, Axis),
+        rotation: Rotation,
         centre: (i64, i64),
         end_mdeg: Option<i64>,
         helix_z: Option<i64>,
@@ -228,7 +198,7 @@ enum Activity {
 #[derive(Debug, Clone)]
 pub struct Motion {
     pub global: GlobalSettings,
-    axes: [Axis; 4],
+    axes: [AxisState; 4],
     activity: [Activity; 4],
     groups: Vec<(u64, Group)>,
     next_group: u64,
@@ -259,7 +229,7 @@ impl Motion {
     pub fn with_stages(stages: [Stage; 4]) -> Motion {
         let mut stages = stages.into_iter();
         let axes =
-            AxisName::ALL.map(|name| Axis::new(name, stages.next().unwrap_or_else(Stage::bare)));
+            Axis::ALL.map(|name| AxisState::new(name, stages.next().unwrap_or_else(Stage::bare)));
         Motion {
             global: GlobalSettings::default(),
             axes,
@@ -275,64 +245,118 @@ impl Motion {
         }
     }
 
-    pub fn axis(&self, name: AxisName) -> &Axis {
+    pub fn axis(&self, name: Axis) -> &AxisState {
         &self.axes[name.index()]
     }
 
-    pub fn axis_mut(&mut self, name: AxisName) -> &mut Axis {
+    pub fn axis_mut(&mut self, name: Axis) -> &mut AxisState {
         &mut self.axes[name.index()]
     }
 
     /// Whether the axis is busy (moving, in an interpolation, waiting for
     /// INP or held by a helical move).
-    pub fn is_busy(&self, name: AxisName) -> bool {
+    pub fn is_busy(&self, name: Axis) -> bool {
         self.activity[name.index()] != Activity::Idle
     }
 
     /// Any axis busy, or a move waiting for /CSTA.
     pub fn any_busy(&self) -> bool {
-        AxisName::ALL.iter().any(|&a| self.is_busy(a)) || !self.start_queue.is_empty()
+        Axis::ALL.iter().any(|&a| self.is_busy(a)) || !self.start_queue.is_empty()
     }
 
     /// `MST[axis]`.
-    pub fn status(&self, name: AxisName) -> u32 {
+    pub fn status(&self, name: Axis) -> u32 {
         self.axis(name).status(self.emg_input, self.start_input)
     }
 
     /// `PS[axis]`, pps.
-    pub fn pulse_rate(&self, name: AxisName) -> i64 {
+    pub fn pulse_rate(&self, name: Axis) -> i64 {
         self.axis(name).rate.round() as i64
     }
 
     /// `P[axis]`.
-    pub fn counter(&self, name: AxisName) -> i64 {
+    pub fn counter(&self, name: Axis) -> i64 {
         self.axis(name).counter()
     }
 
     /// `E[axis]`.
-    pub fn encoder(&self, name: AxisName) -> i64 {
+    pub fn encoder(&self, name: Axis) -> i64 {
         self.axis(name).encoder()
     }
 
     /// `P[axis]=v`.
-    pub fn set_counter(&mut self, name: AxisName, value: i64) {
+    pub fn set_counter(&mut self, name: Axis, value: i64) {
         self.axis_mut(name).set_counter(value);
     }
 
     /// `E[axis]=v`.
-    pub fn set_encoder(&mut self, name: AxisName, value: i64) {
+    pub fn set_encoder(&mut self, name: Axis, value: i64) {
         self.axis_mut(name).set_encoder(value);
     }
 
     /// `CLR[axis]`: clear the latched flags (§2.6.2.3).
-    pub fn clear_errors(&mut self, name: AxisName) {
+    pub fn clear_errors(&mut self, name: Axis) {
         self.axis_mut(name).errors &= !mst::CLEARED_BY_CLR;
+    }
+
+    /// Whether the axis stands still without a latched error (§4.3.3: the
+    /// counters "can be cleared only when the axis is normally stopped").
+    pub fn stopped_normally(&self, name: Axis) -> bool {
+        !self.is_busy(name) && self.axis(name).errors & mst::BLOCKING_ERRORS == 0
+    }
+
+    /// Move an idle axis by `delta` pulses at once (MPG following,
+    /// §2.5.2), stopping on an end limit in the way; the pulses moved.
+    pub fn nudge(&mut self, name: Axis, delta: i64) -> i64 {
+        if self.is_busy(name) || delta == 0 || self.emg_input {
+            return 0;
+        }
+        let a = &mut self.axes[name.index()];
+        let old = a.position;
+        let direction = if delta > 0 {
+            Direction::Plus
+        } else {
+            Direction::Minus
+        };
+        if a.limit_on(direction) {
+            return 0;
+        }
+        let mut new = old + delta;
+        for (at, mark) in run::marks(a, old, new) {
+            let ahead = match mark {
+                stage::Mark::PlusLimit(true) => delta > 0,
+                stage::Mark::MinusLimit(true) => delta < 0,
+                _ => false,
+            };
+            if ahead {
+                new = at;
+                break;
+            }
+        }
+        a.position = new;
+        a.levels = a.levels_at(new);
+        new - old
+    }
+
+    /// Power-on (§2.1.5): every axis stops, settings and counters start
+    /// afresh; the machine (carriages, stages, wired inputs) stays as it is.
+    pub fn power_up(&mut self) {
+        for axis in &mut self.axes {
+            axis.power_up();
+        }
+        self.activity = std::array::from_fn(|_| Activity::Idle);
+        self.groups.clear();
+        self.buffer = group::Buffer::default();
+        self.buffer_group = None;
+        self.start_queue.clear();
+        self.global = GlobalSettings::default();
+        self.pending = Duration::ZERO;
     }
 
     // ---- speed settings ----------------------------------------------
 
     /// The ramps of a single-axis move: per-axis values unless 0 (§2.1.4).
-    fn axis_ramps(&self, name: AxisName) -> Ramps {
+    fn axis_ramps(&self, name: Axis) -> Ramps {
         let s = &self.axis(name).settings;
         let g = &self.global;
         let or = |own: u32, global: u32| if own == 0 { global } else { own };
@@ -347,7 +371,7 @@ impl Motion {
 
     /// The ramps of a coordinated move: always the global values (§2.1.4);
     /// S-curve if the first axis has it.
-    fn global_ramps(&self, lead: AxisName) -> Ramps {
+    fn global_ramps(&self, lead: Axis) -> Ramps {
         let g = &self.global;
         Ramps::new(
             g.lspd,
@@ -397,12 +421,12 @@ impl Motion {
     }
 
     /// ALM of one axis; an axis in motion stops at once (§2.1.2.2).
-    pub fn set_alarm(&mut self, name: AxisName, on: bool) {
+    pub fn set_alarm(&mut self, name: Axis, on: bool) {
         self.axis_mut(name).inputs.alarm = on;
     }
 
     /// The position latch input of `name` rose (DIn, T2-3).
-    pub fn latch_input(&mut self, name: AxisName) {
+    pub fn latch_input(&mut self, name: Axis) {
         let axis = self.axis_mut(name);
         let (pulse, encoder) = (axis.counter(), axis.encoder());
         axis.latch.trigger(pulse, encoder);
@@ -461,7 +485,8 @@ impl Motion {
             }
         }
         for &(axis, _) in &moves {
-            if self.axis(axis).errors & mst::BLOCKING_ERRORS != 0 {
+            let a = self.axis(axis);
+            if a.errors & mst::BLOCKING_ERRORS != 0 || a.manual_control {
                 return Err(Refusal::Moving);
             }
         }
@@ -469,7 +494,7 @@ impl Motion {
     }
 
     /// The axes a command moves, with the direction where it is known.
-    fn directions(&self, start: &Start) -> Vec<(AxisName, Option<Direction>)> {
+    fn directions(&self, start: &Start) -> Vec<(Axis, Option<Direction>)> {
         match start {
             Start::Jog { axis, direction }
             | Start::Home {
@@ -478,13 +503,13 @@ impl Motion {
             | Start::ZMove { axis, direction } => vec![(*axis, Some(*direction))],
             Start::Position { targets } => targets
                 .iter()
-                .map(|&(axis, value)| (axis, Direction::of(self.distance(axis, value))))
+                .map(|&(axis, value)| (axis, direction_of(self.distance(axis, value))))
                 .collect(),
             Start::Arc { axes, helix_z, .. } => {
                 let mut v = vec![(axes.0, None), (axes.1, None)];
                 if let Some(z) = helix_z {
-                    v.push((AxisName::Z, Direction::of(z - self.counter(AxisName::Z))));
-                    v.push((AxisName::U, None));
+                    v.push((Axis::Z, direction_of(z - self.counter(Axis::Z))));
+                    v.push((Axis::U, None));
                 }
                 v
             }
@@ -492,7 +517,7 @@ impl Motion {
     }
 
     /// Pulses from the current counter to `value` under ABS/INC.
-    fn distance(&self, axis: AxisName, value: i64) -> i64 {
+    fn distance(&self, axis: Axis, value: i64) -> i64 {
         if self.global.incremental {
             value
         } else {
@@ -508,7 +533,7 @@ impl Motion {
                 let position = self.axis(axis).position;
                 let run = Run::new(
                     position,
-                    direction.sign(),
+                    sign(direction),
                     ramps,
                     Goal::Endless,
                     Purpose::Jog,
@@ -516,7 +541,7 @@ impl Motion {
                 self.launch(axis, run);
             }
             Start::Position { targets } => {
-                let legs: Vec<(AxisName, i64, i64)> = targets
+                let legs: Vec<(Axis, i64, i64)> = targets
                     .iter()
                     .map(|&(axis, value)| {
                         (axis, self.axis(axis).position, self.distance(axis, value))
@@ -526,7 +551,7 @@ impl Motion {
                     let lead = legs
                         .iter()
                         .max_by_key(|&&(_, _, d)| d.abs())
-                        .map_or(AxisName::X, |&(a, _, _)| a);
+                        .map_or(Axis::X, |&(a, _, _)| a);
                     let ramps = self.global_ramps(lead);
                     self.launch_group(Group::new(Path::linear(legs), ramps, None));
                 } else {
@@ -557,12 +582,12 @@ impl Motion {
             }
             Start::Arc {
                 axes,
-                turn,
+                rotation,
                 centre,
                 end_mdeg,
                 helix_z,
             } => {
-                let group = self.arc_group(axes, turn, centre, end_mdeg, helix_z, None)?;
+                let group = self.arc_group(axes, rotation, centre, end_mdeg, helix_z, None)?;
                 self.launch_group(group);
             }
         }
@@ -571,7 +596,7 @@ impl Motion {
 
     fn launch_procedure(
         &mut self,
-        axis: AxisName,
+        axis: Axis,
         direction: Direction,
         procedure: &'static homing::Procedure,
     ) {
@@ -579,21 +604,21 @@ impl Motion {
         let position = self.axis(axis).position;
         let purpose = Purpose::Procedure(ProcedureRun {
             procedure,
-            home_dir: direction.sign(),
+            home_dir: sign(direction),
             leg: 0,
             braking: false,
             index_seen: 0,
             seen_on: false,
             returning: false,
         });
-        let run = Run::new(position, direction.sign(), ramps, Goal::Endless, purpose);
+        let run = Run::new(position, sign(direction), ramps, Goal::Endless, purpose);
         self.launch(axis, run);
     }
 
     fn arc_group(
         &self,
-        axes: (AxisName, AxisName),
-        turn: Turn,
+        axes: (Axis, Axis),
+        rotation: Rotation,
         centre: (i64, i64),
         end_mdeg: Option<i64>,
         helix_z: Option<i64>,
@@ -606,7 +631,7 @@ impl Motion {
             self.axis(axes.0).counter_offset,
             self.axis(axes.1).counter_offset,
         );
-        let Some(mut arc) = Arc::new(axes, from, centre, turn, end_mdeg) else {
+        let Some(mut arc) = Arc::new(axes, from, centre, rotation, end_mdeg) else {
             // Radius 0 or beyond the largest: "could not be processed".
             return Err(Refusal::Moving);
         };
@@ -614,9 +639,9 @@ impl Motion {
         arc.centre.1 += offsets.1 as f64;
         let mut helpers = Vec::new();
         if let Some(z) = helix_z {
-            let zaxis = self.axis(AxisName::Z);
+            let zaxis = self.axis(Axis::Z);
             arc.helix = Some((zaxis.position, z - zaxis.counter()));
-            helpers.push(AxisName::U);
+            helpers.push(Axis::U);
         }
         let ramps = self.global_ramps(axes.0);
         let mut group = Group::new(Path::Arc(arc), ramps, buffered_speed);
@@ -624,7 +649,7 @@ impl Motion {
         Ok(group)
     }
 
-    fn launch(&mut self, axis: AxisName, mut run: Run) {
+    fn launch(&mut self, axis: Axis, mut run: Run) {
         let a = &mut self.axes[axis.index()];
         a.levels = a.levels_at(a.position);
         a.waiting_for_inp = false;
@@ -642,10 +667,16 @@ impl Motion {
     fn launch_group(&mut self, group: Group) -> u64 {
         let id = self.next_group;
         self.next_group += 1;
+        let (phase, rates) = (group.phase(), group.rates());
         for axis in group.members() {
             let a = &mut self.axes[axis.index()];
             a.levels = a.levels_at(a.position);
             a.waiting_for_inp = false;
+            a.phase = phase;
+            a.rate = rates
+                .iter()
+                .find(|(m, _)| *m == axis)
+                .map_or(0.0, |&(_, r)| r);
             self.activity[axis.index()] = Activity::Group(id);
         }
         self.groups.push((id, group));
@@ -654,8 +685,8 @@ impl Motion {
 
     /// `STOP` (`None`) or `STOP[axis]`: decelerate to LSPD and stop; every
     /// axis of an interpolation stops with it (§2.2.3).
-    pub fn stop(&mut self, name: Option<AxisName>) {
-        let axes: Vec<AxisName> = name.map_or_else(|| AxisName::ALL.to_vec(), |a| vec![a]);
+    pub fn stop(&mut self, name: Option<Axis>) {
+        let axes: Vec<Axis> = name.map_or_else(|| Axis::ALL.to_vec(), |a| vec![a]);
         for axis in axes {
             let position = self.axes[axis.index()].position;
             match &mut self.activity[axis.index()] {
@@ -681,8 +712,8 @@ impl Motion {
     }
 
     /// `ABORT` (`None`) or `ABORT[axis]`: stop at once (§2.2.3).
-    pub fn abort(&mut self, name: Option<AxisName>) {
-        let axes: Vec<AxisName> = name.map_or_else(|| AxisName::ALL.to_vec(), |a| vec![a]);
+    pub fn abort(&mut self, name: Option<Axis>) {
+        let axes: Vec<Axis> = name.map_or_else(|| Axis::ALL.to_vec(), |a| vec![a]);
         for axis in axes {
             self.halt(axis);
         }
@@ -700,7 +731,7 @@ impl Motion {
 
     /// Stop `axis` (and its interpolation) at once; the axes that were in
     /// motion.
-    fn halt(&mut self, axis: AxisName) -> Vec<AxisName> {
+    fn halt(&mut self, axis: Axis) -> Vec<Axis> {
         let members = match &self.activity[axis.index()] {
             Activity::Idle => return Vec::new(),
             Activity::Run(_) | Activity::WaitInp => vec![axis],
@@ -727,7 +758,7 @@ impl Motion {
     }
 
     /// The axis stands still and is free.
-    fn settle(&mut self, axis: AxisName) {
+    fn settle(&mut self, axis: Axis) {
         self.activity[axis.index()] = Activity::Idle;
         let a = &mut self.axes[axis.index()];
         a.rate = 0.0;
@@ -741,7 +772,7 @@ impl Motion {
         self.buffer.started = false;
         self.start_queue.clear();
         self.clear_waiting();
-        for axis in AxisName::ALL {
+        for axis in Axis::ALL {
             let moving = matches!(
                 self.activity[axis.index()],
                 Activity::Run(_) | Activity::Group(_)
@@ -759,7 +790,7 @@ impl Motion {
     }
 
     /// `SSPD[axis]=speed` (§2.4.1).
-    pub fn change_speed(&mut self, name: AxisName, speed: u32) -> Result<(), Refusal> {
+    pub fn change_speed(&mut self, name: Axis, speed: u32) -> Result<(), Refusal> {
         if self.buffer.enabled {
             return Err(Refusal::BufferEnabled);
         }
@@ -779,7 +810,7 @@ impl Motion {
     }
 
     /// `T[axis]target` (§2.4.2): ABS absolute, INC from the move's start.
-    pub fn change_target(&mut self, name: AxisName, target: i64) -> Result<(), Refusal> {
+    pub fn change_target(&mut self, name: Axis, target: i64) -> Result<(), Refusal> {
         let incremental = self.global.incremental;
         let a = &self.axes[name.index()];
         let position = a.position;
@@ -843,9 +874,9 @@ impl Motion {
     /// moves only; a queued arc leaves them where it started).
     fn buffer_end_point(&self) -> [i64; 3] {
         let mut point = [
-            self.counter(AxisName::X),
-            self.counter(AxisName::Y),
-            self.counter(AxisName::Z),
+            self.counter(Axis::X),
+            self.counter(Axis::Y),
+            self.counter(Axis::Z),
         ];
         for entry in &self.buffer.queue {
             if let BufferedMove::Linear { target, .. } = entry {
@@ -861,7 +892,7 @@ impl Motion {
             return Err(Refusal::BufferDisabled);
         }
         if self.buffer_group.is_none() {
-            for axis in [AxisName::X, AxisName::Y, AxisName::Z] {
+            for axis in [Axis::X, Axis::Y, Axis::Z] {
                 if self.is_busy(axis) || self.axis(axis).errors & mst::BLOCKING_ERRORS != 0 {
                     return Err(Refusal::Moving);
                 }
@@ -884,27 +915,27 @@ impl Motion {
             };
             let group = match entry {
                 BufferedMove::Linear { target, speed } => {
-                    let legs = [AxisName::X, AxisName::Y, AxisName::Z]
+                    let legs = [Axis::X, Axis::Y, Axis::Z]
                         .into_iter()
                         .zip(target)
                         .map(|(axis, t)| (axis, self.axis(axis).position, t - self.counter(axis)))
                         .collect();
                     Ok(Group::new(
                         Path::linear(legs),
-                        self.global_ramps(AxisName::X),
+                        self.global_ramps(Axis::X),
                         Some(f64::from(speed.max(1))),
                     ))
                 }
                 BufferedMove::Arc {
                     axes,
-                    turn,
+                    rotation,
                     centre,
                     end_mdeg,
                     helix_z,
                     speed,
                 } => self.arc_group(
                     axes,
-                    turn,
+                    rotation,
                     centre,
                     end_mdeg,
                     helix_z,
@@ -957,7 +988,7 @@ impl Motion {
             axis.run_erc(TICK);
         }
         // ALM stops a moving axis at once (§2.1.2.2).
-        for axis in AxisName::ALL {
+        for axis in Axis::ALL {
             let moving = matches!(
                 self.activity[axis.index()],
                 Activity::Run(_) | Activity::Group(_)
@@ -973,7 +1004,7 @@ impl Motion {
         }
         let counters_before: [(i64, i64); 4] =
             std::array::from_fn(|i| (self.axes[i].counter(), self.axes[i].encoder()));
-        for axis in AxisName::ALL {
+        for axis in Axis::ALL {
             let i = axis.index();
             if !matches!(self.activity[i], Activity::Run(_)) {
                 continue;
@@ -1070,7 +1101,7 @@ impl Motion {
 
     /// An error stop of these axes: ERC pulse where ERC bit 0 asks for it
     /// (T2-13).
-    fn error_stop(&mut self, axes: &[AxisName]) {
+    fn error_stop(&mut self, axes: &[Axis]) {
         for &axis in axes {
             let a = &mut self.axes[axis.index()];
             if a.settings.erc & 1 != 0 {
@@ -1081,7 +1112,7 @@ impl Motion {
 
     /// A motion ended normally: homing completion actions, then wait for
     /// INP if asked (§2.1.6.2).
-    fn finish(&mut self, axis: AxisName, run: Option<&Run>) {
+    fn finish(&mut self, axis: Axis, run: Option<&Run>) {
         self.settle(axis);
         let a = &mut self.axes[axis.index()];
         if let Some(Purpose::Procedure(p)) = run.map(|r| &r.purpose)
@@ -1105,23 +1136,23 @@ impl Motion {
     }
 
     /// What phase an axis is in (MST bits 0..2).
-    pub fn phase(&self, name: AxisName) -> Option<PhaseKind> {
+    pub fn phase(&self, name: Axis) -> Option<PhaseKind> {
         self.axis(name).phase
     }
 
     /// The ramps a single-axis move of `name` would use now.
-    pub fn ramps_of(&self, name: AxisName) -> Ramps {
+    pub fn ramps_of(&self, name: Axis) -> Ramps {
         self.axis_ramps(name)
     }
 
     /// The shape of `name`'s ramps.
-    pub fn shape_of(&self, name: AxisName) -> Shape {
+    pub fn shape_of(&self, name: Axis) -> Shape {
         self.axis(name).settings.shape()
     }
 }
 
 /// The axes a command holds.
-fn start_axes(start: &Start) -> Vec<AxisName> {
+fn start_axes(start: &Start) -> Vec<Axis> {
     match start {
         Start::Jog { axis, .. } | Start::Home { axis, .. } | Start::ZMove { axis, .. } => {
             vec![*axis]
@@ -1130,7 +1161,7 @@ fn start_axes(start: &Start) -> Vec<AxisName> {
         Start::Arc { axes, helix_z, .. } => {
             let mut v = vec![axes.0, axes.1];
             if helix_z.is_some() {
-                v.extend([AxisName::Z, AxisName::U]);
+                v.extend([Axis::Z, Axis::U]);
             }
             v
         }

@@ -16,27 +16,18 @@
 
 use std::f64::consts::TAU;
 
-use super::AxisName;
+use super::{Axis, Rotation};
 
 /// The largest radius of a circle or arc (§2.3.2: "134,216,773 pulses";
 /// digest erratum 15 suspects 2^27 − 1, but the manual's figure is kept).
 pub const MAX_RADIUS: f64 = 134_216_773.0;
-
-/// Which way round (`P` / `N`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Turn {
-    /// `P`: clockwise.
-    Clockwise,
-    /// `N`: counter-clockwise.
-    CounterClockwise,
-}
 
 /// A coordinated path.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Path {
     Linear {
         /// (axis, start, distance) of every axis in the interpolation.
-        legs: Vec<(AxisName, i64, i64)>,
+        legs: Vec<(Axis, i64, i64)>,
         /// The main axis' distance.
         length: i64,
     },
@@ -46,7 +37,7 @@ pub enum Path {
 /// A circle, an arc, or either with Z moving along (helical).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Arc {
-    pub axes: (AxisName, AxisName),
+    pub axes: (Axis, Axis),
     pub centre: (f64, f64),
     pub radius: f64,
     /// Angle of the start point, radians.
@@ -62,10 +53,10 @@ impl Arc {
     /// circle (`end_mdeg` = `None`) or up to the absolute angle `end_mdeg`
     /// (millidegrees). `None` if the radius is 0 or too large.
     pub fn new(
-        axes: (AxisName, AxisName),
+        axes: (Axis, Axis),
         from: (i64, i64),
         centre: (i64, i64),
-        turn: Turn,
+        rotation: Rotation,
         end_mdeg: Option<i64>,
     ) -> Option<Arc> {
         let centre = (centre.0 as f64, centre.1 as f64);
@@ -81,9 +72,9 @@ impl Arc {
             Some(mdeg) => {
                 let end = (mdeg as f64 / 1000.0).to_radians();
                 let ccw = (end - start).rem_euclid(TAU);
-                let angle = match turn {
-                    Turn::CounterClockwise => ccw,
-                    Turn::Clockwise => (TAU - ccw).rem_euclid(TAU),
+                let angle = match rotation {
+                    Rotation::CounterClockwise => ccw,
+                    Rotation::Clockwise => (TAU - ccw).rem_euclid(TAU),
                 };
                 // Tiny sweeps are rounding of "the same angle".
                 if angle * radius < 0.5 { TAU } else { angle }
@@ -94,9 +85,9 @@ impl Arc {
             centre,
             radius,
             start,
-            sweep: match turn {
-                Turn::Clockwise => -sweep,
-                Turn::CounterClockwise => sweep,
+            sweep: match rotation {
+                Rotation::Clockwise => -sweep,
+                Rotation::CounterClockwise => sweep,
             },
             helix: None,
         })
@@ -120,7 +111,7 @@ impl Arc {
 
 impl Path {
     /// A linear interpolation from `starts` by `distances` (same order).
-    pub fn linear(legs: Vec<(AxisName, i64, i64)>) -> Path {
+    pub fn linear(legs: Vec<(Axis, i64, i64)>) -> Path {
         let length = legs.iter().map(|&(_, _, d)| d.abs()).max().unwrap_or(0);
         Path::Linear { legs, length }
     }
@@ -135,7 +126,7 @@ impl Path {
 
     /// The axes the path moves, with their positions after `s` of it; at
     /// the end (`s` ≥ length) the exact end point.
-    pub fn positions(&self, s: f64) -> Vec<(AxisName, i64)> {
+    pub fn positions(&self, s: f64) -> Vec<(Axis, i64)> {
         let s = s.clamp(0.0, self.length());
         match self {
             Path::Linear { legs, length } => {
@@ -154,10 +145,7 @@ impl Path {
                 let mut out = vec![(arc.axes.0, a), (arc.axes.1, b)];
                 if let Some((start, distance)) = arc.helix {
                     let fraction = if total > 0.0 { s / total } else { 1.0 };
-                    out.push((
-                        AxisName::Z,
-                        start + (distance as f64 * fraction).round() as i64,
-                    ));
+                    out.push((Axis::Z, start + (distance as f64 * fraction).round() as i64));
                 }
                 out
             }
@@ -165,7 +153,7 @@ impl Path {
     }
 
     /// The pulse rate of each axis at path speed `v` (PS, §2.6.2.2).
-    pub fn rates(&self, s: f64, v: f64) -> Vec<(AxisName, f64)> {
+    pub fn rates(&self, s: f64, v: f64) -> Vec<(Axis, f64)> {
         match self {
             Path::Linear { legs, length } => legs
                 .iter()
@@ -188,7 +176,7 @@ impl Path {
                     } else {
                         0.0
                     };
-                    out.push((AxisName::Z, v * share));
+                    out.push((Axis::Z, v * share));
                 }
                 out
             }
@@ -196,13 +184,13 @@ impl Path {
     }
 
     /// The axes the path moves.
-    pub fn axes(&self) -> Vec<AxisName> {
+    pub fn axes(&self) -> Vec<Axis> {
         match self {
             Path::Linear { legs, .. } => legs.iter().map(|&(a, _, _)| a).collect(),
             Path::Arc(arc) => {
                 let mut axes = vec![arc.axes.0, arc.axes.1];
                 if arc.helix.is_some() {
-                    axes.push(AxisName::Z);
+                    axes.push(Axis::Z);
                 }
                 axes
             }
@@ -234,28 +222,28 @@ mod tests {
     #[test]
     fn linear_axes_end_together_and_exactly() {
         // §4.3.5: X to -20000 and Y to 15000 from 0.
-        let path = Path::linear(vec![(AxisName::X, 0, -20_000), (AxisName::Y, 0, 15_000)]);
+        let path = Path::linear(vec![(Axis::X, 0, -20_000), (Axis::Y, 0, 15_000)]);
         assert_eq!(path.length(), 20_000.0);
         assert_eq!(
             path.positions(10_000.0),
-            vec![(AxisName::X, -10_000), (AxisName::Y, 7_500)]
+            vec![(Axis::X, -10_000), (Axis::Y, 7_500)]
         );
         assert_eq!(
             path.positions(20_000.0),
-            vec![(AxisName::X, -20_000), (AxisName::Y, 15_000)]
+            vec![(Axis::X, -20_000), (Axis::Y, 15_000)]
         );
         let rates = path.rates(0.0, 5000.0);
-        assert_eq!(rates, vec![(AxisName::X, 5000.0), (AxisName::Y, 3750.0)]);
+        assert_eq!(rates, vec![(Axis::X, 5000.0), (Axis::Y, 3750.0)]);
     }
 
     #[test]
     fn a_clockwise_circle_comes_back_to_its_start() {
         // §4.3.6: CIRXYP1000:0 from (0, 0): radius 1000, start angle 180°.
         let arc = Arc::new(
-            (AxisName::X, AxisName::Y),
+            (Axis::X, Axis::Y),
             (0, 0),
             (1000, 0),
-            Turn::Clockwise,
+            Rotation::Clockwise,
             None,
         )
         .expect("arc");
@@ -265,11 +253,11 @@ mod tests {
         let quarter = path.length() / 4.0;
         assert_eq!(
             path.positions(quarter),
-            vec![(AxisName::X, 1000), (AxisName::Y, 1000)]
+            vec![(Axis::X, 1000), (Axis::Y, 1000)]
         );
         assert_eq!(
             path.positions(path.length()),
-            vec![(AxisName::X, 0), (AxisName::Y, 0)]
+            vec![(Axis::X, 0), (Axis::Y, 0)]
         );
     }
 
@@ -277,18 +265,18 @@ mod tests {
     fn arcs_end_at_their_absolute_angle() {
         // ARCXYP0:0:90000 vs ARCXYN0:0:90000 from 0° (1000, 0).
         let cw = Arc::new(
-            (AxisName::X, AxisName::Y),
+            (Axis::X, Axis::Y),
             (1000, 0),
             (0, 0),
-            Turn::Clockwise,
+            Rotation::Clockwise,
             Some(90_000),
         )
         .expect("arc");
         let ccw = Arc::new(
-            (AxisName::X, AxisName::Y),
+            (Axis::X, Axis::Y),
             (1000, 0),
             (0, 0),
-            Turn::CounterClockwise,
+            Rotation::CounterClockwise,
             Some(90_000),
         )
         .expect("arc");
@@ -298,7 +286,7 @@ mod tests {
             let path = Path::Arc(arc);
             assert_eq!(
                 path.positions(path.length()),
-                vec![(AxisName::X, 0), (AxisName::Y, 1000)]
+                vec![(Axis::X, 0), (Axis::Y, 1000)]
             );
         }
     }
@@ -307,19 +295,19 @@ mod tests {
     fn degenerate_arcs_are_refused_or_full() {
         assert!(
             Arc::new(
-                (AxisName::X, AxisName::Y),
+                (Axis::X, Axis::Y),
                 (5, 5),
                 (5, 5),
-                Turn::Clockwise,
+                Rotation::Clockwise,
                 None
             )
             .is_none()
         );
         let same = Arc::new(
-            (AxisName::X, AxisName::Y),
+            (Axis::X, Axis::Y),
             (1000, 0),
             (0, 0),
-            Turn::Clockwise,
+            Rotation::Clockwise,
             Some(0),
         )
         .expect("arc");
@@ -329,19 +317,16 @@ mod tests {
     #[test]
     fn helical_z_follows_the_path_fraction() {
         let mut arc = Arc::new(
-            (AxisName::X, AxisName::Y),
+            (Axis::X, Axis::Y),
             (1000, 0),
             (0, 0),
-            Turn::CounterClockwise,
+            Rotation::CounterClockwise,
             None,
         )
         .expect("arc");
         arc.helix = Some((0, 400));
         let path = Path::Arc(arc);
         let half = path.positions(path.length() / 2.0);
-        assert_eq!(
-            half,
-            vec![(AxisName::X, -1000), (AxisName::Y, 0), (AxisName::Z, 200)]
-        );
+        assert_eq!(half, vec![(Axis::X, -1000), (Axis::Y, 0), (Axis::Z, 200)]);
     }
 }

@@ -6,7 +6,7 @@
 //! that says what happens when the profile ends. Anything that changes the
 //! motion on the way re-plans from the current position and speed.
 
-use super::axis::{Axis, mst};
+use super::axis::{AxisState, mst};
 use super::homing::{Procedure, Speed, Then, Trigger, Way};
 use super::profile::{self, PhaseKind, Profile, Ramps};
 use super::stage::Mark;
@@ -202,7 +202,7 @@ impl Run {
     }
 
     /// One tick: move the axis and react to what it passes.
-    pub fn tick(&mut self, axis: &mut Axis, ignore_errors: bool) -> Outcome {
+    pub fn tick(&mut self, axis: &mut AxisState, ignore_errors: bool) -> Outcome {
         let old = axis.position;
         self.ticks += 1;
         let t = self.elapsed();
@@ -244,7 +244,13 @@ impl Run {
         )
     }
 
-    fn on_mark(&mut self, axis: &mut Axis, at: i64, mark: Mark, ignore_errors: bool) -> Reaction {
+    fn on_mark(
+        &mut self,
+        axis: &mut AxisState,
+        at: i64,
+        mark: Mark,
+        ignore_errors: bool,
+    ) -> Reaction {
         if self.limit_ahead(mark) {
             if !ignore_errors {
                 axis.errors |= if self.dir > 0 {
@@ -320,7 +326,7 @@ impl Run {
     }
 
     /// The current leg's trigger fired at `at`.
-    fn fire(&mut self, axis: &mut Axis, at: i64) -> Reaction {
+    fn fire(&mut self, axis: &mut AxisState, at: i64) -> Reaction {
         let Purpose::Procedure(p) = &mut self.purpose else {
             return Reaction::Continue;
         };
@@ -353,7 +359,7 @@ impl Run {
 
     /// The axis stands still after a leg: start the next one, return to
     /// zero, or finish.
-    fn next_leg(&mut self, axis: &mut Axis) -> Outcome {
+    fn next_leg(&mut self, axis: &mut AxisState) -> Outcome {
         let Purpose::Procedure(p) = &mut self.purpose else {
             return Outcome::Completed;
         };
@@ -389,7 +395,7 @@ impl Run {
         Outcome::Completed
     }
 
-    fn profile_ended(&mut self, axis: &mut Axis) -> Outcome {
+    fn profile_ended(&mut self, axis: &mut AxisState) -> Outcome {
         match self.goal {
             Goal::Endless => Outcome::Running,
             Goal::Halt => match &self.purpose {
@@ -425,7 +431,7 @@ enum Reaction {
 
 /// The marks an axis passes from `old` to `new`: switch edges of its stage
 /// (unless forced from outside) and changes of forced inputs, in order.
-pub(super) fn marks(axis: &mut Axis, old: i64, new: i64) -> Vec<(i64, Mark)> {
+pub(super) fn marks(axis: &mut AxisState, old: i64, new: i64) -> Vec<(i64, Mark)> {
     let before = axis.levels;
     let now_at_old = axis.levels_at(old);
     let mut out = Vec::new();

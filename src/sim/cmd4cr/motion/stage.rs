@@ -87,7 +87,7 @@ pub const DEMO_LIMIT: i64 = 100_000;
 /// homing towards −) finds it without starting on it.
 pub const DEMO_HOME: Window = Window::new(-2_000, -1_000);
 /// One Z index pulse per 1,000 pulses (a 1000-line encoder on a motor of
-/// 1000 pulses a turn), 250 pulses past each thousand so that it never
+/// 1000 pulses a rotation), 250 pulses past each thousand so that it never
 /// coincides with an edge of the home switch.
 pub const DEMO_Z_INDEX: ZIndex = ZIndex {
     period: 1_000,

@@ -4,11 +4,10 @@
 use std::time::Duration;
 
 use super::axis::mst;
-use super::path::Turn;
 use super::stage::{Stage, Window};
 use super::*;
 
-use AxisName::{U, X, Y, Z};
+use Axis::{U, X, Y, Z};
 
 fn ms(n: u64) -> Duration {
     Duration::from_millis(n)
@@ -24,12 +23,12 @@ fn example_speeds() -> Motion {
     m
 }
 
-fn moving(m: &Motion, axis: AxisName) -> bool {
+fn moving(m: &Motion, axis: Axis) -> bool {
     m.status(axis) & 7 != 0
 }
 
 /// Advance in `step`s until `axis` stops, at most `limit`; the time taken.
-fn run_until_idle(m: &mut Motion, axis: AxisName, step: Duration, limit: Duration) -> Duration {
+fn run_until_idle(m: &mut Motion, axis: Axis, step: Duration, limit: Duration) -> Duration {
     let mut waited = Duration::ZERO;
     while m.is_busy(axis) && waited < limit {
         m.advance(step);
@@ -259,7 +258,7 @@ fn a_clockwise_circle_around_1000_0_comes_back_to_the_start() {
     let mut m = example_speeds();
     m.start(Start::Arc {
         axes: (X, Y),
-        turn: Turn::Clockwise,
+        rotation: Rotation::Clockwise,
         centre: (1000, 0),
         end_mdeg: None,
         helix_z: None,
@@ -289,21 +288,21 @@ fn a_clockwise_circle_around_1000_0_comes_back_to_the_start() {
 #[test]
 fn arcs_end_at_their_absolute_angle() {
     // ARCXYP0:0:90000 and ARCXYN0:0:90000 from (1000, 0), §2.3.2.1.
-    for (turn, midway_y_sign) in [(Turn::Clockwise, -1), (Turn::CounterClockwise, 1)] {
+    for (rotation, midway_y_sign) in [(Rotation::Clockwise, -1), (Rotation::CounterClockwise, 1)] {
         let mut m = example_speeds();
         m.set_counter(X, 1000);
         m.start(Start::Arc {
             axes: (X, Y),
-            turn,
+            rotation,
             centre: (0, 0),
             end_mdeg: Some(90_000),
             helix_z: None,
         })
         .expect("arc");
         m.advance(ms(100));
-        assert_eq!(m.counter(Y).signum(), midway_y_sign, "{turn:?}");
+        assert_eq!(m.counter(Y).signum(), midway_y_sign, "{rotation:?}");
         run_until_idle(&mut m, X, ms(1), Duration::from_secs(10));
-        assert_eq!((m.counter(X), m.counter(Y)), (0, 1000), "{turn:?}");
+        assert_eq!((m.counter(X), m.counter(Y)), (0, 1000), "{rotation:?}");
     }
 }
 
@@ -313,7 +312,7 @@ fn a_helical_move_takes_z_along_and_holds_u() {
     m.set_counter(X, 1000);
     m.start(Start::Arc {
         axes: (X, Y),
-        turn: Turn::CounterClockwise,
+        rotation: Rotation::CounterClockwise,
         centre: (0, 0),
         end_mdeg: None,
         helix_z: Some(3000),
@@ -445,7 +444,7 @@ fn every_homing_mode_zeroes_the_counter_where_the_appendix_says() {
             } else {
                 1
             };
-            assert_eq!(m.counter(X).signum(), direction.sign() * way, "mode {mode}");
+            assert_eq!(m.counter(X).signum(), sign(direction) * way, "mode {mode}");
         }
         assert_eq!(
             m.status(X) & mst::BLOCKING_ERRORS,
