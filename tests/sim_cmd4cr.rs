@@ -435,9 +435,12 @@ fn every_error_reply_for_its_cause() {
 fn a_program_in_the_error_state_refuses_control() {
     let mut sim = sim();
     assert_eq!(number(&mut sim, "SASTAT0"), 3, "no program: N/A");
-    let slot = &mut sim.programs_mut().slots[2];
-    slot.loaded = true;
-    slot.status = axterm::sim::cmd4cr::programs::ProgramStatus::Error;
+    // A division by zero with no SUB 31: the program stops in error.
+    sim.load_program("PRG 2\n    V1=V2/V3\nEND\n")
+        .expect("compiles");
+    assert_eq!(number(&mut sim, "SASTAT2"), 0);
+    ok(&mut sim, &["SACTRL2=1"]);
+    sim.advance(Duration::from_millis(1));
     assert_eq!(number(&mut sim, "SASTAT2"), 4);
     assert_eq!(send(&mut sim, "SACTRL2=1"), "?Program Error");
     ok(&mut sim, &["SACTRL2=0"]);

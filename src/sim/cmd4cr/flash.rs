@@ -2,6 +2,9 @@
 //! back at power-on. Kept in memory, or in a JSON file (`axterm sim cmd4cr
 //! --eeprom FILE`) so that a restarted simulator finds it again.
 //!
+//! The flash also holds the standalone programs (§2.7.7: they are
+//! "written into the flash memory"), kept as their A-Script source.
+//!
 //! Each entry is named by the command that reads it (`POLX`, `V12`,
 //! `SLOAD`), so the file reads like a list of settings and is checked with
 //! the one command parser: a key that is not a stored register of the
@@ -27,6 +30,9 @@ struct FlashFile {
     format: String,
     version: u32,
     values: BTreeMap<String, i64>,
+    /// The A-Script source of the programs, if any were loaded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    program: Option<String>,
 }
 
 /// Something went wrong with the flash file.
@@ -72,6 +78,8 @@ impl fmt::Display for DisplayPath {
 pub struct Flash {
     /// What STORE saved last, by reading command; empty = factory.
     values: BTreeMap<String, i64>,
+    /// The A-Script source of the programs.
+    program: Option<String>,
     path: Option<PathBuf>,
     problem: Option<FlashError>,
 }
@@ -83,7 +91,10 @@ impl Flash {
         let mut flash = Flash::default();
         if let Some(path) = path {
             match load(&path) {
-                Ok(Some(values)) => flash.values = values,
+                Ok(Some((values, program))) => {
+                    flash.values = values;
+                    flash.program = program;
+                }
                 Ok(None) => {}
                 Err(problem) => flash.problem = Some(problem),
             }
@@ -100,6 +111,31 @@ impl Flash {
     /// STORE: keep `values` and write the file.
     pub fn store(&mut self, values: BTreeMap<String, i64>) {
         self.values = values;
+        self.write();
+    }
+
+    /// The programs' source.
+    pub fn program(&self) -> Option<&str> {
+        self.program.as_deref()
+    }
+
+    /// Programs written to flash (loaded into the simulator).
+    pub fn set_program(&mut self, source: Option<String>) {
+        self.program = source;
+        self.write();
+    }
+
+    /// A problem found with what the flash holds (a stored program that
+    /// no longer compiles).
+    pub fn report(&mut self, problem: String) {
+        let path = self.path.clone().unwrap_or_default();
+        self.problem = Some(FlashError::Content {
+            path: DisplayPath(path),
+            problem,
+        });
+    }
+
+    fn write(&mut self) {
         let Some(path) = &self.path else {
             return;
         };
@@ -107,6 +143,7 @@ impl Flash {
             format: FILE_FORMAT.to_owned(),
             version: FILE_VERSION,
             values: self.values.clone(),
+            program: self.program.clone(),
         };
         if let Err(source) = save(path, &file) {
             self.problem = Some(FlashError::Write {
@@ -142,7 +179,10 @@ pub fn check_entry(key: &str, value: i64) -> Result<Cmd4crCommand, String> {
     Ok(command)
 }
 
-fn load(path: &Path) -> Result<Option<BTreeMap<String, i64>>, FlashError> {
+/// What a flash file holds: the stored values and the programs' source.
+type Contents = (BTreeMap<String, i64>, Option<String>);
+
+fn load(path: &Path) -> Result<Option<Contents>, FlashError> {
     let display = || DisplayPath(path.to_path_buf());
     let text = match std::fs::read_to_string(path) {
         Ok(text) => text,
@@ -171,7 +211,7 @@ fn load(path: &Path) -> Result<Option<BTreeMap<String, i64>>, FlashError> {
     for (key, &value) in &file.values {
         check_entry(key, value).map_err(content)?;
     }
-    Ok(Some(file.values))
+    Ok(Some((file.values, file.program)))
 }
 
 /// Write through a temporary file and rename, so an interrupted write never

@@ -37,6 +37,7 @@
 //!   simulated. MPG following is: see [`Cmd4cr::turn_mpg`].
 
 pub mod flash;
+mod interpreter;
 pub mod io;
 pub mod motion;
 pub mod programs;
@@ -188,7 +189,9 @@ pub struct Cmd4cr {
     run_on_boot: i64,
     /// `SAP`.
     sub31_return: i64,
-    variables: [i64; 100],
+    variables: [i32; 100],
+    /// Time not yet run by the program threads.
+    program_clock: Duration,
     step_n_loop: [StepNLoop; 4],
     mpg: [Mpg; 4],
     joystick: Joystick,
@@ -215,6 +218,7 @@ impl Cmd4cr {
             run_on_boot: 0,
             sub31_return: 0,
             variables: [0; 100],
+            program_clock: Duration::ZERO,
             step_n_loop: [StepNLoop::default(); 4],
             mpg: [Mpg::default(); 4],
             joystick: Joystick::default(),
@@ -222,6 +226,16 @@ impl Cmd4cr {
             output: Vec::new(),
             config,
         };
+        if let Some(source) = sim.flash.program().map(str::to_string) {
+            match crate::protocol::cmd4cr::ascript::compile(&source) {
+                Ok(program) => sim.programs.load(program),
+                Err(errors) => {
+                    let first = errors.first().map(ToString::to_string).unwrap_or_default();
+                    sim.flash
+                        .report(format!("its program does not compile: {first}"));
+                }
+            }
+        }
         sim.power_cycle();
         sim
     }
@@ -350,9 +364,11 @@ impl Cmd4cr {
         self.id = self.config.id.unwrap_or(self.id_setting);
         self.line.clear();
         self.programs.stop_all();
-        for (n, slot) in self.programs.slots.iter_mut().enumerate() {
-            if slot.loaded && self.run_on_boot & (1 << n) != 0 {
-                slot.status = programs::ProgramStatus::Running;
+        self.program_clock = Duration::ZERO;
+        for n in 0..programs::PROGRAM_SLOTS {
+            if self.run_on_boot & (1 << n) != 0 {
+                // A slot the source does not define is left alone.
+                let _ = self.programs.control(n, programs::Control::Start);
             }
         }
     }
@@ -428,7 +444,22 @@ impl SimulatedController for Cmd4cr {
     }
 
     fn advance(&mut self, dt: Duration) {
-        self.motion.advance(dt);
+        if !self.programs.any_running() {
+            self.motion.advance(dt);
+            return;
+        }
+        // Programs and motion take turns tick by tick.
+        self.program_clock += dt;
+        while self.program_clock >= motion::TICK {
+            self.program_clock -= motion::TICK;
+            self.run_threads();
+            self.motion.advance(motion::TICK);
+            if !self.programs.any_running() {
+                let rest = std::mem::take(&mut self.program_clock);
+                self.motion.advance(rest);
+                return;
+            }
+        }
     }
 
     fn take_output(&mut self) -> Vec<u8> {

@@ -20,7 +20,7 @@ use super::programs::Control;
 use super::{Cmd4cr, FIRMWARE_VERSION, flash};
 
 /// A value read.
-enum Value {
+pub(super) enum Value {
     Int(i64),
     Fields(Vec<i64>),
     Text(String),
@@ -187,7 +187,7 @@ impl Cmd4cr {
         Ok(None)
     }
 
-    fn read(&self, register: Register, selector: Selector) -> Result<Value, ErrorCode> {
+    pub(super) fn read(&self, register: Register, selector: Selector) -> Result<Value, ErrorCode> {
         use Register as R;
         use Selector::{All, Axis as A, Index as I};
         let m = &self.motion;
@@ -277,11 +277,16 @@ impl Cmd4cr {
                 0
             }),
             (R::Sastat, I(n)) => int(self.programs.status(usize::from(n)) as i64),
-            (R::Spc, I(n)) => int(self.programs.pc(usize::from(n)).into()),
+            (R::Spc, I(n)) => int(i64::try_from(self.programs.pc(usize::from(n))).unwrap_or(0)),
             (R::Sload, All) => int(self.run_on_boot),
             (R::Sload, I(n)) => int(bit(self.run_on_boot as u64, n + 1)),
             (R::Sap, _) => int(self.sub31_return),
-            (R::V, I(n)) => int(self.variables.get(usize::from(n)).copied().unwrap_or(0)),
+            (R::V, I(n)) => int(self
+                .variables
+                .get(usize::from(n))
+                .copied()
+                .unwrap_or(0)
+                .into()),
             (R::Bstat, _) => {
                 let s = m.buffer_status();
                 Ok(Value::Fields(vec![
@@ -426,7 +431,9 @@ impl Cmd4cr {
             (R::Sap, _) => self.sub31_return = value,
             (R::V, I(n)) => {
                 if let Some(v) = self.variables.get_mut(usize::from(n)) {
-                    *v = value;
+                    // The parser keeps V writes within 32 bits (§2.7.6).
+                    *v =
+                        i32::try_from(value).unwrap_or(if value < 0 { i32::MIN } else { i32::MAX });
                 }
             }
             _ => return Err(ErrorCode::UnknownCommand),
@@ -492,7 +499,7 @@ impl Cmd4cr {
                     Selector::Index(n) => usize::from(n),
                     _ => return Err(ErrorCode::InvalidIndex),
                 };
-                self.programs.check_subroutine(n)?;
+                self.programs.call_subroutine(n)?;
             }
         }
         Ok(())
