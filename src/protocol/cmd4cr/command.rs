@@ -757,6 +757,9 @@ impl Parser<'_> {
 
     fn axis(&self, kind: Kind, letter: Option<char>) -> Result<Axis, CommandError> {
         match letter {
+            Some(c) if c.is_ascii_digit() || matches!(c, '-' | '+' | ':') => {
+                Err(self.syntax(kind, format!("no axis given (X, Y, Z or U) before `{c}`")))
+            }
             Some(c) => Axis::from_letter(c)
                 .ok_or_else(|| self.syntax(kind, format!("`{c}` is not an axis (X, Y, Z or U)"))),
             None => Err(self.syntax(kind, "no axis given")),
