@@ -7,9 +7,10 @@
 //! host would send.
 
 use axterm::protocol::cmd4cr::ascript::{
-    Action, ERROR_CODES, ErrorCode, Op, Program, Statement, TokenClass, VARIABLES,
-    ascii_equivalent, buffered_move, check, compile, tokens,
+    Action, ERROR_CODES, ErrorCode, Op, Program, Statement, TokenClass, VARIABLES, ascii_command,
+    ascii_equivalent, buffered_move, buffered_move_command, check, compile, tokens,
 };
+use axterm::protocol::cmd4cr::parse_command;
 use serde_json::Value;
 
 fn vectors() -> Vec<Value> {
@@ -225,6 +226,47 @@ fn standalone_names_become_their_ascii_commands() {
 }
 
 #[test]
+fn every_statement_of_the_examples_is_a_command_the_ascii_parser_reads_back() {
+    let mut variables = [0; VARIABLES];
+    // Example 6 moves to V1: give it a value a move takes.
+    variables[1] = 1000;
+    let mut translated = 0;
+    for entry in programs().iter().filter(|e| e.get("title").is_some()) {
+        let program = compile(text(entry, "program")).unwrap_or_default();
+        for s in &program.statements {
+            if let Some(command) = ascii_command(&s.statement, &variables) {
+                let command = command.unwrap_or_else(|e| panic!("{}: {e}", s.statement));
+                assert_eq!(parse_command(&command.to_string()), Ok(command.clone()));
+                assert_eq!(
+                    ascii_equivalent(&s.statement, &variables),
+                    Some(command.to_string())
+                );
+                translated += 1;
+            }
+        }
+    }
+    assert!(translated > 100, "{translated}");
+}
+
+#[test]
+fn a_variable_out_of_a_commands_range_gets_the_ascii_parsers_error() {
+    let program = compile("PRG 0\nHSPD=V1\nEND").unwrap_or_default();
+    let statement = &program.statements[1].statement;
+    let mut variables = [0; VARIABLES];
+    assert!(matches!(ascii_command(statement, &variables), Some(Err(_))));
+    // The text is still sent as it is: the controller refuses it itself.
+    assert_eq!(
+        ascii_equivalent(statement, &variables).as_deref(),
+        Some("HSPD=0")
+    );
+    variables[1] = 5000;
+    assert_eq!(
+        ascii_command(statement, &variables).map(|c| c.map(|c| c.to_string())),
+        Some(Ok("HSPD=5000".to_string()))
+    );
+}
+
+#[test]
 fn buffered_moves_become_i_commands_at_the_global_high_speed() {
     let program = example("5.4.2");
     let variables = [0; VARIABLES];
@@ -239,6 +281,10 @@ fn buffered_moves_become_i_commands_at_the_global_high_speed() {
             }
             Op::Action(Action::Move(targets)) => {
                 queued.extend(buffered_move(targets, speed, &variables));
+                assert!(matches!(
+                    buffered_move_command(targets, speed, &variables),
+                    Some(Ok(_))
+                ));
             }
             _ => {}
         }

@@ -5,9 +5,12 @@
 //! highlighter panic, and the highlighter's pieces always cover the line.
 
 use axterm::protocol::cmd4cr::ascript::{
-    Action, Address, Axis, BinaryOp, COMMANDS, Command, Comparison, Condition, Direction, Expr,
-    Kind, Op, Operand, Rotation, Statement, Target, Value, check, compile, parse_statement, tokens,
+    Action, Address, Axis, BinaryOp, COMMANDS, Command, Comparison, Condition, Direction, Expr, Op,
+    Operand, Rotation, Shape, Statement, Target, VARIABLES, Value, ascii_command, check, compile,
+    parse_statement, tokens,
 };
+use axterm::protocol::cmd4cr::catalog::Form;
+use axterm::protocol::cmd4cr::parse_command;
 use proptest::prelude::*;
 use proptest::sample::select;
 
@@ -19,14 +22,11 @@ fn axis() -> impl Strategy<Value = Axis> {
 fn commands(keep: fn(&Command) -> bool) -> Vec<Command> {
     let mut all = Vec::new();
     for info in COMMANDS {
-        let addresses: Vec<Address> = match info.addressing {
-            axterm::protocol::cmd4cr::ascript::Addressing::None => vec![Address::None],
-            axterm::protocol::cmd4cr::ascript::Addressing::Axis => {
-                Axis::ALL.into_iter().map(Address::Axis).collect()
-            }
-            axterm::protocol::cmd4cr::ascript::Addressing::Index { first, last } => {
-                (first..=last).map(Address::Index).collect()
-            }
+        let addresses: Vec<Address> = match info.form {
+            Form::Bare => vec![Address::None],
+            Form::Axis => Axis::ALL.into_iter().map(Address::Axis).collect(),
+            Form::Index { first, last } => (first..=last).map(Address::Index).collect(),
+            Form::Motion => vec![],
         };
         for address in addresses {
             if let Some(command) = Command::new(info.name, address)
@@ -44,7 +44,7 @@ fn operand() -> impl Strategy<Value = Operand> {
         any::<i32>().prop_map(|n| Operand::Number(n.into())),
         (0u8..100).prop_map(Operand::Variable),
         select(commands(
-            |c| c.info.readable() && c.info.kind != Kind::Variable
+            |c| c.info.readable() && c.info.shape != Shape::Variable
         ))
         .prop_map(Operand::Read),
     ]
@@ -91,10 +91,10 @@ fn two_axes() -> impl Strategy<Value = [Axis; 2]> {
 
 fn set() -> impl Strategy<Value = Action> {
     select(commands(|c| {
-        c.info.writable() && c.info.kind != Kind::Variable
+        c.info.writable() && c.info.shape != Shape::Variable
     }))
     .prop_flat_map(|command| {
-        let range = command.info.values.map_or((0, 0), |r| (r.min, r.max));
+        let range = command.info.values().map_or((0, 0), |r| (r.min, r.max));
         value(range.0, range.1).prop_map(move |value| Action::Set { command, value })
     })
 }
@@ -103,7 +103,7 @@ fn action() -> impl Strategy<Value = Action> {
     prop_oneof![
         ((0u8..100), expr()).prop_map(|(variable, value)| Action::Let { variable, value }),
         set(),
-        select(commands(|c| c.info.kind == Kind::Action)).prop_map(Action::Do),
+        select(commands(|c| c.info.shape == Shape::Action)).prop_map(Action::Do),
         value(0, i64::from(i32::MAX)).prop_map(Action::Delay),
         axis().prop_map(Action::Wait),
         proptest::sample::subsequence(Axis::ALL.to_vec(), 1..=4)
@@ -135,14 +135,19 @@ fn action() -> impl Strategy<Value = Action> {
                 centre: [a, b],
             }
         }),
-        (two_axes(), rotation(), position(), position(), any::<i32>()).prop_map(
-            |(axes, rotation, a, b, angle)| Action::Arc {
+        (
+            two_axes(),
+            rotation(),
+            position(),
+            position(),
+            0..=360_000i64
+        )
+            .prop_map(|(axes, rotation, a, b, angle)| Action::Arc {
                 axes,
                 rotation,
                 centre: [a, b],
-                angle: angle.into(),
-            }
-        ),
+                angle,
+            }),
         (rotation(), position(), position(), position()).prop_map(|(rotation, a, b, z)| {
             Action::HelixCircle {
                 rotation,
@@ -150,14 +155,19 @@ fn action() -> impl Strategy<Value = Action> {
                 z,
             }
         }),
-        (rotation(), position(), position(), any::<i32>(), position()).prop_map(
-            |(rotation, a, b, angle, z)| Action::HelixArc {
+        (
+            rotation(),
+            position(),
+            position(),
+            0..=360_000i64,
+            position()
+        )
+            .prop_map(|(rotation, a, b, angle, z)| Action::HelixArc {
                 rotation,
                 centre: [a, b],
-                angle: angle.into(),
+                angle,
                 z,
-            }
-        ),
+            }),
     ]
 }
 
@@ -301,6 +311,25 @@ proptest! {
     fn statements_print_and_parse_back_to_themselves(statement in statement()) {
         let text = statement.to_string();
         prop_assert_eq!(parse_statement(&text), Ok(Some(statement)), "{}", text);
+    }
+
+    #[test]
+    fn every_literal_statement_is_an_ascii_command_or_none(statement in statement()) {
+        // A variable's value is checked when it runs; literals are checked
+        // against the ASCII parser here.
+        let literal = match &statement {
+            Statement::Action(Action::Set { value, .. }) => matches!(value, Value::Number(_)),
+            Statement::Action(Action::Move(targets)) => {
+                targets.iter().all(|t| matches!(t.value, Value::Number(_)))
+            }
+            _ => true,
+        };
+        if let (true, Some(command)) = (literal, ascii_command(&statement, &[0; VARIABLES])) {
+            let command = command.map_err(|e| e.to_string());
+            prop_assert!(command.is_ok(), "{}: {:?}", statement, command);
+            let command = command.unwrap_or_else(|_| unreachable!());
+            prop_assert_eq!(parse_command(&command.to_string()), Ok(command));
+        }
     }
 
     #[test]

@@ -5,58 +5,127 @@
 
 use std::fmt;
 
-use super::ast::{Action, Statement, Target, VARIABLES};
-use super::commands::Axis;
+use super::super::command::{Cmd4crCommand, CommandError, parse_command};
+use super::ast::{Action, Axis, Statement, Target, VARIABLES};
+use super::commands::Ascii;
 use super::program::Program;
 
-/// The ASCII console command that does what `statement` does, its
-/// variables given their values from `variables`: `HSPD=20000`,
-/// `XV1` → `X1500`, `ECLEARX` → `CLRX`, `SR0=1` → `SACTRL0=1`,
-/// `JOGX+` → `JX+`, `HOMEX-6` → `HX-6`.
+/// The ASCII command text that does what `statement` does, its
+/// variables given their values from `variables`: `HSPD=20000`, `XV1` →
+/// `X1500`, `ECLEARX` → `CLRX`, `SR0=1` → `SACTRL0=1`, `JOGX+` → `JX+`,
+/// `HOMEX-6` → `HX-6`. What a host sends after `@ID`.
+///
+/// A variable may hold a value the command refuses (`HSPD=V1` with V1 =
+/// 0): the text is still the command (`HSPD=0`), and the controller
+/// answers it with its §4.2 error; [`ascii_command`] checks it first.
 ///
 /// None for what has no ASCII command and is the executor's own work:
 /// block structure and control flow, GOSUB, `V[n]=` (variables live with
 /// the program), `DELAY` (a timer) and `WAIT[axis]` (poll `MST[axis]`
 /// until bits 0–2 are clear, §2.6.2.1). While the move buffer is on, a
-/// move is queued instead: see [`buffered_move`].
+/// straight move is queued instead: see [`buffered_move`].
 pub fn ascii_equivalent(statement: &Statement, variables: &[i32; VARIABLES]) -> Option<String> {
+    translate(statement, variables).map(|c| c.to_string())
+}
+
+/// [`ascii_equivalent`] as the typed command of the one ASCII parser
+/// ([`parse_command`]), which has read it back: a value out of the
+/// command's range gives the parser's error, which is also the
+/// controller's §4.2 reply ([`CommandError::reply`]).
+pub fn ascii_command(
+    statement: &Statement,
+    variables: &[i32; VARIABLES],
+) -> Option<Result<Cmd4crCommand, CommandError>> {
+    translate(statement, variables).map(checked)
+}
+
+/// The ASCII command of a statement, its values unchecked.
+fn translate(statement: &Statement, variables: &[i32; VARIABLES]) -> Option<Cmd4crCommand> {
     let Statement::Action(action) = statement else {
         return None;
     };
-    Some(match action {
+    let command = match action {
         Action::Let { .. } | Action::Delay(_) | Action::Wait(_) => return None,
-        Action::Set { command, value } => {
-            format!("{}={}", command.ascii()?, value.resolve(variables))
+        Action::Set { command, value } => match command.info.ascii {
+            Ascii::Register(register) => Cmd4crCommand::Write {
+                register,
+                selector: command.selector(),
+                value: value.resolve(variables),
+            },
+            _ => return None,
+        },
+        Action::Do(command) => match command.info.ascii {
+            Ascii::Action(action) => Cmd4crCommand::Action {
+                action,
+                selector: command.selector(),
+            },
+            _ => return None,
+        },
+        Action::Move(targets) => {
+            let mut by_axis = [None; 4];
+            for t in targets {
+                if let Some(slot) = by_axis.get_mut(t.axis.index()) {
+                    *slot = Some(t.value.resolve(variables));
+                }
+            }
+            Cmd4crCommand::Move { targets: by_axis }
         }
-        Action::Do(command) => command.ascii()?,
-        Action::Move(targets) => targets
-            .iter()
-            .map(|t| format!("{}{}", t.axis, t.value.resolve(variables)))
-            .collect(),
-        Action::Jog { axis, direction } => format!("J{axis}{}", direction.sign()),
+        Action::Jog { axis, direction } => Cmd4crCommand::Jog {
+            axis: *axis,
+            direction: *direction,
+        },
         Action::Home {
             axis,
             direction,
             mode,
-        } => format!("H{axis}{}{mode}", direction.sign()),
-        // The circle, arc and Z-move forms are the same in both sets.
+        } => Cmd4crCommand::Home {
+            axis: *axis,
+            direction: *direction,
+            mode: *mode,
+        },
         Action::ZMove { .. }
         | Action::Circle { .. }
         | Action::Arc { .. }
         | Action::HelixCircle { .. }
-        | Action::HelixArc { .. } => action.to_string(),
-    })
+        | Action::HelixArc { .. } => action.same_in_ascii()?,
+    };
+    Some(command)
 }
 
-/// A move queued while the buffer is on (`BUFON`): the ASCII command is
-/// `I[X]:[Y]:[Z]:[speed]` (§2.3.4), the speed being the high speed in force
-/// ("the current global high-speed setting", §2.3.4). None unless the move names X, Y and Z and not U:
-/// `I` has exactly those three fields.
+/// The command as the ASCII parser reads its text: values in range, the
+/// same command back.
+fn checked(command: Cmd4crCommand) -> Result<Cmd4crCommand, CommandError> {
+    parse_command(&command.to_string())
+}
+
+/// A straight move queued while the buffer is on (`BUFON`): the ASCII
+/// command text `I[X]:[Y]:[Z]:[speed]` (§2.3.4), the speed being the
+/// global high speed in force ("the current global high-speed setting",
+/// §2.3.4). None unless the move names X, Y and Z and not U: `I` has
+/// exactly those three fields.
 pub fn buffered_move(
     targets: &[Target],
     speed: i64,
     variables: &[i32; VARIABLES],
 ) -> Option<String> {
+    buffer_entry(targets, speed, variables).map(|c| c.to_string())
+}
+
+/// [`buffered_move`] as the typed command the ASCII parser has read back
+/// (see [`ascii_command`]).
+pub fn buffered_move_command(
+    targets: &[Target],
+    speed: i64,
+    variables: &[i32; VARIABLES],
+) -> Option<Result<Cmd4crCommand, CommandError>> {
+    buffer_entry(targets, speed, variables).map(checked)
+}
+
+fn buffer_entry(
+    targets: &[Target],
+    speed: i64,
+    variables: &[i32; VARIABLES],
+) -> Option<Cmd4crCommand> {
     let target = |axis| {
         targets
             .iter()
@@ -66,12 +135,8 @@ pub fn buffered_move(
     if targets.len() != 3 {
         return None;
     }
-    Some(format!(
-        "I{}:{}:{}:{speed}",
-        target(Axis::X)?,
-        target(Axis::Y)?,
-        target(Axis::Z)?
-    ))
+    let target = [target(Axis::X)?, target(Axis::Y)?, target(Axis::Z)?];
+    Some(Cmd4crCommand::BufferMove { target, speed })
 }
 
 /// A statement a host cannot carry out with ASCII commands.

@@ -5,7 +5,12 @@
 
 use std::fmt;
 
-use super::commands::{Addressing, Axis, CommandInfo, forms};
+use super::super::catalog::Form;
+use super::super::command::{Cmd4crCommand, Selector};
+use super::commands::{Ascii, CommandInfo, forms};
+
+pub use super::super::catalog::Axis;
+pub use super::super::command::{Direction, Rotation};
 
 /// A standalone command as a statement or operand names it: `HSPDX`,
 /// `DI1`, `ABORT`, `SR0`.
@@ -28,7 +33,7 @@ impl fmt::Display for Address {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Address::None => Ok(()),
-            Address::Axis(axis) => write!(f, "{axis}"),
+            Address::Axis(axis) => write!(f, "{}", axis.letter()),
             Address::Index(n) => write!(f, "{n}"),
         }
     }
@@ -38,9 +43,9 @@ impl Command {
     /// The command `name` addressed by `address`, if the standalone set
     /// has that form: `Command::new("MST", Address::Axis(Axis::X))`.
     pub fn new(name: &str, address: Address) -> Option<Command> {
-        let info = forms(name).find(|info| match (info.addressing, address) {
-            (Addressing::None, Address::None) | (Addressing::Axis, Address::Axis(_)) => true,
-            (Addressing::Index { first, last }, Address::Index(n)) => (first..=last).contains(&n),
+        let info = forms(name).find(|info| match (info.form, address) {
+            (Form::Bare, Address::None) | (Form::Axis, Address::Axis(_)) => true,
+            (Form::Index { first, last }, Address::Index(n)) => (first..=last).contains(&n),
             _ => false,
         })?;
         Some(Command { info, address })
@@ -57,13 +62,35 @@ impl Command {
         }
     }
 
-    /// The ASCII command of the same meaning, addressed the same way:
-    /// `ECLEARX` → `CLRX`, `SR0` → `SACTRL0`, `JOYHSX` → `JSPDX`. None for
-    /// `WAIT` and `DELAY`, which only a program has.
+    /// How the ASCII command addresses the same thing.
+    pub fn selector(&self) -> Selector {
+        match self.address {
+            Address::None => Selector::All,
+            Address::Axis(axis) => Selector::Axis(axis),
+            Address::Index(n) => Selector::Index(n),
+        }
+    }
+
+    /// The ASCII command of the same meaning, addressed the same way, as
+    /// text: `ECLEARX` → `CLRX`, `SR0` → `SACTRL0`, `JOYHSX` → `JSPDX`,
+    /// `MSTX` → `MSTX`. None for `WAIT` and `DELAY`, which only a program
+    /// has.
     pub fn ascii(&self) -> Option<String> {
-        self.info
-            .ascii
-            .map(|name| format!("{name}{}", self.address))
+        let keyword = self.info.ascii_row()?.keyword;
+        Some(format!("{keyword}{}", self.address))
+    }
+
+    /// The ASCII command that reads this one (`MSTX`, `DI1`, `HSPD`), for
+    /// an executor that asks the controller for an operand's value. None
+    /// for what cannot be read.
+    pub fn ascii_read(&self) -> Option<Cmd4crCommand> {
+        match self.info.ascii {
+            Ascii::Register(register) if self.info.readable() => Some(Cmd4crCommand::Read {
+                register,
+                selector: self.selector(),
+            }),
+            _ => None,
+        }
     }
 }
 
@@ -370,40 +397,6 @@ impl fmt::Display for Condition {
     }
 }
 
-/// A jog, homing or Z-move direction.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Direction {
-    Plus,
-    Minus,
-}
-
-impl Direction {
-    pub fn sign(self) -> char {
-        match self {
-            Direction::Plus => '+',
-            Direction::Minus => '-',
-        }
-    }
-}
-
-/// A circle or arc's turning sense (§2.3.2: P clockwise, N counter-clockwise).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Rotation {
-    /// `P`.
-    Clockwise,
-    /// `N`.
-    CounterClockwise,
-}
-
-impl Rotation {
-    pub fn letter(self) -> char {
-        match self {
-            Rotation::Clockwise => 'P',
-            Rotation::CounterClockwise => 'N',
-        }
-    }
-}
-
 /// One axis's target in a move: `X1000`, `XV1`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Target {
@@ -465,46 +458,85 @@ pub enum Action {
     },
 }
 
+impl Action {
+    /// The ASCII command of a motion statement written the same way in
+    /// both sets: circles and arcs (§2.3.4: "The syntax for these commands
+    /// is the same in ASCII and standalone mode") and ZMOVE.
+    pub fn same_in_ascii(&self) -> Option<Cmd4crCommand> {
+        Some(match *self {
+            Action::ZMove { axis, direction } => Cmd4crCommand::ZMove { axis, direction },
+            Action::Circle {
+                axes,
+                rotation,
+                centre,
+            } => Cmd4crCommand::Circle {
+                axes,
+                rotation,
+                centre,
+            },
+            Action::Arc {
+                axes,
+                rotation,
+                centre,
+                angle,
+            } => Cmd4crCommand::Arc {
+                axes,
+                rotation,
+                centre,
+                angle,
+            },
+            Action::HelixCircle {
+                rotation,
+                centre,
+                z,
+            } => Cmd4crCommand::HelicalCircle {
+                rotation,
+                centre,
+                z,
+            },
+            Action::HelixArc {
+                rotation,
+                centre,
+                angle,
+                z,
+            } => Cmd4crCommand::HelicalArc {
+                rotation,
+                centre,
+                angle,
+                z,
+            },
+            _ => return None,
+        })
+    }
+}
+
 impl fmt::Display for Action {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if let Some(command) = self.same_in_ascii() {
+            return write!(f, "{command}");
+        }
         match self {
             Action::Let { variable, value } => write!(f, "V{variable}={value}"),
             Action::Set { command, value } => write!(f, "{command}={value}"),
             Action::Do(command) => write!(f, "{command}"),
             Action::Delay(value) => write!(f, "DELAY={value}"),
-            Action::Wait(axis) => write!(f, "WAIT{axis}"),
+            Action::Wait(axis) => write!(f, "WAIT{}", axis.letter()),
             Action::Move(targets) => targets
                 .iter()
-                .try_for_each(|t| write!(f, "{}{}", t.axis, t.value)),
-            Action::Jog { axis, direction } => write!(f, "JOG{axis}{}", direction.sign()),
+                .try_for_each(|t| write!(f, "{}{}", t.axis.letter(), t.value)),
+            Action::Jog { axis, direction } => {
+                write!(f, "JOG{}{}", axis.letter(), direction.sign())
+            }
             Action::Home {
                 axis,
                 direction,
                 mode,
-            } => write!(f, "HOME{axis}{}{mode}", direction.sign()),
-            Action::ZMove { axis, direction } => write!(f, "ZMOVE{axis}{}", direction.sign()),
-            Action::Circle {
-                axes: [a, b],
-                rotation,
-                centre: [c1, c2],
-            } => write!(f, "CIR{a}{b}{}{c1}:{c2}", rotation.letter()),
-            Action::Arc {
-                axes: [a, b],
-                rotation,
-                centre: [c1, c2],
-                angle,
-            } => write!(f, "ARC{a}{b}{}{c1}:{c2}:{angle}", rotation.letter()),
-            Action::HelixCircle {
-                rotation,
-                centre: [c1, c2],
-                z,
-            } => write!(f, "CIRT{}{c1}:{c2}:{z}", rotation.letter()),
-            Action::HelixArc {
-                rotation,
-                centre: [c1, c2],
-                angle,
-                z,
-            } => write!(f, "ARCT{}{c1}:{c2}:{angle}:{z}", rotation.letter()),
+            } => write!(f, "HOME{}{}{mode}", axis.letter(), direction.sign()),
+            Action::ZMove { .. }
+            | Action::Circle { .. }
+            | Action::Arc { .. }
+            | Action::HelixCircle { .. }
+            | Action::HelixArc { .. } => Ok(()),
         }
     }
 }

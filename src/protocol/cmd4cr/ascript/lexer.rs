@@ -10,8 +10,9 @@
 
 use std::ops::Range;
 
-use super::ast::Rotation;
-use super::commands::{Addressing, Axis, forms, split_last_letter};
+use super::super::catalog::Form;
+use super::ast::{Axis, Rotation};
+use super::commands::{forms, split_last_letter};
 
 /// The words that shape a program (§5.2): blocks, branches, loops, calls.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -244,6 +245,11 @@ enum Word {
 }
 
 fn classify(word: &str) -> Word {
+    // Every manual example is in capitals; §5 never says lower case is
+    // accepted (the ASCII parser, by contrast, takes it).
+    if !word.chars().all(|c| c.is_ascii_uppercase()) {
+        return Word::One(Lex::Word);
+    }
     if let Some(keyword) = Keyword::from_word(word) {
         return Word::One(Lex::Keyword(keyword));
     }
@@ -261,7 +267,7 @@ fn classify(word: &str) -> Word {
     }
     if let Some((name, last)) = split_last_letter(word)
         && let Some(axis) = Axis::from_letter(last)
-        && let Some(info) = forms(name).find(|c| c.addressing == Addressing::Axis)
+        && let Some(info) = forms(name).find(|c| c.form == Form::Axis)
     {
         return Word::One(Lex::Command {
             name: info.name,

@@ -2,8 +2,8 @@
 //! command set as data, a line lexer and parser to an AST, a checker that
 //! reports the compile errors of Table 5-43 with their line numbers, the
 //! program compiled into steps an interpreter runs, the ASCII command each
-//! statement corresponds to, and token classes for an editor's colours.
-//! Pure: no I/O.
+//! statement corresponds to (as a typed [`Cmd4crCommand`](super::Cmd4crCommand) of the one ASCII
+//! parser), and token classes for an editor's colours. Pure: no I/O.
 //!
 //! ```text
 //! source     := { line '\n' }
@@ -56,11 +56,9 @@
 //!   ENDWHILE" on line 2).
 //! - GOSUB to a subroutine the source does not define compiles with a
 //!   warning: the controller reports the error when the call runs (§2.7.4).
-//! - Ranges a write accepts come from the manual where it states one
-//!   (T B-46, §1.2, §2): speeds 1-6,553,500 pps (0 allowed per axis: "use
-//!   the global value"), positions 28-bit, DO/EO 0-15, PWM 1-99, SSPDM 0-7.
-//!   ACC and DEC take any non-negative time (App. B: the controller adjusts
-//!   out-of-range values itself).
+//! - A command's values are those of the ASCII command it pairs with
+//!   ([`CommandInfo::ascii_row`]), so the checker and the ASCII parser
+//!   agree; the access (read, write) is the standalone table's.
 //! - Arithmetic is 32-bit signed: `+ - *` wrap, `/` rounds down (T2-32)
 //!   and `%` follows it, shifts by 32 or more leave sign bits, a negative
 //!   shift or a division by zero is a runtime error ([`ArithmeticError`]).
@@ -74,14 +72,16 @@ mod lexer;
 mod parser;
 mod program;
 
-pub use ascii::{HostProblem, ascii_equivalent, buffered_move};
+pub use ascii::{
+    HostProblem, ascii_command, ascii_equivalent, buffered_move, buffered_move_command,
+};
 pub use ast::{
-    Action, Address, ArithmeticError, BinaryOp, Command, Comparison, Condition, Direction,
+    Action, Address, ArithmeticError, Axis, BinaryOp, Command, Comparison, Condition, Direction,
     EvalError, Expr, Operand, Rotation, Statement, Target, VARIABLES, Value,
 };
 pub use commands::{
-    ASCII_ONLY, Access, Addressing, AsciiOnly, Axis, COMMANDS, CommandInfo, Kind, ValueRange,
-    ascii_only_command, forms, is_command,
+    Ascii, AsciiOnly, COMMANDS, CommandInfo, Shape, ValueRange, ascii_only_command, form, forms,
+    is_command,
 };
 pub use errors::{CompileError, Diagnostic, ERROR_CODES, ErrorCode, ErrorCodeInfo, Warning};
 pub use highlight::{TokenClass, tokens};

@@ -6,13 +6,15 @@
 //! reading of Table 5-43's descriptions; the choices are listed in the
 //! module documentation ([`super`]).
 
+use super::super::catalog::{Form, FormShape};
+use super::ast::Axis;
 use super::ast::{
     Action, Address, BinaryOp, Command, Comparison, Condition, Direction, Expr, Operand, Rotation,
     Statement, Target, Value,
 };
 use super::commands::{
-    AddressKind, Addressing, Axis, CommandInfo, I32, Kind, POSITION, ValueRange,
-    ascii_only_command, form, forms,
+    ANGLE, CommandInfo, HOME_MODE, I32, POSITION, Shape, ValueRange, ascii_only_command, form,
+    forms,
 };
 use super::errors::ErrorCode;
 use super::lexer::{Keyword, Lex, Symbol, Token, lex};
@@ -176,6 +178,28 @@ impl Parser<'_> {
                 "`==` is not A-Script: a single `=` compares (Table 2-30)".into(),
             )),
             None => Ok(()),
+        }
+    }
+
+    /// Take the `=` of an assignment. Without it: `==` is "Error", an
+    /// expression left of a later `=` is "= Error" (`V2+1=V3`), and no `=`
+    /// at all is `missing` ("Missing =" for `HSPD*1000`).
+    fn expect_equals(&mut self, missing: impl FnOnce(&Self) -> LineError) -> Result<(), LineError> {
+        match self.peek_lex() {
+            Some(Lex::Symbol(Symbol::Equals)) => {
+                self.bump();
+                Ok(())
+            }
+            Some(Lex::Symbol(Symbol::DoubleEquals)) => self.refuse_double_equals(),
+            Some(_) if self.has_later(Symbol::Equals) => Err(self.error_at(
+                0,
+                ErrorCode::EqualsError,
+                format!(
+                    "the left of `=` must be one variable or command, not `{}`",
+                    self.left_of_equals()
+                ),
+            )),
+            _ => Err(missing(self)),
         }
     }
 
@@ -498,13 +522,13 @@ impl Parser<'_> {
 
     /// The command a name (and the axis or index after it) stands for.
     fn command(&mut self, name: &'static str, axis: Option<Axis>) -> Result<Command, LineError> {
-        let indexed = form(name, AddressKind::Index);
+        let indexed = form(name, FormShape::Index);
         if axis.is_none()
             && let Some(info) = indexed
             && let Some(Lex::Number(n)) = self.peek_adjacent()
         {
             self.bump();
-            let Addressing::Index { first, last } = info.addressing else {
+            let Form::Index { first, last } = info.form else {
                 return Err(self.error_here(ErrorCode::UnknownError, name.into()));
             };
             return match n {
@@ -523,19 +547,22 @@ impl Parser<'_> {
             };
         }
         let (kind, address) = match axis {
-            Some(axis) => (AddressKind::Axis, Address::Axis(axis)),
-            None => (AddressKind::None, Address::None),
+            Some(axis) => (FormShape::Axis, Address::Axis(axis)),
+            None => (FormShape::Bare, Address::None),
         };
-        if let Some(info) = form(name, kind) {
+        // CIR, ARC, CIRT, ARCT alone: their syntax is the parser's
+        // business (`CIRXYP…` is lexed whole).
+        let motion = || forms(name).find(|c| c.form == Form::Motion && axis.is_none());
+        if let Some(info) = form(name, kind).or_else(motion) {
             return Ok(Command { info, address });
         }
-        let (code, detail) = if form(name, AddressKind::Axis).is_some() {
+        let (code, detail) = if form(name, FormShape::Axis).is_some() {
             (
                 ErrorCode::UnknownError,
                 format!("`{name}` needs an axis: {name}X, {name}Y, {name}Z or {name}U"),
             )
         } else if let Some(CommandInfo {
-            addressing: Addressing::Index { first, last },
+            form: Form::Index { first, last },
             ..
         }) = indexed
         {
@@ -555,18 +582,18 @@ impl Parser<'_> {
         axis: Option<Axis>,
     ) -> Result<Statement, LineError> {
         let command = self.command(name, axis)?;
-        let action = match command.info.kind {
-            Kind::Register(_) => return self.set(command),
-            Kind::Action => {
+        let action = match command.info.shape {
+            Shape::Register(_) => return self.set(command),
+            Shape::Action => {
                 self.expect_end(&command.to_string())?;
                 Action::Do(command)
             }
-            Kind::Wait => {
+            Shape::Wait => {
                 self.expect_end(&command.to_string())?;
                 Action::Wait(self.axis_of(&command)?)
             }
-            Kind::Delay => Action::Delay(self.delay(&command)?),
-            Kind::Jog => {
+            Shape::Delay => Action::Delay(self.delay(&command)?),
+            Shape::Jog => {
                 let direction = self.direction(&command)?;
                 self.expect_end(&format!("{command}{}", direction.sign()))?;
                 Action::Jog {
@@ -574,7 +601,7 @@ impl Parser<'_> {
                     direction,
                 }
             }
-            Kind::ZMove => {
+            Shape::ZMove => {
                 let direction = self.direction(&command)?;
                 self.expect_end(&format!("{command}{}", direction.sign()))?;
                 Action::ZMove {
@@ -582,17 +609,17 @@ impl Parser<'_> {
                     direction,
                 }
             }
-            Kind::Home => self.home(&command)?,
-            Kind::Circle | Kind::Arc | Kind::HelixCircle | Kind::HelixArc => {
+            Shape::Home => self.home(&command)?,
+            Shape::Circle | Shape::Arc | Shape::HelixCircle | Shape::HelixArc => {
                 return Err(self.error_here(
                     ErrorCode::TokenError,
                     format!(
                         "`{name}` needs its axes and P (CW) or N (CCW): {}",
-                        example(command.info.kind)
+                        example(command.info.shape)
                     ),
                 ));
             }
-            Kind::Variable => return Err(self.error_here(ErrorCode::UnknownError, name.into())),
+            Shape::Variable => return Err(self.error_here(ErrorCode::UnknownError, name.into())),
         };
         Ok(Statement::Action(action))
     }
@@ -608,48 +635,39 @@ impl Parser<'_> {
 
     /// `NAME=value` for a register (and what goes wrong with it).
     fn set(&mut self, command: Command) -> Result<Statement, LineError> {
-        let writable = command.info.writable();
-        let at = self.next;
-        match self.peek_lex() {
-            Some(Lex::Symbol(Symbol::Equals)) if writable => {
-                self.bump();
-                let value = self.value(&command)?;
-                Ok(Statement::Action(Action::Set { command, value }))
-            }
-            Some(Lex::Symbol(Symbol::Equals)) => Err(self.error_at(
-                0,
-                ErrorCode::EqualsError,
-                format!("`{command}` returns a value and cannot be set"),
-            )),
-            Some(Lex::Symbol(Symbol::DoubleEquals)) => {
-                self.refuse_double_equals()?;
-                Err(self.error_next(ErrorCode::Error, String::new()))
-            }
-            Some(_) if self.has_later(Symbol::Equals) => Err(self.error_at(
-                0,
-                ErrorCode::EqualsError,
-                format!(
-                    "the left of `=` must be one variable or command, not `{}`",
-                    self.left_of_equals()
+        if !command.info.writable() {
+            let only_read = |parser: &Self| {
+                parser.error_at(
+                    0,
+                    ErrorCode::Error,
+                    format!(
+                        "`{command}` only returns a value: use it in an assignment (V1={command}) or a condition (IF {command}=1)"
+                    ),
+                )
+            };
+            return Err(match self.expect_equals(only_read) {
+                Ok(()) => self.error_at(
+                    0,
+                    ErrorCode::EqualsError,
+                    format!("`{command}` returns a value and cannot be set"),
                 ),
-            )),
-            _ if writable => Err(self.error_at(
+                Err(e) => e,
+            });
+        }
+        let at = self.next;
+        self.expect_equals(|parser| {
+            parser.error_at(
                 at,
                 ErrorCode::MissingEquals,
                 format!(
                     "`{}`: set {command} with `=`, e.g. {command}={}",
-                    self.statement_text(),
-                    command.info.values.map_or(0, |r| r.min.max(0))
+                    parser.statement_text(),
+                    command.info.values().map_or(0, |r| r.min.max(0))
                 ),
-            )),
-            _ => Err(self.error_at(
-                0,
-                ErrorCode::Error,
-                format!(
-                    "`{command}` only returns a value: use it in an assignment (V1={command}) or a condition (IF {command}=1)"
-                ),
-            )),
-        }
+            )
+        })?;
+        let value = self.value(&command)?;
+        Ok(Statement::Action(Action::Set { command, value }))
     }
 
     /// The source left of the first `=`.
@@ -671,7 +689,7 @@ impl Parser<'_> {
     /// The right of `NAME=`: a number or a variable, nothing else (T5-43
     /// "Error not Number of Var": `DO=PX`).
     fn value(&mut self, command: &Command) -> Result<Value, LineError> {
-        let range = command.info.values.unwrap_or(I32);
+        let range = command.info.values().unwrap_or(I32);
         let start = self.next;
         let Some(token) = self.bump() else {
             return Err(self.error_next(
@@ -759,33 +777,15 @@ impl Parser<'_> {
     /// `DELAY=ms`: a number or a variable (T5-43 "Token Error":
     /// `DELAY=V1+200`).
     fn delay(&mut self, command: &Command) -> Result<Value, LineError> {
-        match self.peek_lex() {
-            Some(Lex::Symbol(Symbol::Equals)) => {
-                self.bump();
-            }
-            Some(Lex::Symbol(Symbol::DoubleEquals)) => {
-                self.refuse_double_equals()?;
-            }
-            Some(_) if self.has_later(Symbol::Equals) => {
-                return Err(self.error_at(
-                    0,
-                    ErrorCode::EqualsError,
-                    format!(
-                        "the left of `=` must be DELAY alone, not `{}`",
-                        self.left_of_equals()
-                    ),
-                ));
-            }
-            _ => {
-                return Err(self.error_next(
-                    ErrorCode::MissingEquals,
-                    format!(
-                        "`{}`: write DELAY=ms, e.g. DELAY=100",
-                        self.statement_text()
-                    ),
-                ));
-            }
-        }
+        self.expect_equals(|parser| {
+            parser.error_next(
+                ErrorCode::MissingEquals,
+                format!(
+                    "`{}`: write DELAY=ms, e.g. DELAY=100",
+                    parser.statement_text()
+                ),
+            )
+        })?;
         let start = self.next;
         let rest = self.text_from(start).to_string();
         let token_error = |parser: &Self| {
@@ -797,7 +797,7 @@ impl Parser<'_> {
         };
         let value = match self.bump().map(|t| t.lex) {
             Some(Lex::Number(n)) => {
-                let range = command.info.values.unwrap_or(I32);
+                let range = command.info.values().unwrap_or(I32);
                 Value::Number(self.literal(n, false, range)?)
             }
             Some(Lex::Symbol(Symbol::Minus))
@@ -847,7 +847,7 @@ impl Parser<'_> {
         };
         self.bump();
         let mode = match n {
-            Some(n @ 0..=12) => u8::try_from(n).unwrap_or(0),
+            Some(n) if HOME_MODE.contains(n) => u8::try_from(n).unwrap_or(0),
             _ => {
                 return Err(self.error_here(
                     ErrorCode::AssignmentError,
@@ -871,17 +871,18 @@ impl Parser<'_> {
         let mut targets: Vec<Target> = Vec::new();
         let mut axis = first;
         loop {
+            let letter = axis.letter();
             if targets.iter().any(|t| t.axis == axis) {
                 return Err(self.error_here(
                     ErrorCode::Error,
-                    format!("{axis} appears twice in one move"),
+                    format!("{letter} appears twice in one move"),
                 ));
             }
             let value = match self.peek_adjacent() {
                 Some(Lex::Number(n)) => {
                     self.bump();
                     Value::Number(self.literal(n, false, POSITION).map_err(|e| {
-                        with_detail(e, format!("{axis}: positions are {POSITION} (§1.2)"))
+                        with_detail(e, format!("{letter}: positions are {POSITION} (§1.2)"))
                     })?)
                 }
                 Some(Lex::Symbol(Symbol::Minus)) => {
@@ -889,12 +890,12 @@ impl Parser<'_> {
                     let Some(Lex::Number(n)) = self.peek_adjacent() else {
                         return Err(self.error_next(
                             ErrorCode::TokenError,
-                            format!("`{axis}-` needs a number: {axis}-1000"),
+                            format!("`{letter}-` needs a number: {letter}-1000"),
                         ));
                     };
                     self.bump();
                     Value::Number(self.literal(n, true, POSITION).map_err(|e| {
-                        with_detail(e, format!("{axis}: positions are {POSITION} (§1.2)"))
+                        with_detail(e, format!("{letter}: positions are {POSITION} (§1.2)"))
                     })?)
                 }
                 Some(Lex::Variable(index)) => {
@@ -904,7 +905,9 @@ impl Parser<'_> {
                 _ => {
                     return Err(self.error_next(
                         ErrorCode::TokenError,
-                        format!("`{axis}` needs a target right after it: {axis}1000 or {axis}V1"),
+                        format!(
+                            "`{letter}` needs a target right after it: {letter}1000 or {letter}V1"
+                        ),
                     ));
                 }
             };
@@ -930,7 +933,7 @@ impl Parser<'_> {
         axes: Option<[Axis; 2]>,
         rotation: Rotation,
     ) -> Result<Statement, LineError> {
-        let kind = forms(name).next().map_or(Kind::Circle, |c| c.kind);
+        let kind = forms(name).next().map_or(Shape::Circle, |c| c.shape);
         let word = self
             .statement_text()
             .split(':')
@@ -946,12 +949,12 @@ impl Parser<'_> {
             ));
         }
         let fields: &[(&str, ValueRange)] = match kind {
-            Kind::Arc => &[("C1", POSITION), ("C2", POSITION), ("θ", I32)],
-            Kind::HelixCircle => &[("C1", POSITION), ("C2", POSITION), ("Z", POSITION)],
-            Kind::HelixArc => &[
+            Shape::Arc => &[("C1", POSITION), ("C2", POSITION), ("θ", ANGLE)],
+            Shape::HelixCircle => &[("C1", POSITION), ("C2", POSITION), ("Z", POSITION)],
+            Shape::HelixArc => &[
                 ("C1", POSITION),
                 ("C2", POSITION),
-                ("θ", I32),
+                ("θ", ANGLE),
                 ("Z", POSITION),
             ],
             _ => &[("C1", POSITION), ("C2", POSITION)],
@@ -999,18 +1002,18 @@ impl Parser<'_> {
         }
         let v = |i: usize| values.get(i).copied().unwrap_or(0);
         let action = match (kind, axes) {
-            (Kind::Arc, Some(axes)) => Action::Arc {
+            (Shape::Arc, Some(axes)) => Action::Arc {
                 axes,
                 rotation,
                 centre: [v(0), v(1)],
                 angle: v(2),
             },
-            (Kind::HelixCircle, _) => Action::HelixCircle {
+            (Shape::HelixCircle, _) => Action::HelixCircle {
                 rotation,
                 centre: [v(0), v(1)],
                 z: v(2),
             },
-            (Kind::HelixArc, _) => Action::HelixArc {
+            (Shape::HelixArc, _) => Action::HelixArc {
                 rotation,
                 centre: [v(0), v(1)],
                 angle: v(2),
@@ -1029,32 +1032,17 @@ impl Parser<'_> {
     /// A line starting with `V[n]`: `V1=expr`.
     fn variable_statement(&mut self, index: Option<u64>) -> Result<Statement, LineError> {
         let variable = self.variable_index(index)?;
-        match self.peek_lex() {
-            Some(Lex::Symbol(Symbol::Equals)) => {
-                self.bump();
-                let value = self.expression()?;
-                Ok(Statement::Action(Action::Let { variable, value }))
-            }
-            Some(Lex::Symbol(Symbol::DoubleEquals)) => {
-                self.refuse_double_equals()?;
-                Err(self.error_next(ErrorCode::Error, String::new()))
-            }
-            Some(_) if self.has_later(Symbol::Equals) => Err(self.error_at(
-                0,
-                ErrorCode::EqualsError,
-                format!(
-                    "the left of `=` must be one variable or command, not `{}`",
-                    self.left_of_equals()
-                ),
-            )),
-            _ => Err(self.error_next(
+        self.expect_equals(|parser| {
+            parser.error_next(
                 ErrorCode::MissingEquals,
                 format!(
                     "`{}`: set V{variable} with `=`, e.g. V{variable}=0",
-                    self.statement_text()
+                    parser.statement_text()
                 ),
-            )),
-        }
+            )
+        })?;
+        let value = self.expression()?;
+        Ok(Statement::Action(Action::Let { variable, value }))
     }
 
     /// The right of `V[n]=`: an operand, `~operand`, or one operation of
@@ -1151,8 +1139,8 @@ fn index_taken(command: &Command) -> bool {
 }
 
 fn not_a_value(command: &Command) -> String {
-    match command.info.kind {
-        Kind::Register(_) => format!("`{command}` can only be set, not read"),
+    match command.info.shape {
+        Shape::Register(_) => format!("`{command}` can only be set, not read"),
         _ => format!("`{command}` is a command, not a value"),
     }
 }
@@ -1162,11 +1150,11 @@ fn with_detail(mut error: LineError, detail: String) -> LineError {
     error
 }
 
-fn example(kind: Kind) -> &'static str {
+fn example(kind: Shape) -> &'static str {
     match kind {
-        Kind::Arc => "ARCXYP0:0:90000",
-        Kind::HelixCircle => "CIRTP1000:0:500",
-        Kind::HelixArc => "ARCTP0:0:90000:500",
+        Shape::Arc => "ARCXYP0:0:90000",
+        Shape::HelixCircle => "CIRTP1000:0:500",
+        Shape::HelixArc => "ARCTP0:0:90000:500",
         _ => "CIRXYP1000:0",
     }
 }

@@ -364,7 +364,7 @@ fn values_outside_their_range_are_assignment_errors() {
     ] {
         assert_eq!(code(line), ErrorCode::AssignmentError, "{line}");
     }
-    assert_eq!(error("HSPD=0").detail, "HSPD=0: HSPD takes 1..6553500");
+    assert_eq!(error("HSPD=0").detail, "HSPD=0: HSPD takes 1..6553500 pps");
     // Per-axis speeds take 0: "use the global value" (§2.1.4).
     assert!(matches!(action("HSPDX=0"), Action::Set { .. }));
     assert!(matches!(action("IO=4294967295"), Action::Set { .. }));
