@@ -5,6 +5,7 @@
 
 use std::time::Duration;
 
+pub mod cmd4cr;
 pub mod faults;
 pub mod tmcm1110;
 
