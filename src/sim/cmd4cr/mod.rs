@@ -469,4 +469,9 @@ impl SimulatedController for Cmd4cr {
     fn help(&self) -> String {
         self.help_line()
     }
+
+    fn load_program(&mut self, source: &str) -> Result<(), Vec<String>> {
+        Cmd4cr::load_program(self, source)
+            .map_err(|errors| errors.iter().map(ToString::to_string).collect())
+    }
 }
