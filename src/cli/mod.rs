@@ -7,6 +7,7 @@ pub mod console;
 pub mod exec;
 pub mod output;
 pub mod run;
+pub mod run_ascript;
 pub mod scan;
 /// The batch file syntax, shared with the console's `:run` (moved to
 /// [`crate::script`]; the old path stays for the front ends).
@@ -134,6 +135,19 @@ pub enum Command {
     /// timeout 10s), `:sleep DURATION`, `:echo TEXT`; DURATION as 500ms, 2s,
     /// 1.5s, 1m. The whole file is checked before anything is sent.
     Run(run::RunArgs),
+    /// Run an A-Script program (CMD-4CR) from the host.
+    ///
+    /// For real hardware: the CMD-4CR manual documents no way to load a
+    /// program into the controller over the wire. The whole file is checked
+    /// first (compile errors, statements with no ASCII command, as
+    /// FILE:LINE); then each statement that acts is sent as its ASCII
+    /// command and printed with its answer, while variables, IF/WHILE,
+    /// GOSUB, DELAY and SR run here and WAITx reads MSTx until the axis has
+    /// stopped. Speaks cmd4cr unless told otherwise. Ctrl-C stops it and
+    /// sends the emergency stop. Exit codes: 0 every program reached END, 1
+    /// a program failed at run time (or no answer, or Ctrl-C), 2 a bad file
+    /// (nothing sent), 3 the connection could not be opened.
+    RunAscript(run_ascript::RunAscriptArgs),
     /// List serial ports.
     Ports,
     /// Look for modules on a bus (firmware version request at each address).
@@ -182,6 +196,7 @@ impl Command {
             Command::Sim { .. } => "sim",
             Command::Exec(_) => "exec",
             Command::Run(_) => "run",
+            Command::RunAscript(_) => "run-ascript",
             Command::Ports => "ports",
             Command::Scan(_) => "scan",
             Command::Asm { .. } => "asm",
@@ -208,6 +223,7 @@ pub fn run(cli: Cli) -> i32 {
         }
         Some(Command::Exec(args)) => exec::run(&cli.connection, &args),
         Some(Command::Run(args)) => run::run(&cli.connection, &args),
+        Some(Command::RunAscript(args)) => run_ascript::run(&cli.connection, &args),
         Some(Command::Scan(args)) => scan::run(&cli.connection, &args),
         Some(Command::Bench(args)) => bench::run(&cli.connection, &args),
         Some(Command::Asm {
