@@ -460,5 +460,15 @@ fn the_family_of_the_choice_is_told_when_it_changes() {
         told(pane.handle_input(&down, &view)),
         [Request::ChooseFamily("tmcl")]
     );
+    // The CMD-4CR simulator below it speaks another family; the first
+    // port (TMCL unless told) another again; the second port the same.
+    assert_eq!(
+        told(pane.handle_input(&down, &view)),
+        [Request::ChooseFamily("cmd4cr")]
+    );
+    assert_eq!(
+        told(pane.handle_input(&down, &view)),
+        [Request::ChooseFamily("tmcl")]
+    );
     assert_eq!(told(pane.handle_input(&down, &view)), []);
 }
