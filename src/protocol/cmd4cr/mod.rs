@@ -6,6 +6,7 @@
 //! ([`catalog::COMMANDS`], §4.1 Table 4-40); [`parse_command`] is the one
 //! parser of command text, for the console and the simulator alike.
 
+pub mod ascript;
 pub mod assist;
 pub mod catalog;
 pub mod command;
