@@ -565,3 +565,66 @@ fn reads_of_settings_echo_what_was_written() {
     assert!(sim.set_analog_input(1, 1650));
     assert_eq!(send(&mut sim, "AI1"), "1650");
 }
+
+#[test]
+fn step_n_loop_moves_in_encoder_counts_and_corrects_lost_steps() {
+    // §2.5.3: a 2:1 drive, two motor pulses per encoder count.
+    let mut sim = sim();
+    sim.motion_mut().axis_mut(Axis::X).stage.encoder_ratio = 0.5;
+    assert_eq!(send(&mut sim, "SLSX"), "12", "N/A while off");
+    // The calibration recipe: with SL off, +1000 pulses, SLR = 1000 / EX.
+    ok(&mut sim, &["EX=0", "PX=0", "HSPDX=1000", "X1000"]);
+    wait_stopped(&mut sim, 'X', seconds(5.0));
+    assert_eq!(number(&mut sim, "EX"), 500);
+    ok(
+        &mut sim,
+        &["SLRX=2", "SLTX=5", "SLEX=300", "SLAX=3", "SLX=1"],
+    );
+    assert_eq!(number(&mut sim, "SLSX"), 0);
+    assert_eq!(number(&mut sim, "PX"), 500, "the target, in encoder counts");
+    assert_eq!(number(&mut sim, "DX"), 0);
+    // X1500 is an encoder position: 2000 pulses; HSPDX in counts/s.
+    ok(&mut sim, &["X1500"]);
+    sim.advance(seconds(0.5));
+    assert_eq!(number(&mut sim, "SLSX"), 1, "moving");
+    assert_eq!(number(&mut sim, "PSX"), 1000, "encoder counts/s");
+    // The motor misses 40 steps: 20 counts behind, within SLE.
+    sim.motion_mut().lose_steps(Axis::X, 40);
+    assert_eq!(number(&mut sim, "DX"), 20);
+    let mut corrected = false;
+    for _ in 0..500 {
+        sim.advance(seconds(0.01));
+        corrected |= number(&mut sim, "SLSX") == 2;
+        if number(&mut sim, "MSTX") & 7 == 0 && number(&mut sim, "SLSX") == 0 {
+            break;
+        }
+    }
+    assert!(corrected, "a correction move ran (SLS 2)");
+    assert_eq!(number(&mut sim, "EX"), 1500);
+    assert_eq!(number(&mut sim, "DX"), 0);
+    assert_eq!(number(&mut sim, "PX"), 1500);
+}
+
+#[test]
+fn a_step_n_loop_stall_stops_the_axis_and_answers_error_snl() {
+    let mut sim = sim();
+    ok(&mut sim, &["SLX=1", "SLEX=100", "HSPDX=2000", "JX+"]);
+    assert_eq!(number(&mut sim, "SLSX"), 5, "jogging");
+    sim.advance(seconds(0.5));
+    sim.motion_mut().lose_steps(Axis::X, 150);
+    sim.advance(seconds(0.001));
+    assert_eq!(number(&mut sim, "SLSX"), 10, "stall error");
+    assert_eq!(number(&mut sim, "MSTX") & 7, 0, "stopped");
+    assert_eq!(number(&mut sim, "MSTX") & 0x1_0700, 0, "not an MST error");
+    assert_eq!(send(&mut sim, "JX+"), "?Error SNL");
+    ok(&mut sim, &["CLRX"]);
+    assert_eq!(number(&mut sim, "SLSX"), 0);
+    ok(&mut sim, &["JX-", "ABORTX"]);
+    // No more attempts allowed: the first correction is an attempt error.
+    ok(&mut sim, &["SLAX=0", "SLEX=1000", "X100"]);
+    sim.advance(seconds(0.05));
+    sim.motion_mut().lose_steps(Axis::X, 30);
+    wait_stopped(&mut sim, 'X', seconds(5.0));
+    assert_eq!(number(&mut sim, "SLSX"), 9);
+    assert_eq!(send(&mut sim, "X0"), "?Error SNL");
+}

@@ -30,9 +30,9 @@
 //!   cycle ([`Cmd4cr::power_cycle`]); reading them shows the new value.
 //!   An explicit address ([`SimConfig::id`] from `--address`) wins over
 //!   the stored ID.
-//! - StepNLoop settings are kept and stored; the closed loop itself is not
-//!   simulated (the simulated encoder never slips): `SLS` reads 12 (N/A)
-//!   with SL off and 0 (idle) or 1 (moving) with it on, `D` reads 0.
+//! - StepNLoop (§2.5.3) is simulated on an encoder that follows the
+//!   carriage; [`motion::Motion::lose_steps`] makes the motor miss steps so
+//!   that the loop has something to correct or report.
 //! - Joystick settings are kept and stored; joystick motion is not
 //!   simulated. MPG following is: see [`Cmd4cr::turn_mpg`].
 
@@ -85,31 +85,6 @@ impl Default for SimConfig {
             flash_file: None,
             write_reply: "OK".to_string(),
             stages: std::array::from_fn(|_| Stage::demo()),
-        }
-    }
-}
-
-/// StepNLoop settings of one axis (§2.5.3), kept and stored.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct StepNLoop {
-    pub enabled: bool,
-    /// `SLR` in thousandths.
-    pub ratio: i64,
-    pub tolerance: i64,
-    pub error_range: i64,
-    pub attempts: i64,
-}
-
-/// StepNLoop defaults, our choice: ratio 1.000, tolerance 10 counts,
-/// error range 1000 counts, 3 attempts.
-impl Default for StepNLoop {
-    fn default() -> Self {
-        StepNLoop {
-            enabled: false,
-            ratio: 1000,
-            tolerance: 10,
-            error_range: 1000,
-            attempts: 3,
         }
     }
 }
@@ -192,7 +167,6 @@ pub struct Cmd4cr {
     variables: [i32; 100],
     /// Time not yet run by the program threads.
     program_clock: Duration,
-    step_n_loop: [StepNLoop; 4],
     mpg: [Mpg; 4],
     joystick: Joystick,
     /// The frame being received (from its `@`).
@@ -219,7 +193,6 @@ impl Cmd4cr {
             sub31_return: 0,
             variables: [0; 100],
             program_clock: Duration::ZERO,
-            step_n_loop: [StepNLoop::default(); 4],
             mpg: [Mpg::default(); 4],
             joystick: Joystick::default(),
             line: Vec::new(),
@@ -356,7 +329,6 @@ impl Cmd4cr {
         self.run_on_boot = 0;
         self.sub31_return = 0;
         self.variables = [0; 100];
-        self.step_n_loop = [StepNLoop::default(); 4];
         self.mpg = [Mpg::default(); 4];
         self.joystick = Joystick::default();
         self.load_flash();
@@ -385,7 +357,7 @@ impl Cmd4cr {
              each axis a stage with end limits at ±{DEMO_LIMIT}, home switch {}..{}, \
              Z index every {} pulses at {}, encoder 1 count per pulse; \
              limits and ALM stop at once; HSPD is the arc speed of circles; \
-             StepNLoop and joystick settings kept but not simulated",
+             StepNLoop defaults SLR 1.000 SLT 10 SLE 1000 SLA 3; joystick settings kept but not simulated",
             self.id,
             self.config.write_reply,
             motion::DEFAULT_HSPD,
