@@ -214,7 +214,7 @@ mod tests {
                     sim: Some("nosuch".into()),
                     ..args()
                 },
-                "unknown simulator 'nosuch' (known: tmcm1110)",
+                "unknown simulator 'nosuch' (known: tmcm1110, cmd4cr)",
             ),
             (
                 ConnectionArgs {
