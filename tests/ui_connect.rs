@@ -460,5 +460,15 @@ fn the_family_of_the_choice_is_told_when_it_changes() {
         told(pane.handle_input(&down, &view)),
         [Request::ChooseFamily("tmcl")]
     );
+    // The next simulator speaks CMD-4CR; the serial ports after it TMCL
+    // again, the second port the same as the first: not told again.
+    assert_eq!(
+        told(pane.handle_input(&down, &view)),
+        [Request::ChooseFamily("cmd4cr")]
+    );
+    assert_eq!(
+        told(pane.handle_input(&down, &view)),
+        [Request::ChooseFamily("tmcl")]
+    );
     assert_eq!(told(pane.handle_input(&down, &view)), []);
 }
