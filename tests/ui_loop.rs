@@ -14,12 +14,10 @@ use axterm::device::{DeviceEvent, Direction, LinkState, Priority, TrafficKind, T
 use axterm::protocol::console::ReplyValue;
 use axterm::protocol::{Family, find_family};
 use axterm::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
-use axterm::ui::app::{self, App, AppEvent, Connector, Controller, Pending};
-use ratatui::Terminal;
-use ratatui::backend::TestBackend;
-use ratatui::crossterm::event::{Event, KeyCode, KeyEvent, KeyModifiers};
+use axterm::ui::app::{AppEvent, Connector, Controller, Pending};
+use ratatui::crossterm::event::KeyCode;
 use tokio::sync::{broadcast, mpsc, oneshot, watch};
-use ui_support::console;
+use ui_support::looped::{Rig, no_connector, press, run_console, type_line};
 
 /// What the console asked of the fake.
 #[derive(Debug)]
@@ -124,108 +122,6 @@ impl Controller for Fake {
         let (fake, _) = Fake::new(&["other"]);
         fake
     }
-}
-
-fn no_connector() -> Connector {
-    Box::new(|_args| Box::pin(async { Err("no connections in this test".to_string()) }))
-}
-
-struct Screens {
-    /// Every frame drawn, as text.
-    frames: Arc<Mutex<Vec<String>>>,
-    drawn: mpsc::UnboundedReceiver<String>,
-}
-
-impl Screens {
-    /// Wait for a frame containing `needle` (virtual time: gives up at
-    /// once if nothing else can happen).
-    async fn until(&mut self, needle: &str) -> String {
-        let found = tokio::time::timeout(Duration::from_secs(600), async {
-            while let Some(frame) = self.drawn.recv().await {
-                if frame.contains(needle) {
-                    return frame;
-                }
-            }
-            panic!("the loop ended before showing {needle}");
-        })
-        .await;
-        match found {
-            Ok(frame) => frame,
-            Err(_) => {
-                let last = self.frames.lock().map(|f| f.last().cloned()).ok().flatten();
-                panic!(
-                    "never showed {needle:?}; last frame:\n{}",
-                    last.unwrap_or_default()
-                )
-            }
-        }
-    }
-}
-
-/// The loop, its keyboard, extra events, and what it draws.
-struct Rig {
-    keys: mpsc::UnboundedSender<Event>,
-    extra: mpsc::UnboundedSender<AppEvent>,
-    screens: Screens,
-}
-
-async fn run_console(
-    controller: Option<Arc<dyn Controller>>,
-    connector: Connector,
-    driver: impl AsyncFnOnce(Rig),
-) {
-    let mut app: App = console();
-    let (keys, input) = mpsc::unbounded_channel();
-    let (extra, extra_rx) = mpsc::unbounded_channel();
-    let (drawn_tx, drawn) = mpsc::unbounded_channel();
-    let frames = Arc::new(Mutex::new(Vec::new()));
-    let mut terminal = Terminal::new(TestBackend::new(100, 30)).expect("test backend");
-    let recorded = Arc::clone(&frames);
-    let mut draw = move |app: &mut App| -> std::io::Result<()> {
-        let Ok(_) = terminal.draw(|f| app.render(f));
-        let buffer = terminal.backend().buffer();
-        let text: Vec<String> = (0..30)
-            .map(|y| {
-                (0..100)
-                    .map(|x| buffer[(x, y)].symbol().to_string())
-                    .collect()
-            })
-            .collect();
-        let text = text.join("\n");
-        if let Ok(mut frames) = recorded.lock() {
-            frames.push(text.clone());
-        }
-        let _ = drawn_tx.send(text);
-        Ok(())
-    };
-    let rig = Rig {
-        keys,
-        extra,
-        screens: Screens { frames, drawn },
-    };
-    let looping = app::run(
-        &mut app,
-        controller,
-        connector,
-        input,
-        Some(extra_rx),
-        &mut draw,
-    );
-    let (result, ()) = tokio::join!(looping, driver(rig));
-    result.expect("the loop ends cleanly");
-}
-
-fn press(rig: &Rig, code: KeyCode) {
-    let _ = rig
-        .keys
-        .send(Event::Key(KeyEvent::new(code, KeyModifiers::NONE)));
-}
-
-fn type_line(rig: &Rig, line: &str) {
-    for c in line.chars() {
-        press(rig, KeyCode::Char(c));
-    }
-    press(rig, KeyCode::Enter);
 }
 
 async fn next_call(calls: &mut mpsc::UnboundedReceiver<Call>) -> Call {

@@ -2,6 +2,8 @@
 //! hand-made snapshots, keys, and the screen as text.
 #![allow(dead_code)]
 
+pub mod looped;
+
 use axterm::device::LinkState;
 use axterm::protocol::find_family;
 use axterm::session::{AxisInfo, AxisStatus, PollCadence};
@@ -69,6 +71,7 @@ pub fn moving_status(position: i64, target: i64, speed: i64, max_speed: i64) -> 
         load: Some(800),
         errors: Vec::new(),
         driver_flags: Some(Vec::new()),
+        ..AxisStatus::default()
     }
 }
 
