@@ -733,14 +733,10 @@ impl App {
                     format!("{} #{} {state} │ ", s.link_name, s.address),
                     bar,
                 ));
-                let poll = match s.poll {
-                    Some(c) if !c.fast.is_zero() => {
-                        format!("poll {} Hz │ ", rate_of(c.fast))
-                    }
-                    Some(_) => "poll max │ ".to_string(),
-                    None => "poll off │ ".to_string(),
-                };
-                spans.push(Span::styled(poll, bar));
+                spans.push(Span::styled(
+                    format!("{} │ ", super::axes::poll_text(s)),
+                    bar,
+                ));
                 if let Some(axis) = s.selected_axis().filter(|_| s.axes.len() > 1) {
                     spans.push(Span::styled(format!("axis {} │ ", axis.name), bar));
                 }
@@ -844,6 +840,18 @@ pub trait Controller: Send + Sync {
     fn emergency_stop(&self) -> Pending<Vec<Result<LineResult, SessionError>>>;
     fn set_polling(&self, cadence: Option<PollCadence>);
     fn acknowledge_errors(&self, axis: usize, seen: &[AxisFlag]);
+    /// Clear the error flags of `axis` in the module where its family
+    /// needs a line for that (CMD-4CR `CLRX`), then forget those the user
+    /// has seen; what the clear line brought back, if one was sent. By
+    /// default only forgets them.
+    fn clear_errors(
+        &self,
+        axis: usize,
+        seen: Vec<AxisFlag>,
+    ) -> Pending<Result<Option<LineResult>, SessionError>> {
+        self.acknowledge_errors(axis, &seen);
+        Box::pin(async { Ok(None) })
+    }
     /// The same link, sending to another module address.
     fn with_address(&self, address: u8) -> Arc<dyn Controller>;
     /// Run a program transfer, telling `progress` how far it came;
@@ -1305,9 +1313,29 @@ impl Runner {
                 self.connection = Some(fresh);
             }
             Effect::ClearErrors { axis, seen } => {
-                if let Some(c) = self.connection.as_ref() {
-                    c.controller.acknowledge_errors(axis, &seen);
-                }
+                let Some(c) = self.connection.as_ref() else {
+                    return;
+                };
+                let name = app
+                    .snapshot()
+                    .and_then(|s| s.axes.get(axis))
+                    .map_or_else(|| format!("axis {axis}"), |a| a.name.to_string());
+                let clearing = c.controller.clear_errors(axis, seen);
+                let tx = self.internal.clone();
+                // Among the lines the emergency stop drops if still waiting.
+                self.sending.push(tokio::spawn(async move {
+                    let notice = match clearing.await {
+                        Ok(None) => return,
+                        Ok(Some(result)) => Notice::info(format!(
+                            "{}: {}, the error flags of {name} are cleared in the controller",
+                            result.line, result.value
+                        )),
+                        Err(e) => Notice::error(format!(
+                            "the error flags of {name} stay: clearing them failed: {e}"
+                        )),
+                    };
+                    let _ = tx.send(AppEvent::Notice(notice));
+                }));
             }
             Effect::Log(path) => {
                 if let Some(log) = self.log.take() {

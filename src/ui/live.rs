@@ -99,12 +99,21 @@ impl Controller for SessionController {
         self.session.acknowledge_errors(axis, seen);
     }
 
+    fn clear_errors(
+        &self,
+        axis: usize,
+        seen: Vec<AxisFlag>,
+    ) -> Pending<Result<Option<LineResult>, SessionError>> {
+        let session = self.session.clone();
+        Box::pin(async move { session.clear_errors(axis, &seen).await })
+    }
+
     fn with_address(&self, address: u8) -> Arc<dyn Controller> {
         let options = SessionOptions {
             address: Some(address),
             ..self.options.clone()
         };
-        let session = Session::new(self.session.device().clone(), self.family(), &options);
+        let session = self.session.at_address(address);
         identify_later(&session);
         Arc::new(SessionController::new(
             session,
