@@ -1,0 +1,250 @@
+//! The console on a real CMD-4CR session: the console's own loop drawing
+//! into a `TestBackend`, the session on the in-process simulator with the
+//! wire time of 9600 Bd, on tokio's paused clock. X is jogged from the
+//! command pane, the axis pane shows it move with its MST lamps and the
+//! refresh rate the line gives; the emergency-stop key stops it (ESTOP,
+//! the four programs, ESTOP) and the screen confirms it; the EMG error
+//! ESTOP latched on X is cleared with F8 (CLRX) and stays cleared. At
+//! 80×24 and on a large screen. Then the parameter table on the same
+//! simulator.
+
+mod ui_support;
+
+use std::sync::Arc;
+
+use axterm::cli::ConnectionArgs;
+use axterm::cli::connection::Target;
+use axterm::ui::app::Controller;
+use axterm::ui::live::SessionController;
+use ratatui::crossterm::event::{KeyCode, KeyModifiers};
+use ui_support::console;
+use ui_support::looped::{Rig, no_connector, press, press_with, run_console_on, type_line};
+
+async fn controller() -> Arc<dyn Controller> {
+    let target = Target::resolve(&ConnectionArgs {
+        sim: Some("cmd4cr".into()),
+        baud: Some(9600),
+        ..ConnectionArgs::default()
+    })
+    .expect("a simulator connection");
+    let session = target.open().await.expect("the simulator opens");
+    Arc::new(SessionController::new(
+        session,
+        target.spec.describe(),
+        target.options.clone(),
+    ))
+}
+
+/// The words of `frame` after axis `name`'s label (cards: `X  pos 12`,
+/// rows: `X  12→—`; cards sit side by side on a wide screen).
+fn after_label<'a>(frame: &'a str, name: &str) -> Option<Vec<&'a str>> {
+    frame.lines().find_map(|line| {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        let at = words
+            .iter()
+            .position(|w| w.trim_start_matches(['│', '▶']) == name)?;
+        Some(words.get(at + 1..)?.to_vec())
+    })
+}
+
+/// The position shown for axis `name`.
+fn position(frame: &str, name: &str) -> Option<i64> {
+    let words = after_label(frame, name)?;
+    let word = match words.first() {
+        Some(&"pos") => words.get(1)?,
+        other => other?,
+    };
+    word.split('→').next()?.parse().ok()
+}
+
+/// Jog X, stop everything with F12, clear X's errors with F8, at `size`.
+async fn jog_stop_and_clear(size: (u16, u16), cards: bool) {
+    let controller = controller().await;
+    run_console_on(
+        console(),
+        size,
+        Some(controller),
+        no_connector(),
+        async |mut rig: Rig| {
+            let first = rig
+                .screens
+                .until_frame("the four axes polled, the refresh rate measured", |f| {
+                    f.contains("poll 20 Hz → ")
+                        && ["X", "Y", "Z", "U"]
+                            .iter()
+                            .all(|a| position(f, a) == Some(0))
+                })
+                .await;
+            assert!(first.contains("F12 STOP"), "{first}");
+            if cards {
+                // Every lamp, dark; no load gauge on a CMD-4CR.
+                for lamp in [
+                    "L○",
+                    "R○",
+                    "H○",
+                    "ALM○",
+                    "SD○",
+                    "INP○",
+                    "EMG○",
+                    "wait CSTA○",
+                ] {
+                    assert!(first.contains(lamp), "{lamp}:\n{first}");
+                }
+                assert!(!first.contains(" load "), "{first}");
+            }
+
+            type_line(&rig, "JX+");
+            let moving = rig
+                .screens
+                .until_frame("X to move", |f| {
+                    position(f, "X").is_some_and(|p| p > 0) && f.contains("  ok")
+                })
+                .await;
+            assert!(
+                moving.contains("@01JX+"),
+                "the bytes sent are shown: {moving}"
+            );
+            if cards {
+                // MST says so (bit 2), PSX reads HSPDX.
+                rig.screens
+                    .until_frame("X at its high speed", |f| {
+                        f.contains("1000 at max speed") && f.contains("○ moving")
+                    })
+                    .await;
+            }
+
+            press(&rig, KeyCode::F(12));
+            let stopped = rig
+                .screens
+                .until("STOP confirmed: every stop line answered ok")
+                .await;
+            // All motion first, then the four programs, then all motion
+            // again (the first lines may have scrolled off a small pane).
+            for line in ["sent SACTRL3=0", "sent ESTOP", "STOP: 6 sent, all ok"] {
+                assert!(stopped.contains(line), "{line}:\n{stopped}");
+            }
+            let order: Vec<&str> = stopped
+                .lines()
+                .filter_map(|l| l.split_once("  sent ").map(|(_, rest)| rest))
+                .filter(|rest| !rest.starts_with('@'))
+                .filter_map(|rest| rest.split_whitespace().next())
+                .collect();
+            let full = [
+                "ESTOP",
+                "SACTRL0=0",
+                "SACTRL1=0",
+                "SACTRL2=0",
+                "SACTRL3=0",
+                "ESTOP",
+            ];
+            assert!(full.ends_with(&order), "{order:?}\n{stopped}");
+            // X stands; ESTOP latched the EMG error on it (it was moving).
+            let standing = rig
+                .screens
+                .until_frame("X standing with its EMG error", |f| {
+                    f.contains("ERR EMG error")
+                        && after_label(f, "X").is_some_and(|w| w.iter().any(|w| w.contains('●')))
+                })
+                .await;
+            let x = position(&standing, "X").expect("X's position");
+            assert!(x > 0, "{standing}");
+
+            press(&rig, KeyCode::F(8));
+            let cleared = rig
+                .screens
+                .until("the error flags of X are cleared in the controller")
+                .await;
+            assert!(cleared.contains("CLRX: ok"), "{cleared}");
+            // Later polls of MSTX do not bring it back, and X stays put.
+            type_line(&rig, "MSTX");
+            let after = rig.screens.until("> MSTX").await;
+            let after = if after.contains("ERR EMG error") {
+                rig.screens
+                    .until_frame("the error gone", |f| !f.contains("ERR EMG error"))
+                    .await
+            } else {
+                after
+            };
+            assert_eq!(position(&after, "X"), Some(x), "{after}");
+            press(&rig, KeyCode::F(10));
+        },
+    )
+    .await;
+}
+
+#[tokio::test(start_paused = true)]
+async fn jog_stop_and_clear_at_80_by_24() {
+    jog_stop_and_clear((80, 24), false).await;
+}
+
+#[tokio::test(start_paused = true)]
+async fn jog_stop_and_clear_on_a_large_screen() {
+    jog_stop_and_clear((200, 50), true).await;
+}
+
+#[tokio::test(start_paused = true)]
+async fn the_parameter_table_of_the_simulator() {
+    let controller = controller().await;
+    run_console_on(
+        console(),
+        (120, 40),
+        Some(controller),
+        no_connector(),
+        async |mut rig: Rig| {
+            rig.screens.until("poll 20 Hz").await;
+            press_with(&rig, KeyCode::Char('3'), KeyModifiers::ALT);
+            let table = rig
+                .screens
+                .until_frame("the axis table read", |f| {
+                    f.contains("HSPDX") && f.contains("POLX") && !f.contains("reading")
+                })
+                .await;
+            assert!(table.contains("Axis X"), "{table}");
+            let row = |frame: &str, name: &str| {
+                frame
+                    .lines()
+                    .find(|l| l.contains(&format!(" {name} ")) && !l.contains("filter"))
+                    .unwrap_or_else(|| panic!("no {name} row:\n{frame}"))
+                    .to_string()
+            };
+            // Everything read: a per-axis speed of 0 names the global one.
+            let table = rig
+                .screens
+                .until_frame("every parameter read", |f| {
+                    f.contains("186 parameters") && !f.contains("busy")
+                })
+                .await;
+            let hspd = row(&table, "HSPDX");
+            assert!(
+                hspd.contains(" 0 pps") && hspd.contains("global 1000"),
+                "{hspd}"
+            );
+            // Numbers of five digits keep the columns in line.
+            let heading = table
+                .lines()
+                .find(|l| l.contains("Name"))
+                .unwrap_or_default();
+            let at = |line: &str, word: &str| line.find(word).map(|b| line[..b].chars().count());
+            assert_eq!(
+                at(heading, "Value").map(|c| c + 5),
+                at(&hspd, " pps"),
+                "{table}"
+            );
+            // POL raw, with its field names under the table.
+            press(&rig, KeyCode::Char('/'));
+            type_line(&rig, "POLX");
+            let pol = rig
+                .screens
+                .until("POL 7: pulse/direction output mode and logic (bits 0-2) = 7;")
+                .await;
+            assert!(row(&pol, "POLX").contains(" 7 "), "{pol}");
+            // STORE keeps it (and every other setting of Table 2-19).
+            press(&rig, KeyCode::Char('s'));
+            rig.screens
+                .until("STORE: stored in flash, with every setting of Table 2-19")
+                .await;
+            press(&rig, KeyCode::F(10));
+        },
+    )
+    .await;
+}
