@@ -6,8 +6,11 @@
 //! the four programs, ESTOP) and the screen confirms it; the EMG error
 //! ESTOP latched on X is cleared with F8 (CLRX) and stays cleared. At
 //! 80×24 and on a large screen. Then the parameter table on the same
-//! simulator.
+//! simulator. And the real binary in tmux on `--sim cmd4cr`: X jogged, the
+//! emergency-stop key, X stopped and the stop confirmed, the terminal
+//! given back.
 
+mod tmux_support;
 mod ui_support;
 
 use std::sync::Arc;
@@ -17,6 +20,7 @@ use axterm::cli::connection::Target;
 use axterm::ui::app::Controller;
 use axterm::ui::live::SessionController;
 use ratatui::crossterm::event::{KeyCode, KeyModifiers};
+use tmux_support::{Tmux, assert_terminal_restored, console_command};
 use ui_support::console;
 use ui_support::looped::{Rig, no_connector, press, press_with, run_console_on, type_line};
 
@@ -137,7 +141,10 @@ async fn jog_stop_and_clear(size: (u16, u16), cards: bool) {
                 "SACTRL3=0",
                 "ESTOP",
             ];
-            assert!(full.ends_with(&order), "{order:?}\n{stopped}");
+            assert!(
+                !order.is_empty() && full.ends_with(&order),
+                "{order:?}\n{stopped}"
+            );
             // X stands; ESTOP latched the EMG error on it (it was moving).
             let standing = rig
                 .screens
@@ -247,4 +254,66 @@ async fn the_parameter_table_of_the_simulator() {
         },
     )
     .await;
+}
+
+/// The speed shown for axis `name`: on the `spd` row of its card, or in
+/// its row (`v1000/1000`) when the pane has one row per axis.
+fn speed(frame: &str, name: &str) -> Option<i64> {
+    let lines: Vec<&str> = frame.lines().collect();
+    let at = lines.iter().position(|line| {
+        line.split_whitespace()
+            .any(|w| w.trim_start_matches(['│', '▶']) == name)
+    })?;
+    let words = after_label(frame, name)?;
+    let word = if words.first() == Some(&"pos") {
+        let next: Vec<&str> = lines.get(at + 1)?.split_whitespace().collect();
+        let spd = next.iter().position(|w| *w == "spd")?;
+        next.get(spd + 1)?.to_string()
+    } else {
+        let v = words.iter().find(|w| w.starts_with('v'))?;
+        v.trim_start_matches('v').split('/').next()?.to_string()
+    };
+    word.parse().ok()
+}
+
+#[test]
+fn the_real_binary_jogs_x_and_the_stop_key_stops_it() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let command = console_command(dir.path(), "--sim cmd4cr");
+    let tmux = Tmux::start("cmd4cr-jog", &command, dir.path());
+    tmux.until("the console with four axes", |s| {
+        s.contains("poll 20 Hz")
+            && ["X", "Y", "Z", "U"]
+                .iter()
+                .all(|a| position(s, a) == Some(0))
+    });
+    tmux.type_text("JX+");
+    tmux.keys(&["Enter"]);
+    let moving = tmux.until("X to move", |s| {
+        position(s, "X").is_some_and(|p| p > 0) && speed(s, "X").is_some_and(|v| v > 0)
+    });
+    assert!(moving.contains("@01JX+"), "{moving}");
+
+    tmux.keys(&["F12"]);
+    let stopped = tmux.until("the stop confirmed and X standing", |s| {
+        s.contains("STOP confirmed: every stop line answered ok") && speed(s, "X") == Some(0)
+    });
+    // The status bar keeps the count: ESTOP, SACTRL0..3=0, ESTOP.
+    assert!(stopped.contains("STOP: 6 sent, all ok"), "{stopped}");
+    assert!(stopped.contains("ERR EMG error"), "latched on X: {stopped}");
+    // Standing means standing: the position no longer changes.
+    let x = position(&stopped, "X");
+    assert!(x.is_some_and(|p| p > 0), "{stopped}");
+    tmux.type_text("PX");
+    tmux.keys(&["Enter"]);
+    let read = tmux.until("PX answered", |s| s.contains("> PX"));
+    assert_eq!(position(&read, "X"), x, "{read}");
+
+    tmux.keys(&["F10"]);
+    let after = tmux.until("axterm to exit", |s| s.contains("MARKER-END"));
+    assert!(
+        !after.contains("F12 STOP"),
+        "the alternate screen was left: {after}"
+    );
+    assert_terminal_restored(&after, 0);
 }
