@@ -14,6 +14,10 @@ fn sim() -> Cmd4cr {
     Cmd4cr::new(SimConfig::default())
 }
 
+/// The setup §4.3.2, §4.3.5 and §4.3.6 each begin with: global speeds,
+/// X and Y enabled, absolute mode.
+const GLOBAL_SETUP: [&str; 6] = ["LSPD=500", "HSPD=5000", "ACC=200", "DEC=200", "EO=3", "ABS"];
+
 /// Send `text` to controller 01 and return its one reply line.
 fn send(sim: &mut Cmd4cr, text: &str) -> String {
     sim.feed(format!("@01{text}\r").as_bytes());
@@ -142,18 +146,9 @@ fn jog_and_stop_4_3_1() {
 #[test]
 fn position_move_4_3_2() {
     let mut sim = sim();
-    ok(
-        &mut sim,
-        &[
-            "LSPD=500",
-            "HSPD=5000",
-            "ACC=200",
-            "DEC=200",
-            "EO=3",
-            "ABS",
-            "X-20000",
-        ],
-    );
+    // The global speeds of §4.3.2, §4.3.5 and §4.3.6.
+    ok(&mut sim, &GLOBAL_SETUP);
+    ok(&mut sim, &["X-20000"]);
     sim.advance(seconds(0.05));
     ok(&mut sim, &["Y15000"]);
     sim.advance(seconds(1.0));
@@ -232,19 +227,9 @@ fn homing_4_3_4() {
 #[test]
 fn linear_interpolation_4_3_5() {
     let mut sim = sim();
-    ok(
-        &mut sim,
-        &[
-            "LSPD=500",
-            "HSPD=5000",
-            "ACC=200",
-            "DEC=200",
-            "EO=3",
-            "ABS",
-            "EINT=1",
-            "X-20000Y15000",
-        ],
-    );
+    // The global speeds of §4.3.2, §4.3.5 and §4.3.6.
+    ok(&mut sim, &GLOBAL_SETUP);
+    ok(&mut sim, &["EINT=1", "X-20000Y15000"]);
     for step in 0..8 {
         sim.advance(seconds(0.5));
         let (x, y) = (number(&mut sim, "PX"), number(&mut sim, "PY"));
@@ -264,19 +249,9 @@ fn linear_interpolation_4_3_5() {
 #[test]
 fn circular_interpolation_4_3_6() {
     let mut sim = sim();
-    ok(
-        &mut sim,
-        &[
-            "LSPD=500",
-            "HSPD=5000",
-            "ACC=200",
-            "DEC=200",
-            "EO=3",
-            "ABS",
-            "EINT=1",
-            "CIRXYP1000:0",
-        ],
-    );
+    // The global speeds of §4.3.2, §4.3.5 and §4.3.6.
+    ok(&mut sim, &GLOBAL_SETUP);
+    ok(&mut sim, &["EINT=1", "CIRXYP1000:0"]);
     let mut points = Vec::new();
     for _ in 0..300 {
         sim.advance(seconds(0.01));
