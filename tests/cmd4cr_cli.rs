@@ -52,8 +52,8 @@ fn encode_refuses_what_the_controller_would_not_take() {
     assert!(stderr(&out).contains("no axis given"), "{}", stderr(&out));
 }
 
-/// A controller on a TCP port that answers each expected frame with its
-/// reply, in order, and hands back every frame it received.
+/// Controllers on a TCP port (a serial bus behind a bridge) that answer
+/// each expected frame with its reply, and hand back every frame received.
 struct Fake {
     address: String,
     thread: JoinHandle<Vec<String>>,
@@ -80,14 +80,16 @@ impl Fake {
                     .trim_end_matches('\r')
                     .to_string();
                 frame.clear();
+                // Frames it has no answer for get none, as on a bus where
+                // no controller has that ID.
                 let reply = script
                     .iter()
                     .find(|(request, _)| *request == text)
-                    .map_or("?Unknown Command: scripted fake", |(_, reply)| {
-                        reply.as_str()
-                    });
+                    .map(|(_, reply)| format!("{reply}\r"));
                 received.push(text);
-                if writer.write_all(format!("{reply}\r").as_bytes()).is_err() {
+                if let Some(reply) = reply
+                    && writer.write_all(reply.as_bytes()).is_err()
+                {
                     break;
                 }
             }
@@ -199,4 +201,57 @@ fn json_shows_the_frames_escaped() {
     assert_eq!(object["value"], 2);
     assert_eq!(object["status"], serde_json::Value::Null);
     drop(fake.received());
+}
+
+#[test]
+fn scan_asks_every_id_of_the_family_and_only_those() {
+    let fake = Fake::start(&[("@02VER", "V126BL")]);
+    let out = axterm(&[
+        "scan",
+        "--tcp",
+        &fake.address,
+        "--protocol",
+        "cmd4cr",
+        "--addresses",
+        "1-3",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(stdout(&out), "address 2: V126BL\n");
+    assert_eq!(fake.received(), ["@01VER", "@02VER", "@03VER"]);
+    // IDs are two digits: `@100VER` would be controller 10's `0VER`.
+    let out = axterm(&[
+        "scan",
+        "--tcp",
+        "127.0.0.1:1",
+        "--protocol",
+        "cmd4cr",
+        "--addresses",
+        "98-100",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("address 100 is outside 0..99"),
+        "{}",
+        stderr(&out)
+    );
+}
+
+#[test]
+fn an_id_above_99_is_a_usage_error_before_connecting() {
+    let out = axterm(&[
+        "exec",
+        "--tcp",
+        "127.0.0.1:1",
+        "--protocol",
+        "cmd4cr",
+        "--address",
+        "100",
+        "PX",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("--address 100 is outside 0..99, the addresses of the cmd4cr family"),
+        "{}",
+        stderr(&out)
+    );
 }

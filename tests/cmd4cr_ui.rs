@@ -196,3 +196,21 @@ fn storing_a_setting_sends_store() {
     let text = screen(&mut app, 120, 40).join("\n");
     assert!(text.contains("Table 2-19"), "{text}");
 }
+
+fn enter(app: &mut App, line: &str) -> Vec<Effect> {
+    let mut effects = type_text(app, line);
+    effects.extend(app.handle(key(KeyCode::Enter)));
+    effects
+}
+
+#[test]
+fn address_takes_the_ids_a_controller_can_have() {
+    let mut app = console();
+    app.handle(AppEvent::Snapshot(snapshot(vec![AxisStatus::default(); 4])));
+    app.focus("command");
+    assert_eq!(enter(&mut app, ":address 99"), [Effect::SetAddress(99)]);
+    // A frame carries two digits: `@100…` would reach controller 10.
+    assert!(enter(&mut app, ":address 100").is_empty());
+    let text = screen(&mut app, 100, 30).join("\n");
+    assert!(text.contains("module address 0..99, not `100`"), "{text}");
+}

@@ -225,6 +225,12 @@ pub trait FamilyConsole: Send + Sync {
     /// The module address when the user gives none.
     fn default_address(&self) -> u8;
 
+    /// Every address a module of this family can have: what a bus scan
+    /// tries when told nothing else, and all it may try.
+    fn addresses(&self) -> std::ops::RangeInclusive<u8> {
+        0..=255
+    }
+
     /// The axes of a module of this family.
     fn axes(&self) -> &'static [AxisInfo];
 

@@ -97,7 +97,8 @@ fn keyword_of(text: &str) -> Option<&'static str> {
         return Some("");
     }
     keywords_longest_first()
-        .into_iter()
+        .iter()
+        .copied()
         .find(|k| text.starts_with(k))
 }
 

@@ -161,6 +161,11 @@ impl FamilyConsole for Cmd4crConsole {
         DEFAULT_ID
     }
 
+    /// IDs 00–99 (§2.1.1.1); a frame carries two digits.
+    fn addresses(&self) -> std::ops::RangeInclusive<u8> {
+        0..=MAX_ID
+    }
+
     fn axes(&self) -> &'static [AxisInfo] {
         AXES
     }

@@ -418,6 +418,11 @@ impl FamilyConsole for TmclConsole {
         DEFAULT_MODULE_ADDRESS
     }
 
+    /// GP66, the serial address, is 1..255 (§5.1 Table 18).
+    fn addresses(&self) -> std::ops::RangeInclusive<u8> {
+        1..=255
+    }
+
     fn axes(&self) -> &'static [AxisInfo] {
         AXES
     }

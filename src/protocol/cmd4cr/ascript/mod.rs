@@ -2,8 +2,21 @@
 //! command set as data, a line lexer and parser to an AST, a checker that
 //! reports the compile errors of Table 5-43 with their line numbers, the
 //! program compiled into steps an interpreter runs, the ASCII command each
-//! statement corresponds to (as a typed [`Cmd4crCommand`](super::Cmd4crCommand) of the one ASCII
-//! parser), and token classes for an editor's colours. Pure: no I/O.
+//! statement corresponds to, and token classes for an editor's colours.
+//! Pure: no I/O.
+//!
+//! - [`compile`] a source into a [`Program`] (or every [`CompileError`]);
+//!   [`check`] lists errors and warnings for an editor.
+//! - [`Program::steps`] is the compiled program: [`Op`]s with resolved jump
+//!   targets; [`Program::program`] and [`Program::subroutine`] give where
+//!   PRG n and SUB n start, [`Program::error_handler`] SUB 31.
+//! - [`Expr::evaluate`] and [`Condition::evaluate`] compute as the
+//!   controller does, so every executor agrees.
+//! - [`ascii_equivalent`] is the ASCII text a statement becomes (`ECLEARX`
+//!   → `CLRX`), [`ascii_command`] the typed command of the one ASCII parser
+//!   ([`super::parse_command`]); [`Program::host_problems`] lists what has
+//!   none.
+//! - [`tokens`] colours a line ([`TokenClass`]).
 //!
 //! ```text
 //! source     := { line '\n' }

@@ -7,10 +7,9 @@
 //! module documentation ([`super`]).
 
 use super::super::catalog::{Form, FormShape};
-use super::ast::Axis;
 use super::ast::{
-    Action, Address, BinaryOp, Command, Comparison, Condition, Direction, Expr, Operand, Rotation,
-    Statement, Target, Value,
+    Action, Address, Axis, BinaryOp, Command, Comparison, Condition, Direction, Expr, Operand,
+    Rotation, Statement, Target, Value,
 };
 use super::commands::{
     ANGLE, CommandInfo, HOME_MODE, I32, POSITION, Shape, ValueRange, ascii_only_command, form,
@@ -316,19 +315,20 @@ impl Parser<'_> {
                 format!("{word} needs a {what} number 0-{max}: `{word} 0`"),
             ));
         };
-        let text = self.text(&token).to_string();
         let n = match token.lex {
             Lex::Number(Some(n)) if (0..=max).contains(&n) => n,
             Lex::Number(_) => {
+                let text = self.text(&token);
                 return Err(self.error_here(
                     range_code,
                     format!("{word} {text}: {what} numbers are 0-{max}"),
                 ));
             }
             _ => {
+                let rest = self.text_from(self.next - 1);
                 return Err(self.error_here(
                     number_code,
-                    format!("`{text}` is not a {what} number: write {word} and a number 0-{max}"),
+                    format!("`{rest}` is not a {what} number: write {word} and a number 0-{max}"),
                 ));
             }
         };
@@ -363,7 +363,7 @@ impl Parser<'_> {
                     return Err(self.error_here(
                         ErrorCode::TokenError,
                         format!(
-                            "a condition compares two values (Table 2-30); compute `{}` into a variable first",
+                            "`{}`: a condition compares two values (Table 2-30); compute the operation into a variable first",
                             self.text_from(start)
                         ),
                     ));
@@ -392,8 +392,8 @@ impl Parser<'_> {
             return Err(self.error_next(
                 ErrorCode::TokenError,
                 format!(
-                    "a condition compares two values (Table 2-30); compute `{}` into a variable first",
-                    self.text_from(self.next - 1)
+                    "`{}`: a condition compares two values (Table 2-30); compute the operation into a variable first",
+                    self.text_from(start)
                 ),
             ));
         }
@@ -404,6 +404,9 @@ impl Parser<'_> {
 
     /// A number, variable or readable command.
     fn operand(&mut self, place: Place) -> Result<Operand, LineError> {
+        if let Some(number) = self.signed_number(I32) {
+            return number.map(Operand::Number);
+        }
         let Some(token) = self.bump() else {
             let (code, detail) = match place {
                 Place::Assigned => (
@@ -427,14 +430,9 @@ impl Parser<'_> {
             parser.error_here(code, what)
         };
         match token.lex {
-            Lex::Number(n) => self.literal(n, false, I32).map(Operand::Number),
-            Lex::Symbol(Symbol::Minus) => match self.peek_adjacent() {
-                Some(Lex::Number(n)) => {
-                    self.bump();
-                    self.literal(n, true, I32).map(Operand::Number)
-                }
-                _ => Err(invalid(self, "`-` must be followed by a number".into())),
-            },
+            Lex::Symbol(Symbol::Minus) => {
+                Err(invalid(self, "`-` must be followed by a number".into()))
+            }
             Lex::Variable(index) => self.variable_index(index).map(Operand::Variable),
             Lex::Command { name, axis } => {
                 let command = self.command(name, axis)?;
@@ -464,38 +462,41 @@ impl Parser<'_> {
         }
     }
 
-    /// A literal after its optional minus sign, within `range`.
-    fn literal(
-        &self,
-        digits: Option<i64>,
-        negative: bool,
-        range: ValueRange,
-    ) -> Result<i64, LineError> {
-        let value = digits.map(|n| if negative { -n } else { n });
-        match value {
-            Some(v) if range.contains(v) => Ok(v),
-            _ => {
-                let written = self.text_from_previous_sign(negative);
-                Err(self.error_at(
-                    self.next.saturating_sub(1 + usize::from(negative)),
-                    ErrorCode::AssignmentError,
-                    format!("{written} is outside {range}"),
-                ))
-            }
+    /// A number written next, with its minus sign if any, within `range`
+    /// (T5-43 "Assignment Error" outside it). None, taking nothing, when
+    /// no number comes next.
+    fn signed_number(&mut self, range: ValueRange) -> Option<Result<i64, LineError>> {
+        let start = self.next;
+        let negative = self.peek_lex() == Some(Lex::Symbol(Symbol::Minus));
+        let digits = self.tokens.get(start + usize::from(negative))?;
+        let Lex::Number(n) = digits.lex else {
+            return None;
+        };
+        if negative && digits.spaced {
+            return None;
         }
+        self.next = start + usize::from(negative) + 1;
+        let value = n.map(|n| if negative { -n } else { n });
+        Some(match value {
+            Some(v) if range.contains(v) => Ok(v),
+            _ => Err(self.error_at(
+                start,
+                ErrorCode::AssignmentError,
+                format!("{} is outside {range}", self.text_between(start, self.next)),
+            )),
+        })
     }
 
-    /// The number just taken, with its sign.
-    fn text_from_previous_sign(&self, negative: bool) -> String {
-        let last = self.next.saturating_sub(1);
-        let first = last.saturating_sub(usize::from(negative));
-        match (self.tokens.get(first), self.tokens.get(last)) {
-            (Some(a), Some(b)) => self
-                .line
-                .get(a.span.start..b.span.end)
-                .unwrap_or("")
-                .to_string(),
-            _ => String::new(),
+    /// The source of tokens `from..to`.
+    fn text_between(&self, from: usize, to: usize) -> &str {
+        match (
+            self.tokens.get(from),
+            to.checked_sub(1).and_then(|i| self.tokens.get(i)),
+        ) {
+            (Some(a), Some(b)) if a.span.start <= b.span.end => {
+                self.line.get(a.span.start..b.span.end).unwrap_or("")
+            }
+            _ => "",
         }
     }
 
@@ -537,7 +538,7 @@ impl Parser<'_> {
                     address: Address::Index(u8::try_from(n).unwrap_or(first)),
                 }),
                 _ => {
-                    let written = self.text_from_previous_sign(false);
+                    let written = self.text_between(self.next - 1, self.next);
                     Err(self.error_at(
                         self.next.saturating_sub(2),
                         index_code(name, true),
@@ -691,6 +692,13 @@ impl Parser<'_> {
     fn value(&mut self, command: &Command) -> Result<Value, LineError> {
         let range = command.info.values().unwrap_or(I32);
         let start = self.next;
+        if let Some(number) = self.signed_number(range) {
+            let number = number.map_err(|e| {
+                let written = self.text_between(start, self.next);
+                with_detail(e, format!("{command}={written}: {command} takes {range}"))
+            })?;
+            return self.after_value(command, start, Value::Number(number));
+        }
         let Some(token) = self.bump() else {
             return Err(self.error_next(
                 ErrorCode::AssignmentError,
@@ -698,30 +706,6 @@ impl Parser<'_> {
             ));
         };
         let value = match token.lex {
-            Lex::Number(n) => Value::Number(self.literal(n, false, range).map_err(|e| {
-                with_detail(
-                    e,
-                    format!("{command}={}: {command} takes {range}", self.text(&token)),
-                )
-            })?),
-            Lex::Symbol(Symbol::Minus) if matches!(self.peek_adjacent(), Some(Lex::Number(_))) => {
-                let Some(Token {
-                    lex: Lex::Number(n),
-                    ..
-                }) = self.bump()
-                else {
-                    return Err(self.error_here(ErrorCode::AssignmentError, String::new()));
-                };
-                Value::Number(self.literal(n, true, range).map_err(|e| {
-                    with_detail(
-                        e,
-                        format!(
-                            "{command}={}: {command} takes {range}",
-                            self.text_from(start)
-                        ),
-                    )
-                })?)
-            }
             Lex::Variable(index) => Value::Variable(self.variable_index(index)?),
             Lex::Command { name, axis } => {
                 let read = self.command(name, axis)?;
@@ -752,6 +736,17 @@ impl Parser<'_> {
                 ));
             }
         };
+        self.after_value(command, start, value)
+    }
+
+    /// Nothing may follow a command's value; an operator makes it an
+    /// operation, which a command is not set from.
+    fn after_value(
+        &self,
+        command: &Command,
+        start: usize,
+        value: Value,
+    ) -> Result<Value, LineError> {
         match self.peek_lex() {
             None => Ok(value),
             Some(Lex::Symbol(s)) if binary(s).is_some() => {
@@ -795,23 +790,16 @@ impl Parser<'_> {
                 format!("DELAY takes a number of ms or a variable, not `{rest}`"),
             )
         };
-        let value = match self.bump().map(|t| t.lex) {
-            Some(Lex::Number(n)) => {
-                let range = command.info.values().unwrap_or(I32);
-                Value::Number(self.literal(n, false, range)?)
-            }
-            Some(Lex::Symbol(Symbol::Minus))
-                if matches!(self.peek_adjacent(), Some(Lex::Number(_))) =>
-            {
-                self.bump();
-                return Err(self.error_at(
-                    start,
-                    ErrorCode::AssignmentError,
-                    format!("DELAY={rest}: a delay cannot be negative"),
-                ));
-            }
-            Some(Lex::Variable(index)) => Value::Variable(self.variable_index(index)?),
-            _ => return Err(token_error(self)),
+        let range = command.info.values().unwrap_or(I32);
+        let value = match self.signed_number(range) {
+            Some(number) => Value::Number(
+                number
+                    .map_err(|e| with_detail(e, format!("DELAY={rest}: a delay takes {range}")))?,
+            ),
+            None => match self.bump().map(|t| t.lex) {
+                Some(Lex::Variable(index)) => Value::Variable(self.variable_index(index)?),
+                _ => return Err(token_error(self)),
+            },
         };
         if self.peek().is_some() {
             return Err(token_error(self));
@@ -853,7 +841,7 @@ impl Parser<'_> {
                     ErrorCode::AssignmentError,
                     format!(
                         "`{written}{}`: the homing modes are 0-12 (Appendix A)",
-                        self.text_from_previous_sign(false)
+                        self.text_between(self.next - 1, self.next)
                     ),
                 ));
             }
@@ -878,31 +866,19 @@ impl Parser<'_> {
                     format!("{letter} appears twice in one move"),
                 ));
             }
-            let value = match self.peek_adjacent() {
-                Some(Lex::Number(n)) => {
-                    self.bump();
-                    Value::Number(self.literal(n, false, POSITION).map_err(|e| {
-                        with_detail(e, format!("{letter}: positions are {POSITION} (§1.2)"))
-                    })?)
-                }
-                Some(Lex::Symbol(Symbol::Minus)) => {
-                    self.bump();
-                    let Some(Lex::Number(n)) = self.peek_adjacent() else {
-                        return Err(self.error_next(
-                            ErrorCode::TokenError,
-                            format!("`{letter}-` needs a number: {letter}-1000"),
-                        ));
-                    };
-                    self.bump();
-                    Value::Number(self.literal(n, true, POSITION).map_err(|e| {
-                        with_detail(e, format!("{letter}: positions are {POSITION} (§1.2)"))
-                    })?)
-                }
-                Some(Lex::Variable(index)) => {
+            let number = match self.peek_adjacent() {
+                Some(_) => self.signed_number(POSITION),
+                None => None,
+            };
+            let value = match (number, self.peek_adjacent()) {
+                (Some(number), _) => Value::Number(number.map_err(|e| {
+                    with_detail(e, format!("{letter}: positions are {POSITION} (§1.2)"))
+                })?),
+                (None, Some(Lex::Variable(index))) => {
                     self.bump();
                     Value::Variable(self.variable_index(index)?)
                 }
-                _ => {
+                (None, _) => {
                     return Err(self.error_next(
                         ErrorCode::TokenError,
                         format!(
@@ -975,30 +951,29 @@ impl Parser<'_> {
                 }
                 self.bump();
             }
-            let negative = self.peek_adjacent() == Some(Lex::Symbol(Symbol::Minus));
-            if negative {
-                self.bump();
-            }
-            let n = match self.peek_adjacent() {
-                Some(Lex::Number(n)) => n,
-                Some(Lex::Variable(_)) => {
+            let number = match self.peek_adjacent() {
+                Some(_) => self.signed_number(*range),
+                None => None,
+            };
+            match (number, self.peek_adjacent()) {
+                (Some(number), _) => {
+                    values.push(number.map_err(|e| {
+                        with_detail(e, format!("{word}: {field} is outside {range}"))
+                    })?)
+                }
+                (None, Some(Lex::Variable(_))) => {
                     return Err(self.error_next(
                         ErrorCode::TokenError,
                         format!("`{word}` takes numbers only (§2.3.2): {}", example(kind)),
                     ));
                 }
-                _ => {
+                (None, _) => {
                     return Err(self.error_next(
                         ErrorCode::TokenError,
                         format!("`{word}` needs {syntax}: {}", example(kind)),
                     ));
                 }
-            };
-            self.bump();
-            values.push(
-                self.literal(n, negative, *range)
-                    .map_err(|e| with_detail(e, format!("{word}: {field} is outside {range}")))?,
-            );
+            }
         }
         let v = |i: usize| values.get(i).copied().unwrap_or(0);
         let action = match (kind, axes) {

@@ -462,3 +462,32 @@ fn block_numbers() {
         Some(Keyword::Prg)
     );
 }
+
+#[test]
+fn messages_quote_what_was_written() {
+    assert_eq!(
+        error("GOSUB DI1").detail,
+        "`DI1` is not a subroutine number: write GOSUB and a number 0-31"
+    );
+    assert_eq!(
+        error("IF V1+1=2").detail,
+        "`V1+1=2`: a condition compares two values (Table 2-30); compute the operation into a variable first"
+    );
+    assert_eq!(
+        error("V2+1=V3").detail,
+        "the left of `=` must be one variable or command, not `V2+1`"
+    );
+    assert_eq!(
+        error("DO=PX").detail,
+        "`DO=PX`: a command is set from a number or a variable; read PX into a variable first (V1=PX, then DO=V1)"
+    );
+    assert_eq!(
+        error("PRG 200 X").detail,
+        "PRG 200: program numbers are 0-3"
+    );
+    let e = error("DELAY=-5");
+    assert_eq!(
+        (e.column, e.detail.as_str()),
+        (7, "DELAY=-5: a delay takes 0..2147483647 ms")
+    );
+}
