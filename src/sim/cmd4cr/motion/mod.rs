@@ -340,7 +340,7 @@ impl Motion {
         if a.limit_on(direction) {
             return 0;
         }
-        let mut new = old + delta;
+        let mut new = old.saturating_add(delta.clamp(-(1 << 31), 1 << 31));
         for (at, mark) in run::marks(a, old, new) {
             let ahead = match mark {
                 stage::Mark::PlusLimit(true) => delta > 0,
@@ -355,6 +355,33 @@ impl Motion {
         a.position = new;
         a.levels = a.levels_at(new);
         new - old
+    }
+
+    /// One tick of joystick control of an idle axis (§2.5.1): move by
+    /// `pulses` at `velocity` pps (signed), unless an end limit in that
+    /// direction is on or the emergency stop input is; MST and PS show the
+    /// motion.
+    pub fn joystick_move(&mut self, name: Axis, pulses: i64, velocity: f64) {
+        if self.is_busy(name) {
+            return;
+        }
+        let blocked = self.emg_input
+            || (velocity > 0.0 && self.axis(name).limit_on(Direction::Plus))
+            || (velocity < 0.0 && self.axis(name).limit_on(Direction::Minus));
+        let velocity = if blocked { 0.0 } else { velocity };
+        let moved = if blocked { 0 } else { self.nudge(name, pulses) };
+        let a = &mut self.axes[name.index()];
+        let speed = velocity.abs();
+        a.phase = if speed == 0.0 && moved == 0 {
+            None
+        } else if speed > a.rate {
+            Some(PhaseKind::Accelerating)
+        } else if speed < a.rate {
+            Some(PhaseKind::Decelerating)
+        } else {
+            Some(PhaseKind::Constant)
+        };
+        a.rate = speed;
     }
 
     /// Power-on (§2.1.5): every axis stops, settings and counters start
