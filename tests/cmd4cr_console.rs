@@ -5,19 +5,17 @@
 //! refresh rate measured), and clearing latched errors with `CLR[axis]`
 //! so that the next poll does not bring them back.
 
+mod session_support;
+
 use std::time::Duration;
 
 use axterm::cli::ConnectionArgs;
 use axterm::cli::connection::Target;
 use axterm::device::{Direction, Priority, TrafficRecord};
 use axterm::protocol::find_family;
-use axterm::session::{
-    AxisStatus, PollCadence, SLOW_SHARE_DIVISOR, Session, SessionError, slow_period,
-};
+use axterm::session::{PollCadence, SLOW_SHARE_DIVISOR, Session, SessionError, slow_period};
+use session_support::{GIVE_UP_AFTER, wait_for};
 use tokio::sync::broadcast;
-
-/// Virtual time: only guards against a hung test.
-const GIVE_UP_AFTER: Duration = Duration::from_secs(600);
 
 async fn session(kind: &str, baud: u32) -> Session {
     let target = Target::resolve(&ConnectionArgs {
@@ -27,23 +25,6 @@ async fn session(kind: &str, baud: u32) -> Session {
     })
     .expect("a simulator connection");
     target.open().await.expect("the simulator opens")
-}
-
-/// Wait (in virtual time) until the snapshot of all axes satisfies `done`.
-async fn wait_for(session: &Session, done: impl Fn(&[AxisStatus]) -> bool) -> Vec<AxisStatus> {
-    let mut status = session.status();
-    let wait = async {
-        loop {
-            let axes = status.borrow_and_update().clone();
-            if done(&axes) {
-                return axes;
-            }
-            status.changed().await.expect("the session is alive");
-        }
-    };
-    tokio::time::timeout(GIVE_UP_AFTER, wait)
-        .await
-        .expect("the status got there")
 }
 
 async fn run(session: &Session, line: &str) {

@@ -13,31 +13,11 @@
 mod tmux_support;
 mod ui_support;
 
-use std::sync::Arc;
-
-use axterm::cli::ConnectionArgs;
-use axterm::cli::connection::Target;
-use axterm::ui::app::Controller;
-use axterm::ui::live::SessionController;
+use axterm::protocol::find_family;
 use ratatui::crossterm::event::{KeyCode, KeyModifiers};
 use tmux_support::{Tmux, assert_terminal_restored, console_command};
-use ui_support::console;
 use ui_support::looped::{Rig, no_connector, press, press_with, run_console_on, type_line};
-
-async fn controller() -> Arc<dyn Controller> {
-    let target = Target::resolve(&ConnectionArgs {
-        sim: Some("cmd4cr".into()),
-        baud: Some(9600),
-        ..ConnectionArgs::default()
-    })
-    .expect("a simulator connection");
-    let session = target.open().await.expect("the simulator opens");
-    Arc::new(SessionController::new(
-        session,
-        target.spec.describe(),
-        target.options.clone(),
-    ))
-}
+use ui_support::{console, sim_controller};
 
 /// The words of `frame` after axis `name`'s label (cards: `X  pos 12`,
 /// rows: `X  12→—`; cards sit side by side on a wide screen).
@@ -63,7 +43,7 @@ fn position(frame: &str, name: &str) -> Option<i64> {
 
 /// Jog X, stop everything with F12, clear X's errors with F8, at `size`.
 async fn jog_stop_and_clear(size: (u16, u16), cards: bool) {
-    let controller = controller().await;
+    let controller = sim_controller("cmd4cr", 9600).await;
     run_console_on(
         console(),
         size,
@@ -133,14 +113,14 @@ async fn jog_stop_and_clear(size: (u16, u16), cards: bool) {
                 .filter(|rest| !rest.starts_with('@'))
                 .filter_map(|rest| rest.split_whitespace().next())
                 .collect();
-            let full = [
-                "ESTOP",
-                "SACTRL0=0",
-                "SACTRL1=0",
-                "SACTRL2=0",
-                "SACTRL3=0",
-                "ESTOP",
-            ];
+            let full: Vec<String> = find_family("cmd4cr")
+                .expect("registered")
+                .console
+                .emergency_stop(1)
+                .into_iter()
+                .map(|line| line.canonical)
+                .collect();
+            let full: Vec<&str> = full.iter().map(String::as_str).collect();
             assert!(
                 !order.is_empty() && full.ends_with(&order),
                 "{order:?}\n{stopped}"
@@ -191,7 +171,7 @@ async fn jog_stop_and_clear_on_a_large_screen() {
 
 #[tokio::test(start_paused = true)]
 async fn the_parameter_table_of_the_simulator() {
-    let controller = controller().await;
+    let controller = sim_controller("cmd4cr", 9600).await;
     run_console_on(
         console(),
         (120, 40),

@@ -7,46 +7,11 @@
 //! The simulator runs on the wall clock here, so the files wait for
 //! states with `:wait-until` (polling the controller), never for time.
 
-use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Output, Stdio};
+mod served_support;
 
-struct Served {
-    child: Child,
-    pty: String,
-}
+use std::process::{Command, Output};
 
-impl Served {
-    fn start(extra: &[&str]) -> Served {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_axterm"))
-            .args(["sim", "cmd4cr", "--pty"])
-            .args(extra)
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("start axterm sim cmd4cr");
-        let stdout = child.stdout.take().expect("stdout");
-        let mut first = String::new();
-        BufReader::new(stdout)
-            .read_line(&mut first)
-            .expect("read the pty path");
-        Served {
-            child,
-            pty: first.trim().to_string(),
-        }
-    }
-}
-
-impl Drop for Served {
-    fn drop(&mut self) {
-        if let Ok(pid) = libc::pid_t::try_from(self.child.id()) {
-            // SAFETY: a signal to our own child process; nothing is shared.
-            unsafe {
-                libc::kill(pid, libc::SIGTERM);
-            }
-        }
-        let _ = self.child.wait();
-    }
-}
+use served_support::Served;
 
 fn run_file(pty: &str, name: &str, text: &str, extra: &[&str]) -> Output {
     let dir = tempfile::tempdir().expect("temp dir");
@@ -125,7 +90,7 @@ fn every_worked_sequence_of_4_3_runs_against_the_served_simulator() {
         .iter()
         .map(|&(name, text)| {
             std::thread::spawn(move || {
-                let served = Served::start(&[]);
+                let served = Served::start("cmd4cr", &[]);
                 let out = run_file(&served.pty, "sequence.txt", text, &[]);
                 (name, out)
             })
@@ -149,7 +114,7 @@ fn the_served_simulator_keeps_its_id_and_flash() {
     let flash = dir.path().join("flash.json");
     let flash = flash.to_string_lossy().into_owned();
     {
-        let served = Served::start(&["--address", "7", "--eeprom", &flash]);
+        let served = Served::start("cmd4cr", &["--address", "7", "--eeprom", &flash]);
         let out = run_file(
             &served.pty,
             "store.txt",
@@ -163,7 +128,7 @@ fn the_served_simulator_keeps_its_id_and_flash() {
             String::from_utf8_lossy(&out.stderr)
         );
     }
-    let served = Served::start(&["--address", "7", "--eeprom", &flash]);
+    let served = Served::start("cmd4cr", &["--address", "7", "--eeprom", &flash]);
     let out = run_file(
         &served.pty,
         "read.txt",
@@ -188,7 +153,7 @@ fn a_program_given_with_program_runs_when_started_over_the_wire() {
         "PRG 0\n    HSPD=20000\n    LSPD=1000\n    ACC=300\n    EO=1\n    X1000\n    WAITX\n    X0\n    WAITX\nEND\n",
     )
     .expect("write the program");
-    let served = Served::start(&["--program", &program.to_string_lossy()]);
+    let served = Served::start("cmd4cr", &["--program", &program.to_string_lossy()]);
     let out = run_file(
         &served.pty,
         "start.txt",

@@ -432,6 +432,13 @@ mod tests {
         Cmd4crConsole.interpret(line, &[text.as_bytes().to_vec()])
     }
 
+    /// What the answer `text` to `line` says about the axes.
+    fn updates_of(line: &str, text: &str) -> Vec<(usize, AxisUpdate)> {
+        let line = prepare(line);
+        let reading = reply(&line, text).expect("a reading");
+        Cmd4crConsole.status_update(&line, &reading)
+    }
+
     fn canonicals(lines: &[PreparedLine]) -> Vec<String> {
         lines.iter().map(|l| l.canonical.clone()).collect()
     }
@@ -623,22 +630,16 @@ mod tests {
             }),
             ["INP"]
         );
-        let idle = reply(&line, "0").expect("read");
-        let updates = Cmd4crConsole.status_update(&line, &idle);
-        assert!(updates.contains(&(1, AxisUpdate::Reached(true))));
-        assert!(updates.contains(&(1, AxisUpdate::Phase(MotionPhase::Standing))));
+        let idle = updates_of("MSTY", "0");
+        assert!(idle.contains(&(1, AxisUpdate::Reached(true))));
+        assert!(idle.contains(&(1, AxisUpdate::Phase(MotionPhase::Standing))));
         for (word, phase) in [
             (1, MotionPhase::Accelerating),
             (4, MotionPhase::Constant),
             (4 | 64, MotionPhase::Constant),
         ] {
-            let reading = reply(&line, &word.to_string()).expect("read");
-            assert!(
-                Cmd4crConsole
-                    .status_update(&line, &reading)
-                    .contains(&(1, AxisUpdate::Phase(phase))),
-                "{word}"
-            );
+            let found = updates_of("MSTY", &word.to_string());
+            assert!(found.contains(&(1, AxisUpdate::Phase(phase))), "{word}");
         }
     }
 
@@ -660,10 +661,7 @@ mod tests {
             ]
         );
         // A lit lamp is named by the driver flags of the same reading.
-        let line = prepare("MSTX");
-        let reading = reply(&line, &(8 | 64 | (1 << 18)).to_string()).expect("read");
-        let lit: Vec<&str> = Cmd4crConsole
-            .status_update(&line, &reading)
+        let lit: Vec<&str> = updates_of("MSTX", &(8 | 64 | (1 << 18)).to_string())
             .into_iter()
             .find_map(|(_, u)| match u {
                 AxisUpdate::DriverFlags(flags) => Some(flags),
@@ -704,16 +702,12 @@ mod tests {
         let reading = reply(&write, "OK").expect("ok");
         assert!(Cmd4crConsole.status_update(&write, &reading).is_empty());
         // A high speed written is the gauge's scale at once.
-        let own = prepare("HSPDY=800");
-        let reading = reply(&own, "OK").expect("ok");
         assert_eq!(
-            Cmd4crConsole.status_update(&own, &reading),
+            updates_of("HSPDY=800", "OK"),
             [(1, AxisUpdate::MaxSpeed(800))]
         );
-        let global = prepare("HSPD=7000");
-        let reading = reply(&global, "OK").expect("ok");
         assert_eq!(
-            Cmd4crConsole.status_update(&global, &reading)[3],
+            updates_of("HSPD=7000", "OK")[3],
             (3, AxisUpdate::GlobalMaxSpeed(7000))
         );
     }
