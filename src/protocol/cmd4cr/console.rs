@@ -181,6 +181,18 @@ fn mst_updates(axis: usize, value: i64) -> Vec<(usize, AxisUpdate)> {
     ]
 }
 
+/// The console line of `action` on the axis numbered `axis` (`STOPZ`).
+fn axis_action(action: Action, axis: u8) -> Option<String> {
+    let axis = Axis::from_index(usize::from(axis))?;
+    Some(
+        Cmd4crCommand::Action {
+            action,
+            selector: Selector::Axis(axis),
+        }
+        .to_string(),
+    )
+}
+
 /// An axis's own high speed, or (no axis) the global one for all four
 /// (§2.1.4).
 fn max_speed_updates(axis: Option<usize>, speed: i64) -> Vec<(usize, AxisUpdate)> {
@@ -379,28 +391,14 @@ impl FamilyConsole for Cmd4crConsole {
     }
 
     fn stop_axis_line(&self, axis: u8) -> Option<String> {
-        let axis = Axis::from_index(usize::from(axis))?;
-        Some(
-            Cmd4crCommand::Action {
-                action: Action::Stop,
-                selector: Selector::Axis(axis),
-            }
-            .to_string(),
-        )
+        axis_action(Action::Stop, axis)
     }
 
     /// `CLR[axis]`: the limit, alarm, EMG and slowdown-stop error bits of
     /// MST stay set until it (§2.6.2.3, Table 2-28 footnotes 6 and 7);
     /// there is no all-axes form.
     fn clear_errors_line(&self, axis: u8) -> Option<String> {
-        let axis = Axis::from_index(usize::from(axis))?;
-        Some(
-            Cmd4crCommand::Action {
-                action: Action::Clr,
-                selector: Selector::Axis(axis),
-            }
-            .to_string(),
-        )
+        axis_action(Action::Clr, axis)
     }
 
     fn lamps(&self) -> &'static [AxisFlag] {
