@@ -5,7 +5,10 @@
 //! that arrive, advances it by the wall-clock time that passed, and writes
 //! back whatever it answered, through the same emulated line as the
 //! in-process link ([`SimLine`]: the wire's byte time at `--baud`, and the
-//! faults of `--fault`).
+//! faults of `--fault`). Each wake-up is a real one here, so the line hands
+//! the client a reply in one write when its last byte is due, as a UART's
+//! receive FIFO would, rather than a write per byte: two wake-ups per
+//! transaction (the request read, the reply due) instead of one per byte.
 
 use std::io::{self, Read, Write};
 use std::net::{SocketAddr, TcpListener, TcpStream};
@@ -13,7 +16,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use crate::link::sim_line::SimLine;
+use crate::link::sim_line::{Handover, LineOutput, SimLine, UART_FIFO};
 use crate::sim::SimulatedController;
 use crate::sim::faults::FaultPlan;
 
@@ -80,19 +83,12 @@ struct SimClock {
     epoch: Instant,
 }
 
-/// What one turn of the clock produced for the client.
-enum Turn {
-    /// Bytes to write (possibly none).
-    Send(Vec<u8>),
-    /// The line was cut by an injected fault.
-    Cut(String),
-}
-
 impl SimClock {
     fn new(sim: Box<dyn SimulatedController>, options: &LineOptions) -> Self {
         SimClock {
             sim,
-            line: SimLine::new(options.baud, &options.faults),
+            line: SimLine::new(options.baud, &options.faults)
+                .handing_over(Handover::Fifo(UART_FIFO)),
             epoch: Instant::now(),
         }
     }
@@ -108,17 +104,14 @@ impl SimClock {
     }
 
     /// Put received bytes on the line, let the simulator catch up with the
-    /// wall clock, and return what reached the client.
-    fn exchange(&mut self, input: &[u8]) -> Turn {
+    /// wall clock, and return what reached the client (and whether the
+    /// line was cut after it).
+    fn exchange(&mut self, input: &[u8]) -> LineOutput {
         let now = self.epoch.elapsed();
         if !input.is_empty() {
             self.line.host_wrote(now, input);
         }
-        let out = self.line.run(self.sim.as_mut(), now);
-        match out.cut {
-            Some(reason) => Turn::Cut(reason),
-            None => Turn::Send(out.to_host),
-        }
+        self.line.run(self.sim.as_mut(), now)
     }
 
     /// A new client on the same line.
@@ -160,16 +153,16 @@ fn serve_pty(
             Err(e) if is_idle(&e) => 0,
             Err(e) => return Err(e),
         };
-        match clock.exchange(buf.get(..received).unwrap_or_default()) {
-            Turn::Send(output) if output.is_empty() => {}
-            Turn::Send(output) => master.write_all(&output)?,
-            Turn::Cut(reason) => {
-                // Closing both ends hangs the client's side up.
-                drop(keep_open);
-                drop(master);
-                eprintln!("axterm sim: {reason}: the pseudo-terminal is gone");
-                return Ok(());
-            }
+        let out = clock.exchange(buf.get(..received).unwrap_or_default());
+        if !out.to_host.is_empty() {
+            master.write_all(&out.to_host)?;
+        }
+        if let Some(reason) = out.cut {
+            // Closing both ends hangs the client's side up.
+            drop(keep_open);
+            drop(master);
+            eprintln!("axterm sim: {reason}: the pseudo-terminal is gone");
+            return Ok(());
         }
     }
     Ok(())
@@ -222,21 +215,18 @@ fn serve_tcp_client(
             Err(e) if is_hangup(&e) => return Ok(()),
             Err(e) => return Err(e),
         };
-        let output = match clock.exchange(buf.get(..received).unwrap_or_default()) {
-            Turn::Send(output) => output,
-            Turn::Cut(reason) => {
-                eprintln!("axterm sim: {reason}: closing the connection");
-                let _ = stream.shutdown(std::net::Shutdown::Both);
-                return Ok(());
+        let out = clock.exchange(buf.get(..received).unwrap_or_default());
+        if !out.to_host.is_empty() {
+            match stream.write_all(&out.to_host) {
+                Ok(()) => {}
+                Err(e) if is_hangup(&e) => return Ok(()),
+                Err(e) => return Err(e),
             }
-        };
-        if output.is_empty() {
-            continue;
         }
-        match stream.write_all(&output) {
-            Ok(()) => {}
-            Err(e) if is_hangup(&e) => return Ok(()),
-            Err(e) => return Err(e),
+        if let Some(reason) = out.cut {
+            eprintln!("axterm sim: {reason}: closing the connection");
+            let _ = stream.shutdown(std::net::Shutdown::Both);
+            return Ok(());
         }
     }
     Ok(())
