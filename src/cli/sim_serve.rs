@@ -30,8 +30,7 @@ const POLL_INTERVAL: Duration = Duration::from_millis(1);
 /// states; a virtual machine's halt): measured on the development machine,
 /// 17 µs after an 87 µs wait, 37 µs after a 1.5 ms one (p50). So a wait for
 /// bytes due ends this much short of them, and a second, short wait lands
-/// on the instant: three wake-ups a transaction instead of two, each tens
-/// of µs earlier at the end.
+/// on the instant: one wake-up more, and 13 µs off the p50 round trip.
 const FINAL_WAIT: Duration = Duration::from_micros(100);
 
 /// Where to serve.
