@@ -82,6 +82,14 @@ fn connects(effects: &[Effect]) -> Option<Vec<String>> {
     })
 }
 
+/// Move the selection from the first simulator to the last one: the
+/// rows below count from there, whatever simulators are registered.
+fn past_the_other_simulators(app: &mut App) {
+    for _ in 1..axterm::sim::SIM_KINDS.len() {
+        app.handle(key(KeyCode::Down));
+    }
+}
+
 fn args(text: &str) -> Vec<String> {
     text.split_whitespace().map(str::to_string).collect()
 }
@@ -144,6 +152,7 @@ fn choosing_the_simulator_connects_remembers_it_and_opens_the_console() {
 fn a_port_takes_the_protocol_baud_and_address_of_the_form() {
     let dir = tempfile::tempdir().expect("temp dir");
     let mut app = console(dir.path(), two_ports);
+    past_the_other_simulators(&mut app);
     app.handle(key(KeyCode::Down));
     app.handle(key(KeyCode::Down));
     // Tab to the baud field, then the address.
@@ -167,6 +176,7 @@ fn a_port_takes_the_protocol_baud_and_address_of_the_form() {
 fn a_bad_address_or_baud_opens_nothing() {
     let dir = tempfile::tempdir().expect("temp dir");
     let mut app = console(dir.path(), two_ports);
+    past_the_other_simulators(&mut app);
     app.handle(key(KeyCode::Down));
     for _ in 0..3 {
         app.handle(key(KeyCode::Tab));
@@ -191,6 +201,7 @@ fn tcp_takes_the_host_typed() {
     let dir = tempfile::tempdir().expect("temp dir");
     let mut app = console(dir.path(), two_ports);
     // sim, ACM0, USB0, rescan, tcp.
+    past_the_other_simulators(&mut app);
     for _ in 0..4 {
         app.handle(key(KeyCode::Down));
     }
@@ -211,6 +222,7 @@ fn tcp_takes_the_host_typed() {
 fn a_failed_connection_is_shown_and_not_remembered() {
     let dir = tempfile::tempdir().expect("temp dir");
     let mut app = console(dir.path(), two_ports);
+    past_the_other_simulators(&mut app);
     app.handle(key(KeyCode::Down));
     app.handle(key(KeyCode::Enter));
     app.handle(AppEvent::Notice(Notice::error(
@@ -228,6 +240,7 @@ fn ports_are_looked_for_again_on_request_and_a_listing_failure_is_said() {
     let mut app = console(dir.path(), two_ports);
     text(&mut app, 80, 24);
     let before = SCANS.load(Ordering::SeqCst);
+    past_the_other_simulators(&mut app);
     for _ in 0..3 {
         app.handle(key(KeyCode::Down));
     }
@@ -391,4 +404,64 @@ async fn through_the_event_loop_the_chosen_connection_opens_the_console() {
         Recents::load(Some(dir.path())).entries(),
         [args("--sim tmcm1110")]
     );
+}
+
+#[test]
+fn connection_options_name_their_protocol_family() {
+    use axterm::ui::connect::family_of_args;
+    let name = |text: &str| family_of_args(&args(text)).map(|f| f.name);
+    assert_eq!(name("--sim tmcm1110"), Some("tmcl"));
+    assert_eq!(name("--sim=tmcm1110 --address 3"), Some("tmcl"));
+    assert_eq!(name("--port /dev/ttyUSB0 --protocol tmcl"), Some("tmcl"));
+    assert_eq!(name("--tcp 127.0.0.1:4001 --protocol=TMCL"), Some("tmcl"));
+    // As on the command line: no protocol and no simulator is TMCL.
+    assert_eq!(name("--port /dev/ttyUSB0"), Some("tmcl"));
+    assert_eq!(name("--port /dev/ttyUSB0 --protocol klingon"), None);
+    assert_eq!(name("--sim nosuch"), None);
+}
+
+/// The connect screen tells the other panes (the command line's help and
+/// completion) which family its choice connects with, when a key changes
+/// it, once.
+#[test]
+fn the_family_of_the_choice_is_told_when_it_changes() {
+    use axterm::ui::pane::{Input, Outcome, Request, View};
+    let dir = tempfile::tempdir().expect("temp dir");
+    std::fs::write(
+        dir.path().join(RECENT_FILE),
+        "[[connection]]\nargs = [\"--port\", \"/dev/ttyUSB0\", \"--protocol\", \"tmcl\"]\n",
+    )
+    .expect("recent file");
+    assert_eq!(
+        axterm::ui::connect::initial_family(Some(dir.path())).map(|f| f.name),
+        Some("tmcl")
+    );
+    let mut pane = ConnectPane::new(Some(dir.path()), two_ports);
+    assert_eq!(pane.chosen_family().map(|f| f.name), Some("tmcl"));
+    let theme = Theme::builtin("dark").expect("theme");
+    let keymap = Keymap::builtin("default").expect("keymap");
+    let view = View {
+        theme: &theme,
+        keymap: &keymap,
+        session: None,
+        focused: true,
+        shown: true,
+    };
+    let down = Input::Key(KeyEvent::new(KeyCode::Down, KeyModifiers::NONE));
+    let up = Input::Key(KeyEvent::new(KeyCode::Up, KeyModifiers::NONE));
+    let told = |outcome: Outcome| match outcome {
+        Outcome::Handled(requests) => requests
+            .into_iter()
+            .filter(|r| matches!(r, Request::ChooseFamily(_)))
+            .collect::<Vec<_>>(),
+        Outcome::Ignored => Vec::new(),
+    };
+    // From the recent port to the simulator: told once.
+    assert_eq!(
+        told(pane.handle_input(&down, &view)),
+        [Request::ChooseFamily("tmcl")]
+    );
+    // Back to the recent port, the same family: nothing to tell (the row
+    // below the first simulator is another simulator, of any family).
+    assert_eq!(told(pane.handle_input(&up, &view)), []);
 }
