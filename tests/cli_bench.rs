@@ -91,6 +91,26 @@ fn at_a_baud_rate_the_figures_are_held_against_the_wire() {
 }
 
 #[test]
+fn the_wire_counts_every_byte_that_crossed_it() {
+    // CMD-4CR: `@01PP` and `0:0:0:0`, each with its carriage return, which
+    // the answer's frame leaves out.
+    let out = axterm(&[
+        "bench",
+        "--sim",
+        "cmd4cr",
+        "--baud",
+        "115200",
+        "--requests",
+        "3",
+        "--format",
+        "json",
+    ]);
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    assert_eq!(report["line"], "PP", "{report}");
+    assert_eq!(report["wire"]["bytes"], 14, "{report}");
+}
+
+#[test]
 fn without_a_baud_rate_there_is_no_wire_figure() {
     let out = axterm(&[
         "bench",

@@ -261,14 +261,16 @@ pub fn run(connection: &ConnectionArgs, args: &BenchArgs) -> i32 {
     };
     // The floor first: a serial port can have only one owner at a time.
     let wire = console.wire();
-    let (bare, bare_note) = match bare_loop(&target.spec, wire.as_ref(), &line, args.requests) {
-        Ok((figures, note)) => (Some(figures), note),
-        Err(BareError::Open(message)) => {
-            eprintln!("axterm bench: {message}");
-            return EXIT_CONNECTION;
-        }
-        Err(BareError::Exchange(message)) => (None, message),
-    };
+    let (bare, bare_note, wire_bytes) =
+        match bare_loop(&target.spec, wire.as_ref(), &line, args.requests) {
+            Ok((bare, note)) => (Some(bare.figures), note, Some(bare.bytes)),
+            Err(BareError::Open(message)) => {
+                eprintln!("axterm bench: {message}");
+                return EXIT_CONNECTION;
+            }
+            Err(BareError::Exchange(message)) => (None, message, None),
+        };
+    let byte_time = target.spec.byte_time();
     let (requests, format) = (args.requests, args.format);
     run_to_exit("bench", async move {
         let session = match target.open().await {
@@ -278,7 +280,7 @@ pub fn run(connection: &ConnectionArgs, args: &BenchArgs) -> i32 {
                 return EXIT_CONNECTION;
             }
         };
-        let report = match measure(&session, &line, requests, target.spec.byte_time()).await {
+        let report = match measure(&session, &line, requests, byte_time, wire_bytes).await {
             Ok(mut report) => {
                 report.bare = bare;
                 report.bare_note = bare_note;
@@ -299,11 +301,13 @@ pub fn run(connection: &ConnectionArgs, args: &BenchArgs) -> i32 {
 }
 
 /// The device-task measurements (2–4).
+/// `wire_bytes`: a transaction's bytes as the bare loop counted them.
 async fn measure(
     session: &Session,
     line: &PreparedLine,
     requests: usize,
     byte_time: Option<Duration>,
+    wire_bytes: Option<usize>,
 ) -> Result<Report, String> {
     let mut device = Figures::default();
     let mut transaction_bytes = 0;
@@ -315,8 +319,10 @@ async fn measure(
         transaction_bytes = result.request.len() + result.reply.len();
     }
     device.total = start.elapsed();
+    // The answer's frames may leave out a terminator that was on the wire:
+    // the bare loop's count is the better one.
     let wire = byte_time.map(|byte_time| WireTime {
-        bytes: transaction_bytes,
+        bytes: wire_bytes.unwrap_or(transaction_bytes),
         byte_time,
     });
 
@@ -411,6 +417,13 @@ impl PollSink for TimingSink {
     }
 }
 
+/// What the bare loop measured.
+struct Bare {
+    figures: Figures,
+    /// One transaction's bytes as they crossed the link, request and answer.
+    bytes: usize,
+}
+
 enum BareError {
     /// The link could not be opened at all.
     Open(String),
@@ -424,7 +437,7 @@ fn bare_loop(
     wire: &dyn WireFormat,
     line: &PreparedLine,
     requests: usize,
-) -> Result<(Figures, String), BareError> {
+) -> Result<(Bare, String), BareError> {
     let rule = match &line.answering {
         Answering::Reply(rule) | Answering::MaybeReply(rule) => Arc::clone(rule),
         Answering::Nothing => {
@@ -433,30 +446,29 @@ fn bare_loop(
             ));
         }
     };
+    let answered = |bare: Bare, note: &str| (bare, note.to_string());
     match spec {
         LinkSpec::Serial { path, baud } => {
             let mut port = serialport::new(path, *baud)
                 .timeout(BARE_TIMEOUT)
                 .open()
                 .map_err(|e| BareError::Open(format!("cannot open {}: {e}", spec.describe())))?;
-            let figures = blocking_loop(&mut port, wire, rule.as_ref(), &line.bytes, requests)
-                .map_err(BareError::Exchange)?;
-            Ok((figures, "serialport".into()))
+            blocking_loop(&mut port, wire, rule.as_ref(), &line.bytes, requests)
+                .map(|bare| answered(bare, "serialport"))
+                .map_err(BareError::Exchange)
         }
         LinkSpec::Tcp { address } => {
             let mut stream = TcpStream::connect(address)
                 .map_err(|e| BareError::Open(format!("cannot open {}: {e}", spec.describe())))?;
             let _ = stream.set_nodelay(true);
             let _ = stream.set_read_timeout(Some(BARE_TIMEOUT));
-            let figures = blocking_loop(&mut stream, wire, rule.as_ref(), &line.bytes, requests)
-                .map_err(BareError::Exchange)?;
-            Ok((figures, "TcpStream".into()))
+            blocking_loop(&mut stream, wire, rule.as_ref(), &line.bytes, requests)
+                .map(|bare| answered(bare, "TcpStream"))
+                .map_err(BareError::Exchange)
         }
-        LinkSpec::Sim { sim, .. } => {
-            let figures = sim_loop(sim, wire, rule.as_ref(), &line.bytes, requests)
-                .map_err(BareError::Exchange)?;
-            Ok((figures, "simulator called directly, no wire time".into()))
-        }
+        LinkSpec::Sim { sim, .. } => sim_loop(sim, wire, rule.as_ref(), &line.bytes, requests)
+            .map(|bare| answered(bare, "simulator called directly, no wire time"))
+            .map_err(BareError::Exchange),
     }
 }
 
@@ -467,16 +479,18 @@ fn blocking_loop<S: Read + Write>(
     rule: &dyn ReplyRule,
     request: &[u8],
     requests: usize,
-) -> Result<Figures, String> {
+) -> Result<Bare, String> {
     let mut framer = wire.framer();
     let mut figures = Figures::default();
     let mut buffer = [0u8; 256];
+    let mut bytes = 0;
     let start = Instant::now();
     for _ in 0..requests {
         let sent = Instant::now();
         stream
             .write_all(request)
             .map_err(|e| format!("write failed: {e}"))?;
+        bytes = request.len();
         let mut accepted = Vec::new();
         'answer: loop {
             let n = stream
@@ -485,6 +499,7 @@ fn blocking_loop<S: Read + Write>(
             if n == 0 {
                 return Err("the other end closed the link".into());
             }
+            bytes += n;
             for frame in framer.push(buffer.get(..n).unwrap_or_default()) {
                 match rule.examine(&accepted, &frame) {
                     Verdict::Complete => break 'answer,
@@ -496,7 +511,7 @@ fn blocking_loop<S: Read + Write>(
         figures.samples.push(sent.elapsed());
     }
     figures.total = start.elapsed();
-    Ok(figures)
+    Ok(Bare { figures, bytes })
 }
 
 /// The simulator fed and read directly, no link, no clock.
@@ -506,8 +521,9 @@ fn sim_loop(
     rule: &dyn ReplyRule,
     request: &[u8],
     requests: usize,
-) -> Result<Figures, String> {
+) -> Result<Bare, String> {
     let mut framer: Box<dyn Framer> = wire.framer();
+    let mut bytes = 0;
     let mut figures = Figures::default();
     let mut sim = sim
         .lock()
@@ -517,6 +533,7 @@ fn sim_loop(
         let sent = Instant::now();
         sim.feed(request);
         let output = sim.take_output();
+        bytes = request.len() + output.len();
         let complete = framer
             .push(&output)
             .iter()
@@ -527,7 +544,7 @@ fn sim_loop(
         figures.samples.push(sent.elapsed());
     }
     figures.total = start.elapsed();
-    Ok(figures)
+    Ok(Bare { figures, bytes })
 }
 
 #[cfg(test)]
