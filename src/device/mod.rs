@@ -207,8 +207,10 @@ pub enum DeviceEvent {
 #[derive(Debug, Clone)]
 pub struct PollItem {
     pub transaction: Transaction,
-    /// Poll at most this often; the link's speed may make it less often.
-    /// Zero means as often as the link allows.
+    /// Poll this often at most: on a grid of this period from the plan's
+    /// first poll, so a poll sent late does not delay the next one; the
+    /// link's speed may make it less often. Zero means as often as the
+    /// link allows.
     pub every: Duration,
 }
 

@@ -1,4 +1,14 @@
 //! When each item of a poll plan is due.
+//!
+//! Each item is polled on a grid of its period, laid from the plan's first
+//! poll: a poll sent late (the line was busy, the timer woke late) does
+//! not push the next one back. Items of one period therefore stay
+//! together and go out as one burst, one after the other's answer, after
+//! a single timer wake-up; scheduled from each item's own send time they
+//! drifted apart by a round trip each, and a console polling one axis woke
+//! for almost every poll on its own.
+
+use std::time::Duration;
 
 use tokio::time::Instant;
 
@@ -7,10 +17,12 @@ use super::{Answer, DeviceError, PollItem, PollPlan};
 /// A poll plan and when each of its items was last sent.
 pub(super) struct PollSchedule {
     plan: PollPlan,
-    /// When each item was last sent and the number of that send; `None`:
-    /// never polled, due at once.
+    /// The grid point of each item's last send and the number of that
+    /// send; `None`: never polled, due at once.
     last: Vec<Option<(Instant, u64)>>,
     sends: u64,
+    /// The plan's first poll, where every item's grid starts.
+    origin: Option<Instant>,
 }
 
 impl PollSchedule {
@@ -20,11 +32,13 @@ impl PollSchedule {
             plan,
             last,
             sends: 0,
+            origin: None,
         }
     }
 
     /// When item `index` is due (never-polled items at once, others
-    /// `every` after their last send), and the number of its last send.
+    /// `every` after the grid point of their last send), and the number of
+    /// its last send.
     fn due(&self, index: usize) -> Option<(Instant, u64)> {
         let item = self.plan.items.get(index)?;
         let (last, send) = (*self.last.get(index)?)?;
@@ -45,10 +59,12 @@ impl PollSchedule {
     /// Item `index` is being sent now.
     pub(super) fn sent(&mut self, index: usize, now: Instant) -> Option<&PollItem> {
         self.sends += 1;
-        if let Some(last) = self.last.get_mut(index) {
-            *last = Some((now, self.sends));
-        }
-        self.plan.items.get(index)
+        let origin = *self.origin.get_or_insert(now);
+        let item = self.plan.items.get(index)?;
+        let last = self.last.get_mut(index)?;
+        let from = last.map_or(origin, |(at, _)| at);
+        *last = Some((grid_point(from, item.every, now), self.sends));
+        Some(item)
     }
 
     pub(super) fn record(&mut self, index: usize, result: Result<&Answer, &DeviceError>) {
@@ -56,10 +72,22 @@ impl PollSchedule {
     }
 }
 
+/// The last point at or before `now` of the grid through `from` with step
+/// `every`; `now` itself for a zero step (as often as the link allows) or
+/// a `now` before `from`.
+fn grid_point(from: Instant, every: Duration, now: Instant) -> Instant {
+    let step = every.as_nanos();
+    if step == 0 || now < from {
+        return now;
+    }
+    let behind = now.duration_since(from).as_nanos();
+    let offset = behind - behind % step;
+    u64::try_from(offset).map_or(now, |offset| from + Duration::from_nanos(offset))
+}
+
 #[cfg(test)]
 mod tests {
     use std::sync::{Arc, Mutex};
-    use std::time::Duration;
 
     use super::super::{Expect, PollSink, Retry, Transaction};
     use super::*;
@@ -111,6 +139,41 @@ mod tests {
         assert_eq!(s.next(), Some((1, Some(t0 + Duration::from_millis(10)))));
         s.sent(1, t0 + Duration::from_millis(95));
         assert_eq!(s.next(), Some((0, Some(t0 + Duration::from_millis(100)))));
+    }
+
+    #[test]
+    fn items_of_one_period_stay_on_one_grid_and_go_out_together() {
+        let mut s = schedule(vec![item(50), item(50), item(50)]);
+        let t0 = Instant::now();
+        let ms = |n: f64| t0 + Duration::from_secs_f64(n / 1000.0);
+        // The first round, one after the other's answer.
+        s.sent(0, ms(0.0));
+        s.sent(1, ms(0.3));
+        s.sent(2, ms(0.6));
+        let due: Vec<_> = (0..3).map(|i| s.due(i).map(|(at, _)| at)).collect();
+        assert_eq!(due, [Some(ms(50.0)); 3], "one wake-up for all three");
+        // A poll sent late does not push the next one back…
+        s.sent(0, ms(57.0));
+        assert_eq!(s.due(0).map(|(at, _)| at), Some(ms(100.0)));
+        // …and one that missed a whole period takes the next grid point.
+        s.sent(1, ms(160.0));
+        assert_eq!(s.due(1).map(|(at, _)| at), Some(ms(200.0)));
+    }
+
+    #[test]
+    fn grid_points_never_panic_and_fall_at_or_before_now() {
+        let t0 = Instant::now();
+        let step = Duration::from_millis(50);
+        assert_eq!(
+            grid_point(t0, step, t0 + Duration::from_millis(149)),
+            t0 + 2 * step
+        );
+        assert_eq!(grid_point(t0, step, t0 + 3 * step), t0 + 3 * step);
+        assert_eq!(grid_point(t0, Duration::ZERO, t0 + step), t0 + step);
+        let earlier = t0 + step;
+        assert_eq!(grid_point(earlier, step, t0), t0, "now before the grid");
+        let huge = Duration::MAX;
+        assert_eq!(grid_point(t0, huge, t0 + step), t0);
     }
 
     #[test]
