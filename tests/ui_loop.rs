@@ -392,3 +392,45 @@ async fn log_writes_every_frame_to_a_file_until_it_is_turned_off() {
         ]
     );
 }
+
+#[tokio::test(start_paused = true)]
+async fn traffic_is_taken_in_batches_not_one_wake_up_per_frame() {
+    let (fake, _calls) = Fake::new(&["motor 0"]);
+    run_console(Some(fake.clone()), no_connector(), async |mut rig: Rig| {
+        rig.screens.until("fake rig #1 connected").await;
+        // The traffic monitor to the front.
+        let _ = rig.keys.send(Event::Key(KeyEvent::new(
+            KeyCode::Char('4'),
+            KeyModifiers::ALT,
+        )));
+        rig.screens.until("no frames yet").await;
+        let poll = || TrafficRecord {
+            at: std::time::Instant::now(),
+            direction: Direction::Sent,
+            kind: TrafficKind::Request,
+            bytes: vec![1, 6, 1, 0, 0, 0, 0, 0, 8],
+            priority: Some(Priority::Poll),
+        };
+        // The first frame after a quiet spell shows at once.
+        let _ = fake.traffic.send(poll());
+        rig.screens.until("1 frames").await;
+        // Those that follow wait in the channel for the batch: the loop is
+        // not woken for each.
+        for _ in 0..4 {
+            let _ = fake.traffic.send(poll());
+        }
+        for _ in 0..10 {
+            tokio::task::yield_now().await;
+        }
+        tokio::time::advance(app::TRAFFIC_BATCH / 2).await;
+        for _ in 0..10 {
+            tokio::task::yield_now().await;
+        }
+        assert_eq!(fake.traffic.len(), 4, "not taken yet");
+        // Then all at once, and none lost.
+        rig.screens.until("5 frames").await;
+        assert_eq!(fake.traffic.len(), 0);
+        press(&rig, KeyCode::F(10));
+    })
+    .await;
+}

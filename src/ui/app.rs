@@ -37,6 +37,14 @@ use crate::protocol::Family;
 use crate::session::program::{Cancel, Progress, TransferError};
 use crate::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
 
+/// How long the loop lets traffic gather before it hands it to the panes:
+/// status polling alone sends a hundred or more frames a second, and
+/// waking the loop for each cost more than everything else an idle
+/// console does. The first frame after a quiet spell is handed on at once;
+/// the traffic monitor redraws no more often than this anyway
+/// ([`super::traffic::REFRESH`]).
+pub const TRAFFIC_BATCH: Duration = super::traffic::REFRESH;
+
 /// Below this many rows (or columns) for the panes, every pane is a tab of
 /// one region.
 pub const TILE_MIN_HEIGHT: u16 = 16;
@@ -869,6 +877,9 @@ struct Connection {
     link: watch::Receiver<LinkState>,
     identity: watch::Receiver<Option<String>>,
     traffic: Option<broadcast::Receiver<TrafficRecord>>,
+    /// Traffic is taken in batches: after a batch, none is taken before
+    /// this (see [`TRAFFIC_BATCH`]).
+    traffic_after: Option<tokio::time::Instant>,
     events: Option<broadcast::Receiver<DeviceEvent>>,
     poll: Option<PollCadence>,
 }
@@ -881,6 +892,7 @@ impl Connection {
             link: controller.link_state(),
             identity: controller.identity(),
             traffic: controller.traffic(),
+            traffic_after: None,
             events: controller.events(),
             controller,
             poll,
@@ -910,6 +922,8 @@ enum Wakeup {
     Changed,
     ChannelGone,
     Traffic(Result<TrafficRecord, broadcast::error::RecvError>),
+    /// The pause after a batch of traffic is over.
+    TrafficDue,
     Device(Result<DeviceEvent, broadcast::error::RecvError>),
     Internal(Option<AppEvent>),
     Connected(Result<Arc<dyn Controller>, String>),
@@ -1052,15 +1066,15 @@ struct Runner {
 /// Drives an [`App`] until it quits: `input` carries terminal events,
 /// `extra` anything else (signals, start-up notices), `draw` paints the
 /// app (it is called only when something changed). The session's watch
-/// channels and broadcast streams, the replies and the timers all wake the
-/// loop; nothing else does.
+/// channels and event stream, the replies and the timers wake the loop,
+/// and traffic at most once per [`TRAFFIC_BATCH`]; nothing else does.
 pub async fn run(
     app: &mut App,
     controller: Option<Arc<dyn Controller>>,
     connector: Connector,
     mut input: mpsc::UnboundedReceiver<TermEvent>,
     extra: Option<mpsc::UnboundedReceiver<AppEvent>>,
-    draw: &mut dyn FnMut(&mut App) -> std::io::Result<()>,
+    draw: &mut (dyn FnMut(&mut App) -> std::io::Result<()> + Send),
 ) -> std::io::Result<()> {
     let (internal, mut internal_rx) = mpsc::unbounded_channel::<AppEvent>();
     if let Some(mut extra) = extra {
@@ -1094,10 +1108,13 @@ pub async fn run(
             draw(app)?;
         }
         let wakeup = runner.wait(&mut input, &mut internal_rx).await;
-        let Some(event) = runner.event(app, wakeup) else {
-            continue;
-        };
-        runner.handle(app, event);
+        let traffic = matches!(wakeup, Wakeup::Traffic(Ok(_)) | Wakeup::TrafficDue);
+        if let Some(event) = runner.event(app, wakeup) {
+            runner.handle(app, event);
+        }
+        if traffic {
+            runner.take_traffic(app);
+        }
     }
     if let Some(log) = runner.log.take() {
         log.stop();
@@ -1135,10 +1152,15 @@ impl Runner {
                 result = connect => Wakeup::Connected(result),
             };
         };
+        let traffic_after = c.traffic_after;
         let traffic = async {
-            match c.traffic.as_mut() {
-                Some(rx) => rx.recv().await,
-                None => std::future::pending().await,
+            match (c.traffic.as_mut(), traffic_after) {
+                (Some(_), Some(at)) => {
+                    tokio::time::sleep_until(at).await;
+                    Wakeup::TrafficDue
+                }
+                (Some(rx), None) => Wakeup::Traffic(rx.recv().await),
+                (None, _) => std::future::pending().await,
             }
         };
         let events = async {
@@ -1158,7 +1180,7 @@ impl Runner {
             changed = c.status.changed() => gone(changed),
             changed = c.link.changed() => gone(changed),
             changed = c.identity.changed() => gone(changed),
-            record = traffic => Wakeup::Traffic(record),
+            wakeup = traffic => wakeup,
             event = events => Wakeup::Device(event),
         }
     }
@@ -1177,6 +1199,7 @@ impl Runner {
                 AppEvent::Disconnected
             }
             Wakeup::Traffic(Ok(record)) => AppEvent::Traffic(record),
+            Wakeup::TrafficDue => return None,
             Wakeup::Device(Ok(event)) => AppEvent::Device(event),
             Wakeup::Traffic(Err(broadcast::error::RecvError::Closed))
             | Wakeup::Device(Err(broadcast::error::RecvError::Closed)) => {
@@ -1208,6 +1231,41 @@ impl Runner {
                 }
             }
         })
+    }
+
+    /// Hand the panes every traffic record waiting, and take no more
+    /// before [`TRAFFIC_BATCH`] has passed if there were any (otherwise
+    /// the next record wakes the loop at once).
+    fn take_traffic(&mut self, app: &mut App) {
+        let Some(c) = self.connection.as_mut() else {
+            return;
+        };
+        let woken_by_a_record = c.traffic_after.is_none();
+        let mut records = Vec::new();
+        let mut closed = false;
+        if let Some(rx) = c.traffic.as_mut() {
+            loop {
+                match rx.try_recv() {
+                    Ok(record) => records.push(record),
+                    // Missed by a pane that could not keep up; read on.
+                    Err(broadcast::error::TryRecvError::Lagged(_)) => {}
+                    Err(broadcast::error::TryRecvError::Empty) => break,
+                    Err(broadcast::error::TryRecvError::Closed) => {
+                        closed = true;
+                        break;
+                    }
+                }
+            }
+        }
+        c.traffic_after = (woken_by_a_record || !records.is_empty())
+            .then(|| tokio::time::Instant::now() + TRAFFIC_BATCH);
+        if closed {
+            c.traffic = None;
+            c.traffic_after = None;
+        }
+        for record in records {
+            self.handle(app, AppEvent::Traffic(record));
+        }
     }
 
     /// Let go of the connection: no polling, no log.
@@ -1731,6 +1789,29 @@ mod tests {
         let reading = |n| at(Phase::Reading, n, None);
         assert!(!worth_showing(Some(&reading(0)), &reading(15)));
         assert!(worth_showing(Some(&reading(0)), &reading(16)));
+    }
+
+    /// The console's loop runs as a task of its own (see `live`): the app,
+    /// its panes and the drawing are `Send`.
+    #[tokio::test(start_paused = true)]
+    async fn the_loop_runs_as_a_spawned_task() {
+        let mut app = three();
+        let (_keys, input) = mpsc::unbounded_channel();
+        let (extra, extra_rx) = mpsc::unbounded_channel();
+        let connector: Connector = Box::new(|_| Box::pin(async { Err("none".to_string()) }));
+        let mut terminal = Terminal::new(TestBackend::new(80, 24)).expect("backend");
+        let (drawn, mut frames) = mpsc::unbounded_channel();
+        let looping = tokio::spawn(async move {
+            let mut draw = |app: &mut App| -> std::io::Result<()> {
+                let Ok(_) = terminal.draw(|f| app.render(f));
+                let _ = drawn.send(());
+                Ok(())
+            };
+            run(&mut app, None, connector, input, Some(extra_rx), &mut draw).await
+        });
+        assert_eq!(frames.recv().await, Some(()), "the first frame");
+        let _ = extra.send(AppEvent::Terminate);
+        assert!(matches!(looping.await, Ok(Ok(()))));
     }
 
     #[test]
