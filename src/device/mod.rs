@@ -454,7 +454,7 @@ pub fn spawn(
 }
 
 /// Records the traffic stream holds for a slow subscriber before it lags.
-const TRAFFIC_CAPACITY: usize = 4096;
+pub const TRAFFIC_CAPACITY: usize = 4096;
 const EVENTS_CAPACITY: usize = 256;
 
 /// Reply bytes the default timeout leaves wire time for: more than any TMCL

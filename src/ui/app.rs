@@ -45,6 +45,47 @@ use crate::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, Se
 /// ([`super::traffic::REFRESH`]).
 pub const TRAFFIC_BATCH: Duration = super::traffic::REFRESH;
 
+/// How long traffic may gather while the traffic monitor is not on screen
+/// (it keeps recording behind its tab): the pause doubles from
+/// [`TRAFFIC_BATCH`] up to this while frames keep coming.
+pub const TRAFFIC_BATCH_HIDDEN: Duration = Duration::from_secs(1);
+
+/// Records a pause may let gather at the rate last seen: a quarter of the
+/// device's traffic stream ([`crate::device::TRAFFIC_CAPACITY`]), so that
+/// a fast transfer shortens the pause before the stream overflows.
+pub const TRAFFIC_HEADROOM: usize = crate::device::TRAFFIC_CAPACITY / 4;
+
+/// The pane that shows traffic (see [`App::is_on_screen`]).
+const TRAFFIC_PANE: &str = "traffic";
+
+/// The pause after a batch of `taken` records gathered over `seen`:
+/// [`TRAFFIC_BATCH`] after a quiet spell (`fresh`), else twice the last
+/// one, at most `longest`, and never so long that [`TRAFFIC_HEADROOM`]
+/// records would come at the rate just seen.
+pub fn traffic_pause(
+    fresh: bool,
+    last: Duration,
+    longest: Duration,
+    taken: usize,
+    seen: Duration,
+) -> Duration {
+    let pause = if fresh {
+        TRAFFIC_BATCH
+    } else {
+        last.saturating_mul(2)
+    }
+    .min(longest);
+    let Ok(taken) = u32::try_from(taken) else {
+        return Duration::from_millis(1);
+    };
+    if taken == 0 {
+        return pause;
+    }
+    let headroom = u32::try_from(TRAFFIC_HEADROOM).unwrap_or(u32::MAX);
+    let safe = seen.saturating_mul(headroom) / taken;
+    pause.min(safe).max(Duration::from_millis(1))
+}
+
 /// Below this many rows (or columns) for the panes, every pane is a tab of
 /// one region.
 pub const TILE_MIN_HEIGHT: u16 = 16;
@@ -505,6 +546,14 @@ impl App {
         true
     }
 
+    /// Whether the pane called `name` was on the screen at the last draw.
+    pub fn is_on_screen(&self, name: &str) -> bool {
+        self.panes
+            .iter()
+            .position(|p| p.name() == name)
+            .is_some_and(|index| self.is_shown(index))
+    }
+
     /// Whether `pane` was on the screen at the last draw (before the
     /// first draw, every pane counts as shown).
     fn is_shown(&self, pane: usize) -> bool {
@@ -878,8 +927,12 @@ struct Connection {
     identity: watch::Receiver<Option<String>>,
     traffic: Option<broadcast::Receiver<TrafficRecord>>,
     /// Traffic is taken in batches: after a batch, none is taken before
-    /// this (see [`TRAFFIC_BATCH`]).
+    /// this (see [`TRAFFIC_BATCH`]); `None`: the next record wakes the
+    /// loop.
     traffic_after: Option<tokio::time::Instant>,
+    /// The last pause, and when traffic was last taken.
+    traffic_pause: Duration,
+    traffic_taken: tokio::time::Instant,
     events: Option<broadcast::Receiver<DeviceEvent>>,
     poll: Option<PollCadence>,
 }
@@ -893,6 +946,8 @@ impl Connection {
             identity: controller.identity(),
             traffic: controller.traffic(),
             traffic_after: None,
+            traffic_pause: TRAFFIC_BATCH,
+            traffic_taken: tokio::time::Instant::now(),
             events: controller.events(),
             controller,
             poll,
@@ -1107,13 +1162,16 @@ pub async fn run(
         if app.needs_redraw() {
             draw(app)?;
         }
-        let wakeup = runner.wait(&mut input, &mut internal_rx).await;
+        let traffic_shown = app.is_on_screen(TRAFFIC_PANE);
+        let wakeup = runner
+            .wait(&mut input, &mut internal_rx, traffic_shown)
+            .await;
         let traffic = matches!(wakeup, Wakeup::Traffic(Ok(_)) | Wakeup::TrafficDue);
         if let Some(event) = runner.event(app, wakeup) {
             runner.handle(app, event);
         }
         if traffic {
-            runner.take_traffic(app);
+            runner.take_traffic(app, traffic_shown);
         }
     }
     if let Some(log) = runner.log.take() {
@@ -1137,6 +1195,7 @@ impl Runner {
         &mut self,
         input: &mut mpsc::UnboundedReceiver<TermEvent>,
         internal: &mut mpsc::UnboundedReceiver<AppEvent>,
+        traffic_shown: bool,
     ) -> Wakeup {
         let connecting = &mut self.connecting;
         let connect = async {
@@ -1152,7 +1211,15 @@ impl Runner {
                 result = connect => Wakeup::Connected(result),
             };
         };
-        let traffic_after = c.traffic_after;
+        // The traffic monitor brought to the front waits no longer than
+        // its refresh for the frames that gathered behind its tab.
+        let traffic_after = c.traffic_after.map(|at| {
+            if traffic_shown {
+                at.min(c.traffic_taken + TRAFFIC_BATCH)
+            } else {
+                at
+            }
+        });
         let traffic = async {
             match (c.traffic.as_mut(), traffic_after) {
                 (Some(_), Some(at)) => {
@@ -1233,10 +1300,10 @@ impl Runner {
         })
     }
 
-    /// Hand the panes every traffic record waiting, and take no more
-    /// before [`TRAFFIC_BATCH`] has passed if there were any (otherwise
-    /// the next record wakes the loop at once).
-    fn take_traffic(&mut self, app: &mut App) {
+    /// Hand the panes every traffic record waiting, and pause before
+    /// taking more if there were any ([`traffic_pause`]; otherwise the
+    /// next record wakes the loop at once).
+    fn take_traffic(&mut self, app: &mut App, traffic_shown: bool) {
         let Some(c) = self.connection.as_mut() else {
             return;
         };
@@ -1257,8 +1324,25 @@ impl Runner {
                 }
             }
         }
-        c.traffic_after = (woken_by_a_record || !records.is_empty())
-            .then(|| tokio::time::Instant::now() + TRAFFIC_BATCH);
+        let now = tokio::time::Instant::now();
+        c.traffic_after = if woken_by_a_record || !records.is_empty() {
+            let longest = if traffic_shown {
+                TRAFFIC_BATCH
+            } else {
+                TRAFFIC_BATCH_HIDDEN
+            };
+            c.traffic_pause = traffic_pause(
+                woken_by_a_record,
+                c.traffic_pause,
+                longest,
+                records.len(),
+                now.saturating_duration_since(c.traffic_taken),
+            );
+            Some(now + c.traffic_pause)
+        } else {
+            None
+        };
+        c.traffic_taken = now;
         if closed {
             c.traffic = None;
             c.traffic_after = None;
@@ -1812,6 +1896,41 @@ mod tests {
         assert_eq!(frames.recv().await, Some(()), "the first frame");
         let _ = extra.send(AppEvent::Terminate);
         assert!(matches!(looping.await, Ok(Ok(()))));
+    }
+
+    #[test]
+    fn traffic_pauses_grow_while_frames_come_and_shrink_when_they_pour_in() {
+        let ms = Duration::from_millis;
+        let longest = TRAFFIC_BATCH_HIDDEN;
+        // After a quiet spell: the monitor's refresh.
+        assert_eq!(
+            traffic_pause(true, ms(800), longest, 1, ms(5000)),
+            TRAFFIC_BATCH
+        );
+        // Then doubling up to the longest.
+        assert_eq!(traffic_pause(false, ms(100), longest, 4, ms(100)), ms(200));
+        assert_eq!(traffic_pause(false, ms(800), longest, 32, ms(800)), longest);
+        assert_eq!(
+            traffic_pause(false, ms(100), TRAFFIC_BATCH, 4, ms(100)),
+            TRAFFIC_BATCH
+        );
+        // A transfer pouring frames in: short enough that the stream
+        // cannot fill.
+        let pause = traffic_pause(false, ms(100), longest, TRAFFIC_HEADROOM * 2, ms(100));
+        assert_eq!(pause, ms(50));
+        // Nonsense never panics.
+        assert_eq!(
+            traffic_pause(
+                false,
+                Duration::MAX,
+                Duration::MAX,
+                usize::MAX,
+                Duration::MAX
+            ),
+            ms(1)
+        );
+        assert_eq!(traffic_pause(false, ms(100), longest, 0, ms(0)), ms(200));
+        assert_eq!(traffic_pause(false, ms(100), longest, 9, ms(0)), ms(1));
     }
 
     #[test]
