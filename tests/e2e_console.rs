@@ -1,6 +1,7 @@
 //! The real binary in a real pseudo-terminal (tmux): `axterm --sim
 //! tmcm1110`, a move typed in the command pane, the position changing on
-//! screen, the emergency stop, quitting, and the terminal given back.
+//! screen, the emergency stop, quitting, and the terminal given back (on
+//! quit, on SIGTERM/SIGHUP, and after a panic inside the console).
 //!
 //! Synchronisation is by polling the screen (`tmux capture-pane`) until
 //! the expected text appears, with one overall deadline so that a broken
@@ -216,6 +217,64 @@ fn a_termination_signal_gives_the_terminal_back_too() {
         assert!(
             words.contains(&"icanon") && words.contains(&"echo"),
             "{name}: {after}"
+        );
+    }
+}
+
+/// A bug inside the console: the real binary panics in its loop (the
+/// test-only `AXTERM_TEST_PANIC` makes `:connect` panic) with the terminal
+/// in raw mode on the alternate screen. The panic hook gives the terminal
+/// back before the message is printed, so the message is on the normal
+/// screen for the technician to read, and the shell works again.
+#[test]
+fn a_panic_inside_the_console_gives_the_terminal_back_and_its_message_is_readable() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let binary = env!("CARGO_BIN_EXE_axterm");
+    let command = format!(
+        "echo BEFORE-AXTERM; RUST_BACKTRACE=0 AXTERM_TEST_PANIC=1 AXTERM_DATA_DIR={data} {binary} --sim tmcm1110; echo AXTERM-EXIT-$?; stty -a; echo MARKER-END; sleep 600",
+        data = dir.path().display(),
+    );
+    let tmux = Tmux::start("panic", &command, dir.path());
+    let console = tmux.until("the console", |s| s.contains("poll 20 Hz"));
+    assert!(
+        !console.contains("BEFORE-AXTERM"),
+        "on the alternate screen: {console}"
+    );
+    tmux.type_text(":connect --sim tmcm1110");
+    tmux.keys(&["Enter"]);
+    let after = tmux.until("axterm to exit", |s| s.contains("MARKER-END"));
+    // Rust's exit code for a panic in main.
+    assert!(after.contains("AXTERM-EXIT-101"), "{after}");
+    // The alternate screen was left: the normal screen, with what was on
+    // it before, and none of the console.
+    assert!(after.contains("BEFORE-AXTERM"), "{after}");
+    assert!(
+        !after.contains("F12 STOP") && !after.contains("Axes —"),
+        "{after}"
+    );
+    // The message, after the terminal was given back, and in one piece:
+    // raw mode would have printed it without carriage returns, as a
+    // staircase.
+    let message = after
+        .lines()
+        .find(|l| l.contains("AXTERM_TEST_PANIC is set"))
+        .unwrap_or_else(|| panic!("no panic message:\n{after}"));
+    assert!(
+        message.starts_with("AXTERM_TEST_PANIC is set: a deliberate panic"),
+        "{after}"
+    );
+    let panicked = after
+        .lines()
+        .find(|l| l.contains("panicked at"))
+        .unwrap_or_else(|| panic!("no panic header:\n{after}"));
+    assert!(panicked.starts_with("thread 'main'"), "{after}");
+    // Cooked mode again.
+    let stty = after.split("AXTERM-EXIT-101").nth(1).unwrap_or_default();
+    let words: Vec<&str> = stty.split_whitespace().collect();
+    for setting in ["icanon", "echo", "isig", "icrnl", "opost"] {
+        assert!(
+            words.contains(&setting),
+            "{setting} is not set again:\n{stty}"
         );
     }
 }

@@ -2,8 +2,11 @@
 //! TestBackend, from hand-made snapshots: one TMCM-1110 motor, a 4-axis
 //! X/Y/Z/U machine and a 6-axis one, at 80×24 and at a large size.
 
+mod panes_support;
 mod ui_support;
 
+use axterm::ui::app::{AppEvent, Effect};
+use panes_support::{SimModule, serve};
 use ratatui::crossterm::event::KeyCode;
 use ui_support::{axes, console, key, moving_status, screen, snapshot};
 
@@ -208,4 +211,196 @@ fn unknown_values_show_as_dashes_not_zeros() {
     let lines = screen(&mut app, 100, 30);
     assert!(lines[1].contains("pos           —"), "{}", lines[1]);
     assert!(lines[1].contains("reached?"), "{}", lines[1]);
+}
+
+/// The lines sent by a batch of effects.
+fn sent_lines(effects: &[Effect]) -> Vec<String> {
+    effects
+        .iter()
+        .flat_map(|e| match e {
+            Effect::Send { lines, .. } => lines.clone(),
+            _ => Vec::new(),
+        })
+        .collect()
+}
+
+/// The units key (u) goes raw → pps → rpm → raw; each time it leaves raw
+/// units the microstep resolution (AP140) and the pulse divisor (AP154)
+/// are read from the module (here the simulator), so a resolution changed
+/// meanwhile is taken into account.
+#[test]
+fn the_units_key_shows_steps_and_pps_then_turns_and_rpm_with_the_modules_settings() {
+    let mut module = SimModule::new();
+    for line in ["SAP 140, 0, 8", "SAP 154, 0, 3"] {
+        module.answer(line).expect("the simulator takes it");
+    }
+    let mut app = console();
+    let mut s = snapshot(axes(&["motor 0"]));
+    // §6.1.1: 1678 is about 51208.5 pps with pulse divisor 3; §6.1.4:
+    // at 256 microsteps a 200-step motor turns once per 51200.
+    s.status[0] = moving_status(12_800, 51_200, 1_678, 1_678);
+    app.handle(AppEvent::Snapshot(s));
+    app.focus("axes");
+    let lines = screen(&mut app, 100, 30);
+    assert!(
+        lines[0].contains("poll 20 Hz · u units: raw"),
+        "{}",
+        lines[0]
+    );
+    assert!(lines[2].contains("spd        1678"), "{}", lines[2]);
+
+    let effects = app.handle(key(KeyCode::Char('u')));
+    assert_eq!(sent_lines(&effects), ["GAP 140, 0", "GAP 154, 0"]);
+    serve(&mut app, &mut module, effects);
+    let lines = screen(&mut app, 100, 30);
+    let all = lines.join("\n");
+    assert!(lines[0].contains("u units: pps"), "{all}");
+    assert!(
+        lines[1].contains("pos 12800 µsteps") && lines[1].contains("tgt 51200 µsteps"),
+        "{all}"
+    );
+    assert_eq!(lines[2].matches(" 51208 pps ").count(), 2, "{all}");
+
+    // 64 microsteps a full step now: a quarter as many to a turn.
+    module
+        .answer("SAP 140, 0, 6")
+        .expect("the simulator takes it");
+    let effects = app.handle(key(KeyCode::Char('u')));
+    assert_eq!(sent_lines(&effects), ["GAP 140, 0", "GAP 154, 0"]);
+    serve(&mut app, &mut module, effects);
+    let lines = screen(&mut app, 100, 30);
+    let all = lines.join("\n");
+    assert!(lines[0].contains("u units: rpm"), "{all}");
+    assert!(
+        lines[1].contains(" 1 rev ") && lines[1].contains(" 4 rev "),
+        "{all}"
+    );
+    assert_eq!(lines[2].matches(" 240.0 rpm ").count(), 2, "{all}");
+
+    let effects = app.handle(key(KeyCode::Char('u')));
+    assert!(sent_lines(&effects).is_empty(), "{effects:?}");
+    let lines = screen(&mut app, 100, 30);
+    assert!(lines[0].contains("u units: raw"), "{}", lines[0]);
+    assert!(lines[1].contains("pos       12800"), "{}", lines[1]);
+}
+
+/// Until the module answers (or when it cannot), a value that needs what
+/// was not read is marked raw rather than shown in a wrong unit; a read
+/// that fails is said in the title. One row per axis shows units too.
+#[test]
+fn values_not_yet_convertible_are_marked_raw_and_a_failed_read_is_said() {
+    let mut app = console();
+    let mut s = snapshot(axes(&["X", "Y", "Z", "U"]));
+    for status in &mut s.status {
+        *status = moving_status(100, 200, 10, 20);
+    }
+    app.handle(AppEvent::Snapshot(s));
+    app.focus("axes");
+    let effects = app.handle(key(KeyCode::Char('u')));
+    let sends: Vec<(usize, u64, String)> = effects
+        .iter()
+        .filter_map(|e| match e {
+            Effect::Send { pane, tag, lines } => Some((*pane, *tag, lines.join(";"))),
+            _ => None,
+        })
+        .collect();
+    // Two reads an axis.
+    assert_eq!(sends.len(), 8, "{effects:?}");
+    let lines = screen(&mut app, 80, 24);
+    let all = lines.join("\n");
+    // 80×24: one row per axis; positions need nothing (µsteps), speeds
+    // need the pulse divisor.
+    assert!(
+        lines[1].contains("100 µsteps→200 µsteps") && lines[1].contains("v10 raw/20 raw"),
+        "{all}"
+    );
+    let (pane, tag, line) = sends[1].clone();
+    app.handle(AppEvent::Reply {
+        pane,
+        tag,
+        line: line.clone(),
+        result: Err(axterm::session::SessionError::Refused {
+            line,
+            message: "no answer in 200 ms".into(),
+        }),
+    });
+    let lines = screen(&mut app, 80, 24);
+    assert!(lines[0].contains("GAP 154, 0:"), "{}", lines[0]);
+    assert!(lines[1].contains("v10 raw/20 raw"), "{}", lines[1]);
+}
+
+mod no_units {
+    //! A family without unit conversions: TMCL's frames and lines, no
+    //! parameter tables.
+    use std::sync::Arc;
+
+    use axterm::protocol::Family;
+    use axterm::protocol::console::{
+        AxisInfo, AxisUpdate, FamilyConsole, PreparedLine, Reading, ReplyError, StatusPoll,
+    };
+    use axterm::protocol::tmcl::TmclConsole;
+    use axterm::protocol::wire::{Frame, WireFormat};
+
+    pub struct Plain;
+
+    impl FamilyConsole for Plain {
+        fn wire(&self) -> Arc<dyn WireFormat> {
+            TmclConsole.wire()
+        }
+        fn default_address(&self) -> u8 {
+            1
+        }
+        fn axes(&self) -> &'static [AxisInfo] {
+            TmclConsole.axes()
+        }
+        fn prepare(&self, line: &str, address: u8) -> Result<PreparedLine, String> {
+            TmclConsole.prepare(line, address)
+        }
+        fn interpret(&self, line: &PreparedLine, frames: &[Frame]) -> Result<Reading, ReplyError> {
+            TmclConsole.interpret(line, frames)
+        }
+        fn emergency_stop(&self, address: u8) -> Vec<PreparedLine> {
+            TmclConsole.emergency_stop(address)
+        }
+        fn identify(&self, address: u8) -> PreparedLine {
+            TmclConsole.identify(address)
+        }
+        fn status_queries(&self, address: u8) -> Vec<StatusPoll> {
+            TmclConsole.status_queries(address)
+        }
+        fn status_update(
+            &self,
+            line: &PreparedLine,
+            reading: &Reading,
+        ) -> Option<(usize, AxisUpdate)> {
+            TmclConsole.status_update(line, reading)
+        }
+    }
+
+    pub static PLAIN: Family = Family {
+        name: "plain",
+        description: "a family with no unit conversions",
+        encode_line: |_, _| Err("not here".into()),
+        show_bytes: |_| String::new(),
+        console: &Plain,
+    };
+}
+
+#[test]
+fn the_units_key_says_so_when_the_family_has_no_conversion() {
+    let mut app = console();
+    let mut s = snapshot(axes(&["motor 0"]));
+    s.family = &no_units::PLAIN;
+    s.status[0] = moving_status(12_800, 51_200, 1_678, 1_678);
+    app.handle(AppEvent::Snapshot(s));
+    app.focus("axes");
+    let effects = app.handle(key(KeyCode::Char('u')));
+    assert!(sent_lines(&effects).is_empty(), "{effects:?}");
+    let lines = screen(&mut app, 100, 30);
+    assert!(
+        lines[0].contains("plain has no real-world units: raw only"),
+        "{}",
+        lines[0]
+    );
+    assert!(lines[1].contains("pos       12800"), "{}", lines[1]);
 }

@@ -147,15 +147,16 @@ fn tab_completes_mnemonics_symbols_and_parameters_from_the_catalogue() {
     assert!(screen.contains("5 Maximum acceleration"), "{screen}");
 }
 
-#[test]
-fn f1_explains_the_word_under_the_cursor_and_help_takes_topics() {
-    let mut app = connected();
-    type_text(&mut app, "SAP 4, 0, 100");
+/// Type `SAP 4, 0, 100`, F1 on the 4: the command's syntax and the
+/// parameter's row are shown, the line stays to be finished; then Esc
+/// and `:help MVP`. The screen after F1.
+fn help_on_sap_4_and_mvp(app: &mut App) -> String {
+    type_text(app, "SAP 4, 0, 100");
     for _ in 0..8 {
         app.handle(key(KeyCode::Left));
     }
     app.handle(key(KeyCode::F(1)));
-    let screen = text(&mut app, 120, 30);
+    let screen = text(app, 120, 30);
     assert!(
         screen.contains("SAP <parameter>, <motor>, <value>   (§3.6.5, instruction 5)"),
         "{screen}"
@@ -166,16 +167,22 @@ fn f1_explains_the_word_under_the_cursor_and_help_takes_topics() {
         ),
         "{screen}"
     );
-    // The line is still there to finish.
     assert!(screen.contains("> SAP 4, 0, 100"), "{screen}");
-
     app.handle(key(KeyCode::Esc));
-    enter(&mut app, ":help MVP");
-    let screen = text(&mut app, 120, 30);
+    enter(app, ":help MVP");
+    let after = text(app, 120, 30);
     assert!(
-        screen.contains("<mode>: ABS (0), REL (1), COORD (2)"),
-        "{screen}"
+        after.contains("<mode>: ABS (0), REL (1), COORD (2)"),
+        "{after}"
     );
+    screen
+}
+
+#[test]
+fn f1_explains_the_word_under_the_cursor_and_help_takes_topics() {
+    let mut app = connected();
+    let screen = help_on_sap_4_and_mvp(&mut app);
+    assert!(!screen.contains("not connected"), "{screen}");
     enter(&mut app, ":help");
     let screen = text(&mut app, 120, 40);
     assert!(screen.contains(":poll RATE"), "{screen}");
@@ -368,4 +375,64 @@ fn news_from_the_module_and_the_link_is_shown() {
         screen.contains("link lost: /dev/ttyUSB0 unplugged; trying again in 400 ms"),
         "{screen}"
     );
+}
+
+/// Before connecting (the connect screen, a link not yet open), help and
+/// completion come from the tables of the family the connect screen
+/// offers first: with no recent connection, its first simulator's, TMCL.
+#[test]
+fn help_and_completion_work_before_connecting() {
+    let mut app = console();
+    assert!(app.snapshot().is_none());
+    let screen = help_on_sap_4_and_mvp(&mut app);
+    assert!(
+        screen.contains("not connected: help from the tmcl tables"),
+        "{screen}"
+    );
+
+    // Tab: mnemonics, and inside `:help`.
+    type_text(&mut app, "ms");
+    app.handle(key(KeyCode::Tab));
+    assert!(text(&mut app, 80, 24).contains("> MST "));
+    app.handle(key(KeyCode::Esc));
+    type_text(&mut app, ":help SAP maxim");
+    app.handle(key(KeyCode::Tab));
+    let screen = text(&mut app, 120, 30);
+    assert!(screen.contains("4 Maximum positioning speed"), "{screen}");
+    app.handle(key(KeyCode::Esc));
+
+    // The syntax of the command being typed shows above the prompt.
+    enter(&mut app, ":echo the output ends here");
+    type_text(&mut app, "MVP");
+    let lines = ui_support::screen(&mut app, 120, 30);
+    let prompt = lines
+        .iter()
+        .position(|l| l.starts_with("│> MVP "))
+        .expect("the prompt");
+    assert!(
+        lines[prompt - 1].starts_with("│MVP ABS|REL|COORD, <motor>"),
+        "{}",
+        lines.join("\n")
+    );
+    app.handle(key(KeyCode::Esc));
+
+    // Sending still needs a connection.
+    assert!(enter(&mut app, "MST 0").is_empty());
+    assert!(text(&mut app, 100, 30).contains("not connected: `:connect"));
+}
+
+/// After the link is gone, help stays with the family last connected,
+/// and says it is not connected.
+#[test]
+fn help_after_disconnecting_comes_from_the_family_last_connected() {
+    let mut app = connected();
+    app.handle(AppEvent::Disconnected);
+    assert!(app.snapshot().is_none());
+    enter(&mut app, ":help GAP 4");
+    let screen = text(&mut app, 120, 30);
+    assert!(
+        screen.contains("not connected: help from the tmcl tables"),
+        "{screen}"
+    );
+    assert!(screen.contains("Maximum positioning speed"), "{screen}");
 }

@@ -392,3 +392,60 @@ async fn through_the_event_loop_the_chosen_connection_opens_the_console() {
         [args("--sim tmcm1110")]
     );
 }
+
+#[test]
+fn connection_options_name_their_protocol_family() {
+    use axterm::ui::connect::family_of_args;
+    let name = |text: &str| family_of_args(&args(text)).map(|f| f.name);
+    assert_eq!(name("--sim tmcm1110"), Some("tmcl"));
+    assert_eq!(name("--sim=tmcm1110 --address 3"), Some("tmcl"));
+    assert_eq!(name("--port /dev/ttyUSB0 --protocol tmcl"), Some("tmcl"));
+    assert_eq!(name("--tcp 127.0.0.1:4001 --protocol=TMCL"), Some("tmcl"));
+    // As on the command line: no protocol and no simulator is TMCL.
+    assert_eq!(name("--port /dev/ttyUSB0"), Some("tmcl"));
+    assert_eq!(name("--port /dev/ttyUSB0 --protocol klingon"), None);
+    assert_eq!(name("--sim nosuch"), None);
+}
+
+/// The connect screen tells the other panes (the command line's help and
+/// completion) which family its choice connects with, when a key changes
+/// it, once.
+#[test]
+fn the_family_of_the_choice_is_told_when_it_changes() {
+    use axterm::ui::pane::{Input, Outcome, Request, View};
+    let dir = tempfile::tempdir().expect("temp dir");
+    std::fs::write(
+        dir.path().join(RECENT_FILE),
+        "[[connection]]\nargs = [\"--port\", \"/dev/ttyUSB0\", \"--protocol\", \"tmcl\"]\n",
+    )
+    .expect("recent file");
+    assert_eq!(
+        axterm::ui::connect::initial_family(Some(dir.path())).map(|f| f.name),
+        Some("tmcl")
+    );
+    let mut pane = ConnectPane::new(Some(dir.path()), two_ports);
+    assert_eq!(pane.chosen_family().map(|f| f.name), Some("tmcl"));
+    let theme = Theme::builtin("dark").expect("theme");
+    let keymap = Keymap::builtin("default").expect("keymap");
+    let view = View {
+        theme: &theme,
+        keymap: &keymap,
+        session: None,
+        focused: true,
+        shown: true,
+    };
+    let down = Input::Key(KeyEvent::new(KeyCode::Down, KeyModifiers::NONE));
+    let told = |outcome: Outcome| match outcome {
+        Outcome::Handled(requests) => requests
+            .into_iter()
+            .filter(|r| matches!(r, Request::ChooseFamily(_)))
+            .collect::<Vec<_>>(),
+        Outcome::Ignored => Vec::new(),
+    };
+    // From the recent port to the simulator: told once.
+    assert_eq!(
+        told(pane.handle_input(&down, &view)),
+        [Request::ChooseFamily("tmcl")]
+    );
+    assert_eq!(told(pane.handle_input(&down, &view)), []);
+}

@@ -363,17 +363,12 @@ fn run_reads_the_registers_and_marks_the_line_the_program_counter_is_on() {
     assert_eq!(sends[0].1, ["RUNAPP"]);
     assert_eq!(
         sends[1].1,
-        [
-            "APPSTATUS MODE",
-            "APPSTATUS PC",
-            "APPSTATUS ACCU",
-            "APPSTATUS X"
-        ]
+        ["GGP 128, 0", "GGP 130, 0", "APPSTATUS ACCU", "APPSTATUS X"]
     );
     let pane = sends[0].0;
     // Running, at address 1: `WAIT POS, 0, 0`, source line 3.
-    app.handle(number_reply(pane, "APPSTATUS MODE", 1));
-    app.handle(number_reply(pane, "APPSTATUS PC", 1));
+    app.handle(number_reply(pane, "GGP 128, 0", 1));
+    app.handle(number_reply(pane, "GGP 130, 0", 1));
     app.handle(number_reply(pane, "APPSTATUS ACCU", 7));
     let effects = app.handle(number_reply(pane, "APPSTATUS X", -3));
     // Still running: read again later.
@@ -397,8 +392,8 @@ fn run_reads_the_registers_and_marks_the_line_the_program_counter_is_on() {
         tag: (1 << 48) + 2,
     });
     assert!(effects.iter().any(|e| matches!(e, Effect::Send { .. })));
-    app.handle(number_reply(pane, "APPSTATUS MODE", 0));
-    app.handle(number_reply(pane, "APPSTATUS PC", 2));
+    app.handle(number_reply(pane, "GGP 128, 0", 0));
+    app.handle(number_reply(pane, "GGP 130, 0", 2));
     app.handle(number_reply(pane, "APPSTATUS ACCU", 7));
     let effects = app.handle(number_reply(pane, "APPSTATUS X", -3));
     assert!(!effects.iter().any(|e| matches!(e, Effect::Wake { .. })));

@@ -84,9 +84,15 @@ impl Rig {
     /// Wait for a frame showing `needle` (virtual time: a loop that
     /// waits for nothing more gives up at once).
     async fn until(&mut self, needle: &str) -> String {
+        self.until_frame(needle, |frame| frame.contains(needle))
+            .await
+    }
+
+    /// Wait for a frame `ready` says yes to; `what` names it if none comes.
+    async fn until_frame(&mut self, what: &str, ready: impl Fn(&str) -> bool) -> String {
         let wait = async {
             while let Some(frame) = self.drawn.recv().await {
-                let found = frame.contains(needle);
+                let found = ready(&frame);
                 self.last = frame;
                 if found {
                     return true;
@@ -97,7 +103,7 @@ impl Rig {
         let found = tokio::time::timeout(Duration::from_secs(600), wait).await;
         assert!(
             matches!(found, Ok(true)),
-            "never showed {needle:?}; last frame:\n{}",
+            "never showed {what:?}; last frame:\n{}",
             self.last
         );
         self.last.clone()
@@ -308,4 +314,63 @@ async fn verify_compares_without_storing_and_upload_opens_what_the_module_holds(
     let source = std::fs::read_to_string(&saved).expect("the uploaded buffer, saved");
     assert_eq!(words("uploaded.tmc", &source), image);
     assert_eq!(read_program(&session).await, image, "verify stored nothing");
+}
+
+/// The value the editor's watch panel shows for user variable `n`.
+fn watched_value(frame: &str, n: u8) -> Option<i64> {
+    let label = format!(" #{n} ");
+    let line = frame
+        .lines()
+        .find(|l| l.contains(&label) && !l.contains("user variables"))?;
+    let panel = line.rsplit_once(&label)?.1;
+    panel.trim_end_matches('│').trim().parse().ok()
+}
+
+/// A program counting in user variable 5: watched from the editor while
+/// it runs on the simulator, the panel shows the count going up.
+#[tokio::test(start_paused = true)]
+async fn a_watched_user_variable_counts_up_beside_the_running_program() {
+    let session = session_with(FaultPlan::none()).await;
+    let text = "Count = 5\n\
+                SGP Count, 2, 0\n\
+                Loop: GGP Count, 2\n\
+                CALC ADD, 1\n\
+                AGP Count, 2\n\
+                WAIT TICKS, 0, 20 // 200 ms\n\
+                JA Loop";
+    run_console(&session, async |rig: &mut Rig| {
+        rig.paste(text);
+        rig.until("  7 JA Loop").await;
+        rig.press(KeyCode::F(4), KeyModifiers::NONE);
+        rig.until("downloaded and verified 6 words").await;
+        // Line 3 (`Loop: GGP Count, 2`), then the watch key.
+        for _ in 0..4 {
+            rig.press(KeyCode::Up, KeyModifiers::NONE);
+        }
+        rig.press(KeyCode::Char('t'), KeyModifiers::CONTROL);
+        let frame = rig.until("watching user variable #5").await;
+        assert!(frame.contains("user variables"), "{frame}");
+        // Esc puts the message away: the registers show in its place.
+        rig.press(KeyCode::Esc, KeyModifiers::NONE);
+        rig.press(KeyCode::F(5), KeyModifiers::NONE);
+        let frame = rig
+            .until_frame("the count at 3 or more", |f| {
+                watched_value(f, 5).is_some_and(|v| v >= 3)
+            })
+            .await;
+        let seen = watched_value(&frame, 5).unwrap_or_default();
+        let frame = rig
+            .until_frame("the count going on up", |f| {
+                watched_value(f, 5).is_some_and(|v| v >= seen + 2)
+            })
+            .await;
+        assert!(frame.contains("running PC"), "{frame}");
+    })
+    .await;
+    // The module agrees: it counted on.
+    let counted = session.execute_line("GGP 5, 2").await.expect("read");
+    match counted.value {
+        axterm::session::ReplyValue::Number(n) => assert!(n >= 5, "{n}"),
+        other => panic!("{other:?}"),
+    }
 }

@@ -43,9 +43,28 @@ async fn open(args: &ConnectionArgs) -> Result<Arc<dyn Controller>, (i32, String
     )))
 }
 
+/// Test only: with this variable set (to anything), `:connect` (or a
+/// connection chosen on the connect screen) panics inside the console loop
+/// instead of connecting, so that an end-to-end test can crash the real
+/// binary with its terminal in the console's mode and see it given back
+/// (`tests/e2e_console.rs`). Nothing else reads it; unset, it costs one
+/// look at the environment when the console starts.
+pub const TEST_PANIC_VAR: &str = "AXTERM_TEST_PANIC";
+
+/// The message of the deliberate panic.
+pub const TEST_PANIC_MESSAGE: &str =
+    "AXTERM_TEST_PANIC is set: a deliberate panic inside the console (test only)";
+
 /// `:connect ARGS`: the same options as on the command line.
 fn connector() -> Connector {
-    Box::new(|args: Vec<String>| {
+    let crash = std::env::var_os(TEST_PANIC_VAR).is_some();
+    Box::new(move |args: Vec<String>| {
+        // The connector is called from the console loop itself (not from
+        // a task of its own): a panic here unwinds through the loop with
+        // the terminal in raw mode and on the alternate screen.
+        if crash {
+            panic!("{TEST_PANIC_MESSAGE}");
+        }
         Box::pin(async move {
             let argv = std::iter::once("axterm".to_string()).chain(args.iter().cloned());
             let cli = Cli::try_parse_from(argv).map_err(|e| {

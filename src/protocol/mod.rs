@@ -2,6 +2,7 @@
 //! console line syntax, parameter tables. No I/O here.
 
 pub mod ascii;
+pub mod cmd4cr;
 pub mod console;
 pub mod parameters;
 pub mod tmcl;

@@ -177,6 +177,16 @@ pub enum SpeedUnit {
     Rpm,
 }
 
+/// A reading of the axis status that a family may show in real-world
+/// units (the axis pane's units key).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StatusQuantity {
+    /// The actual or the target position.
+    Position,
+    /// The actual speed, or the maximum positioning speed.
+    Speed,
+}
+
 /// A family's parameters, for the parameter table.
 pub trait ParameterSet: Send + Sync {
     /// The tables for the axis numbered `axis`: its axis parameters first,
@@ -198,6 +208,30 @@ pub trait ParameterSet: Send + Sync {
         axis_value: &dyn Fn(u16) -> Option<i64>,
     ) -> Option<Physical> {
         let _ = (row, value, unit, axis_value);
+        None
+    }
+
+    /// The axis parameters [`ParameterSet::status_physical`] converts
+    /// with, which the console reads from the module before it shows
+    /// status in real-world units. Empty (the default) when the family
+    /// converts no status reading.
+    fn status_inputs(&self) -> &'static [u16] {
+        &[]
+    }
+
+    /// A status reading of an axis in real-world units: with
+    /// [`SpeedUnit::Pps`] in the module's own steps, with
+    /// [`SpeedUnit::Rpm`] in revolutions. `axis_value` gives the
+    /// [`ParameterSet::status_inputs`] of that axis as read from the
+    /// module, `None` where not read yet.
+    fn status_physical(
+        &self,
+        quantity: StatusQuantity,
+        value: i64,
+        unit: SpeedUnit,
+        axis_value: &dyn Fn(u16) -> Option<i64>,
+    ) -> Option<Physical> {
+        let _ = (quantity, value, unit, axis_value);
         None
     }
 

@@ -613,6 +613,9 @@ impl App {
             Request::Focus(name) => {
                 self.focus(name);
             }
+            Request::ChooseFamily(name) => {
+                self.broadcast(&PaneEvent::FamilyChosen(name), effects);
+            }
             Request::WakeAfter { after, tag } => effects.push(Effect::Wake { pane, tag, after }),
             Request::Transfer { job, tag } => effects.push(Effect::Transfer { pane, tag, job }),
             Request::CancelTransfer => effects.push(Effect::CancelTransfer),

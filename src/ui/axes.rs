@@ -3,9 +3,17 @@
 //! state and the reached flag, the switch lamps, the load gauge and the
 //! latched error flags (cleared with `c`, or `:clear`).
 //!
+//! Positions and speeds show as the module counts them, or (the units key,
+//! where the family converts them) in real-world units: the parameters a
+//! conversion needs (TMCL: the microstep resolution and the pulse divisor,
+//! §6.1) are read from the module each time the key switches to them, so a
+//! setting changed meanwhile is taken into account.
+//!
 //! Each axis gets a card of three rows; cards sit side by side when the
 //! pane is wide. When the pane is too low for the cards (6 axes at
 //! 80×24), each axis gets one row.
+
+use std::collections::{BTreeMap, HashMap};
 
 use ratatui::Frame;
 use ratatui::crossterm::event::KeyCode;
@@ -18,7 +26,8 @@ use super::keymap::{Action, Context};
 use super::pane::{Input, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View, key_label};
 use super::theme::{Role, Theme};
 use crate::device::LinkState;
-use crate::protocol::console::LoadScale;
+use crate::protocol::console::{LoadScale, ReplyValue};
+use crate::protocol::parameters::{ParamOp, ParameterSet, Scope, SpeedUnit, StatusQuantity};
 use crate::session::{AxisInfo, AxisStatus};
 
 /// Rows of one axis card.
@@ -103,15 +112,189 @@ struct AxisMemory {
     high: i64,
 }
 
+/// How the pane shows positions and speeds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Units {
+    /// As the module counts them.
+    #[default]
+    Raw,
+    /// In real-world units: speeds in pps (positions in the module's
+    /// steps) or in rpm (positions in revolutions).
+    Real(SpeedUnit),
+}
+
+impl Units {
+    /// For the pane's title.
+    pub fn label(self) -> &'static str {
+        match self {
+            Units::Raw => "raw",
+            Units::Real(SpeedUnit::Pps) => "pps",
+            Units::Real(SpeedUnit::Rpm) => "rpm",
+        }
+    }
+
+    /// What the units key switches to: raw, pps, rpm, raw…
+    fn next(self) -> Units {
+        match self {
+            Units::Raw => Units::Real(SpeedUnit::Pps),
+            Units::Real(SpeedUnit::Pps) => Units::Real(SpeedUnit::Rpm),
+            Units::Real(SpeedUnit::Rpm) => Units::Raw,
+        }
+    }
+}
+
+/// Which module values were read from: another one needs them read again.
+#[derive(Debug, Clone, PartialEq, Eq)]
+struct ModuleKey {
+    family: &'static str,
+    link: String,
+    address: u8,
+}
+
+impl ModuleKey {
+    fn of(session: &Snapshot) -> ModuleKey {
+        ModuleKey {
+            family: session.family.name,
+            link: session.link_name.clone(),
+            address: session.address,
+        }
+    }
+
+    fn is(&self, session: &Snapshot) -> bool {
+        self.family == session.family.name
+            && self.link == session.link_name
+            && self.address == session.address
+    }
+}
+
+/// The position, target, speed and maximum speed of an axis as shown.
+struct ShownValues {
+    position: String,
+    target: String,
+    speed: String,
+    max_speed: String,
+}
+
 /// Axis gauges and lamps.
 #[derive(Debug, Default)]
 pub struct AxesPane {
     memory: Vec<AxisMemory>,
+    units: Units,
+    /// Per axis (index into the snapshot's axes), the parameters the
+    /// family's status conversions need, as read from the module.
+    inputs: Vec<BTreeMap<u16, i64>>,
+    /// The module `inputs` were read from.
+    inputs_of: Option<ModuleKey>,
+    /// Reads in flight: tag → axis index and parameter number.
+    reading: HashMap<u64, (usize, u16)>,
+    next_tag: u64,
+    /// Said in the title instead of the units key's hint: a family with
+    /// no conversions, a read that failed. Until the next key.
+    note: Option<String>,
 }
 
 impl AxesPane {
     pub fn new() -> AxesPane {
         AxesPane::default()
+    }
+
+    /// How positions and speeds are shown now.
+    pub fn units(&self) -> Units {
+        self.units
+    }
+
+    /// The units key: raw, pps, rpm, raw… where the family converts;
+    /// otherwise it says so.
+    fn toggle_units(&mut self, session: &Snapshot) -> Outcome {
+        let Some(params) = session
+            .family
+            .console
+            .parameters()
+            .filter(|p| !p.status_inputs().is_empty())
+        else {
+            self.units = Units::Raw;
+            self.note = Some(format!(
+                "{} has no real-world units: raw only",
+                session.family.name
+            ));
+            return Outcome::redraw();
+        };
+        self.units = self.units.next();
+        if self.units == Units::Raw {
+            return Outcome::redraw();
+        }
+        Outcome::Handled(self.read_inputs(session, params))
+    }
+
+    /// Ask the module for what the conversions need, for every axis.
+    fn read_inputs(&mut self, session: &Snapshot, params: &dyn ParameterSet) -> Vec<Request> {
+        self.inputs = vec![BTreeMap::new(); session.axes.len()];
+        self.inputs_of = Some(ModuleKey::of(session));
+        self.reading.clear();
+        let mut requests = Vec::new();
+        for (index, axis) in session.axes.iter().enumerate() {
+            let tables = params.tables(axis.number);
+            for &number in params.status_inputs() {
+                let row = tables
+                    .iter()
+                    .flat_map(|t| t.rows.iter())
+                    .find(|r| r.scope == Scope::Axis(axis.number) && r.number == number);
+                let line = match row {
+                    Some(row) => params
+                        .line(row, ParamOp::Read)
+                        .map_err(|e| format!("cannot read {} of {}: {e}", row.name, axis.name)),
+                    None => Err(format!(
+                        "{} has no axis parameter {number} for {}",
+                        session.family.name, axis.name
+                    )),
+                };
+                match line {
+                    Ok(line) => {
+                        self.next_tag += 1;
+                        self.reading.insert(self.next_tag, (index, number));
+                        requests.push(Request::Send {
+                            lines: vec![line],
+                            tag: self.next_tag,
+                        });
+                    }
+                    Err(message) => self.note = Some(message),
+                }
+            }
+        }
+        requests
+    }
+
+    /// A status value as the units say; a value that cannot be converted
+    /// (what it needs not read yet, or unreadable) is marked raw.
+    fn show(
+        &self,
+        index: usize,
+        quantity: StatusQuantity,
+        value: Option<i64>,
+        view: &View,
+    ) -> String {
+        let Some(value) = value else {
+            return number(None);
+        };
+        let Units::Real(unit) = self.units else {
+            return value.to_string();
+        };
+        let inputs = self.inputs.get(index);
+        let axis_value = |n: u16| inputs.and_then(|m| m.get(&n)).copied();
+        view.session
+            .and_then(|s| s.family.console.parameters())
+            .and_then(|p| p.status_physical(quantity, value, unit, &axis_value))
+            .map_or_else(|| format!("{value} raw"), |p| p.to_string())
+    }
+
+    fn shown_values(&self, index: usize, status: &AxisStatus, view: &View) -> ShownValues {
+        use StatusQuantity::{Position, Speed};
+        ShownValues {
+            position: self.show(index, Position, status.position, view),
+            target: self.show(index, Position, status.target, view),
+            speed: self.show(index, Speed, status.speed, view),
+            max_speed: self.show(index, Speed, status.max_speed, view),
+        }
     }
 
     /// Follow a new snapshot: speed trends and position ranges.
@@ -189,8 +372,19 @@ impl AxesPane {
             theme.style(Role::Title)
         };
         // Row 1: position, gauge, target, reached.
-        let position = number(status.position);
-        let target = number(status.target);
+        let ShownValues {
+            position,
+            target,
+            speed,
+            max_speed: max,
+        } = self.shown_values(index, status, view);
+        // Numbers in real-world units carry their unit and may be wider.
+        let w = [&position, &target, &speed, &max]
+            .iter()
+            .map(|t| t.chars().count())
+            .max()
+            .unwrap_or(0)
+            .max(11);
         let reached = match status.reached {
             Some(true) => lamp(theme, true, false, "reached"),
             Some(false) => lamp(theme, false, false, "moving"),
@@ -198,7 +392,7 @@ impl AxesPane {
         };
         // The widest fixed part is the speed row's: label, "spd ", number,
         // " max ", number, the longest ramp label.
-        let fixed = label_width + 4 + 12 + 5 + 12 + 14;
+        let fixed = label_width + 4 + (w + 1) + 5 + (w + 1) + 14;
         let gauge_width = width.saturating_sub(fixed).max(4);
         let (low, high) = self.span(index, status);
         let position_gauge = gauge(
@@ -210,19 +404,17 @@ impl AxesPane {
         let mut row1 = vec![
             Span::styled(name, name_style),
             Span::styled("pos ", theme.style(Role::Muted)),
-            Span::styled(format!("{position:>11} "), theme.style(Role::Normal)),
+            Span::styled(format!("{position:>w$} "), theme.style(Role::Normal)),
         ];
         row1.extend(position_gauge);
         row1.push(Span::styled(" tgt ", theme.style(Role::Muted)));
         row1.push(Span::styled(
-            format!("{target:>11} "),
+            format!("{target:>w$} "),
             theme.style(Role::Normal),
         ));
         row1.extend(reached);
 
         // Row 2: speed against max, ramp.
-        let speed = number(status.speed);
-        let max = number(status.max_speed);
         let speed_fraction = match (status.speed, status.max_speed) {
             (Some(s), Some(m)) if m != 0 => {
                 Some((s.unsigned_abs() as f64 / m.unsigned_abs() as f64).min(1.0))
@@ -233,12 +425,12 @@ impl AxesPane {
         let mut row2 = vec![
             Span::raw(" ".repeat(label_width)),
             Span::styled("spd ", theme.style(Role::Muted)),
-            Span::styled(format!("{speed:>11} "), theme.style(Role::Normal)),
+            Span::styled(format!("{speed:>w$} "), theme.style(Role::Normal)),
         ];
         row2.extend(gauge(theme, speed_fraction, None, gauge_width));
         row2.push(Span::styled(" max ", theme.style(Role::Muted)));
         row2.push(Span::styled(
-            format!("{max:>11} "),
+            format!("{max:>w$} "),
             theme.style(Role::Normal),
         ));
         row2.push(Span::styled(
@@ -286,6 +478,7 @@ impl AxesPane {
     ) -> Line<'static> {
         let theme = view.theme;
         let [wp, wt, ws, wm] = widths;
+        let shown = self.shown_values(index, status, view);
         let mut spans = vec![
             Span::styled(
                 format!(
@@ -300,11 +493,7 @@ impl AxesPane {
                 },
             ),
             Span::styled(
-                format!(
-                    "{:>wp$}→{:<wt$} ",
-                    number(status.position),
-                    number(status.target)
-                ),
+                format!("{:>wp$}→{:<wt$} ", shown.position, shown.target),
                 theme.style(Role::Normal),
             ),
         ];
@@ -312,8 +501,8 @@ impl AxesPane {
         spans.push(Span::styled(
             format!(
                 " v{:>ws$}/{:<wm$} {:<6} ",
-                number(status.speed),
-                number(status.max_speed),
+                shown.speed,
+                shown.max_speed,
                 self.ramp(index, status).short_label()
             ),
             theme.style(Role::Normal),
@@ -479,8 +668,15 @@ impl Pane for AxesPane {
             .as_ref()
             .map(|i| format!(" ({i})"))
             .unwrap_or_default();
+        let units = self.note.clone().unwrap_or_else(|| {
+            format!(
+                "{} units: {}",
+                key_label(view.keymap, Context::Axis, Action::ToggleUnits),
+                self.units.label()
+            )
+        });
         format!(
-            "Axes — {} #{}{identity} {state}, {poll}",
+            "Axes — {} #{}{identity} {state}, {poll} · {units}",
             s.link_name, s.address
         )
     }
@@ -522,17 +718,22 @@ impl Pane for AxesPane {
         if usize::from(area.height) < card_rows * usize::from(CARD_ROWS) {
             // Too low for cards: one row each, scrolled to keep the
             // selected axis in view.
-            let width_of = |field: fn(&AxisStatus) -> Option<i64>| {
-                axes.iter()
-                    .map(|(_, _, s)| number(field(s)).chars().count())
+            let shown: Vec<ShownValues> = axes
+                .iter()
+                .map(|(i, _, s)| self.shown_values(*i, s, view))
+                .collect();
+            let width_of = |field: fn(&ShownValues) -> &String| {
+                shown
+                    .iter()
+                    .map(|v| field(v).chars().count())
                     .max()
                     .unwrap_or(1)
             };
             let widths = [
-                width_of(|s| s.position),
-                width_of(|s| s.target),
-                width_of(|s| s.speed),
-                width_of(|s| s.max_speed),
+                width_of(|v| &v.position),
+                width_of(|v| &v.target),
+                width_of(|v| &v.speed),
+                width_of(|v| &v.max_speed),
             ];
             let lines: Vec<Line> = axes
                 .iter()
@@ -563,7 +764,12 @@ impl Pane for AxesPane {
             return Outcome::Ignored;
         };
         let count = session.axes.len();
-        match view.keymap.action_for(Context::Axis, key) {
+        let action = view.keymap.action_for(Context::Axis, key);
+        if action.is_some() {
+            self.note = None;
+        }
+        match action {
+            Some(Action::ToggleUnits) => self.toggle_units(session),
             Some(Action::SelectPrevious) if session.axis > 0 => {
                 Outcome::request(Request::SelectAxis(session.axis - 1))
             }
@@ -600,8 +806,38 @@ impl Pane for AxesPane {
 
     fn on_event(&mut self, event: &PaneEvent, view: &View) -> Outcome {
         match (event, view.session) {
+            (PaneEvent::Reply { tag, line, result }, _) if self.reading.contains_key(tag) => {
+                let Some((index, number)) = self.reading.remove(tag) else {
+                    return Outcome::Ignored;
+                };
+                match result {
+                    Ok(r) => match r.value {
+                        ReplyValue::Number(value) => {
+                            if let Some(inputs) = self.inputs.get_mut(index) {
+                                inputs.insert(number, value);
+                            }
+                        }
+                        ref other => {
+                            self.note = Some(format!("{line} answered {other}, not a number"));
+                        }
+                    },
+                    Err(e) => self.note = Some(format!("{line}: {e}")),
+                }
+                Outcome::redraw()
+            }
             (PaneEvent::Snapshot, Some(session)) => {
                 self.remember(session);
+                // Another module (a new connection, another address):
+                // what the conversions need is read from it afresh.
+                if self.units != Units::Raw
+                    && !self.inputs_of.as_ref().is_some_and(|k| k.is(session))
+                {
+                    let params = session.family.console.parameters();
+                    match params.filter(|p| !p.status_inputs().is_empty()) {
+                        Some(params) => return Outcome::Handled(self.read_inputs(session, params)),
+                        None => self.units = Units::Raw,
+                    }
+                }
                 Outcome::redraw()
             }
             (PaneEvent::Snapshot, None) => {

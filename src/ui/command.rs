@@ -23,8 +23,8 @@ use super::pane::{
 };
 use super::theme::Role;
 use crate::device::{DeviceEvent, LinkState};
-use crate::protocol::Family;
 use crate::protocol::console::{Candidate, Completions};
+use crate::protocol::{Family, find_family};
 use crate::session::{LineResult, SessionError};
 
 /// Lines of output kept; older ones scroll away for good.
@@ -205,6 +205,11 @@ pub struct CommandPane {
     history_dir: Option<PathBuf>,
     /// The family whose history is loaded.
     family: Option<&'static str>,
+    /// Whose tables help and completion use while nothing is connected:
+    /// the family last connected, or the one being chosen on the connect
+    /// screen since (at start: the connect screen's first choice).
+    /// (Its name: [`Family`] is not `Debug`.)
+    offline_family: Option<&'static str>,
     next_tag: u64,
     sent: HashMap<u64, Origin>,
     batch: Option<Batch>,
@@ -221,6 +226,7 @@ impl Default for CommandPane {
 impl CommandPane {
     /// A console whose history is kept in `history_dir` (none: not kept).
     pub fn new(history_dir: Option<PathBuf>) -> CommandPane {
+        let offline_family = super::connect::initial_family(history_dir.as_deref()).map(|f| f.name);
         CommandPane {
             input: String::new(),
             cursor: 0,
@@ -231,6 +237,7 @@ impl CommandPane {
             history: History::default(),
             history_dir,
             family: None,
+            offline_family,
             next_tag: 0,
             sent: HashMap::new(),
             batch: None,
@@ -266,6 +273,32 @@ impl CommandPane {
         self.next_tag += 1;
         self.sent.insert(self.next_tag, origin);
         self.next_tag
+    }
+
+    /// The family whose tables help and completion come from: the
+    /// connected module's, else [`CommandPane::offline_family`], else
+    /// TMCL.
+    fn family(&self, view: &View) -> Option<&'static Family> {
+        view.session
+            .map(|s| s.family)
+            .or_else(|| self.offline_family.and_then(find_family))
+            .or_else(|| find_family("tmcl"))
+    }
+
+    /// Said before help given with nothing connected, so that it is clear
+    /// whose tables it comes from.
+    fn offline_note(&mut self, view: &View) {
+        if view.session.is_none()
+            && let Some(family) = self.family(view)
+        {
+            self.say(
+                Role::Muted,
+                format!(
+                    "not connected: help from the {} tables ({})",
+                    family.name, family.description
+                ),
+            );
+        }
     }
 
     fn load_history(&mut self, family: &'static Family) {
@@ -513,11 +546,12 @@ impl CommandPane {
             }
             return;
         }
-        let Some(session) = view.session else {
+        let Some(family) = self.family(view) else {
             self.say(Role::Error, not_connected());
             return;
         };
-        let lines = session.family.console.help(topic, topic.len());
+        self.offline_note(view);
+        let lines = family.console.help(topic, topic.len());
         if lines.is_empty() {
             self.say(Role::Warning, format!("no help on `{topic}`"));
         }
@@ -535,9 +569,9 @@ impl CommandPane {
             self.help_topic(topic.trim(), view);
         } else if line.starts_with(':') {
             self.help_topic(&line, view);
-        } else if let Some(session) = view.session {
-            let lines = session
-                .family
+        } else if let Some(family) = self.family(view) {
+            self.offline_note(view);
+            let lines = family
                 .console
                 .help(&self.input, self.cursor.min(self.input.len()));
             if lines.is_empty() {
@@ -678,13 +712,16 @@ impl CommandPane {
                 }
                 // `:help SAP 4`, `:expect GAP 8, 0 == 1`: the console line
                 // inside.
-                ("help" | "expect" | "wait-until", Some(session)) if cursor >= offset => {
+                ("help" | "expect" | "wait-until", _) if cursor >= offset => {
+                    let Some(family) = self.family(view) else {
+                        return Completions::default();
+                    };
                     let inner = line.get(offset..).unwrap_or("");
                     let inner_line = inner.split("==").next().unwrap_or(inner);
                     if cursor - offset > inner_line.len() {
                         return Completions::default();
                     }
-                    let mut c = session.family.console.complete(inner_line, cursor - offset);
+                    let mut c = family.console.complete(inner_line, cursor - offset);
                     c.start += offset;
                     c.end += offset;
                     c
@@ -692,8 +729,8 @@ impl CommandPane {
                 _ => Completions::default(),
             };
         }
-        match view.session {
-            Some(session) => session.family.console.complete(line, cursor),
+        match self.family(view) {
+            Some(family) => family.console.complete(line, cursor),
             None => Completions::default(),
         }
     }
@@ -906,10 +943,10 @@ impl CommandPane {
             return vec![Line::styled(hint.text.clone(), theme.style(hint.role))];
         }
         // The syntax of the command being typed.
-        if let Some(session) = view.session
+        if let Some(family) = self.family(view)
             && !self.input.trim().is_empty()
             && !self.input.starts_with(':')
-            && let Some(first) = session.family.console.help(&self.input, 0).first()
+            && let Some(first) = family.console.help(&self.input, 0).first()
         {
             return vec![Line::styled(first.clone(), theme.style(Role::Muted))];
         }
@@ -1107,7 +1144,15 @@ impl Pane for CommandPane {
             PaneEvent::Snapshot => {
                 if let Some(session) = view.session {
                     self.load_history(session.family);
+                    self.offline_family = Some(session.family.name);
                 }
+                Outcome::Ignored
+            }
+            // Help follows the connect screen only while nothing is
+            // connected: browsing its list does not change the module
+            // the console talks to.
+            PaneEvent::FamilyChosen(name) if view.session.is_none() => {
+                self.offline_family = Some(name);
                 Outcome::Ignored
             }
             PaneEvent::Device(DeviceEvent::Unsolicited { description, .. }) => {
@@ -1205,5 +1250,56 @@ fn truncate(text: &str, max: usize) -> String {
         let mut t: String = text.chars().take(max.saturating_sub(1)).collect();
         t.push('…');
         t
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ui::keymap::Keymap;
+    use crate::ui::theme::Theme;
+
+    fn snapshot() -> Snapshot {
+        let family = find_family("tmcl").expect("tmcl");
+        Snapshot {
+            family,
+            address: 1,
+            link_name: "sim".into(),
+            axes: family.console.axes().to_vec(),
+            status: Vec::new(),
+            link: LinkState::Closed,
+            identity: None,
+            poll: None,
+            axis: 0,
+        }
+    }
+
+    #[test]
+    fn help_offline_follows_the_connect_screen_only_while_nothing_is_connected() {
+        let theme = Theme::builtin("dark").expect("theme");
+        let keymap = Keymap::builtin("default").expect("keymap");
+        let connected = snapshot();
+        let view = |session| View {
+            theme: &theme,
+            keymap: &keymap,
+            session,
+            focused: false,
+            shown: true,
+        };
+        let mut pane = CommandPane::new(None);
+        // No recent connection: the connect screen's first simulator's.
+        assert_eq!(pane.offline_family, Some("tmcl"));
+        pane.on_event(&PaneEvent::FamilyChosen("other"), &view(None));
+        assert_eq!(pane.offline_family, Some("other"));
+        // A family with no tables here: TMCL's help rather than none.
+        assert_eq!(pane.family(&view(None)).map(|f| f.name), Some("tmcl"));
+        // Connected: the module's family, whatever the connect screen shows.
+        pane.on_event(&PaneEvent::Snapshot, &view(Some(&connected)));
+        pane.on_event(&PaneEvent::FamilyChosen("other"), &view(Some(&connected)));
+        assert_eq!(pane.offline_family, Some("tmcl"));
+        assert_eq!(
+            pane.family(&view(Some(&connected))).map(|f| f.name),
+            Some("tmcl")
+        );
     }
 }

@@ -26,8 +26,8 @@ use super::keymap::{Action, Context};
 use super::pane::{Input, NoticeLevel, Outcome, Pane, PaneEvent, Region, Request, View, key_label};
 use super::theme::Role;
 use crate::link::ports::PortInfo;
-use crate::protocol::FAMILIES;
-use crate::sim::SIM_KINDS;
+use crate::protocol::{FAMILIES, Family, find_family};
+use crate::sim::{SIM_KINDS, find_kind};
 use recent::Recents;
 
 /// Lists the serial ports of the machine: the link layer's listing, or a
@@ -93,6 +93,9 @@ pub struct ConnectPane {
     /// The options of the connection being opened.
     connecting: Option<Vec<String>>,
     message: Option<(Role, String)>,
+    /// The family of the choice last told to the other panes
+    /// ([`Request::ChooseFamily`]).
+    announced: Option<&'static str>,
 }
 
 impl ConnectPane {
@@ -114,7 +117,30 @@ impl ConnectPane {
             tcp: Field::new(DEFAULT_TCP),
             connecting: None,
             message,
+            announced: None,
         }
+    }
+
+    /// The protocol family the highlighted choice would connect with.
+    pub fn chosen_family(&self) -> Option<&'static Family> {
+        match self.choices().get(self.selected)? {
+            Choice::Recent(args) => family_of_args(args),
+            Choice::Sim { name, .. } => find_family(find_kind(name)?.family),
+            Choice::Port(_) | Choice::Rescan | Choice::Tcp => find_family(self.protocol_name()),
+        }
+    }
+
+    /// Tell the other panes when a key changed the family of the choice.
+    fn announce(&mut self, outcome: Outcome) -> Outcome {
+        let Outcome::Handled(mut requests) = outcome else {
+            return outcome;
+        };
+        let family = self.chosen_family().map(|f| f.name);
+        if let Some(name) = family.filter(|name| self.announced != Some(*name)) {
+            self.announced = Some(name);
+            requests.push(Request::ChooseFamily(name));
+        }
+        Outcome::Handled(requests)
     }
 
     /// The recent connections, newest first.
@@ -388,6 +414,36 @@ impl ConnectPane {
     }
 }
 
+/// The family of the choice the connect screen highlights when it opens:
+/// the most recent connection's (kept in `data_dir`), else the first
+/// simulator's.
+pub fn initial_family(data_dir: Option<&Path>) -> Option<&'static Family> {
+    match Recents::load(data_dir).entries().first() {
+        Some(args) => family_of_args(args),
+        None => find_family(SIM_KINDS.first()?.family),
+    }
+}
+
+/// The protocol family connection options name: `--protocol`, else the
+/// simulator's, else TMCL (as on the command line).
+pub fn family_of_args(args: &[String]) -> Option<&'static Family> {
+    let value = |option: &str| {
+        let prefix = format!("{option}=");
+        args.iter().enumerate().find_map(|(i, arg)| {
+            if arg == option {
+                args.get(i + 1).map(String::as_str)
+            } else {
+                arg.strip_prefix(&prefix)
+            }
+        })
+    };
+    match (value("--protocol"), value("--sim")) {
+        (Some(protocol), _) => find_family(protocol),
+        (None, Some(sim)) => find_family(find_kind(sim)?.family),
+        (None, None) => find_family("tmcl"),
+    }
+}
+
 fn fit(text: &str, width: usize) -> String {
     if text.chars().count() <= width {
         return text.to_string();
@@ -515,7 +571,10 @@ impl Pane for ConnectPane {
 
     fn handle_input(&mut self, input: &Input, view: &View) -> Outcome {
         match input {
-            Input::Key(key) => self.key(key, view),
+            Input::Key(key) => {
+                let outcome = self.key(key, view);
+                self.announce(outcome)
+            }
             Input::Paste(text) => {
                 let line = text.lines().next().unwrap_or("");
                 match self.focus {

@@ -6,11 +6,17 @@
 //!
 //! The text is kept and edited by `ratatui-textarea`; this pane draws it
 //! itself, because the colours come from the assembler's syntax.
+//!
+//! While a program runs, its registers (mode, PC, accumulator, X) are read
+//! over and over, and with them the user variables chosen to be watched
+//! ([`watch`]), shown in a panel beside the text.
 
 pub mod autosave;
 pub mod highlight;
 pub mod transfer;
+pub mod watch;
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -19,7 +25,7 @@ use ratatui::crossterm::event::{KeyCode, KeyEvent};
 use ratatui::layout::{Position, Rect};
 use ratatui::style::Style;
 use ratatui::text::{Line, Span};
-use ratatui::widgets::Paragraph;
+use ratatui::widgets::{Block, Borders, Paragraph};
 use ratatui_textarea::{CursorMove, TextArea};
 
 use super::field::Field;
@@ -28,9 +34,13 @@ use super::pane::{
     Input, Notice, NoticeLevel, Outcome, Pane, PaneEvent, Region, Request, View, key_label,
 };
 use super::theme::Role;
-use crate::protocol::tmcl::asm::{AsmError, Program, SourceLoader, assemble};
+use crate::protocol::tmcl::asm::{AsmError, NoIncludes, Program, SourceLoader, assemble};
 use autosave::{Autosave, read_autosave, remove_autosave, utc_time, write_autosave};
 use highlight::{Names, Token, highlight};
+use watch::{
+    MAX_WATCHED, load_watch_list, save_watch_list, variable_line, variable_of_line,
+    variable_of_word,
+};
 
 /// How long the text must stay unchanged before the safety copy is
 /// written: a burst of typing is one write, and a pause of this long
@@ -54,6 +64,18 @@ impl SourceLoader for SourceFiles {
 enum PromptKind {
     Open,
     SaveAs,
+    /// The number of a user variable to watch (or stop watching).
+    Watch,
+}
+
+impl PromptKind {
+    fn label(self) -> &'static str {
+        match self {
+            PromptKind::Open => "open file: ",
+            PromptKind::SaveAs => "save as: ",
+            PromptKind::Watch => "watch user variable (0..255; a watched one stops): ",
+        }
+    }
 }
 
 /// Text the console recovered from the safety copy at start.
@@ -69,22 +91,28 @@ pub struct Recovered {
 const TAG_CONTROL: u64 = 1 << 48;
 const TAG_WATCH: u64 = (1 << 48) + 1;
 const TAG_WATCH_TIMER: u64 = (1 << 48) + 2;
+/// Reads of user variables outside the register batch (one just added).
+const TAG_VARIABLE: u64 = (1 << 48) + 3;
+
+/// Columns of the watch panel, and the least the text keeps beside it;
+/// below that the variables go to the bottom line.
+const PANEL_WIDTH: u16 = 22;
+const PANEL_MIN_TEXT: u16 = 40;
 
 /// How often the registers are read while the program runs.
 pub const WATCH_PERIOD: Duration = Duration::from_millis(200);
 
-/// The lines that read the program's state (command 135, §3.6.53).
-pub const WATCH_LINES: [&str; 4] = [
-    "APPSTATUS MODE",
-    "APPSTATUS PC",
-    "APPSTATUS ACCU",
-    "APPSTATUS X",
-];
+/// The lines that read the program's state: the application status and
+/// the program counter as global parameters GP128 and GP130 (§5.1 Table
+/// 18), the accumulator and X with command 135 types 2 and 3 (§3.6.53).
+/// Command 135 types 0 and 1 would give the mode and the PC too, but packed
+/// with a wait flag in a layout Table 14 does not give.
+pub const WATCH_LINES: [&str; 4] = ["GGP 128, 0", "GGP 130, 0", "APPSTATUS ACCU", "APPSTATUS X"];
 
-/// The program's state as the module last told it (command 135).
+/// The program's state as the module last told it.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Watch {
-    /// 0 stopped, 1 running, 2 stepping, 3 reset (§3.6.53).
+    /// 0 stopped, 1 running, 2 stepping, 3 reset (GP128, §5.1).
     pub mode: Option<i64>,
     pub pc: Option<i64>,
     pub accu: Option<i64>,
@@ -133,6 +161,11 @@ pub struct EditorPane {
     watch: Watch,
     /// Reading the registers again and again while the program runs.
     watching: bool,
+    /// The line the register batch under way ends with: its answer decides
+    /// whether to read again.
+    watch_last: Option<String>,
+    /// The user variables watched, and their values as last read.
+    variables: BTreeMap<u8, Option<i64>>,
     /// First line and column shown, and rows shown at the last draw.
     top: usize,
     left: usize,
@@ -162,10 +195,18 @@ impl EditorPane {
             current: None,
             watch: Watch::default(),
             watching: false,
+            watch_last: None,
+            variables: BTreeMap::new(),
             top: 0,
             left: 0,
             rows: 1,
         };
+        if let Some(dir) = pane.data_dir.as_deref() {
+            pane.variables = load_watch_list(dir)
+                .into_iter()
+                .map(|n| (n, None))
+                .collect();
+        }
         if let Some(copy) = pane.data_dir.as_deref().and_then(read_autosave) {
             pane.saved = copy
                 .file
@@ -253,6 +294,11 @@ impl EditorPane {
         self.watch
     }
 
+    /// The user variables watched, with their values as last read.
+    pub fn watched_variables(&self) -> Vec<(u8, Option<i64>)> {
+        self.variables.iter().map(|(n, v)| (*n, *v)).collect()
+    }
+
     /// The source line (0-based) of program address `pc`, through the
     /// assembled program's address map.
     pub fn line_of_pc(&self, pc: i64) -> Option<usize> {
@@ -262,10 +308,16 @@ impl EditorPane {
         (line.file == name).then(|| line.line.saturating_sub(1))
     }
 
-    /// Ask for the registers.
-    fn read_registers(&self) -> Request {
+    /// Ask for the registers, and the user variables watched.
+    fn read_registers(&mut self) -> Request {
+        let lines: Vec<String> = WATCH_LINES
+            .iter()
+            .map(|l| l.to_string())
+            .chain(self.variables.keys().map(|n| variable_line(*n)))
+            .collect();
+        self.watch_last = lines.last().cloned();
         Request::Send {
-            lines: WATCH_LINES.iter().map(|l| l.to_string()).collect(),
+            lines,
             tag: TAG_WATCH,
         }
     }
@@ -273,39 +325,139 @@ impl EditorPane {
     /// Send a program control line, then read the registers.
     fn control(&mut self, line: &str, watch: bool) -> Outcome {
         self.watching = watch;
+        let read = self.read_registers();
         Outcome::Handled(vec![
             Request::Send {
                 lines: vec![line.to_string()],
                 tag: TAG_CONTROL,
             },
-            self.read_registers(),
+            read,
         ])
     }
 
     fn register_reply(&mut self, line: &str, value: Option<i64>) -> Vec<Request> {
-        let mut requests = Vec::new();
         match line {
-            "APPSTATUS MODE" => self.watch.mode = value,
-            "APPSTATUS PC" => {
+            "GGP 128, 0" => self.watch.mode = value,
+            "GGP 130, 0" => {
                 self.watch.pc = value;
                 self.current = value.and_then(|pc| self.line_of_pc(pc));
             }
             "APPSTATUS ACCU" => self.watch.accu = value,
-            "APPSTATUS X" => {
-                self.watch.x = value;
-                // The last of the four: again later while the program runs.
-                if self.watching && self.watch.mode == Some(1) {
-                    requests.push(Request::WakeAfter {
-                        after: WATCH_PERIOD,
-                        tag: TAG_WATCH_TIMER,
-                    });
-                } else {
-                    self.watching = false;
-                }
-            }
-            _ => {}
+            "APPSTATUS X" => self.watch.x = value,
+            other => self.variable_reply(other, value),
         }
-        requests
+        if self.watch_last.as_deref() != Some(line) {
+            return Vec::new();
+        }
+        // The last of the batch: again later while the program runs.
+        if self.watching && self.watch.mode == Some(1) {
+            vec![Request::WakeAfter {
+                after: WATCH_PERIOD,
+                tag: TAG_WATCH_TIMER,
+            }]
+        } else {
+            self.watching = false;
+            Vec::new()
+        }
+    }
+
+    /// A watched variable's value came (`None`: it could not be read).
+    fn variable_reply(&mut self, line: &str, value: Option<i64>) {
+        if let Some(slot) = variable_of_line(line).and_then(|n| self.variables.get_mut(&n)) {
+            *slot = value;
+        }
+    }
+
+    /// The user variable the cursor's line names (GGP/SGP/STGP/RSGP/AGP
+    /// n, 2), read from the assembled program, or from the line alone
+    /// when the whole does not assemble.
+    fn variable_at_cursor(&self) -> Option<u8> {
+        let row = self.cursor().0;
+        let name = self.source_name();
+        if let Some(program) = &self.program {
+            return program
+                .lines
+                .iter()
+                .filter(|l| l.file == name && l.line == row + 1)
+                .filter_map(|l| program.words.get(usize::from(l.address)))
+                .find_map(variable_of_word);
+        }
+        let line = self.text.lines().get(row)?;
+        let alone = assemble(UNTITLED, line, &NoIncludes).ok()?;
+        alone.words.iter().find_map(variable_of_word)
+    }
+
+    /// Watch user variable `n`, or stop watching it; the list is kept in
+    /// the data directory.
+    fn toggle_variable(&mut self, n: u8, view: &View) -> Outcome {
+        let mut requests = Vec::new();
+        if self.variables.remove(&n).is_some() {
+            self.message = Some(Notice::info(format!(
+                "user variable #{n} no longer watched"
+            )));
+        } else if self.variables.len() >= MAX_WATCHED {
+            self.message = Some(Notice::warning(format!(
+                "{MAX_WATCHED} variables are watched already: stop watching one first ({} on its line)",
+                key_label(view.keymap, Context::Editor, Action::EditorWatch)
+            )));
+            return Outcome::redraw();
+        } else {
+            self.variables.insert(n, None);
+            self.message = Some(Notice::info(format!(
+                "watching user variable #{n} ({})",
+                variable_line(n)
+            )));
+            if view.session.is_some() {
+                requests.push(Request::Send {
+                    lines: vec![variable_line(n)],
+                    tag: TAG_VARIABLE,
+                });
+            }
+        }
+        if let Some(dir) = self.data_dir.as_deref() {
+            let list: Vec<u8> = self.variables.keys().copied().collect();
+            if let Err(e) = save_watch_list(dir, &list) {
+                self.message = Some(Notice::error(e));
+            }
+        }
+        Outcome::Handled(requests)
+    }
+
+    /// Whether the watch panel has room beside the text in `width`.
+    fn panel_shown(&self, width: u16) -> bool {
+        !self.variables.is_empty() && width >= PANEL_MIN_TEXT + PANEL_WIDTH
+    }
+
+    /// The watch panel: each variable watched and its value.
+    fn render_panel(&self, frame: &mut Frame, area: Rect, view: &View) {
+        let theme = view.theme;
+        let block = Block::default()
+            .borders(Borders::LEFT)
+            .border_style(theme.style(Role::Border));
+        let inner = block.inner(area);
+        frame.render_widget(block, area);
+        let width = usize::from(inner.width);
+        let mut lines = vec![Line::styled(" user variables", theme.style(Role::Title))];
+        for (n, value) in &self.variables {
+            let label = format!(" #{n}");
+            let shown = value.map_or_else(|| "—".to_string(), |v| v.to_string());
+            let pad = width.saturating_sub(label.chars().count() + shown.chars().count() + 1);
+            lines.push(Line::from(vec![
+                Span::styled(label, theme.style(Role::Muted)),
+                Span::raw(" ".repeat(pad)),
+                Span::styled(shown, theme.style(Role::Accent)),
+            ]));
+        }
+        let note = if view.session.is_none() {
+            " not connected".to_string()
+        } else {
+            format!(
+                " {}: add/remove",
+                key_label(view.keymap, Context::Editor, Action::EditorWatch)
+            )
+        };
+        lines.push(Line::styled(note, theme.style(Role::Muted)));
+        frame.render_widget(Paragraph::new(lines), inner);
     }
 
     /// The name the text is assembled under: its file, or `untitled.tmc`.
@@ -464,10 +616,22 @@ impl EditorPane {
                 if name.is_empty() {
                     return Outcome::redraw();
                 }
+                if kind == PromptKind::Watch {
+                    return match name.parse::<u8>() {
+                        Ok(n) => self.toggle_variable(n, view),
+                        Err(_) => {
+                            self.message = Some(Notice::error(format!(
+                                "user variables are numbered 0..255, not `{name}`"
+                            )));
+                            Outcome::redraw()
+                        }
+                    };
+                }
                 let path = PathBuf::from(name);
                 let result = match kind {
                     PromptKind::Open => self.open_file(&path),
                     PromptKind::SaveAs => self.save_to(&path),
+                    PromptKind::Watch => Ok(()),
                 };
                 if let Err(e) = result {
                     self.message = Some(Notice::error(e));
@@ -553,6 +717,10 @@ impl EditorPane {
             Action::EditorStop => return self.control("STOPAPP", false),
             Action::EditorStep => return self.control("STEPAPP", false),
             Action::EditorReset => return self.control("RESETAPP", false),
+            Action::EditorWatch => match self.variable_at_cursor() {
+                Some(n) => return self.toggle_variable(n, view),
+                None => self.prompt = Some((PromptKind::Watch, Field::default())),
+            },
             Action::EditorDownload => return self.start_download(view),
             Action::EditorVerify => return self.start_verify(view),
             Action::EditorUpload => return self.start_upload(view),
@@ -638,15 +806,11 @@ impl EditorPane {
 
     /// The bottom line: the prompt, a message, or what the assembler says
     /// of the line under the cursor.
-    fn bottom_line(&self, view: &View) -> Line<'static> {
+    fn bottom_line(&self, view: &View, width: u16) -> Line<'static> {
         let theme = view.theme;
         if let Some((kind, field)) = &self.prompt {
-            let label = match kind {
-                PromptKind::Open => "open file: ",
-                PromptKind::SaveAs => "save as: ",
-            };
             return Line::from(vec![
-                Span::styled(label, theme.style(Role::Prompt)),
+                Span::styled(kind.label(), theme.style(Role::Prompt)),
                 Span::raw(field.text().to_string()),
             ]);
         }
@@ -702,6 +866,23 @@ impl EditorPane {
                 theme.style(Role::Accent),
             ));
         }
+        // No room for the watch panel: the variables here.
+        if !self.variables.is_empty() && !self.panel_shown(width) {
+            let values: Vec<String> = self
+                .variables
+                .iter()
+                .map(|(n, v)| {
+                    format!(
+                        "#{n}={}",
+                        v.map_or_else(|| "—".to_string(), |v| v.to_string())
+                    )
+                })
+                .collect();
+            spans.push(Span::styled(
+                format!(" │ {}", values.join(" ")),
+                theme.style(Role::Accent),
+            ));
+        }
         Line::from(spans)
     }
 
@@ -721,6 +902,19 @@ impl EditorPane {
             ),
             view.theme.style(Role::Warning),
         ))
+    }
+}
+
+/// The number an answer carries, if it is one.
+fn number_read(
+    result: &Result<crate::session::LineResult, crate::session::SessionError>,
+) -> Option<i64> {
+    match result {
+        Ok(r) => match r.value {
+            crate::session::ReplyValue::Number(n) => Some(n),
+            _ => None,
+        },
+        Err(_) => None,
     }
 }
 
@@ -807,7 +1001,7 @@ impl Pane for EditorPane {
         rows = rows.saturating_sub(1);
         let bottom_y = y + u16::try_from(rows).unwrap_or(0);
         frame.render_widget(
-            Paragraph::new(self.bottom_line(view)),
+            Paragraph::new(self.bottom_line(view, area.width)),
             Rect::new(area.x, bottom_y, area.width, 1),
         );
         // The progress of a transfer, above the bottom line.
@@ -826,7 +1020,14 @@ impl Pane for EditorPane {
         }
         let digits = lines.len().to_string().len().max(3);
         let gutter = digits + 2;
-        let text_width = usize::from(area.width).saturating_sub(gutter);
+        // The watch panel takes the right of the text rows.
+        let panel = self.panel_shown(area.width);
+        let text_cols = if panel {
+            area.width - PANEL_WIDTH
+        } else {
+            area.width
+        };
+        let text_width = usize::from(text_cols).saturating_sub(gutter);
         if col < self.left {
             self.left = col;
         } else if text_width > 0 && col >= self.left + text_width {
@@ -863,27 +1064,23 @@ impl Pane for EditorPane {
             }
             shown.push(styled);
         }
-        let text_area = Rect::new(
-            area.x,
-            y,
-            area.width,
-            u16::try_from(rows).unwrap_or(u16::MAX),
-        );
+        let height = u16::try_from(rows).unwrap_or(u16::MAX);
+        let text_area = Rect::new(area.x, y, text_cols, height);
         frame.render_widget(Paragraph::new(shown), text_area);
+        if panel {
+            let panel_area = Rect::new(area.x + text_cols, y, PANEL_WIDTH, height);
+            self.render_panel(frame, panel_area, view);
+        }
         if view.focused {
             match &self.prompt {
                 Some((kind, field)) => {
-                    let label = match kind {
-                        PromptKind::Open => "open file: ",
-                        PromptKind::SaveAs => "save as: ",
-                    };
-                    let x = label.chars().count() + field.cursor_column();
+                    let x = kind.label().chars().count() + field.cursor_column();
                     let x = area.x + u16::try_from(x).unwrap_or(0).min(area.width - 1);
                     frame.set_cursor_position(Position::new(x, bottom_y));
                 }
                 None if rows > 0 => {
                     let x = gutter + col.saturating_sub(self.left);
-                    let x = area.x + u16::try_from(x).unwrap_or(0).min(area.width - 1);
+                    let x = area.x + u16::try_from(x).unwrap_or(0).min(text_cols - 1);
                     let y = y + u16::try_from(row - self.top).unwrap_or(0);
                     frame.set_cursor_position(Position::new(x, y));
                 }
@@ -948,17 +1145,10 @@ impl Pane for EditorPane {
                 }
             }
             PaneEvent::Reply { tag, line, result } if *tag == TAG_WATCH => {
-                let value = match result {
-                    Ok(r) => match r.value {
-                        crate::session::ReplyValue::Number(n) => Some(n),
-                        _ => None,
-                    },
-                    Err(_) => {
-                        self.watching = false;
-                        None
-                    }
-                };
-                Outcome::Handled(self.register_reply(line, value))
+                if result.is_err() {
+                    self.watching = false;
+                }
+                Outcome::Handled(self.register_reply(line, number_read(result)))
             }
             PaneEvent::Reply {
                 tag,
@@ -971,6 +1161,23 @@ impl Pane for EditorPane {
             }
             PaneEvent::Wake { tag } if *tag == TAG_WATCH_TIMER && self.watching => {
                 Outcome::request(self.read_registers())
+            }
+            PaneEvent::Connected { .. } if !self.variables.is_empty() => {
+                // Another module: its own values, read once.
+                for value in self.variables.values_mut() {
+                    *value = None;
+                }
+                Outcome::Handled(vec![Request::Send {
+                    lines: self.variables.keys().map(|n| variable_line(*n)).collect(),
+                    tag: TAG_VARIABLE,
+                }])
+            }
+            PaneEvent::Reply { tag, line, result } if *tag == TAG_VARIABLE => {
+                if let Err(e) = result {
+                    self.message = Some(Notice::error(format!("{line}: {e}")));
+                }
+                self.variable_reply(line, number_read(result));
+                Outcome::redraw()
             }
             PaneEvent::Stopping | PaneEvent::EmergencyStop(_) => {
                 // The stop ends the program (TMCL 128): read where it

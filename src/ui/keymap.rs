@@ -151,6 +151,7 @@ pub enum Action {
     EditorVerify,
     EditorUpload,
     EditorReset,
+    EditorWatch,
 }
 
 /// An action's name in keymap files, its word in the status bar, what it
@@ -261,6 +262,7 @@ pub const ACTIONS: &[ActionInfo] = &[
     info(Action::EditorVerify, "editor_verify", "Verify", "compare the program in the controller with the source", EDITOR),
     info(Action::EditorUpload, "editor_upload", "Upload", "read the program from the controller into a new buffer", EDITOR),
     info(Action::EditorReset, "editor_reset", "Reset", "reset the program on the controller to its start", EDITOR),
+    info(Action::EditorWatch, "editor_watch", "Watch", "watch the user variable of the line (GGP/SGP n, 2), or one typed, beside the program; again stops", EDITOR),
 ];
 
 impl Action {

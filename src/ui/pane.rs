@@ -153,6 +153,9 @@ pub enum PaneEvent {
         tag: u64,
         result: Result<TransferDone, TransferError>,
     },
+    /// The connect screen's choice now connects with this protocol family
+    /// ([`Request::ChooseFamily`]).
+    FamilyChosen(&'static str),
 }
 
 /// A program transfer a pane asks for ([`Request::Transfer`]).
@@ -239,6 +242,11 @@ pub enum Request {
     Connect(Vec<String>),
     /// Give the keyboard to the pane called this ([`Pane::name`]).
     Focus(&'static str),
+    /// The protocol family (its [`Family::name`]) of the connection being
+    /// chosen on the connect screen: the other panes hear of it as
+    /// [`PaneEvent::FamilyChosen`] (help and completion use its tables
+    /// while nothing is connected).
+    ChooseFamily(&'static str),
     /// Answer with [`PaneEvent::Wake`] after this long.
     WakeAfter { after: Duration, tag: u64 },
     /// Run a program transfer (one at a time per connection): progress

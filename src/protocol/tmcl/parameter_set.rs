@@ -10,7 +10,7 @@ use super::params::{AXIS_PARAMS, Access, Bank, ParamInfo, Unit, ValueRange, axis
 use super::units::{acceleration_to_pps2, pps_to_rpm, rpm_to_pps, velocity_to_pps};
 use crate::protocol::parameters::{
     ParamAccess, ParamOp, ParamRange, ParamRole, ParamRow, ParamTable, ParameterSet, Physical,
-    Scope, SpeedUnit, parse_integer,
+    Scope, SpeedUnit, StatusQuantity, parse_integer,
 };
 
 /// The global banks, in the order the manual gives them (§5).
@@ -40,6 +40,11 @@ const BANK0_LINK: &[u16] = &[65, 66, 69, 70, 71, 76, 83, 87];
 const MICROSTEP_RESOLUTION: u16 = 140;
 const RAMP_DIVISOR: u16 = 153;
 const PULSE_DIVISOR: u16 = 154;
+
+/// What the axis status conversions need: the status has positions
+/// (microsteps, §4 AP0/AP1) and speeds (internal units, AP3/AP4), no
+/// accelerations, so the ramp divisor is not among them.
+const STATUS_INPUTS: &[u16] = &[MICROSTEP_RESOLUTION, PULSE_DIVISOR];
 
 /// §6.1.4 gives rps and rpm for "a 200 fullsteps motor", the common 1.8°
 /// stepper; the module has no parameter for it, so rpm assume it.
@@ -260,6 +265,45 @@ impl ParameterSet for TmclParameters {
         }
     }
 
+    fn status_inputs(&self) -> &'static [u16] {
+        STATUS_INPUTS
+    }
+
+    fn status_physical(
+        &self,
+        quantity: StatusQuantity,
+        value: i64,
+        unit: SpeedUnit,
+        axis_value: &dyn Fn(u16) -> Option<i64>,
+    ) -> Option<Physical> {
+        let resolution = || exponent(axis_value(MICROSTEP_RESOLUTION), 8);
+        let raw = value as f64;
+        Some(match (quantity, unit) {
+            // Positions are counted in microsteps already (§4 AP1).
+            (StatusQuantity::Position, SpeedUnit::Pps) => Physical {
+                value: raw,
+                unit: "µsteps",
+            },
+            // §6.1.4: a revolution is 200 full steps of 2^AP140 microsteps.
+            (StatusQuantity::Position, SpeedUnit::Rpm) => Physical {
+                value: raw / (f64::from(FULLSTEPS_PER_REV) * 2f64.powi(i32::from(resolution()?))),
+                unit: "rev",
+            },
+            // §6.1.1 equation (1), with the pulse divisor AP154.
+            (StatusQuantity::Speed, SpeedUnit::Pps) => Physical {
+                value: velocity_to_pps(1, exponent(axis_value(PULSE_DIVISOR), 13)?) * raw,
+                unit: "pps",
+            },
+            (StatusQuantity::Speed, SpeedUnit::Rpm) => {
+                let pps = velocity_to_pps(1, exponent(axis_value(PULSE_DIVISOR), 13)?) * raw;
+                Physical {
+                    value: pps_to_rpm(pps, FULLSTEPS_PER_REV, resolution()?),
+                    unit: "rpm",
+                }
+            }
+        })
+    }
+
     fn parse_value(
         &self,
         row: &ParamRow,
@@ -442,6 +486,36 @@ mod tests {
         assert!(
             TmclParameters
                 .physical(&row(Scope::Axis(0), 6), 100, SpeedUnit::Pps, &divisors)
+                .is_none()
+        );
+    }
+
+    #[test]
+    fn status_readings_convert_to_steps_and_revolutions() {
+        let convert = |q, v, u| TmclParameters.status_physical(q, v, u, &divisors);
+        // §6.1.1: 1678 with pulse divisor 3 is about 51208.5 pps; §6.1.4:
+        // 51200 pps at 256 microsteps of a 200-step motor is 60 rpm.
+        let pps = convert(StatusQuantity::Speed, 1678, SpeedUnit::Pps).unwrap();
+        assert!((pps.value - 51208.5).abs() < 0.1, "{pps}");
+        assert_eq!(pps.unit, "pps");
+        let rpm = convert(StatusQuantity::Speed, -1678, SpeedUnit::Rpm).unwrap();
+        assert!((rpm.value + 60.0).abs() < 0.01, "{rpm}");
+        assert_eq!(rpm.unit, "rpm");
+        // 51200 microsteps at 256 per full step: one turn of 200 steps.
+        let turns = convert(StatusQuantity::Position, 12800, SpeedUnit::Rpm).unwrap();
+        assert_eq!((turns.value, turns.unit), (0.25, "rev"));
+        let steps = convert(StatusQuantity::Position, 12800, SpeedUnit::Pps).unwrap();
+        assert_eq!((steps.value, steps.unit), (12800.0, "µsteps"));
+        assert_eq!(TmclParameters.status_inputs(), [140, 154]);
+        // Nothing read yet, or a resolution the module cannot have: no
+        // conversion rather than a wrong one.
+        let none = |q, u| TmclParameters.status_physical(q, 100, u, &|_| None);
+        assert!(none(StatusQuantity::Speed, SpeedUnit::Pps).is_none());
+        assert!(none(StatusQuantity::Position, SpeedUnit::Rpm).is_none());
+        let odd = |n| (n == MICROSTEP_RESOLUTION).then_some(9);
+        assert!(
+            TmclParameters
+                .status_physical(StatusQuantity::Position, 1, SpeedUnit::Rpm, &odd)
                 .is_none()
         );
     }
