@@ -214,9 +214,14 @@ pub async fn run_terminal(
         )
         .await
     });
-    let result = looping
-        .await
-        .unwrap_or_else(|e| Err(io::Error::other(format!("the console loop failed: {e}"))));
+    let result = match looping.await {
+        Ok(result) => result,
+        // A bug in the loop: the panic hook has given the terminal back
+        // and printed the message; it goes on as the panic it is (exit
+        // code 101), as it did before the loop became a task.
+        Err(e) if e.is_panic() => std::panic::resume_unwind(e.into_panic()),
+        Err(e) => Err(io::Error::other(format!("the console loop failed: {e}"))),
+    };
     drop(guard);
     result
 }
