@@ -393,6 +393,17 @@ async fn log_writes_every_frame_to_a_file_until_it_is_turned_off() {
     );
 }
 
+/// A status poll going out (GAP 1, 0).
+fn poll_record() -> TrafficRecord {
+    TrafficRecord {
+        at: std::time::Instant::now(),
+        direction: Direction::Sent,
+        kind: TrafficKind::Request,
+        bytes: vec![1, 6, 1, 0, 0, 0, 0, 0, 8],
+        priority: Some(Priority::Poll),
+    }
+}
+
 #[tokio::test(start_paused = true)]
 async fn traffic_is_taken_in_batches_not_one_wake_up_per_frame() {
     let (fake, _calls) = Fake::new(&["motor 0"]);
@@ -404,20 +415,13 @@ async fn traffic_is_taken_in_batches_not_one_wake_up_per_frame() {
             KeyModifiers::ALT,
         )));
         rig.screens.until("no frames yet").await;
-        let poll = || TrafficRecord {
-            at: std::time::Instant::now(),
-            direction: Direction::Sent,
-            kind: TrafficKind::Request,
-            bytes: vec![1, 6, 1, 0, 0, 0, 0, 0, 8],
-            priority: Some(Priority::Poll),
-        };
         // The first frame after a quiet spell shows at once.
-        let _ = fake.traffic.send(poll());
+        let _ = fake.traffic.send(poll_record());
         rig.screens.until("1 frames").await;
         // Those that follow wait in the channel for the batch: the loop is
         // not woken for each.
         for _ in 0..4 {
-            let _ = fake.traffic.send(poll());
+            let _ = fake.traffic.send(poll_record());
         }
         for _ in 0..10 {
             tokio::task::yield_now().await;
@@ -441,18 +445,11 @@ async fn behind_its_tab_the_monitor_takes_traffic_still_less_often_and_in_front_
     run_console(Some(fake.clone()), no_connector(), async |mut rig: Rig| {
         // 100x30: the command pane in front, the traffic monitor behind.
         rig.screens.until("fake rig #1 connected").await;
-        let poll = || TrafficRecord {
-            at: std::time::Instant::now(),
-            direction: Direction::Sent,
-            kind: TrafficKind::Request,
-            bytes: vec![1, 6, 1, 0, 0, 0, 0, 0, 8],
-            priority: Some(Priority::Poll),
-        };
         // A frame every 50 ms for a second: the pauses between batches
         // grow past the monitor's refresh.
         let mut most_waiting = 0;
         for _ in 0..20 {
-            let _ = fake.traffic.send(poll());
+            let _ = fake.traffic.send(poll_record());
             for _ in 0..5 {
                 tokio::task::yield_now().await;
             }
