@@ -208,9 +208,9 @@ pub enum DeviceEvent {
 pub struct PollItem {
     pub transaction: Transaction,
     /// Poll this often at most: on a grid of this period from the plan's
-    /// first poll, so a poll sent late does not delay the next one; the
-    /// link's speed may make it less often. Zero means as often as the
-    /// link allows.
+    /// first poll, so a poll sent a little late does not delay the next
+    /// one (see `poll.rs`); the link's speed may make it less often. Zero
+    /// means as often as the link allows.
     pub every: Duration,
 }
 

@@ -1,12 +1,17 @@
 //! When each item of a poll plan is due.
 //!
 //! Each item is polled on a grid of its period, laid from the plan's first
-//! poll: a poll sent late (the line was busy, the timer woke late) does
-//! not push the next one back. Items of one period therefore stay
-//! together and go out as one burst, one after the other's answer, after
-//! a single timer wake-up; scheduled from each item's own send time they
-//! drifted apart by a round trip each, and a console polling one axis woke
-//! for almost every poll on its own.
+//! poll: a poll sent a little late (the timer woke late, the items before
+//! it in the burst were answered first) does not push the next one back.
+//! Items of one period therefore stay together and go out as one burst,
+//! one after the other's answer, after a single timer wake-up; scheduled
+//! from each item's own send time they drifted apart by a round trip each,
+//! and a console polling one axis woke for almost every poll on its own.
+//!
+//! A poll sent later than a quarter of its period lays its grid afresh
+//! from its send: on a link too slow for the plan every poll is late, and
+//! a grid kept there would make the items of long periods look the most
+//! overdue and take turns from the fast ones.
 
 use std::time::Duration;
 
@@ -17,8 +22,8 @@ use super::{Answer, DeviceError, PollItem, PollPlan};
 /// A poll plan and when each of its items was last sent.
 pub(super) struct PollSchedule {
     plan: PollPlan,
-    /// The grid point of each item's last send and the number of that
-    /// send; `None`: never polled, due at once.
+    /// The grid point of each item's last send (see the module docs) and
+    /// the number of that send; `None`: never polled, due at once.
     last: Vec<Option<(Instant, u64)>>,
     sends: u64,
     /// The plan's first poll, where every item's grid starts.
@@ -62,8 +67,8 @@ impl PollSchedule {
         let origin = *self.origin.get_or_insert(now);
         let item = self.plan.items.get(index)?;
         let last = self.last.get_mut(index)?;
-        let from = last.map_or(origin, |(at, _)| at);
-        *last = Some((grid_point(from, item.every, now), self.sends));
+        let expected = last.map_or(origin, |(at, _)| at + item.every);
+        *last = Some((grid_point(expected, item.every, now), self.sends));
         Some(item)
     }
 
@@ -72,17 +77,14 @@ impl PollSchedule {
     }
 }
 
-/// The last point at or before `now` of the grid through `from` with step
-/// `every`; `now` itself for a zero step (as often as the link allows) or
-/// a `now` before `from`.
-fn grid_point(from: Instant, every: Duration, now: Instant) -> Instant {
-    let step = every.as_nanos();
-    if step == 0 || now < from {
-        return now;
+/// Where an item's grid lies after a send at `now` that was due at
+/// `expected`: still at `expected` if the send was late by less than a
+/// quarter of the period `every`, else at `now` (see the module docs).
+fn grid_point(expected: Instant, every: Duration, now: Instant) -> Instant {
+    match now.checked_duration_since(expected) {
+        Some(late) if late < every / 4 => expected,
+        _ => now,
     }
-    let behind = now.duration_since(from).as_nanos();
-    let offset = behind - behind % step;
-    u64::try_from(offset).map_or(now, |offset| from + Duration::from_nanos(offset))
 }
 
 #[cfg(test)]
@@ -152,28 +154,46 @@ mod tests {
         s.sent(2, ms(0.6));
         let due: Vec<_> = (0..3).map(|i| s.due(i).map(|(at, _)| at)).collect();
         assert_eq!(due, [Some(ms(50.0)); 3], "one wake-up for all three");
-        // A poll sent late does not push the next one back…
+        // A poll sent a little late does not push the next one back…
         s.sent(0, ms(57.0));
         assert_eq!(s.due(0).map(|(at, _)| at), Some(ms(100.0)));
-        // …and one that missed a whole period takes the next grid point.
-        s.sent(1, ms(160.0));
-        assert_eq!(s.due(1).map(|(at, _)| at), Some(ms(200.0)));
+        // …one later than a quarter period starts its grid afresh.
+        s.sent(1, ms(63.0));
+        assert_eq!(s.due(1).map(|(at, _)| at), Some(ms(113.0)));
+    }
+
+    /// A link too slow for the plan (20 ms a transaction, 9600 Bd, for
+    /// three polls at 20 Hz and eight at 5 Hz) still polls the fast items
+    /// about twice as often as the slow ones, as it did before the grid.
+    #[test]
+    fn on_a_link_too_slow_for_the_plan_fast_items_keep_their_turns() {
+        let mut items: Vec<PollItem> = (0..3).map(|_| item(50)).collect();
+        items.extend((0..8).map(|_| item(200)));
+        let mut s = schedule(items);
+        let mut now = Instant::now();
+        let mut sent = [0u32; 11];
+        for _ in 0..500 {
+            let (index, due) = s.next().expect("an item");
+            now = due.map_or(now, |due| due.max(now));
+            s.sent(index, now);
+            sent[index] += 1;
+            now += Duration::from_millis(20);
+        }
+        let fast: u32 = sent[..3].iter().sum::<u32>() / 3;
+        let slow: u32 = sent[3..].iter().sum::<u32>() / 8;
+        assert!(fast * 10 >= slow * 18, "fast {fast}, slow {slow}: {sent:?}");
     }
 
     #[test]
-    fn grid_points_never_panic_and_fall_at_or_before_now() {
+    fn grid_points_never_panic() {
         let t0 = Instant::now();
         let step = Duration::from_millis(50);
-        assert_eq!(
-            grid_point(t0, step, t0 + Duration::from_millis(149)),
-            t0 + 2 * step
-        );
-        assert_eq!(grid_point(t0, step, t0 + 3 * step), t0 + 3 * step);
-        assert_eq!(grid_point(t0, Duration::ZERO, t0 + step), t0 + step);
-        let earlier = t0 + step;
-        assert_eq!(grid_point(earlier, step, t0), t0, "now before the grid");
-        let huge = Duration::MAX;
-        assert_eq!(grid_point(t0, huge, t0 + step), t0);
+        let ms = Duration::from_millis;
+        assert_eq!(grid_point(t0, step, t0 + ms(12)), t0);
+        assert_eq!(grid_point(t0, step, t0 + ms(13)), t0 + ms(13));
+        assert_eq!(grid_point(t0, Duration::ZERO, t0 + ms(1)), t0 + ms(1));
+        assert_eq!(grid_point(t0 + step, step, t0), t0, "sent before due");
+        assert_eq!(grid_point(t0, Duration::MAX, t0 + ms(1)), t0);
     }
 
     #[test]
