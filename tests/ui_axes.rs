@@ -372,7 +372,7 @@ mod no_units {
             &self,
             line: &PreparedLine,
             reading: &Reading,
-        ) -> Option<(usize, AxisUpdate)> {
+        ) -> Vec<(usize, AxisUpdate)> {
             TmclConsole.status_update(line, reading)
         }
     }

@@ -33,6 +33,15 @@ impl Target {
         let address = args
             .address
             .unwrap_or_else(|| family.console.default_address());
+        let addresses = family.console.addresses();
+        if !addresses.contains(&address) {
+            return Err(format!(
+                "--address {address} is outside {}..{}, the addresses of the {} family",
+                addresses.start(),
+                addresses.end(),
+                family.name
+            ));
+        }
         let spec = match (&args.sim, &args.port, &args.tcp) {
             (Some(kind), None, None) => {
                 let kind = sim::find_kind(kind).ok_or_else(|| unknown_sim(kind))?;
@@ -205,7 +214,7 @@ mod tests {
                     sim: Some("nosuch".into()),
                     ..args()
                 },
-                "unknown simulator 'nosuch' (known: tmcm1110)",
+                "unknown simulator 'nosuch' (known: tmcm1110, cmd4cr)",
             ),
             (
                 ConnectionArgs {

@@ -113,6 +113,10 @@ pub enum Command {
         /// Faults to inject: drop=P,corrupt=P,garbage=P,delay=P:MS,disconnect-after=N,corrupt-store=N,seed=N.
         #[arg(long, value_name = "SPEC")]
         fault: Option<String>,
+        /// A-Script source to load into the simulator (cmd4cr): its PRG
+        /// blocks become programs 0-3 (start them with SACTRL or SLOAD).
+        #[arg(long, value_name = "FILE")]
+        program: Option<std::path::PathBuf>,
     },
     /// Run console lines one by one and print one result line each.
     ///
@@ -195,7 +199,15 @@ pub fn run(cli: Cli) -> i32 {
             pty,
             eeprom,
             fault,
-        }) => run_sim(&cli.connection, &kind, pty, eeprom, fault.as_deref()),
+            program,
+        }) => run_sim(
+            &cli.connection,
+            &kind,
+            pty,
+            eeprom,
+            fault.as_deref(),
+            program.as_deref(),
+        ),
         Some(Command::Ports) => run_ports(),
         Some(Command::Encode { family, line }) => {
             run_encode(&family, &line, cli.connection.address)
@@ -232,6 +244,7 @@ fn run_sim(
     pty: bool,
     eeprom_file: Option<std::path::PathBuf>,
     fault: Option<&str>,
+    program: Option<&std::path::Path>,
 ) -> i32 {
     let Some(sim_kind) = sim::find_kind(kind) else {
         eprintln!(
@@ -273,7 +286,18 @@ fn run_sim(
         address: connection.address,
         eeprom_file,
     };
-    let sim = (sim_kind.build)(&options);
+    let mut sim = (sim_kind.build)(&options);
+    if let Some(path) = program {
+        let loaded = std::fs::read_to_string(path)
+            .map_err(|e| vec![format!("cannot read it: {e}")])
+            .and_then(|source| sim.load_program(&source));
+        if let Err(problems) = loaded {
+            for problem in problems {
+                eprintln!("axterm sim: {}: {problem}", path.display());
+            }
+            return EXIT_USAGE;
+        }
+    }
     eprintln!("{}", sim.help());
     // The signal handlers are in place before the endpoint is announced:
     // a script may send SIGTERM as soon as it has read that line.
@@ -454,10 +478,13 @@ mod tests {
     #[test]
     fn sim_refuses_unknown_kinds_and_missing_endpoints() {
         let none = ConnectionArgs::default();
-        assert_eq!(run_sim(&none, "nosuch", true, None, None), EXIT_USAGE);
-        assert_eq!(run_sim(&none, "tmcm1110", false, None, None), EXIT_USAGE);
+        assert_eq!(run_sim(&none, "nosuch", true, None, None, None), EXIT_USAGE);
         assert_eq!(
-            run_sim(&none, "tmcm1110", true, None, Some("drop=2")),
+            run_sim(&none, "tmcm1110", false, None, None, None),
+            EXIT_USAGE
+        );
+        assert_eq!(
+            run_sim(&none, "tmcm1110", true, None, Some("drop=2"), None),
             EXIT_USAGE
         );
         let zero_baud = ConnectionArgs {
@@ -465,7 +492,7 @@ mod tests {
             ..ConnectionArgs::default()
         };
         assert_eq!(
-            run_sim(&zero_baud, "tmcm1110", true, None, None),
+            run_sim(&zero_baud, "tmcm1110", true, None, None, None),
             EXIT_USAGE
         );
     }

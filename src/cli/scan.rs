@@ -1,6 +1,8 @@
 //! `axterm scan CONNECTION [--addresses 1-255]`: ask every address on the
-//! bus who it is (TMCL: firmware version, 136 type 0) with a short timeout,
-//! and list the modules that answer.
+//! bus who it is (TMCL: firmware version, 136 type 0; CMD-4CR: VER) with a
+//! short timeout, and list the modules that answer. Without
+//! `--addresses`, every address the family has (TMCL 1-255, CMD-4CR
+//! 0-99).
 
 use std::time::Duration;
 
@@ -9,6 +11,7 @@ use clap::Args;
 use super::connection::{Target, run_to_exit};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::device::DeviceError;
+use crate::protocol::Family;
 use crate::session::SessionError;
 
 /// How long to wait for an answer at each address, on top of the wire
@@ -22,9 +25,10 @@ const PROBE_BYTES: u32 = 40;
 
 #[derive(Debug, Clone, Args)]
 pub struct ScanArgs {
-    /// Addresses to try: a list of numbers and ranges, e.g. 1-255 or 1,5,10-20.
-    #[arg(long, default_value = "1-255")]
-    pub addresses: String,
+    /// Addresses to try: a list of numbers and ranges, e.g. 1-255 or
+    /// 1,5,10-20 (default: every address of the protocol family).
+    #[arg(long)]
+    pub addresses: Option<String>,
 }
 
 /// `1-255`, `7`, `1,3,10-20` → the addresses in order, each once.
@@ -57,16 +61,38 @@ pub fn parse_addresses(text: &str) -> Result<Vec<u8>, String> {
     Ok(addresses)
 }
 
+/// The addresses to try: those given, each one the family can have, or
+/// every address of the family. A frame for an address outside the
+/// family's would reach another module (CMD-4CR `@100VER` is read by
+/// controller 10 as `0VER`) and report it where it is not.
+fn family_addresses(family: &Family, given: Option<&str>) -> Result<Vec<u8>, String> {
+    let range = family.console.addresses();
+    let Some(text) = given else {
+        return Ok(range.collect());
+    };
+    let addresses = parse_addresses(text)?;
+    match addresses.iter().find(|a| !range.contains(a)) {
+        Some(outside) => Err(format!(
+            "address {outside} is outside {}..{}, the addresses of the {} family (in --addresses {text})",
+            range.start(),
+            range.end(),
+            family.name
+        )),
+        None => Ok(addresses),
+    }
+}
+
 pub fn run(connection: &ConnectionArgs, args: &ScanArgs) -> i32 {
-    let addresses = match parse_addresses(&args.addresses) {
-        Ok(addresses) => addresses,
+    let target = match Target::resolve(connection) {
+        Ok(target) => target,
         Err(message) => {
             eprintln!("axterm scan: {message}");
             return EXIT_USAGE;
         }
     };
-    let target = match Target::resolve(connection) {
-        Ok(target) => target,
+    let family = target.family;
+    let addresses = match family_addresses(family, args.addresses.as_deref()) {
+        Ok(addresses) => addresses,
         Err(message) => {
             eprintln!("axterm scan: {message}");
             return EXIT_USAGE;
@@ -130,5 +156,24 @@ mod tests {
         assert!(parse_addresses("1-256").unwrap_err().contains("`256`"));
         assert!(parse_addresses("").is_err());
         assert!(parse_addresses("a").is_err());
+    }
+
+    #[test]
+    fn the_family_decides_the_default_and_the_limits() {
+        let tmcl = crate::protocol::find_family("tmcl").expect("tmcl");
+        let cmd4cr = crate::protocol::find_family("cmd4cr").expect("cmd4cr");
+        assert_eq!(family_addresses(tmcl, None).unwrap().len(), 255);
+        assert_eq!(
+            family_addresses(cmd4cr, None).unwrap(),
+            (0..=99).collect::<Vec<u8>>()
+        );
+        assert_eq!(family_addresses(cmd4cr, Some("0,99")).unwrap(), [0, 99]);
+        let error = family_addresses(cmd4cr, Some("1-255")).unwrap_err();
+        assert!(error.contains("address 100 is outside 0..99"), "{error}");
+        assert!(
+            family_addresses(tmcl, Some("0"))
+                .unwrap_err()
+                .contains("1..255")
+        );
     }
 }

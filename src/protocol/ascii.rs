@@ -178,8 +178,12 @@ fn trimmed(line: &[u8]) -> &[u8] {
     line.trim_ascii()
 }
 
-/// The answer is the next line, whatever it says (CMD-4CR; an error is a
-/// line starting with `?`, which is for the session to read).
+/// The answer is the next line, whatever it says (an error is a line
+/// starting with `?`, which is for the session to read). The CMD-4CR
+/// console uses a stricter form of it,
+/// [`crate::protocol::cmd4cr::console::Cmd4crReplyRule`], which also
+/// passes over a line that cannot answer the command (a late `OK` while a
+/// read waits).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct NextLine;
 

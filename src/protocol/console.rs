@@ -92,6 +92,20 @@ pub enum ReplyError {
         /// The manual's meaning of the status code.
         meaning: String,
     },
+    /// The module understood the request and refused it with an error
+    /// reply of its own words, no status code (CMD-4CR `?Error Moving`,
+    /// §4.2).
+    #[error("{module} refused {line}: {reply} ({meaning})")]
+    Refused {
+        /// "controller 01".
+        module: String,
+        /// The canonical line that was sent.
+        line: String,
+        /// The reply as it came.
+        reply: String,
+        /// The manual's meaning of the reply.
+        meaning: String,
+    },
     /// The answer does not make sense for the request.
     #[error("unreadable answer to {line}: {reason}")]
     Malformed { line: String, reason: String },
@@ -102,7 +116,7 @@ impl ReplyError {
     pub fn status(&self) -> Option<u32> {
         match self {
             ReplyError::Rejected { status, .. } => Some(*status),
-            ReplyError::Malformed { .. } => None,
+            ReplyError::Refused { .. } | ReplyError::Malformed { .. } => None,
         }
     }
 }
@@ -140,8 +154,12 @@ pub enum AxisUpdate {
     Target(i64),
     Speed(i64),
     /// The fastest the axis moves when positioning (TMCL AP4), for a speed
-    /// gauge.
+    /// gauge: the axis's own setting.
     MaxSpeed(i64),
+    /// The module-wide maximum speed, which applies to an axis whose own
+    /// reads 0 (CMD-4CR: a per-axis HSPD of 0 means the global HSPD,
+    /// §2.1.4).
+    GlobalMaxSpeed(i64),
     /// The axis stands at its target.
     Reached(bool),
     /// A switch is active (true) or not.
@@ -207,6 +225,12 @@ pub trait FamilyConsole: Send + Sync {
     /// The module address when the user gives none.
     fn default_address(&self) -> u8;
 
+    /// Every address a module of this family can have: what a bus scan
+    /// tries when told nothing else, and all it may try.
+    fn addresses(&self) -> std::ops::RangeInclusive<u8> {
+        0..=255
+    }
+
     /// The axes of a module of this family.
     fn axes(&self) -> &'static [AxisInfo];
 
@@ -229,10 +253,12 @@ pub trait FamilyConsole: Send + Sync {
     /// The lines that make up every axis's status.
     fn status_queries(&self, address: u8) -> Vec<StatusPoll>;
 
-    /// What a successful reading of `line` says about an axis, if `line`
+    /// What a successful reading of `line` says about the axes, if `line`
     /// reads status (a poll, or the user reading an error flag register:
-    /// its flags must not be lost either). Returns the axis index.
-    fn status_update(&self, line: &PreparedLine, reading: &Reading) -> Option<(usize, AxisUpdate)>;
+    /// its flags must not be lost either): each update with its axis index.
+    /// One reading may speak of several axes (CMD-4CR `PP` reads all four
+    /// positions, §2.6.1.1).
+    fn status_update(&self, line: &PreparedLine, reading: &Reading) -> Vec<(usize, AxisUpdate)>;
 
     /// Candidates for the word of `line` at byte offset `cursor`: command
     /// names, symbolic operands, parameter numbers (found by number or by

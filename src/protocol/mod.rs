@@ -27,19 +27,28 @@ pub struct Family {
 }
 
 /// Every protocol family axterm speaks.
-pub const FAMILIES: &[Family] = &[Family {
-    name: "tmcl",
-    description: "Trinamic TMCL (TMCM-1110 StepRocker), 9-byte binary frames",
-    encode_line: |line, address| {
-        let command = tmcl::parse_line(line).map_err(|e| e.to_string())?;
-        Ok(command
-            .to_request(address.unwrap_or(tmcl::DEFAULT_MODULE_ADDRESS))
-            .to_bytes()
-            .to_vec())
+pub const FAMILIES: &[Family] = &[
+    Family {
+        name: "tmcl",
+        description: "Trinamic TMCL (TMCM-1110 StepRocker), 9-byte binary frames",
+        encode_line: |line, address| {
+            let command = tmcl::parse_line(line).map_err(|e| e.to_string())?;
+            Ok(command
+                .to_request(address.unwrap_or(tmcl::DEFAULT_MODULE_ADDRESS))
+                .to_bytes()
+                .to_vec())
+        },
+        show_bytes: tmcl::to_hex,
+        console: &tmcl::TmclConsole,
     },
-    show_bytes: tmcl::to_hex,
-    console: &tmcl::TmclConsole,
-}];
+    Family {
+        name: "cmd4cr",
+        description: "Nippon Pulse CMD-4CR (4 axes), ASCII lines @ID…CR",
+        encode_line: cmd4cr::encode_line,
+        show_bytes: cmd4cr::show_bytes,
+        console: &cmd4cr::Cmd4crConsole,
+    },
+];
 
 /// The family called `name` (case-insensitive).
 pub fn find_family(name: &str) -> Option<&'static Family> {

@@ -463,10 +463,10 @@ impl Session {
                 reply: reply.clone(),
                 elapsed,
             })?;
-        if line.address == self.address
-            && let Some((axis, update)) = console.status_update(line, &reading)
-        {
-            status::post(&self.board, axis, update);
+        if line.address == self.address {
+            for (axis, update) in console.status_update(line, &reading) {
+                status::post(&self.board, axis, update);
+            }
         }
         Ok(LineResult {
             line: line.canonical.clone(),

@@ -19,8 +19,14 @@ pub struct AxisStatus {
     pub position: Option<i64>,
     pub target: Option<i64>,
     pub speed: Option<i64>,
-    /// The fastest the axis moves when positioning.
+    /// The fastest the axis moves when positioning: its own maximum, or
+    /// the module-wide one where its own reads 0.
     pub max_speed: Option<i64>,
+    /// The axis's own maximum as read ([`AxisUpdate::MaxSpeed`]).
+    pub own_max_speed: Option<i64>,
+    /// The module-wide maximum, where the family has one
+    /// ([`AxisUpdate::GlobalMaxSpeed`]).
+    pub global_max_speed: Option<i64>,
     /// Standing at the target.
     pub reached: Option<bool>,
     pub left_switch: Option<bool>,
@@ -42,7 +48,14 @@ impl AxisStatus {
             AxisUpdate::Position(v) => self.position = Some(v),
             AxisUpdate::Target(v) => self.target = Some(v),
             AxisUpdate::Speed(v) => self.speed = Some(v),
-            AxisUpdate::MaxSpeed(v) => self.max_speed = Some(v),
+            AxisUpdate::MaxSpeed(v) => {
+                self.own_max_speed = Some(v);
+                self.max_speed = self.effective_max_speed();
+            }
+            AxisUpdate::GlobalMaxSpeed(v) => {
+                self.global_max_speed = Some(v);
+                self.max_speed = self.effective_max_speed();
+            }
             AxisUpdate::Reached(v) => self.reached = Some(v),
             AxisUpdate::Switch(SwitchKind::Left, v) => self.left_switch = Some(v),
             AxisUpdate::Switch(SwitchKind::Right, v) => self.right_switch = Some(v),
@@ -56,6 +69,15 @@ impl AxisStatus {
                 }
             }
             AxisUpdate::DriverFlags(flags) => self.driver_flags = Some(flags),
+        }
+    }
+
+    /// The axis's own maximum, unless it is 0 (or not read yet) and a
+    /// module-wide one is known.
+    fn effective_max_speed(&self) -> Option<i64> {
+        match (self.own_max_speed, self.global_max_speed) {
+            (Some(0) | None, Some(global)) => Some(global),
+            (own, _) => own,
         }
     }
 
@@ -103,7 +125,7 @@ impl PollSink for StatusSink {
         let Ok(reading) = console.interpret(&poll.line, &answer.frames) else {
             return;
         };
-        if let Some((axis, update)) = console.status_update(&poll.line, &reading) {
+        for (axis, update) in console.status_update(&poll.line, &reading) {
             post(&self.board, axis, update);
         }
     }
@@ -221,6 +243,24 @@ mod tests {
         );
         sink.record(position, Ok(&answer(8)));
         assert!(status.has_changed().unwrap_or(false));
+    }
+
+    #[test]
+    fn an_own_maximum_of_zero_falls_back_to_the_module_wide_one() {
+        let mut axis = AxisStatus::default();
+        axis.apply(AxisUpdate::MaxSpeed(0));
+        assert_eq!(axis.max_speed, Some(0), "no module-wide maximum known");
+        axis.apply(AxisUpdate::GlobalMaxSpeed(5000));
+        assert_eq!(axis.max_speed, Some(5000));
+        axis.apply(AxisUpdate::MaxSpeed(800));
+        assert_eq!(axis.max_speed, Some(800), "its own wins");
+        axis.apply(AxisUpdate::GlobalMaxSpeed(6000));
+        assert_eq!(axis.max_speed, Some(800));
+        axis.apply(AxisUpdate::MaxSpeed(0));
+        assert_eq!(axis.max_speed, Some(6000));
+        let mut fresh = AxisStatus::default();
+        fresh.apply(AxisUpdate::GlobalMaxSpeed(100));
+        assert_eq!(fresh.max_speed, Some(100), "until its own is read");
     }
 
     #[test]

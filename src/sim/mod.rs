@@ -5,6 +5,7 @@
 
 use std::time::Duration;
 
+pub mod cmd4cr;
 pub mod faults;
 pub mod tmcm1110;
 
@@ -25,6 +26,14 @@ pub trait SimulatedController: Send {
     /// count per connection. Controllers without such faults ignore it.
     fn arm_faults(&mut self, plan: &faults::FaultPlan) {
         let _ = plan;
+    }
+    /// Load standalone-program source into the controller, as a vendor's
+    /// tool would write it into its memory (`axterm sim KIND --program
+    /// FILE`); the problems, one per line, if it cannot. Controllers
+    /// without such programs refuse.
+    fn load_program(&mut self, source: &str) -> Result<(), Vec<String>> {
+        let _ = source;
+        Err(vec!["this simulator runs no A-Script programs".to_string()])
     }
 }
 
@@ -47,23 +56,37 @@ pub struct SimKind {
 }
 
 /// Every built-in simulator. A new family adds one line here.
-pub const SIM_KINDS: &[SimKind] = &[SimKind {
-    name: "tmcm1110",
-    description: "Trinamic TMCM-1110 StepRocker (TMCL, 1 axis)",
-    family: "tmcl",
-    build: |options| {
-        let mut config = tmcm1110::SimConfig::default();
-        if let Some(address) = options.address {
-            config.address = address;
-        }
-        config.eeprom_file = options.eeprom_file.clone();
-        let mut sim = tmcm1110::Tmcm1110::new(config);
-        if let Some(address) = options.address {
-            sim.set_module_address(address);
-        }
-        Box::new(sim)
+pub const SIM_KINDS: &[SimKind] = &[
+    SimKind {
+        name: "tmcm1110",
+        description: "Trinamic TMCM-1110 StepRocker (TMCL, 1 axis)",
+        family: "tmcl",
+        build: |options| {
+            let mut config = tmcm1110::SimConfig::default();
+            if let Some(address) = options.address {
+                config.address = address;
+            }
+            config.eeprom_file = options.eeprom_file.clone();
+            let mut sim = tmcm1110::Tmcm1110::new(config);
+            if let Some(address) = options.address {
+                sim.set_module_address(address);
+            }
+            Box::new(sim)
+        },
     },
-}];
+    SimKind {
+        name: "cmd4cr",
+        description: "Nippon Pulse Commander core CMD-4CR (ASCII, 4 axes X/Y/Z/U)",
+        family: "cmd4cr",
+        build: |options| {
+            Box::new(cmd4cr::Cmd4cr::new(cmd4cr::SimConfig {
+                id: options.address,
+                flash_file: options.eeprom_file.clone(),
+                ..cmd4cr::SimConfig::default()
+            }))
+        },
+    },
+];
 
 /// The simulator called `name` (case-insensitive), if there is one.
 pub fn find_kind(name: &str) -> Option<&'static SimKind> {
@@ -140,8 +163,40 @@ mod tests {
     }
 
     #[test]
+    fn the_cmd4cr_kind_answers_at_its_address_and_keeps_its_flash() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let file = dir.path().join("flash.json");
+        let kind = find_kind("CMD4CR").expect("registered");
+        let mut sim = (kind.build)(&SimOptions {
+            address: Some(7),
+            eeprom_file: Some(file.clone()),
+        });
+        sim.feed(b"@01PX\r@07POLX=3\r@07STORE\r");
+        assert_eq!(sim.take_output(), b"OK\rOK\r");
+        drop(sim);
+        let mut sim = (kind.build)(&SimOptions {
+            address: None,
+            eeprom_file: Some(file),
+        });
+        sim.feed(b"@01POLX\r");
+        assert_eq!(sim.take_output(), b"3\r");
+        assert!(sim.help().contains("CMD-4CR"));
+    }
+
+    #[test]
+    fn only_the_cmd4cr_loads_a_script_programs() {
+        let options = SimOptions::default();
+        let mut tmcl = (find_kind("tmcm1110").expect("registered").build)(&options);
+        assert!(tmcl.load_program("PRG 0\nEND\n").is_err());
+        let mut cmd4cr = (find_kind("cmd4cr").expect("registered").build)(&options);
+        assert_eq!(cmd4cr.load_program("PRG 0\n    V1=5\nEND\n"), Ok(()));
+        let problems = cmd4cr.load_program("PRG 0\n").expect_err("no END");
+        assert!(problems[0].contains("Missing END"), "{problems:?}");
+    }
+
+    #[test]
     fn unknown_kinds_are_not_found() {
         assert!(find_kind("tmcm9999").is_none());
-        assert_eq!(kind_names(), "tmcm1110");
+        assert_eq!(kind_names(), "tmcm1110, cmd4cr");
     }
 }

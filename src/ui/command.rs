@@ -385,14 +385,21 @@ impl CommandPane {
                     Err(message) => return self.fail(message),
                 }
             }
-            "address" => match rest.parse::<u8>() {
-                Ok(address) => Request::SetAddress(address),
-                Err(_) => {
-                    return self.fail(format!(
-                        ":address needs a module address 0..255, not `{rest}`"
-                    ));
+            "address" => {
+                // The connected family's addresses (CMD-4CR IDs are two
+                // digits, 0..99), else any byte.
+                let range = session.map_or(0..=255, |s| s.family.console.addresses());
+                match rest.parse::<u8>() {
+                    Ok(address) if range.contains(&address) => Request::SetAddress(address),
+                    _ => {
+                        return self.fail(format!(
+                            ":address needs a module address {}..{}, not `{rest}`",
+                            range.start(),
+                            range.end()
+                        ));
+                    }
                 }
-            },
+            }
             "log" => match rest {
                 "" => return self.fail(":log needs a file name (or `off`)"),
                 "off" => Request::Log(None),

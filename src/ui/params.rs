@@ -443,12 +443,23 @@ impl ParamsPane {
         let key = (job.row.scope, job.row.number);
         match (job.op, result) {
             (ParamOp::Read, Ok(r)) => {
-                let cell = match r.value {
-                    ReplyValue::Number(v) => {
+                // A value the family prints with decimals (CMD-4CR SLR,
+                // 1.5) comes as text: its own parser makes it the raw
+                // number the table holds.
+                let number = match &r.value {
+                    ReplyValue::Number(v) => Some(*v),
+                    ReplyValue::Text(text) => Self::parameters(view).and_then(|p| {
+                        p.parse_value(&job.row, text, &self.axis_value(job.row.scope))
+                            .ok()
+                    }),
+                    ReplyValue::None => None,
+                };
+                let cell = match number {
+                    Some(v) => {
                         self.first.entry(key).or_insert(v);
                         Cell::Value(v)
                     }
-                    ref other => Cell::Unreadable(format!("answer {other} is not a number")),
+                    None => Cell::Unreadable(format!("answer {} is not a number", r.value)),
                 };
                 self.values.insert(key, cell);
             }

@@ -60,6 +60,8 @@ pub fn moving_status(position: i64, target: i64, speed: i64, max_speed: i64) -> 
         target: Some(target),
         speed: Some(speed),
         max_speed: Some(max_speed),
+        own_max_speed: Some(max_speed),
+        global_max_speed: None,
         reached: Some(position == target),
         left_switch: Some(false),
         right_switch: Some(false),

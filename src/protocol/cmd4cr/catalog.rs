@@ -16,6 +16,8 @@
 //! - Writes all take `=` (every example of the manual does): Table 4-40's
 //!   `HSPD[value]` and `SAP[0-1]` are read as `HSPD=[value]`, `SAP=[0-1]`.
 
+use std::sync::LazyLock;
+
 /// The four axes, in the order the manual lists them (and PP/EP fields).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Axis {
@@ -568,15 +570,19 @@ impl FormShape {
 /// Every keyword once, longest first: the order the parser tries them in,
 /// so that `EXST` wins over `E` + axis and `SSPDM` over `SSPD`
 /// (digest §9).
-pub fn keywords_longest_first() -> Vec<&'static str> {
-    let mut keywords: Vec<&'static str> = COMMANDS
-        .iter()
-        .map(|c| c.keyword)
-        .filter(|k| !k.is_empty())
-        .collect();
-    keywords.sort_by(|a, b| b.len().cmp(&a.len()).then(a.cmp(b)));
-    keywords.dedup();
-    keywords
+pub fn keywords_longest_first() -> &'static [&'static str] {
+    // Sorted once: every poll's answer is read through the parser.
+    static KEYWORDS: LazyLock<Vec<&'static str>> = LazyLock::new(|| {
+        let mut keywords: Vec<&'static str> = COMMANDS
+            .iter()
+            .map(|c| c.keyword)
+            .filter(|k| !k.is_empty())
+            .collect();
+        keywords.sort_by(|a, b| b.len().cmp(&a.len()).then(a.cmp(b)));
+        keywords.dedup();
+        keywords
+    });
+    &KEYWORDS
 }
 
 #[cfg(test)]

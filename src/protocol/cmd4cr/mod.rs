@@ -7,14 +7,19 @@
 //! parser of command text, for the console and the simulator alike.
 
 pub mod ascript;
+pub mod assist;
 pub mod catalog;
 pub mod command;
+pub mod console;
+pub mod parameter_set;
 pub mod reply;
+pub mod traffic;
 
 use std::fmt;
 
 pub use catalog::{Action, Axis, COMMANDS, CommandSpec, Register};
 pub use command::{Cmd4crCommand, CommandError, Direction, Rotation, Selector, parse_command};
+pub use console::Cmd4crConsole;
 pub use reply::{Answer, ErrorCode, ErrorReply, Mst, parse_answer};
 
 /// The ID every controller ships with (§2.1.1.1).
@@ -108,6 +113,14 @@ pub fn show_bytes(bytes: &[u8]) -> String {
         }
     }
     text
+}
+
+/// `axterm encode cmd4cr LINE`: the frame for the controller `id` (01
+/// when `None`).
+pub fn encode_line(line: &str, id: Option<u8>) -> Result<Vec<u8>, String> {
+    encode(id.unwrap_or(DEFAULT_ID), line)
+        .map(|(_, bytes)| bytes)
+        .map_err(|e| e.to_string())
 }
 
 /// A frame's ID for messages: `controller 01`.

@@ -418,6 +418,11 @@ impl FamilyConsole for TmclConsole {
         DEFAULT_MODULE_ADDRESS
     }
 
+    /// GP66, the serial address, is 1..255 (§5.1 Table 18).
+    fn addresses(&self) -> std::ops::RangeInclusive<u8> {
+        1..=255
+    }
+
     fn axes(&self) -> &'static [AxisInfo] {
         AXES
     }
@@ -516,31 +521,36 @@ impl FamilyConsole for TmclConsole {
             .collect()
     }
 
-    fn status_update(&self, line: &PreparedLine, reading: &Reading) -> Option<(usize, AxisUpdate)> {
-        let request = request_of(line)?;
-        let Command::Gap { param, motor } = Command::from_request(&request) else {
-            return None;
-        };
-        let axis = AXES.iter().position(|a| a.number == motor)?;
-        let ReplyValue::Number(value) = reading.value else {
-            return None;
-        };
-        let update = match param {
-            0 => AxisUpdate::Target(value),
-            1 => AxisUpdate::Position(value),
-            3 => AxisUpdate::Speed(value),
-            4 => AxisUpdate::MaxSpeed(value),
-            8 => AxisUpdate::Reached(value != 0),
-            9 => AxisUpdate::Switch(SwitchKind::Home, value != 0),
-            10 => AxisUpdate::Switch(SwitchKind::Right, value != 0),
-            11 => AxisUpdate::Switch(SwitchKind::Left, value != 0),
-            206 => AxisUpdate::Load(value),
-            207 => AxisUpdate::Errors(flags_in(ERROR_FLAGS, value)),
-            208 => AxisUpdate::DriverFlags(flags_in(DRIVER_FLAGS, value)),
-            _ => return None,
-        };
-        Some((axis, update))
+    fn status_update(&self, line: &PreparedLine, reading: &Reading) -> Vec<(usize, AxisUpdate)> {
+        status_update(line, reading).into_iter().collect()
     }
+}
+
+/// What a reading says about the one motor, if it reads status.
+fn status_update(line: &PreparedLine, reading: &Reading) -> Option<(usize, AxisUpdate)> {
+    let request = request_of(line)?;
+    let Command::Gap { param, motor } = Command::from_request(&request) else {
+        return None;
+    };
+    let axis = AXES.iter().position(|a| a.number == motor)?;
+    let ReplyValue::Number(value) = reading.value else {
+        return None;
+    };
+    let update = match param {
+        0 => AxisUpdate::Target(value),
+        1 => AxisUpdate::Position(value),
+        3 => AxisUpdate::Speed(value),
+        4 => AxisUpdate::MaxSpeed(value),
+        8 => AxisUpdate::Reached(value != 0),
+        9 => AxisUpdate::Switch(SwitchKind::Home, value != 0),
+        10 => AxisUpdate::Switch(SwitchKind::Right, value != 0),
+        11 => AxisUpdate::Switch(SwitchKind::Left, value != 0),
+        206 => AxisUpdate::Load(value),
+        207 => AxisUpdate::Errors(flags_in(ERROR_FLAGS, value)),
+        208 => AxisUpdate::DriverFlags(flags_in(DRIVER_FLAGS, value)),
+        _ => return None,
+    };
+    Some((axis, update))
 }
 
 #[cfg(test)]
@@ -735,7 +745,10 @@ mod tests {
     fn error_flag_reads_name_their_flags() {
         let gap = prepare("GAP 207, 0");
         let reading = TmclConsole.interpret(&gap, &[reply(100, 6, 3)]).unwrap();
-        let (axis, update) = TmclConsole.status_update(&gap, &reading).unwrap();
+        let [(axis, update)] = TmclConsole
+            .status_update(&gap, &reading)
+            .try_into()
+            .expect("one update");
         assert_eq!(axis, 0);
         let AxisUpdate::Errors(flags) = update else {
             panic!("{update:?}")
@@ -745,7 +758,7 @@ mod tests {
         // A write says nothing about the status.
         let sap = prepare("SAP 4, 0, 10");
         let reading = TmclConsole.interpret(&sap, &[reply(100, 5, 0)]).unwrap();
-        assert!(TmclConsole.status_update(&sap, &reading).is_none());
+        assert!(TmclConsole.status_update(&sap, &reading).is_empty());
     }
 
     #[test]

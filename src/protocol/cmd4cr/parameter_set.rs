@@ -1,0 +1,472 @@
+//! The CMD-4CR's settings for the console's parameter table
+//! ([`ParameterSet`]), taken from the command table: one table per axis
+//! (speed profile, polarity and I/O configuration, StepNLoop, MPG,
+//! joystick, sync, latch, counters) and global tables (speed profile,
+//! system, I/O configuration and boot states, joystick limits, standalone
+//! programs). A row's number is its command-table row and index, so the
+//! rows need no numbering of their own.
+//!
+//! STORE saves every setting of Table 2-19 at once (§2.1.7); there is no
+//! command that reloads one from flash (stored values load at power-on).
+
+use super::catalog::{Axis, COMMANDS, CommandSpec, Form, Format, Kind};
+use super::command::{Cmd4crCommand, Selector, format_value, parse_thousandths};
+use crate::protocol::parameters::{
+    ParamAccess, ParamOp, ParamRange, ParamRole, ParamRow, ParamTable, ParameterSet, Physical,
+    Scope, SpeedUnit, parse_integer,
+};
+
+/// The axes a per-axis setting exists for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Axes {
+    All,
+    /// Joystick settings: X follows AI1, Y AI2 (§2.5.1 Table 2-23).
+    XY,
+}
+
+/// The per-axis settings, in the order of the axis table.
+const AXIS_ROWS: &[(&str, Axes)] = &[
+    // Speed profile (§2.1.4, §2.4.1).
+    ("HSPD", Axes::All),
+    ("LSPD", Axes::All),
+    ("ACC", Axes::All),
+    ("DEC", Axes::All),
+    ("SCV", Axes::All),
+    ("SSPDM", Axes::All),
+    // Polarity and I/O configuration (§2.1.6, §2.1.3.1.1, §2.2.5.1).
+    ("POL", Axes::All),
+    ("SDE", Axes::All),
+    ("SDC", Axes::All),
+    ("INP", Axes::All),
+    ("ERC", Axes::All),
+    ("ERCD", Axes::All),
+    ("ERCP", Axes::All),
+    ("ZCNT", Axes::All),
+    // StepNLoop (§2.5.3).
+    ("SL", Axes::All),
+    ("SLR", Axes::All),
+    ("SLT", Axes::All),
+    ("SLE", Axes::All),
+    ("SLA", Axes::All),
+    ("SLS", Axes::All),
+    // MPG (§2.5.2).
+    ("MPE", Axes::All),
+    ("MPM", Axes::All),
+    ("MPD", Axes::All),
+    ("MP", Axes::All),
+    // Joystick (§2.5.1).
+    ("JMAX", Axes::XY),
+    ("JMIN", Axes::XY),
+    ("JTOL", Axes::XY),
+    ("JSPD", Axes::XY),
+    ("JDEL", Axes::XY),
+    // Sync output and latch (§2.1.3.2).
+    ("SYNC", Axes::All),
+    ("SYNP", Axes::All),
+    ("SYNMAX", Axes::All),
+    ("SYNMIN", Axes::All),
+    ("SYNS", Axes::All),
+    ("LTS", Axes::All),
+    ("LTP", Axes::All),
+    ("LTE", Axes::All),
+    // Counters and status (§2.6).
+    ("P", Axes::All),
+    ("E", Axes::All),
+    ("D", Axes::All),
+    ("PS", Axes::All),
+    ("MST", Axes::All),
+];
+
+/// A global table: its bank number, title and rows (a keyword's bare form,
+/// or every number of its indexed form).
+struct Bank {
+    number: u8,
+    title: &'static str,
+    rows: &'static [(&'static str, Shape)],
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Shape {
+    Bare,
+    Indexed,
+}
+
+const BANKS: &[Bank] = &[
+    Bank {
+        number: 0,
+        title: "Global speed profile and interpolation (§2.1.4, §2.3.1)",
+        rows: &[
+            ("HSPD", Shape::Bare),
+            ("LSPD", Shape::Bare),
+            ("ACC", Shape::Bare),
+            ("DEC", Shape::Bare),
+            ("EINT", Shape::Bare),
+            ("MM", Shape::Bare),
+        ],
+    },
+    Bank {
+        number: 1,
+        title: "System (§2.1.1, §2.1.3.1, §3.2)",
+        rows: &[
+            ("ID", Shape::Bare),
+            ("DB", Shape::Bare),
+            ("IERR", Shape::Bare),
+            ("EXST", Shape::Bare),
+        ],
+    },
+    Bank {
+        number: 2,
+        title: "I/O configuration, boot states and I/O now (§2.1.3, §2.1.5)",
+        rows: &[
+            ("DIP", Shape::Bare),
+            ("DOP", Shape::Bare),
+            ("IOP", Shape::Bare),
+            ("IOCFG", Shape::Bare),
+            ("EOBOOT", Shape::Bare),
+            ("DOBOOT", Shape::Bare),
+            ("IOBOOT", Shape::Bare),
+            ("EO", Shape::Bare),
+            ("DO", Shape::Bare),
+            ("IO", Shape::Bare),
+            ("DI", Shape::Bare),
+            ("AI", Shape::Indexed),
+            ("PWM", Shape::Indexed),
+        ],
+    },
+    Bank {
+        number: 3,
+        title: "Joystick (§2.5.1)",
+        rows: &[("JENA", Shape::Bare), ("JLIM", Shape::Indexed)],
+    },
+    Bank {
+        number: 4,
+        title: "Standalone programs and variables (§2.7)",
+        rows: &[
+            ("SLOAD", Shape::Bare),
+            ("SAP", Shape::Bare),
+            ("SASTAT", Shape::Indexed),
+            ("SPC", Shape::Indexed),
+            ("V", Shape::Indexed),
+        ],
+    },
+];
+
+/// Settings that decide how the controller is reached (§2.1.1.1, §3.2.1).
+const LINK: &[&str] = &["ID", "DB"];
+
+/// Values that are motion state or live I/O, not configuration: writing a
+/// saved one back would move a counter or switch an output.
+const STATE: &[&str] = &["P", "E", "MP", "EO", "DO", "IO", "PWM"];
+
+/// A row number: the command-table row in the high bits, the index (or 0)
+/// in the low seven.
+fn number_of(row_index: usize, index: u8) -> u16 {
+    u16::try_from(row_index).unwrap_or(u16::MAX >> 7) << 7 | u16::from(index & 0x7F)
+}
+
+fn decode(number: u16) -> Option<(&'static CommandSpec, u8)> {
+    let spec = COMMANDS.get(usize::from(number >> 7))?;
+    Some((spec, (number & 0x7F) as u8))
+}
+
+fn row_of(keyword: &str, form: fn(Form) -> bool) -> Option<(usize, &'static CommandSpec)> {
+    COMMANDS
+        .iter()
+        .enumerate()
+        .find(|(_, c)| c.keyword == keyword && form(c.form))
+}
+
+fn role(spec: &CommandSpec) -> ParamRole {
+    if LINK.contains(&spec.keyword) {
+        ParamRole::Link
+    } else if !spec.access.writes() || STATE.contains(&spec.keyword) {
+        ParamRole::State
+    } else {
+        ParamRole::Setting
+    }
+}
+
+fn param_row(scope: Scope, row_index: usize, index: u8, name: String) -> Option<ParamRow> {
+    let spec = COMMANDS.get(row_index)?;
+    let values = spec.values?;
+    Some(ParamRow {
+        scope,
+        number: number_of(row_index, index),
+        name,
+        unit: match values.format {
+            Format::Thousandths => "1/1000",
+            _ => values.unit,
+        },
+        range: ParamRange::Span {
+            min: values.min,
+            max: values.max,
+        },
+        access: ParamAccess {
+            read: spec.access.reads(),
+            write: spec.access.writes(),
+            store: spec.stored,
+            auto_stored: false,
+        },
+        role: role(spec),
+        default: None,
+        description: spec.meaning,
+    })
+}
+
+/// `HSPDX`, `AI2`, `HSPD`: how the console writes the command of a row.
+fn name(spec: &CommandSpec, selector: Selector) -> String {
+    match selector {
+        Selector::All => spec.keyword.to_string(),
+        Selector::Axis(axis) => format!("{}{}", spec.keyword, axis.letter()),
+        Selector::Index(n) => format!("{}{n}", spec.keyword),
+    }
+}
+
+/// The command a row reads and writes, for the scope it is shown in.
+fn selector_of(row: &ParamRow, spec: &CommandSpec, index: u8) -> Option<Selector> {
+    match (spec.form, row.scope) {
+        (Form::Axis, Scope::Axis(axis)) => Axis::from_index(usize::from(axis)).map(Selector::Axis),
+        (Form::Bare, Scope::Bank(_)) => Some(Selector::All),
+        (Form::Index { first, last }, Scope::Bank(_)) if (first..=last).contains(&index) => {
+            Some(Selector::Index(index))
+        }
+        _ => None,
+    }
+}
+
+/// The CMD-4CR's parameters for the console.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Cmd4crParameters;
+
+impl ParameterSet for Cmd4crParameters {
+    fn tables(&self, axis: u8) -> Vec<ParamTable> {
+        let mut tables = Vec::new();
+        if let Some(letter) = Axis::from_index(usize::from(axis)) {
+            let rows = AXIS_ROWS
+                .iter()
+                .filter(|(_, axes)| *axes == Axes::All || matches!(letter, Axis::X | Axis::Y))
+                .filter_map(|(keyword, _)| row_of(keyword, |f| f == Form::Axis))
+                .filter_map(|(i, spec)| {
+                    param_row(Scope::Axis(axis), i, 0, name(spec, Selector::Axis(letter)))
+                })
+                .collect();
+            tables.push(ParamTable {
+                scope: Scope::Axis(axis),
+                title: format!("Axis {}", letter.letter()),
+                rows,
+            });
+        }
+        for bank in BANKS {
+            let scope = Scope::Bank(bank.number);
+            let mut rows = Vec::new();
+            for &(keyword, shape) in bank.rows {
+                let found = match shape {
+                    Shape::Bare => row_of(keyword, |f| f == Form::Bare),
+                    Shape::Indexed => row_of(keyword, |f| matches!(f, Form::Index { .. })),
+                };
+                let Some((i, spec)) = found else { continue };
+                match spec.form {
+                    Form::Index { first, last } => rows
+                        .extend((first..=last).filter_map(|n| {
+                            param_row(scope, i, n, name(spec, Selector::Index(n)))
+                        })),
+                    _ => rows.extend(param_row(scope, i, 0, name(spec, Selector::All))),
+                }
+            }
+            tables.push(ParamTable {
+                scope,
+                title: bank.title.to_string(),
+                rows,
+            });
+        }
+        tables
+    }
+
+    fn line(&self, row: &ParamRow, op: ParamOp) -> Result<String, String> {
+        let not_a_parameter = || format!("{} is not a CMD-4CR parameter", row.name);
+        let (spec, index) = decode(row.number).ok_or_else(not_a_parameter)?;
+        let Kind::Register(register) = spec.kind else {
+            return Err(not_a_parameter());
+        };
+        let selector = selector_of(row, spec, index).ok_or_else(not_a_parameter)?;
+        let command = name(spec, selector);
+        match op {
+            ParamOp::Read if spec.access.reads() => {
+                Ok(Cmd4crCommand::Read { register, selector }.to_string())
+            }
+            ParamOp::Read => Err(format!("{command} cannot be read ({})", spec.syntax)),
+            ParamOp::Write(value) if spec.access.writes() => {
+                let values = spec.values.ok_or_else(not_a_parameter)?;
+                if !values.contains(value) {
+                    return Err(format!(
+                        "{command} takes {}..{}, not {}",
+                        format_value(values.min, values.format),
+                        format_value(values.max, values.format),
+                        format_value(value, values.format)
+                    ));
+                }
+                Ok(Cmd4crCommand::Write {
+                    register,
+                    selector,
+                    value,
+                }
+                .to_string())
+            }
+            ParamOp::Write(_) => Err(format!("{command} is read-only ({})", spec.syntax)),
+            ParamOp::Store if spec.stored => Ok("STORE".into()),
+            ParamOp::Store => Err(format!(
+                "{command} is not kept in flash: STORE saves only the settings of Table 2-19 (§2.1.7)"
+            )),
+            ParamOp::Restore => Err(format!(
+                "the CMD-4CR has no command reloading {command} from flash: stored values load at power-on (§2.1.7)"
+            )),
+        }
+    }
+
+    fn physical(
+        &self,
+        row: &ParamRow,
+        value: i64,
+        unit: SpeedUnit,
+        axis_value: &dyn Fn(u16) -> Option<i64>,
+    ) -> Option<Physical> {
+        let _ = (unit, axis_value);
+        let (spec, _) = decode(row.number)?;
+        let values = spec.values?;
+        (values.format == Format::Thousandths).then(|| Physical {
+            value: value as f64 / 1000.0,
+            unit: "pulses/count",
+        })
+    }
+
+    fn parse_value(
+        &self,
+        row: &ParamRow,
+        text: &str,
+        axis_value: &dyn Fn(u16) -> Option<i64>,
+    ) -> Result<i64, String> {
+        let _ = axis_value;
+        let thousandths = decode(row.number)
+            .and_then(|(spec, _)| spec.values)
+            .is_some_and(|v| v.format == Format::Thousandths);
+        if thousandths {
+            parse_thousandths(text.trim())
+                .ok_or_else(|| format!("`{}` is not a number with at most 3 decimals", text.trim()))
+        } else {
+            parse_integer(text)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table(axis: u8, scope: Scope) -> ParamTable {
+        Cmd4crParameters
+            .tables(axis)
+            .into_iter()
+            .find(|t| t.scope == scope)
+            .expect("the table")
+    }
+
+    fn row(axis: u8, scope: Scope, name: &str) -> ParamRow {
+        table(axis, scope)
+            .rows
+            .into_iter()
+            .find(|r| r.name == name)
+            .unwrap_or_else(|| panic!("{name}"))
+    }
+
+    fn line(row: &ParamRow, op: ParamOp) -> Result<String, String> {
+        Cmd4crParameters.line(row, op)
+    }
+
+    #[test]
+    fn every_axis_has_its_table_and_joystick_rows_only_on_x_and_y() {
+        let x = table(0, Scope::Axis(0));
+        assert_eq!(x.title, "Axis X");
+        assert_eq!(x.rows[0].name, "HSPDX");
+        assert!(x.rows.iter().any(|r| r.name == "JMAXX"));
+        let z = table(2, Scope::Axis(2));
+        assert!(z.rows.iter().all(|r| !r.name.starts_with("JM")));
+        assert!(z.rows.iter().any(|r| r.name == "SLRZ"));
+        assert_eq!(Cmd4crParameters.tables(0).len(), 1 + BANKS.len());
+        assert_eq!(Cmd4crParameters.tables(9).len(), BANKS.len(), "no axis 9");
+        // Every listed row exists in the command table.
+        assert_eq!(x.rows.len(), AXIS_ROWS.len());
+    }
+
+    #[test]
+    fn rows_read_write_and_store_through_their_commands() {
+        let hspd = row(1, Scope::Axis(1), "HSPDY");
+        assert_eq!(line(&hspd, ParamOp::Read).as_deref(), Ok("HSPDY"));
+        assert_eq!(
+            line(&hspd, ParamOp::Write(5000)).as_deref(),
+            Ok("HSPDY=5000")
+        );
+        assert!(
+            line(&hspd, ParamOp::Write(-1))
+                .unwrap_err()
+                .contains("0..6553500")
+        );
+        assert!(
+            line(&hspd, ParamOp::Store)
+                .unwrap_err()
+                .contains("Table 2-19")
+        );
+        let pol = row(0, Scope::Axis(0), "POLX");
+        assert_eq!(line(&pol, ParamOp::Store).as_deref(), Ok("STORE"));
+        assert!(
+            line(&pol, ParamOp::Restore)
+                .unwrap_err()
+                .contains("power-on")
+        );
+        assert_eq!(pol.access.to_string(), "RWE");
+        let mst = row(3, Scope::Axis(3), "MSTU");
+        assert_eq!(mst.role, ParamRole::State);
+        assert!(
+            line(&mst, ParamOp::Write(1))
+                .unwrap_err()
+                .contains("read-only")
+        );
+        let v = row(0, Scope::Bank(4), "V42");
+        assert_eq!(line(&v, ParamOp::Write(-7)).as_deref(), Ok("V42=-7"));
+        let ai = row(0, Scope::Bank(2), "AI2");
+        assert_eq!(line(&ai, ParamOp::Read).as_deref(), Ok("AI2"));
+        let id = row(0, Scope::Bank(1), "ID");
+        assert_eq!(id.role, ParamRole::Link);
+        assert_eq!(line(&id, ParamOp::Write(2)).as_deref(), Ok("ID=02"));
+        let p = row(0, Scope::Axis(0), "PX");
+        assert_eq!(p.role, ParamRole::State);
+    }
+
+    #[test]
+    fn the_steps_per_count_ratio_reads_in_thousandths() {
+        let slr = row(0, Scope::Axis(0), "SLRX");
+        assert_eq!(slr.unit, "1/1000");
+        let none = |_: u16| None;
+        assert_eq!(Cmd4crParameters.parse_value(&slr, "1.5", &none), Ok(1500));
+        assert_eq!(line(&slr, ParamOp::Write(1500)).as_deref(), Ok("SLRX=1.5"));
+        let shown = Cmd4crParameters
+            .physical(&slr, 1500, SpeedUnit::Pps, &none)
+            .expect("a ratio");
+        assert_eq!(shown.to_string(), "1.500 pulses/count");
+        let hspd = row(0, Scope::Axis(0), "HSPDX");
+        assert!(
+            Cmd4crParameters
+                .physical(&hspd, 10, SpeedUnit::Pps, &none)
+                .is_none()
+        );
+        assert_eq!(Cmd4crParameters.parse_value(&hspd, "0x10", &none), Ok(16));
+    }
+
+    #[test]
+    fn a_row_from_elsewhere_is_refused() {
+        let mut foreign = row(0, Scope::Axis(0), "HSPDX");
+        foreign.number = u16::MAX;
+        assert!(line(&foreign, ParamOp::Read).is_err());
+        foreign.number = number_of(0, 0); // ABORT, an action
+        assert!(line(&foreign, ParamOp::Read).is_err());
+    }
+}
