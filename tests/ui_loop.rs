@@ -288,3 +288,85 @@ async fn log_writes_every_frame_to_a_file_until_it_is_turned_off() {
         ]
     );
 }
+
+/// A status poll going out (GAP 1, 0).
+fn poll_record() -> TrafficRecord {
+    TrafficRecord {
+        at: std::time::Instant::now(),
+        direction: Direction::Sent,
+        kind: TrafficKind::Request,
+        bytes: vec![1, 6, 1, 0, 0, 0, 0, 0, 8],
+        priority: Some(Priority::Poll),
+    }
+}
+
+#[tokio::test(start_paused = true)]
+async fn traffic_is_taken_in_batches_not_one_wake_up_per_frame() {
+    let (fake, _calls) = Fake::new(&["motor 0"]);
+    run_console(Some(fake.clone()), no_connector(), async |mut rig: Rig| {
+        rig.screens.until("fake rig #1 connected").await;
+        // The traffic monitor to the front.
+        let _ = rig.keys.send(Event::Key(KeyEvent::new(
+            KeyCode::Char('4'),
+            KeyModifiers::ALT,
+        )));
+        rig.screens.until("no frames yet").await;
+        // The first frame after a quiet spell shows at once.
+        let _ = fake.traffic.send(poll_record());
+        rig.screens.until("1 frames").await;
+        // Those that follow wait in the channel for the batch: the loop is
+        // not woken for each.
+        for _ in 0..4 {
+            let _ = fake.traffic.send(poll_record());
+        }
+        for _ in 0..10 {
+            tokio::task::yield_now().await;
+        }
+        tokio::time::advance(app::TRAFFIC_BATCH / 2).await;
+        for _ in 0..10 {
+            tokio::task::yield_now().await;
+        }
+        assert_eq!(fake.traffic.len(), 4, "not taken yet");
+        // Then all at once, and none lost.
+        rig.screens.until("5 frames").await;
+        assert_eq!(fake.traffic.len(), 0);
+        press(&rig, KeyCode::F(10));
+    })
+    .await;
+}
+
+#[tokio::test(start_paused = true)]
+async fn behind_its_tab_the_monitor_takes_traffic_still_less_often_and_in_front_at_once() {
+    let (fake, _calls) = Fake::new(&["motor 0"]);
+    run_console(Some(fake.clone()), no_connector(), async |mut rig: Rig| {
+        // 100x30: the command pane in front, the traffic monitor behind.
+        rig.screens.until("fake rig #1 connected").await;
+        // A frame every 50 ms for a second: the pauses between batches
+        // grow past the monitor's refresh.
+        let mut most_waiting = 0;
+        for _ in 0..20 {
+            let _ = fake.traffic.send(poll_record());
+            for _ in 0..5 {
+                tokio::task::yield_now().await;
+            }
+            most_waiting = most_waiting.max(fake.traffic.len());
+            tokio::time::advance(Duration::from_millis(50)).await;
+        }
+        assert!(
+            most_waiting * 50 > app::TRAFFIC_BATCH.as_millis() as usize * 2,
+            "at most {most_waiting} frames waited"
+        );
+        // Brought to the front, it shows every frame without waiting out
+        // the pause.
+        let _ = rig.keys.send(Event::Key(KeyEvent::new(
+            KeyCode::Char('4'),
+            KeyModifiers::ALT,
+        )));
+        let within = app::TRAFFIC_BATCH + Duration::from_millis(1);
+        let shown = tokio::time::timeout(within, rig.screens.until("20 frames")).await;
+        assert!(shown.is_ok(), "the frames waited out the pause");
+        assert_eq!(fake.traffic.len(), 0);
+        press(&rig, KeyCode::F(10));
+    })
+    .await;
+}
