@@ -275,19 +275,33 @@ fn the_real_binary_jogs_x_and_the_stop_key_stops_it() {
     assert!(moving.contains("@01JX+"), "{moving}");
 
     tmux.keys(&["F12"]);
-    let stopped = tmux.until("the stop confirmed and X standing", |s| {
-        s.contains("STOP confirmed: every stop line answered ok") && speed(s, "X") == Some(0)
+    // ESTOP latches the EMG error on X, which was moving (MST bit 16).
+    let stopped = tmux.until("the stop confirmed, X standing, its EMG error", |s| {
+        s.contains("STOP confirmed: every stop line answered ok")
+            && speed(s, "X") == Some(0)
+            && s.contains("ERR EMG error")
     });
     // The status bar keeps the count: ESTOP, SACTRL0..3=0, ESTOP.
     assert!(stopped.contains("STOP: 6 sent, all ok"), "{stopped}");
-    assert!(stopped.contains("ERR EMG error"), "latched on X: {stopped}");
-    // Standing means standing: the position no longer changes.
-    let x = position(&stopped, "X");
-    assert!(x.is_some_and(|p| p > 0), "{stopped}");
-    tmux.type_text("PX");
-    tmux.keys(&["Enter"]);
-    let read = tmux.until("PX answered", |s| s.contains("> PX"));
-    assert_eq!(position(&read, "X"), x, "{read}");
+    // Standing means standing: PX read twice answers the same, and the
+    // pane shows it.
+    let answers = |s: &str| -> Vec<i64> {
+        s.split("@01PX\\r  got ")
+            .skip(1)
+            .filter_map(|rest| rest.split_whitespace().next()?.parse().ok())
+            .collect()
+    };
+    let mut read = Vec::new();
+    for n in 1..=2 {
+        tmux.type_text("PX");
+        tmux.keys(&["Enter"]);
+        let screen = tmux.until("PX answered", |s| answers(s).len() >= n);
+        read = answers(&screen);
+    }
+    assert!(read[0] > 0 && read[0] == read[1], "{read:?}");
+    tmux.until("the pane at the position read", |s| {
+        position(s, "X") == Some(read[0])
+    });
 
     tmux.keys(&["F10"]);
     let after = tmux.until("axterm to exit", |s| s.contains("MARKER-END"));

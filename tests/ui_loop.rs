@@ -14,10 +14,10 @@ use axterm::device::{DeviceEvent, Direction, LinkState, Priority, TrafficKind, T
 use axterm::protocol::console::ReplyValue;
 use axterm::protocol::{Family, find_family};
 use axterm::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
-use axterm::ui::app::{AppEvent, Connector, Controller, Pending};
-use ratatui::crossterm::event::KeyCode;
+use axterm::ui::app::{self, AppEvent, Connector, Controller, Pending};
+use ratatui::crossterm::event::{KeyCode, KeyModifiers};
 use tokio::sync::{broadcast, mpsc, oneshot, watch};
-use ui_support::looped::{Rig, no_connector, press, run_console, type_line};
+use ui_support::looped::{Rig, no_connector, press, press_with, run_console, type_line};
 
 /// What the console asked of the fake.
 #[derive(Debug)]
@@ -306,10 +306,7 @@ async fn traffic_is_taken_in_batches_not_one_wake_up_per_frame() {
     run_console(Some(fake.clone()), no_connector(), async |mut rig: Rig| {
         rig.screens.until("fake rig #1 connected").await;
         // The traffic monitor to the front.
-        let _ = rig.keys.send(Event::Key(KeyEvent::new(
-            KeyCode::Char('4'),
-            KeyModifiers::ALT,
-        )));
+        press_with(&rig, KeyCode::Char('4'), KeyModifiers::ALT);
         rig.screens.until("no frames yet").await;
         // The first frame after a quiet spell shows at once.
         let _ = fake.traffic.send(poll_record());
@@ -358,10 +355,7 @@ async fn behind_its_tab_the_monitor_takes_traffic_still_less_often_and_in_front_
         );
         // Brought to the front, it shows every frame without waiting out
         // the pause.
-        let _ = rig.keys.send(Event::Key(KeyEvent::new(
-            KeyCode::Char('4'),
-            KeyModifiers::ALT,
-        )));
+        press_with(&rig, KeyCode::Char('4'), KeyModifiers::ALT);
         let within = app::TRAFFIC_BATCH + Duration::from_millis(1);
         let shown = tokio::time::timeout(within, rig.screens.until("20 frames")).await;
         assert!(shown.is_ok(), "the frames waited out the pause");
