@@ -6,6 +6,8 @@
 //! of 0 falls back to the global one, and the emergency stop sends its
 //! lines in order.
 
+mod session_support;
+
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -13,12 +15,10 @@ use std::time::Duration;
 use axterm::link::LinkSpec;
 use axterm::protocol::cmd4cr::parse_request;
 use axterm::protocol::find_family;
-use axterm::session::{AxisStatus, PollCadence, ReplyValue, Session, SessionError, SessionOptions};
+use axterm::session::{PollCadence, ReplyValue, Session, SessionError, SessionOptions};
 use axterm::sim::SimulatedController;
 use axterm::sim::faults::FaultPlan;
-
-/// Virtual time: only guards against a hung test.
-const GIVE_UP_AFTER: Duration = Duration::from_secs(600);
+use session_support::wait_for;
 
 /// A controller that answers each command text from a table (`OK` for
 /// anything with `=` and for actions it does not know, like the manual's
@@ -118,23 +118,6 @@ async fn connect(answers: &[(&str, &str)]) -> (Session, Fake) {
         .await
         .expect("the link opens");
     (session, fake)
-}
-
-/// Wait (in virtual time) until the snapshot of all axes satisfies `done`.
-async fn wait_for(session: &Session, done: impl Fn(&[AxisStatus]) -> bool) -> Vec<AxisStatus> {
-    let mut status = session.status();
-    let wait = async {
-        loop {
-            let axes = status.borrow_and_update().clone();
-            if done(&axes) {
-                return axes;
-            }
-            status.changed().await.expect("the session is alive");
-        }
-    };
-    tokio::time::timeout(GIVE_UP_AFTER, wait)
-        .await
-        .expect("the status got there")
 }
 
 const STANDING: &[(&str, &str)] = &[

@@ -75,11 +75,36 @@ fn four_axes_with_their_mst_lamps() {
     assert!(text.contains("1500") && text.contains("-20000"), "{text}");
     assert!(text.contains("2500") && text.contains("5000"), "{text}");
     assert!(text.contains("ERR +limit error"), "{text}");
-    assert!(text.contains("drv EMG"), "{text}");
-    assert!(text.contains("drv wait CSTA"), "{text}");
-    // At 80×24 every axis still has its row.
+    // The MST inputs and waits are lamps: EMG lit on Y, the external start
+    // wait on U, the rest dark.
+    let row_of = |axis: &str| {
+        let lines: Vec<&str> = text.lines().collect();
+        let at = lines
+            .iter()
+            .position(|l| l.contains(&format!("│ {axis} ")) || l.contains(&format!("│▶{axis} ")))
+            .unwrap_or_else(|| panic!("no card for {axis}:\n{text}"));
+        lines.get(at + 2).copied().unwrap_or_default().to_string()
+    };
+    assert!(
+        row_of("Y").contains("EMG●") && row_of("Y").contains("ALM○"),
+        "{text}"
+    );
+    assert!(
+        row_of("U").contains("wait CSTA●") && row_of("U").contains("EMG○"),
+        "{text}"
+    );
+    assert!(!text.contains("drv "), "lamps, not a list: {text}");
+    assert!(
+        !text.contains(" load "),
+        "no load reading on a CMD-4CR: {text}"
+    );
+    // At 80×24 every axis still has its row, with its lit lamps.
     let small = screen(&mut app, 80, 24).join("\n");
     assert!(small.contains("-20000") && small.contains("42"), "{small}");
+    assert!(
+        small.contains("EMG●") && small.contains("wait CSTA●"),
+        "{small}"
+    );
 }
 
 /// Answer console lines as a CMD-4CR would: reads from `values` (0 when

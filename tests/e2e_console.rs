@@ -8,104 +8,9 @@
 //! build fails instead of hanging; nothing here measures how fast
 //! anything is.
 
-use std::path::Path;
-use std::process::Command;
-use std::time::{Duration, Instant};
+mod tmux_support;
 
-/// Give up on the whole test after this long (a debug build on a loaded
-/// machine is slow; a working one needs a few seconds).
-const DEADLINE: Duration = Duration::from_secs(60);
-/// Between two looks at the screen.
-const LOOK_AGAIN: Duration = Duration::from_millis(50);
-
-/// A tmux server of our own, killed when dropped.
-struct Tmux {
-    socket: String,
-    started: Instant,
-}
-
-impl Tmux {
-    /// `name` keeps the servers of tests running side by side apart.
-    fn start(name: &str, command: &str, dir: &Path) -> Tmux {
-        let version = Command::new("tmux").arg("-V").output();
-        assert!(
-            version.is_ok_and(|o| o.status.success()),
-            "this test needs tmux (apt-get install tmux; .ci/run installs it)"
-        );
-        let socket = format!("axterm-e2e-{name}-{}", std::process::id());
-        let tmux = Tmux {
-            socket,
-            started: Instant::now(),
-        };
-        let status = Command::new("tmux")
-            .args(["-L", &tmux.socket, "-f", "/dev/null"])
-            .args(["new-session", "-d", "-x", "100", "-y", "30", "-c"])
-            .arg(dir)
-            .arg(command)
-            .env_remove("TMUX")
-            .status()
-            .expect("tmux runs");
-        assert!(status.success(), "tmux new-session failed");
-        tmux
-    }
-
-    fn keys(&self, keys: &[&str]) {
-        let status = Command::new("tmux")
-            .args(["-L", &self.socket, "send-keys"])
-            .args(keys)
-            .status()
-            .expect("tmux send-keys");
-        assert!(status.success());
-    }
-
-    fn resize(&self, width: u16, height: u16) {
-        let status = Command::new("tmux")
-            .args(["-L", &self.socket, "resize-window", "-x"])
-            .arg(width.to_string())
-            .arg("-y")
-            .arg(height.to_string())
-            .status()
-            .expect("tmux resize-window");
-        assert!(status.success());
-    }
-
-    /// Type text literally.
-    fn type_text(&self, text: &str) {
-        self.keys(&["-l", text]);
-    }
-
-    fn screen(&self) -> String {
-        let out = Command::new("tmux")
-            .args(["-L", &self.socket, "capture-pane", "-p", "-J"])
-            .output()
-            .expect("tmux capture-pane");
-        String::from_utf8_lossy(&out.stdout).into_owned()
-    }
-
-    /// Look at the screen until `ready` says yes; the screen it said yes
-    /// to.
-    fn until(&self, what: &str, ready: impl Fn(&str) -> bool) -> String {
-        loop {
-            let screen = self.screen();
-            if ready(&screen) {
-                return screen;
-            }
-            assert!(
-                self.started.elapsed() < DEADLINE,
-                "gave up waiting for {what}; the screen:\n{screen}"
-            );
-            std::thread::sleep(LOOK_AGAIN);
-        }
-    }
-}
-
-impl Drop for Tmux {
-    fn drop(&mut self) {
-        let _ = Command::new("tmux")
-            .args(["-L", &self.socket, "kill-server"])
-            .status();
-    }
-}
+use tmux_support::{Tmux, assert_terminal_restored, console_command};
 
 /// The position the axes pane shows for the first axis.
 fn position(screen: &str) -> Option<i64> {
@@ -123,13 +28,9 @@ fn speed(screen: &str) -> Option<i64> {
 #[test]
 fn a_move_an_emergency_stop_and_the_terminal_given_back() {
     let dir = tempfile::tempdir().expect("temp dir");
-    let binary = env!("CARGO_BIN_EXE_axterm");
     // After axterm: its exit code, the terminal's settings, an end marker;
     // then the shell waits so the screen can be read.
-    let command = format!(
-        "AXTERM_DATA_DIR={data} {binary} --sim tmcm1110; echo AXTERM-EXIT-$?; stty -a; echo MARKER-END; sleep 600",
-        data = dir.path().display(),
-    );
+    let command = console_command(dir.path(), "--sim tmcm1110");
     let tmux = Tmux::start("move", &command, dir.path());
     let first = tmux.until("the console", |s| {
         s.contains("poll 20 Hz") && position(s) == Some(0)
@@ -169,25 +70,12 @@ fn a_move_an_emergency_stop_and_the_terminal_given_back() {
 
     tmux.keys(&["F10"]);
     let after = tmux.until("axterm to exit", |s| s.contains("MARKER-END"));
-    assert!(after.contains("AXTERM-EXIT-0"), "{after}");
     // The alternate screen was left: none of the console is on screen.
     assert!(
         !after.contains("F12 STOP") && !after.contains("Axes —"),
         "{after}"
     );
-    // Cooked mode again: canonical input and echo on.
-    let stty: String = after
-        .split("AXTERM-EXIT-0")
-        .nth(1)
-        .unwrap_or_default()
-        .to_string();
-    let words: Vec<&str> = stty.split_whitespace().collect();
-    for setting in ["icanon", "echo", "isig", "icrnl", "opost"] {
-        assert!(
-            words.contains(&setting),
-            "{setting} is not set again:\n{stty}"
-        );
-    }
+    assert_terminal_restored(&after, 0);
 }
 
 /// SIGTERM (a service manager) and SIGHUP (the SSH session dropped).
@@ -269,12 +157,5 @@ fn a_panic_inside_the_console_gives_the_terminal_back_and_its_message_is_readabl
         .unwrap_or_else(|| panic!("no panic header:\n{after}"));
     assert!(panicked.starts_with("thread 'main'"), "{after}");
     // Cooked mode again.
-    let stty = after.split("AXTERM-EXIT-101").nth(1).unwrap_or_default();
-    let words: Vec<&str> = stty.split_whitespace().collect();
-    for setting in ["icanon", "echo", "isig", "icrnl", "opost"] {
-        assert!(
-            words.contains(&setting),
-            "{setting} is not set again:\n{stty}"
-        );
-    }
+    assert_terminal_restored(&after, 101);
 }

@@ -14,6 +14,10 @@ fn sim() -> Cmd4cr {
     Cmd4cr::new(SimConfig::default())
 }
 
+/// The setup §4.3.2, §4.3.5 and §4.3.6 each begin with: global speeds,
+/// X and Y enabled, absolute mode.
+const GLOBAL_SETUP: [&str; 6] = ["LSPD=500", "HSPD=5000", "ACC=200", "DEC=200", "EO=3", "ABS"];
+
 /// Send `text` to controller 01 and return its one reply line.
 fn send(sim: &mut Cmd4cr, text: &str) -> String {
     sim.feed(format!("@01{text}\r").as_bytes());
@@ -142,18 +146,9 @@ fn jog_and_stop_4_3_1() {
 #[test]
 fn position_move_4_3_2() {
     let mut sim = sim();
-    ok(
-        &mut sim,
-        &[
-            "LSPD=500",
-            "HSPD=5000",
-            "ACC=200",
-            "DEC=200",
-            "EO=3",
-            "ABS",
-            "X-20000",
-        ],
-    );
+    // The global speeds of §4.3.2, §4.3.5 and §4.3.6.
+    ok(&mut sim, &GLOBAL_SETUP);
+    ok(&mut sim, &["X-20000"]);
     sim.advance(seconds(0.05));
     ok(&mut sim, &["Y15000"]);
     sim.advance(seconds(1.0));
@@ -232,19 +227,9 @@ fn homing_4_3_4() {
 #[test]
 fn linear_interpolation_4_3_5() {
     let mut sim = sim();
-    ok(
-        &mut sim,
-        &[
-            "LSPD=500",
-            "HSPD=5000",
-            "ACC=200",
-            "DEC=200",
-            "EO=3",
-            "ABS",
-            "EINT=1",
-            "X-20000Y15000",
-        ],
-    );
+    // The global speeds of §4.3.2, §4.3.5 and §4.3.6.
+    ok(&mut sim, &GLOBAL_SETUP);
+    ok(&mut sim, &["EINT=1", "X-20000Y15000"]);
     for step in 0..8 {
         sim.advance(seconds(0.5));
         let (x, y) = (number(&mut sim, "PX"), number(&mut sim, "PY"));
@@ -264,19 +249,9 @@ fn linear_interpolation_4_3_5() {
 #[test]
 fn circular_interpolation_4_3_6() {
     let mut sim = sim();
-    ok(
-        &mut sim,
-        &[
-            "LSPD=500",
-            "HSPD=5000",
-            "ACC=200",
-            "DEC=200",
-            "EO=3",
-            "ABS",
-            "EINT=1",
-            "CIRXYP1000:0",
-        ],
-    );
+    // The global speeds of §4.3.2, §4.3.5 and §4.3.6.
+    ok(&mut sim, &GLOBAL_SETUP);
+    ok(&mut sim, &["EINT=1", "CIRXYP1000:0"]);
     let mut points = Vec::new();
     for _ in 0..300 {
         sim.advance(seconds(0.01));
@@ -564,4 +539,120 @@ fn reads_of_settings_echo_what_was_written() {
     assert_eq!(send(&mut sim, "AI1"), "0");
     assert!(sim.set_analog_input(1, 1650));
     assert_eq!(send(&mut sim, "AI1"), "1650");
+}
+
+#[test]
+fn step_n_loop_moves_in_encoder_counts_and_corrects_lost_steps() {
+    // §2.5.3: a 2:1 drive, two motor pulses per encoder count.
+    let mut sim = sim();
+    sim.motion_mut().axis_mut(Axis::X).stage.encoder_ratio = 0.5;
+    assert_eq!(send(&mut sim, "SLSX"), "12", "N/A while off");
+    // The calibration recipe: with SL off, +1000 pulses, SLR = 1000 / EX.
+    ok(&mut sim, &["EX=0", "PX=0", "HSPDX=1000", "X1000"]);
+    wait_stopped(&mut sim, 'X', seconds(5.0));
+    assert_eq!(number(&mut sim, "EX"), 500);
+    ok(
+        &mut sim,
+        &["SLRX=2", "SLTX=5", "SLEX=300", "SLAX=3", "SLX=1"],
+    );
+    assert_eq!(number(&mut sim, "SLSX"), 0);
+    assert_eq!(number(&mut sim, "PX"), 500, "the target, in encoder counts");
+    assert_eq!(number(&mut sim, "DX"), 0);
+    // X1500 is an encoder position: 2000 pulses; HSPDX in counts/s.
+    ok(&mut sim, &["X1500"]);
+    sim.advance(seconds(0.5));
+    assert_eq!(number(&mut sim, "SLSX"), 1, "moving");
+    assert_eq!(number(&mut sim, "PSX"), 1000, "encoder counts/s");
+    // The motor misses 40 steps: 20 counts behind, within SLE.
+    sim.motion_mut().lose_steps(Axis::X, 40);
+    assert_eq!(number(&mut sim, "DX"), 20);
+    let mut corrected = false;
+    for _ in 0..500 {
+        sim.advance(seconds(0.01));
+        corrected |= number(&mut sim, "SLSX") == 2;
+        if number(&mut sim, "MSTX") & 7 == 0 && number(&mut sim, "SLSX") == 0 {
+            break;
+        }
+    }
+    assert!(corrected, "a correction move ran (SLS 2)");
+    assert_eq!(number(&mut sim, "EX"), 1500);
+    assert_eq!(number(&mut sim, "DX"), 0);
+    assert_eq!(number(&mut sim, "PX"), 1500);
+}
+
+#[test]
+fn a_step_n_loop_stall_stops_the_axis_and_answers_error_snl() {
+    let mut sim = sim();
+    ok(&mut sim, &["SLX=1", "SLEX=100", "HSPDX=2000", "JX+"]);
+    assert_eq!(number(&mut sim, "SLSX"), 5, "jogging");
+    sim.advance(seconds(0.5));
+    sim.motion_mut().lose_steps(Axis::X, 150);
+    sim.advance(seconds(0.001));
+    assert_eq!(number(&mut sim, "SLSX"), 10, "stall error");
+    assert_eq!(number(&mut sim, "MSTX") & 7, 0, "stopped");
+    assert_eq!(number(&mut sim, "MSTX") & 0x1_0700, 0, "not an MST error");
+    assert_eq!(send(&mut sim, "JX+"), "?Error SNL");
+    ok(&mut sim, &["CLRX"]);
+    assert_eq!(number(&mut sim, "SLSX"), 0);
+    ok(&mut sim, &["JX-", "ABORTX"]);
+    // No more attempts allowed: the first correction is an attempt error.
+    ok(&mut sim, &["SLAX=0", "SLEX=1000", "X100"]);
+    sim.advance(seconds(0.05));
+    sim.motion_mut().lose_steps(Axis::X, 30);
+    wait_stopped(&mut sim, 'X', seconds(5.0));
+    assert_eq!(number(&mut sim, "SLSX"), 9);
+    assert_eq!(send(&mut sim, "X0"), "?Error SNL");
+}
+
+#[test]
+fn the_joystick_drives_x_from_ai1_within_its_soft_limits() {
+    // §2.5.1: JMAX 3250, JMIN 10, JTOL 50: MID 1630, dead band 1580-1680.
+    let mut sim = sim();
+    ok(
+        &mut sim,
+        &[
+            "JMAXX=3250",
+            "JMINX=10",
+            "JTOLX=50",
+            "JSPDX=2000",
+            "JDELX=100",
+            "JLIM3=3000",
+            "JLIM4=4000",
+        ],
+    );
+    assert!(sim.set_analog_input(1, 1650));
+    ok(&mut sim, &["JENA=1"]);
+    sim.advance(seconds(0.5));
+    assert_eq!(number(&mut sim, "PX"), 0, "inside the dead band");
+    assert_eq!(
+        send(&mut sim, "JX+"),
+        "?Error Moving",
+        "under joystick control"
+    );
+    sim.set_analog_input(1, 3250);
+    sim.advance(seconds(0.01));
+    assert_eq!(number(&mut sim, "MSTX") & 7, 1, "speeding up, JDEL per ms");
+    sim.advance(seconds(0.5));
+    assert_eq!(number(&mut sim, "PSX"), 2000, "full speed at JMAX");
+    assert_eq!(number(&mut sim, "MSTX") & 7, 4);
+    // Past the inner soft limit it slows, at the outer one it stops.
+    sim.advance(seconds(2.0));
+    let x = number(&mut sim, "PX");
+    assert!((3000..4000).contains(&x), "slowing between the limits: {x}");
+    assert!(number(&mut sim, "PSX") < 2000);
+    sim.advance(seconds(2.0));
+    let x = number(&mut sim, "PX");
+    assert_eq!(x, 4000, "stopped at the outer limit");
+    assert_eq!(number(&mut sim, "PSX"), 0);
+    // Back the other way, half deflection: about half speed.
+    sim.set_analog_input(1, 10 + (1580 - 10) / 2);
+    sim.advance(seconds(0.5));
+    let v = number(&mut sim, "PSX");
+    assert!((950..=1050).contains(&v), "{v}");
+    assert!(number(&mut sim, "PX") < x);
+    ok(&mut sim, &["JENA=0"]);
+    sim.advance(seconds(0.1));
+    assert_eq!(number(&mut sim, "PSX"), 0);
+    assert_eq!(number(&mut sim, "MSTX") & 7, 0);
+    ok(&mut sim, &["JX+"]);
 }

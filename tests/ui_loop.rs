@@ -14,12 +14,10 @@ use axterm::device::{DeviceEvent, Direction, LinkState, Priority, TrafficKind, T
 use axterm::protocol::console::ReplyValue;
 use axterm::protocol::{Family, find_family};
 use axterm::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
-use axterm::ui::app::{self, App, AppEvent, Connector, Controller, Pending};
-use ratatui::Terminal;
-use ratatui::backend::TestBackend;
-use ratatui::crossterm::event::{Event, KeyCode, KeyEvent, KeyModifiers};
+use axterm::ui::app::{self, AppEvent, Connector, Controller, Pending};
+use ratatui::crossterm::event::{KeyCode, KeyModifiers};
 use tokio::sync::{broadcast, mpsc, oneshot, watch};
-use ui_support::console;
+use ui_support::looped::{Rig, no_connector, press, press_with, run_console, type_line};
 
 /// What the console asked of the fake.
 #[derive(Debug)]
@@ -124,108 +122,6 @@ impl Controller for Fake {
         let (fake, _) = Fake::new(&["other"]);
         fake
     }
-}
-
-fn no_connector() -> Connector {
-    Box::new(|_args| Box::pin(async { Err("no connections in this test".to_string()) }))
-}
-
-struct Screens {
-    /// Every frame drawn, as text.
-    frames: Arc<Mutex<Vec<String>>>,
-    drawn: mpsc::UnboundedReceiver<String>,
-}
-
-impl Screens {
-    /// Wait for a frame containing `needle` (virtual time: gives up at
-    /// once if nothing else can happen).
-    async fn until(&mut self, needle: &str) -> String {
-        let found = tokio::time::timeout(Duration::from_secs(600), async {
-            while let Some(frame) = self.drawn.recv().await {
-                if frame.contains(needle) {
-                    return frame;
-                }
-            }
-            panic!("the loop ended before showing {needle}");
-        })
-        .await;
-        match found {
-            Ok(frame) => frame,
-            Err(_) => {
-                let last = self.frames.lock().map(|f| f.last().cloned()).ok().flatten();
-                panic!(
-                    "never showed {needle:?}; last frame:\n{}",
-                    last.unwrap_or_default()
-                )
-            }
-        }
-    }
-}
-
-/// The loop, its keyboard, extra events, and what it draws.
-struct Rig {
-    keys: mpsc::UnboundedSender<Event>,
-    extra: mpsc::UnboundedSender<AppEvent>,
-    screens: Screens,
-}
-
-async fn run_console(
-    controller: Option<Arc<dyn Controller>>,
-    connector: Connector,
-    driver: impl AsyncFnOnce(Rig),
-) {
-    let mut app: App = console();
-    let (keys, input) = mpsc::unbounded_channel();
-    let (extra, extra_rx) = mpsc::unbounded_channel();
-    let (drawn_tx, drawn) = mpsc::unbounded_channel();
-    let frames = Arc::new(Mutex::new(Vec::new()));
-    let mut terminal = Terminal::new(TestBackend::new(100, 30)).expect("test backend");
-    let recorded = Arc::clone(&frames);
-    let mut draw = move |app: &mut App| -> std::io::Result<()> {
-        let Ok(_) = terminal.draw(|f| app.render(f));
-        let buffer = terminal.backend().buffer();
-        let text: Vec<String> = (0..30)
-            .map(|y| {
-                (0..100)
-                    .map(|x| buffer[(x, y)].symbol().to_string())
-                    .collect()
-            })
-            .collect();
-        let text = text.join("\n");
-        if let Ok(mut frames) = recorded.lock() {
-            frames.push(text.clone());
-        }
-        let _ = drawn_tx.send(text);
-        Ok(())
-    };
-    let rig = Rig {
-        keys,
-        extra,
-        screens: Screens { frames, drawn },
-    };
-    let looping = app::run(
-        &mut app,
-        controller,
-        connector,
-        input,
-        Some(extra_rx),
-        &mut draw,
-    );
-    let (result, ()) = tokio::join!(looping, driver(rig));
-    result.expect("the loop ends cleanly");
-}
-
-fn press(rig: &Rig, code: KeyCode) {
-    let _ = rig
-        .keys
-        .send(Event::Key(KeyEvent::new(code, KeyModifiers::NONE)));
-}
-
-fn type_line(rig: &Rig, line: &str) {
-    for c in line.chars() {
-        press(rig, KeyCode::Char(c));
-    }
-    press(rig, KeyCode::Enter);
 }
 
 async fn next_call(calls: &mut mpsc::UnboundedReceiver<Call>) -> Call {
@@ -391,4 +287,80 @@ async fn log_writes_every_frame_to_a_file_until_it_is_turned_off() {
             "       2.000 ms <- answer      -        02 01 64 06 00 00 00 00 6D",
         ]
     );
+}
+
+/// A status poll going out (GAP 1, 0).
+fn poll_record() -> TrafficRecord {
+    TrafficRecord {
+        at: std::time::Instant::now(),
+        direction: Direction::Sent,
+        kind: TrafficKind::Request,
+        bytes: vec![1, 6, 1, 0, 0, 0, 0, 0, 8],
+        priority: Some(Priority::Poll),
+    }
+}
+
+#[tokio::test(start_paused = true)]
+async fn traffic_is_taken_in_batches_not_one_wake_up_per_frame() {
+    let (fake, _calls) = Fake::new(&["motor 0"]);
+    run_console(Some(fake.clone()), no_connector(), async |mut rig: Rig| {
+        rig.screens.until("fake rig #1 connected").await;
+        // The traffic monitor to the front.
+        press_with(&rig, KeyCode::Char('4'), KeyModifiers::ALT);
+        rig.screens.until("no frames yet").await;
+        // The first frame after a quiet spell shows at once.
+        let _ = fake.traffic.send(poll_record());
+        rig.screens.until("1 frames").await;
+        // Those that follow wait in the channel for the batch: the loop is
+        // not woken for each.
+        for _ in 0..4 {
+            let _ = fake.traffic.send(poll_record());
+        }
+        for _ in 0..10 {
+            tokio::task::yield_now().await;
+        }
+        tokio::time::advance(app::TRAFFIC_BATCH / 2).await;
+        for _ in 0..10 {
+            tokio::task::yield_now().await;
+        }
+        assert_eq!(fake.traffic.len(), 4, "not taken yet");
+        // Then all at once, and none lost.
+        rig.screens.until("5 frames").await;
+        assert_eq!(fake.traffic.len(), 0);
+        press(&rig, KeyCode::F(10));
+    })
+    .await;
+}
+
+#[tokio::test(start_paused = true)]
+async fn behind_its_tab_the_monitor_takes_traffic_still_less_often_and_in_front_at_once() {
+    let (fake, _calls) = Fake::new(&["motor 0"]);
+    run_console(Some(fake.clone()), no_connector(), async |mut rig: Rig| {
+        // 100x30: the command pane in front, the traffic monitor behind.
+        rig.screens.until("fake rig #1 connected").await;
+        // A frame every 50 ms for a second: the pauses between batches
+        // grow past the monitor's refresh.
+        let mut most_waiting = 0;
+        for _ in 0..20 {
+            let _ = fake.traffic.send(poll_record());
+            for _ in 0..5 {
+                tokio::task::yield_now().await;
+            }
+            most_waiting = most_waiting.max(fake.traffic.len());
+            tokio::time::advance(Duration::from_millis(50)).await;
+        }
+        assert!(
+            most_waiting * 50 > app::TRAFFIC_BATCH.as_millis() as usize * 2,
+            "at most {most_waiting} frames waited"
+        );
+        // Brought to the front, it shows every frame without waiting out
+        // the pause.
+        press_with(&rig, KeyCode::Char('4'), KeyModifiers::ALT);
+        let within = app::TRAFFIC_BATCH + Duration::from_millis(1);
+        let shown = tokio::time::timeout(within, rig.screens.until("20 frames")).await;
+        assert!(shown.is_ok(), "the frames waited out the pause");
+        assert_eq!(fake.traffic.len(), 0);
+        press(&rig, KeyCode::F(10));
+    })
+    .await;
 }

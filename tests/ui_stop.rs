@@ -5,31 +5,14 @@
 //! own controller, on the in-process TMCM-1110 simulator with 9600 baud
 //! wire time, on virtual time.
 
-use std::sync::Arc;
+mod ui_support;
+
 use std::time::Duration;
 
-use axterm::cli::ConnectionArgs;
-use axterm::cli::connection::Target;
 use axterm::device::{Direction, Priority, TrafficKind, TrafficRecord};
 use axterm::session::PollCadence;
-use axterm::ui::app::Controller;
-use axterm::ui::live::SessionController;
 use tokio::sync::broadcast;
-
-async fn controller() -> Arc<dyn Controller> {
-    let target = Target::resolve(&ConnectionArgs {
-        sim: Some("tmcm1110".into()),
-        baud: Some(9600),
-        ..ConnectionArgs::default()
-    })
-    .expect("a simulator connection");
-    let session = target.open().await.expect("the simulator opens");
-    Arc::new(SessionController::new(
-        session,
-        target.spec.describe(),
-        target.options.clone(),
-    ))
-}
+use ui_support::sim_controller;
 
 /// The next request sent (answers and the rest skipped).
 async fn next_request(traffic: &mut broadcast::Receiver<TrafficRecord>) -> TrafficRecord {
@@ -51,7 +34,7 @@ async fn next_request(traffic: &mut broadcast::Receiver<TrafficRecord>) -> Traff
 
 #[tokio::test(start_paused = true)]
 async fn the_stop_lines_go_before_queued_lines_and_polls() {
-    let controller = controller().await;
+    let controller = sim_controller("tmcm1110", 9600).await;
     let mut traffic = controller.traffic().expect("a traffic stream");
     controller.set_polling(Some(PollCadence {
         fast: Duration::from_millis(10),

@@ -10,6 +10,11 @@
 //!    each read arriving at a different moment of the poll in flight.
 //!
 //! The request is the family's first status query (TMCL `GAP 1, 0`).
+//!
+//! Where the link has a baud rate, the wire time of one transaction (its
+//! request and answer bytes) is the ceiling the figures are held against:
+//! polling's share of that rate, and the device task's fastest round trip,
+//! which a faithful line never beats.
 
 use std::io::{Read, Write};
 use std::net::TcpStream;
@@ -70,6 +75,28 @@ impl Figures {
     }
 }
 
+/// One transaction on a wire with a baud rate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WireTime {
+    /// Request and answer bytes.
+    pub bytes: usize,
+    pub byte_time: Duration,
+}
+
+impl WireTime {
+    /// The bytes' time on the wire: no round trip can be shorter.
+    pub fn round_trip(&self) -> Duration {
+        self.byte_time
+            .saturating_mul(u32::try_from(self.bytes).unwrap_or(u32::MAX))
+    }
+
+    /// Transactions per second the wire carries, back to back.
+    pub fn per_second(&self) -> Option<f64> {
+        let seconds = self.round_trip().as_secs_f64();
+        (seconds > 0.0).then(|| 1.0 / seconds)
+    }
+}
+
 /// Every measurement of a run.
 #[derive(Debug, Clone, Default)]
 pub struct Report {
@@ -81,6 +108,8 @@ pub struct Report {
     pub device: Figures,
     pub polls: Figures,
     pub user_while_polling: Figures,
+    /// The wire time of one transaction, when the link has a baud rate.
+    pub wire: Option<WireTime>,
 }
 
 fn micros(d: Option<Duration>) -> Value {
@@ -91,22 +120,45 @@ fn figures_json(f: &Figures) -> Value {
     json!({
         "p50_us": micros(f.quantile(0.5)),
         "p99_us": micros(f.quantile(0.99)),
+        "min_us": micros(f.quantile(0.0)),
         "per_second": f.per_second(f.samples.len()),
         "count": f.samples.len(),
     })
 }
 
 impl Report {
+    /// Polling's rate as a share (0..1) of what the wire carries.
+    pub fn polling_share_of_wire(&self) -> Option<f64> {
+        let wire = self.wire?.per_second()?;
+        Some(self.polls.per_second(self.polls.samples.len())? / wire)
+    }
+
+    /// A user read's p99 while polling, in bare p99s.
+    pub fn user_p99_over_bare(&self) -> Option<f64> {
+        let bare = self.bare.as_ref()?.quantile(0.99)?.as_secs_f64();
+        let user = self.user_while_polling.quantile(0.99)?.as_secs_f64();
+        (bare > 0.0).then(|| user / bare)
+    }
+
     pub fn to_json(&self) -> Value {
         json!({
             "link": self.link,
             "line": self.line,
             "requests": self.requests,
+            "wire": self.wire.map(|w| json!({
+                "bytes": w.bytes,
+                "round_trip_us": micros(Some(w.round_trip())),
+                "per_second": w.per_second(),
+            })),
             "bare": self.bare.as_ref().map(figures_json),
             "bare_note": self.bare_note,
             "device": figures_json(&self.device),
-            "polling": { "per_second": self.polls.per_second(self.polls.samples.len()) },
+            "polling": {
+                "per_second": self.polls.per_second(self.polls.samples.len()),
+                "share_of_wire": self.polling_share_of_wire(),
+            },
             "user_while_polling": figures_json(&self.user_while_polling),
+            "user_p99_over_bare_p99": self.user_p99_over_bare(),
         })
     }
 
@@ -133,6 +185,14 @@ impl Report {
             "axterm bench: {}, {} × {}\n{:<34}{:>12}{:>12}{:>12}\n",
             self.link, self.requests, self.line, "", "p50", "p99", "per second"
         );
+        if let Some(wire) = self.wire {
+            let name = format!("wire time alone ({} bytes)", wire.bytes);
+            let time = show(Some(wire.round_trip()));
+            out.push_str(&format!(
+                "{name:<34}{time:>12}{time:>12}{:>12}\n",
+                rate(wire.per_second())
+            ));
+        }
         match &self.bare {
             Some(f) => out.push_str(&row("bare write/read loop", f, true)),
             None => out.push_str(&format!("{:<34}{:>12}\n", "bare write/read loop", "-")),
@@ -145,6 +205,31 @@ impl Report {
             true,
         ));
         out.push_str(&format!("bare loop: {}\n", self.bare_note));
+        let mut against = Vec::new();
+        if let Some(share) = self.polling_share_of_wire() {
+            against.push(format!(
+                "polling at {:.1}% of the wire's rate",
+                share * 100.0
+            ));
+        }
+        // The device task always goes over the link; the bare loop of an
+        // in-process simulator does not.
+        if let (Some(wire), Some(fastest)) = (self.wire, self.device.quantile(0.0)) {
+            against.push(format!(
+                "fastest round trip {} (the wire's {})",
+                show(Some(fastest)),
+                show(Some(wire.round_trip()))
+            ));
+        }
+        if let Some(times) = self.user_p99_over_bare() {
+            against.push(format!(
+                "user read p99 while polling {times:.2} × the bare p99"
+            ));
+        }
+        if !against.is_empty() {
+            out.push_str(&against.join("; "));
+            out.push('\n');
+        }
         out
     }
 }
@@ -176,14 +261,16 @@ pub fn run(connection: &ConnectionArgs, args: &BenchArgs) -> i32 {
     };
     // The floor first: a serial port can have only one owner at a time.
     let wire = console.wire();
-    let (bare, bare_note) = match bare_loop(&target.spec, wire.as_ref(), &line, args.requests) {
-        Ok((figures, note)) => (Some(figures), note),
-        Err(BareError::Open(message)) => {
-            eprintln!("axterm bench: {message}");
-            return EXIT_CONNECTION;
-        }
-        Err(BareError::Exchange(message)) => (None, message),
-    };
+    let (bare, bare_note, wire_bytes) =
+        match bare_loop(&target.spec, wire.as_ref(), &line, args.requests) {
+            Ok((bare, note)) => (Some(bare.figures), note, Some(bare.bytes)),
+            Err(BareError::Open(message)) => {
+                eprintln!("axterm bench: {message}");
+                return EXIT_CONNECTION;
+            }
+            Err(BareError::Exchange(message)) => (None, message, None),
+        };
+    let byte_time = target.spec.byte_time();
     let (requests, format) = (args.requests, args.format);
     run_to_exit("bench", async move {
         let session = match target.open().await {
@@ -193,7 +280,7 @@ pub fn run(connection: &ConnectionArgs, args: &BenchArgs) -> i32 {
                 return EXIT_CONNECTION;
             }
         };
-        let report = match measure(&session, &line, requests).await {
+        let report = match measure(&session, &line, requests, byte_time, wire_bytes).await {
             Ok(mut report) => {
                 report.bare = bare;
                 report.bare_note = bare_note;
@@ -214,27 +301,30 @@ pub fn run(connection: &ConnectionArgs, args: &BenchArgs) -> i32 {
 }
 
 /// The device-task measurements (2–4).
+/// `wire_bytes`: a transaction's bytes as the bare loop counted them.
 async fn measure(
     session: &Session,
     line: &PreparedLine,
     requests: usize,
+    byte_time: Option<Duration>,
+    wire_bytes: Option<usize>,
 ) -> Result<Report, String> {
-    let timed = |session: &Session| {
-        let session = session.clone();
-        let line = line.clone();
-        async move {
-            let mut figures = Figures::default();
-            let start = Instant::now();
-            for _ in 0..requests {
-                let sent = Instant::now();
-                session.execute(&line).await.map_err(|e| e.to_string())?;
-                figures.samples.push(sent.elapsed());
-            }
-            figures.total = start.elapsed();
-            Ok::<Figures, String>(figures)
-        }
-    };
-    let device = timed(session).await?;
+    let mut device = Figures::default();
+    let mut transaction_bytes = 0;
+    let start = Instant::now();
+    for _ in 0..requests {
+        let sent = Instant::now();
+        let result = session.execute(line).await.map_err(|e| e.to_string())?;
+        device.samples.push(sent.elapsed());
+        transaction_bytes = result.request.len() + result.reply.len();
+    }
+    device.total = start.elapsed();
+    // The answer's frames may leave out a terminator that was on the wire:
+    // the bare loop's count is the better one.
+    let wire = byte_time.map(|byte_time| WireTime {
+        bytes: wire_bytes.unwrap_or(transaction_bytes),
+        byte_time,
+    });
 
     // Polling with every item due at once, as often as the link allows.
     let (done_tx, mut done) = mpsc::unbounded_channel();
@@ -300,6 +390,7 @@ async fn measure(
         device,
         polls,
         user_while_polling,
+        wire,
         ..Report::default()
     })
 }
@@ -326,6 +417,13 @@ impl PollSink for TimingSink {
     }
 }
 
+/// What the bare loop measured.
+struct Bare {
+    figures: Figures,
+    /// One transaction's bytes as they crossed the link, request and answer.
+    bytes: usize,
+}
+
 enum BareError {
     /// The link could not be opened at all.
     Open(String),
@@ -339,7 +437,7 @@ fn bare_loop(
     wire: &dyn WireFormat,
     line: &PreparedLine,
     requests: usize,
-) -> Result<(Figures, String), BareError> {
+) -> Result<(Bare, String), BareError> {
     let rule = match &line.answering {
         Answering::Reply(rule) | Answering::MaybeReply(rule) => Arc::clone(rule),
         Answering::Nothing => {
@@ -348,30 +446,29 @@ fn bare_loop(
             ));
         }
     };
+    let answered = |bare: Bare, note: &str| (bare, note.to_string());
     match spec {
         LinkSpec::Serial { path, baud } => {
             let mut port = serialport::new(path, *baud)
                 .timeout(BARE_TIMEOUT)
                 .open()
                 .map_err(|e| BareError::Open(format!("cannot open {}: {e}", spec.describe())))?;
-            let figures = blocking_loop(&mut port, wire, rule.as_ref(), &line.bytes, requests)
-                .map_err(BareError::Exchange)?;
-            Ok((figures, "serialport".into()))
+            blocking_loop(&mut port, wire, rule.as_ref(), &line.bytes, requests)
+                .map(|bare| answered(bare, "serialport"))
+                .map_err(BareError::Exchange)
         }
         LinkSpec::Tcp { address } => {
             let mut stream = TcpStream::connect(address)
                 .map_err(|e| BareError::Open(format!("cannot open {}: {e}", spec.describe())))?;
             let _ = stream.set_nodelay(true);
             let _ = stream.set_read_timeout(Some(BARE_TIMEOUT));
-            let figures = blocking_loop(&mut stream, wire, rule.as_ref(), &line.bytes, requests)
-                .map_err(BareError::Exchange)?;
-            Ok((figures, "TcpStream".into()))
+            blocking_loop(&mut stream, wire, rule.as_ref(), &line.bytes, requests)
+                .map(|bare| answered(bare, "TcpStream"))
+                .map_err(BareError::Exchange)
         }
-        LinkSpec::Sim { sim, .. } => {
-            let figures = sim_loop(sim, wire, rule.as_ref(), &line.bytes, requests)
-                .map_err(BareError::Exchange)?;
-            Ok((figures, "simulator called directly, no wire time".into()))
-        }
+        LinkSpec::Sim { sim, .. } => sim_loop(sim, wire, rule.as_ref(), &line.bytes, requests)
+            .map(|bare| answered(bare, "simulator called directly, no wire time"))
+            .map_err(BareError::Exchange),
     }
 }
 
@@ -382,16 +479,18 @@ fn blocking_loop<S: Read + Write>(
     rule: &dyn ReplyRule,
     request: &[u8],
     requests: usize,
-) -> Result<Figures, String> {
+) -> Result<Bare, String> {
     let mut framer = wire.framer();
     let mut figures = Figures::default();
     let mut buffer = [0u8; 256];
+    let mut bytes = 0;
     let start = Instant::now();
     for _ in 0..requests {
         let sent = Instant::now();
         stream
             .write_all(request)
             .map_err(|e| format!("write failed: {e}"))?;
+        bytes = request.len();
         let mut accepted = Vec::new();
         'answer: loop {
             let n = stream
@@ -400,6 +499,7 @@ fn blocking_loop<S: Read + Write>(
             if n == 0 {
                 return Err("the other end closed the link".into());
             }
+            bytes += n;
             for frame in framer.push(buffer.get(..n).unwrap_or_default()) {
                 match rule.examine(&accepted, &frame) {
                     Verdict::Complete => break 'answer,
@@ -411,7 +511,7 @@ fn blocking_loop<S: Read + Write>(
         figures.samples.push(sent.elapsed());
     }
     figures.total = start.elapsed();
-    Ok(figures)
+    Ok(Bare { figures, bytes })
 }
 
 /// The simulator fed and read directly, no link, no clock.
@@ -421,8 +521,9 @@ fn sim_loop(
     rule: &dyn ReplyRule,
     request: &[u8],
     requests: usize,
-) -> Result<Figures, String> {
+) -> Result<Bare, String> {
     let mut framer: Box<dyn Framer> = wire.framer();
+    let mut bytes = 0;
     let mut figures = Figures::default();
     let mut sim = sim
         .lock()
@@ -432,6 +533,7 @@ fn sim_loop(
         let sent = Instant::now();
         sim.feed(request);
         let output = sim.take_output();
+        bytes = request.len() + output.len();
         let complete = framer
             .push(&output)
             .iter()
@@ -442,7 +544,7 @@ fn sim_loop(
         figures.samples.push(sent.elapsed());
     }
     figures.total = start.elapsed();
-    Ok(figures)
+    Ok(Bare { figures, bytes })
 }
 
 #[cfg(test)]
@@ -469,6 +571,71 @@ mod tests {
                 .count();
             assert!((90..=110).contains(&count), "tenth {tenth}: {count}");
         }
+    }
+
+    #[test]
+    fn figures_are_held_against_the_wire_time() {
+        // TMCL at 115200 Bd: 9 bytes out, 9 back.
+        let wire = WireTime {
+            bytes: 18,
+            byte_time: crate::link::byte_time(115_200),
+        };
+        assert_eq!(wire.round_trip(), Duration::from_nanos(18 * 86_805));
+        let per_second = wire.per_second().expect("a rate");
+        assert!((per_second - 640.0).abs() < 0.01, "{per_second}");
+        let report = Report {
+            link: "/dev/pts/3 at 115200 Bd".into(),
+            line: "GAP 1, 0".into(),
+            requests: 100,
+            bare: Some(figures(&(1601..=1700).collect::<Vec<_>>())),
+            device: figures(&[1650, 1590]),
+            // 608 polls in a second: 95% of the wire's 640.
+            polls: Figures {
+                samples: vec![Duration::from_micros(1645); 608],
+                total: Duration::from_secs(1),
+            },
+            user_while_polling: figures(&(1..=100).map(|n| n * 34).collect::<Vec<_>>()),
+            wire: Some(wire),
+            ..Report::default()
+        };
+        let share = report.polling_share_of_wire().expect("a share");
+        assert!((share - 0.95).abs() < 1e-3, "{share}");
+        // 3366 µs against 1699 µs.
+        let times = report.user_p99_over_bare().expect("a ratio");
+        assert!((times - 3366.0 / 1699.0).abs() < 1e-9, "{times}");
+        let table = report.to_table();
+        assert!(
+            table
+                .contains("wire time alone (18 bytes)           1562.5 µs   1562.5 µs         640"),
+            "{table}"
+        );
+        assert!(
+            table.contains(
+                "polling at 95.0% of the wire's rate; fastest round trip 1590.0 µs \
+                 (the wire's 1562.5 µs); user read p99 while polling 1.98 × the bare p99"
+            ),
+            "{table}"
+        );
+        let json = report.to_json();
+        assert_eq!(json["wire"]["bytes"], 18);
+        assert_eq!(json["bare"]["min_us"], 1601.0);
+        assert_eq!(json["polling"]["share_of_wire"], share);
+    }
+
+    #[test]
+    fn without_a_baud_rate_there_is_no_wire_to_compare_with() {
+        let report = Report {
+            bare: Some(figures(&[100, 200])),
+            user_while_polling: figures(&[300, 400]),
+            polls: figures(&[100]),
+            ..Report::default()
+        };
+        assert_eq!(report.polling_share_of_wire(), None);
+        assert_eq!(report.user_p99_over_bare(), Some(2.0));
+        let table = report.to_table();
+        assert!(!table.contains("wire"), "{table}");
+        assert!(table.ends_with("user read p99 while polling 2.00 × the bare p99\n"));
+        assert!(report.to_json()["wire"].is_null());
     }
 
     #[test]

@@ -5,7 +5,11 @@
 //! that arrive, advances it by the wall-clock time that passed, and writes
 //! back whatever it answered, through the same emulated line as the
 //! in-process link ([`SimLine`]: the wire's byte time at `--baud`, and the
-//! faults of `--fault`).
+//! faults of `--fault`). Each wake-up is a real one here, so the line hands
+//! the client its bytes a FIFO load at a time ([`UART_FIFO`]), each when its
+//! last byte is due, rather than a write per byte: a TMCL transaction at
+//! 115200 Bd wakes this loop four times (the request, a final approach,
+//! 8 reply bytes, the last one) instead of twenty.
 
 use std::io::{self, Read, Write};
 use std::net::{SocketAddr, TcpListener, TcpStream};
@@ -13,13 +17,21 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use crate::link::sim_line::SimLine;
+use crate::link::sim_line::{Handover, LineOutput, SimLine, UART_FIFO};
 use crate::sim::SimulatedController;
 use crate::sim::faults::FaultPlan;
 
-/// How long one wait for input may block: the granularity of the
-/// simulator's real-time clock, and how quickly a stop request is noticed.
+/// How long one wait for input may block while nothing is due soon: the
+/// granularity of the simulator's real-time clock (it may speak on its own,
+/// as when a move ends), and how quickly a stop request is noticed.
 const POLL_INTERVAL: Duration = Duration::from_millis(1);
+
+/// A timed wait overshoots more the longer the processor idled (deeper idle
+/// states; a virtual machine's halt): measured on the development machine,
+/// 17 µs after an 87 µs wait, 37 µs after a 1.5 ms one (p50). So a wait for
+/// bytes due ends this much short of them, and a second, short wait lands
+/// on the instant: one wake-up more, and 13 µs off the p50 round trip.
+const FINAL_WAIT: Duration = Duration::from_micros(100);
 
 /// Where to serve.
 #[derive(Debug, Clone)]
@@ -80,50 +92,49 @@ struct SimClock {
     epoch: Instant,
 }
 
-/// What one turn of the clock produced for the client.
-enum Turn {
-    /// Bytes to write (possibly none).
-    Send(Vec<u8>),
-    /// The line was cut by an injected fault.
-    Cut(String),
-}
-
 impl SimClock {
     fn new(sim: Box<dyn SimulatedController>, options: &LineOptions) -> Self {
         SimClock {
             sim,
-            line: SimLine::new(options.baud, &options.faults),
+            line: SimLine::new(options.baud, &options.faults)
+                .handing_over(Handover::Fifo(UART_FIFO)),
             epoch: Instant::now(),
         }
     }
 
-    /// How long the next wait for input may last: until something is due
-    /// on the line, at most [`POLL_INTERVAL`].
+    /// How long the next wait for input may last.
     fn wait(&self) -> Duration {
         let now = self.epoch.elapsed();
-        self.line
-            .next_due()
-            .map_or(POLL_INTERVAL, |due| due.saturating_sub(now))
-            .min(POLL_INTERVAL)
+        wait_for(self.line.next_due().map(|due| due.saturating_sub(now)))
     }
 
     /// Put received bytes on the line, let the simulator catch up with the
-    /// wall clock, and return what reached the client.
-    fn exchange(&mut self, input: &[u8]) -> Turn {
+    /// wall clock, and return what reached the client (and whether the
+    /// line was cut after it).
+    fn exchange(&mut self, input: &[u8]) -> LineOutput {
         let now = self.epoch.elapsed();
         if !input.is_empty() {
             self.line.host_wrote(now, input);
         }
-        let out = self.line.run(self.sim.as_mut(), now);
-        match out.cut {
-            Some(reason) => Turn::Cut(reason),
-            None => Turn::Send(out.to_host),
-        }
+        self.line.run(self.sim.as_mut(), now)
     }
 
     /// A new client on the same line.
     fn reconnect(&mut self) {
         self.line.reconnect();
+    }
+}
+
+/// How long to wait for input when the line has something due `left` from
+/// now (`None`: nothing on its way). Never past the instant it is due, so
+/// that nothing reaches the client late for want of a wake-up; while it is
+/// more than two [`POLL_INTERVAL`]s away, the clock ticks at that interval.
+fn wait_for(left: Option<Duration>) -> Duration {
+    match left {
+        Some(left) if left > 2 * POLL_INTERVAL => POLL_INTERVAL,
+        Some(left) if left > FINAL_WAIT => left - FINAL_WAIT,
+        Some(left) => left,
+        None => POLL_INTERVAL,
     }
 }
 
@@ -160,16 +171,16 @@ fn serve_pty(
             Err(e) if is_idle(&e) => 0,
             Err(e) => return Err(e),
         };
-        match clock.exchange(buf.get(..received).unwrap_or_default()) {
-            Turn::Send(output) if output.is_empty() => {}
-            Turn::Send(output) => master.write_all(&output)?,
-            Turn::Cut(reason) => {
-                // Closing both ends hangs the client's side up.
-                drop(keep_open);
-                drop(master);
-                eprintln!("axterm sim: {reason}: the pseudo-terminal is gone");
-                return Ok(());
-            }
+        let out = clock.exchange(buf.get(..received).unwrap_or_default());
+        if !out.to_host.is_empty() {
+            master.write_all(&out.to_host)?;
+        }
+        if let Some(reason) = out.cut {
+            // Closing both ends hangs the client's side up.
+            drop(keep_open);
+            drop(master);
+            eprintln!("axterm sim: {reason}: the pseudo-terminal is gone");
+            return Ok(());
         }
     }
     Ok(())
@@ -213,33 +224,78 @@ fn serve_tcp_client(
     stream.set_nodelay(true)?;
     let mut buf = [0u8; 512];
     while !stop.load(Ordering::Relaxed) {
-        // A zero timeout means "block forever" to the socket API.
-        stream.set_read_timeout(Some(clock.wait().max(Duration::from_micros(1))))?;
-        let received = match stream.read(&mut buf) {
+        let received = match read_within(&mut stream, &mut buf, clock.wait()) {
             Ok(0) => return Ok(()),
             Ok(n) => n,
             Err(e) if is_idle(&e) => 0,
             Err(e) if is_hangup(&e) => return Ok(()),
             Err(e) => return Err(e),
         };
-        let output = match clock.exchange(buf.get(..received).unwrap_or_default()) {
-            Turn::Send(output) => output,
-            Turn::Cut(reason) => {
-                eprintln!("axterm sim: {reason}: closing the connection");
-                let _ = stream.shutdown(std::net::Shutdown::Both);
-                return Ok(());
+        let out = clock.exchange(buf.get(..received).unwrap_or_default());
+        if !out.to_host.is_empty() {
+            match stream.write_all(&out.to_host) {
+                Ok(()) => {}
+                Err(e) if is_hangup(&e) => return Ok(()),
+                Err(e) => return Err(e),
             }
-        };
-        if output.is_empty() {
-            continue;
         }
-        match stream.write_all(&output) {
-            Ok(()) => {}
-            Err(e) if is_hangup(&e) => return Ok(()),
-            Err(e) => return Err(e),
+        if let Some(reason) = out.cut {
+            eprintln!("axterm sim: {reason}: closing the connection");
+            let _ = stream.shutdown(std::net::Shutdown::Both);
+            return Ok(());
         }
     }
     Ok(())
+}
+
+/// Read what the client sent, waiting at most `timeout` for it; an idle
+/// error when nothing came.
+///
+/// A socket's read timeout (SO_RCVTIMEO) counts in scheduler ticks (4 ms
+/// at 250 Hz), so at 115200 Bd every wait for a byte due would end
+/// milliseconds late; ppoll takes the timeout to the nanosecond.
+#[cfg(target_os = "linux")]
+fn read_within(stream: &mut TcpStream, buf: &mut [u8], timeout: Duration) -> io::Result<usize> {
+    use std::os::fd::AsRawFd;
+    if !wait_readable(stream.as_raw_fd(), timeout)? {
+        return Err(io::ErrorKind::TimedOut.into());
+    }
+    stream.read(buf)
+}
+
+#[cfg(not(target_os = "linux"))]
+fn read_within(stream: &mut TcpStream, buf: &mut [u8], timeout: Duration) -> io::Result<usize> {
+    // A zero timeout means "block forever" to the socket API.
+    stream.set_read_timeout(Some(timeout.max(Duration::from_micros(1))))?;
+    stream.read(buf)
+}
+
+/// Wait until `fd` has something to read (data, or the other end gone) or
+/// `timeout` has passed; true when it has.
+#[cfg(target_os = "linux")]
+fn wait_readable(fd: std::os::fd::RawFd, timeout: Duration) -> io::Result<bool> {
+    let mut pollfd = libc::pollfd {
+        fd,
+        events: libc::POLLIN,
+        revents: 0,
+    };
+    let timeout = libc::timespec {
+        tv_sec: libc::time_t::try_from(timeout.as_secs()).unwrap_or(libc::time_t::MAX),
+        // Below a billion: fits a c_long of any width.
+        tv_nsec: timeout.subsec_nanos() as libc::c_long,
+    };
+    // SAFETY: one valid pollfd, a valid timespec, no signal mask; all live
+    // for the whole call.
+    let ready = unsafe { libc::ppoll(&mut pollfd, 1, &timeout, std::ptr::null()) };
+    if ready < 0 {
+        let e = io::Error::last_os_error();
+        return if e.kind() == io::ErrorKind::Interrupted {
+            Ok(false)
+        } else {
+            Err(e)
+        };
+    }
+    Ok(ready > 0)
 }
 
 fn is_idle(e: &io::Error) -> bool {
@@ -261,6 +317,49 @@ fn is_hangup(e: &io::Error) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    const US: Duration = Duration::from_micros(1);
+
+    #[test]
+    fn a_wait_for_bytes_due_ends_short_of_them_then_on_the_instant() {
+        // A reply due in 1562.5 µs (18 bytes at 115200 Bd): a long wait to
+        // 100 µs before it, then a short one to the instant.
+        let due = Duration::from_nanos(1_562_500);
+        assert_eq!(wait_for(Some(due)), due - FINAL_WAIT);
+        assert_eq!(wait_for(Some(FINAL_WAIT)), FINAL_WAIT);
+        assert_eq!(wait_for(Some(37 * US)), 37 * US);
+        assert_eq!(wait_for(Some(Duration::ZERO)), Duration::ZERO);
+    }
+
+    #[test]
+    fn the_clock_ticks_while_nothing_is_due_soon() {
+        assert_eq!(wait_for(None), POLL_INTERVAL);
+        assert_eq!(wait_for(Some(Duration::from_millis(19))), POLL_INTERVAL);
+        assert_eq!(
+            wait_for(Some(2 * POLL_INTERVAL)),
+            2 * POLL_INTERVAL - FINAL_WAIT
+        );
+    }
+
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn a_socket_read_waits_for_the_client_or_the_timeout() {
+        let listener = TcpListener::bind("127.0.0.1:0").expect("listens");
+        let mut client =
+            TcpStream::connect(listener.local_addr().expect("bound")).expect("connects");
+        let (mut served, _) = listener.accept().expect("accepts");
+        let mut buf = [0u8; 16];
+        let idle = read_within(&mut served, &mut buf, Duration::ZERO).expect_err("nothing sent");
+        assert!(is_idle(&idle), "{idle:?}");
+        client.write_all(b"GAP").expect("sends");
+        // Returns as soon as the bytes are there; the timeout only bounds a
+        // broken test.
+        let n = read_within(&mut served, &mut buf, Duration::from_secs(10)).expect("reads");
+        assert_eq!(buf.get(..n), Some(&b"GAP"[..]));
+        drop(client);
+        let closed = read_within(&mut served, &mut buf, Duration::from_secs(10)).expect("reads");
+        assert_eq!(closed, 0, "the client's close reads as the end");
+    }
 
     #[test]
     fn bare_port_means_loopback() {

@@ -207,8 +207,10 @@ pub enum DeviceEvent {
 #[derive(Debug, Clone)]
 pub struct PollItem {
     pub transaction: Transaction,
-    /// Poll at most this often; the link's speed may make it less often.
-    /// Zero means as often as the link allows.
+    /// Poll this often at most: on a grid of this period from the plan's
+    /// first poll, so a poll sent a little late does not delay the next
+    /// one (see `poll.rs`); the link's speed may make it less often. Zero
+    /// means as often as the link allows.
     pub every: Duration,
 }
 
@@ -452,7 +454,7 @@ pub fn spawn(
 }
 
 /// Records the traffic stream holds for a slow subscriber before it lags.
-const TRAFFIC_CAPACITY: usize = 4096;
+pub const TRAFFIC_CAPACITY: usize = 4096;
 const EVENTS_CAPACITY: usize = 256;
 
 /// Reply bytes the default timeout leaves wire time for: more than any TMCL

@@ -1,16 +1,44 @@
 //! When each item of a poll plan is due.
+//!
+//! Each item comes due on a grid of its period, laid from the plan's first
+//! poll: a poll sent late (the timer woke late, the items before it in the
+//! burst were answered first, the line was busy) does not push the next
+//! one back. Items of one period therefore stay together and go out as
+//! one burst, one after the other's answer, after a single timer wake-up;
+//! scheduled from each item's own send time they drifted apart by a round
+//! trip each, and a console polling one axis woke for almost every poll on
+//! its own.
+//!
+//! Which of the items due goes first is still decided by their send
+//! times: the one whose last send plus period lies furthest back. On a
+//! link too slow for the plan every item is due all the time, and going
+//! by the grid there would favour the items of long periods, whose grid
+//! points lag furthest behind.
+
+use std::time::Duration;
 
 use tokio::time::Instant;
 
 use super::{Answer, DeviceError, PollItem, PollPlan};
 
+/// An item's last send.
+#[derive(Debug, Clone, Copy)]
+struct Sent {
+    /// The last point of the item's grid at or before the send.
+    grid: Instant,
+    at: Instant,
+    /// The number of the send, across items.
+    number: u64,
+}
+
 /// A poll plan and when each of its items was last sent.
 pub(super) struct PollSchedule {
     plan: PollPlan,
-    /// When each item was last sent and the number of that send; `None`:
-    /// never polled, due at once.
-    last: Vec<Option<(Instant, u64)>>,
+    /// `None`: never polled, due at once.
+    last: Vec<Option<Sent>>,
     sends: u64,
+    /// The plan's first poll, where every item's grid starts.
+    origin: Option<Instant>,
 }
 
 impl PollSchedule {
@@ -20,35 +48,64 @@ impl PollSchedule {
             plan,
             last,
             sends: 0,
+            origin: None,
         }
     }
 
-    /// When item `index` is due (never-polled items at once, others
-    /// `every` after their last send), and the number of its last send.
-    fn due(&self, index: usize) -> Option<(Instant, u64)> {
-        let item = self.plan.items.get(index)?;
-        let (last, send) = (*self.last.get(index)?)?;
-        Some((last + item.every, send))
+    fn every(&self, index: usize) -> Duration {
+        self.plan
+            .items
+            .get(index)
+            .map_or(Duration::ZERO, |item| item.every)
     }
 
-    /// The most overdue item and when it is due (`None` inside the pair:
-    /// never polled, due now). Of items due at the same time the one sent
-    /// longest ago goes first, so items take turns even when answers take
-    /// no time at all.
-    pub(super) fn next(&self) -> Option<(usize, Option<Instant>)> {
-        (0..self.plan.items.len())
-            .map(|index| (index, self.due(index)))
-            .min_by_key(|(index, due)| (due.is_some(), *due, *index))
-            .map(|(index, due)| (index, due.map(|(at, _)| at)))
+    /// When item `index` comes due: `None` never polled (at once), else
+    /// one period after the grid point of its last send.
+    fn due(&self, index: usize) -> Option<Instant> {
+        let last = (*self.last.get(index)?)?;
+        Some(last.grid + self.every(index))
+    }
+
+    /// The item to poll next and when it is due. Of the items due at `now`
+    /// (never-polled ones first, in order) the one whose last send plus
+    /// period lies furthest back, the one sent longest ago on a tie, so
+    /// that items take turns even when answers take no time at all; when
+    /// none is due, the one that comes due first.
+    pub(super) fn next(&self, now: Instant) -> Option<(usize, Option<Instant>)> {
+        let items = 0..self.plan.items.len();
+        let waiting = items
+            .clone()
+            .filter(|&index| self.due(index).is_none_or(|at| at <= now))
+            .min_by_key(|&index| {
+                let last = self.last.get(index).copied().flatten();
+                let turn = last.map(|sent| (sent.at + self.every(index), sent.number));
+                (last.is_some(), turn, index)
+            });
+        if let Some(index) = waiting {
+            return Some((index, self.due(index)));
+        }
+        items
+            .filter_map(|index| {
+                let number = self.last.get(index).copied().flatten()?.number;
+                Some((self.due(index)?, number, index))
+            })
+            .min()
+            .map(|(at, _, index)| (index, Some(at)))
     }
 
     /// Item `index` is being sent now.
     pub(super) fn sent(&mut self, index: usize, now: Instant) -> Option<&PollItem> {
         self.sends += 1;
-        if let Some(last) = self.last.get_mut(index) {
-            *last = Some((now, self.sends));
-        }
-        self.plan.items.get(index)
+        let origin = *self.origin.get_or_insert(now);
+        let item = self.plan.items.get(index)?;
+        let last = self.last.get_mut(index)?;
+        let from = last.map_or(origin, |sent| sent.grid);
+        *last = Some(Sent {
+            grid: grid_point(from, item.every, now),
+            at: now,
+            number: self.sends,
+        });
+        Some(item)
     }
 
     pub(super) fn record(&mut self, index: usize, result: Result<&Answer, &DeviceError>) {
@@ -56,10 +113,22 @@ impl PollSchedule {
     }
 }
 
+/// The last point at or before `now` of the grid through `from` with step
+/// `every`; `now` itself for a zero step (as often as the link allows) or
+/// a `now` before `from`.
+fn grid_point(from: Instant, every: Duration, now: Instant) -> Instant {
+    let step = every.as_nanos();
+    if step == 0 || now < from {
+        return now;
+    }
+    let behind = now.duration_since(from).as_nanos();
+    let offset = behind - behind % step;
+    u64::try_from(offset).map_or(now, |offset| from + Duration::from_nanos(offset))
+}
+
 #[cfg(test)]
 mod tests {
     use std::sync::{Arc, Mutex};
-    use std::time::Duration;
 
     use super::super::{Expect, PollSink, Retry, Transaction};
     use super::*;
@@ -94,7 +163,7 @@ mod tests {
         let t0 = Instant::now();
         let mut order = Vec::new();
         for _ in 0..6 {
-            let (index, _) = s.next().expect("an item");
+            let (index, _) = s.next(t0).expect("an item");
             order.push(index);
             // Answers that take no time at all.
             s.sent(index, t0);
@@ -108,14 +177,75 @@ mod tests {
         let t0 = Instant::now();
         s.sent(0, t0);
         s.sent(1, t0);
-        assert_eq!(s.next(), Some((1, Some(t0 + Duration::from_millis(10)))));
-        s.sent(1, t0 + Duration::from_millis(95));
-        assert_eq!(s.next(), Some((0, Some(t0 + Duration::from_millis(100)))));
+        assert_eq!(s.next(t0), Some((1, Some(t0 + Duration::from_millis(10)))));
+        let later = t0 + Duration::from_millis(95);
+        s.sent(1, later);
+        assert_eq!(
+            s.next(later),
+            Some((0, Some(t0 + Duration::from_millis(100))))
+        );
+    }
+
+    #[test]
+    fn items_of_one_period_stay_on_one_grid_and_go_out_together() {
+        let mut s = schedule(vec![item(50), item(50), item(50)]);
+        let t0 = Instant::now();
+        let ms = |n: f64| t0 + Duration::from_secs_f64(n / 1000.0);
+        // The first round, one after the other's answer.
+        s.sent(0, ms(0.0));
+        s.sent(1, ms(0.3));
+        s.sent(2, ms(0.6));
+        let due: Vec<_> = (0..3).map(|i| s.due(i)).collect();
+        assert_eq!(due, [Some(ms(50.0)); 3], "one wake-up for all three");
+        // A poll sent late does not push the next one back, however late
+        // within its period (a hiccup does not split the burst for good)…
+        s.sent(0, ms(57.0));
+        assert_eq!(s.due(0), Some(ms(100.0)));
+        s.sent(2, ms(90.0));
+        assert_eq!(s.due(2), Some(ms(100.0)));
+        // …and one that missed a whole period takes the next grid point.
+        s.sent(1, ms(160.0));
+        assert_eq!(s.due(1), Some(ms(200.0)));
+    }
+
+    /// A link too slow for the plan (20 ms a transaction, 9600 Bd, for
+    /// three polls at 20 Hz and eight at 5 Hz) still polls the fast items
+    /// about twice as often as the slow ones, as it did before the grid
+    /// (going by the grid, 5.0 Hz against 4.4 Hz).
+    #[test]
+    fn on_a_link_too_slow_for_the_plan_fast_items_keep_their_turns() {
+        let mut items: Vec<PollItem> = (0..3).map(|_| item(50)).collect();
+        items.extend((0..8).map(|_| item(200)));
+        let mut s = schedule(items);
+        let mut now = Instant::now();
+        let mut sent = [0u32; 11];
+        for _ in 0..500 {
+            let (index, due) = s.next(now).expect("an item");
+            now = due.map_or(now, |due| due.max(now));
+            s.sent(index, now);
+            sent[index] += 1;
+            now += Duration::from_millis(20);
+        }
+        let fast: u32 = sent[..3].iter().sum::<u32>() / 3;
+        let slow: u32 = sent[3..].iter().sum::<u32>() / 8;
+        assert!(fast * 10 >= slow * 18, "fast {fast}, slow {slow}: {sent:?}");
+    }
+
+    #[test]
+    fn grid_points_never_panic_and_fall_at_or_before_now() {
+        let t0 = Instant::now();
+        let step = Duration::from_millis(50);
+        let ms = Duration::from_millis;
+        assert_eq!(grid_point(t0, step, t0 + ms(149)), t0 + 2 * step);
+        assert_eq!(grid_point(t0, step, t0 + 3 * step), t0 + 3 * step);
+        assert_eq!(grid_point(t0, Duration::ZERO, t0 + step), t0 + step);
+        assert_eq!(grid_point(t0 + step, step, t0), t0, "now before the grid");
+        assert_eq!(grid_point(t0, Duration::MAX, t0 + step), t0);
     }
 
     #[test]
     fn an_empty_plan_has_nothing_due() {
-        assert!(schedule(Vec::new()).next().is_none());
+        assert!(schedule(Vec::new()).next(Instant::now()).is_none());
     }
 
     #[test]

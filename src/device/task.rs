@@ -428,7 +428,7 @@ impl Task {
                 id: job.id,
             };
         }
-        match self.schedule.as_ref().and_then(PollSchedule::next) {
+        match self.schedule.as_ref().and_then(|s| s.next(now)) {
             Some((_, Some(due))) if due > now => Next::PollAt(due),
             Some(_) => Next::Poll,
             None => Next::Idle,
@@ -440,7 +440,7 @@ impl Task {
             return Some(job);
         }
         let schedule = self.schedule.as_mut()?;
-        let (index, due) = schedule.next()?;
+        let (index, due) = schedule.next(now)?;
         if due.is_some_and(|due| due > now) {
             return None;
         }

@@ -147,6 +147,18 @@ pub enum SwitchKind {
     Home,
 }
 
+/// What an axis is doing, as a module that reports it says (CMD-4CR MST
+/// bits 0–2, §2.6.2.1); a family that does not has its ramp read from
+/// how the speed changes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MotionPhase {
+    Standing,
+    Accelerating,
+    /// Moving at a constant speed.
+    Constant,
+    Decelerating,
+}
+
 /// What one status answer says about an axis.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum AxisUpdate {
@@ -162,6 +174,8 @@ pub enum AxisUpdate {
     GlobalMaxSpeed(i64),
     /// The axis stands at its target.
     Reached(bool),
+    /// What the axis is doing, where the module says.
+    Phase(MotionPhase),
     /// A switch is active (true) or not.
     Switch(SwitchKind, bool),
     /// Motor load reading (TMCL: StallGuard2 value, 0 = highest load).
@@ -283,6 +297,24 @@ pub trait FamilyConsole: Send + Sync {
     fn stop_axis_line(&self, axis: u8) -> Option<String> {
         let _ = axis;
         None
+    }
+
+    /// The console line that clears the latched error flags of one axis in
+    /// the module, sent when the user clears them (F8, `:clear`) so that
+    /// the next status poll does not bring them back (CMD-4CR `CLR[axis]`:
+    /// MST error bits stay set until it, §2.6.2.3). `None` when the module
+    /// needs none (TMCL: reading AP207 clears its flags, §4 Table 16).
+    fn clear_errors_line(&self, axis: u8) -> Option<String> {
+        let _ = axis;
+        None
+    }
+
+    /// The conditions of an axis shown as lamps, each lit while the
+    /// driver flags ([`AxisUpdate::DriverFlags`]) name it (CMD-4CR: the
+    /// input and wait bits of MST). Empty (the default): the lit ones are
+    /// listed as text.
+    fn lamps(&self) -> &'static [AxisFlag] {
+        &[]
     }
 
     /// How to show the load reading on a gauge, if the family has one.

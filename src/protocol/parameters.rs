@@ -235,6 +235,27 @@ pub trait ParameterSet: Send + Sync {
         None
     }
 
+    /// Where a store puts a value, for the message after it (TMCL: its
+    /// EEPROM).
+    fn store_place(&self) -> &'static str {
+        "EEPROM"
+    }
+
+    /// What `value` of `row` means beyond its number and unit, where the
+    /// family says more (CMD-4CR: a per-axis speed of 0 is the global
+    /// one; the POL word field by field, raw). `value_of` gives other
+    /// parameters as read from the module (by table and number), `None`
+    /// where not read yet.
+    fn value_note(
+        &self,
+        row: &ParamRow,
+        value: i64,
+        value_of: &dyn Fn(Scope, u16) -> Option<i64>,
+    ) -> Option<String> {
+        let _ = (row, value, value_of);
+        None
+    }
+
     /// A value as the user typed it for `row`: a number, or (where the
     /// family converts) a number with a real-world unit (`51200 pps`).
     fn parse_value(

@@ -19,7 +19,7 @@ use std::time::Duration;
 use tokio::sync::watch;
 
 pub use crate::protocol::console::{AxisFlag, AxisInfo, PreparedLine, ReplyError, ReplyValue};
-pub use status::AxisStatus;
+pub use status::{AxisStatus, RefreshRate};
 
 use crate::device::{
     self, DeviceError, DeviceHandle, DeviceOptions, Expect, LinkState, PollItem, PollPlan,
@@ -27,7 +27,7 @@ use crate::device::{
 };
 use crate::link::{LinkError, LinkSpec};
 use crate::protocol::Family;
-use crate::protocol::console::{Answering, Effect};
+use crate::protocol::console::{Answering, Effect, StatusPoll};
 use status::{StatusBoard, StatusSink};
 
 /// Further attempts for a read whose reply was lost or garbled.
@@ -55,6 +55,13 @@ impl Default for SessionOptions {
 
 /// How often status is polled, at most; the link's speed may make it less
 /// often. Zero polls as often as the link allows.
+///
+/// On a slow line the fast items take what the line gives (the device
+/// task polls only when nothing else waits, one poll at a time, so a
+/// user's line waits for at most the poll on the wire). The slow items
+/// would take their share of it too: on a line with a known speed their
+/// period is stretched so that they take at most a tenth of it
+/// ([`slow_period`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct PollCadence {
     /// Position, speed, target reached.
@@ -72,6 +79,42 @@ impl Default for PollCadence {
             slow: Duration::from_millis(200),
         }
     }
+}
+
+/// At most this share of a line's time (1 / N) goes to the slow status
+/// items (switches, load, error flags, maximum speeds): on a CMD-4CR at
+/// 9600 Bd the five HSPD reads at 5 Hz took about a quarter of the line
+/// from the positions and speeds.
+pub const SLOW_SHARE_DIVISOR: u32 = 10;
+
+/// Bytes a status exchange is counted as on the wire: the request and an
+/// answer as long again (TMCL: 9 and 9; a CMD-4CR read like `@01HSPDX`
+/// is answered with fewer, so this errs on the side of the fast items).
+fn exchange_bytes(poll: &StatusPoll) -> u32 {
+    u32::try_from(poll.line.bytes.len())
+        .unwrap_or(u32::MAX)
+        .saturating_mul(2)
+}
+
+/// How often the slow items of `polls` are polled at most: as `cadence`
+/// asks, or less often where one pass over them would take more than
+/// 1/[`SLOW_SHARE_DIVISOR`] of the line (`byte_time`: one byte's wire
+/// time, `None` when the link does not say, as over TCP).
+pub fn slow_period(
+    cadence: PollCadence,
+    byte_time: Option<Duration>,
+    polls: &[StatusPoll],
+) -> Duration {
+    let Some(byte_time) = byte_time else {
+        return cadence.slow;
+    };
+    let bytes = polls
+        .iter()
+        .filter(|p| !p.fast)
+        .map(exchange_bytes)
+        .fold(0u32, u32::saturating_add);
+    let wire = byte_time.saturating_mul(bytes);
+    cadence.slow.max(wire.saturating_mul(SLOW_SHARE_DIVISOR))
 }
 
 /// What came back for one line.
@@ -163,6 +206,8 @@ pub struct Session {
     /// program download, see [`program`]).
     polling: Arc<Mutex<Option<PollCadence>>>,
     transfer: Arc<program::TransferState>,
+    /// One byte's wire time on the link, when it has a known speed.
+    byte_time: Option<Duration>,
 }
 
 impl Session {
@@ -172,8 +217,9 @@ impl Session {
         family: &'static Family,
         options: SessionOptions,
     ) -> Result<Session, LinkError> {
+        let byte_time = spec.byte_time();
         let device = device::connect(spec, family.console.wire(), options.device.clone()).await?;
-        Ok(Session::new(device, family, &options))
+        Ok(Session::new(device, family, &options).with_byte_time(byte_time))
     }
 
     /// A session over a device task already running.
@@ -192,7 +238,26 @@ impl Session {
             identity: Arc::new(identity),
             polling: Arc::new(Mutex::new(None)),
             transfer: Arc::new(program::TransferState::default()),
+            byte_time: None,
         }
+    }
+
+    /// The same session on a link whose byte takes `byte_time` on the
+    /// wire (`None`: unknown): the poll plan is fitted to it.
+    pub fn with_byte_time(mut self, byte_time: Option<Duration>) -> Session {
+        self.byte_time = byte_time;
+        self
+    }
+
+    /// A session on the same link and device task for the module at
+    /// `address`, with status of its own and polling off.
+    pub fn at_address(&self, address: u8) -> Session {
+        let options = SessionOptions {
+            address: Some(address),
+            read_retries: self.read_retries,
+            device: DeviceOptions::default(),
+        };
+        Session::new(self.device.clone(), self.family, &options).with_byte_time(self.byte_time)
     }
 
     pub fn family(&self) -> &'static Family {
@@ -239,6 +304,29 @@ impl Session {
                 status.acknowledge(seen);
             }
         });
+    }
+
+    /// Clear the error flags of `axis`: in the module first, where the
+    /// family has a line for it (CMD-4CR `CLRX`; TMCL needs none), then on
+    /// screen, forgetting the flags the user has seen. The clear line goes
+    /// at user priority, so at most the poll already on the wire comes
+    /// before it; a poll after it reads the flags cleared. If the module
+    /// refuses it or does not answer, the flags stay latched.
+    pub async fn clear_errors(
+        &self,
+        axis: usize,
+        seen: &[AxisFlag],
+    ) -> Result<Option<LineResult>, SessionError> {
+        let line = self
+            .axes()
+            .get(axis)
+            .and_then(|a| self.family.console.clear_errors_line(a.number));
+        let result = match line {
+            Some(line) => Some(self.execute_line(&line).await?),
+            None => None,
+        };
+        self.acknowledge_errors(axis, seen);
+        Ok(result)
     }
 
     /// Parse and validate a line for this session's module. Sends nothing.
@@ -375,7 +463,15 @@ impl Session {
 
     pub fn stop_polling(&self) {
         *self.polling.lock().unwrap_or_else(|e| e.into_inner()) = None;
+        self.pause_polling();
+    }
+
+    /// No polls until a plan is applied again; the cadence asked for is
+    /// kept.
+    fn pause_polling(&self) {
         self.device.set_poll_plan(None);
+        // Nothing is refreshed any more.
+        status::post_refresh(&self.board, None);
     }
 
     /// The poll cadence asked for, if polling is on.
@@ -385,22 +481,15 @@ impl Session {
 
     fn apply_poll_plan(&self, cadence: PollCadence) {
         let polls = self.family.console.status_queries(self.address);
+        let slow = slow_period(cadence, self.byte_time, &polls);
         let items = polls
             .iter()
             .map(|poll| PollItem {
                 transaction: self.transaction(&poll.line, Retry::Never, None),
-                every: if poll.fast {
-                    cadence.fast
-                } else {
-                    cadence.slow
-                },
+                every: if poll.fast { cadence.fast } else { slow },
             })
             .collect();
-        let sink = StatusSink {
-            family: self.family,
-            polls,
-            board: Arc::clone(&self.board),
-        };
+        let sink = StatusSink::new(self.family, polls, Arc::clone(&self.board));
         self.device.set_poll_plan(Some(PollPlan {
             items,
             sink: Box::new(sink),

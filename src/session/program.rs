@@ -480,7 +480,7 @@ impl DownloadMode {
     async fn begin(session: &Session) -> DownloadMode {
         let gate = Arc::clone(&session.transfer.gate).lock_owned().await;
         session.transfer.downloading.store(true, Ordering::SeqCst);
-        session.device.set_poll_plan(None);
+        session.pause_polling();
         DownloadMode {
             session: session.clone(),
             gate: Some(gate),

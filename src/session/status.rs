@@ -4,14 +4,23 @@
 //! motion command clears them too: a flag seen once exists nowhere but
 //! here. So errors are latched in the snapshot until the user acknowledges
 //! exactly the flags they were shown.
+//!
+//! The sink also measures how often the status is refreshed in full (the
+//! link's speed, not the cadence asked for, decides it: a CMD-4CR at 9600
+//! Bd reads its four axes about eight times a second, not 20), so that
+//! the console can show what it really gets.
 
+use std::collections::VecDeque;
+use std::fmt;
 use std::sync::Arc;
+use std::time::Duration;
 
 use tokio::sync::watch;
+use tokio::time::Instant;
 
 use crate::device::{Answer, DeviceError, PollSink};
 use crate::protocol::Family;
-use crate::protocol::console::{AxisFlag, AxisUpdate, StatusPoll, SwitchKind};
+use crate::protocol::console::{AxisFlag, AxisUpdate, MotionPhase, StatusPoll, SwitchKind};
 
 /// What the console knows of one axis. `None` until first read.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -29,6 +38,9 @@ pub struct AxisStatus {
     pub global_max_speed: Option<i64>,
     /// Standing at the target.
     pub reached: Option<bool>,
+    /// What the axis is doing, where the module says (else the console
+    /// reads it from the speed).
+    pub phase: Option<MotionPhase>,
     pub left_switch: Option<bool>,
     pub right_switch: Option<bool>,
     pub home_switch: Option<bool>,
@@ -39,6 +51,142 @@ pub struct AxisStatus {
     pub errors: Vec<AxisFlag>,
     /// What the driver reports at the last reading.
     pub driver_flags: Option<Vec<AxisFlag>>,
+    /// How often the axis's fast-changing status (position, speed, state)
+    /// has lately been read in full; `None` until measured or while
+    /// polling is off.
+    pub refresh: Option<RefreshRate>,
+}
+
+/// Full status refreshes a second, to a hundredth.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
+pub struct RefreshRate {
+    centihertz: u32,
+}
+
+impl RefreshRate {
+    pub const ZERO: RefreshRate = RefreshRate { centihertz: 0 };
+
+    /// The rate of one refresh every `interval` (zero for a zero or an
+    /// endless interval).
+    pub fn every(interval: Duration) -> RefreshRate {
+        let seconds = interval.as_secs_f64();
+        if seconds <= 0.0 || !seconds.is_finite() {
+            return RefreshRate::ZERO;
+        }
+        let centihertz = (100.0 / seconds).round().min(f64::from(u32::MAX));
+        RefreshRate {
+            centihertz: centihertz as u32,
+        }
+    }
+
+    pub fn per_second(self) -> f64 {
+        f64::from(self.centihertz) / 100.0
+    }
+
+    /// Whether `other` differs enough from this one to be worth showing:
+    /// by 2 % or more, or one of them is zero and the other not. Smaller
+    /// wobbles would wake the console for nothing.
+    fn differs(self, other: RefreshRate) -> bool {
+        let (a, b) = (self.centihertz, other.centihertz);
+        if a == 0 || b == 0 {
+            return a != b;
+        }
+        a.abs_diff(b).saturating_mul(50) >= a.max(b)
+    }
+}
+
+impl fmt::Display for RefreshRate {
+    /// `7.3/s`, `20/s` from 10 a second.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let hz = self.per_second();
+        if hz >= 10.0 {
+            write!(f, "{hz:.0}/s")
+        } else {
+            write!(f, "{hz:.1}/s")
+        }
+    }
+}
+
+/// Rounds of the fast poll items measured over about this long.
+const REFRESH_WINDOW: Duration = Duration::from_secs(2);
+
+/// Counts full rounds of a poll plan's fast items (every one of them
+/// answered once since the last round) and how often they come.
+#[derive(Debug)]
+pub(crate) struct RefreshMeter {
+    /// Whether each item of the plan counts (the fast ones; all of them if
+    /// none is fast).
+    counts: Vec<bool>,
+    /// Items of the round in progress not answered yet.
+    waiting: Vec<bool>,
+    /// When recent rounds were complete, oldest first.
+    rounds: VecDeque<Instant>,
+    /// The rate last published.
+    shown: Option<RefreshRate>,
+}
+
+impl RefreshMeter {
+    pub(crate) fn new(polls: &[StatusPoll]) -> RefreshMeter {
+        let any_fast = polls.iter().any(|p| p.fast);
+        let counts: Vec<bool> = polls.iter().map(|p| p.fast || !any_fast).collect();
+        RefreshMeter {
+            waiting: counts.clone(),
+            counts,
+            rounds: VecDeque::new(),
+            shown: None,
+        }
+    }
+
+    /// Item `index` was answered (`answered`) or failed at `now`. Returns
+    /// the rate to publish when it changed enough to show.
+    pub(crate) fn record(
+        &mut self,
+        index: usize,
+        answered: bool,
+        now: Instant,
+    ) -> Option<RefreshRate> {
+        if answered && let Some(waiting) = self.waiting.get_mut(index) {
+            *waiting = false;
+            if !self.waiting.contains(&true) {
+                self.waiting.clone_from(&self.counts);
+                // After a stall the rounds before it say nothing of now.
+                if self.rate(now) == Some(RefreshRate::ZERO) {
+                    self.rounds.clear();
+                }
+                self.rounds.push_back(now);
+                while self.rounds.len() > 2
+                    && self
+                        .rounds
+                        .front()
+                        .is_some_and(|&first| now.saturating_duration_since(first) > REFRESH_WINDOW)
+                {
+                    self.rounds.pop_front();
+                }
+            }
+        }
+        let rate = self.rate(now)?;
+        let show = self.shown.is_none_or(|shown| shown.differs(rate));
+        show.then(|| {
+            self.shown = Some(rate);
+            rate
+        })
+    }
+
+    /// Rounds a second over the last ones; zero when none has come for
+    /// much longer than they used to take (polls failing).
+    fn rate(&self, now: Instant) -> Option<RefreshRate> {
+        let (&first, &last) = (self.rounds.front()?, self.rounds.back()?);
+        let gaps = u32::try_from(self.rounds.len().checked_sub(1)?).ok()?;
+        if gaps == 0 {
+            return None;
+        }
+        let interval = last.saturating_duration_since(first) / gaps;
+        let stale = REFRESH_WINDOW.max(interval.saturating_mul(3));
+        if now.saturating_duration_since(last) > stale {
+            return Some(RefreshRate::ZERO);
+        }
+        Some(RefreshRate::every(interval))
+    }
 }
 
 impl AxisStatus {
@@ -57,6 +205,7 @@ impl AxisStatus {
                 self.max_speed = self.effective_max_speed();
             }
             AxisUpdate::Reached(v) => self.reached = Some(v),
+            AxisUpdate::Phase(phase) => self.phase = Some(phase),
             AxisUpdate::Switch(SwitchKind::Left, v) => self.left_switch = Some(v),
             AxisUpdate::Switch(SwitchKind::Right, v) => self.right_switch = Some(v),
             AxisUpdate::Switch(SwitchKind::Home, v) => self.home_switch = Some(v),
@@ -107,26 +256,59 @@ pub(crate) fn post(board: &StatusBoard, axis: usize, update: AxisUpdate) {
     });
 }
 
+/// Sets every axis's refresh rate.
+pub(crate) fn post_refresh(board: &StatusBoard, rate: Option<RefreshRate>) {
+    board.send_if_modified(|axes| {
+        let mut changed = false;
+        for status in axes.iter_mut().filter(|s| s.refresh != rate) {
+            status.refresh = rate;
+            changed = true;
+        }
+        changed
+    });
+}
+
 /// Receives the device task's poll results and posts them.
 pub(crate) struct StatusSink {
     pub family: &'static Family,
     pub polls: Vec<StatusPoll>,
     pub board: StatusBoard,
+    pub meter: RefreshMeter,
+}
+
+impl StatusSink {
+    pub(crate) fn new(family: &'static Family, polls: Vec<StatusPoll>, board: StatusBoard) -> Self {
+        StatusSink {
+            meter: RefreshMeter::new(&polls),
+            family,
+            polls,
+            board,
+        }
+    }
+
+    /// The reading of item `index`, if it answered with one.
+    fn post_reading(&self, index: usize, result: Result<&Answer, &DeviceError>) -> bool {
+        // A failed poll leaves the last known values: the link state tells
+        // the user the link is gone, and the next poll tries again.
+        let (Some(poll), Ok(answer)) = (self.polls.get(index), result) else {
+            return false;
+        };
+        let console = self.family.console;
+        let Ok(reading) = console.interpret(&poll.line, &answer.frames) else {
+            return false;
+        };
+        for (axis, update) in console.status_update(&poll.line, &reading) {
+            post(&self.board, axis, update);
+        }
+        true
+    }
 }
 
 impl PollSink for StatusSink {
     fn record(&mut self, index: usize, result: Result<&Answer, &DeviceError>) {
-        // A failed poll leaves the last known values: the link state tells
-        // the user the link is gone, and the next poll tries again.
-        let (Some(poll), Ok(answer)) = (self.polls.get(index), result) else {
-            return;
-        };
-        let console = self.family.console;
-        let Ok(reading) = console.interpret(&poll.line, &answer.frames) else {
-            return;
-        };
-        for (axis, update) in console.status_update(&poll.line, &reading) {
-            post(&self.board, axis, update);
+        let answered = self.post_reading(index, result);
+        if let Some(rate) = self.meter.record(index, answered, Instant::now()) {
+            post_refresh(&self.board, Some(rate));
         }
     }
 }
@@ -160,14 +342,7 @@ mod tests {
         let family = find_family("tmcl").expect("tmcl");
         let polls = family.console.status_queries(1);
         let (board, status) = watch::channel(vec![AxisStatus::default()]);
-        (
-            StatusSink {
-                family,
-                polls,
-                board: Arc::new(board),
-            },
-            status,
-        )
+        (StatusSink::new(family, polls, Arc::new(board)), status)
     }
 
     fn index_of(sink: &StatusSink, canonical: &str) -> usize {
@@ -261,6 +436,94 @@ mod tests {
         let mut fresh = AxisStatus::default();
         fresh.apply(AxisUpdate::GlobalMaxSpeed(100));
         assert_eq!(fresh.max_speed, Some(100), "until its own is read");
+    }
+
+    /// A meter over `fast` fast items and one slow item (the last).
+    fn meter(fast: usize) -> RefreshMeter {
+        let family = find_family("tmcl").expect("tmcl");
+        let any = family.console.status_queries(1).remove(0);
+        let polls: Vec<StatusPoll> = (0..=fast)
+            .map(|i| StatusPoll {
+                fast: i < fast,
+                ..any.clone()
+            })
+            .collect();
+        RefreshMeter::new(&polls)
+    }
+
+    /// Answer every fast item once, the round ending at `at`.
+    fn round(meter: &mut RefreshMeter, fast: usize, at: Instant) -> Option<RefreshRate> {
+        (0..fast).fold(None, |_, i| meter.record(i, true, at))
+    }
+
+    #[test]
+    fn a_refresh_is_every_fast_item_answered_once() {
+        let mut m = meter(3);
+        let t0 = Instant::now();
+        let ms = Duration::from_millis;
+        assert_eq!(round(&mut m, 3, t0), None, "one round is no rate yet");
+        // The slow item and two of three fast ones: no round yet.
+        assert_eq!(m.record(3, true, t0 + ms(50)), None);
+        assert_eq!(m.record(0, true, t0 + ms(60)), None);
+        assert_eq!(m.record(0, true, t0 + ms(70)), None);
+        assert_eq!(m.record(1, true, t0 + ms(80)), None);
+        // A failed poll does not count.
+        assert_eq!(m.record(2, false, t0 + ms(90)), None);
+        let rate = m.record(2, true, t0 + ms(125));
+        assert_eq!(rate, Some(RefreshRate::every(ms(125))));
+        assert_eq!(rate.map(RefreshRate::per_second), Some(8.0));
+        // Steady rounds every 125 ms: nothing new to show.
+        for k in 2..10 {
+            assert_eq!(round(&mut m, 3, t0 + ms(125 * k)), None);
+        }
+        // Faster: shown as the average over the last 2 s moves, in steps
+        // of 2 % or more, until it settles.
+        let mut shown = Vec::new();
+        for k in 1..=30 {
+            shown.extend(round(&mut m, 3, t0 + ms(1125 + 100 * k)));
+        }
+        let shown: Vec<String> = shown.iter().map(ToString::to_string).collect();
+        assert!(shown.len() > 2, "{shown:?}");
+        assert_eq!(shown.last().map(String::as_str), Some("10/s"), "{shown:?}");
+    }
+
+    #[test]
+    fn failing_polls_bring_the_rate_to_zero() {
+        let mut m = meter(1);
+        let t0 = Instant::now();
+        let ms = Duration::from_millis;
+        m.record(0, true, t0);
+        assert!(m.record(0, true, t0 + ms(100)).is_some());
+        assert_eq!(m.record(0, false, t0 + ms(1000)), None, "not stale yet");
+        assert_eq!(
+            m.record(0, false, t0 + ms(2200)),
+            Some(RefreshRate::ZERO),
+            "nothing came back for longer than the window"
+        );
+        // Answers again: the rounds before the stall do not count.
+        assert_eq!(m.record(0, true, t0 + ms(2300)), None);
+        assert_eq!(
+            m.record(0, true, t0 + ms(2400)).map(|r| r.to_string()),
+            Some("10/s".into())
+        );
+    }
+
+    #[test]
+    fn rates_read_with_sensible_precision() {
+        let rate = |ms| RefreshRate::every(Duration::from_millis(ms)).to_string();
+        assert_eq!(rate(137), "7.3/s");
+        assert_eq!(rate(50), "20/s");
+        assert_eq!(rate(0), "0.0/s");
+        assert_eq!(
+            RefreshRate::every(Duration::MAX).to_string(),
+            "0.0/s",
+            "never panics"
+        );
+        assert!(
+            !RefreshRate::every(Duration::from_millis(100))
+                .differs(RefreshRate::every(Duration::from_millis(101)))
+        );
+        assert!(RefreshRate::ZERO.differs(RefreshRate::every(Duration::from_secs(100))));
     }
 
     #[test]

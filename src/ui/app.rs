@@ -37,6 +37,55 @@ use crate::protocol::Family;
 use crate::session::program::{Cancel, Progress, TransferError};
 use crate::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
 
+/// How long the loop lets traffic gather before it hands it to the panes:
+/// status polling alone sends a hundred or more frames a second, and
+/// waking the loop for each cost more than everything else an idle
+/// console does. The first frame after a quiet spell is handed on at once;
+/// the traffic monitor redraws no more often than this anyway
+/// ([`super::traffic::REFRESH`]).
+pub const TRAFFIC_BATCH: Duration = super::traffic::REFRESH;
+
+/// How long traffic may gather while the traffic monitor is not on screen
+/// (it keeps recording behind its tab): the pause doubles from
+/// [`TRAFFIC_BATCH`] up to this while frames keep coming.
+pub const TRAFFIC_BATCH_HIDDEN: Duration = Duration::from_secs(1);
+
+/// Records a pause may let gather at the rate last seen: a quarter of the
+/// device's traffic stream ([`crate::device::TRAFFIC_CAPACITY`]), so that
+/// a fast transfer shortens the pause before the stream overflows.
+pub const TRAFFIC_HEADROOM: usize = crate::device::TRAFFIC_CAPACITY / 4;
+
+/// The pane that shows traffic (see [`App::is_on_screen`]).
+const TRAFFIC_PANE: &str = "traffic";
+
+/// The pause after a batch of `taken` records gathered over `seen`:
+/// [`TRAFFIC_BATCH`] after a quiet spell (`fresh`), else twice the last
+/// one, at most `longest`, and never so long that [`TRAFFIC_HEADROOM`]
+/// records would come at the rate just seen.
+pub fn traffic_pause(
+    fresh: bool,
+    last: Duration,
+    longest: Duration,
+    taken: usize,
+    seen: Duration,
+) -> Duration {
+    let pause = if fresh {
+        TRAFFIC_BATCH
+    } else {
+        last.saturating_mul(2)
+    }
+    .min(longest);
+    let Ok(taken) = u32::try_from(taken) else {
+        return Duration::from_millis(1);
+    };
+    if taken == 0 {
+        return pause;
+    }
+    let headroom = u32::try_from(TRAFFIC_HEADROOM).unwrap_or(u32::MAX);
+    let safe = seen.saturating_mul(headroom) / taken;
+    pause.min(safe).max(Duration::from_millis(1))
+}
+
 /// Below this many rows (or columns) for the panes, every pane is a tab of
 /// one region.
 pub const TILE_MIN_HEIGHT: u16 = 16;
@@ -497,6 +546,14 @@ impl App {
         true
     }
 
+    /// Whether the pane called `name` was on the screen at the last draw.
+    pub fn is_on_screen(&self, name: &str) -> bool {
+        self.panes
+            .iter()
+            .position(|p| p.name() == name)
+            .is_some_and(|index| self.is_shown(index))
+    }
+
     /// Whether `pane` was on the screen at the last draw (before the
     /// first draw, every pane counts as shown).
     fn is_shown(&self, pane: usize) -> bool {
@@ -737,14 +794,10 @@ impl App {
                     format!("{} #{} {state} │ ", s.link_name, s.address),
                     bar,
                 ));
-                let poll = match s.poll {
-                    Some(c) if !c.fast.is_zero() => {
-                        format!("poll {} Hz │ ", rate_of(c.fast))
-                    }
-                    Some(_) => "poll max │ ".to_string(),
-                    None => "poll off │ ".to_string(),
-                };
-                spans.push(Span::styled(poll, bar));
+                spans.push(Span::styled(
+                    format!("{} │ ", super::axes::poll_text(s)),
+                    bar,
+                ));
                 if let Some(axis) = s.selected_axis().filter(|_| s.axes.len() > 1) {
                     spans.push(Span::styled(format!("axis {} │ ", axis.name), bar));
                 }
@@ -848,6 +901,18 @@ pub trait Controller: Send + Sync {
     fn emergency_stop(&self) -> Pending<Vec<Result<LineResult, SessionError>>>;
     fn set_polling(&self, cadence: Option<PollCadence>);
     fn acknowledge_errors(&self, axis: usize, seen: &[AxisFlag]);
+    /// Clear the error flags of `axis` in the module where its family
+    /// needs a line for that (CMD-4CR `CLRX`), then forget those the user
+    /// has seen; what the clear line brought back, if one was sent. By
+    /// default only forgets them.
+    fn clear_errors(
+        &self,
+        axis: usize,
+        seen: Vec<AxisFlag>,
+    ) -> Pending<Result<Option<LineResult>, SessionError>> {
+        self.acknowledge_errors(axis, &seen);
+        Box::pin(async { Ok(None) })
+    }
     /// The same link, sending to another module address.
     fn with_address(&self, address: u8) -> Arc<dyn Controller>;
     /// Run a program transfer, telling `progress` how far it came;
@@ -876,6 +941,13 @@ struct Connection {
     link: watch::Receiver<LinkState>,
     identity: watch::Receiver<Option<String>>,
     traffic: Option<broadcast::Receiver<TrafficRecord>>,
+    /// Traffic is taken in batches: after a batch, none is taken before
+    /// this (see [`TRAFFIC_BATCH`]); `None`: the next record wakes the
+    /// loop.
+    traffic_after: Option<tokio::time::Instant>,
+    /// The last pause, and when traffic was last taken.
+    traffic_pause: Duration,
+    traffic_taken: tokio::time::Instant,
     events: Option<broadcast::Receiver<DeviceEvent>>,
     poll: Option<PollCadence>,
 }
@@ -888,6 +960,9 @@ impl Connection {
             link: controller.link_state(),
             identity: controller.identity(),
             traffic: controller.traffic(),
+            traffic_after: None,
+            traffic_pause: TRAFFIC_BATCH,
+            traffic_taken: tokio::time::Instant::now(),
             events: controller.events(),
             controller,
             poll,
@@ -917,6 +992,8 @@ enum Wakeup {
     Changed,
     ChannelGone,
     Traffic(Result<TrafficRecord, broadcast::error::RecvError>),
+    /// The pause after a batch of traffic is over.
+    TrafficDue,
     Device(Result<DeviceEvent, broadcast::error::RecvError>),
     Internal(Option<AppEvent>),
     Connected(Result<Arc<dyn Controller>, String>),
@@ -1059,15 +1136,15 @@ struct Runner {
 /// Drives an [`App`] until it quits: `input` carries terminal events,
 /// `extra` anything else (signals, start-up notices), `draw` paints the
 /// app (it is called only when something changed). The session's watch
-/// channels and broadcast streams, the replies and the timers all wake the
-/// loop; nothing else does.
+/// channels and event stream, the replies and the timers wake the loop,
+/// and traffic at most once per [`TRAFFIC_BATCH`]; nothing else does.
 pub async fn run(
     app: &mut App,
     controller: Option<Arc<dyn Controller>>,
     connector: Connector,
     mut input: mpsc::UnboundedReceiver<TermEvent>,
     extra: Option<mpsc::UnboundedReceiver<AppEvent>>,
-    draw: &mut dyn FnMut(&mut App) -> std::io::Result<()>,
+    draw: &mut (dyn FnMut(&mut App) -> std::io::Result<()> + Send),
 ) -> std::io::Result<()> {
     let (internal, mut internal_rx) = mpsc::unbounded_channel::<AppEvent>();
     if let Some(mut extra) = extra {
@@ -1100,11 +1177,17 @@ pub async fn run(
         if app.needs_redraw() {
             draw(app)?;
         }
-        let wakeup = runner.wait(&mut input, &mut internal_rx).await;
-        let Some(event) = runner.event(app, wakeup) else {
-            continue;
-        };
-        runner.handle(app, event);
+        let traffic_shown = app.is_on_screen(TRAFFIC_PANE);
+        let wakeup = runner
+            .wait(&mut input, &mut internal_rx, traffic_shown)
+            .await;
+        let traffic = matches!(wakeup, Wakeup::Traffic(Ok(_)) | Wakeup::TrafficDue);
+        if let Some(event) = runner.event(app, wakeup) {
+            runner.handle(app, event);
+        }
+        if traffic {
+            runner.take_traffic(app, traffic_shown);
+        }
     }
     if let Some(log) = runner.log.take() {
         log.stop();
@@ -1127,6 +1210,7 @@ impl Runner {
         &mut self,
         input: &mut mpsc::UnboundedReceiver<TermEvent>,
         internal: &mut mpsc::UnboundedReceiver<AppEvent>,
+        traffic_shown: bool,
     ) -> Wakeup {
         let connecting = &mut self.connecting;
         let connect = async {
@@ -1142,10 +1226,23 @@ impl Runner {
                 result = connect => Wakeup::Connected(result),
             };
         };
+        // The traffic monitor brought to the front waits no longer than
+        // its refresh for the frames that gathered behind its tab.
+        let traffic_after = c.traffic_after.map(|at| {
+            if traffic_shown {
+                at.min(c.traffic_taken + TRAFFIC_BATCH)
+            } else {
+                at
+            }
+        });
         let traffic = async {
-            match c.traffic.as_mut() {
-                Some(rx) => rx.recv().await,
-                None => std::future::pending().await,
+            match (c.traffic.as_mut(), traffic_after) {
+                (Some(_), Some(at)) => {
+                    tokio::time::sleep_until(at).await;
+                    Wakeup::TrafficDue
+                }
+                (Some(rx), None) => Wakeup::Traffic(rx.recv().await),
+                (None, _) => std::future::pending().await,
             }
         };
         let events = async {
@@ -1165,7 +1262,7 @@ impl Runner {
             changed = c.status.changed() => gone(changed),
             changed = c.link.changed() => gone(changed),
             changed = c.identity.changed() => gone(changed),
-            record = traffic => Wakeup::Traffic(record),
+            wakeup = traffic => wakeup,
             event = events => Wakeup::Device(event),
         }
     }
@@ -1184,6 +1281,7 @@ impl Runner {
                 AppEvent::Disconnected
             }
             Wakeup::Traffic(Ok(record)) => AppEvent::Traffic(record),
+            Wakeup::TrafficDue => return None,
             Wakeup::Device(Ok(event)) => AppEvent::Device(event),
             Wakeup::Traffic(Err(broadcast::error::RecvError::Closed))
             | Wakeup::Device(Err(broadcast::error::RecvError::Closed)) => {
@@ -1215,6 +1313,58 @@ impl Runner {
                 }
             }
         })
+    }
+
+    /// Hand the panes every traffic record waiting, and pause before
+    /// taking more if there were any ([`traffic_pause`]; otherwise the
+    /// next record wakes the loop at once).
+    fn take_traffic(&mut self, app: &mut App, traffic_shown: bool) {
+        let Some(c) = self.connection.as_mut() else {
+            return;
+        };
+        let woken_by_a_record = c.traffic_after.is_none();
+        let mut records = Vec::new();
+        let mut closed = false;
+        if let Some(rx) = c.traffic.as_mut() {
+            loop {
+                match rx.try_recv() {
+                    Ok(record) => records.push(record),
+                    // Missed by a pane that could not keep up; read on.
+                    Err(broadcast::error::TryRecvError::Lagged(_)) => {}
+                    Err(broadcast::error::TryRecvError::Empty) => break,
+                    Err(broadcast::error::TryRecvError::Closed) => {
+                        closed = true;
+                        break;
+                    }
+                }
+            }
+        }
+        let now = tokio::time::Instant::now();
+        c.traffic_after = if woken_by_a_record || !records.is_empty() {
+            let longest = if traffic_shown {
+                TRAFFIC_BATCH
+            } else {
+                TRAFFIC_BATCH_HIDDEN
+            };
+            c.traffic_pause = traffic_pause(
+                woken_by_a_record,
+                c.traffic_pause,
+                longest,
+                records.len(),
+                now.saturating_duration_since(c.traffic_taken),
+            );
+            Some(now + c.traffic_pause)
+        } else {
+            None
+        };
+        c.traffic_taken = now;
+        if closed {
+            c.traffic = None;
+            c.traffic_after = None;
+        }
+        for record in records {
+            self.handle(app, AppEvent::Traffic(record));
+        }
     }
 
     /// Let go of the connection: no polling, no log.
@@ -1309,9 +1459,29 @@ impl Runner {
                 self.connection = Some(fresh);
             }
             Effect::ClearErrors { axis, seen } => {
-                if let Some(c) = self.connection.as_ref() {
-                    c.controller.acknowledge_errors(axis, &seen);
-                }
+                let Some(c) = self.connection.as_ref() else {
+                    return;
+                };
+                let name = app
+                    .snapshot()
+                    .and_then(|s| s.axes.get(axis))
+                    .map_or_else(|| format!("axis {axis}"), |a| a.name.to_string());
+                let clearing = c.controller.clear_errors(axis, seen);
+                let tx = self.internal.clone();
+                // Among the lines the emergency stop drops if still waiting.
+                self.sending.push(tokio::spawn(async move {
+                    let notice = match clearing.await {
+                        Ok(None) => return,
+                        Ok(Some(result)) => Notice::info(format!(
+                            "{}: {}, the error flags of {name} are cleared in the controller",
+                            result.line, result.value
+                        )),
+                        Err(e) => Notice::error(format!(
+                            "the error flags of {name} stay: clearing them failed: {e}"
+                        )),
+                    };
+                    let _ = tx.send(AppEvent::Notice(notice));
+                }));
             }
             Effect::Log(path) => {
                 if let Some(log) = self.log.take() {
@@ -1738,6 +1908,64 @@ mod tests {
         let reading = |n| at(Phase::Reading, n, None);
         assert!(!worth_showing(Some(&reading(0)), &reading(15)));
         assert!(worth_showing(Some(&reading(0)), &reading(16)));
+    }
+
+    /// The console's loop runs as a task of its own (see `live`): the app,
+    /// its panes and the drawing are `Send`.
+    #[tokio::test(start_paused = true)]
+    async fn the_loop_runs_as_a_spawned_task() {
+        let mut app = three();
+        let (_keys, input) = mpsc::unbounded_channel();
+        let (extra, extra_rx) = mpsc::unbounded_channel();
+        let connector: Connector = Box::new(|_| Box::pin(async { Err("none".to_string()) }));
+        let mut terminal = Terminal::new(TestBackend::new(80, 24)).expect("backend");
+        let (drawn, mut frames) = mpsc::unbounded_channel();
+        let looping = tokio::spawn(async move {
+            let mut draw = |app: &mut App| -> std::io::Result<()> {
+                let Ok(_) = terminal.draw(|f| app.render(f));
+                let _ = drawn.send(());
+                Ok(())
+            };
+            run(&mut app, None, connector, input, Some(extra_rx), &mut draw).await
+        });
+        assert_eq!(frames.recv().await, Some(()), "the first frame");
+        let _ = extra.send(AppEvent::Terminate);
+        assert!(matches!(looping.await, Ok(Ok(()))));
+    }
+
+    #[test]
+    fn traffic_pauses_grow_while_frames_come_and_shrink_when_they_pour_in() {
+        let ms = Duration::from_millis;
+        let longest = TRAFFIC_BATCH_HIDDEN;
+        // After a quiet spell: the monitor's refresh.
+        assert_eq!(
+            traffic_pause(true, ms(800), longest, 1, ms(5000)),
+            TRAFFIC_BATCH
+        );
+        // Then doubling up to the longest.
+        assert_eq!(traffic_pause(false, ms(100), longest, 4, ms(100)), ms(200));
+        assert_eq!(traffic_pause(false, ms(800), longest, 32, ms(800)), longest);
+        assert_eq!(
+            traffic_pause(false, ms(100), TRAFFIC_BATCH, 4, ms(100)),
+            TRAFFIC_BATCH
+        );
+        // A transfer pouring frames in: short enough that the stream
+        // cannot fill.
+        let pause = traffic_pause(false, ms(100), longest, TRAFFIC_HEADROOM * 2, ms(100));
+        assert_eq!(pause, ms(50));
+        // Nonsense never panics.
+        assert_eq!(
+            traffic_pause(
+                false,
+                Duration::MAX,
+                Duration::MAX,
+                usize::MAX,
+                Duration::MAX
+            ),
+            ms(1)
+        );
+        assert_eq!(traffic_pause(false, ms(100), longest, 0, ms(0)), ms(200));
+        assert_eq!(traffic_pause(false, ms(100), longest, 9, ms(0)), ms(1));
     }
 
     #[test]

@@ -1,7 +1,10 @@
 //! The axis status pane: per axis, live from the session's snapshots,
 //! position against target, speed against the maximum speed, the ramp
-//! state and the reached flag, the switch lamps, the load gauge and the
-//! latched error flags (cleared with `c`, or `:clear`).
+//! state (as the module reports it, else read from the speed) and the
+//! reached flag, the switch lamps, the load gauge or the family's lamps
+//! (CMD-4CR: the MST inputs and waits) and the latched error flags
+//! (cleared with F8, or `:clear`). The title and the status bar show the
+//! poll rate asked for and the full refreshes a second the link gives.
 //!
 //! Positions and speeds show as the module counts them, or (the units key,
 //! where the family converts them) in real-world units: the parameters a
@@ -26,7 +29,7 @@ use super::keymap::{Action, Context};
 use super::pane::{Input, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View, key_label};
 use super::theme::{Role, Theme};
 use crate::device::LinkState;
-use crate::protocol::console::{LoadScale, ReplyValue};
+use crate::protocol::console::{AxisFlag, LoadScale, MotionPhase, ReplyValue};
 use crate::protocol::parameters::{ParamOp, ParameterSet, Scope, SpeedUnit, StatusQuantity};
 use crate::session::{AxisInfo, AxisStatus};
 
@@ -76,6 +79,20 @@ impl Ramp {
             Ramp::Cruising => "cruise",
             Ramp::Constant => "const",
             Ramp::Decelerating => "decel",
+        }
+    }
+
+    /// The ramp state a module reports; a constant speed is the maximum
+    /// one when the speed read equals it.
+    pub fn from_phase(phase: MotionPhase, speed: Option<i64>, max: Option<i64>) -> Ramp {
+        match phase {
+            MotionPhase::Standing => Ramp::Standing,
+            MotionPhase::Accelerating => Ramp::Accelerating,
+            MotionPhase::Decelerating => Ramp::Decelerating,
+            MotionPhase::Constant => match (speed, max) {
+                (Some(s), Some(m)) if s.unsigned_abs() == m.unsigned_abs() => Ramp::Cruising,
+                _ => Ramp::Constant,
+            },
         }
     }
 
@@ -329,7 +346,12 @@ impl AxesPane {
         }
     }
 
+    /// What the axis is doing: as the module says where it does (CMD-4CR
+    /// MST), else read from how its speed changes.
     fn ramp(&self, index: usize, status: &AxisStatus) -> Ramp {
+        if let Some(phase) = status.phase {
+            return Ramp::from_phase(phase, status.speed, status.max_speed);
+        }
         self.memory
             .get(index)
             .and_then(|m| m.ramp)
@@ -438,7 +460,7 @@ impl AxesPane {
             theme.style(Role::Normal),
         ));
 
-        // Row 3: switches, load, errors.
+        // Row 3: switches, load (or the family's lamps), errors.
         let mut row3 = vec![Span::raw(" ".repeat(label_width))];
         for (on, name) in [
             (status.left_switch, "L"),
@@ -448,19 +470,32 @@ impl AxesPane {
             row3.extend(switch_lamp(theme, on, name));
             row3.push(Span::raw(" "));
         }
-        row3.push(Span::styled(" load ", theme.style(Role::Muted)));
-        let load_fraction = match (status.load, scale) {
-            (Some(v), Some(s)) if s.full_scale > 0 => {
-                let f = (v as f64 / s.full_scale as f64).clamp(0.0, 1.0);
-                Some(if s.zero_is_highest { 1.0 - f } else { f })
-            }
-            _ => None,
-        };
-        row3.extend(gauge(theme, load_fraction, None, 10));
-        row3.push(Span::styled(
-            format!(" {:>5}  ", number(status.load)),
-            theme.style(Role::Normal),
-        ));
+        let lamps = family_lamps(view);
+        if scale.is_some() || lamps.is_empty() {
+            row3.push(Span::styled(" load ", theme.style(Role::Muted)));
+            let load_fraction = match (status.load, scale) {
+                (Some(v), Some(s)) if s.full_scale > 0 => {
+                    let f = (v as f64 / s.full_scale as f64).clamp(0.0, 1.0);
+                    Some(if s.zero_is_highest { 1.0 - f } else { f })
+                }
+                _ => None,
+            };
+            row3.extend(gauge(theme, load_fraction, None, 10));
+            row3.push(Span::styled(
+                format!(" {:>5}  ", number(status.load)),
+                theme.style(Role::Normal),
+            ));
+        } else {
+            row3.push(Span::raw(" "));
+        }
+        for flag in lamps {
+            let on = status.driver_flags.as_ref().map(|lit| lit.contains(flag));
+            row3.extend(switch_lamp_styled(theme, on, flag.name, Role::LampOn));
+            row3.push(Span::raw(" "));
+        }
+        if !lamps.is_empty() {
+            row3.push(Span::raw(" "));
+        }
         row3.extend(error_spans(view, status));
         vec![Line::from(row1), Line::from(row2), Line::from(row3)]
     }
@@ -514,13 +549,37 @@ impl AxesPane {
         ] {
             spans.extend(switch_lamp(theme, on, name));
         }
-        spans.push(Span::styled(
-            format!(" ld {} ", number(status.load)),
-            theme.style(Role::Normal),
-        ));
+        let lamps = family_lamps(view);
+        let has_load = view
+            .session
+            .is_some_and(|s| s.family.console.load_scale().is_some());
+        if has_load || lamps.is_empty() {
+            spans.push(Span::styled(
+                format!(" ld {} ", number(status.load)),
+                theme.style(Role::Normal),
+            ));
+        } else {
+            spans.push(Span::raw(" "));
+            // No room for every lamp on one row: the lit ones.
+            for flag in status.driver_flags.iter().flatten() {
+                spans.extend(switch_lamp_styled(
+                    theme,
+                    Some(true),
+                    flag.name,
+                    Role::LampOn,
+                ));
+                spans.push(Span::raw(" "));
+            }
+        }
         spans.extend(error_spans(view, status));
         Line::from(spans)
     }
+}
+
+/// The lamps of the connected family (none for TMCL, whose driver flags
+/// are listed as text).
+fn family_lamps(view: &View) -> &'static [AxisFlag] {
+    view.session.map_or(&[], |s| s.family.console.lamps())
 }
 
 fn error_spans(view: &View, status: &AxisStatus) -> Vec<Span<'static>> {
@@ -540,7 +599,12 @@ fn error_spans(view: &View, status: &AxisStatus) -> Vec<Span<'static>> {
             theme.style(Role::Muted),
         ));
     }
-    if let Some(flags) = status.driver_flags.as_ref().filter(|f| !f.is_empty()) {
+    let listed = family_lamps(view).is_empty();
+    if let Some(flags) = status
+        .driver_flags
+        .as_ref()
+        .filter(|f| listed && !f.is_empty())
+    {
         let names: Vec<&str> = flags.iter().map(|f| f.name).collect();
         spans.push(Span::styled(
             format!("  drv {}", names.join(", ")),
@@ -548,6 +612,26 @@ fn error_spans(view: &View, status: &AxisStatus) -> Vec<Span<'static>> {
         ));
     }
     spans
+}
+
+/// The poll rate asked for and, once measured, the full status
+/// refreshes a second the link really gives (`poll 20 Hz → 7.3/s`): on a
+/// slow line the second is what the gauges show.
+pub fn poll_text(session: &Snapshot) -> String {
+    let asked = match session.poll {
+        Some(c) if !c.fast.is_zero() => format!("poll {} Hz", super::app::rate_of(c.fast)),
+        Some(_) => "poll max".into(),
+        None => return "poll off".into(),
+    };
+    let refresh = session
+        .status
+        .get(session.axis)
+        .or(session.status.first())
+        .and_then(|s| s.refresh);
+    match refresh {
+        Some(rate) => format!("{asked} → {rate}"),
+        None => asked,
+    }
 }
 
 fn number(value: Option<i64>) -> String {
@@ -619,8 +703,18 @@ fn lamp(theme: &Theme, on: bool, alarm: bool, label: &str) -> Vec<Span<'static>>
 
 /// A switch lamp: its letter, lit when the switch is active.
 fn switch_lamp(theme: &Theme, on: Option<bool>, name: &str) -> Vec<Span<'static>> {
+    switch_lamp_styled(theme, on, name, Role::LampAlarm)
+}
+
+/// A named lamp, lit in `lit` when on; `None`: not read yet.
+fn switch_lamp_styled(
+    theme: &Theme,
+    on: Option<bool>,
+    name: &str,
+    lit: Role,
+) -> Vec<Span<'static>> {
     let (symbol, role) = match on {
-        Some(true) => ("●", Role::LampAlarm),
+        Some(true) => ("●", lit),
         Some(false) => ("○", Role::LampOff),
         None => ("·", Role::Muted),
     };
@@ -658,11 +752,7 @@ impl Pane for AxesPane {
             LinkState::Disconnected { reason, .. } => format!("link lost: {reason}"),
             LinkState::Closed => "closed".into(),
         };
-        let poll = match s.poll {
-            Some(c) if !c.fast.is_zero() => format!("poll {} Hz", super::app::rate_of(c.fast)),
-            Some(_) => "poll max".into(),
-            None => "poll off".into(),
-        };
+        let poll = poll_text(s);
         let identity = s
             .identity
             .as_ref()
@@ -879,6 +969,44 @@ mod tests {
         assert_eq!(
             Ramp::from_speeds(Some(60), Some(20), Some(100)),
             Ramp::Decelerating
+        );
+    }
+
+    #[test]
+    fn a_phase_the_module_reports_wins_over_the_speed_trend() {
+        use MotionPhase::*;
+        assert_eq!(
+            Ramp::from_phase(Standing, Some(5), Some(100)),
+            Ramp::Standing
+        );
+        assert_eq!(
+            Ramp::from_phase(Accelerating, Some(100), Some(100)),
+            Ramp::Accelerating
+        );
+        assert_eq!(
+            Ramp::from_phase(Decelerating, None, None),
+            Ramp::Decelerating
+        );
+        assert_eq!(
+            Ramp::from_phase(Constant, Some(-100), Some(100)),
+            Ramp::Cruising
+        );
+        assert_eq!(
+            Ramp::from_phase(Constant, Some(60), Some(100)),
+            Ramp::Constant
+        );
+        assert_eq!(Ramp::from_phase(Constant, None, Some(100)), Ramp::Constant);
+        let pane = AxesPane::new();
+        let status = AxisStatus {
+            speed: Some(10),
+            max_speed: Some(100),
+            phase: Some(Decelerating),
+            ..AxisStatus::default()
+        };
+        assert_eq!(
+            pane.ramp(0, &status),
+            Ramp::Decelerating,
+            "speed rose from nothing"
         );
     }
 

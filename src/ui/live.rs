@@ -99,12 +99,21 @@ impl Controller for SessionController {
         self.session.acknowledge_errors(axis, seen);
     }
 
+    fn clear_errors(
+        &self,
+        axis: usize,
+        seen: Vec<AxisFlag>,
+    ) -> Pending<Result<Option<LineResult>, SessionError>> {
+        let session = self.session.clone();
+        Box::pin(async move { session.clear_errors(axis, &seen).await })
+    }
+
     fn with_address(&self, address: u8) -> Arc<dyn Controller> {
         let options = SessionOptions {
             address: Some(address),
             ..self.options.clone()
         };
-        let session = Session::new(self.session.device().clone(), self.family(), &options);
+        let session = self.session.at_address(address);
         identify_later(&session);
         Arc::new(SessionController::new(
             session,
@@ -199,16 +208,29 @@ pub async fn run_terminal(
         // `axterm` alone: choose a connection first.
         app.focus("connect");
     }
-    let result = app::run(
-        &mut app,
-        controller,
-        connector,
-        input,
-        Some(signals),
-        &mut |app: &mut App| terminal.draw(|frame| app.render(frame)).map(|_| ()),
-    )
-    .await;
-    drop(terminal);
+    // The loop runs as a task of its own, not as the runtime's main
+    // future: waking the main future from a task goes through the
+    // runtime's wake-up file descriptor (a write and another epoll round)
+    // every time, where waking a task costs no system call at all.
+    let looping = tokio::spawn(async move {
+        app::run(
+            &mut app,
+            controller,
+            connector,
+            input,
+            Some(signals),
+            &mut |app: &mut App| terminal.draw(|frame| app.render(frame)).map(|_| ()),
+        )
+        .await
+    });
+    let result = match looping.await {
+        Ok(result) => result,
+        // A bug in the loop: the panic hook has given the terminal back
+        // and printed the message; it goes on as the panic it is (exit
+        // code 101), as it did before the loop became a task.
+        Err(e) if e.is_panic() => std::panic::resume_unwind(e.into_panic()),
+        Err(e) => Err(io::Error::other(format!("the console loop failed: {e}"))),
+    };
     drop(guard);
     result
 }

@@ -283,7 +283,7 @@ impl Outcome {
 
 /// One pane of the console. See the module documentation of [`crate::ui`]
 /// for how a pane is added.
-pub trait Pane {
+pub trait Pane: Send {
     /// A short stable name: what [`Request::Focus`] names ("command",
     /// "axes", "params").
     fn name(&self) -> &'static str;

@@ -476,10 +476,11 @@ impl ParamsPane {
                 {
                     run.written += 1;
                 }
+                let place = Self::parameters(view).map_or("EEPROM", |p| p.store_place());
                 let done = match op {
-                    ParamOp::Store => "stored in EEPROM",
-                    ParamOp::Restore => "restored from EEPROM",
-                    _ => "ok",
+                    ParamOp::Store => format!("stored in {place}"),
+                    ParamOp::Restore => format!("restored from {place}"),
+                    _ => "ok".into(),
                 };
                 if job.purpose == Purpose::User {
                     self.set_message(Role::Ok, format!("{}: {done}", r.line));
@@ -999,16 +1000,34 @@ impl ParamsPane {
         }
     }
 
-    fn physical_text(&self, row: &ParamRow, view: &View) -> String {
+    /// The real-world value of a row, else its note if that fits `width`
+    /// (a longer one shows under the table for the selected row).
+    fn physical_text(&self, row: &ParamRow, view: &View, width: usize) -> String {
         let (Some(parameters), Some(Cell::Value(v))) = (
             Self::parameters(view),
             self.values.get(&(row.scope, row.number)),
         ) else {
             return String::new();
         };
-        parameters
-            .physical(row, *v, self.unit, &self.axis_value(row.scope))
-            .map_or_else(String::new, |p| p.to_string())
+        if let Some(p) = parameters.physical(row, *v, self.unit, &self.axis_value(row.scope)) {
+            return p.to_string();
+        }
+        self.note(row, view)
+            .filter(|note| note.chars().count() <= width)
+            .unwrap_or_default()
+    }
+
+    /// What the family says a row's value means beyond its number (a
+    /// per-axis speed of 0: the global one; a bit word: its fields).
+    fn note(&self, row: &ParamRow, view: &View) -> Option<String> {
+        let Some(Cell::Value(v)) = self.values.get(&(row.scope, row.number)) else {
+            return None;
+        };
+        let value_of = |scope: Scope, number: u16| match self.values.get(&(scope, number)) {
+            Some(Cell::Value(v)) => Some(*v),
+            _ => None,
+        };
+        Self::parameters(view)?.value_note(row, *v, &value_of)
     }
 
     fn row_line(
@@ -1031,7 +1050,10 @@ impl ParamsPane {
         let on = |role: Role| {
             if selected { base } else { theme.style(role) }
         };
-        let mut spans = vec![Span::styled(format!("{:>4} ", row.number), on(Role::Muted))];
+        let mut spans = vec![Span::styled(
+            format!("{:>w$} ", row.number, w = columns.number),
+            on(Role::Muted),
+        )];
         spans.extend(name_spans(
             &row.name,
             &self.filter,
@@ -1046,7 +1068,7 @@ impl ParamsPane {
             on(Role::Muted),
         ));
         if columns.real > 0 {
-            let real = self.physical_text(row, view);
+            let real = self.physical_text(row, view, columns.real);
             spans.push(Span::styled(
                 format!(" {:>w$}", fit(&real, columns.real), w = columns.real),
                 on(Role::Accent),
@@ -1073,7 +1095,13 @@ impl ParamsPane {
     }
 
     fn heading(columns: &Columns) -> String {
-        let mut text = format!("{:>4} {:<w$}", "No", "Name", w = columns.name);
+        let mut text = format!(
+            "{:>n$} {:<w$}",
+            "No",
+            "Name",
+            n = columns.number,
+            w = columns.name
+        );
         text.push_str(&format!(" {:>11} {:<9}", "Value", "Unit"));
         if columns.real > 0 {
             text.push_str(&format!(" {:>w$}", "Real", w = columns.real));
@@ -1181,6 +1209,13 @@ impl ParamsPane {
                 Line::styled(fit(&detail, width), theme.style(Role::Muted)),
                 None,
             ));
+            for part in self
+                .note(row, view)
+                .map(|note| wrap(&note, width, NOTE_ROWS))
+                .unwrap_or_default()
+            {
+                lines.push((Line::styled(part, theme.style(Role::Accent)), None));
+            }
             lines.push((
                 Line::styled(
                     fit(
@@ -1283,6 +1318,9 @@ impl ParamsPane {
 /// How wide each column is at this width.
 #[derive(Debug, Clone, Copy)]
 struct Columns {
+    /// The widest parameter number (4 for TMCL's; CMD-4CR rows number
+    /// their command-table row and index, up to 5 digits).
+    number: usize,
     name: usize,
     real: usize,
     range: usize,
@@ -1290,19 +1328,22 @@ struct Columns {
 }
 
 impl Columns {
-    /// Number, value, unit and access always; the real-world value, the
-    /// range and the description when there is room, in that order.
-    fn for_width(width: usize) -> Columns {
-        const FIXED: usize = 5 + 12 + 10 + 5;
+    /// Number (`number` wide, at least 4), value, unit and access always;
+    /// the real-world value, the range and the description when there is
+    /// room, in that order.
+    fn for_numbers(width: usize, number: usize) -> Columns {
+        let number = number.max(4);
+        let fixed = number + 1 + 12 + 10 + 5;
         const NAME_MIN: usize = 16;
         const NAME_MAX: usize = 34;
         let mut columns = Columns {
+            number,
             name: 0,
             real: 0,
             range: 0,
             description: 0,
         };
-        let mut room = width.saturating_sub(FIXED);
+        let mut room = width.saturating_sub(fixed);
         if room >= NAME_MIN + 13 {
             columns.real = 12;
             room -= 13;
@@ -1332,6 +1373,35 @@ fn matches(row: &ParamRow, filter: &str) -> bool {
     filter.is_empty()
         || row.name.to_lowercase().contains(filter)
         || row.number.to_string() == filter
+}
+
+/// Footer lines a value's note may take at most.
+const NOTE_ROWS: usize = 3;
+
+/// `text` in lines of at most `width` characters, broken between words,
+/// at most `rows` of them (the last cut with an ellipsis if need be).
+fn wrap(text: &str, width: usize, rows: usize) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    let mut line = String::new();
+    for word in text.split_whitespace() {
+        let needed = line.chars().count() + usize::from(!line.is_empty()) + word.chars().count();
+        if !line.is_empty() && needed > width {
+            lines.push(std::mem::take(&mut line));
+        }
+        if !line.is_empty() {
+            line.push(' ');
+        }
+        line.push_str(word);
+    }
+    if !line.is_empty() {
+        lines.push(line);
+    }
+    let rows = rows.max(1);
+    if lines.len() > rows {
+        let rest = lines.split_off(rows - 1).join(" ");
+        lines.push(rest);
+    }
+    lines.into_iter().map(|l| fit(&l, width)).collect()
 }
 
 /// `text` cut to `width` characters, with an ellipsis when cut.
@@ -1438,7 +1508,14 @@ impl Pane for ParamsPane {
         let footer_rows = footer.len().min(usize::from(area.height).saturating_sub(3));
         let body_rows = usize::from(area.height).saturating_sub(2 + footer_rows);
         self.page = body_rows.max(1);
-        let columns = Columns::for_width(width);
+        let widest = self
+            .tables
+            .iter()
+            .flat_map(|t| t.rows.iter())
+            .map(|r| r.number.to_string().len())
+            .max()
+            .unwrap_or(4);
+        let columns = Columns::for_numbers(width, widest);
         let mut lines = vec![
             Line::styled(
                 fit(&self.status_text(view), width),
@@ -1601,14 +1678,17 @@ mod tests {
 
     #[test]
     fn columns_grow_with_the_width() {
-        let narrow = Columns::for_width(80);
+        let narrow = Columns::for_numbers(80, 4);
         assert!(narrow.real > 0 && narrow.range == 0 && narrow.description == 0);
         assert!(narrow.name >= 16, "{narrow:?}");
-        let wide = Columns::for_width(200);
+        let wide = Columns::for_numbers(200, 4);
         assert!(wide.range > 0 && wide.description > 0);
-        let tiny = Columns::for_width(20);
+        let tiny = Columns::for_numbers(20, 4);
         assert_eq!(tiny.real, 0);
         assert!(tiny.name >= 1);
+        // Wider numbers take their room from the name.
+        let five = Columns::for_numbers(80, 5);
+        assert_eq!((five.number, five.name + 1), (5, narrow.name));
     }
 
     #[test]
@@ -1624,5 +1704,14 @@ mod tests {
         );
         let parts: Vec<&str> = spans.iter().map(|s| s.content.as_ref()).collect();
         assert_eq!(parts, ["Maximum ", "speed", "  "]);
+    }
+
+    #[test]
+    fn a_note_wraps_between_words_into_a_few_lines() {
+        assert_eq!(wrap("one two three", 7, 3), ["one two", "three"]);
+        assert_eq!(wrap("one two three four", 7, 2), ["one two", "three …"]);
+        assert_eq!(wrap("abcdefghij", 4, 3), ["abc…"]);
+        assert_eq!(wrap("", 10, 3), Vec::<String>::new());
+        assert_eq!(wrap("a b c", 1, 0), ["…"], "no rows: one, never a panic");
     }
 }

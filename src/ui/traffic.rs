@@ -3,14 +3,21 @@
 //! console line, a reply as its status and value) and, for an answer, the
 //! round trip since its request.
 //!
+//! Frames are kept as bytes and put into words only when a row is drawn
+//! or saved, once each: status polling alone brings a hundred or more a
+//! second, nearly all of which nobody ever looks at, and decoding each on
+//! arrival was the larger part of an idle console's work.
+//!
 //! Memory is bounded: a ring of the last [`TRAFFIC_LIMIT`] frames. Pausing
 //! freezes the view while frames go on being kept; the console's own
 //! status polls (and their answers) can be hidden; what is shown can be
 //! saved to a text file.
 
+use std::cell::OnceCell;
 use std::collections::VecDeque;
 use std::fmt::Write as _;
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use ratatui::Frame;
@@ -38,8 +45,7 @@ pub const DEFAULT_FILE: &str = "axterm-traffic.txt";
 /// not follow each one.
 pub const REFRESH: Duration = Duration::from_millis(100);
 
-/// One frame as the monitor shows it.
-#[derive(Debug, Clone)]
+/// One frame as the monitor keeps it.
 struct Entry {
     /// Numbers frames in arrival order, across evictions.
     seq: u64,
@@ -47,11 +53,61 @@ struct Entry {
     direction: Direction,
     kind: TrafficKind,
     poll: bool,
+    bytes: Vec<u8>,
+    /// For a received frame: the last request sent before it, in whose
+    /// light it reads.
+    request: Option<Arc<[u8]>>,
+    /// The family connected when it came, which puts it into words.
+    family: Option<&'static Family>,
+    /// For an answer: since its request went out.
+    rtt: Option<Duration>,
+    /// The bytes and the meaning as shown, made the first time they are.
+    words: OnceCell<Words>,
+}
+
+/// A frame put into words.
+#[derive(Debug, Clone)]
+struct Words {
     /// The bytes as the family writes them.
     hex: String,
     meaning: String,
-    /// For an answer: since its request went out.
-    rtt: Option<Duration>,
+}
+
+impl Entry {
+    fn words(&self) -> &Words {
+        self.words.get_or_init(|| self.describe())
+    }
+
+    fn describe(&self) -> Words {
+        let family = self.family;
+        let described = match self.direction {
+            Direction::Sent => family.and_then(|f| f.console.describe_request(&self.bytes)),
+            Direction::Received => family.and_then(|f| {
+                f.console
+                    .describe_reply(&self.bytes, self.request.as_deref())
+            }),
+        };
+        let meaning = match self.kind {
+            TrafficKind::Garbage => format!(
+                "garbage: {} byte(s) that never made a frame",
+                self.bytes.len()
+            ),
+            TrafficKind::Stale => format!("late, nobody waited: {}", described.unwrap_or_default()),
+            TrafficKind::Unsolicited => format!("unsolicited: {}", described.unwrap_or_default()),
+            TrafficKind::Request | TrafficKind::Answer => described.unwrap_or_default(),
+        };
+        let hex = family.map_or_else(
+            || {
+                self.bytes
+                    .iter()
+                    .map(|b| format!("{b:02X}"))
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            },
+            |f| (f.show_bytes)(&self.bytes),
+        );
+        Words { hex, meaning }
+    }
 }
 
 /// The traffic monitor pane.
@@ -63,7 +119,7 @@ pub struct TrafficPane {
     start: Option<Instant>,
     /// The last request sent: replies are read in its light, and timed
     /// from it.
-    last_request: Option<(Instant, Vec<u8>)>,
+    last_request: Option<(Instant, Arc<[u8]>)>,
     /// Frames numbered from this one on are not shown while paused.
     paused: Option<u64>,
     hide_polls: bool,
@@ -128,55 +184,36 @@ impl TrafficPane {
     }
 
     /// Take in one frame; true if it shows (not paused, not a hidden poll).
-    fn record(&mut self, record: &TrafficRecord, family: Option<&Family>) -> bool {
+    /// It is put into words only when shown (see the module docs).
+    fn record(&mut self, record: &TrafficRecord, family: Option<&'static Family>) -> bool {
         self.start.get_or_insert(record.at);
         let poll = record.priority == Some(Priority::Poll);
         let mut rtt = None;
-        let described = match record.direction {
+        let mut request = None;
+        match record.direction {
             Direction::Sent => {
-                self.last_request = Some((record.at, record.bytes.clone()));
-                family.and_then(|f| f.console.describe_request(&record.bytes))
+                self.last_request = Some((record.at, Arc::from(record.bytes.as_slice())));
             }
             Direction::Received => {
-                let request = self.last_request.as_ref();
-                if record.kind == TrafficKind::Answer {
-                    rtt = request.map(|(at, _)| record.at.saturating_duration_since(*at));
+                if let Some((at, bytes)) = &self.last_request {
+                    if record.kind == TrafficKind::Answer {
+                        rtt = Some(record.at.saturating_duration_since(*at));
+                    }
+                    request = Some(Arc::clone(bytes));
                 }
-                family.and_then(|f| {
-                    f.console
-                        .describe_reply(&record.bytes, request.map(|(_, bytes)| bytes.as_slice()))
-                })
             }
-        };
-        let meaning = match record.kind {
-            TrafficKind::Garbage => format!(
-                "garbage: {} byte(s) that never made a frame",
-                record.bytes.len()
-            ),
-            TrafficKind::Stale => format!("late, nobody waited: {}", described.unwrap_or_default()),
-            TrafficKind::Unsolicited => format!("unsolicited: {}", described.unwrap_or_default()),
-            TrafficKind::Request | TrafficKind::Answer => described.unwrap_or_default(),
-        };
-        let hex = family.map_or_else(
-            || {
-                record
-                    .bytes
-                    .iter()
-                    .map(|b| format!("{b:02X}"))
-                    .collect::<Vec<_>>()
-                    .join(" ")
-            },
-            |f| (f.show_bytes)(&record.bytes),
-        );
+        }
         let entry = Entry {
             seq: self.next_seq,
             at: record.at,
             direction: record.direction,
             kind: record.kind,
             poll,
-            hex,
-            meaning,
+            bytes: record.bytes.clone(),
+            request,
+            family,
             rtt,
+            words: OnceCell::new(),
         };
         self.next_seq += 1;
         let shows = self.paused.is_none() && !(poll && self.hide_polls);
@@ -210,9 +247,10 @@ impl TrafficPane {
         let rtt = entry.rtt.map_or_else(String::new, |d| {
             format!("{:.1}ms", d.as_secs_f64() * 1000.0)
         });
+        let words = entry.words();
         format!(
             "{at:>9.3} {direction} {rtt:>7} {} {}",
-            entry.hex, entry.meaning
+            words.hex, words.meaning
         )
     }
 
@@ -508,5 +546,91 @@ impl Pane for TrafficPane {
             }
             _ => Outcome::Ignored,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ui::keymap::Keymap;
+    use crate::ui::theme::Theme;
+    use ratatui::Terminal;
+    use ratatui::backend::TestBackend;
+
+    fn frame(direction: Direction, bytes: [u8; 9], ms: u64, t0: Instant) -> TrafficRecord {
+        TrafficRecord {
+            at: t0 + Duration::from_millis(ms),
+            direction,
+            kind: match direction {
+                Direction::Sent => TrafficKind::Request,
+                Direction::Received => TrafficKind::Answer,
+            },
+            bytes: bytes.to_vec(),
+            priority: Some(Priority::Poll),
+        }
+    }
+
+    fn in_words(pane: &TrafficPane) -> usize {
+        pane.entries
+            .iter()
+            .filter(|e| e.words.get().is_some())
+            .count()
+    }
+
+    #[test]
+    fn frames_are_put_into_words_only_when_a_row_shows_them() {
+        let theme = Theme::builtin("dark").expect("theme");
+        let keymap = Keymap::builtin("default").expect("keymap");
+        // Not connected: the bytes in hex, no meaning, which is enough to
+        // see what was put into words.
+        let mut view = View {
+            theme: &theme,
+            keymap: &keymap,
+            session: None,
+            focused: false,
+            shown: false,
+        };
+        let mut pane = TrafficPane::new();
+        let t0 = Instant::now();
+        // GAP 1, 0 and its answer (-500), two hundred times.
+        let gap = [1, 6, 1, 0, 0, 0, 0, 0, 8];
+        let reply = crate::protocol::tmcl::Reply {
+            host_address: 2,
+            module_address: 1,
+            status: crate::protocol::tmcl::Status::OK,
+            command: 6,
+            value: -500,
+        }
+        .to_bytes();
+        for n in 0..200 {
+            pane.on_event(
+                &PaneEvent::Traffic(frame(Direction::Sent, gap, n, t0)),
+                &view,
+            );
+            pane.on_event(
+                &PaneEvent::Traffic(frame(Direction::Received, reply, n, t0)),
+                &view,
+            );
+        }
+        assert_eq!(pane.len(), 400);
+        assert_eq!(in_words(&pane), 0, "nothing drawn, nothing decoded");
+
+        view.shown = true;
+        let mut terminal = Terminal::new(TestBackend::new(100, 12)).expect("backend");
+        terminal
+            .draw(|f| pane.render(f, f.area(), &view))
+            .expect("draw");
+        // Twelve rows: a status line, a header and ten frames.
+        assert_eq!(in_words(&pane), 10);
+        let screen = format!("{:?}", terminal.backend().buffer());
+        assert!(
+            screen.contains("02 01 64 06 FF FF FE 0C"),
+            "the last answer, -500: {screen}"
+        );
+        // Drawn again, the same rows are not decoded again.
+        terminal
+            .draw(|f| pane.render(f, f.area(), &view))
+            .expect("draw");
+        assert_eq!(in_words(&pane), 10);
     }
 }

@@ -2,6 +2,10 @@
 //! hand-made snapshots, keys, and the screen as text.
 #![allow(dead_code)]
 
+pub mod looped;
+
+use std::sync::Arc;
+
 use axterm::device::LinkState;
 use axterm::protocol::find_family;
 use axterm::session::{AxisInfo, AxisStatus, PollCadence};
@@ -69,6 +73,7 @@ pub fn moving_status(position: i64, target: i64, speed: i64, max_speed: i64) -> 
         load: Some(800),
         errors: Vec::new(),
         driver_flags: Some(Vec::new()),
+        ..AxisStatus::default()
     }
 }
 
@@ -101,4 +106,23 @@ pub fn screen(app: &mut App, width: u16, height: u16) -> Vec<String> {
                 .collect::<String>()
         })
         .collect()
+}
+
+/// The console's own controller on a session with the in-process
+/// simulator `kind`, its wire timed at `baud`.
+pub async fn sim_controller(kind: &str, baud: u32) -> Arc<dyn axterm::ui::app::Controller> {
+    use axterm::cli::ConnectionArgs;
+    use axterm::cli::connection::Target;
+    let target = Target::resolve(&ConnectionArgs {
+        sim: Some(kind.into()),
+        baud: Some(baud),
+        ..ConnectionArgs::default()
+    })
+    .expect("a simulator connection");
+    let session = target.open().await.expect("the simulator opens");
+    Arc::new(axterm::ui::live::SessionController::new(
+        session,
+        target.spec.describe(),
+        target.options.clone(),
+    ))
 }

@@ -331,6 +331,11 @@ pub enum CommandError {
     Empty,
     #[error("`{0}` is not a CMD-4CR command (§4.1 Table 4-40)")]
     Unknown(String),
+    #[error(
+        "`{0}`: give the command without `@` and the ID: they are added when it is sent \
+         (--address or :address picks the ID)"
+    )]
+    Framed(String),
     #[error("{text}: {keyword} needs an axis letter X, Y, Z or U (syntax {syntax})")]
     MissingAxis {
         text: String,
@@ -425,6 +430,7 @@ impl CommandError {
         match self {
             CommandError::Empty => "",
             CommandError::Unknown(text)
+            | CommandError::Framed(text)
             | CommandError::MissingAxis { text, .. }
             | CommandError::NotAnAxis { text, .. }
             | CommandError::MissingIndex { text, .. }
@@ -449,6 +455,9 @@ pub fn parse_command(text: &str) -> Result<Cmd4crCommand, CommandError> {
     }
     if !original.is_ascii() {
         return Err(CommandError::Unknown(original));
+    }
+    if original.starts_with('@') {
+        return Err(CommandError::Framed(original));
     }
     let compact: String = original
         .chars()
@@ -1334,6 +1343,12 @@ mod tests {
         assert!(matches!(error("X=5"), CommandError::Unknown(_)));
         assert!(matches!(error("JX+=1"), CommandError::Syntax { .. }));
         assert!(matches!(error("PXé"), CommandError::Unknown(_)));
+        let framed = error("@01PX");
+        assert!(
+            framed.to_string().contains("without `@` and the ID"),
+            "{framed}"
+        );
+        assert_eq!(framed.reply(), ErrorReply::UnknownCommand("@01PX".into()));
     }
 
     #[test]

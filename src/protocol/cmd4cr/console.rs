@@ -3,7 +3,7 @@
 //! answer carries, the emergency stop, and the queries that make up the
 //! status of the four axes.
 
-use std::sync::Arc;
+use std::sync::{Arc, LazyLock};
 
 use super::catalog::{Action, Axis, Format, Register};
 use super::command::{Cmd4crCommand, Selector, parse_command};
@@ -11,8 +11,8 @@ use super::reply::{Answer, AnswerError, MST_BITS, Mst, MstBit, MstClass, answers
 use super::{ControllerId, DEFAULT_ID, MAX_ID, frame};
 use crate::protocol::ascii::AsciiWire;
 use crate::protocol::console::{
-    Answering, AxisFlag, AxisInfo, AxisUpdate, Completions, Effect, FamilyConsole, PreparedLine,
-    Reading, ReplyError, ReplyValue, StatusPoll, SwitchKind,
+    Answering, AxisFlag, AxisInfo, AxisUpdate, Completions, Effect, FamilyConsole, MotionPhase,
+    PreparedLine, Reading, ReplyError, ReplyValue, StatusPoll, SwitchKind,
 };
 use crate::protocol::parameters::ParameterSet;
 use crate::protocol::wire::{Frame, ReplyRule, Verdict, WireFormat};
@@ -113,8 +113,43 @@ fn axis_of(selector: Selector) -> Option<usize> {
     }
 }
 
-/// The MST word as updates of its axis: switches, motion complete, latched
-/// errors, and the other inputs and waits as driver lamps.
+/// The MST bits with a switch lamp of their own (the end limits, home).
+const SWITCH_BITS: [u8; 3] = [4, 5, 6];
+
+/// Whether an MST bit is one of the axis's lamps: the inputs and outputs
+/// other than the switches, and the waits.
+fn is_lamp(bit: &MstBit) -> bool {
+    match bit.class {
+        MstClass::Signal => !SWITCH_BITS.contains(&bit.bit),
+        MstClass::Waiting => true,
+        MstClass::Motion | MstClass::Error => false,
+    }
+}
+
+/// Every lamp an axis has, in MST bit order.
+static LAMPS: LazyLock<Vec<AxisFlag>> = LazyLock::new(|| {
+    MST_BITS
+        .iter()
+        .filter(|b| is_lamp(b))
+        .map(mst_flag)
+        .collect()
+});
+
+/// Bits 0–2 as the phase of the motion (Table 2-28); none set: standing.
+fn phase(mst: Mst) -> MotionPhase {
+    if mst.is_set(0) {
+        MotionPhase::Accelerating
+    } else if mst.is_set(1) {
+        MotionPhase::Decelerating
+    } else if mst.is_set(2) {
+        MotionPhase::Constant
+    } else {
+        MotionPhase::Standing
+    }
+}
+
+/// The MST word as updates of its axis: switches, motion phase and
+/// completion, latched errors, and the other inputs and waits as lamps.
 fn mst_updates(axis: usize, value: i64) -> Vec<(usize, AxisUpdate)> {
     let mst = Mst::from_value(value);
     let flags = |class: MstClass| -> Vec<AxisFlag> {
@@ -124,10 +159,11 @@ fn mst_updates(axis: usize, value: i64) -> Vec<(usize, AxisUpdate)> {
             .map(mst_flag)
             .collect()
     };
-    let mut lamps = flags(MstClass::Signal);
-    // The limit and home inputs have lamps of their own.
-    lamps.retain(|f| !["+L", "-L", "HOME"].contains(&f.name));
-    lamps.extend(flags(MstClass::Waiting));
+    let lamps: Vec<AxisFlag> = MST_BITS
+        .iter()
+        .filter(|b| is_lamp(b) && mst.is_set(b.bit))
+        .map(mst_flag)
+        .collect();
     vec![
         (
             axis,
@@ -139,9 +175,33 @@ fn mst_updates(axis: usize, value: i64) -> Vec<(usize, AxisUpdate)> {
         ),
         (axis, AxisUpdate::Switch(SwitchKind::Home, mst.home())),
         (axis, AxisUpdate::Reached(mst.complete())),
+        (axis, AxisUpdate::Phase(phase(mst))),
         (axis, AxisUpdate::Errors(flags(MstClass::Error))),
         (axis, AxisUpdate::DriverFlags(lamps)),
     ]
+}
+
+/// The console line of `action` on the axis numbered `axis` (`STOPZ`).
+fn axis_action(action: Action, axis: u8) -> Option<String> {
+    let axis = Axis::from_index(usize::from(axis))?;
+    Some(
+        Cmd4crCommand::Action {
+            action,
+            selector: Selector::Axis(axis),
+        }
+        .to_string(),
+    )
+}
+
+/// An axis's own high speed, or (no axis) the global one for all four
+/// (§2.1.4).
+fn max_speed_updates(axis: Option<usize>, speed: i64) -> Vec<(usize, AxisUpdate)> {
+    match axis {
+        Some(axis) => vec![(axis, AxisUpdate::MaxSpeed(speed))],
+        None => (0..AXES.len())
+            .map(|axis| (axis, AxisUpdate::GlobalMaxSpeed(speed)))
+            .collect(),
+    }
 }
 
 /// The value of one `:`-separated field per axis (PP, EP).
@@ -283,8 +343,17 @@ impl FamilyConsole for Cmd4crConsole {
     }
 
     fn status_update(&self, line: &PreparedLine, reading: &Reading) -> Vec<(usize, AxisUpdate)> {
-        let Ok(Cmd4crCommand::Read { register, selector }) = parse_command(&line.canonical) else {
-            return Vec::new();
+        let (register, selector) = match parse_command(&line.canonical) {
+            Ok(Cmd4crCommand::Read { register, selector }) => (register, selector),
+            // A high speed the user set is the speed gauge's new scale at
+            // once: the slow poll of HSPD only has to catch what a
+            // standalone program sets (any answer but `?…` is success).
+            Ok(Cmd4crCommand::Write {
+                register: Register::Hspd,
+                selector,
+                value,
+            }) => return max_speed_updates(axis_of(selector), value),
+            _ => return Vec::new(),
         };
         let number = match reading.value {
             ReplyValue::Number(n) => Some(n),
@@ -308,10 +377,7 @@ impl FamilyConsole for Cmd4crConsole {
             }
             (Register::Ps, Some(axis), Some(speed)) => vec![(axis, AxisUpdate::Speed(speed))],
             (Register::Mst, Some(axis), Some(word)) => mst_updates(axis, word),
-            (Register::Hspd, Some(axis), Some(speed)) => vec![(axis, AxisUpdate::MaxSpeed(speed))],
-            (Register::Hspd, None, Some(speed)) => (0..AXES.len())
-                .map(|axis| (axis, AxisUpdate::GlobalMaxSpeed(speed)))
-                .collect(),
+            (Register::Hspd, axis, Some(speed)) => max_speed_updates(axis, speed),
             _ => Vec::new(),
         }
     }
@@ -325,14 +391,18 @@ impl FamilyConsole for Cmd4crConsole {
     }
 
     fn stop_axis_line(&self, axis: u8) -> Option<String> {
-        let axis = Axis::from_index(usize::from(axis))?;
-        Some(
-            Cmd4crCommand::Action {
-                action: Action::Stop,
-                selector: Selector::Axis(axis),
-            }
-            .to_string(),
-        )
+        axis_action(Action::Stop, axis)
+    }
+
+    /// `CLR[axis]`: the limit, alarm, EMG and slowdown-stop error bits of
+    /// MST stay set until it (§2.6.2.3, Table 2-28 footnotes 6 and 7);
+    /// there is no all-axes form.
+    fn clear_errors_line(&self, axis: u8) -> Option<String> {
+        axis_action(Action::Clr, axis)
+    }
+
+    fn lamps(&self) -> &'static [AxisFlag] {
+        &LAMPS
     }
 
     fn parameters(&self) -> Option<&'static dyn ParameterSet> {
@@ -358,6 +428,13 @@ mod tests {
 
     fn reply(line: &PreparedLine, text: &str) -> Result<Reading, ReplyError> {
         Cmd4crConsole.interpret(line, &[text.as_bytes().to_vec()])
+    }
+
+    /// What the answer `text` to `line` says about the axes.
+    fn updates_of(line: &str, text: &str) -> Vec<(usize, AxisUpdate)> {
+        let line = prepare(line);
+        let reading = reply(&line, text).expect("a reading");
+        Cmd4crConsole.status_update(&line, &reading)
     }
 
     fn canonicals(lines: &[PreparedLine]) -> Vec<String> {
@@ -529,6 +606,7 @@ mod tests {
         assert!(updates.contains(&AxisUpdate::Switch(SwitchKind::Left, false)));
         assert!(updates.contains(&AxisUpdate::Switch(SwitchKind::Home, false)));
         assert!(updates.contains(&AxisUpdate::Reached(false)));
+        assert!(updates.contains(&AxisUpdate::Phase(MotionPhase::Decelerating)));
         let names = |wanted: fn(&AxisUpdate) -> Option<&Vec<AxisFlag>>| -> Vec<&str> {
             updates
                 .iter()
@@ -550,12 +628,48 @@ mod tests {
             }),
             ["INP"]
         );
-        let idle = reply(&line, "0").expect("read");
-        assert!(
-            Cmd4crConsole
-                .status_update(&line, &idle)
-                .contains(&(1, AxisUpdate::Reached(true)))
+        let idle = updates_of("MSTY", "0");
+        assert!(idle.contains(&(1, AxisUpdate::Reached(true))));
+        assert!(idle.contains(&(1, AxisUpdate::Phase(MotionPhase::Standing))));
+        for (word, phase) in [
+            (1, MotionPhase::Accelerating),
+            (4, MotionPhase::Constant),
+            (4 | 64, MotionPhase::Constant),
+        ] {
+            let found = updates_of("MSTY", &word.to_string());
+            assert!(found.contains(&(1, AxisUpdate::Phase(phase))), "{word}");
+        }
+    }
+
+    #[test]
+    fn the_lamps_are_the_inputs_and_waits_without_switch_lamps_of_their_own() {
+        let names: Vec<&str> = Cmd4crConsole.lamps().iter().map(|f| f.name).collect();
+        assert_eq!(
+            names,
+            [
+                "ALM",
+                "SD",
+                "INP",
+                "ERC",
+                "EZ",
+                "EXT",
+                "EMG",
+                "wait INP",
+                "wait CSTA"
+            ]
         );
+        // A lit lamp is named by the driver flags of the same reading.
+        let lit: Vec<&str> = updates_of("MSTX", &(8 | 64 | (1 << 18)).to_string())
+            .into_iter()
+            .find_map(|(_, u)| match u {
+                AxisUpdate::DriverFlags(flags) => Some(flags),
+                _ => None,
+            })
+            .unwrap_or_default()
+            .iter()
+            .map(|f| f.name)
+            .collect();
+        assert_eq!(lit, ["ALM", "wait INP"]);
     }
 
     #[test]
@@ -585,6 +699,23 @@ mod tests {
         let write = prepare("PX=0");
         let reading = reply(&write, "OK").expect("ok");
         assert!(Cmd4crConsole.status_update(&write, &reading).is_empty());
+        // A high speed written is the gauge's scale at once.
+        assert_eq!(
+            updates_of("HSPDY=800", "OK"),
+            [(1, AxisUpdate::MaxSpeed(800))]
+        );
+        assert_eq!(
+            updates_of("HSPD=7000", "OK")[3],
+            (3, AxisUpdate::GlobalMaxSpeed(7000))
+        );
+    }
+
+    #[test]
+    fn clearing_errors_sends_clr_for_the_axis() {
+        assert_eq!(Cmd4crConsole.clear_errors_line(0).as_deref(), Some("CLRX"));
+        assert_eq!(Cmd4crConsole.clear_errors_line(3).as_deref(), Some("CLRU"));
+        assert_eq!(Cmd4crConsole.clear_errors_line(4), None);
+        assert_eq!(prepare("CLRY").effect, Effect::Acts);
     }
 
     #[test]

@@ -11,6 +11,7 @@
 
 use super::catalog::{Axis, COMMANDS, CommandSpec, Form, Format, Kind};
 use super::command::{Cmd4crCommand, Selector, format_value, parse_thousandths};
+use super::reply::{Mst, describe_pol};
 use crate::protocol::parameters::{
     ParamAccess, ParamOp, ParamRange, ParamRole, ParamRow, ParamTable, ParameterSet, Physical,
     Scope, SpeedUnit, parse_integer,
@@ -157,6 +158,11 @@ const LINK: &[&str] = &["ID", "DB"];
 /// Values that are motion state or live I/O, not configuration: writing a
 /// saved one back would move a counter or switch an output.
 const STATE: &[&str] = &["P", "E", "MP", "EO", "DO", "IO", "PWM"];
+
+/// Per-axis settings whose 0 means "use the global one" (§2.1.4), and the
+/// global table that holds it.
+const GLOBAL_WHEN_ZERO: &[&str] = &["HSPD", "LSPD", "ACC", "DEC"];
+const GLOBAL_PROFILE_BANK: u8 = 0;
 
 /// A row number: the command-table row in the high bits, the index (or 0)
 /// in the low seven.
@@ -339,6 +345,47 @@ impl ParameterSet for Cmd4crParameters {
         })
     }
 
+    /// §2.1.7: STORE writes every setting of Table 2-19 at once.
+    fn store_place(&self) -> &'static str {
+        "flash, with every setting of Table 2-19"
+    }
+
+    fn value_note(
+        &self,
+        row: &ParamRow,
+        value: i64,
+        value_of: &dyn Fn(Scope, u16) -> Option<i64>,
+    ) -> Option<String> {
+        let (spec, _) = decode(row.number)?;
+        if !matches!(row.scope, Scope::Axis(_)) {
+            return None;
+        }
+        match spec.keyword {
+            keyword if GLOBAL_WHEN_ZERO.contains(&keyword) && value == 0 => {
+                let (global, _) = row_of(keyword, |f| f == Form::Bare)?;
+                // Short enough for the table's column; the row's unit is
+                // the global one's.
+                Some(
+                    match value_of(Scope::Bank(GLOBAL_PROFILE_BANK), number_of(global, 0)) {
+                        Some(v) => format!("global {v}"),
+                        None => format!("global {keyword}"),
+                    },
+                )
+            }
+            // Table 2-17 is lost: the fields by name, their bits raw.
+            "POL" => Some(describe_pol(value)),
+            "MST" => {
+                let names: Vec<&str> = Mst::from_value(value).set_bits().map(|b| b.name).collect();
+                Some(if names.is_empty() {
+                    "stopped, no input on".into()
+                } else {
+                    names.join(", ")
+                })
+            }
+            _ => None,
+        }
+    }
+
     fn parse_value(
         &self,
         row: &ParamRow,
@@ -459,6 +506,40 @@ mod tests {
                 .is_none()
         );
         assert_eq!(Cmd4crParameters.parse_value(&hspd, "0x10", &none), Ok(16));
+    }
+
+    #[test]
+    fn a_per_axis_speed_of_zero_names_the_global_one_and_pol_its_fields() {
+        let hspd = row(0, Scope::Axis(0), "HSPDX");
+        let global = row(0, Scope::Bank(0), "HSPD");
+        let read = |scope: Scope, number: u16| {
+            (scope == global.scope && number == global.number).then_some(5000)
+        };
+        let note = |row: &ParamRow, value, read: &dyn Fn(Scope, u16) -> Option<i64>| {
+            Cmd4crParameters.value_note(row, value, read)
+        };
+        assert_eq!(note(&hspd, 0, &read).as_deref(), Some("global 5000"));
+        assert_eq!(note(&hspd, 0, &|_, _| None).as_deref(), Some("global HSPD"));
+        assert_eq!(note(&hspd, 800, &read), None, "its own");
+        let acc = row(2, Scope::Axis(2), "ACCZ");
+        assert_eq!(note(&acc, 0, &|_, _| None).as_deref(), Some("global ACC"));
+        assert_eq!(
+            Cmd4crParameters.store_place(),
+            "flash, with every setting of Table 2-19"
+        );
+        assert_eq!(note(&global, 0, &read), None, "the global one itself");
+        let pol = row(0, Scope::Axis(0), "POLX");
+        let text = note(&pol, 7, &read).expect("fields");
+        assert!(text.starts_with("POL 7: pulse/direction"), "{text}");
+        assert!(text.contains("MPG input mode (bits 15-16) = 0"), "{text}");
+        let mst = row(1, Scope::Axis(1), "MSTY");
+        assert_eq!(note(&mst, 4 | 64, &read).as_deref(), Some("const, HOME"));
+        assert_eq!(
+            note(&mst, 0, &read).as_deref(),
+            Some("stopped, no input on")
+        );
+        let sync = row(0, Scope::Axis(0), "SYNCX");
+        assert_eq!(note(&sync, 1, &read), None, "shown raw");
     }
 
     #[test]

@@ -30,11 +30,14 @@
 //!   cycle ([`Cmd4cr::power_cycle`]); reading them shows the new value.
 //!   An explicit address ([`SimConfig::id`] from `--address`) wins over
 //!   the stored ID.
-//! - StepNLoop settings are kept and stored; the closed loop itself is not
-//!   simulated (the simulated encoder never slips): `SLS` reads 12 (N/A)
-//!   with SL off and 0 (idle) or 1 (moving) with it on, `D` reads 0.
-//! - Joystick settings are kept and stored; joystick motion is not
-//!   simulated. MPG following is: see [`Cmd4cr::turn_mpg`].
+//! - StepNLoop (§2.5.3) is simulated on an encoder that follows the
+//!   carriage; [`motion::Motion::lose_steps`] makes the motor miss steps so
+//!   that the loop has something to correct or report.
+//! - Joystick control moves X and Y from AI1 and AI2 (set them with
+//!   [`Cmd4cr::set_analog_input`]): linear outside the dead band, JSPD in
+//!   pps, JDEL in pps per ms; MPG following: see [`Cmd4cr::turn_mpg`].
+//!   `STOP` under joystick control is answered like any other (the
+//!   manual's "invalid status" reply is not given).
 
 pub mod flash;
 mod interpreter;
@@ -89,31 +92,6 @@ impl Default for SimConfig {
     }
 }
 
-/// StepNLoop settings of one axis (§2.5.3), kept and stored.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct StepNLoop {
-    pub enabled: bool,
-    /// `SLR` in thousandths.
-    pub ratio: i64,
-    pub tolerance: i64,
-    pub error_range: i64,
-    pub attempts: i64,
-}
-
-/// StepNLoop defaults, our choice: ratio 1.000, tolerance 10 counts,
-/// error range 1000 counts, 3 attempts.
-impl Default for StepNLoop {
-    fn default() -> Self {
-        StepNLoop {
-            enabled: false,
-            ratio: 1000,
-            tolerance: 10,
-            error_range: 1000,
-            attempts: 3,
-        }
-    }
-}
-
 /// MPG following of one axis (§2.5.2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Mpg {
@@ -140,8 +118,13 @@ impl Default for Mpg {
     }
 }
 
-/// Joystick settings (§2.5.1), kept and stored.
-#[derive(Debug, Clone, PartialEq, Eq)]
+/// The least fraction of the stick's speed between the inner and outer
+/// soft limits (our choice).
+const SOFT_LIMIT_FLOOR: f64 = 0.05;
+
+/// Joystick control (§2.5.1): its settings, and the speed each axis runs
+/// at under it.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Joystick {
     pub enable: i64,
     pub max: [i64; 4],
@@ -151,11 +134,61 @@ pub struct Joystick {
     pub delta: [i64; 4],
     /// `JLIM1..8`.
     pub limits: [i64; 8],
+    /// Current signed speed of X and Y, pps.
+    velocity: [f64; 2],
+    /// Pulses not yet whole.
+    fraction: [f64; 2],
+}
+
+impl Joystick {
+    /// The speed the stick asks of axis `i` (0 X, 1 Y) at `millivolts`:
+    /// nothing inside MID ± JTOL, then linear up to ±JSPD at JMAX/JMIN
+    /// (§2.5.1.1; JMAX < JMIN flips the direction).
+    fn demand(&self, i: usize, millivolts: f64) -> f64 {
+        let (max, min) = (self.max[i] as f64, self.min[i] as f64);
+        let tolerance = self.tolerance[i] as f64;
+        let mid = (max - min) / 2.0 + min;
+        let offset = millivolts - mid;
+        let reach = (max - mid).abs() - tolerance;
+        if offset.abs() <= tolerance || reach <= 0.0 {
+            return 0.0;
+        }
+        let fraction = ((offset.abs() - tolerance) / reach).min(1.0);
+        let direction = offset.signum() * (max - mid).signum();
+        direction * fraction * self.speed[i] as f64
+    }
+
+    /// Soft limits (§2.5.1.3): past the inner limit the speed falls off
+    /// linearly, but not below 5 % of what the stick asks (Fig. 2-30 is
+    /// lost; without a floor the axis would never arrive), and at the outer
+    /// one it is 0 in that direction. `position` is the pulse counter.
+    fn limited(&self, i: usize, position: i64, velocity: f64) -> f64 {
+        let base = i * 4;
+        let at = |n: usize| self.limits.get(base + n).copied().unwrap_or(0) as f64;
+        let (neg_outer, neg_inner, pos_inner, pos_outer) = (at(0), at(1), at(2), at(3));
+        let p = position as f64;
+        let scale = |inner: f64, outer: f64| {
+            if (outer - p) * (outer - inner).signum() <= 0.0 {
+                0.0
+            } else if (p - inner) * (outer - inner).signum() > 0.0 {
+                ((outer - p) / (outer - inner)).clamp(SOFT_LIMIT_FLOOR, 1.0)
+            } else {
+                1.0
+            }
+        };
+        if velocity > 0.0 {
+            velocity * scale(pos_inner, pos_outer)
+        } else if velocity < 0.0 {
+            velocity * scale(neg_inner, neg_outer)
+        } else {
+            0.0
+        }
+    }
 }
 
 /// Joystick defaults, our choice: the full 0–3300 mV span, a ±50 mV dead
-/// band, 1000 pps, speed change 100, soft limits ±90,000 inner and
-/// ±100,000 outer (the demo stage's end limits).
+/// band, 1000 pps, a speed change (JDEL) of 100 pps per ms, soft limits
+/// ±90,000 inner and ±100,000 outer (the demo stage's end limits).
 impl Default for Joystick {
     fn default() -> Self {
         Joystick {
@@ -168,6 +201,8 @@ impl Default for Joystick {
             limits: [
                 -100_000, -90_000, 90_000, 100_000, -100_000, -90_000, 90_000, 100_000,
             ],
+            velocity: [0.0; 2],
+            fraction: [0.0; 2],
         }
     }
 }
@@ -192,7 +227,6 @@ pub struct Cmd4cr {
     variables: [i32; 100],
     /// Time not yet run by the program threads.
     program_clock: Duration,
-    step_n_loop: [StepNLoop; 4],
     mpg: [Mpg; 4],
     joystick: Joystick,
     /// The frame being received (from its `@`).
@@ -219,7 +253,6 @@ impl Cmd4cr {
             sub31_return: 0,
             variables: [0; 100],
             program_clock: Duration::ZERO,
-            step_n_loop: [StepNLoop::default(); 4],
             mpg: [Mpg::default(); 4],
             joystick: Joystick::default(),
             line: Vec::new(),
@@ -356,7 +389,6 @@ impl Cmd4cr {
         self.run_on_boot = 0;
         self.sub31_return = 0;
         self.variables = [0; 100];
-        self.step_n_loop = [StepNLoop::default(); 4];
         self.mpg = [Mpg::default(); 4];
         self.joystick = Joystick::default();
         self.load_flash();
@@ -385,7 +417,7 @@ impl Cmd4cr {
              each axis a stage with end limits at ±{DEMO_LIMIT}, home switch {}..{}, \
              Z index every {} pulses at {}, encoder 1 count per pulse; \
              limits and ALM stop at once; HSPD is the arc speed of circles; \
-             StepNLoop and joystick settings kept but not simulated",
+             StepNLoop defaults SLR 1.000 SLT 10 SLE 1000 SLA 3; joystick JSPD 1000 pps, JDEL 100 pps/ms, JTOL 50 mV, JLIM ±90000/±100000",
             self.id,
             self.config.write_reply,
             motion::DEFAULT_HSPD,
@@ -400,6 +432,49 @@ impl Cmd4cr {
             DEMO_Z_INDEX.period,
             DEMO_Z_INDEX.phase,
         )
+    }
+
+    /// Something needs every tick: a program or the joystick.
+    fn ticking(&self) -> bool {
+        self.programs.any_running()
+            || self.joystick.enable & 3 != 0
+            || self.joystick.velocity.iter().any(|&v| v != 0.0)
+    }
+
+    /// One tick of joystick control of X (AI1) and Y (AI2): the speed
+    /// follows the stick, at most JDEL pps per ms faster or slower
+    /// (§2.5.1.2; the unit is not stated, pps per ms is our choice).
+    fn run_joystick(&mut self) {
+        let tick = motion::TICK.as_secs_f64();
+        for (i, axis) in [(0, Axis::X), (1, Axis::Y)] {
+            let enabled = self.joystick.enable & (1 << i) != 0;
+            let demand = if enabled {
+                let millivolts = f64::from(self.io.analog[i]);
+                let wanted = self.joystick.demand(i, millivolts);
+                self.joystick.limited(i, self.motion.counter(axis), wanted)
+            } else {
+                0.0
+            };
+            let step = self.joystick.delta[i].max(1) as f64 * 1000.0 * tick;
+            let current = self.joystick.velocity[i];
+            let velocity = current + (demand - current).clamp(-step, step);
+            self.joystick.velocity[i] = velocity;
+            self.joystick.fraction[i] += velocity * tick;
+            let mut whole = self.joystick.fraction[i].trunc();
+            self.joystick.fraction[i] -= whole;
+            // Never past the outer soft limit.
+            if enabled {
+                let position = self.motion.counter(axis) as f64;
+                let outer = |n: usize| self.joystick.limits.get(i * 4 + n).copied().unwrap_or(0);
+                let (low, high) = (outer(0) as f64, outer(3) as f64);
+                if whole > 0.0 && high > low {
+                    whole = whole.min((high - position).max(0.0));
+                } else if whole < 0.0 && high > low {
+                    whole = whole.max((low - position).min(0.0));
+                }
+            }
+            self.motion.joystick_move(axis, whole as i64, velocity);
+        }
     }
 
     // ---- framing ----------------------------------------------------
@@ -444,17 +519,18 @@ impl SimulatedController for Cmd4cr {
     }
 
     fn advance(&mut self, dt: Duration) {
-        if !self.programs.any_running() {
+        if !self.ticking() {
             self.motion.advance(dt);
             return;
         }
-        // Programs and motion take turns tick by tick.
+        // Programs, the joystick and motion take turns tick by tick.
         self.program_clock += dt;
         while self.program_clock >= motion::TICK {
             self.program_clock -= motion::TICK;
             self.run_threads();
+            self.run_joystick();
             self.motion.advance(motion::TICK);
-            if !self.programs.any_running() {
+            if !self.ticking() {
                 let rest = std::mem::take(&mut self.program_clock);
                 self.motion.advance(rest);
                 return;

@@ -213,14 +213,15 @@ impl Cmd4cr {
             (R::Scv, A(a)) => int(flag(per_axis(a).settings.s_curve)),
             (R::Sspdm, A(a)) => int(per_axis(a).settings.sspdm.into()),
             (R::Zcnt, A(a)) => int(per_axis(a).settings.zcnt.into()),
-            (R::P, A(a)) => int(m.counter(a)),
+            (R::P, A(a)) => int(m.position_reading(a)),
             (R::E, A(a)) => int(m.encoder(a)),
-            (R::Pp, _) => Ok(Value::Fields(Axis::ALL.map(|a| m.counter(a)).to_vec())),
+            (R::Pp, _) => Ok(Value::Fields(
+                Axis::ALL.map(|a| m.position_reading(a)).to_vec(),
+            )),
             (R::Ep, _) => Ok(Value::Fields(Axis::ALL.map(|a| m.encoder(a)).to_vec())),
-            // The simulated encoder never slips: no deviation (§2.6.1.3).
-            (R::D, A(_)) => int(0),
+            (R::D, A(a)) => int(per_axis(a).deviation()),
             (R::Mst, A(a)) => int(i64::from(m.status(a))),
-            (R::Ps, A(a)) => int(m.pulse_rate(a)),
+            (R::Ps, A(a)) => int(m.pulse_rate_reading(a)),
             (R::Mp, A(a)) => int(self.mpg[a.index()].counter),
             (R::Pol, A(a)) => int(per_axis(a).settings.polarity.into()),
             (R::Eo, All) => int(self.io.enable.into()),
@@ -264,18 +265,12 @@ impl Cmd4cr {
             (R::Mpe, A(a)) => int(flag(self.mpg[a.index()].enabled)),
             (R::Mpm, A(a)) => int(self.mpg[a.index()].multiplier),
             (R::Mpd, A(a)) => int(self.mpg[a.index()].divider),
-            (R::Sl, A(a)) => int(flag(self.step_n_loop[a.index()].enabled)),
-            (R::Slr, A(a)) => int(self.step_n_loop[a.index()].ratio),
-            (R::Slt, A(a)) => int(self.step_n_loop[a.index()].tolerance),
-            (R::Sle, A(a)) => int(self.step_n_loop[a.index()].error_range),
-            (R::Sla, A(a)) => int(self.step_n_loop[a.index()].attempts),
-            (R::Sls, A(a)) => int(if !self.step_n_loop[a.index()].enabled {
-                12
-            } else if m.is_busy(a) {
-                1
-            } else {
-                0
-            }),
+            (R::Sl, A(a)) => int(flag(per_axis(a).step_n_loop.enabled)),
+            (R::Slr, A(a)) => int(per_axis(a).step_n_loop.ratio),
+            (R::Slt, A(a)) => int(per_axis(a).step_n_loop.tolerance),
+            (R::Sle, A(a)) => int(per_axis(a).step_n_loop.error_range),
+            (R::Sla, A(a)) => int(per_axis(a).step_n_loop.attempts),
+            (R::Sls, A(a)) => int(m.loop_status(a).into()),
             (R::Sastat, I(n)) => int(self.programs.status(usize::from(n)) as i64),
             (R::Spc, I(n)) => int(i64::try_from(self.programs.pc(usize::from(n))).unwrap_or(0)),
             (R::Sload, All) => int(self.run_on_boot),
@@ -394,7 +389,7 @@ impl Cmd4cr {
                 for axis in [Axis::X, Axis::Y] {
                     if value & (1 << axis.index()) != 0 {
                         // §2.5.1: enabling the joystick turns StepNLoop off.
-                        self.step_n_loop[axis.index()].enabled = false;
+                        self.motion.enable_step_n_loop(axis, false);
                     }
                 }
                 self.update_manual_control();
@@ -415,11 +410,11 @@ impl Cmd4cr {
             }
             (R::Mpm, A(a)) => self.mpg[a.index()].multiplier = value,
             (R::Mpd, A(a)) => self.mpg[a.index()].divider = value,
-            (R::Sl, A(a)) => self.step_n_loop[a.index()].enabled = on,
-            (R::Slr, A(a)) => self.step_n_loop[a.index()].ratio = value,
-            (R::Slt, A(a)) => self.step_n_loop[a.index()].tolerance = value,
-            (R::Sle, A(a)) => self.step_n_loop[a.index()].error_range = value,
-            (R::Sla, A(a)) => self.step_n_loop[a.index()].attempts = value,
+            (R::Sl, A(a)) => self.motion.enable_step_n_loop(a, on),
+            (R::Slr, A(a)) => self.motion.axis_mut(a).step_n_loop.ratio = value,
+            (R::Slt, A(a)) => self.motion.axis_mut(a).step_n_loop.tolerance = value,
+            (R::Sle, A(a)) => self.motion.axis_mut(a).step_n_loop.error_range = value,
+            (R::Sla, A(a)) => self.motion.axis_mut(a).step_n_loop.attempts = value,
             (R::Sactrl, I(n)) => {
                 let control = Control::from_code(value).ok_or(ErrorCode::InvalidIndex)?;
                 self.programs.control(usize::from(n), control)?;

@@ -326,15 +326,8 @@ fn load(path: &Path, factory: EepromImage) -> Result<Option<EepromImage>, Eeprom
         })
 }
 
-/// Write through a temporary file and rename, so an interrupted write never
-/// leaves half a file behind.
 fn save(path: &Path, image: &EepromImage) -> std::io::Result<()> {
-    let text = serde_json::to_string_pretty(&image.to_file()).map_err(std::io::Error::other)?;
-    let mut temporary = path.as_os_str().to_owned();
-    temporary.push(".tmp");
-    let temporary = PathBuf::from(temporary);
-    std::fs::write(&temporary, text)?;
-    std::fs::rename(&temporary, path)
+    crate::sim::write_json_whole(path, &image.to_file())
 }
 
 #[cfg(test)]

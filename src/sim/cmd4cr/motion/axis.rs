@@ -6,6 +6,7 @@ use std::time::Duration;
 
 use super::profile::{PhaseKind, Shape};
 use super::stage::Stage;
+use super::step_n_loop::{LoopState, StepNLoop};
 use super::sync::{Latch, Sync};
 use super::{Axis, Direction};
 
@@ -202,6 +203,9 @@ pub struct AxisState {
     /// The axis follows its MPG input or the joystick: motion commands are
     /// refused (§2.2.2 "operating conditions").
     pub manual_control: bool,
+    /// `SL`, `SLR`, `SLT`, `SLE`, `SLA`.
+    pub step_n_loop: StepNLoop,
+    pub(super) loop_state: LoopState,
 }
 
 /// The 28-bit position range (§1.2): counters wrap within it.
@@ -230,6 +234,8 @@ impl AxisState {
             latch: Latch::default(),
             sync: Sync::default(),
             manual_control: false,
+            step_n_loop: StepNLoop::default(),
+            loop_state: LoopState::default(),
         };
         axis.levels = axis.levels_at(0);
         axis
@@ -264,6 +270,27 @@ impl AxisState {
         wrap28(self.stage.encoder_at(self.position) - self.encoder_offset)
     }
 
+    /// With StepNLoop on, the real-time target in encoder counts: where the
+    /// pulses sent so far should have put the encoder (§2.6.1.1).
+    pub fn loop_target(&self) -> i64 {
+        match self.loop_state.start {
+            Some((pulses, encoder)) => {
+                let moved = (self.counter() - pulses) as f64;
+                encoder + (moved / self.step_n_loop.pulses_per_count()).round() as i64
+            }
+            None => self.loop_state.target,
+        }
+    }
+
+    /// `D[axis]`: target − encoder with StepNLoop on, else 0 (§2.6.1.3).
+    pub fn deviation(&self) -> i64 {
+        if self.step_n_loop.enabled {
+            self.loop_target() - self.encoder()
+        } else {
+            0
+        }
+    }
+
     pub(super) fn set_counter(&mut self, value: i64) {
         self.counter_offset = self.position - wrap28(value);
     }
@@ -276,6 +303,10 @@ impl AxisState {
     pub(super) fn zero_at(&mut self, at: i64) {
         self.counter_offset = at;
         self.encoder_offset = self.stage.encoder_at(at);
+        if self.loop_state.start.is_some() {
+            // The loop follows from the new zero.
+            self.loop_state.start = Some((self.counter(), self.encoder()));
+        }
     }
 
     /// The machine position where `P` reads `counter`.

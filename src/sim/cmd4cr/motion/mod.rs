@@ -29,6 +29,7 @@ pub mod path;
 pub mod profile;
 mod run;
 pub mod stage;
+pub mod step_n_loop;
 pub mod sync;
 
 #[cfg(test)]
@@ -44,6 +45,7 @@ use path::{Arc, Path};
 use profile::{PhaseKind, Ramps, Shape};
 use run::{Goal, Outcome, ProcedureRun, Purpose, Run};
 use stage::Stage;
+use step_n_loop::{Verdict, status as sls};
 
 pub use group::{BUFFER_SIZE, BufferStatus, BufferedMove};
 
@@ -274,6 +276,18 @@ impl Motion {
         self.axis(name).rate.round() as i64
     }
 
+    /// `PS[axis]` as read (T2-29): encoder counts/s for a single-axis move
+    /// with StepNLoop on, pulses/s otherwise.
+    pub fn pulse_rate_reading(&self, name: Axis) -> i64 {
+        let a = self.axis(name);
+        match self.activity[name.index()] {
+            Activity::Run(_) if a.step_n_loop.enabled => {
+                (a.rate / a.step_n_loop.pulses_per_count()).round() as i64
+            }
+            _ => self.pulse_rate(name),
+        }
+    }
+
     /// `P[axis]`.
     pub fn counter(&self, name: Axis) -> i64 {
         self.axis(name).counter()
@@ -296,7 +310,12 @@ impl Motion {
 
     /// `CLR[axis]`: clear the latched flags (§2.6.2.3).
     pub fn clear_errors(&mut self, name: Axis) {
-        self.axis_mut(name).errors &= !mst::CLEARED_BY_CLR;
+        let a = self.axis_mut(name);
+        a.errors &= !mst::CLEARED_BY_CLR;
+        // CLR clears the StepNLoop errors too (Table 27).
+        if a.loop_state.in_error() {
+            a.loop_state.status = sls::IDLE;
+        }
     }
 
     /// Whether the axis stands still without a latched error (§4.3.3: the
@@ -321,7 +340,7 @@ impl Motion {
         if a.limit_on(direction) {
             return 0;
         }
-        let mut new = old + delta;
+        let mut new = old.saturating_add(delta.clamp(-(1 << 31), 1 << 31));
         for (at, mark) in run::marks(a, old, new) {
             let ahead = match mark {
                 stage::Mark::PlusLimit(true) => delta > 0,
@@ -336,6 +355,33 @@ impl Motion {
         a.position = new;
         a.levels = a.levels_at(new);
         new - old
+    }
+
+    /// One tick of joystick control of an idle axis (§2.5.1): move by
+    /// `pulses` at `velocity` pps (signed), unless an end limit in that
+    /// direction is on or the emergency stop input is; MST and PS show the
+    /// motion.
+    pub fn joystick_move(&mut self, name: Axis, pulses: i64, velocity: f64) {
+        if self.is_busy(name) {
+            return;
+        }
+        let blocked = self.emg_input
+            || (velocity > 0.0 && self.axis(name).limit_on(Direction::Plus))
+            || (velocity < 0.0 && self.axis(name).limit_on(Direction::Minus));
+        let velocity = if blocked { 0.0 } else { velocity };
+        let moved = if blocked { 0 } else { self.nudge(name, pulses) };
+        let a = &mut self.axes[name.index()];
+        let speed = velocity.abs();
+        a.phase = if speed == 0.0 && moved == 0 {
+            None
+        } else if speed > a.rate {
+            Some(PhaseKind::Accelerating)
+        } else if speed < a.rate {
+            Some(PhaseKind::Decelerating)
+        } else {
+            Some(PhaseKind::Constant)
+        };
+        a.rate = speed;
     }
 
     /// Power-on (§2.1.5): every axis stops, settings and counters start
@@ -357,12 +403,23 @@ impl Motion {
 
     /// The ramps of a single-axis move: per-axis values unless 0 (§2.1.4).
     fn axis_ramps(&self, name: Axis) -> Ramps {
-        let s = &self.axis(name).settings;
+        let a = self.axis(name);
+        let s = &a.settings;
         let g = &self.global;
         let or = |own: u32, global: u32| if own == 0 { global } else { own };
+        // With StepNLoop on, single-axis speeds are encoder counts/s (§2.5.3).
+        let scale = |speed: u32| {
+            if a.step_n_loop.enabled {
+                (f64::from(speed) * a.step_n_loop.pulses_per_count())
+                    .round()
+                    .clamp(1.0, f64::from(profile::MAX_SPEED)) as u32
+            } else {
+                speed
+            }
+        };
         Ramps::new(
-            or(s.lspd, g.lspd),
-            or(s.hspd, g.hspd),
+            scale(or(s.lspd, g.lspd)),
+            scale(or(s.hspd, g.hspd)),
             or(s.acc, g.acc),
             or(s.dec, g.dec),
             s.shape(),
@@ -486,6 +543,12 @@ impl Motion {
         }
         for &(axis, _) in &moves {
             let a = self.axis(axis);
+            if a.step_n_loop.enabled && a.loop_state.in_error() {
+                return Err(Refusal::StepNLoop);
+            }
+        }
+        for &(axis, _) in &moves {
+            let a = self.axis(axis);
             if a.errors & mst::BLOCKING_ERRORS != 0 || a.manual_control {
                 return Err(Refusal::Moving);
             }
@@ -516,12 +579,98 @@ impl Motion {
         }
     }
 
-    /// Pulses from the current counter to `value` under ABS/INC.
+    /// Pulses from where the axis is to `value` under ABS/INC; with
+    /// StepNLoop on, `value` is an encoder position (§2.5.3).
     fn distance(&self, axis: Axis, value: i64) -> i64 {
+        let a = self.axis(axis);
+        if a.step_n_loop.enabled {
+            let target = self.loop_goal(axis, value);
+            let pulses = (target - a.encoder()) as f64 * a.step_n_loop.pulses_per_count();
+            return pulses.round() as i64;
+        }
         if self.global.incremental {
             value
         } else {
             value - self.counter(axis)
+        }
+    }
+
+    /// The encoder target of `value` under ABS/INC (StepNLoop on).
+    fn loop_goal(&self, axis: Axis, value: i64) -> i64 {
+        if self.global.incremental {
+            self.axis(axis).loop_target() + value
+        } else {
+            value
+        }
+    }
+
+    /// A commanded motion of `axis` starts: the loop follows it.
+    fn loop_starts(&mut self, axis: Axis, code: u8, goal: Option<i64>) {
+        let a = &mut self.axes[axis.index()];
+        if !a.step_n_loop.enabled {
+            return;
+        }
+        let target = goal.unwrap_or_else(|| a.loop_target());
+        a.loop_state = step_n_loop::LoopState {
+            status: code,
+            target,
+            start: Some((a.counter(), a.encoder())),
+            tries: 0,
+        };
+    }
+
+    /// `SL[axis]=on`: the loop starts from where the encoder is.
+    pub fn enable_step_n_loop(&mut self, axis: Axis, on: bool) {
+        let a = &mut self.axes[axis.index()];
+        if on && !a.step_n_loop.enabled {
+            a.loop_state = step_n_loop::LoopState {
+                target: a.encoder(),
+                ..step_n_loop::LoopState::default()
+            };
+        }
+        a.step_n_loop.enabled = on;
+    }
+
+    /// `SLS[axis]` (Table 27).
+    pub fn loop_status(&self, axis: Axis) -> u8 {
+        let a = self.axis(axis);
+        if a.step_n_loop.enabled {
+            a.loop_state.status
+        } else {
+            sls::NOT_ENABLED
+        }
+    }
+
+    /// `P[axis]` as read: the pulse counter, or with StepNLoop on the
+    /// real-time target in encoder counts (§2.6.1.1).
+    pub fn position_reading(&self, axis: Axis) -> i64 {
+        let a = self.axis(axis);
+        if a.step_n_loop.enabled {
+            a.loop_target()
+        } else {
+            a.counter()
+        }
+    }
+
+    /// The motor misses `pulses` steps (a stall the encoder sees): the
+    /// carriage lags the pulse counter by that much. For tests and demos of
+    /// StepNLoop.
+    pub fn lose_steps(&mut self, axis: Axis, pulses: i64) {
+        let a = &mut self.axes[axis.index()];
+        let pulses = pulses.clamp(-(1 << 27), 1 << 27);
+        a.position -= pulses;
+        a.counter_offset -= pulses;
+        a.levels = a.levels_at(a.position);
+        // The pulses still to come start from where the carriage is now.
+        match &mut self.activity[axis.index()] {
+            Activity::Run(run) => run.shift(-pulses),
+            Activity::Group(id) => {
+                let id = *id;
+                if let Some((_, group)) = self.groups.iter_mut().find(|(g, _)| *g == id) {
+                    group.path.shift(axis, -pulses);
+                }
+            }
+            Activity::Idle | Activity::WaitInp => {}
         }
     }
 
@@ -538,6 +687,7 @@ impl Motion {
                     Goal::Endless,
                     Purpose::Jog,
                 );
+                self.loop_starts(axis, sls::JOGGING, None);
                 self.launch(axis, run);
             }
             Start::Position { targets } => {
@@ -547,6 +697,13 @@ impl Motion {
                         (axis, self.axis(axis).position, self.distance(axis, value))
                     })
                     .collect();
+                let goals: Vec<(Axis, i64)> = targets
+                    .iter()
+                    .map(|&(axis, value)| (axis, self.loop_goal(axis, value)))
+                    .collect();
+                for (axis, goal) in goals {
+                    self.loop_starts(axis, sls::MOVING, Some(goal));
+                }
                 if legs.len() >= 2 && self.global.interpolate {
                     let lead = legs
                         .iter()
@@ -612,6 +769,7 @@ impl Motion {
             returning: false,
         });
         let run = Run::new(position, sign(direction), ramps, Goal::Endless, purpose);
+        self.loop_starts(axis, sls::HOMING, None);
         self.launch(axis, run);
     }
 
@@ -764,6 +922,70 @@ impl Motion {
         a.rate = 0.0;
         a.phase = None;
         a.waiting_for_inp = false;
+        if a.loop_state.start.is_some() {
+            // A move keeps its target; a jog or homing ends where it is.
+            if !matches!(a.loop_state.status, sls::MOVING | sls::CORRECTING) {
+                a.loop_state.target = a.loop_target();
+            }
+            let state = &mut a.loop_state;
+            state.start = None;
+            if !state.in_error() {
+                state.status = sls::IDLE;
+            }
+        }
+    }
+
+    /// A positioning move of a StepNLoop axis ended: in position, a
+    /// correction move, or an error (Table 2-26). True if a correction
+    /// started.
+    fn verify_position(&mut self, axis: Axis) -> bool {
+        let a = &mut self.axes[axis.index()];
+        if !a.step_n_loop.enabled {
+            return false;
+        }
+        let delta = a.loop_state.target - a.encoder();
+        match step_n_loop::verdict(&a.step_n_loop, delta, a.loop_state.tries) {
+            Verdict::InPosition => false,
+            Verdict::RangeError => {
+                a.loop_state.status = sls::RANGE_ERROR;
+                false
+            }
+            Verdict::AttemptError => {
+                a.loop_state.status = sls::ATTEMPT_ERROR;
+                false
+            }
+            Verdict::Correct => {
+                let tries = a.loop_state.tries + 1;
+                let pulses = (delta as f64 * a.step_n_loop.pulses_per_count()).round() as i64;
+                a.loop_state.status = sls::CORRECTING;
+                a.loop_state.tries = tries;
+                a.loop_state.start = Some((a.counter(), a.encoder()));
+                let from = a.position;
+                let purpose = Purpose::Position {
+                    start_counter: a.counter(),
+                };
+                let ramps = self.axis_ramps(axis);
+                let dir = if pulses < 0 { -1 } else { 1 };
+                let run = Run::new(from, dir, ramps, Goal::Target(from + pulses), purpose);
+                self.launch(axis, run);
+                true
+            }
+        }
+    }
+
+    /// Stall detection: a StepNLoop axis in motion whose encoder is further
+    /// than SLE from the real-time target stops (Table 2-26, SLS 10).
+    fn watch_loops(&mut self) {
+        for axis in Axis::ALL {
+            let a = &self.axes[axis.index()];
+            if !a.step_n_loop.enabled || a.loop_state.start.is_none() || !self.is_busy(axis) {
+                continue;
+            }
+            if a.deviation().abs() > a.step_n_loop.error_range {
+                self.halt(axis);
+                self.axes[axis.index()].loop_state.status = sls::STALL_ERROR;
+            }
+        }
     }
 
     /// `ESTOP` or /CEMG going low: every axis stops at once; those that were
@@ -1097,6 +1319,7 @@ impl Motion {
             };
             axis.sync.compare(from, to);
         }
+        self.watch_loops();
     }
 
     /// An error stop of these axes: ERC pulse where ERC bit 0 asks for it
@@ -1114,6 +1337,11 @@ impl Motion {
     /// INP if asked (§2.1.6.2).
     fn finish(&mut self, axis: Axis, run: Option<&Run>) {
         self.settle(axis);
+        if matches!(run.map(|r| &r.purpose), Some(Purpose::Position { .. }))
+            && self.verify_position(axis)
+        {
+            return;
+        }
         let a = &mut self.axes[axis.index()];
         if let Some(Purpose::Procedure(p)) = run.map(|r| &r.purpose)
             && p.procedure.mode != homing::Z_MOVE.mode

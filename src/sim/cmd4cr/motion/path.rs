@@ -116,6 +116,31 @@ impl Path {
         Path::Linear { legs, length }
     }
 
+    /// The carriage of `axis` moved by `delta` under the path (lost
+    /// steps): the rest of the path follows from there.
+    pub fn shift(&mut self, axis: Axis, delta: i64) {
+        match self {
+            Path::Linear { legs, .. } => {
+                for (a, start, _) in legs.iter_mut() {
+                    if *a == axis {
+                        *start += delta;
+                    }
+                }
+            }
+            Path::Arc(arc) => {
+                if arc.axes.0 == axis {
+                    arc.centre.0 += delta as f64;
+                } else if arc.axes.1 == axis {
+                    arc.centre.1 += delta as f64;
+                } else if let Some((start, _)) = &mut arc.helix
+                    && axis == Axis::Z
+                {
+                    *start += delta;
+                }
+            }
+        }
+    }
+
     /// Path length in pulses.
     pub fn length(&self) -> f64 {
         match self {

@@ -167,6 +167,15 @@ impl Run {
         };
     }
 
+    /// The carriage moved by `delta` under the run (lost steps): the rest
+    /// of the run follows from there.
+    pub fn shift(&mut self, delta: i64) {
+        self.origin += delta;
+        if let Goal::Target(target) = &mut self.goal {
+            *target += delta;
+        }
+    }
+
     /// STOP: brake to LSPD and end.
     pub fn stop(&mut self, position: i64) {
         let v = self.speed();

@@ -1,0 +1,128 @@
+//! StepNLoop closed-loop position verification of one axis (§2.5.3, Table
+//! 2-26, Table 27): with `SL[axis]=1` position targets and single-axis
+//! speeds are in encoder counts, `P` reads the real-time target, `D` the
+//! deviation target − encoder, and the loop checks it:
+//! - while moving (homing and jogging included), |D| > SLE is a stall:
+//!   the axis stops, SLS 10;
+//! - at the end of a positioning move, |D| ≤ SLT is in position; SLT < |D|
+//!   ≤ SLE starts a correction move (SLS 2), at most SLA of them (then SLS
+//!   9); |D| > SLE is a range error (SLS 8).
+//!
+//! Errors show in SLS, not MST (footnotes 4, 5); a motion command while
+//! one is set answers `?Error SNL`; CLR clears it.
+//!
+//! Choices where the manual is silent: a correction move uses the axis'
+//! speeds; the attempt count starts again with every commanded move.
+
+/// `SLS` codes (Table 27).
+pub mod status {
+    pub const IDLE: u8 = 0;
+    pub const MOVING: u8 = 1;
+    pub const CORRECTING: u8 = 2;
+    pub const JOGGING: u8 = 5;
+    pub const HOMING: u8 = 6;
+    pub const RANGE_ERROR: u8 = 8;
+    pub const ATTEMPT_ERROR: u8 = 9;
+    pub const STALL_ERROR: u8 = 10;
+    pub const NOT_ENABLED: u8 = 12;
+}
+
+/// The settings (`SL`, `SLR`, `SLT`, `SLE`, `SLA`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct StepNLoop {
+    pub enabled: bool,
+    /// `SLR`: motor pulses per encoder count, in thousandths.
+    pub ratio: i64,
+    /// `SLT`, encoder counts.
+    pub tolerance: i64,
+    /// `SLE`, encoder counts.
+    pub error_range: i64,
+    /// `SLA`.
+    pub attempts: i64,
+}
+
+/// Defaults, our choice: ratio 1.000, tolerance 10 counts, error range
+/// 1000 counts, 3 attempts.
+impl Default for StepNLoop {
+    fn default() -> Self {
+        StepNLoop {
+            enabled: false,
+            ratio: 1000,
+            tolerance: 10,
+            error_range: 1000,
+            attempts: 3,
+        }
+    }
+}
+
+impl StepNLoop {
+    /// Pulses per encoder count.
+    pub fn pulses_per_count(&self) -> f64 {
+        self.ratio.max(1) as f64 / 1000.0
+    }
+}
+
+/// What the loop is doing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct LoopState {
+    /// `SLS` while enabled.
+    pub status: u8,
+    /// The encoder target of the last positioning move.
+    pub target: i64,
+    /// Pulse counter and encoder when the current motion started.
+    pub start: Option<(i64, i64)>,
+    /// Corrections made for the current target.
+    pub tries: i64,
+}
+
+impl LoopState {
+    pub fn in_error(&self) -> bool {
+        matches!(
+            self.status,
+            status::RANGE_ERROR | status::ATTEMPT_ERROR | status::STALL_ERROR
+        )
+    }
+}
+
+/// After a positioning move: what to do with deviation `delta`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Verdict {
+    InPosition,
+    Correct,
+    RangeError,
+    AttemptError,
+}
+
+pub fn verdict(settings: &StepNLoop, delta: i64, tries: i64) -> Verdict {
+    let d = delta.abs();
+    if d <= settings.tolerance {
+        Verdict::InPosition
+    } else if d > settings.error_range {
+        Verdict::RangeError
+    } else if tries >= settings.attempts {
+        Verdict::AttemptError
+    } else {
+        Verdict::Correct
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn table_2_26() {
+        let s = StepNLoop {
+            enabled: true,
+            tolerance: 5,
+            error_range: 100,
+            attempts: 2,
+            ..StepNLoop::default()
+        };
+        assert_eq!(verdict(&s, -5, 0), Verdict::InPosition);
+        assert_eq!(verdict(&s, 6, 0), Verdict::Correct);
+        assert_eq!(verdict(&s, 6, 2), Verdict::AttemptError);
+        assert_eq!(verdict(&s, -101, 0), Verdict::RangeError);
+        assert_eq!(s.pulses_per_count(), 1.0);
+    }
+}

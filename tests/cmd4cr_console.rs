@@ -1,0 +1,232 @@
+//! The CMD-4CR through the session on the real simulator (in process, with
+//! the wire time of 9600 Bd, the factory rate), on tokio's paused clock:
+//! the poll plan of four axes on a 9600-baud line (the slow items kept to
+//! their share, a user's line behind at most the poll on the wire, the
+//! refresh rate measured), and clearing latched errors with `CLR[axis]`
+//! so that the next poll does not bring them back.
+
+mod session_support;
+
+use std::time::Duration;
+
+use axterm::cli::ConnectionArgs;
+use axterm::cli::connection::Target;
+use axterm::device::{Direction, Priority, TrafficRecord};
+use axterm::protocol::find_family;
+use axterm::session::{PollCadence, SLOW_SHARE_DIVISOR, Session, SessionError, slow_period};
+use session_support::{GIVE_UP_AFTER, wait_for};
+use tokio::sync::broadcast;
+
+async fn session(kind: &str, baud: u32) -> Session {
+    let target = Target::resolve(&ConnectionArgs {
+        sim: Some(kind.into()),
+        baud: Some(baud),
+        ..ConnectionArgs::default()
+    })
+    .expect("a simulator connection");
+    target.open().await.expect("the simulator opens")
+}
+
+async fn run(session: &Session, line: &str) {
+    if let Err(e) = session.execute_line(line).await {
+        panic!("{line}: {e}");
+    }
+}
+
+/// Every record of the traffic stream until `until` (virtual time).
+async fn record_traffic(
+    traffic: &mut broadcast::Receiver<TrafficRecord>,
+    until: tokio::time::Instant,
+) -> Vec<TrafficRecord> {
+    let mut records = Vec::new();
+    while let Ok(Ok(record)) = tokio::time::timeout_at(until, traffic.recv()).await {
+        records.push(record);
+    }
+    records
+}
+
+/// The command text of a request frame (`@01MSTX\r` → `MSTX`).
+fn command(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes.get(3..).unwrap_or_default())
+        .trim_end()
+        .to_string()
+}
+
+#[tokio::test(start_paused = true)]
+async fn four_axes_are_polled_within_a_9600_baud_line() {
+    let session = session("cmd4cr", 9600).await;
+    let mut traffic = session.device().traffic();
+    session.start_polling(PollCadence::default());
+    let axes = wait_for(&session, |axes| {
+        axes.iter().all(|a| {
+            a.position.is_some()
+                && a.speed.is_some()
+                && a.max_speed.is_some()
+                && a.refresh.is_some()
+        })
+    })
+    .await;
+    assert!(axes.iter().all(|a| a.reached == Some(true)), "{axes:?}");
+
+    // Ten seconds of polling: what each item got of the line.
+    let records = record_traffic(
+        &mut traffic,
+        tokio::time::Instant::now() + Duration::from_secs(10),
+    )
+    .await;
+    // Bytes both ways, and requests, per command.
+    let mut by_command: std::collections::BTreeMap<String, usize> = Default::default();
+    let mut sent: std::collections::BTreeMap<String, usize> = Default::default();
+    let mut last_request = String::new();
+    for record in &records {
+        assert_eq!(record.priority.unwrap_or(Priority::Poll), Priority::Poll);
+        if record.direction == Direction::Sent {
+            last_request = command(&record.bytes);
+            *sent.entry(last_request.clone()).or_default() += 1;
+        }
+        *by_command.entry(last_request.clone()).or_default() += record.bytes.len();
+    }
+    let total: usize = by_command.values().sum();
+    let slow: usize = by_command
+        .iter()
+        .filter(|(c, _)| c.starts_with("HSPD"))
+        .map(|(_, bytes)| bytes)
+        .sum();
+    // The slow items (HSPD, HSPDX..U) keep to their tenth of the line.
+    assert!(
+        slow * SLOW_SHARE_DIVISOR as usize <= total,
+        "HSPD polls took {slow} of {total} bytes: {by_command:?}"
+    );
+    assert!(
+        slow > 0,
+        "the maximum speeds are still read: {by_command:?}"
+    );
+    // The fast items share the rest: no per-axis position read (PP reads
+    // all four), each MST and PS about as often as PP.
+    let times = |command: &str| sent.get(command).copied().unwrap_or(0);
+    let pp = times("PP");
+    for axis in ["X", "Y", "Z", "U"] {
+        for command in [format!("MST{axis}"), format!("PS{axis}")] {
+            assert!(
+                times(&command).abs_diff(pp) <= 1,
+                "{command}, PP {pp}: {sent:?}"
+            );
+        }
+        assert_eq!(times(&format!("P{axis}")), 0);
+    }
+
+    // The refresh rate shown is what came: never more than the wire
+    // allows for one round of the fast items (bytes × 10 bits / 9600).
+    let round_bytes = "@01PP\r0:0:0:0\r".len() + 4 * "@01MSTX\r0\r".len() + 4 * "@01PSX\r0\r".len();
+    let wire_limit = 9600.0 / (10.0 * round_bytes as f64);
+    let refresh = session.status().borrow()[0]
+        .refresh
+        .expect("measured")
+        .per_second();
+    assert!(
+        refresh > 0.0 && refresh <= wire_limit,
+        "{refresh} of {wire_limit}"
+    );
+    assert!(
+        (pp as f64 / 10.0 - refresh).abs() <= 0.5,
+        "{refresh}/s shown, {pp} rounds in 10 s"
+    );
+}
+
+#[tokio::test(start_paused = true)]
+async fn a_typed_line_waits_for_at_most_the_poll_on_the_wire() {
+    let session = session("cmd4cr", 9600).await;
+    let mut traffic = session.device().traffic();
+    session.start_polling(PollCadence {
+        fast: Duration::ZERO,
+        slow: Duration::ZERO,
+    });
+    wait_for(&session, |axes| axes.iter().all(|a| a.refresh.is_some())).await;
+    for line in ["PX", "HSPDY=2000", "MSTZ", "VER"] {
+        // Whatever was sent before now is behind us.
+        while traffic.try_recv().is_ok() {}
+        run(&session, line).await;
+        let mut polls_sent = 0;
+        loop {
+            let record = traffic.try_recv().expect("the line went out");
+            if record.direction != Direction::Sent {
+                continue;
+            }
+            if record.priority == Some(Priority::User) {
+                assert_eq!(command(&record.bytes), line);
+                break;
+            }
+            polls_sent += 1;
+        }
+        // The poll on the wire when the line came was sent before it was
+        // typed: not one poll went out between the two.
+        assert_eq!(polls_sent, 0, "{line}");
+    }
+    // HSPDY=2000 is the gauge's scale at once.
+    assert_eq!(session.status().borrow()[1].max_speed, Some(2000));
+}
+
+#[test]
+fn the_slow_items_take_a_tenth_of_a_slow_line_and_their_cadence_on_a_fast_one() {
+    let polls = find_family("cmd4cr")
+        .expect("registered")
+        .console
+        .status_queries(1);
+    let cadence = PollCadence::default();
+    let at = |baud| slow_period(cadence, Some(axterm::link::byte_time(baud)), &polls);
+    // HSPD, HSPDX..U: 44 request bytes, counted twice: 88 × 1.04 ms × 10.
+    assert_eq!(at(9600), axterm::link::byte_time(9600) * 88 * 10);
+    assert!(at(19_200) > cadence.slow);
+    assert_eq!(at(115_200), cadence.slow);
+    assert_eq!(
+        slow_period(cadence, None, &polls),
+        cadence.slow,
+        "TCP: as asked"
+    );
+}
+
+#[tokio::test(start_paused = true)]
+async fn clearing_an_error_sends_clr_and_the_next_polls_do_not_bring_it_back() {
+    let session = session("cmd4cr", 9600).await;
+    session.start_polling(PollCadence::default());
+    // X runs into its + end limit (the simulator's stage: ±100000).
+    for line in ["HSPDX=400000", "ACCX=10", "X150000"] {
+        run(&session, line).await;
+    }
+    let axes = wait_for(&session, |axes| {
+        !axes[0].errors.is_empty() && axes[0].reached == Some(true)
+    })
+    .await;
+    let seen = axes[0].errors.clone();
+    let names: Vec<&str> = seen.iter().map(|f| f.name).collect();
+    assert_eq!(names, ["+limit error"]);
+    // The controller refuses to move X until the error is cleared.
+    let refused = session.execute_line("X0").await.unwrap_err();
+    assert!(matches!(refused, SessionError::Reply { .. }), "{refused}");
+
+    let cleared = session.clear_errors(0, &seen).await.expect("CLRX answered");
+    let cleared = cleared.expect("a line was sent");
+    assert_eq!(cleared.line, "CLRX");
+    assert_eq!(cleared.request, b"@01CLRX\r".to_vec());
+    // Two more rounds of polls: MSTX is read again, without the error.
+    let polls = session.device().counters().borrow().polls;
+    let mut counters = session.device().counters();
+    tokio::time::timeout(GIVE_UP_AFTER, counters.wait_for(|c| c.polls >= polls + 20))
+        .await
+        .expect("polls go on")
+        .expect("the device task is alive");
+    let x = session.status().borrow()[0].clone();
+    assert!(x.errors.is_empty(), "{:?}", x.errors);
+    assert_eq!(x.right_switch, Some(true), "still on the limit switch");
+    // And X moves again, away from the limit.
+    run(&session, "X0").await;
+}
+
+#[tokio::test(start_paused = true)]
+async fn a_tmcl_module_needs_no_line_to_clear_its_errors() {
+    let session = session("tmcm1110", 9600).await;
+    let mut traffic = session.device().traffic();
+    let cleared = session.clear_errors(0, &[]).await.expect("nothing to fail");
+    assert!(cleared.is_none());
+    assert!(traffic.try_recv().is_err(), "nothing was sent");
+}
