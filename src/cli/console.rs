@@ -8,6 +8,7 @@ use clap::Parser;
 
 use super::connection::{Target, runtime};
 use super::{Cli, ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
+use crate::link::LinkSpec;
 use crate::ui::PaneSetup;
 use crate::ui::app::{Connector, Controller};
 use crate::ui::live::{Appearance, SessionController, identify_later, run_terminal};
@@ -36,11 +37,12 @@ async fn open(args: &ConnectionArgs) -> Result<Arc<dyn Controller>, (i32, String
         .await
         .map_err(|e| (EXIT_CONNECTION, e.to_string()))?;
     identify_later(&session);
-    Ok(Arc::new(SessionController::new(
-        session,
-        target.spec.describe(),
-        target.options.clone(),
-    )))
+    let controller =
+        SessionController::new(session, target.spec.describe(), target.options.clone());
+    Ok(Arc::new(match &target.spec {
+        LinkSpec::Sim { sim, .. } => controller.with_simulator(Arc::clone(sim)),
+        _ => controller,
+    }))
 }
 
 /// Test only: with this variable set (to anything), `:connect` (or a

@@ -134,6 +134,12 @@ pub enum AppEvent {
         tag: u64,
         result: Result<TransferDone, TransferError>,
     },
+    /// A pane's program was loaded into the simulator (or not).
+    ProgramLoaded {
+        pane: usize,
+        tag: u64,
+        result: Result<String, String>,
+    },
     /// SIGTERM, SIGHUP: leave now.
     Terminate,
 }
@@ -174,6 +180,13 @@ pub enum Effect {
     },
     /// Cancel the running transfer (between two words).
     CancelTransfer,
+    /// Load program source into the connected simulator for a pane; the
+    /// answer back as [`AppEvent::ProgramLoaded`].
+    LoadProgram {
+        pane: usize,
+        tag: u64,
+        source: String,
+    },
     Quit,
 }
 
@@ -363,6 +376,10 @@ impl App {
             }
             AppEvent::Transferred { pane, tag, result } => {
                 let event = PaneEvent::Transferred { tag, result };
+                self.deliver(pane, &event, &mut effects);
+            }
+            AppEvent::ProgramLoaded { pane, tag, result } => {
+                let event = PaneEvent::ProgramLoaded { tag, result };
                 self.deliver(pane, &event, &mut effects);
             }
             AppEvent::Terminate => {
@@ -619,6 +636,9 @@ impl App {
             Request::WakeAfter { after, tag } => effects.push(Effect::Wake { pane, tag, after }),
             Request::Transfer { job, tag } => effects.push(Effect::Transfer { pane, tag, job }),
             Request::CancelTransfer => effects.push(Effect::CancelTransfer),
+            Request::LoadProgram { source, tag } => {
+                effects.push(Effect::LoadProgram { pane, tag, source })
+            }
             Request::Quit => {
                 self.quit = true;
                 effects.push(Effect::Quit);
@@ -927,6 +947,17 @@ pub trait Controller: Send + Sync {
         let _ = (job, cancel, progress);
         let family = self.family().name;
         Box::pin(async move { Err(TransferError::Unsupported { family }) })
+    }
+    /// Load program source into the simulator behind the link, as its
+    /// vendor's tool would write it into the controller: what it holds
+    /// now, or why not. Only a simulator in this process can; a real
+    /// controller (or a served simulator) refuses.
+    fn load_program(&self, source: &str) -> Result<String, String> {
+        let _ = source;
+        Err(format!(
+            "{} is no simulator in this process: there is no program memory to load into",
+            self.link_name()
+        ))
     }
 }
 
@@ -1549,6 +1580,13 @@ impl Runner {
                 if let Some(cancel) = self.transfer.as_ref() {
                     cancel.cancel();
                 }
+            }
+            Effect::LoadProgram { pane, tag, source } => {
+                let result = match self.connection.as_ref() {
+                    Some(c) => c.controller.load_program(&source),
+                    None => Err("not connected: nothing to load into".to_string()),
+                };
+                queue.push(AppEvent::ProgramLoaded { pane, tag, result });
             }
             Effect::Quit => {}
         }

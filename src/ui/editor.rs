@@ -10,9 +10,21 @@
 //! While a program runs, its registers (mode, PC, accumulator, X) are read
 //! over and over, and with them the user variables chosen to be watched
 //! ([`watch`]), shown in a panel beside the text.
+//!
+//! The text may be A-Script instead, the CMD-4CR's language ([`script`]):
+//! chosen by a `.asc` file, by a CMD-4CR connection, or by the language
+//! key. Then the colours and the marked lines come from the A-Script
+//! lexer and checker, the run keys drive programs already in the
+//! controller over the wire (`SACTRL`, `SASTAT`, `SPC`, `V`), the
+//! download key loads the in-process simulator (the manual documents no
+//! download to real hardware, and the editor says so), and the run-from-
+//! host key runs the text statement by statement from here
+//! ([`script_run`]).
 
 pub mod autosave;
 pub mod highlight;
+pub mod script;
+mod script_run;
 pub mod transfer;
 pub mod watch;
 
@@ -37,6 +49,7 @@ use super::theme::Role;
 use crate::protocol::tmcl::asm::{AsmError, NoIncludes, Program, SourceLoader, assemble};
 use autosave::{Autosave, read_autosave, remove_autosave, utc_time, write_autosave};
 use highlight::{Names, Token, highlight};
+use script::{Language, Problem};
 use watch::{
     MAX_WATCHED, load_watch_list, save_watch_list, variable_line, variable_of_line,
     variable_of_word,
@@ -47,7 +60,7 @@ use watch::{
 /// is the most that a crash can lose.
 pub const AUTOSAVE_QUIET: Duration = Duration::from_millis(300);
 
-/// The name a buffer without a file is assembled under.
+/// The name a TMCL buffer without a file is assembled under.
 const UNTITLED: &str = "untitled.tmc";
 
 /// Reads `#include`d files from disk, relative to the including file.
@@ -66,6 +79,8 @@ enum PromptKind {
     SaveAs,
     /// The number of a user variable to watch (or stop watching).
     Watch,
+    /// The same for an A-Script variable V0–V99.
+    WatchScript,
 }
 
 impl PromptKind {
@@ -74,6 +89,7 @@ impl PromptKind {
             PromptKind::Open => "open file: ",
             PromptKind::SaveAs => "save as: ",
             PromptKind::Watch => "watch user variable (0..255; a watched one stops): ",
+            PromptKind::WatchScript => "watch variable V (0..99; a watched one stops): ",
         }
     }
 }
@@ -93,6 +109,10 @@ const TAG_WATCH: u64 = (1 << 48) + 1;
 const TAG_WATCH_TIMER: u64 = (1 << 48) + 2;
 /// Reads of user variables outside the register batch (one just added).
 const TAG_VARIABLE: u64 = (1 << 48) + 3;
+/// Loading the text into the simulator.
+const TAG_LOAD: u64 = (1 << 48) + 4;
+/// The host run's requests count up from here.
+const TAG_HOST_FIRST: u64 = 1 << 49;
 
 /// Columns of the watch panel, and the least the text keeps beside it;
 /// below that the variables go to the bottom line.
@@ -170,6 +190,25 @@ pub struct EditorPane {
     top: usize,
     left: usize,
     rows: usize,
+    /// What the text is written in.
+    language: Language,
+    /// The language came from the file's extension or the language key:
+    /// a connection does not change it.
+    language_fixed: bool,
+    /// The A-Script check of the text (empty in TMCL mode).
+    script: script::Checked,
+    /// A-Script: the controller's program state as last read.
+    script_state: script_run::ProgramState,
+    /// The watched variables of the other language (TMCL user variables
+    /// 0..255, A-Script V0–V99), kept while this one is shown.
+    other_variables: BTreeMap<u8, Option<i64>>,
+    /// A-Script text running from the host.
+    host: Option<super::host_run::ConsoleHostRun>,
+    /// The variables of the last host run, shown until the controller's
+    /// are read.
+    host_values: Option<Vec<i32>>,
+    /// The last tag given to a request of the host run.
+    host_tag: u64,
 }
 
 impl EditorPane {
@@ -200,14 +239,30 @@ impl EditorPane {
             top: 0,
             left: 0,
             rows: 1,
+            language: Language::Tmcl,
+            language_fixed: false,
+            script: script::Checked::default(),
+            script_state: script_run::ProgramState::default(),
+            other_variables: BTreeMap::new(),
+            host: None,
+            host_values: None,
+            host_tag: TAG_HOST_FIRST,
         };
         if let Some(dir) = pane.data_dir.as_deref() {
             pane.variables = load_watch_list(dir)
                 .into_iter()
                 .map(|n| (n, None))
                 .collect();
+            pane.other_variables = watch::load_script_watch_list(dir)
+                .into_iter()
+                .map(|n| (n, None))
+                .collect();
         }
         if let Some(copy) = pane.data_dir.as_deref().and_then(read_autosave) {
+            if let Some(language) = copy.file.as_deref().and_then(Language::of_file) {
+                pane.set_language(language);
+                pane.language_fixed = true;
+            }
             pane.saved = copy
                 .file
                 .as_deref()
@@ -252,17 +307,89 @@ impl EditorPane {
         self.program.as_ref()
     }
 
-    /// Lines (1-based) of this buffer that do not assemble.
+    /// Lines (1-based) of this buffer that do not assemble (or check).
     pub fn error_lines(&self) -> Vec<usize> {
-        let name = self.source_name();
         let mut lines: Vec<usize> = self
-            .errors
+            .problems()
             .iter()
-            .filter(|e| e.file == name)
-            .map(|e| e.line)
+            .filter(|p| p.error)
+            .map(|p| p.line)
             .collect();
         lines.dedup();
         lines
+    }
+
+    /// Lines (1-based) with a warning and no error.
+    pub fn warning_lines(&self) -> Vec<usize> {
+        let errors = self.error_lines();
+        let mut lines: Vec<usize> = self
+            .problems()
+            .iter()
+            .filter(|p| !p.error && !errors.contains(&p.line))
+            .map(|p| p.line)
+            .collect();
+        lines.dedup();
+        lines
+    }
+
+    /// What the assembler (or the A-Script checker) finds wrong in this
+    /// buffer, in line order.
+    pub fn problems(&self) -> Vec<Problem> {
+        match self.language {
+            Language::Tmcl => {
+                let name = self.source_name();
+                self.errors
+                    .iter()
+                    .filter(|e| e.file == name)
+                    .map(|e| Problem {
+                        line: e.line,
+                        column: e.column,
+                        text: e.to_string(),
+                        error: true,
+                    })
+                    .collect()
+            }
+            Language::AScript => self.script.diagnostics.iter().map(Problem::of).collect(),
+        }
+    }
+
+    /// The first error anywhere (a TMCL `#include`d file's too), for a
+    /// message.
+    fn first_error(&self) -> Option<String> {
+        match self.language {
+            Language::Tmcl => self.errors.first().map(ToString::to_string),
+            Language::AScript => self
+                .script
+                .diagnostics
+                .iter()
+                .find(|d| d.is_error())
+                .map(ToString::to_string),
+        }
+    }
+
+    fn error_count(&self) -> usize {
+        match self.language {
+            Language::Tmcl => self.errors.len(),
+            Language::AScript => self
+                .script
+                .diagnostics
+                .iter()
+                .filter(|d| d.is_error())
+                .count(),
+        }
+    }
+
+    /// Whether the text assembles (or checks).
+    fn runs(&self) -> bool {
+        match self.language {
+            Language::Tmcl => self.program.is_some(),
+            Language::AScript => self.script.program.is_some(),
+        }
+    }
+
+    /// What the text is written in.
+    pub fn language(&self) -> Language {
+        self.language
     }
 
     /// The cursor: line and column, 0-based.
@@ -437,10 +564,18 @@ impl EditorPane {
         let inner = block.inner(area);
         frame.render_widget(block, area);
         let width = usize::from(inner.width);
-        let mut lines = vec![Line::styled(" user variables", theme.style(Role::Title))];
-        for (n, value) in &self.variables {
-            let label = format!(" #{n}");
-            let shown = value.map_or_else(|| "—".to_string(), |v| v.to_string());
+        let heading = match self.language {
+            Language::Tmcl => " user variables",
+            Language::AScript if self.host_variables_shown() => " variables (host)",
+            Language::AScript => " variables",
+        };
+        let mut lines = vec![Line::styled(heading, theme.style(Role::Title))];
+        for (n, value) in self.shown_variables() {
+            let label = match self.language {
+                Language::Tmcl => format!(" #{n}"),
+                Language::AScript => format!(" V{n}"),
+            };
+            let shown = value.map_or_else(|| "—".to_string(), |v: i64| v.to_string());
             let pad = width.saturating_sub(label.chars().count() + shown.chars().count() + 1);
             lines.push(Line::from(vec![
                 Span::styled(label, theme.style(Role::Muted)),
@@ -460,11 +595,13 @@ impl EditorPane {
         frame.render_widget(Paragraph::new(lines), inner);
     }
 
-    /// The name the text is assembled under: its file, or `untitled.tmc`.
+    /// The name the text is assembled under: its file, or `untitled.tmc`
+    /// (`untitled.asc`).
     pub fn source_name(&self) -> String {
-        self.file
-            .as_ref()
-            .map_or_else(|| UNTITLED.to_string(), |f| f.display().to_string())
+        self.file.as_ref().map_or_else(
+            || self.language.untitled().to_string(),
+            |f| f.display().to_string(),
+        )
     }
 
     fn set_text(&mut self, text: &str) {
@@ -475,6 +612,13 @@ impl EditorPane {
     }
 
     fn assemble(&mut self) {
+        if self.language == Language::AScript {
+            self.program = None;
+            self.errors.clear();
+            self.script = script::check(&self.text());
+            return;
+        }
+        self.script = script::Checked::default();
         match assemble(&self.source_name(), &self.text(), &SourceFiles) {
             Ok(program) => {
                 self.program = Some(program);
@@ -528,6 +672,7 @@ impl EditorPane {
         self.set_text(&text);
         self.recovered = None;
         self.current = None;
+        self.language_of_file(path);
         self.assemble();
         self.write_safety_copy();
         self.message = Some(Notice::info(format!(
@@ -545,6 +690,7 @@ impl EditorPane {
         self.file = Some(path.to_path_buf());
         self.saved = text;
         self.recovered = None;
+        self.language_of_file(path);
         self.assemble();
         self.write_safety_copy();
         self.message = Some(Notice::info(format!(
@@ -573,28 +719,34 @@ impl EditorPane {
         self.message = Some(Notice::info("recovered text discarded"));
     }
 
-    /// Move the cursor to the next line that does not assemble, after the
-    /// cursor (round to the first).
+    /// Move the cursor to the next line that does not assemble (or check),
+    /// after the cursor (round to the first); A-Script warnings count.
     fn next_error(&mut self) {
-        let name = self.source_name();
         let here = self.cursor().0 + 1;
-        let mine: Vec<&AsmError> = self.errors.iter().filter(|e| e.file == name).collect();
+        let mine = self.problems();
         let next = mine
             .iter()
-            .find(|e| e.line > here)
+            .find(|p| p.line > here)
             .or_else(|| mine.first())
-            .copied();
+            .cloned();
         match next {
-            Some(e) => {
-                let row = u16::try_from(e.line.saturating_sub(1)).unwrap_or(u16::MAX);
-                let col = u16::try_from(e.column.saturating_sub(1)).unwrap_or(u16::MAX);
+            Some(p) => {
+                let row = u16::try_from(p.line.saturating_sub(1)).unwrap_or(u16::MAX);
+                let col = u16::try_from(p.column.saturating_sub(1)).unwrap_or(u16::MAX);
                 self.text.move_cursor(CursorMove::Jump(row, col));
-                self.message = Some(Notice::error(e.to_string()));
+                self.message = Some(if p.error {
+                    Notice::error(p.text)
+                } else {
+                    Notice::warning(p.text)
+                });
             }
             None => {
-                self.message = Some(match self.errors.first() {
-                    Some(e) => Notice::error(e.to_string()),
-                    None => Notice::info("no errors: the program assembles"),
+                self.message = Some(match self.first_error() {
+                    Some(e) => Notice::error(e),
+                    None => Notice::info(match self.language {
+                        Language::Tmcl => "no errors: the program assembles",
+                        Language::AScript => "no errors: the program checks",
+                    }),
                 })
             }
         }
@@ -616,6 +768,19 @@ impl EditorPane {
                 if name.is_empty() {
                     return Outcome::redraw();
                 }
+                if kind == PromptKind::WatchScript {
+                    return match name.trim_start_matches(['V', 'v']).parse::<u8>() {
+                        Ok(n) if usize::from(n) < crate::protocol::cmd4cr::ascript::VARIABLES => {
+                            self.toggle_script_variable(n, view)
+                        }
+                        _ => {
+                            self.message = Some(Notice::error(format!(
+                                "A-Script variables are V0..V99, not `{name}`"
+                            )));
+                            Outcome::redraw()
+                        }
+                    };
+                }
                 if kind == PromptKind::Watch {
                     return match name.parse::<u8>() {
                         Ok(n) => self.toggle_variable(n, view),
@@ -631,7 +796,7 @@ impl EditorPane {
                 let result = match kind {
                     PromptKind::Open => self.open_file(&path),
                     PromptKind::SaveAs => self.save_to(&path),
-                    PromptKind::Watch => Ok(()),
+                    PromptKind::Watch | PromptKind::WatchScript => Ok(()),
                 };
                 if let Err(e) = result {
                     self.message = Some(Notice::error(e));
@@ -659,6 +824,12 @@ impl EditorPane {
         if !free && self.transfer.is_some() {
             self.locked(view);
             return Outcome::redraw();
+        }
+        if action == Action::EditorLanguage {
+            return self.switch_language(view);
+        }
+        if let Some(outcome) = self.script_action(action, view) {
+            return outcome;
         }
         match action {
             Action::EditorSave => match self.file.clone() {
@@ -703,6 +874,12 @@ impl EditorPane {
                 }
             }
             Action::EditorNextError => self.next_error(),
+            Action::EditorHostRun => {
+                self.message = Some(Notice::warning(format!(
+                    "running from the host is for A-Script (CMD-4CR); this text is TMCL: {} switches",
+                    key_label(view.keymap, Context::Editor, Action::EditorLanguage)
+                )));
+            }
             Action::Cancel => {
                 if let Some(outcome) = self.cancel_transfer() {
                     return outcome;
@@ -731,18 +908,17 @@ impl EditorPane {
 
     /// The first error of this buffer, the cursor on it.
     fn next_error_from_top(&mut self) {
-        let name = self.source_name();
-        if let Some(first) = self.errors.iter().find(|e| e.file == name) {
+        if let Some(first) = self.problems().into_iter().find(|p| p.error) {
             let row = u16::try_from(first.line.saturating_sub(1)).unwrap_or(u16::MAX);
             let col = u16::try_from(first.column.saturating_sub(1)).unwrap_or(u16::MAX);
             self.text.move_cursor(CursorMove::Jump(row, col));
         }
-        self.message = self.errors.first().map(|e| {
-            let more = self.errors.len() - 1;
+        let more = self.error_count().saturating_sub(1);
+        self.message = self.first_error().map(|e| {
             Notice::error(if more > 0 {
                 format!("{e} (and {more} more)")
             } else {
-                e.to_string()
+                e
             })
         });
     }
@@ -822,29 +998,36 @@ impl EditorPane {
             };
             return Line::from(Span::styled(message.text.clone(), theme.style(role)));
         }
-        let name = self.source_name();
         let here = self.cursor().0 + 1;
-        if let Some(e) = self
-            .errors
-            .iter()
-            .find(|e| e.file == name && e.line == here)
-        {
-            return Line::from(Span::styled(e.to_string(), theme.style(Role::Error)));
+        if let Some(p) = self.problems().into_iter().find(|p| p.line == here) {
+            let role = if p.error { Role::Error } else { Role::Warning };
+            return Line::from(Span::styled(p.text, theme.style(role)));
+        }
+        if let Some(host) = &self.host {
+            return Line::from(Span::styled(
+                format!(
+                    "{}: {} stops it",
+                    host.describe(),
+                    key_label(view.keymap, Context::Editor, Action::Cancel)
+                ),
+                theme.style(Role::Warning),
+            ));
         }
         let file = match &self.file {
             Some(f) => f.display().to_string(),
             None => "untitled".to_string(),
         };
         let changed = if self.modified() { " [modified]" } else { "" };
-        let state = match (&self.program, self.errors.len()) {
-            (Some(p), _) => format!("assembles: {} words", p.words.len()),
-            (None, n) => format!(
+        let state = match (&self.program, &self.script.program, self.error_count()) {
+            (Some(p), _, _) => format!("assembles: {} words", p.words.len()),
+            (_, Some(p), _) => format!("A-Script {}", script::summary(p)),
+            (None, None, n) => format!(
                 "{n} error{} ({} next)",
                 if n == 1 { "" } else { "s" },
                 key_label(view.keymap, Context::Editor, Action::EditorNextError)
             ),
         };
-        let role = if self.program.is_some() {
+        let role = if self.runs() {
             Role::Muted
         } else {
             Role::Error
@@ -853,6 +1036,12 @@ impl EditorPane {
             Span::styled(format!("{file}{changed} — "), theme.style(Role::Muted)),
             Span::styled(state, theme.style(role)),
         ];
+        if let Some(state) = self.script_state.describe() {
+            spans.push(Span::styled(
+                format!(" │ {state}"),
+                theme.style(Role::Accent),
+            ));
+        }
         if self.watch != Watch::default() {
             let show = |v: Option<i64>| v.map_or_else(|| "-".to_string(), |v| v.to_string());
             spans.push(Span::styled(
@@ -868,12 +1057,16 @@ impl EditorPane {
         }
         // No room for the watch panel: the variables here.
         if !self.variables.is_empty() && !self.panel_shown(width) {
+            let mark = match self.language {
+                Language::Tmcl => "#",
+                Language::AScript => "V",
+            };
             let values: Vec<String> = self
-                .variables
-                .iter()
+                .shown_variables()
+                .into_iter()
                 .map(|(n, v)| {
                     format!(
-                        "#{n}={}",
+                        "{mark}{n}={}",
                         v.map_or_else(|| "—".to_string(), |v| v.to_string())
                     )
                 })
@@ -922,6 +1115,7 @@ fn number_read(
 /// at most `width` shown.
 fn styled_line(
     line: &str,
+    language: Language,
     names: &Names,
     view: &View,
     base: Style,
@@ -932,14 +1126,26 @@ fn styled_line(
     let mut spans: Vec<Span<'static>> = Vec::new();
     let mut skipped = 0;
     let mut shown = 0;
-    for (range, token) in highlight(line, names) {
-        let role = match token {
-            Token::Plain => None,
-            Token::Mnemonic => Some(Role::CodeMnemonic),
-            Token::Label => Some(Role::CodeLabel),
-            Token::Number => Some(Role::CodeNumber),
-            Token::Comment => Some(Role::CodeComment),
-        };
+    let pieces: Vec<(std::ops::Range<usize>, Option<Role>)> = match language {
+        Language::Tmcl => highlight(line, names)
+            .into_iter()
+            .map(|(range, token)| {
+                let role = match token {
+                    Token::Plain => None,
+                    Token::Mnemonic => Some(Role::CodeMnemonic),
+                    Token::Label => Some(Role::CodeLabel),
+                    Token::Number => Some(Role::CodeNumber),
+                    Token::Comment => Some(Role::CodeComment),
+                };
+                (range, role)
+            })
+            .collect(),
+        Language::AScript => crate::protocol::cmd4cr::ascript::tokens(line)
+            .into_iter()
+            .map(|(range, class)| (range, script::role_of(class)))
+            .collect(),
+    };
+    for (range, role) in pieces {
         let style = role.map_or(base, |r| base.patch(theme.style(r)));
         let mut piece = String::new();
         for c in line.get(range).unwrap_or("").chars() {
@@ -975,7 +1181,10 @@ impl Pane for EditorPane {
             |n| n.to_string_lossy().into_owned(),
         );
         let changed = if self.modified() { "*" } else { "" };
-        format!("Program — {name}{changed}")
+        match self.language {
+            Language::Tmcl => format!("Program — {name}{changed}"),
+            Language::AScript => format!("Program (A-Script) — {name}{changed}"),
+        }
     }
 
     fn region(&self) -> Region {
@@ -1034,17 +1243,24 @@ impl Pane for EditorPane {
             self.left = col + 1 - text_width;
         }
         let error_lines = self.error_lines();
-        let names = Names::declared(lines.iter().map(String::as_str));
+        let warning_lines = self.warning_lines();
+        let running = self.running_lines();
+        let names = match self.language {
+            Language::Tmcl => Names::declared(lines.iter().map(String::as_str)),
+            Language::AScript => Names::default(),
+        };
         let mut shown = Vec::with_capacity(rows);
         for (index, line) in lines.iter().enumerate().skip(self.top).take(rows) {
             let is_error = error_lines.contains(&(index + 1));
-            let is_current = self.current == Some(index);
+            let is_current = self.current == Some(index) || running.contains(&index);
             let (marker, gutter_role) = if is_current {
                 ("▶", Role::CodeCurrent)
             } else if self.failed_line == Some(index) {
                 ("✗", Role::CodeError)
             } else if is_error {
                 ("!", Role::CodeError)
+            } else if warning_lines.contains(&(index + 1)) {
+                ("?", Role::Warning)
             } else {
                 (" ", Role::CodeGutter)
             };
@@ -1057,7 +1273,15 @@ impl Pane for EditorPane {
                 format!("{marker}{:>digits$} ", index + 1),
                 theme.style(gutter_role),
             )];
-            spans.extend(styled_line(line, &names, view, base, self.left, text_width));
+            spans.extend(styled_line(
+                line,
+                self.language,
+                &names,
+                view,
+                base,
+                self.left,
+                text_width,
+            ));
             let mut styled = Line::from(spans);
             if is_current {
                 styled = styled.style(base);
@@ -1126,8 +1350,17 @@ impl Pane for EditorPane {
         }
     }
 
-    fn on_event(&mut self, event: &PaneEvent, _view: &View) -> Outcome {
+    fn activity(&self) -> Option<String> {
+        self.host
+            .as_ref()
+            .map(|h| format!("editor: {}", h.describe()))
+    }
+
+    fn on_event(&mut self, event: &PaneEvent, view: &View) -> Outcome {
         if let Some(outcome) = self.transfer_event(event) {
+            return outcome;
+        }
+        if let Some(outcome) = self.script_event(event, view) {
             return outcome;
         }
         match event {

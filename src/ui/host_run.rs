@@ -60,6 +60,11 @@ impl ConsoleHostRun {
         self.run.threads()
     }
 
+    /// The variables as the host holds them (V0–V99).
+    pub fn variables(&self) -> &[i32] {
+        self.run.variables()
+    }
+
     /// Whether `tag` is the answer or wake-up the run waits for.
     pub fn awaits(&self, tag: u64) -> bool {
         self.awaiting == Some(tag)

@@ -17,6 +17,7 @@ use super::terminal::{TerminalGuard, spawn_reader};
 use super::theme::{choose_theme, no_color_in_env};
 use super::{PaneSetup, panes};
 use crate::device::{DeviceEvent, LinkState, TrafficRecord};
+use crate::link::SharedSim;
 use crate::protocol::Family;
 use crate::session::program::{Cancel, Progress, TransferError};
 use crate::session::{
@@ -29,6 +30,8 @@ pub struct SessionController {
     /// The link as the user named it.
     link_name: String,
     options: SessionOptions,
+    /// The simulator behind the link, when it runs in this process.
+    simulator: Option<SharedSim>,
 }
 
 impl SessionController {
@@ -37,7 +40,15 @@ impl SessionController {
             session,
             link_name,
             options,
+            simulator: None,
         }
+    }
+
+    /// The same, with the in-process simulator the link reaches: programs
+    /// can be loaded into it ([`Controller::load_program`]).
+    pub fn with_simulator(mut self, simulator: SharedSim) -> SessionController {
+        self.simulator = Some(simulator);
+        self
     }
 }
 
@@ -115,11 +126,27 @@ impl Controller for SessionController {
         };
         let session = self.session.at_address(address);
         identify_later(&session);
-        Arc::new(SessionController::new(
+        Arc::new(SessionController {
             session,
-            self.link_name.clone(),
+            link_name: self.link_name.clone(),
             options,
-        ))
+            simulator: self.simulator.clone(),
+        })
+    }
+
+    fn load_program(&self, source: &str) -> Result<String, String> {
+        let Some(simulator) = &self.simulator else {
+            return Err(format!(
+                "{} is no simulator in this process: there is no program memory to load into",
+                self.link_name
+            ));
+        };
+        // A panic elsewhere while holding the lock leaves a usable
+        // simulator; carry on with it.
+        let mut sim = simulator.lock().unwrap_or_else(|e| e.into_inner());
+        sim.load_program(source)
+            .map(|()| format!("loaded into the simulator ({})", self.link_name))
+            .map_err(|problems| problems.join("; "))
     }
 
     fn transfer(

@@ -156,6 +156,12 @@ pub enum PaneEvent {
     /// The connect screen's choice now connects with this protocol family
     /// ([`Request::ChooseFamily`]).
     FamilyChosen(&'static str),
+    /// The [`Request::LoadProgram`] under `tag` was done: what the
+    /// simulator holds now, or why it holds nothing new.
+    ProgramLoaded {
+        tag: u64,
+        result: Result<String, String>,
+    },
 }
 
 /// A program transfer a pane asks for ([`Request::Transfer`]).
@@ -256,6 +262,11 @@ pub enum Request {
     /// Stop the running transfer between two words (a download leaves
     /// download mode); its [`PaneEvent::Transferred`] still comes.
     CancelTransfer,
+    /// Load program source into the connected simulator's program memory,
+    /// as its vendor's tool would (only an in-process simulator can: the
+    /// CMD-4CR manual gives no wire format for it). The answer comes back
+    /// as [`PaneEvent::ProgramLoaded`] under `tag`.
+    LoadProgram { source: String, tag: u64 },
     /// Leave the console.
     Quit,
 }

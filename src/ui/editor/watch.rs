@@ -24,6 +24,43 @@ const USER_BANK: u8 = 2;
 struct WatchFile {
     #[serde(default)]
     user_variables: Vec<u8>,
+    /// A-Script's V0–V99 (CMD-4CR), a list of their own.
+    #[serde(default)]
+    ascript_variables: Vec<u8>,
+}
+
+fn read_watch_file(data_dir: &Path) -> WatchFile {
+    std::fs::read_to_string(watch_path(data_dir))
+        .ok()
+        .and_then(|text| serde_json::from_str::<WatchFile>(&text).ok())
+        .unwrap_or_default()
+}
+
+fn tidy(mut list: Vec<u8>) -> Vec<u8> {
+    list.sort_unstable();
+    list.dedup();
+    list.truncate(MAX_WATCHED);
+    list
+}
+
+fn write_watch_file(data_dir: &Path, file: &WatchFile) -> Result<(), String> {
+    let json =
+        serde_json::to_string(file).map_err(|e| format!("cannot keep the watch list: {e}"))?;
+    std::fs::create_dir_all(data_dir)
+        .map_err(|e| format!("cannot keep the watch list in {}: {e}", data_dir.display()))?;
+    write_atomically(&watch_path(data_dir), json.as_bytes())
+}
+
+/// The A-Script variables watched last time (see [`load_watch_list`]).
+pub fn load_script_watch_list(data_dir: &Path) -> Vec<u8> {
+    tidy(read_watch_file(data_dir).ascript_variables)
+}
+
+/// Keep `variables` as the A-Script watch list (the TMCL one stays).
+pub fn save_script_watch_list(data_dir: &Path, variables: &[u8]) -> Result<(), String> {
+    let mut file = read_watch_file(data_dir);
+    file.ascript_variables = variables.to_vec();
+    write_watch_file(data_dir, &file)
 }
 
 /// Where the watch list lives in `data_dir`.
@@ -35,28 +72,15 @@ pub fn watch_path(data_dir: &Path) -> PathBuf {
 /// cannot be read (it is only a convenience: it is written again at the
 /// next change).
 pub fn load_watch_list(data_dir: &Path) -> Vec<u8> {
-    let Ok(text) = std::fs::read_to_string(watch_path(data_dir)) else {
-        return Vec::new();
-    };
-    let mut list = serde_json::from_str::<WatchFile>(&text)
-        .map(|f| f.user_variables)
-        .unwrap_or_default();
-    list.sort_unstable();
-    list.dedup();
-    list.truncate(MAX_WATCHED);
-    list
+    tidy(read_watch_file(data_dir).user_variables)
 }
 
-/// Keep `variables` as the watch list in `data_dir`.
+/// Keep `variables` as the watch list in `data_dir` (the A-Script one
+/// stays).
 pub fn save_watch_list(data_dir: &Path, variables: &[u8]) -> Result<(), String> {
-    let file = WatchFile {
-        user_variables: variables.to_vec(),
-    };
-    let json =
-        serde_json::to_string(&file).map_err(|e| format!("cannot keep the watch list: {e}"))?;
-    std::fs::create_dir_all(data_dir)
-        .map_err(|e| format!("cannot keep the watch list in {}: {e}", data_dir.display()))?;
-    write_atomically(&watch_path(data_dir), json.as_bytes())
+    let mut file = read_watch_file(data_dir);
+    file.user_variables = variables.to_vec();
+    write_watch_file(data_dir, &file)
 }
 
 /// The console line reading user variable `n` (GGP, §3.6.10).
@@ -134,5 +158,16 @@ mod tests {
         std::fs::write(watch_path(dir.path()), r#"{"user_variables": [9, 3, 9]}"#)
             .expect("written");
         assert_eq!(load_watch_list(dir.path()), [3, 9]);
+    }
+
+    #[test]
+    fn the_a_script_list_is_kept_beside_the_tmcl_one() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        save_watch_list(dir.path(), &[200, 3]).expect("save");
+        save_script_watch_list(dir.path(), &[99, 7, 7]).expect("save");
+        assert_eq!(load_watch_list(dir.path()), [3, 200]);
+        assert_eq!(load_script_watch_list(dir.path()), [7, 99]);
+        save_watch_list(dir.path(), &[1]).expect("save");
+        assert_eq!(load_script_watch_list(dir.path()), [7, 99]);
     }
 }
