@@ -497,3 +497,63 @@ fn the_threads_show_where_each_program_is() {
         ]
     );
 }
+
+mod arbitrary_answers {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// What a controller (or a broken link) may answer.
+    fn any_answer() -> impl Strategy<Value = Result<LineResult, SessionError>> {
+        prop_oneof![
+            any::<i64>().prop_map(|n| answer("X", ReplyValue::Number(n))),
+            Just(answer("X", ReplyValue::None)),
+            "[ -~]{0,12}".prop_map(|t| answer("X", ReplyValue::Text(t))),
+            "\\?[ -~]{0,12}".prop_map(|r| refused("X", &r)),
+            Just(refused("X", "?Error Moving")),
+            Just(Err(SessionError::Refused {
+                line: "X".into(),
+                message: "out of range".into()
+            })),
+        ]
+    }
+
+    const PROGRAMS: &[&str] = &[
+        "PRG 0\n HSPD=V1\n X1000\n WAITX\n V2=MSTX&7\n IF V2!=0\n  DO1=1\n ENDIF\n V3=V4/V2\nEND\nSUB 31\n ECLEARX\nENDSUB\n",
+        "PRG 0\n WHILE DI1=1\n  XV1\n  WAITX\n  V1=V1+PX\n ENDWHILE\nEND\nPRG 1\n SR0=V5\n DELAY=V6\n GOSUB 2\nEND\nSUB 2\n V7=~AI1\nENDSUB\n",
+        "PRG 2\n BUFON\n X1Y2Z3\n ISTART\n WAITX\n BUFOFF\nEND\n",
+    ];
+
+    proptest! {
+        #[test]
+        fn no_answer_breaks_the_run(
+            which in 0..PROGRAMS.len(),
+            answers in proptest::collection::vec(any_answer(), 0..60),
+            waits in proptest::collection::vec(0u64..500, 0..60),
+        ) {
+            let checked = HostProgram::check("p.asc", PROGRAMS[which], None).expect("checks");
+            let mut run = HostRun::new(&checked);
+            let mut now = Instant::now();
+            let mut answers = answers.into_iter();
+            let mut waits = waits.into_iter();
+            let mut step = run.start(now);
+            for _ in 0..200 {
+                let _ = run.take_events();
+                let _ = run.threads();
+                step = match step {
+                    HostStep::Send(_) => match answers.next() {
+                        Some(result) => run.on_reply(&result, now),
+                        None => break,
+                    },
+                    HostStep::Wake(after) => {
+                        now += after + Duration::from_millis(waits.next().unwrap_or(0));
+                        run.on_wake(now)
+                    }
+                    HostStep::Finished(end) => {
+                        let _ = end.to_string();
+                        break;
+                    }
+                };
+            }
+        }
+    }
+}
