@@ -70,10 +70,10 @@ pub struct ConnectionArgs {
     /// Serial-over-TCP bridge, HOST:PORT.
     #[arg(long, global = true, conflicts_with = "sim")]
     pub tcp: Option<String>,
-    /// Built-in simulator: tmcm1110.
+    /// Built-in simulator: tmcm1110 or cmd4cr.
     #[arg(long, global = true)]
     pub sim: Option<String>,
-    /// Protocol family: tmcl.
+    /// Protocol family: tmcl or cmd4cr (default: the simulator's, else tmcl).
     #[arg(long, global = true)]
     pub protocol: Option<String>,
     /// Serial baud rate (default 9600); with --sim, emulate that wire time.
@@ -96,7 +96,7 @@ pub struct ConnectionArgs {
 pub enum Command {
     /// Print the bytes a console line becomes.
     Encode {
-        /// Protocol family: tmcl.
+        /// Protocol family: tmcl or cmd4cr.
         family: String,
         /// The console line, e.g. 'MVP ABS, 0, 1000'.
         line: String,
@@ -109,7 +109,7 @@ pub enum Command {
     /// its wire time at N baud (10 bits a byte, both ways). Runs until
     /// interrupted.
     Sim {
-        /// Which controller: tmcm1110.
+        /// Which controller: tmcm1110 or cmd4cr.
         kind: String,
         /// Serve it on a new pseudo-terminal and print its path.
         #[arg(long)]
