@@ -9,7 +9,6 @@ mod ui_support;
 
 use std::path::Path;
 use std::sync::Arc;
-use std::time::Duration;
 
 use axterm::cli::ConnectionArgs;
 use axterm::cli::connection::Target;
@@ -17,14 +16,14 @@ use axterm::link::LinkSpec;
 use axterm::protocol::find_family;
 use axterm::session::Session;
 use axterm::ui::PaneSetup;
-use axterm::ui::app::{self, App, AppEvent, Connector, Controller, Effect};
+use axterm::ui::app::{App, AppEvent, Controller, Effect};
 use axterm::ui::live::SessionController;
 use axterm::ui::pane::Snapshot;
 use axterm::ui::theme::Role;
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
-use ratatui::crossterm::event::{Event, KeyCode, KeyEvent, KeyModifiers};
-use tokio::sync::mpsc;
+use ratatui::crossterm::event::{Event, KeyCode, KeyModifiers};
+use ui_support::looped::{Rig, no_connector, press, press_with, run_console_on};
 use ui_support::{console_with, key, key_with, screen};
 
 const EXAMPLE_1: &str = "PRG 0                ;Program start line, program 0\n    HSPD=20000       ;Set high speed\n    EO=1\n    X1000\n    WAITX\n    V1=PX\nEND\n";
@@ -252,47 +251,8 @@ fn ctrl_t_watches_the_variable_on_the_line() {
     assert!(kept.contains("\"ascript_variables\":[12]"), "{kept}");
 }
 
-/// The console loop on an in-process CMD-4CR simulator, the editor
-/// focused, on the paused clock.
-struct Rig {
-    keys: mpsc::UnboundedSender<Event>,
-    drawn: mpsc::UnboundedReceiver<String>,
-    last: String,
-}
-
-impl Rig {
-    fn press(&self, code: KeyCode, modifiers: KeyModifiers) {
-        let _ = self.keys.send(Event::Key(KeyEvent::new(code, modifiers)));
-    }
-
-    fn paste(&self, text: &str) {
-        let _ = self.keys.send(Event::Paste(text.to_string()));
-    }
-
-    async fn until(&mut self, needle: &str) -> String {
-        let wait = async {
-            while let Some(frame) = self.drawn.recv().await {
-                let found = frame.contains(needle);
-                self.last = frame;
-                if found {
-                    return true;
-                }
-            }
-            false
-        };
-        let found = tokio::time::timeout(Duration::from_secs(600), wait).await;
-        assert!(
-            matches!(found, Ok(true)),
-            "never showed {needle:?}; last frame:\n{}",
-            self.last
-        );
-        self.last.clone()
-    }
-}
-
-const WIDTH: u16 = 159;
-const HEIGHT: u16 = 40;
-
+/// The console at 159×40 on an in-process CMD-4CR simulator, the editor
+/// focused, on the paused clock, until `driver` is done (then F10).
 async fn on_the_simulator(driver: impl AsyncFnOnce(&mut Rig, &Session)) {
     let target = Target::resolve(&ConnectionArgs {
         sim: Some("cmd4cr".into()),
@@ -311,44 +271,23 @@ async fn on_the_simulator(driver: impl AsyncFnOnce(&mut Rig, &Session)) {
         )
         .with_simulator(Arc::clone(sim)),
     );
-    let connector: Connector = Box::new(|_| Box::pin(async { Err("not in this test".into()) }));
     let mut app: App = console_with(&PaneSetup::default());
     app.focus("editor");
-    let (keys, input) = mpsc::unbounded_channel();
-    let (drawn_tx, drawn) = mpsc::unbounded_channel();
-    let mut terminal = Terminal::new(TestBackend::new(WIDTH, HEIGHT)).expect("test backend");
-    let mut draw = move |app: &mut App| -> std::io::Result<()> {
-        let Ok(_) = terminal.draw(|f| app.render(f));
-        let buffer = terminal.backend().buffer();
-        let text: Vec<String> = (0..HEIGHT)
-            .map(|y| {
-                (0..WIDTH)
-                    .map(|x| buffer[(x, y)].symbol().to_string())
-                    .collect()
-            })
-            .collect();
-        let _ = drawn_tx.send(text.join("\n"));
-        Ok(())
-    };
-    let mut rig = Rig {
-        keys,
-        drawn,
-        last: String::new(),
-    };
-    let looping = app::run(
-        &mut app,
+    run_console_on(
+        app,
+        (159, 40),
         Some(controller),
-        connector,
-        input,
-        None,
-        &mut draw,
-    );
-    let driving = async {
-        driver(&mut rig, &session).await;
-        rig.press(KeyCode::F(10), KeyModifiers::NONE);
-    };
-    let (result, ()) = tokio::join!(looping, driving);
-    result.expect("the loop ends cleanly");
+        no_connector(),
+        async |mut rig: Rig| {
+            driver(&mut rig, &session).await;
+            press(&rig, KeyCode::F(10));
+        },
+    )
+    .await;
+}
+
+fn paste_into(rig: &Rig, text: &str) {
+    let _ = rig.keys.send(Event::Paste(text.to_string()));
 }
 
 async fn read(session: &Session, line: &str) -> String {
@@ -363,21 +302,26 @@ async fn read(session: &Session, line: &str) -> String {
 #[tokio::test(start_paused = true)]
 async fn f4_loads_the_simulator_and_f5_runs_the_program_there_watched_over_the_wire() {
     on_the_simulator(async |rig: &mut Rig, session: &Session| {
-        rig.until("Program (A-Script)").await;
-        rig.paste(EXAMPLE_1);
-        rig.until("A-Script checks: PRG 0").await;
-        rig.press(KeyCode::F(4), KeyModifiers::NONE);
-        let frame = rig.until("loaded into the simulator (sim cmd4cr)").await;
+        rig.screens.until("Program (A-Script)").await;
+        paste_into(rig, EXAMPLE_1);
+        rig.screens.until("A-Script checks: PRG 0").await;
+        press(rig, KeyCode::F(4));
+        let frame = rig
+            .screens
+            .until("loaded into the simulator (sim cmd4cr)")
+            .await;
         assert!(frame.contains("F5 starts PRG 0 (SACTRL0=1)"), "{frame}");
         assert_eq!(read(session, "SASTAT0").await, "0");
-        rig.press(KeyCode::F(5), KeyModifiers::NONE);
-        rig.until("SACTRL0=1: start PRG 0 in the controller").await;
+        press(rig, KeyCode::F(5));
+        rig.screens
+            .until("SACTRL0=1: start PRG 0 in the controller")
+            .await;
         // The message gives way to the program's state.
-        rig.press(KeyCode::Esc, KeyModifiers::NONE);
-        let frame = rig.until("PRG 0 running SPC").await;
+        press(rig, KeyCode::Esc);
+        let frame = rig.screens.until("PRG 0 running SPC").await;
         // The simulator has the editor's text: its SPC marks a line.
         assert!(frame.contains('▶'), "{frame}");
-        rig.until("PRG 0 idle SPC").await;
+        rig.screens.until("PRG 0 idle SPC").await;
         assert_eq!(read(session, "PX").await, "1000");
         assert_eq!(read(session, "V1").await, "1000");
     })
@@ -387,19 +331,19 @@ async fn f4_loads_the_simulator_and_f5_runs_the_program_there_watched_over_the_w
 #[tokio::test(start_paused = true)]
 async fn the_text_runs_from_the_host_with_its_lines_marked_and_the_stop_key_ends_it() {
     on_the_simulator(async |rig: &mut Rig, session: &Session| {
-        rig.until("Program (A-Script)").await;
-        rig.paste(EXAMPLE_1);
-        rig.until("A-Script checks: PRG 0").await;
+        rig.screens.until("Program (A-Script)").await;
+        paste_into(rig, EXAMPLE_1);
+        rig.screens.until("A-Script checks: PRG 0").await;
         // Watch V1: the host's own value is shown while it runs.
-        rig.press(KeyCode::Up, KeyModifiers::NONE);
-        rig.press(KeyCode::Up, KeyModifiers::NONE);
-        rig.press(KeyCode::Char('t'), KeyModifiers::CONTROL);
-        rig.until("watching V1").await;
-        rig.press(KeyCode::F(5), KeyModifiers::CONTROL);
-        let frame = rig.until("running untitled.asc from the host: PRG 0 line").await;
+        press(rig, KeyCode::Up);
+        press(rig, KeyCode::Up);
+        press_with(rig, KeyCode::Char('t'), KeyModifiers::CONTROL);
+        rig.screens.until("watching V1").await;
+        press_with(rig, KeyCode::F(5), KeyModifiers::CONTROL);
+        let frame = rig.screens.until("running untitled.asc from the host: PRG 0 line").await;
         assert!(frame.contains("editor: running untitled.asc from the host"), "{frame}");
         assert!(frame.contains('▶'), "the line it is at is marked:\n{frame}");
-        let frame = rig.until("every program ran to its END").await;
+        let frame = rig.screens.until("every program ran to its END").await;
         assert!(
             frame.lines().any(|l| l
                 .split(" V1 ")
@@ -412,13 +356,14 @@ async fn the_text_runs_from_the_host_with_its_lines_marked_and_the_stop_key_ends
         assert_eq!(read(session, "V1").await, "0");
 
         // Again, with a second program that never ends: F12 ends the run.
-        rig.press(KeyCode::PageDown, KeyModifiers::NONE);
-        rig.press(KeyCode::End, KeyModifiers::NONE);
-        rig.paste("PRG 1\n    WHILE 1=1\n        X0\n        DELAY=100\n        X500\n        DELAY=100\n    ENDWHILE\nEND\n");
-        rig.press(KeyCode::F(5), KeyModifiers::CONTROL);
-        rig.until("X500 → ok").await;
-        rig.press(KeyCode::F(12), KeyModifiers::NONE);
+        press(rig, KeyCode::PageDown);
+        press(rig, KeyCode::End);
+        paste_into(rig, "PRG 1\n    WHILE 1=1\n        X0\n        DELAY=100\n        X500\n        DELAY=100\n    ENDWHILE\nEND\n");
+        press_with(rig, KeyCode::F(5), KeyModifiers::CONTROL);
+        rig.screens.until("X500 → ok").await;
+        press(rig, KeyCode::F(12));
         let frame = rig
+            .screens
             .until("the emergency stop ended the host run of untitled.asc")
             .await;
         assert!(!frame.contains("editor: running"), "{frame}");

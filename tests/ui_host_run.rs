@@ -14,16 +14,12 @@ use axterm::cli::connection::Target;
 use axterm::device::{Direction, Priority, TrafficKind, TrafficRecord};
 use axterm::session::{Session, SessionOptions};
 use axterm::ui::PaneSetup;
-use axterm::ui::app::{self, App, Connector, Controller};
+use axterm::ui::app::{App, Controller};
 use axterm::ui::live::SessionController;
-use ratatui::Terminal;
-use ratatui::backend::TestBackend;
-use ratatui::crossterm::event::{Event, KeyCode, KeyEvent, KeyModifiers};
-use tokio::sync::{broadcast, mpsc};
+use ratatui::crossterm::event::{Event, KeyCode};
+use tokio::sync::broadcast;
 use ui_support::console_with;
-
-const WIDTH: u16 = 120;
-const HEIGHT: u16 = 40;
+use ui_support::looped::{Rig, no_connector, press, run_console_on};
 
 async fn session() -> Session {
     let target = Target::resolve(&ConnectionArgs {
@@ -34,90 +30,33 @@ async fn session() -> Session {
     target.open().await.expect("the simulator link opens")
 }
 
-struct Rig {
-    keys: mpsc::UnboundedSender<Event>,
-    drawn: mpsc::UnboundedReceiver<String>,
-    last: String,
-}
-
-impl Rig {
-    fn press(&self, code: KeyCode) {
-        let _ = self
-            .keys
-            .send(Event::Key(KeyEvent::new(code, KeyModifiers::NONE)));
-    }
-
-    fn type_line(&self, text: &str) {
-        let _ = self.keys.send(Event::Paste(text.to_string()));
-        self.press(KeyCode::Enter);
-    }
-
-    /// Wait for a frame showing `needle` (virtual time).
-    async fn until(&mut self, needle: &str) -> String {
-        let wait = async {
-            while let Some(frame) = self.drawn.recv().await {
-                let found = frame.contains(needle);
-                self.last = frame;
-                if found {
-                    return true;
-                }
-            }
-            false
-        };
-        let found = tokio::time::timeout(Duration::from_secs(600), wait).await;
-        assert!(
-            matches!(found, Ok(true)),
-            "never showed {needle:?}; last frame:\n{}",
-            self.last
-        );
-        self.last.clone()
-    }
-}
-
+/// The console at 120×40 on `session`, the command pane focused, until
+/// `driver` is done (then F10).
 async fn run_console(session: &Session, driver: impl AsyncFnOnce(&mut Rig)) {
     let controller: Arc<dyn Controller> = Arc::new(SessionController::new(
         session.clone(),
         "sim cmd4cr".into(),
         SessionOptions::default(),
     ));
-    let connector: Connector = Box::new(|_| Box::pin(async { Err("not in this test".into()) }));
     let mut app: App = console_with(&PaneSetup::default());
     app.focus("command");
-    let (keys, input) = mpsc::unbounded_channel();
-    let (drawn_tx, drawn) = mpsc::unbounded_channel();
-    let mut terminal = Terminal::new(TestBackend::new(WIDTH, HEIGHT)).expect("test backend");
-    let mut draw = move |app: &mut App| -> std::io::Result<()> {
-        let Ok(_) = terminal.draw(|f| app.render(f));
-        let buffer = terminal.backend().buffer();
-        let text: Vec<String> = (0..HEIGHT)
-            .map(|y| {
-                (0..WIDTH)
-                    .map(|x| buffer[(x, y)].symbol().to_string())
-                    .collect()
-            })
-            .collect();
-        let _ = drawn_tx.send(text.join("\n"));
-        Ok(())
-    };
-    let mut rig = Rig {
-        keys,
-        drawn,
-        last: String::new(),
-    };
-    let looping = app::run(
-        &mut app,
+    run_console_on(
+        app,
+        (120, 40),
         Some(controller),
-        connector,
-        input,
-        None,
-        &mut draw,
-    );
-    let driving = async {
-        driver(&mut rig).await;
-        rig.press(KeyCode::F(10));
-    };
-    let (result, ()) = tokio::join!(looping, driving);
-    result.expect("the loop ends cleanly");
+        no_connector(),
+        async |mut rig: Rig| {
+            driver(&mut rig).await;
+            press(&rig, KeyCode::F(10));
+        },
+    )
+    .await;
+}
+
+/// Paste `line` into the command line and press Enter.
+fn enter(rig: &Rig, line: &str) {
+    let _ = rig.keys.send(Event::Paste(line.to_string()));
+    press(rig, KeyCode::Enter);
 }
 
 fn sent(record: &TrafficRecord) -> Option<(Priority, String)> {
@@ -161,8 +100,8 @@ async fn the_emergency_stop_ends_a_host_run_and_nothing_of_it_follows_the_stop_l
     let file = file.display().to_string();
     let mut all: Vec<(Priority, String)> = Vec::new();
     run_console(&session, async |rig: &mut Rig| {
-        rig.type_line(&format!(":run-ascript {file}"));
-        let frame = rig.until("host: PRG 0 line 5: X5000 → ok").await;
+        enter(rig, &format!(":run-ascript {file}"));
+        let frame = rig.screens.until("host: PRG 0 line 5: X5000 → ok").await;
         assert!(
             frame.contains(&format!(
                 "running {file} from the host: PRG 0 (Esc stops it"
@@ -177,8 +116,8 @@ async fn the_emergency_stop_ends_a_host_run_and_nothing_of_it_follows_the_stop_l
         );
         // Everything sent from here on; the stop lines too.
         let mut traffic = session.device().traffic();
-        rig.press(KeyCode::F(12));
-        let frame = rig.until("STOP confirmed").await;
+        press(rig, KeyCode::F(12));
+        let frame = rig.screens.until("STOP confirmed").await;
         assert!(
             frame.contains(&format!("the host run of {file} was stopped")),
             "{frame}"
@@ -279,15 +218,16 @@ async fn a_host_run_shows_each_command_and_how_it_ended_and_esc_stops_one() {
     std::fs::write(&bad, "PRG 0\n    V200=1\nEND\n").expect("write");
     let bad = bad.display().to_string();
     run_console(&session, async |rig: &mut Rig| {
-        rig.type_line(&format!(":run-ascript {bad}"));
-        let frame = rig.until(&format!("{bad}: nothing was sent")).await;
+        enter(rig, &format!(":run-ascript {bad}"));
+        let frame = rig.screens.until(&format!("{bad}: nothing was sent")).await;
         assert!(
             frame.contains(&format!("{bad}:2: Var Range Error")),
             "{frame}"
         );
 
-        rig.type_line(&format!(":run-ascript {short}"));
+        enter(rig, &format!(":run-ascript {short}"));
         let frame = rig
+            .screens
             .until(&format!(
                 "host run of {short}: every program ran to its END"
             ))
@@ -302,10 +242,11 @@ async fn a_host_run_shows_each_command_and_how_it_ended_and_esc_stops_one() {
             assert!(frame.contains(line), "{line}:\n{frame}");
         }
 
-        rig.type_line(&format!(":run-ascript {forever}"));
-        rig.until("host: PRG 0 line 5: X5000 → ok").await;
-        rig.press(KeyCode::Esc);
+        enter(rig, &format!(":run-ascript {forever}"));
+        rig.screens.until("host: PRG 0 line 5: X5000 → ok").await;
+        press(rig, KeyCode::Esc);
         let frame = rig
+            .screens
             .until(&format!(
                 "host run of {forever} stopped: nothing more of it is sent"
             ))
