@@ -510,14 +510,7 @@ impl CommandPane {
                 key_label(view.keymap, Context::Global, Action::EmergencyStop),
             ),
         );
-        let (run, update) = {
-            let next_tag = &mut self.next_tag;
-            let mut tag = || {
-                *next_tag += 1;
-                *next_tag
-            };
-            ConsoleHostRun::start(&program, &mut tag)
-        };
+        let (run, update) = ConsoleHostRun::start(&program, &mut self.next_tag);
         self.host = Some(run);
         self.host_update(update)
     }
@@ -1193,15 +1186,10 @@ impl Pane for CommandPane {
 
     fn on_event(&mut self, event: &PaneEvent, view: &View) -> Outcome {
         let family = view.session.map(|s| s.family);
-        if let Some(host) = self.host.as_mut() {
-            let next_tag = &mut self.next_tag;
-            let mut tag = || {
-                *next_tag += 1;
-                *next_tag
-            };
-            if let Some(update) = host.on_event(event, &mut tag) {
-                return self.host_update(update);
-            }
+        if let Some(host) = self.host.as_mut()
+            && let Some(update) = host.on_event(event, &mut self.next_tag)
+        {
+            return self.host_update(update);
         }
         match event {
             PaneEvent::Reply { tag, result, .. } => {

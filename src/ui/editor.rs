@@ -514,14 +514,24 @@ impl EditorPane {
         alone.words.iter().find_map(variable_of_word)
     }
 
-    /// Watch user variable `n`, or stop watching it; the list is kept in
-    /// the data directory.
+    /// Watch user variable `n` (A-Script: `V[n]`), or stop watching it;
+    /// the list is kept in the data directory, one per language.
     fn toggle_variable(&mut self, n: u8, view: &View) -> Outcome {
+        let (name, read, reads) = match self.language {
+            Language::Tmcl => (
+                format!("user variable #{n}"),
+                variable_line(n),
+                view.session.is_some(),
+            ),
+            Language::AScript => (
+                format!("V{n}"),
+                script::variable_line(n),
+                view.session.is_some_and(|s| s.family.name == "cmd4cr"),
+            ),
+        };
         let mut requests = Vec::new();
         if self.variables.remove(&n).is_some() {
-            self.message = Some(Notice::info(format!(
-                "user variable #{n} no longer watched"
-            )));
+            self.message = Some(Notice::info(format!("{name} no longer watched")));
         } else if self.variables.len() >= MAX_WATCHED {
             self.message = Some(Notice::warning(format!(
                 "{MAX_WATCHED} variables are watched already: stop watching one first ({} on its line)",
@@ -530,20 +540,28 @@ impl EditorPane {
             return Outcome::redraw();
         } else {
             self.variables.insert(n, None);
-            self.message = Some(Notice::info(format!(
-                "watching user variable #{n} ({})",
-                variable_line(n)
-            )));
-            if view.session.is_some() {
+            self.message = Some(Notice::info(if read == name {
+                format!("watching {name}")
+            } else {
+                format!("watching {name} ({read})")
+            }));
+            if reads {
                 requests.push(Request::Send {
-                    lines: vec![variable_line(n)],
-                    tag: TAG_VARIABLE,
+                    lines: vec![read],
+                    tag: match self.language {
+                        Language::Tmcl => TAG_VARIABLE,
+                        Language::AScript => script_run::TAG_VARIABLE,
+                    },
                 });
             }
         }
         if let Some(dir) = self.data_dir.as_deref() {
             let list: Vec<u8> = self.variables.keys().copied().collect();
-            if let Err(e) = save_watch_list(dir, &list) {
+            let saved = match self.language {
+                Language::Tmcl => save_watch_list(dir, &list),
+                Language::AScript => watch::save_script_watch_list(dir, &list),
+            };
+            if let Err(e) = saved {
                 self.message = Some(Notice::error(e));
             }
         }
@@ -771,7 +789,7 @@ impl EditorPane {
                 if kind == PromptKind::WatchScript {
                     return match name.trim_start_matches(['V', 'v']).parse::<u8>() {
                         Ok(n) if usize::from(n) < crate::protocol::cmd4cr::ascript::VARIABLES => {
-                            self.toggle_script_variable(n, view)
+                            self.toggle_variable(n, view)
                         }
                         _ => {
                             self.message = Some(Notice::error(format!(

@@ -35,18 +35,16 @@ pub struct ConsoleHostRun {
 }
 
 impl ConsoleHostRun {
-    /// Start `program`; `tag` gives the pane's tags, one per request.
-    pub fn start(
-        program: &HostProgram,
-        tag: &mut dyn FnMut() -> u64,
-    ) -> (ConsoleHostRun, HostUpdate) {
+    /// Start `program`. `last_tag` is the pane's tag counter: each
+    /// request takes the next.
+    pub fn start(program: &HostProgram, last_tag: &mut u64) -> (ConsoleHostRun, HostUpdate) {
         let mut run = ConsoleHostRun {
             run: HostRun::new(program),
             name: program.name().to_string(),
             awaiting: None,
         };
         let step = run.run.start(Instant::now());
-        let update = run.carry_out(step, tag);
+        let update = run.carry_out(step, last_tag);
         (run, update)
     }
 
@@ -71,11 +69,7 @@ impl ConsoleHostRun {
     }
 
     /// The answer or wake-up it waits for; `None` for any other event.
-    pub fn on_event(
-        &mut self,
-        event: &PaneEvent,
-        tag: &mut dyn FnMut() -> u64,
-    ) -> Option<HostUpdate> {
+    pub fn on_event(&mut self, event: &PaneEvent, last_tag: &mut u64) -> Option<HostUpdate> {
         let step = match event {
             PaneEvent::Reply {
                 tag: got, result, ..
@@ -84,7 +78,7 @@ impl ConsoleHostRun {
             _ => return None,
         };
         self.awaiting = None;
-        Some(self.carry_out(step, tag))
+        Some(self.carry_out(step, last_tag))
     }
 
     /// "running FILE from the host: PRG 1 line 7, PRG 3 line 20", for a
@@ -107,14 +101,15 @@ impl ConsoleHostRun {
         format!("running {} from the host: {}", self.name, at.join(", "))
     }
 
-    fn carry_out(&mut self, step: HostStep, tag: &mut dyn FnMut() -> u64) -> HostUpdate {
+    fn carry_out(&mut self, step: HostStep, last_tag: &mut u64) -> HostUpdate {
         let mut update = HostUpdate {
             said: self.run.take_events().iter().map(shown).collect(),
             ..HostUpdate::default()
         };
         match step {
             HostStep::Send(line) => {
-                let tag = tag();
+                *last_tag += 1;
+                let tag = *last_tag;
                 self.awaiting = Some(tag);
                 update.requests.push(Request::Send {
                     lines: vec![line],
@@ -122,7 +117,8 @@ impl ConsoleHostRun {
                 });
             }
             HostStep::Wake(after) => {
-                let tag = tag();
+                *last_tag += 1;
+                let tag = *last_tag;
                 self.awaiting = Some(tag);
                 update.requests.push(Request::WakeAfter { after, tag });
             }
@@ -186,11 +182,7 @@ mod tests {
     fn requests_carry_fresh_tags_and_only_their_answers_move_the_run_on() {
         let program =
             HostProgram::check("p.asc", "PRG 0\n    DO1=1\n    DELAY=5\nEND\n", None).expect("ok");
-        let mut next = 10;
-        let mut tag = || {
-            next += 1;
-            next
-        };
+        let mut tag = 10;
         let (mut run, update) = ConsoleHostRun::start(&program, &mut tag);
         assert_eq!(
             update.requests,

@@ -18,7 +18,6 @@ use super::script::{
     self, Language, NO_DOWNLOAD, control_line, program_at, status_lines, status_name, variable_at,
     variable_line, variable_of_line,
 };
-use super::watch::{MAX_WATCHED, save_script_watch_list};
 use super::{EditorPane, PromptKind, TAG_LOAD, WATCH_PERIOD, Watch, number_read};
 use crate::session::ascript_host::{HostProgram, ThreadState};
 use crate::ui::field::Field;
@@ -31,7 +30,7 @@ use crate::ui::theme::Role;
 const TAG_CONTROL: u64 = (1 << 48) + 5;
 const TAG_STATUS: u64 = (1 << 48) + 6;
 const TAG_STATUS_TIMER: u64 = (1 << 48) + 7;
-const TAG_VARIABLE: u64 = (1 << 48) + 8;
+pub(super) const TAG_VARIABLE: u64 = (1 << 48) + 8;
 
 /// A program in the controller as last read.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -61,6 +60,16 @@ impl ProgramState {
         let pc = self.pc.map_or_else(|| "-".to_string(), |pc| pc.to_string());
         Some(format!("PRG {n} {status} SPC {pc}"))
     }
+}
+
+/// Why the connected module takes no A-Script: it is no CMD-4CR.
+fn other_family(view: &View) -> Option<Notice> {
+    let family = view.session?.family.name;
+    (family != "cmd4cr").then(|| {
+        Notice::error(format!(
+            "the connected module speaks {family}: A-Script programs are the CMD-4CR's"
+        ))
+    })
 }
 
 impl EditorPane {
@@ -208,7 +217,7 @@ impl EditorPane {
                     .nth(col)
                     .map_or(line.len(), |(at, _)| at);
                 match variable_at(&line, byte) {
-                    Some(n) => self.toggle_script_variable(n, view),
+                    Some(n) => self.toggle_variable(n, view),
                     None => {
                         self.prompt = Some((PromptKind::WatchScript, Field::default()));
                         Outcome::redraw()
@@ -233,17 +242,14 @@ impl EditorPane {
 
     /// `SACTRL[n]=code` for the program here, then its state read back.
     fn program_control(&mut self, code: u8, view: &View) -> Outcome {
-        let Some(session) = view.session else {
+        if view.session.is_none() {
             self.message = Some(Notice::error(
                 "not connected: give :connect --sim cmd4cr (or --port PATH --protocol cmd4cr)",
             ));
             return Outcome::redraw();
-        };
-        if session.family.name != "cmd4cr" {
-            self.message = Some(Notice::error(format!(
-                "the connected module speaks {}: A-Script programs are the CMD-4CR's",
-                session.family.name
-            )));
+        }
+        if let Some(wrong) = other_family(view) {
+            self.message = Some(wrong);
             return Outcome::redraw();
         }
         let n = self.program_here();
@@ -326,53 +332,19 @@ impl EditorPane {
         }
     }
 
-    /// Watch `V[n]`, or stop watching it; the list is kept in the data
-    /// directory beside the TMCL one.
-    pub(super) fn toggle_script_variable(&mut self, n: u8, view: &View) -> Outcome {
-        let mut requests = Vec::new();
-        if self.variables.remove(&n).is_some() {
-            self.message = Some(Notice::info(format!("V{n} no longer watched")));
-        } else if self.variables.len() >= MAX_WATCHED {
-            self.message = Some(Notice::warning(format!(
-                "{MAX_WATCHED} variables are watched already: stop watching one first ({} on its line)",
-                key_label(view.keymap, Context::Editor, Action::EditorWatch)
-            )));
-            return Outcome::redraw();
-        } else {
-            self.variables.insert(n, None);
-            self.message = Some(Notice::info(format!("watching V{n}")));
-            if view.session.is_some_and(|s| s.family.name == "cmd4cr") {
-                requests.push(Request::Send {
-                    lines: vec![variable_line(n)],
-                    tag: TAG_VARIABLE,
-                });
-            }
-        }
-        if let Some(dir) = self.data_dir.as_deref() {
-            let list: Vec<u8> = self.variables.keys().copied().collect();
-            if let Err(e) = save_script_watch_list(dir, &list) {
-                self.message = Some(Notice::error(e));
-            }
-        }
-        Outcome::Handled(requests)
-    }
-
     /// The download key: the simulator in this process takes the text;
     /// a controller cannot (the manual documents no way), and the editor
     /// says what can be done instead.
     fn load_into_simulator(&mut self, view: &View) -> Outcome {
         let host = key_label(view.keymap, Context::Editor, Action::EditorHostRun);
-        let Some(session) = view.session else {
+        if view.session.is_none() {
             self.message = Some(Notice::warning(format!(
                 "not connected; {NO_DOWNLOAD}. With --sim cmd4cr this key loads the simulator; {host} runs the text from the host"
             )));
             return Outcome::redraw();
-        };
-        if session.family.name != "cmd4cr" {
-            self.message = Some(Notice::error(format!(
-                "the connected module speaks {}: A-Script programs are the CMD-4CR's",
-                session.family.name
-            )));
+        }
+        if let Some(wrong) = other_family(view) {
+            self.message = Some(wrong);
             return Outcome::redraw();
         }
         self.assemble();
@@ -402,21 +374,15 @@ impl EditorPane {
             )));
             return Outcome::redraw();
         }
-        match view.session {
-            None => {
-                self.message = Some(Notice::error(
-                    "not connected: give :connect --port PATH --protocol cmd4cr (or --sim cmd4cr)",
-                ));
-                return Outcome::redraw();
-            }
-            Some(session) if session.family.name != "cmd4cr" => {
-                self.message = Some(Notice::error(format!(
-                    "the connected module speaks {}: A-Script runs on a CMD-4CR",
-                    session.family.name
-                )));
-                return Outcome::redraw();
-            }
-            Some(_) => {}
+        if view.session.is_none() {
+            self.message = Some(Notice::error(
+                "not connected: give :connect --port PATH --protocol cmd4cr (or --sim cmd4cr)",
+            ));
+            return Outcome::redraw();
+        }
+        if let Some(wrong) = other_family(view) {
+            self.message = Some(wrong);
+            return Outcome::redraw();
         }
         self.assemble();
         let program = match HostProgram::check(&self.source_name(), &self.text(), None) {
@@ -433,14 +399,7 @@ impl EditorPane {
                 return Outcome::redraw();
             }
         };
-        let (run, update) = {
-            let counter = &mut self.host_tag;
-            let mut tag = || {
-                *counter += 1;
-                *counter
-            };
-            ConsoleHostRun::start(&program, &mut tag)
-        };
+        let (run, update) = ConsoleHostRun::start(&program, &mut self.host_tag);
         self.host = Some(run);
         self.host_update(update)
     }
@@ -470,15 +429,10 @@ impl EditorPane {
 
     /// The events of this mode; `None` for the others.
     pub(super) fn script_event(&mut self, event: &PaneEvent, view: &View) -> Option<Outcome> {
-        if let Some(host) = self.host.as_mut() {
-            let counter = &mut self.host_tag;
-            let mut tag = || {
-                *counter += 1;
-                *counter
-            };
-            if let Some(update) = host.on_event(event, &mut tag) {
-                return Some(self.host_update(update));
-            }
+        if let Some(host) = self.host.as_mut()
+            && let Some(update) = host.on_event(event, &mut self.host_tag)
+        {
+            return Some(self.host_update(update));
         }
         match event {
             PaneEvent::Snapshot => self.follow_family(view).then(Outcome::redraw),
