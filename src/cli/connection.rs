@@ -45,10 +45,14 @@ impl Target {
         let spec = match (&args.sim, &args.port, &args.tcp) {
             (Some(kind), None, None) => {
                 let kind = sim::find_kind(kind).ok_or_else(|| unknown_sim(kind))?;
-                let controller = (kind.build)(&SimOptions {
+                let mut controller = (kind.build)(&SimOptions {
                     address: args.address,
                     eeprom_file: None,
                 });
+                if let Some(path) = args.program.as_deref() {
+                    super::sim_program::load_program_file(controller.as_mut(), kind.family, path)
+                        .map_err(|problems| problems.join("\n"))?;
+                }
                 LinkSpec::Sim {
                     kind: kind.name.to_string(),
                     sim: Arc::new(Mutex::new(controller)),
@@ -56,6 +60,14 @@ impl Target {
                     baud: args.baud,
                     faults: FaultPlan::none(),
                 }
+            }
+            (None, Some(_), None) | (None, None, Some(_)) if args.program.is_some() => {
+                return Err(
+                    "--program loads a simulator's program memory (with --sim cmd4cr); \
+                     the CMD-4CR manual documents no way to load a program into the controller \
+                     over the wire: `axterm run-ascript` runs one from the host instead"
+                        .into(),
+                );
             }
             (None, Some(path), None) => LinkSpec::Serial {
                 path: path.clone(),
@@ -247,6 +259,49 @@ mod tests {
             };
             assert!(message.contains(needle), "{message}");
         }
+    }
+
+    #[test]
+    fn a_program_is_loaded_into_an_in_process_simulator_only() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let good = dir.path().join("good.asc");
+        std::fs::write(&good, "PRG 1\n    V3=7\nEND\n").expect("write");
+        let target = Target::resolve(&ConnectionArgs {
+            sim: Some("cmd4cr".into()),
+            program: Some(good.clone()),
+            ..args()
+        })
+        .expect("loads");
+        let LinkSpec::Sim { sim, .. } = &target.spec else {
+            panic!("a simulator link");
+        };
+        let mut sim = sim.lock().expect("sim");
+        sim.feed(b"@01SASTAT1\r");
+        assert_eq!(sim.take_output(), b"0\r", "PRG 1 is there, idle");
+        drop(sim);
+
+        let bad = dir.path().join("bad.asc");
+        std::fs::write(&bad, "PRG 0\n").expect("write");
+        let Err(message) = Target::resolve(&ConnectionArgs {
+            sim: Some("cmd4cr".into()),
+            program: Some(bad.clone()),
+            ..args()
+        }) else {
+            panic!("a program without END loaded");
+        };
+        assert!(
+            message.starts_with(&format!("{}:1: Missing END", bad.display())),
+            "{message}"
+        );
+        let Err(message) = Target::resolve(&ConnectionArgs {
+            port: Some("/dev/ttyUSB0".into()),
+            protocol: Some("cmd4cr".into()),
+            program: Some(good),
+            ..args()
+        }) else {
+            panic!("--program on a serial port");
+        };
+        assert!(message.contains("axterm run-ascript"), "{message}");
     }
 
     #[test]

@@ -7,10 +7,12 @@ pub mod console;
 pub mod exec;
 pub mod output;
 pub mod run;
+pub mod run_ascript;
 pub mod scan;
 /// The batch file syntax, shared with the console's `:run` (moved to
 /// [`crate::script`]; the old path stays for the front ends).
 pub use crate::script;
+pub mod sim_program;
 pub mod sim_serve;
 pub mod transfer;
 
@@ -83,6 +85,11 @@ pub struct ConnectionArgs {
     /// Reply timeout in milliseconds (default: from the baud rate).
     #[arg(long, global = true)]
     pub timeout: Option<u64>,
+    /// With --sim cmd4cr (and `axterm sim cmd4cr`): A-Script source loaded
+    /// into the simulator's program memory, checked first; its PRG blocks
+    /// are programs 0-3, started with SACTRLn=1 (or SLOAD at power-on).
+    #[arg(long, global = true, value_name = "FILE")]
+    pub program: Option<std::path::PathBuf>,
 }
 
 #[derive(Debug, Subcommand)]
@@ -113,10 +120,6 @@ pub enum Command {
         /// Faults to inject: drop=P,corrupt=P,garbage=P,delay=P:MS,disconnect-after=N,corrupt-store=N,seed=N.
         #[arg(long, value_name = "SPEC")]
         fault: Option<String>,
-        /// A-Script source to load into the simulator (cmd4cr): its PRG
-        /// blocks become programs 0-3 (start them with SACTRL or SLOAD).
-        #[arg(long, value_name = "FILE")]
-        program: Option<std::path::PathBuf>,
     },
     /// Run console lines one by one and print one result line each.
     ///
@@ -132,6 +135,19 @@ pub enum Command {
     /// timeout 10s), `:sleep DURATION`, `:echo TEXT`; DURATION as 500ms, 2s,
     /// 1.5s, 1m. The whole file is checked before anything is sent.
     Run(run::RunArgs),
+    /// Run an A-Script program (CMD-4CR) from the host.
+    ///
+    /// For real hardware: the CMD-4CR manual documents no way to load a
+    /// program into the controller over the wire. The whole file is checked
+    /// first (compile errors, statements with no ASCII command, as
+    /// FILE:LINE); then each statement that acts is sent as its ASCII
+    /// command and printed with its answer, while variables, IF/WHILE,
+    /// GOSUB, DELAY and SR run here and WAITx reads MSTx until the axis has
+    /// stopped. Speaks cmd4cr unless told otherwise. Ctrl-C stops it and
+    /// sends the emergency stop. Exit codes: 0 every program reached END, 1
+    /// a program failed at run time (or no answer, or Ctrl-C), 2 a bad file
+    /// (nothing sent), 3 the connection could not be opened.
+    RunAscript(run_ascript::RunAscriptArgs),
     /// List serial ports.
     Ports,
     /// Look for modules on a bus (firmware version request at each address).
@@ -180,6 +196,7 @@ impl Command {
             Command::Sim { .. } => "sim",
             Command::Exec(_) => "exec",
             Command::Run(_) => "run",
+            Command::RunAscript(_) => "run-ascript",
             Command::Ports => "ports",
             Command::Scan(_) => "scan",
             Command::Asm { .. } => "asm",
@@ -199,21 +216,14 @@ pub fn run(cli: Cli) -> i32 {
             pty,
             eeprom,
             fault,
-            program,
-        }) => run_sim(
-            &cli.connection,
-            &kind,
-            pty,
-            eeprom,
-            fault.as_deref(),
-            program.as_deref(),
-        ),
+        }) => run_sim(&cli.connection, &kind, pty, eeprom, fault.as_deref()),
         Some(Command::Ports) => run_ports(),
         Some(Command::Encode { family, line }) => {
             run_encode(&family, &line, cli.connection.address)
         }
         Some(Command::Exec(args)) => exec::run(&cli.connection, &args),
         Some(Command::Run(args)) => run::run(&cli.connection, &args),
+        Some(Command::RunAscript(args)) => run_ascript::run(&cli.connection, &args),
         Some(Command::Scan(args)) => scan::run(&cli.connection, &args),
         Some(Command::Bench(args)) => bench::run(&cli.connection, &args),
         Some(Command::Asm {
@@ -244,7 +254,6 @@ fn run_sim(
     pty: bool,
     eeprom_file: Option<std::path::PathBuf>,
     fault: Option<&str>,
-    program: Option<&std::path::Path>,
 ) -> i32 {
     let Some(sim_kind) = sim::find_kind(kind) else {
         eprintln!(
@@ -287,18 +296,19 @@ fn run_sim(
         eeprom_file,
     };
     let mut sim = (sim_kind.build)(&options);
-    if let Some(path) = program {
-        let loaded = std::fs::read_to_string(path)
-            .map_err(|e| vec![format!("cannot read it: {e}")])
-            .and_then(|source| sim.load_program(&source));
-        if let Err(problems) = loaded {
-            for problem in problems {
-                eprintln!("axterm sim: {}: {problem}", path.display());
+    eprintln!("{}", sim.help());
+    if let Some(path) = connection.program.as_deref() {
+        match sim_program::load_program_file(sim.as_mut(), sim_kind.family, path) {
+            Ok(said) => eprintln!("{said}"),
+            Err(problems) => {
+                for problem in problems {
+                    eprintln!("{problem}");
+                }
+                eprintln!("axterm sim: nothing is served");
+                return EXIT_USAGE;
             }
-            return EXIT_USAGE;
         }
     }
-    eprintln!("{}", sim.help());
     // The signal handlers are in place before the endpoint is announced:
     // a script may send SIGTERM as soon as it has read that line.
     let runtime = match tokio::runtime::Builder::new_current_thread()
@@ -478,13 +488,10 @@ mod tests {
     #[test]
     fn sim_refuses_unknown_kinds_and_missing_endpoints() {
         let none = ConnectionArgs::default();
-        assert_eq!(run_sim(&none, "nosuch", true, None, None, None), EXIT_USAGE);
+        assert_eq!(run_sim(&none, "nosuch", true, None, None), EXIT_USAGE);
+        assert_eq!(run_sim(&none, "tmcm1110", false, None, None), EXIT_USAGE);
         assert_eq!(
-            run_sim(&none, "tmcm1110", false, None, None, None),
-            EXIT_USAGE
-        );
-        assert_eq!(
-            run_sim(&none, "tmcm1110", true, None, Some("drop=2"), None),
+            run_sim(&none, "tmcm1110", true, None, Some("drop=2")),
             EXIT_USAGE
         );
         let zero_baud = ConnectionArgs {
@@ -492,7 +499,7 @@ mod tests {
             ..ConnectionArgs::default()
         };
         assert_eq!(
-            run_sim(&zero_baud, "tmcm1110", true, None, None, None),
+            run_sim(&zero_baud, "tmcm1110", true, None, None),
             EXIT_USAGE
         );
     }

@@ -779,6 +779,10 @@ impl App {
         if let Some(stop) = &self.last_stop {
             spans.push(Span::styled(format!("{stop} │ "), bar));
         }
+        for activity in self.panes.iter().filter_map(|p| p.activity()) {
+            spans.push(Span::styled(activity, key));
+            spans.push(Span::styled(" │ ", bar));
+        }
         match &self.snapshot {
             Some(s) => {
                 let state = match &s.link {

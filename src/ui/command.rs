@@ -17,6 +17,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 
 use super::batch::{Batch, BatchStep};
+use super::host_run::{ConsoleHostRun, HostUpdate};
 use super::keymap::{Action, Context};
 use super::pane::{
     Input, NoticeLevel, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View, key_label,
@@ -25,6 +26,7 @@ use super::theme::Role;
 use crate::device::{DeviceEvent, LinkState};
 use crate::protocol::console::{Candidate, Completions};
 use crate::protocol::{Family, find_family};
+use crate::session::ascript_host::HostProgram;
 use crate::session::{LineResult, SessionError};
 
 /// Lines of output kept; older ones scroll away for good.
@@ -67,6 +69,10 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
     (
         ":run FILE",
         "run a batch file as `axterm run` does (checked whole first)",
+    ),
+    (
+        ":run-ascript FILE [N…]",
+        "run a CMD-4CR A-Script program from the host (checked whole first; N: only these PRG blocks)",
     ),
     (
         ":expect LINE == VALUE",
@@ -215,6 +221,8 @@ pub struct CommandPane {
     batch: Option<Batch>,
     /// The tag of the batch's current wake-up.
     batch_wake: Option<u64>,
+    /// An A-Script program running from the host (`:run-ascript`).
+    host: Option<ConsoleHostRun>,
 }
 
 impl Default for CommandPane {
@@ -242,6 +250,7 @@ impl CommandPane {
             sent: HashMap::new(),
             batch: None,
             batch_wake: None,
+            host: None,
         }
     }
 
@@ -425,6 +434,7 @@ impl CommandPane {
                     Err(e) => self.fail(format!("cannot read {rest}: {e}")),
                 };
             }
+            "run-ascript" => return self.start_host_run(rest, view),
             "expect" | "wait-until" | "sleep" | "echo" => {
                 return self.start_batch(&format!(":{name}"), line, view);
             }
@@ -442,7 +452,96 @@ impl CommandPane {
         Outcome::redraw()
     }
 
+    /// `:run-ascript FILE [N…]`: check the whole file, then run it from the
+    /// host (see [`crate::session::ascript_host`]).
+    fn start_host_run(&mut self, rest: &str, view: &View) -> Outcome {
+        if self.batch.is_some() || self.host.is_some() {
+            return self.fail("a batch or a host run is going: wait for it, or stop it (Esc)");
+        }
+        let Some(session) = view.session else {
+            return self.fail(not_connected());
+        };
+        if session.family.name != "cmd4cr" {
+            return self.fail(format!(
+                "A-Script is the CMD-4CR's language (§5); this module speaks {}",
+                session.family.name
+            ));
+        }
+        // Trailing numbers are the PRG blocks to start.
+        let mut words: Vec<&str> = rest.split_whitespace().collect();
+        let mut start = Vec::new();
+        while words.len() > 1 {
+            match words.last().and_then(|w| w.parse::<u8>().ok()) {
+                Some(n) => {
+                    start.insert(0, n);
+                    words.pop();
+                }
+                None => break,
+            }
+        }
+        let file = words.join(" ");
+        if file.is_empty() {
+            return self
+                .fail(":run-ascript needs a file name (and the PRG numbers to start, if not all)");
+        }
+        let text = match fs::read_to_string(&file) {
+            Ok(text) => text,
+            Err(e) => return self.fail(format!("cannot read {file}: {e}")),
+        };
+        let chosen = (!start.is_empty()).then_some(start.as_slice());
+        let program = match HostProgram::check(&file, &text, chosen) {
+            Ok(program) => program,
+            Err(problems) => {
+                for problem in problems {
+                    self.say(Role::Error, problem);
+                }
+                return self.fail(format!("{file}: nothing was sent"));
+            }
+        };
+        for warning in program.warnings() {
+            self.say(Role::Warning, warning.clone());
+        }
+        self.say(
+            Role::Accent,
+            format!(
+                "running {file} from the host: {} ({} stops it, {} stops everything)",
+                program.started(),
+                key_label(view.keymap, Context::Command, Action::Cancel),
+                key_label(view.keymap, Context::Global, Action::EmergencyStop),
+            ),
+        );
+        let (run, update) = {
+            let next_tag = &mut self.next_tag;
+            let mut tag = || {
+                *next_tag += 1;
+                *next_tag
+            };
+            ConsoleHostRun::start(&program, &mut tag)
+        };
+        self.host = Some(run);
+        self.host_update(update)
+    }
+
+    /// Show what the host run said, pass on its requests.
+    fn host_update(&mut self, update: HostUpdate) -> Outcome {
+        for (role, text) in update.said {
+            self.say(role, text);
+        }
+        if update.ended.is_some() {
+            self.host = None;
+        }
+        Outcome::Handled(update.requests)
+    }
+
+    /// Stop the host run, if one goes: nothing more of it is sent.
+    fn stop_host_run(&mut self) -> Option<String> {
+        self.host.take().map(|run| run.name().to_string())
+    }
+
     fn start_batch(&mut self, name: &str, text: &str, view: &View) -> Outcome {
+        if self.host.is_some() {
+            return self.fail("a host run is going: wait for it, or stop it (Esc)");
+        }
         if self.batch.is_some() {
             return self.fail("a batch is running: wait for it, or cancel it (Esc)");
         }
@@ -753,7 +852,15 @@ impl CommandPane {
             Some(Action::Complete) => self.complete(view),
             Some(Action::Help) => self.help_here(view),
             Some(Action::Cancel) => {
-                if self.batch.take().is_some() {
+                if let Some(name) = self.stop_host_run() {
+                    let stop = key_label(view.keymap, Context::Global, Action::EmergencyStop);
+                    self.say(
+                        Role::Warning,
+                        format!(
+                            "host run of {name} stopped: nothing more of it is sent (motion already commanded goes on: {stop} stops the axes)"
+                        ),
+                    );
+                } else if self.batch.take().is_some() {
                     self.batch_wake = None;
                     self.say(Role::Warning, "batch stopped");
                 } else {
@@ -957,6 +1064,16 @@ impl CommandPane {
         {
             return vec![Line::styled(first.clone(), theme.style(Role::Muted))];
         }
+        if let Some(host) = &self.host {
+            return vec![Line::styled(
+                format!(
+                    "{}: {} stops it",
+                    host.describe(),
+                    key_label(view.keymap, Context::Command, Action::Cancel)
+                ),
+                theme.style(Role::Warning),
+            )];
+        }
         if let Some(batch) = &self.batch {
             let _ = batch;
             return vec![Line::styled(
@@ -1070,8 +1187,22 @@ impl Pane for CommandPane {
         }
     }
 
+    fn activity(&self) -> Option<String> {
+        self.host.as_ref().map(ConsoleHostRun::describe)
+    }
+
     fn on_event(&mut self, event: &PaneEvent, view: &View) -> Outcome {
         let family = view.session.map(|s| s.family);
+        if let Some(host) = self.host.as_mut() {
+            let next_tag = &mut self.next_tag;
+            let mut tag = || {
+                *next_tag += 1;
+                *next_tag
+            };
+            if let Some(update) = host.on_event(event, &mut tag) {
+                return self.host_update(update);
+            }
+        }
         match event {
             PaneEvent::Reply { tag, result, .. } => {
                 let Some(origin) = self.sent.remove(tag) else {
@@ -1102,6 +1233,7 @@ impl Pane for CommandPane {
                 self.sent.clear();
                 self.batch_wake = None;
                 let batch = self.batch.take().is_some();
+                let host = self.stop_host_run();
                 let key = key_label(view.keymap, Context::Global, Action::EmergencyStop);
                 self.say(
                     Role::Emergency,
@@ -1114,6 +1246,12 @@ impl Pane for CommandPane {
                             "  {dropped} line(s) waiting for their turn or answer were dropped{}",
                             if batch { "; the batch was stopped" } else { "" }
                         ),
+                    );
+                }
+                if let Some(name) = host {
+                    self.say(
+                        Role::Warning,
+                        format!("  the host run of {name} was stopped: nothing more of it is sent"),
                     );
                 }
                 Outcome::redraw()
@@ -1307,6 +1445,72 @@ mod tests {
         assert_eq!(
             pane.family(&view(Some(&connected))).map(|f| f.name),
             Some("tmcl")
+        );
+    }
+
+    #[test]
+    fn run_ascript_wants_a_cmd4cr_module_and_a_file_and_parses_prg_numbers() {
+        let theme = Theme::builtin("dark").expect("theme");
+        let keymap = Keymap::builtin("default").expect("keymap");
+        let tmcl = snapshot();
+        let cmd4cr_family = find_family("cmd4cr").expect("cmd4cr");
+        let cmd4cr = Snapshot {
+            family: cmd4cr_family,
+            axes: cmd4cr_family.console.axes().to_vec(),
+            ..snapshot()
+        };
+        let view = |session| View {
+            theme: &theme,
+            keymap: &keymap,
+            session,
+            focused: true,
+            shown: true,
+        };
+        let mut pane = CommandPane::new(None);
+        let last = |pane: &CommandPane| pane.output_lines().last().unwrap_or("").to_string();
+        pane.console_command(":run-ascript p.asc", &view(None));
+        assert!(last(&pane).starts_with("not connected"), "{}", last(&pane));
+        pane.console_command(":run-ascript p.asc", &view(Some(&tmcl)));
+        assert!(
+            last(&pane).contains("this module speaks tmcl"),
+            "{}",
+            last(&pane)
+        );
+        pane.console_command(":run-ascript", &view(Some(&cmd4cr)));
+        assert!(last(&pane).contains("needs a file name"), "{}", last(&pane));
+        let dir = tempfile::tempdir().expect("temp dir");
+        let file = dir.path().join("two programs.asc");
+        std::fs::write(&file, "PRG 0\n    DO1=1\nEND\nPRG 2\n    DO2=1\nEND\n").expect("write");
+        let outcome = pane.console_command(
+            &format!(":run-ascript {} 2", file.display()),
+            &view(Some(&cmd4cr)),
+        );
+        assert!(
+            pane.output_lines()
+                .any(|l| l.contains("from the host: PRG 2 (Esc stops it")),
+            "{:?}",
+            pane.output_lines().collect::<Vec<_>>()
+        );
+        let Outcome::Handled(requests) = outcome else {
+            panic!("started");
+        };
+        assert!(
+            matches!(requests.as_slice(), [Request::Send { lines, .. }] if lines == &["DO2=1".to_string()]),
+            "{requests:?}"
+        );
+        assert!(pane.activity().is_some_and(|a| a.ends_with("PRG 2 line 5")));
+        // One at a time; a batch waits too.
+        pane.console_command(":run-ascript other.asc", &view(Some(&cmd4cr)));
+        assert!(
+            last(&pane).contains("a host run is going"),
+            "{}",
+            last(&pane)
+        );
+        pane.console_command(":sleep 1s", &view(Some(&cmd4cr)));
+        assert!(
+            last(&pane).contains("a host run is going"),
+            "{}",
+            last(&pane)
         );
     }
 }

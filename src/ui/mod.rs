@@ -55,6 +55,7 @@ pub mod config;
 pub mod connect;
 pub mod editor;
 pub mod field;
+pub mod host_run;
 pub mod keymap;
 pub mod live;
 pub mod pane;

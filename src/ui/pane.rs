@@ -319,6 +319,13 @@ pub trait Pane: Send {
     /// the app if the pane ignores them.
     fn handle_input(&mut self, input: &Input, view: &View) -> Outcome;
 
+    /// Something the pane has under way that must be seen whatever is on
+    /// the screen (a program running from the host): the status bar shows
+    /// it.
+    fn activity(&self) -> Option<String> {
+        None
+    }
+
     /// News for every pane; return [`Outcome::Ignored`] when it changes
     /// nothing this pane shows, so that an idle screen is not redrawn.
     fn on_event(&mut self, event: &PaneEvent, view: &View) -> Outcome {

@@ -1,0 +1,197 @@
+//! `axterm run-ascript CONNECTION FILE`: an A-Script program (CMD-4CR §5)
+//! run from the host, for real hardware, whose program memory the manual
+//! gives no way to load over the wire (§2.7.7, §5.1.5). The whole file is
+//! checked first — Table 5-43's compile errors and the statements with no
+//! ASCII equivalent, each as `FILE:LINE:` — and nothing is sent if any is
+//! found. Then every statement that acts goes out as its ASCII command,
+//! printed with its answer; variables, control flow and waits stay here
+//! (see [`crate::session::ascript_host`]). Ctrl-C ends the run and sends
+//! the emergency stop (ESTOP, the four programs stopped, ESTOP).
+//!
+//! Exit codes as `axterm run`: 0 every program ran to its END, 1 a program
+//! failed at run time (or no answer came, or Ctrl-C), 2 a bad file or
+//! usage (nothing sent), 3 the connection could not be opened.
+
+use std::io::{Read, Write};
+
+use clap::Args;
+
+use super::connection::{Target, family_of, run_to_exit};
+use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
+use crate::session::ascript_host::{HostEvent, HostProgram};
+
+#[derive(Debug, Clone, Args)]
+pub struct RunAscriptArgs {
+    /// The A-Script source, or - for standard input.
+    pub file: String,
+    /// Start only this PRG block (0-3; again for more). Default: every PRG
+    /// block of the file, as the manual's multi-thread examples run; one
+    /// not started still runs when another starts it with SR[n]=1.
+    #[arg(long = "prg", value_name = "N", value_parser = clap::value_parser!(u8).range(0..=3))]
+    pub prg: Vec<u8>,
+    /// Check the file only: send nothing (no connection needed).
+    #[arg(long)]
+    pub dry_run: bool,
+}
+
+/// The family A-Script belongs to; the one `run-ascript` speaks when the
+/// options name none.
+const FAMILY: &str = "cmd4cr";
+
+fn read_source(file: &str) -> Result<(String, String), String> {
+    if file == "-" {
+        let mut text = String::new();
+        std::io::stdin()
+            .read_to_string(&mut text)
+            .map_err(|e| format!("cannot read standard input: {e}"))?;
+        Ok(("<stdin>".into(), text))
+    } else {
+        let text = std::fs::read_to_string(file).map_err(|e| format!("cannot read {file}: {e}"))?;
+        Ok((file.to_string(), text))
+    }
+}
+
+fn say(text: &str) {
+    let mut out = std::io::stdout().lock();
+    // A closed pipe (`| head`) is not an error of ours.
+    let _ = writeln!(out, "{text}");
+    let _ = out.flush();
+}
+
+pub fn run(connection: &ConnectionArgs, args: &RunAscriptArgs) -> i32 {
+    // A-Script is the CMD-4CR's: speak it unless told otherwise.
+    let mut connection = connection.clone();
+    if connection.protocol.is_none() && connection.sim.is_none() {
+        connection.protocol = Some(FAMILY.into());
+    }
+    let family = match family_of(&connection) {
+        Ok(family) => family,
+        Err(message) => {
+            eprintln!("axterm run-ascript: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    if family.name != FAMILY {
+        eprintln!(
+            "axterm run-ascript: A-Script is the CMD-4CR's language (§5); this connection speaks {}: give --protocol cmd4cr or --sim cmd4cr",
+            family.name
+        );
+        return EXIT_USAGE;
+    }
+    let (name, text) = match read_source(&args.file) {
+        Ok(source) => source,
+        Err(message) => {
+            eprintln!("axterm run-ascript: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    let start = (!args.prg.is_empty()).then_some(args.prg.as_slice());
+    let program = match HostProgram::check(&name, &text, start) {
+        Ok(program) => program,
+        Err(problems) => {
+            for problem in problems {
+                eprintln!("{problem}");
+            }
+            eprintln!("axterm run-ascript: {name}: nothing was sent");
+            return EXIT_USAGE;
+        }
+    };
+    for warning in program.warnings() {
+        eprintln!("{warning}");
+    }
+    if args.dry_run {
+        eprintln!(
+            "axterm run-ascript: {name}: checks, {} would start from the host; nothing sent (dry run)",
+            program.started()
+        );
+        return EXIT_OK;
+    }
+    let target = match Target::resolve(&connection) {
+        Ok(target) => target,
+        Err(message) => {
+            eprintln!("axterm run-ascript: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    run_to_exit("run-ascript", async move {
+        let session = match target.open().await {
+            Ok(session) => session,
+            Err(e) => {
+                eprintln!("axterm run-ascript: {e}");
+                return EXIT_CONNECTION;
+            }
+        };
+        eprintln!(
+            "axterm run-ascript: running {name} from the host on {}: {} (Ctrl-C stops it and sends the emergency stop)",
+            target.spec.describe(),
+            program.started()
+        );
+        // Watched from before the first line goes, so that a Ctrl-C as soon
+        // as the run is announced is not lost.
+        let interrupt = match Interrupt::watch() {
+            Ok(interrupt) => interrupt,
+            Err(e) => {
+                eprintln!("axterm run-ascript: cannot watch for Ctrl-C: {e}");
+                return EXIT_DEVICE;
+            }
+        };
+        let mut show = |event: &HostEvent| say(&event.to_string());
+        let run = session.run_ascript(&program, &mut show);
+        tokio::select! {
+            end = run => {
+                if end.ok() {
+                    eprintln!("axterm run-ascript: {name}: {end}");
+                    EXIT_OK
+                } else {
+                    eprintln!("axterm run-ascript: {name}: {end}");
+                    EXIT_DEVICE
+                }
+            }
+            () = interrupt.received() => {
+                // The run is dropped here: its line in flight is answered,
+                // nothing more of it is sent.
+                eprintln!("axterm run-ascript: {name}: stopped by Ctrl-C; emergency stop:");
+                for result in session.emergency_stop_lines().await {
+                    match result {
+                        Ok(r) => eprintln!("  {} → {}", r.line, r.value),
+                        Err(e) => eprintln!("  {e}"),
+                    }
+                }
+                EXIT_DEVICE
+            }
+        }
+    })
+}
+
+/// Ctrl-C (SIGINT), registered when made.
+struct Interrupt {
+    #[cfg(unix)]
+    signal: tokio::signal::unix::Signal,
+}
+
+impl Interrupt {
+    fn watch() -> std::io::Result<Interrupt> {
+        #[cfg(unix)]
+        {
+            use tokio::signal::unix::{SignalKind, signal};
+            Ok(Interrupt {
+                signal: signal(SignalKind::interrupt())?,
+            })
+        }
+        #[cfg(not(unix))]
+        {
+            Ok(Interrupt {})
+        }
+    }
+
+    async fn received(mut self) {
+        #[cfg(unix)]
+        {
+            self.signal.recv().await;
+        }
+        #[cfg(not(unix))]
+        {
+            let _ = tokio::signal::ctrl_c().await;
+        }
+    }
+}

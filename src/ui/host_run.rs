@@ -1,0 +1,221 @@
+//! An A-Script program run from the host inside the console (`:run-ascript
+//! FILE` in the command pane, the run-from-host key in the editor): the
+//! session's [`HostRun`] state machine driven through a pane's requests.
+//! Each line it sends is a [`Request::Send`], each wait a
+//! [`Request::WakeAfter`], under a tag of the pane's; what happens comes
+//! back as lines to show. Dropping it ends the run: the emergency stop
+//! (which drops every line still waiting) and Esc do just that, so nothing
+//! more of the program is sent after them.
+
+use tokio::time::Instant;
+
+use super::pane::{PaneEvent, Request};
+use super::theme::Role;
+use crate::session::ascript_host::{
+    HostEnd, HostEvent, HostEventKind, HostProgram, HostRun, HostStep, ThreadState, ThreadView,
+};
+
+/// What a step of the run came to, for the pane.
+#[derive(Debug, Default)]
+pub struct HostUpdate {
+    /// Lines to show, with their colour.
+    pub said: Vec<(Role, String)>,
+    pub requests: Vec<Request>,
+    /// The run is over: how it ended.
+    pub ended: Option<HostEnd>,
+}
+
+/// A host run under way in a pane.
+#[derive(Debug)]
+pub struct ConsoleHostRun {
+    run: HostRun,
+    name: String,
+    /// The tag of the answer or wake-up it waits for.
+    awaiting: Option<u64>,
+}
+
+impl ConsoleHostRun {
+    /// Start `program`; `tag` gives the pane's tags, one per request.
+    pub fn start(
+        program: &HostProgram,
+        tag: &mut dyn FnMut() -> u64,
+    ) -> (ConsoleHostRun, HostUpdate) {
+        let mut run = ConsoleHostRun {
+            run: HostRun::new(program),
+            name: program.name().to_string(),
+            awaiting: None,
+        };
+        let step = run.run.start(Instant::now());
+        let update = run.carry_out(step, tag);
+        (run, update)
+    }
+
+    /// The file run.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Where each program of the file is.
+    pub fn threads(&self) -> Vec<ThreadView> {
+        self.run.threads()
+    }
+
+    /// Whether `tag` is the answer or wake-up the run waits for.
+    pub fn awaits(&self, tag: u64) -> bool {
+        self.awaiting == Some(tag)
+    }
+
+    /// The answer or wake-up it waits for; `None` for any other event.
+    pub fn on_event(
+        &mut self,
+        event: &PaneEvent,
+        tag: &mut dyn FnMut() -> u64,
+    ) -> Option<HostUpdate> {
+        let step = match event {
+            PaneEvent::Reply {
+                tag: got, result, ..
+            } if self.awaits(*got) => self.run.on_reply(result, Instant::now()),
+            PaneEvent::Wake { tag: got } if self.awaits(*got) => self.run.on_wake(Instant::now()),
+            _ => return None,
+        };
+        self.awaiting = None;
+        Some(self.carry_out(step, tag))
+    }
+
+    /// "running FILE from the host: PRG 1 line 7, PRG 3 line 20", for a
+    /// status line.
+    pub fn describe(&self) -> String {
+        let at: Vec<String> = self
+            .run
+            .threads()
+            .iter()
+            .filter(|t| t.state == ThreadState::Running || t.state == ThreadState::Paused)
+            .map(|t| {
+                let paused = if t.state == ThreadState::Paused {
+                    " (paused)"
+                } else {
+                    ""
+                };
+                format!("PRG {} line {}{paused}", t.program, t.line)
+            })
+            .collect();
+        format!("running {} from the host: {}", self.name, at.join(", "))
+    }
+
+    fn carry_out(&mut self, step: HostStep, tag: &mut dyn FnMut() -> u64) -> HostUpdate {
+        let mut update = HostUpdate {
+            said: self.run.take_events().iter().map(shown).collect(),
+            ..HostUpdate::default()
+        };
+        match step {
+            HostStep::Send(line) => {
+                let tag = tag();
+                self.awaiting = Some(tag);
+                update.requests.push(Request::Send {
+                    lines: vec![line],
+                    tag,
+                });
+            }
+            HostStep::Wake(after) => {
+                let tag = tag();
+                self.awaiting = Some(tag);
+                update.requests.push(Request::WakeAfter { after, tag });
+            }
+            HostStep::Finished(end) => {
+                let role = if end.ok() { Role::Ok } else { Role::Error };
+                update
+                    .said
+                    .push((role, format!("host run of {}: {end}", self.name)));
+                update.ended = Some(end);
+            }
+        }
+        update
+    }
+}
+
+/// An event as the console shows it.
+fn shown(event: &HostEvent) -> (Role, String) {
+    let role = match &event.kind {
+        HostEventKind::Started | HostEventKind::Finished | HostEventKind::Controlled { .. } => {
+            Role::Accent
+        }
+        HostEventKind::Sent { .. } => Role::Normal,
+        HostEventKind::Busy { .. } => Role::Muted,
+        HostEventKind::Handler { .. } | HostEventKind::Note(_) => Role::Warning,
+        HostEventKind::Failed { .. } => Role::Error,
+    };
+    (role, format!("host: {event}"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::protocol::console::ReplyValue;
+    use crate::session::LineResult;
+    use std::time::Duration;
+
+    fn ok(line: &str) -> PaneEvent {
+        PaneEvent::Reply {
+            tag: 0,
+            line: line.into(),
+            result: Ok(LineResult {
+                line: line.into(),
+                request: Vec::new(),
+                reply: Vec::new(),
+                status: None,
+                value: ReplyValue::Number(0),
+                elapsed: Duration::ZERO,
+                attempts: 1,
+            }),
+        }
+    }
+
+    fn with_tag(event: PaneEvent, tag: u64) -> PaneEvent {
+        match event {
+            PaneEvent::Reply { line, result, .. } => PaneEvent::Reply { tag, line, result },
+            other => other,
+        }
+    }
+
+    #[test]
+    fn requests_carry_fresh_tags_and_only_their_answers_move_the_run_on() {
+        let program =
+            HostProgram::check("p.asc", "PRG 0\n    DO1=1\n    DELAY=5\nEND\n", None).expect("ok");
+        let mut next = 10;
+        let mut tag = || {
+            next += 1;
+            next
+        };
+        let (mut run, update) = ConsoleHostRun::start(&program, &mut tag);
+        assert_eq!(
+            update.requests,
+            [Request::Send {
+                lines: vec!["DO1=1".into()],
+                tag: 11
+            }]
+        );
+        assert_eq!(
+            update.said,
+            [(Role::Accent, "host: PRG 0 started from the host".into())]
+        );
+        assert!(
+            run.describe().ends_with("from the host: PRG 0 line 2"),
+            "{}",
+            run.describe()
+        );
+        // Someone else's answer.
+        assert!(run.on_event(&with_tag(ok("DO1=1"), 3), &mut tag).is_none());
+        let update = run
+            .on_event(&with_tag(ok("DO1=1"), 11), &mut tag)
+            .expect("ours");
+        assert_eq!(
+            update.said,
+            [(Role::Normal, "host: PRG 0 line 2: DO1=1 → 0".into())]
+        );
+        assert!(matches!(
+            update.requests.as_slice(),
+            [Request::WakeAfter { tag: 12, .. }]
+        ));
+        assert!(run.awaits(12) && !run.awaits(11));
+    }
+}
