@@ -56,7 +56,9 @@ use super::{LineResult, ReplyError, ReplyValue, Session, SessionError};
 use crate::protocol::cmd4cr::ascript::{
     self, Action, Ascii, Op, Operand, PROGRAMS, Program, Statement, VARIABLES,
 };
-use crate::protocol::cmd4cr::{Action as AsciiAction, Axis, ErrorCode, Mst, Register};
+use crate::protocol::cmd4cr::{
+    Action as AsciiAction, Axis, ErrorCode, Mst, ProgramControl, Register,
+};
 
 /// How often `WAIT[axis]` reads `MST[axis]` while the axis moves: quick
 /// enough to go on soon after a move ends, and leaves the line free for
@@ -74,36 +76,6 @@ const RESENDS: u32 = 5;
 
 /// The MST bits of errors latched until `CLR` (§2.6.2.1, footnote 6).
 const LATCHED_ERRORS: u32 = (1 << 8) | (1 << 9) | (1 << 10) | (1 << 16);
-
-/// `SR[n]` / `SACTRL[n]` codes (T2-33).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Control {
-    Stop,
-    Start,
-    Pause,
-    Continue,
-}
-
-impl Control {
-    pub fn from_code(code: i64) -> Option<Control> {
-        match code {
-            0 => Some(Control::Stop),
-            1 => Some(Control::Start),
-            2 => Some(Control::Pause),
-            3 => Some(Control::Continue),
-            _ => None,
-        }
-    }
-
-    fn verb(self) -> &'static str {
-        match self {
-            Control::Stop => "stops",
-            Control::Start => "starts",
-            Control::Pause => "pauses",
-            Control::Continue => "continues",
-        }
-    }
-}
 
 /// A source checked for a host run: it compiles and every statement has
 /// an ASCII equivalent.
@@ -302,7 +274,7 @@ pub enum HostEventKind {
     /// `SR[target]=…`.
     Controlled {
         target: u8,
-        control: Control,
+        control: ProgramControl,
     },
     /// A runtime error, handled by SUB 31.
     Handler {
@@ -1134,7 +1106,7 @@ impl HostRun {
                     ascript::Address::Index(t) => t,
                     _ => 0,
                 };
-                match Control::from_code(code) {
+                match ProgramControl::from_code(code) {
                     Some(control) => {
                         let line = self.line_at(n);
                         self.advance(n);
@@ -1204,7 +1176,14 @@ impl HostRun {
     /// `SR[target]=control` from program `by` (T2-33, as SACTRL does it on
     /// the controller: start leaves a running program running, and starts
     /// a paused one over).
-    fn control(&mut self, by: usize, line: usize, target: u8, control: Control, now: Instant) {
+    fn control(
+        &mut self,
+        by: usize,
+        line: usize,
+        target: u8,
+        control: ProgramControl,
+        now: Instant,
+    ) {
         let index = usize::from(target);
         let Some(t) = self.threads.get_mut(index) else {
             return;
@@ -1215,14 +1194,14 @@ impl HostRun {
         }
         let before = t.state;
         match (control, before) {
-            (Control::Stop, _) => t.restart(ThreadState::Idle),
-            (Control::Start, ThreadState::Running) => {}
-            (Control::Start, _) => t.restart(ThreadState::Running),
-            (Control::Pause, ThreadState::Running) => {
+            (ProgramControl::Stop, _) => t.restart(ThreadState::Idle),
+            (ProgramControl::Start, ThreadState::Running) => {}
+            (ProgramControl::Start, _) => t.restart(ThreadState::Running),
+            (ProgramControl::Pause, ThreadState::Running) => {
                 t.state = ThreadState::Paused;
                 t.paused_at = Some(now);
             }
-            (Control::Continue, ThreadState::Paused) => {
+            (ProgramControl::Continue, ThreadState::Paused) => {
                 t.state = ThreadState::Running;
                 // The time it was paused does not count to its DELAY.
                 if let (Some(paused_at), Some(Hold::Delay { until })) = (t.paused_at, t.hold) {
@@ -1238,7 +1217,7 @@ impl HostRun {
         if after == ThreadState::Running && before != ThreadState::Running {
             self.woken = true;
         }
-        if before != after || control == Control::Stop {
+        if before != after || control == ProgramControl::Stop {
             self.event(by, line, HostEventKind::Controlled { target, control });
         }
     }

@@ -12,6 +12,7 @@ pub mod catalog;
 pub mod command;
 pub mod console;
 pub mod parameter_set;
+pub mod program_control;
 pub mod reply;
 pub mod traffic;
 
@@ -20,6 +21,7 @@ use std::fmt;
 pub use catalog::{Action, Axis, COMMANDS, CommandSpec, Register};
 pub use command::{Cmd4crCommand, CommandError, Direction, Rotation, Selector, parse_command};
 pub use console::Cmd4crConsole;
+pub use program_control::ProgramControl;
 pub use reply::{Answer, ErrorCode, ErrorReply, Mst, parse_answer};
 
 /// The ID every controller ships with (§2.1.1.1).

@@ -400,7 +400,9 @@ impl Cmd4cr {
         for n in 0..programs::PROGRAM_SLOTS {
             if self.run_on_boot & (1 << n) != 0 {
                 // A slot the source does not define is left alone.
-                let _ = self.programs.control(n, programs::Control::Start);
+                let _ = self
+                    .programs
+                    .control(n, crate::protocol::cmd4cr::ProgramControl::Start);
             }
         }
     }

@@ -24,8 +24,8 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use crate::protocol::cmd4cr::ErrorCode;
 use crate::protocol::cmd4cr::ascript::Program;
+use crate::protocol::cmd4cr::{ErrorCode, ProgramControl};
 
 use super::motion::Axis;
 
@@ -42,27 +42,6 @@ pub enum ProgramStatus {
     Paused = 2,
     NotAvailable = 3,
     Error = 4,
-}
-
-/// `SACTRL` / `SR` codes (T2-33).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Control {
-    Stop = 0,
-    Start = 1,
-    Pause = 2,
-    Continue = 3,
-}
-
-impl Control {
-    pub fn from_code(code: i64) -> Option<Control> {
-        match code {
-            0 => Some(Control::Stop),
-            1 => Some(Control::Start),
-            2 => Some(Control::Pause),
-            3 => Some(Control::Continue),
-            _ => None,
-        }
-    }
 }
 
 /// What holds a thread.
@@ -158,7 +137,7 @@ impl Programs {
     }
 
     /// `SACTRL[n]=control` / `SR[n]=control` (T2-33).
-    pub fn control(&mut self, n: usize, control: Control) -> Result<(), ErrorCode> {
+    pub fn control(&mut self, n: usize, control: ProgramControl) -> Result<(), ErrorCode> {
         if n >= PROGRAM_SLOTS {
             return Err(ErrorCode::InvalidIndex);
         }
@@ -168,17 +147,21 @@ impl Programs {
         let Some(thread) = self.threads.get_mut(n) else {
             return Err(ErrorCode::InvalidIndex);
         };
-        if thread.status == ProgramStatus::Error && control != Control::Stop {
+        if thread.status == ProgramStatus::Error && control != ProgramControl::Stop {
             return Err(ErrorCode::ProgramError);
         }
         match (control, thread.status) {
-            (Control::Stop, _) => thread.restart(entry, ProgramStatus::Idle),
+            (ProgramControl::Stop, _) => thread.restart(entry, ProgramStatus::Idle),
             // Ex 8 sends SR0=1 on every pass of a loop: starting a program
             // that runs leaves it running.
-            (Control::Start, ProgramStatus::Running) => {}
-            (Control::Start, _) => thread.restart(entry, ProgramStatus::Running),
-            (Control::Pause, ProgramStatus::Running) => thread.status = ProgramStatus::Paused,
-            (Control::Continue, ProgramStatus::Paused) => thread.status = ProgramStatus::Running,
+            (ProgramControl::Start, ProgramStatus::Running) => {}
+            (ProgramControl::Start, _) => thread.restart(entry, ProgramStatus::Running),
+            (ProgramControl::Pause, ProgramStatus::Running) => {
+                thread.status = ProgramStatus::Paused
+            }
+            (ProgramControl::Continue, ProgramStatus::Paused) => {
+                thread.status = ProgramStatus::Running
+            }
             _ => {}
         }
         Ok(())
@@ -233,7 +216,7 @@ mod tests {
     fn a_program_the_source_lacks_is_not_available() {
         let mut programs = loaded("PRG 1\nEND\nSUB 3\nENDSUB\n");
         assert_eq!(programs.status(0), ProgramStatus::NotAvailable);
-        assert_eq!(programs.control(0, Control::Start), Ok(()));
+        assert_eq!(programs.control(0, ProgramControl::Start), Ok(()));
         assert_eq!(programs.status(0), ProgramStatus::NotAvailable);
         assert_eq!(programs.status(1), ProgramStatus::Idle);
         assert_eq!(
@@ -248,17 +231,19 @@ mod tests {
     #[test]
     fn control_follows_table_2_33() {
         let mut programs = loaded("PRG 1\nEND\n");
-        programs.control(1, Control::Start).expect("start");
-        programs.control(1, Control::Pause).expect("pause");
+        programs.control(1, ProgramControl::Start).expect("start");
+        programs.control(1, ProgramControl::Pause).expect("pause");
         assert_eq!(programs.status(1), ProgramStatus::Paused);
-        programs.control(1, Control::Continue).expect("continue");
+        programs
+            .control(1, ProgramControl::Continue)
+            .expect("continue");
         assert_eq!(programs.status(1), ProgramStatus::Running);
         programs.threads[1].status = ProgramStatus::Error;
         assert_eq!(
-            programs.control(1, Control::Start),
+            programs.control(1, ProgramControl::Start),
             Err(ErrorCode::ProgramError)
         );
-        assert_eq!(programs.control(1, Control::Stop), Ok(()));
+        assert_eq!(programs.control(1, ProgramControl::Stop), Ok(()));
         assert_eq!(programs.status(1), ProgramStatus::Idle);
     }
 }

@@ -16,8 +16,8 @@ use crate::protocol::cmd4cr::{
 
 use super::io::with_bit;
 use super::motion::{BufferedMove, Refusal, Start};
-use super::programs::Control;
 use super::{Cmd4cr, FIRMWARE_VERSION, flash};
+use crate::protocol::cmd4cr::ProgramControl;
 
 /// A value read.
 pub(super) enum Value {
@@ -416,7 +416,7 @@ impl Cmd4cr {
             (R::Sle, A(a)) => self.motion.axis_mut(a).step_n_loop.error_range = value,
             (R::Sla, A(a)) => self.motion.axis_mut(a).step_n_loop.attempts = value,
             (R::Sactrl, I(n)) => {
-                let control = Control::from_code(value).ok_or(ErrorCode::InvalidIndex)?;
+                let control = ProgramControl::from_code(value).ok_or(ErrorCode::InvalidIndex)?;
                 self.programs.control(usize::from(n), control)?;
             }
             (R::Sload, All) => self.run_on_boot = value,
