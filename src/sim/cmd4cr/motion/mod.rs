@@ -720,7 +720,13 @@ impl Motion {
                         let dir = if distance < 0 { -1 } else { 1 };
                         let run =
                             Run::new(from, dir, ramps, Goal::Target(from + distance), purpose);
-                        self.launch(axis, run);
+                        if distance == 0 {
+                            // Already there: the move ends as it starts, so the
+                            // axis is never seen busy with MST reading 0.
+                            self.finish(axis, Some(&run));
+                        } else {
+                            self.launch(axis, run);
+                        }
                     }
                 }
             }

@@ -65,6 +65,24 @@ fn a_position_move_ends_where_and_when_the_trapezoid_says() {
 }
 
 #[test]
+fn a_move_to_where_the_axis_stands_ends_at_once() {
+    // Seen in a host run: `X0` at 0 held the axis busy for a tick while MST
+    // read 0, and the next move in that instant got ?Error Moving.
+    let mut m = example_speeds();
+    m.start(Start::Position {
+        targets: vec![(X, 0)],
+    })
+    .expect("X0");
+    assert!(!m.is_busy(X));
+    assert_eq!(m.status(X) & 7, 0);
+    m.start(Start::Position {
+        targets: vec![(X, 100)],
+    })
+    .expect("the next move is accepted in the same instant");
+    assert!(moving(&m, X));
+}
+
+#[test]
 fn two_single_axis_moves_run_at_the_same_time() {
     // §4.3.2: X-20000 then Y15000, both under way together.
     let mut m = example_speeds();
