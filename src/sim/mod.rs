@@ -7,22 +7,8 @@ use std::time::Duration;
 
 pub mod cmd4cr;
 pub mod faults;
+pub mod stored_file;
 pub mod tmcm1110;
-
-/// Write a simulator's stored memory (EEPROM, flash) as JSON through a
-/// temporary file and a rename, so an interrupted write never leaves half
-/// a file behind.
-pub(crate) fn write_json_whole<T: serde::Serialize>(
-    path: &std::path::Path,
-    value: &T,
-) -> std::io::Result<()> {
-    let text = serde_json::to_string_pretty(value).map_err(std::io::Error::other)?;
-    let mut temporary = path.as_os_str().to_owned();
-    temporary.push(".tmp");
-    let temporary = std::path::PathBuf::from(temporary);
-    std::fs::write(&temporary, text)?;
-    std::fs::rename(&temporary, path)
-}
 
 /// A controller that can stand behind a link in place of hardware.
 pub trait SimulatedController: Send {

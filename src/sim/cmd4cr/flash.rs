@@ -13,12 +13,17 @@
 //! here panics.
 
 use std::collections::BTreeMap;
-use std::fmt;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+pub use crate::sim::stored_file::{DisplayPath, StoredFileError as FlashError};
+use crate::sim::stored_file::{read_json, write_json_whole};
+
 use crate::protocol::cmd4cr::{Cmd4crCommand, parse_command};
+
+/// The memory's name in messages about its file.
+const MEMORY: &str = "flash";
 
 const FILE_FORMAT: &str = "axterm CMD-4CR simulated flash";
 const FILE_VERSION: u32 = 1;
@@ -33,44 +38,6 @@ struct FlashFile {
     /// The A-Script source of the programs, if any were loaded.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     program: Option<String>,
-}
-
-/// Something went wrong with the flash file.
-#[derive(Debug, thiserror::Error)]
-pub enum FlashError {
-    #[error("cannot read the simulated flash file {path}: {source}; started with factory settings")]
-    Read {
-        path: DisplayPath,
-        source: std::io::Error,
-    },
-    #[error(
-        "the simulated flash file {path} is not valid JSON of the expected shape: {source}; started with factory settings"
-    )]
-    Parse {
-        path: DisplayPath,
-        source: serde_json::Error,
-    },
-    #[error(
-        "the simulated flash file {path} was rejected: {problem}; started with factory settings"
-    )]
-    Content { path: DisplayPath, problem: String },
-    #[error(
-        "cannot write the simulated flash file {path}: {source}; the settings are kept in memory only"
-    )]
-    Write {
-        path: DisplayPath,
-        source: std::io::Error,
-    },
-}
-
-/// A path in an error message.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct DisplayPath(pub PathBuf);
-
-impl fmt::Display for DisplayPath {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}", self.0.display())
-    }
 }
 
 /// The flash with its optional file.
@@ -130,6 +97,7 @@ impl Flash {
     pub fn report(&mut self, problem: String) {
         let path = self.path.clone().unwrap_or_default();
         self.problem = Some(FlashError::Content {
+            memory: MEMORY,
             path: DisplayPath(path),
             problem,
         });
@@ -147,6 +115,7 @@ impl Flash {
         };
         if let Err(source) = save(path, &file) {
             self.problem = Some(FlashError::Write {
+                memory: MEMORY,
                 path: DisplayPath(path.clone()),
                 source,
             });
@@ -184,21 +153,11 @@ type Contents = (BTreeMap<String, i64>, Option<String>);
 
 fn load(path: &Path) -> Result<Option<Contents>, FlashError> {
     let display = || DisplayPath(path.to_path_buf());
-    let text = match std::fs::read_to_string(path) {
-        Ok(text) => text,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-        Err(source) => {
-            return Err(FlashError::Read {
-                path: display(),
-                source,
-            });
-        }
+    let Some(file) = read_json::<FlashFile>(path, MEMORY)? else {
+        return Ok(None);
     };
-    let file: FlashFile = serde_json::from_str(&text).map_err(|source| FlashError::Parse {
-        path: display(),
-        source,
-    })?;
     let content = |problem| FlashError::Content {
+        memory: MEMORY,
         path: display(),
         problem,
     };
@@ -215,7 +174,7 @@ fn load(path: &Path) -> Result<Option<Contents>, FlashError> {
 }
 
 fn save(path: &Path, file: &FlashFile) -> std::io::Result<()> {
-    crate::sim::write_json_whole(path, file)
+    write_json_whole(path, file)
 }
 
 #[cfg(test)]

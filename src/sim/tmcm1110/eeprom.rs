@@ -6,16 +6,21 @@
 //! module starts from factory settings; nothing here panics.
 
 use std::collections::BTreeMap;
-use std::fmt;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
+
+pub use crate::sim::stored_file::{DisplayPath, StoredFileError as EepromError};
+use crate::sim::stored_file::{read_json, write_json_whole};
 
 use crate::protocol::tmcl::params::{self, ParamInfo};
 
 use super::defaults;
 use super::motion::Axis;
 use super::program::{PROGRAM_MEMORY_SIZE, ProgramWord};
+
+/// The memory's name in messages about its file.
+const MEMORY: &str = "EEPROM";
 
 /// User variables 0..55 have EEPROM backing (§5.3).
 pub const STORED_USER_VARIABLES: usize = 56;
@@ -181,46 +186,6 @@ struct EepromFile {
     program: Vec<[u8; 7]>,
 }
 
-/// Something went wrong with the EEPROM file.
-#[derive(Debug, thiserror::Error)]
-pub enum EepromError {
-    #[error(
-        "cannot read the simulated EEPROM file {path}: {source}; started with factory settings"
-    )]
-    Read {
-        path: DisplayPath,
-        source: std::io::Error,
-    },
-    #[error(
-        "the simulated EEPROM file {path} is not valid JSON of the expected shape: {source}; started with factory settings"
-    )]
-    Parse {
-        path: DisplayPath,
-        source: serde_json::Error,
-    },
-    #[error(
-        "the simulated EEPROM file {path} was rejected: {problem}; started with factory settings"
-    )]
-    Content { path: DisplayPath, problem: String },
-    #[error(
-        "cannot write the simulated EEPROM file {path}: {source}; the settings are kept in memory only"
-    )]
-    Write {
-        path: DisplayPath,
-        source: std::io::Error,
-    },
-}
-
-/// A path in an error message.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct DisplayPath(pub PathBuf);
-
-impl fmt::Display for DisplayPath {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}", self.0.display())
-    }
-}
-
 /// The EEPROM with its optional backing file.
 #[derive(Debug)]
 pub struct Eeprom {
@@ -289,6 +254,7 @@ impl Eeprom {
         };
         if let Err(source) = save(path, &self.image) {
             self.problem = Some(EepromError::Write {
+                memory: MEMORY,
                 path: DisplayPath(path.clone()),
                 source,
             });
@@ -303,31 +269,20 @@ impl Drop for Eeprom {
 }
 
 fn load(path: &Path, factory: EepromImage) -> Result<Option<EepromImage>, EepromError> {
-    let display = || DisplayPath(path.to_path_buf());
-    let text = match std::fs::read_to_string(path) {
-        Ok(text) => text,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-        Err(source) => {
-            return Err(EepromError::Read {
-                path: display(),
-                source,
-            });
-        }
+    let Some(file) = read_json::<EepromFile>(path, MEMORY)? else {
+        return Ok(None);
     };
-    let file: EepromFile = serde_json::from_str(&text).map_err(|source| EepromError::Parse {
-        path: display(),
-        source,
-    })?;
     EepromImage::from_file(file, factory)
         .map(Some)
         .map_err(|problem| EepromError::Content {
-            path: display(),
+            memory: MEMORY,
+            path: DisplayPath(path.to_path_buf()),
             problem,
         })
 }
 
 fn save(path: &Path, image: &EepromImage) -> std::io::Result<()> {
-    crate::sim::write_json_whole(path, &image.to_file())
+    write_json_whole(path, &image.to_file())
 }
 
 #[cfg(test)]
