@@ -7,6 +7,7 @@ use std::time::Duration;
 
 pub mod cmd4cr;
 pub mod faults;
+pub mod inputs;
 pub mod stored_file;
 pub mod tmcm1110;
 
@@ -27,6 +28,16 @@ pub trait SimulatedController: Send {
     /// count per connection. Controllers without such faults ignore it.
     fn arm_faults(&mut self, plan: &faults::FaultPlan) {
         let _ = plan;
+    }
+    /// Drive one of the controller's inputs from outside by a setting
+    /// such as `IO5=1` (`--input`, a line on the standard input of `axterm
+    /// sim`, the console's `:sim-input`; the names are the kind's
+    /// [`SimKind::input_help`]): a line saying what now holds ("IO5 on"),
+    /// or what was wrong, listing the inputs there are. Controllers
+    /// without such inputs refuse.
+    fn drive_input(&mut self, setting: &str) -> Result<String, String> {
+        let _ = setting;
+        Err("this simulator has no inputs to drive".to_string())
     }
     /// Load standalone-program source into the controller, as a vendor's
     /// tool would write it into its memory (`axterm sim KIND --program
@@ -54,6 +65,11 @@ pub struct SimKind {
     /// The protocol family it speaks (a name in `protocol::FAMILIES`).
     pub family: &'static str,
     pub build: fn(&SimOptions) -> Box<dyn SimulatedController>,
+    /// The names of the inputs [`SimulatedController::drive_input`] drives
+    /// (`IO5`, `ALMX`, …), for completion.
+    pub input_names: fn() -> Vec<String>,
+    /// One line per kind of input: its settings and what it is, for help.
+    pub input_help: fn() -> Vec<String>,
 }
 
 /// Every built-in simulator. A new family adds one line here.
@@ -74,6 +90,8 @@ pub const SIM_KINDS: &[SimKind] = &[
             }
             Box::new(sim)
         },
+        input_names: tmcm1110::inputs::names,
+        input_help: tmcm1110::inputs::help_lines,
     },
     SimKind {
         name: "cmd4cr",
@@ -86,6 +104,8 @@ pub const SIM_KINDS: &[SimKind] = &[
                 ..cmd4cr::SimConfig::default()
             }))
         },
+        input_names: cmd4cr::inputs::names,
+        input_help: cmd4cr::inputs::help_lines,
     },
 ];
 
@@ -193,6 +213,26 @@ mod tests {
         assert_eq!(cmd4cr.load_program("PRG 0\n    V1=5\nEND\n"), Ok(()));
         let problems = cmd4cr.load_program("PRG 0\n").expect_err("no END");
         assert!(problems[0].contains("Missing END"), "{problems:?}");
+    }
+
+    #[test]
+    fn every_input_a_kind_names_can_be_driven() {
+        for kind in SIM_KINDS {
+            let mut sim = (kind.build)(&SimOptions::default());
+            for name in (kind.input_names)() {
+                let result = sim.drive_input(&format!("{name}=0"));
+                // CMD-4CR IO17..IO32 are outputs at power-on (IOCFG).
+                let output = kind.name == "cmd4cr"
+                    && name
+                        .strip_prefix("IO")
+                        .and_then(|n| n.parse::<u8>().ok())
+                        .is_some_and(|n| n >= 17);
+                assert_eq!(result.is_ok(), !output, "{} {name}: {result:?}", kind.name);
+            }
+            assert!(!(kind.input_help)().is_empty(), "{}", kind.name);
+            let unknown = sim.drive_input("NOSUCH=1").expect_err("no such input");
+            assert!(unknown.contains("the inputs are"), "{unknown}");
+        }
     }
 
     #[test]

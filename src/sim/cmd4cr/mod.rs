@@ -40,6 +40,7 @@
 //!   manual's "invalid status" reply is not given).
 
 pub mod flash;
+pub mod inputs;
 mod interpreter;
 pub mod io;
 pub mod motion;
@@ -55,7 +56,9 @@ use std::time::Duration;
 use crate::protocol::cmd4cr::{Axis, DEFAULT_ID, parse_request};
 
 use super::SimulatedController;
+use super::inputs::{Level, SettingError};
 use flash::{Flash, FlashError};
+use inputs::Input;
 use io::Io;
 use motion::Motion;
 use motion::stage::Stage;
@@ -356,6 +359,73 @@ impl Cmd4cr {
         self.motion.set_start_input(low);
     }
 
+    /// Drive one input by a setting typed from outside (`IO5=1`, `AI1=1650`,
+    /// `ALMX=1`; the names in [`inputs::INPUTS`]): what now holds, or what
+    /// was wrong with it. An IO that IOCFG makes an output is refused: the
+    /// wiring of an output is the core's to drive (our choice).
+    pub fn drive_input(&mut self, text: &str) -> Result<String, SettingError> {
+        let setting = inputs::parse(text)?;
+        let name = setting.name();
+        let on = setting.level == Level::On;
+        let said = match (setting.row.input, setting.level) {
+            (Input::Digital, _) => {
+                self.set_digital_input(setting.which, on);
+                format!("{name} {}", setting.level)
+            }
+            (Input::Io, _) => {
+                let bit = u32::from(setting.which).saturating_sub(1);
+                if self.io.io_config & (1 << bit) != 0 {
+                    return Err(SettingError::Refused {
+                        name: name.clone(),
+                        why: format!(
+                            "IOCFG 0x{:08X} makes {name} an output (bit {bit} set); \
+                             the simulator drives inputs only (IOCFG with bit {bit} clear makes it one)",
+                            self.io.io_config
+                        ),
+                    });
+                }
+                self.set_io_input(setting.which, on);
+                format!("{name} {}", setting.level)
+            }
+            (Input::Analog, level) => {
+                // The table reads AI values as numbers (0..3300) only.
+                let millivolts = match level {
+                    Level::Number(n) => u16::try_from(n).unwrap_or(u16::MAX),
+                    _ => 0,
+                };
+                self.set_analog_input(setting.which, millivolts);
+                format!("{name} {} mV", millivolts.min(3300))
+            }
+            (Input::Emergency, _) => {
+                self.set_emergency_input(on);
+                if on {
+                    format!("{name} on (/CEMG low: every axis stops, none may start)")
+                } else {
+                    format!("{name} off (/CEMG high)")
+                }
+            }
+            (Input::Start, _) => {
+                self.set_start_input(on);
+                format!(
+                    "{name} {} (/CSTA {})",
+                    setting.level,
+                    if on { "low" } else { "high" }
+                )
+            }
+            (Input::Alarm, _) => {
+                let Some(axis) = Axis::from_index(usize::from(setting.which)) else {
+                    return Err(SettingError::UnknownName {
+                        name,
+                        inputs: super::inputs::summary(inputs::INPUTS),
+                    });
+                };
+                self.motion.set_alarm(axis, on);
+                format!("{name} {}", setting.level)
+            }
+        };
+        Ok(said)
+    }
+
     /// `counts` from the MPG input of `axis`, after the input stage: with
     /// MPE on, the axis follows by counts × MPM × MPD / 2048 and MP counts
     /// them (§2.5.2.2).
@@ -419,7 +489,8 @@ impl Cmd4cr {
              each axis a stage with end limits at ±{DEMO_LIMIT}, home switch {}..{}, \
              Z index every {} pulses at {}, encoder 1 count per pulse; \
              limits and ALM stop at once; HSPD is the arc speed of circles; \
-             StepNLoop defaults SLR 1.000 SLT 10 SLE 1000 SLA 3; joystick JSPD 1000 pps, JDEL 100 pps/ms, JTOL 50 mV, JLIM ±90000/±100000",
+             StepNLoop defaults SLR 1.000 SLT 10 SLE 1000 SLA 3; joystick JSPD 1000 pps, JDEL 100 pps/ms, JTOL 50 mV, JLIM ±90000/±100000; \
+             inputs driven from outside (--input, a line on the standard input of `axterm sim`, :sim-input): {}",
             self.id,
             self.config.write_reply,
             motion::DEFAULT_HSPD,
@@ -433,6 +504,7 @@ impl Cmd4cr {
             DEMO_HOME.high,
             DEMO_Z_INDEX.period,
             DEMO_Z_INDEX.phase,
+            super::inputs::summary(inputs::INPUTS),
         )
     }
 
@@ -546,6 +618,10 @@ impl SimulatedController for Cmd4cr {
 
     fn help(&self) -> String {
         self.help_line()
+    }
+
+    fn drive_input(&mut self, setting: &str) -> Result<String, String> {
+        Cmd4cr::drive_input(self, setting).map_err(|e| e.to_string())
     }
 
     fn load_program(&mut self, source: &str) -> Result<(), Vec<String>> {

@@ -33,6 +33,7 @@ mod commands;
 pub mod defaults;
 pub mod eeprom;
 mod execute;
+pub mod inputs;
 pub mod interpreter;
 pub mod interrupts;
 pub mod io;
@@ -338,6 +339,32 @@ impl Tmcm1110 {
         }
     }
 
+    /// Drive one input by a setting typed from outside (`IN3=1`,
+    /// `PWMD2=open`, `AIN0=302`; the names in [`inputs::INPUTS`]): what now
+    /// holds, or what was wrong with it.
+    pub fn drive_input(&mut self, text: &str) -> Result<String, crate::sim::inputs::SettingError> {
+        use crate::sim::inputs::{Level, SettingError};
+        let setting = inputs::parse(text)?;
+        let Some(port) = inputs::port_of(&setting) else {
+            let value = match setting.level {
+                Level::Number(n) => u16::try_from(n).unwrap_or(u16::MAX),
+                _ => 0,
+            };
+            self.set_analog_input(value);
+            return Ok(format!("AIN0 {value}"));
+        };
+        self.set_input(port, setting.level.is_on())
+            .map_err(|e| SettingError::Refused {
+                name: setting.name(),
+                why: e.to_string(),
+            })?;
+        let line = io::input_line(port).map_or("", |l| l.name);
+        Ok(match setting.level {
+            Level::Open => format!("IN{port} ({line}) open: its pull-up decides"),
+            level => format!("IN{port} ({line}) {level}"),
+        })
+    }
+
     /// Set the AIN0 ADC value (GIO 0, 1; also read digitally as GIO 0, 0).
     pub fn set_analog_input(&mut self, value: u16) {
         self.io.analog = value;
@@ -394,7 +421,13 @@ impl Tmcm1110 {
         let mut config = self.config.clone();
         config.address = self.address();
         let layout = self.axis.layout();
-        format!("{}, {}", help_line(&config), describe_layout(layout))
+        format!(
+            "{}, {}; inputs driven from outside (--input, a line on the standard input of \
+             `axterm sim`, :sim-input): {}",
+            help_line(&config),
+            describe_layout(layout),
+            crate::sim::inputs::summary(inputs::INPUTS)
+        )
     }
 
     // ---- power-up ----------------------------------------------------
@@ -685,6 +718,10 @@ pub fn help_line(config: &SimConfig) -> String {
 impl SimulatedController for Tmcm1110 {
     fn help(&self) -> String {
         self.help_line()
+    }
+
+    fn drive_input(&mut self, setting: &str) -> Result<String, String> {
+        Tmcm1110::drive_input(self, setting).map_err(|e| e.to_string())
     }
 
     fn feed(&mut self, bytes: &[u8]) {

@@ -1,0 +1,426 @@
+//! Inputs of a simulated controller driven from outside, by a short text
+//! setting `NAME=VALUE` (`IO5=1`, `AI1=1650`, `IN3=open`): what a
+//! technician trying axterm on a simulator types where on a machine a
+//! switch would close (`--input`, the served simulator's standard input,
+//! the console's `:sim-input`).
+//!
+//! Each simulator lists its inputs as a table of [`InputRow`]s (which
+//! names, which values, what it is); [`parse`] reads a setting against
+//! such a table and the simulator applies what it names. Pure: no I/O.
+
+use std::fmt;
+
+/// The names one row of inputs answers to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Names {
+    /// A stem and a number, `DI1`..`DI4`.
+    Numbered {
+        stem: &'static str,
+        first: u8,
+        last: u8,
+    },
+    /// Names of their own, `ALMX`, `ALMY`, …; the n-th is input n.
+    Listed(&'static [&'static str]),
+}
+
+/// What may follow the `=`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Values {
+    /// `1` (or `on`) and `0` (or `off`).
+    OnOff,
+    /// As [`Values::OnOff`], or `open`: nothing connected.
+    OnOffOpen,
+    /// A whole number `0..=max`, in `unit`.
+    Number { max: u32, unit: &'static str },
+}
+
+impl Values {
+    /// What the values look like after `NAME=` in a list of settings.
+    fn pattern(self) -> String {
+        match self {
+            Values::OnOff => "0|1".into(),
+            Values::OnOffOpen => "0|1|open".into(),
+            Values::Number { max, unit } => format!("<{unit} 0..{max}>"),
+        }
+    }
+
+    /// What the values are, in words, for an error.
+    fn wanted(self) -> String {
+        match self {
+            Values::OnOff => "1 (on) or 0 (off)".into(),
+            Values::OnOffOpen => "1 (on), 0 (off) or open (nothing connected)".into(),
+            Values::Number { max, unit } => format!("a whole number of {unit}, 0..{max}"),
+        }
+    }
+}
+
+/// One kind of input of a simulator: its names, values, and what it is.
+/// `T` says to the simulator which input it is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct InputRow<T: 'static> {
+    pub input: T,
+    pub names: Names,
+    pub values: Values,
+    /// One line for help: what the input is and does.
+    pub what: &'static str,
+}
+
+impl<T> InputRow<T> {
+    /// `DI1..DI4=0|1`, `ALMX|ALMY|ALMZ|ALMU=0|1`.
+    pub fn pattern(&self) -> String {
+        let names = match self.names {
+            Names::Numbered { stem, first, last } if first == last => format!("{stem}{first}"),
+            Names::Numbered { stem, first, last } => format!("{stem}{first}..{stem}{last}"),
+            Names::Listed(names) => names.join("|"),
+        };
+        format!("{names}={}", self.values.pattern())
+    }
+
+    /// Every name of the row, in order.
+    fn names(&self) -> Vec<String> {
+        match self.names {
+            Names::Numbered { stem, first, last } => {
+                (first..=last).map(|n| format!("{stem}{n}")).collect()
+            }
+            Names::Listed(names) => names.iter().map(|n| n.to_string()).collect(),
+        }
+    }
+
+    /// Which of the row's inputs `name` (upper case) is: the number of a
+    /// numbered one, else the position in the list, from 0.
+    fn find(&self, name: &str) -> Option<u8> {
+        match self.names {
+            Names::Numbered { stem, first, last } => {
+                let digits = name.strip_prefix(stem)?;
+                if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
+                    return None;
+                }
+                digits
+                    .parse::<u8>()
+                    .ok()
+                    .filter(|n| (first..=last).contains(n))
+            }
+            Names::Listed(names) => names
+                .iter()
+                .position(|n| *n == name)
+                .and_then(|i| u8::try_from(i).ok()),
+        }
+    }
+}
+
+/// The level a setting drives an input to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Level {
+    On,
+    Off,
+    /// Nothing connected.
+    Open,
+    Number(u32),
+}
+
+impl Level {
+    /// On or off; `None` for the others.
+    pub fn is_on(self) -> Option<bool> {
+        match self {
+            Level::On => Some(true),
+            Level::Off => Some(false),
+            _ => None,
+        }
+    }
+}
+
+impl fmt::Display for Level {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Level::On => f.write_str("on"),
+            Level::Off => f.write_str("off"),
+            Level::Open => f.write_str("open"),
+            Level::Number(n) => write!(f, "{n}"),
+        }
+    }
+}
+
+/// A setting read against a simulator's table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Setting<T: 'static> {
+    pub row: &'static InputRow<T>,
+    /// The number of a numbered input (`5` of `IO5`), else its position in
+    /// the row's list from 0 (`1` of `ALMY`).
+    pub which: u8,
+    pub level: Level,
+}
+
+impl<T> Setting<T> {
+    /// The input's name as the table spells it (`IO5`, `ALMY`).
+    pub fn name(&self) -> String {
+        match self.row.names {
+            Names::Numbered { stem, .. } => format!("{stem}{}", self.which),
+            Names::Listed(names) => names
+                .get(usize::from(self.which))
+                .map_or_else(String::new, |n| n.to_string()),
+        }
+    }
+}
+
+/// Why a setting was not taken. Every message names what was typed and,
+/// where the name was the trouble, lists the inputs there are.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum SettingError {
+    /// No `=` or nothing on one side of it.
+    NotNameValue {
+        text: String,
+        example: String,
+        inputs: String,
+    },
+    /// No input of that name.
+    UnknownName { name: String, inputs: String },
+    /// The input exists; the value does not fit it.
+    BadValue {
+        name: String,
+        value: String,
+        wanted: String,
+    },
+    /// The simulator cannot drive this input now (an IO set as output).
+    Refused { name: String, why: String },
+}
+
+impl fmt::Display for SettingError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SettingError::NotNameValue {
+                text,
+                example,
+                inputs,
+            } => write!(
+                f,
+                "`{text}` is no input setting: give NAME=VALUE, e.g. {example}; the inputs are {inputs}"
+            ),
+            SettingError::UnknownName { name, inputs } => {
+                write!(f, "there is no input `{name}`: the inputs are {inputs}")
+            }
+            SettingError::BadValue {
+                name,
+                value,
+                wanted,
+            } => write!(f, "`{name}={value}`: {name} takes {wanted}"),
+            SettingError::Refused { name, why } => write!(f, "{name} cannot be driven: {why}"),
+        }
+    }
+}
+
+impl std::error::Error for SettingError {}
+
+/// Read `text` (`NAME=VALUE`; names in any case, blanks around either
+/// side allowed) against `table`.
+pub fn parse<T>(table: &'static [InputRow<T>], text: &str) -> Result<Setting<T>, SettingError> {
+    let text = text.trim();
+    let not_a_setting = || SettingError::NotNameValue {
+        text: text.to_string(),
+        example: example(table),
+        inputs: summary(table),
+    };
+    let (name, value) = text.split_once('=').ok_or_else(not_a_setting)?;
+    let (name, value) = (name.trim().to_ascii_uppercase(), value.trim());
+    if name.is_empty() || value.is_empty() {
+        return Err(not_a_setting());
+    }
+    let (row, which) = table
+        .iter()
+        .find_map(|row| row.find(&name).map(|which| (row, which)))
+        .ok_or_else(|| SettingError::UnknownName {
+            name: name.clone(),
+            inputs: summary(table),
+        })?;
+    let lower = value.to_ascii_lowercase();
+    let level = match (row.values, lower.as_str()) {
+        (Values::OnOff | Values::OnOffOpen, "1" | "on") => Some(Level::On),
+        (Values::OnOff | Values::OnOffOpen, "0" | "off") => Some(Level::Off),
+        (Values::OnOffOpen, "open") => Some(Level::Open),
+        (Values::Number { max, .. }, _) => lower
+            .parse::<u32>()
+            .ok()
+            .filter(|n| *n <= max)
+            .map(Level::Number),
+        _ => None,
+    };
+    let level = level.ok_or_else(|| SettingError::BadValue {
+        name: name.clone(),
+        value: value.to_string(),
+        wanted: row.values.wanted(),
+    })?;
+    Ok(Setting { row, which, level })
+}
+
+/// Every setting pattern of `table`, for help and errors:
+/// `DI1..DI4=0|1, AI1..AI2=<mV 0..3300>`.
+pub fn summary<T>(table: &[InputRow<T>]) -> String {
+    table
+        .iter()
+        .map(InputRow::pattern)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// A setting of the first input, for an error: `DI1=1`, `AI1=1650`.
+fn example<T>(table: &[InputRow<T>]) -> String {
+    let Some(row) = table.first() else {
+        return "NAME=1".into();
+    };
+    let name = row.names().into_iter().next().unwrap_or_default();
+    match row.values {
+        Values::Number { max, .. } => format!("{name}={}", max / 2),
+        Values::OnOff | Values::OnOffOpen => format!("{name}=1"),
+    }
+}
+
+/// Every input name of `table`, for completion.
+pub fn names<T>(table: &[InputRow<T>]) -> Vec<String> {
+    table.iter().flat_map(InputRow::names).collect()
+}
+
+/// One line per row: the pattern and what the input is.
+pub fn help_lines<T>(table: &[InputRow<T>]) -> Vec<String> {
+    table
+        .iter()
+        .map(|row| format!("{}: {}", row.pattern(), row.what))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+    enum Probe {
+        Switch,
+        Pin,
+        Volts,
+    }
+
+    const TABLE: &[InputRow<Probe>] = &[
+        InputRow {
+            input: Probe::Switch,
+            names: Names::Numbered {
+                stem: "S",
+                first: 1,
+                last: 3,
+            },
+            values: Values::OnOff,
+            what: "a switch",
+        },
+        InputRow {
+            input: Probe::Pin,
+            names: Names::Listed(&["PA", "PB"]),
+            values: Values::OnOffOpen,
+            what: "a pin",
+        },
+        InputRow {
+            input: Probe::Volts,
+            names: Names::Numbered {
+                stem: "V",
+                first: 0,
+                last: 0,
+            },
+            values: Values::Number {
+                max: 500,
+                unit: "mV",
+            },
+            what: "a voltage",
+        },
+    ];
+
+    fn ok(text: &str) -> (Probe, u8, Level, String) {
+        let s = parse(TABLE, text).unwrap_or_else(|e| panic!("{text}: {e}"));
+        (s.row.input, s.which, s.level, s.name())
+    }
+
+    #[test]
+    fn settings_name_an_input_and_a_level() {
+        assert_eq!(ok("S2=1"), (Probe::Switch, 2, Level::On, "S2".into()));
+        assert_eq!(
+            ok(" s3 = off "),
+            (Probe::Switch, 3, Level::Off, "S3".into())
+        );
+        assert_eq!(ok("pb=OPEN"), (Probe::Pin, 1, Level::Open, "PB".into()));
+        assert_eq!(ok("PA=on"), (Probe::Pin, 0, Level::On, "PA".into()));
+        assert_eq!(
+            ok("V0=500"),
+            (Probe::Volts, 0, Level::Number(500), "V0".into())
+        );
+    }
+
+    #[test]
+    fn a_setting_without_name_or_value_is_refused_with_an_example() {
+        for text in ["S2", "=1", "S2=", "  "] {
+            let e = parse(TABLE, text).expect_err(text);
+            assert!(matches!(e, SettingError::NotNameValue { .. }), "{e:?}");
+            assert_eq!(
+                e.to_string(),
+                format!(
+                    "`{}` is no input setting: give NAME=VALUE, e.g. S1=1; \
+                     the inputs are S1..S3=0|1, PA|PB=0|1|open, V0=<mV 0..500>",
+                    text.trim()
+                )
+            );
+        }
+    }
+
+    #[test]
+    fn unknown_names_and_numbers_outside_the_row_list_the_inputs() {
+        for (text, name) in [
+            ("S4=1", "S4"),
+            ("S0=1", "S0"),
+            ("X=1", "X"),
+            ("S+1=1", "S+1"),
+        ] {
+            let e = parse(TABLE, text).expect_err(text);
+            assert_eq!(
+                e.to_string(),
+                format!(
+                    "there is no input `{name}`: the inputs are S1..S3=0|1, PA|PB=0|1|open, V0=<mV 0..500>"
+                )
+            );
+        }
+        assert!(parse(TABLE, "S999=1").is_err(), "no overflow");
+    }
+
+    #[test]
+    fn values_that_do_not_fit_the_input_say_what_it_takes() {
+        let cases = [
+            ("S1=2", "`S1=2`: S1 takes 1 (on) or 0 (off)"),
+            ("S1=open", "`S1=open`: S1 takes 1 (on) or 0 (off)"),
+            (
+                "PA=yes",
+                "`PA=yes`: PA takes 1 (on), 0 (off) or open (nothing connected)",
+            ),
+            ("V0=501", "`V0=501`: V0 takes a whole number of mV, 0..500"),
+            ("V0=-1", "`V0=-1`: V0 takes a whole number of mV, 0..500"),
+            ("V0=1.5", "`V0=1.5`: V0 takes a whole number of mV, 0..500"),
+        ];
+        for (text, message) in cases {
+            let e = parse(TABLE, text).expect_err(text);
+            assert!(matches!(e, SettingError::BadValue { .. }), "{e:?}");
+            assert_eq!(e.to_string(), message);
+        }
+    }
+
+    #[test]
+    fn names_and_help_come_from_the_table() {
+        assert_eq!(names(TABLE), ["S1", "S2", "S3", "PA", "PB", "V0"]);
+        assert_eq!(
+            help_lines(TABLE),
+            [
+                "S1..S3=0|1: a switch",
+                "PA|PB=0|1|open: a pin",
+                "V0=<mV 0..500>: a voltage"
+            ]
+        );
+    }
+
+    #[test]
+    fn nothing_typed_panics_the_parser() {
+        for text in ["=", "==", "S1==1", "é=1", "S١=1", "\u{0}=\u{0}", "S1=1=1"] {
+            let _ = parse(TABLE, text);
+        }
+    }
+}

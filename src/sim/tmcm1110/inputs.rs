@@ -1,0 +1,176 @@
+//! The TMCM-1110 simulator's inputs as settings typed from outside
+//! (`--input IN3=1`, a line on `axterm sim tmcm1110`'s standard input,
+//! `:sim-input IN3=1`): the table of what there is, and the reading of a
+//! setting against it. Applying one is [`super::Tmcm1110::drive_input`].
+//!
+//! The digital inputs are GIO bank 0's ports 1..6 (§3.6.15), typed as
+//! `IN1..IN6` after the port number a program reads (`GIO 3, 0` is `IN3`)
+//! or by the line's name in the manual's table (`PWMD2`); `open` leaves a
+//! line unconnected, to its pull-up (§3.6.14). AIN0 is the ADC value,
+//! 0..65535: the manual's "16 bit result in the range of 0...65535"
+//! (§3.6.15, bank 1), not a 12-bit 0..4095.
+
+use super::io::IO_LINES;
+use crate::sim::inputs::{self, InputRow, Names, Setting, SettingError, Values};
+
+/// Which input a setting drives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Input {
+    /// GIO bank-0 port n.
+    Port,
+    /// The same lines by name (PWMD0 …).
+    Line,
+    /// AIN0's ADC value.
+    Analog,
+}
+
+/// Every input a setting can drive.
+pub const INPUTS: &[InputRow<Input>] = &[
+    InputRow {
+        input: Input::Port,
+        names: Names::Numbered {
+            stem: "IN",
+            first: 1,
+            last: 6,
+        },
+        values: Values::OnOffOpen,
+        what: "digital input read by GIO n, 0 (§3.6.15); open: its pull-up decides (§3.6.14)",
+    },
+    InputRow {
+        input: Input::Line,
+        names: Names::Listed(&["PWMD0", "PWMD1", "PWMD2", "PWMU0", "PWMU1", "PWMU2"]),
+        values: Values::OnOffOpen,
+        what: "the same inputs by their line names (PWMD0 = IN1 … PWMU2 = IN6, §3.6.15)",
+    },
+    InputRow {
+        input: Input::Analog,
+        names: Names::Listed(&["AIN0"]),
+        values: Values::Number {
+            max: 65535,
+            unit: "ADC counts",
+        },
+        what: "analog input AIN0, GIO 0, 1 (§3.6.15); GIO 0, 0 reads 1 from 32768",
+    },
+];
+
+/// Read a setting (`IN3=open`) against [`INPUTS`].
+pub fn parse(text: &str) -> Result<Setting<Input>, SettingError> {
+    inputs::parse(INPUTS, text)
+}
+
+/// Every input name, for completion.
+pub fn names() -> Vec<String> {
+    inputs::names(INPUTS)
+}
+
+/// One line per kind of input, for help.
+pub fn help_lines() -> Vec<String> {
+    inputs::help_lines(INPUTS)
+}
+
+/// The GIO bank-0 port a digital setting drives.
+pub fn port_of(setting: &Setting<Input>) -> Option<u8> {
+    match setting.row.input {
+        Input::Port => Some(setting.which),
+        Input::Line => {
+            let name = setting.name();
+            IO_LINES
+                .iter()
+                .find(|line| line.name == name)
+                .and_then(|line| line.input_port)
+        }
+        Input::Analog => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::SimulatedController;
+    use crate::sim::inputs::Level;
+    use crate::sim::tmcm1110::{SimConfig, Tmcm1110};
+
+    #[test]
+    fn ports_and_line_names_reach_the_same_gio_port() {
+        let cases = [
+            ("IN1=1", 1, Level::On),
+            ("PWMD0=1", 1, Level::On),
+            ("in3=open", 3, Level::Open),
+            ("PWMD2=0", 3, Level::Off),
+            ("PWMU0=1", 4, Level::On),
+            ("pwmu2=OPEN", 6, Level::Open),
+            ("IN6=0", 6, Level::Off),
+        ];
+        for (text, port, level) in cases {
+            let setting = parse(text).unwrap_or_else(|e| panic!("{text}: {e}"));
+            assert_eq!(
+                (port_of(&setting), setting.level),
+                (Some(port), level),
+                "{text}"
+            );
+        }
+        let ain = parse("AIN0=65535").expect("the 16-bit top");
+        assert_eq!((port_of(&ain), ain.level), (None, Level::Number(65535)));
+    }
+
+    #[test]
+    fn what_the_module_has_not_is_refused() {
+        let e = parse("IN0=1").expect_err("port 0 is AIN0").to_string();
+        assert!(e.starts_with("there is no input `IN0`"), "{e}");
+        assert!(
+            e.ends_with(
+                "IN1..IN6=0|1|open, PWMD0|PWMD1|PWMD2|PWMU0|PWMU1|PWMU2=0|1|open, \
+                 AIN0=<ADC counts 0..65535>"
+            ),
+            "{e}"
+        );
+        assert!(parse("IN7=1").is_err());
+        assert!(parse("OpenDrain1=1").is_err(), "an output");
+        let e = parse("AIN0=65536").expect_err("17 bits").to_string();
+        assert_eq!(
+            e,
+            "`AIN0=65536`: AIN0 takes a whole number of ADC counts, 0..65535"
+        );
+        assert_eq!(
+            parse("IN2=high").expect_err("a word").to_string(),
+            "`IN2=high`: IN2 takes 1 (on), 0 (off) or open (nothing connected)"
+        );
+        assert_eq!(names().len(), 6 + 6 + 1);
+    }
+
+    fn gio(sim: &mut Tmcm1110, port: u8, bank: u8) -> i32 {
+        let request = crate::protocol::tmcl::Request {
+            address: 1,
+            command: 15,
+            kind: port,
+            motor_bank: bank,
+            value: 0,
+        };
+        sim.feed(&request.to_bytes());
+        let out = sim.take_output();
+        let bytes: [u8; 9] = out.as_slice().try_into().expect("one reply");
+        crate::protocol::tmcl::Reply::from_bytes(&bytes)
+            .expect("a reply")
+            .value
+    }
+
+    #[test]
+    fn settings_drive_what_gio_reads() {
+        let mut sim = Tmcm1110::new(SimConfig::default());
+        let drive = |sim: &mut Tmcm1110, text: &str| {
+            SimulatedController::drive_input(sim, text).unwrap_or_else(|e| panic!("{text}: {e}"))
+        };
+        assert_eq!(gio(&mut sim, 3, 0), 1, "open, pull-up on");
+        assert_eq!(drive(&mut sim, "IN3=0"), "IN3 (PWMD2) off");
+        assert_eq!(gio(&mut sim, 3, 0), 0);
+        assert_eq!(
+            drive(&mut sim, "PWMD2=open"),
+            "IN3 (PWMD2) open: its pull-up decides"
+        );
+        assert_eq!(gio(&mut sim, 3, 0), 1);
+        assert_eq!(drive(&mut sim, "AIN0=302"), "AIN0 302");
+        assert_eq!(gio(&mut sim, 0, 1), 302, "§3.6.15's example value");
+        assert_eq!(gio(&mut sim, 0, 0), 0);
+        assert!(sim.help().contains("IN1..IN6=0|1|open"), "{}", sim.help());
+    }
+}
