@@ -53,6 +53,7 @@ impl Target {
                     super::sim_program::load_program_file(controller.as_mut(), kind.family, path)
                         .map_err(|problems| problems.join("\n"))?;
                 }
+                drive_inputs(controller.as_mut(), &args.input)?;
                 LinkSpec::Sim {
                     kind: kind.name.to_string(),
                     sim: Arc::new(Mutex::new(controller)),
@@ -68,6 +69,13 @@ impl Target {
                      over the wire: `axterm run-ascript` runs one from the host instead"
                         .into(),
                 );
+            }
+            (None, Some(_), None) | (None, None, Some(_)) if !args.input.is_empty() => {
+                return Err(format!(
+                    "--input {} drives an input of a simulator (with --sim KIND, or `axterm sim`); \
+                     a real controller's inputs are wired",
+                    args.input.first().map_or("", String::as_str)
+                ));
             }
             (None, Some(path), None) => LinkSpec::Serial {
                 path: path.clone(),
@@ -140,6 +148,21 @@ pub fn family_of(args: &ConnectionArgs) -> Result<&'static Family, String> {
         ));
     }
     Ok(family)
+}
+
+/// Apply every `--input` setting to `sim`, in order: what each made hold,
+/// or the first that is wrong (a usage error), naming it.
+pub fn drive_inputs(
+    sim: &mut dyn sim::SimulatedController,
+    settings: &[String],
+) -> Result<Vec<String>, String> {
+    settings
+        .iter()
+        .map(|setting| {
+            sim.drive_input(setting)
+                .map_err(|message| format!("--input {setting}: {message}"))
+        })
+        .collect()
 }
 
 fn unknown_sim(kind: &str) -> String {

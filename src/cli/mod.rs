@@ -90,6 +90,12 @@ pub struct ConnectionArgs {
     /// are programs 0-3, started with SACTRLn=1 (or SLOAD at power-on).
     #[arg(long, global = true, value_name = "FILE")]
     pub program: Option<std::path::PathBuf>,
+    /// With --sim (and `axterm sim`): drive a simulated input before
+    /// anything is sent, e.g. --input IO5=1 (repeatable). cmd4cr:
+    /// DI1..DI4, IO1..IO32, EMG, STA, ALMX..ALMU =0|1, AI1..AI2 =mV
+    /// 0..3300; tmcm1110: IN1..IN6 =0|1|open, AIN0 =0..65535.
+    #[arg(long = "input", global = true, value_name = "SETTING")]
+    pub input: Vec<String>,
 }
 
 #[derive(Debug, Subcommand)]
@@ -106,8 +112,11 @@ pub enum Command {
     /// On a new pseudo-terminal (--pty: its path is the first line printed)
     /// or a TCP socket (--tcp ADDR: loopback when only a port is given);
     /// --address sets the module address, --baud N makes every byte take
-    /// its wire time at N baud (10 bits a byte, both ways). Runs until
-    /// interrupted.
+    /// its wire time at N baud (10 bits a byte, both ways). --input SETTING
+    /// drives an input from the start (IO5=1); while it serves, each line
+    /// on standard input is such a setting too, applied at once and
+    /// answered on standard error (the end of standard input is no reason
+    /// to stop). Runs until interrupted.
     Sim {
         /// Which controller: tmcm1110 or cmd4cr.
         kind: String,
@@ -309,6 +318,21 @@ fn run_sim(
             }
         }
     }
+    match connection::drive_inputs(sim.as_mut(), &connection.input) {
+        Ok(said) => {
+            for line in said {
+                eprintln!("axterm sim: {line}");
+            }
+        }
+        Err(message) => {
+            eprintln!("axterm sim: {message}");
+            eprintln!("axterm sim: nothing is served");
+            return EXIT_USAGE;
+        }
+    }
+    // Settings typed while it serves; the reader ends quietly at the end of
+    // standard input (or with none open), the server goes on.
+    let settings = sim_serve::read_settings(std::io::stdin());
     // The signal handlers are in place before the endpoint is announced:
     // a script may send SIGTERM as soon as it has read that line.
     let runtime = match tokio::runtime::Builder::new_current_thread()
@@ -332,7 +356,7 @@ fn run_sim(
     let server_stop = Arc::clone(&stop);
     let (done_tx, done_rx) = tokio::sync::oneshot::channel();
     let server = std::thread::spawn(move || {
-        let result = sim_serve::serve(sim, &endpoint, &line, server_stop, &mut |name| {
+        let result = sim_serve::serve(sim, &endpoint, &line, settings, server_stop, &mut |name| {
             let mut out = std::io::stdout().lock();
             // The first line is the endpoint, for scripts that start us.
             let _ = writeln!(out, "{name}");
@@ -500,6 +524,14 @@ mod tests {
         };
         assert_eq!(
             run_sim(&zero_baud, "tmcm1110", true, None, None),
+            EXIT_USAGE
+        );
+        let bad_input = ConnectionArgs {
+            input: vec!["IN1=1".into(), "IN9=1".into()],
+            ..ConnectionArgs::default()
+        };
+        assert_eq!(
+            run_sim(&bad_input, "tmcm1110", true, None, None),
             EXIT_USAGE
         );
     }

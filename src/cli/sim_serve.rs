@@ -11,10 +11,11 @@
 //! 115200 Bd wakes this loop four times (the request, a final approach,
 //! 8 reply bytes, the last one) instead of twenty.
 
-use std::io::{self, Read, Write};
+use std::io::{self, BufRead, Read, Write};
 use std::net::{SocketAddr, TcpListener, TcpStream};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 use crate::link::sim_line::{Handover, LineOutput, SimLine, UART_FIFO};
@@ -61,8 +62,35 @@ pub fn parse_listen_address(text: &str) -> Result<SocketAddr, String> {
         .ok_or_else(|| format!("cannot listen on '{text}': no address"))
 }
 
+/// Read input settings (`IO5=1`), a line each, from `input` on a thread
+/// of their own: the served loop applies them as they come
+/// ([`SimulatedController::drive_input`]). Blank lines and `#` comments
+/// are skipped. At the end of `input`, or when it cannot be read (no
+/// standard input open), the reader ends and nothing more comes; the
+/// server goes on.
+pub fn read_settings<R: Read + Send + 'static>(input: R) -> mpsc::Receiver<String> {
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        for line in io::BufReader::new(input).lines() {
+            let Ok(line) = line else {
+                break;
+            };
+            let line = line.trim();
+            if line.is_empty() || line.starts_with('#') {
+                continue;
+            }
+            if tx.send(line.to_string()).is_err() {
+                break;
+            }
+        }
+    });
+    rx
+}
+
 /// Serve `sim` until `stop` is set. `announce` receives the endpoint's
 /// name (the pty path or the bound socket address) once it is ready.
+/// Input settings from `settings` are applied between two exchanges, each
+/// answered with a line on standard error.
 ///
 /// A `disconnect-after` fault hangs a pseudo-terminal up (the client sees
 /// its port vanish, as when a USB adapter is pulled) and ends serving; on
@@ -72,13 +100,14 @@ pub fn serve(
     sim: Box<dyn SimulatedController>,
     endpoint: &Endpoint,
     line: &LineOptions,
+    settings: mpsc::Receiver<String>,
     stop: Arc<AtomicBool>,
     announce: &mut dyn FnMut(&str),
 ) -> io::Result<()> {
     if line.baud.is_some() {
         precise_timers();
     }
-    let mut clock = SimClock::new(sim, line);
+    let mut clock = SimClock::new(sim, line).driven_by(settings);
     match endpoint {
         Endpoint::Pty => serve_pty(&mut clock, &stop, announce),
         Endpoint::Tcp(addr) => serve_tcp(&mut clock, *addr, &stop, announce),
@@ -90,6 +119,8 @@ struct SimClock {
     sim: Box<dyn SimulatedController>,
     line: SimLine,
     epoch: Instant,
+    /// Input settings typed while serving.
+    settings: Option<mpsc::Receiver<String>>,
 }
 
 impl SimClock {
@@ -99,6 +130,27 @@ impl SimClock {
             line: SimLine::new(options.baud, &options.faults)
                 .handing_over(Handover::Fifo(UART_FIFO)),
             epoch: Instant::now(),
+            settings: None,
+        }
+    }
+
+    fn driven_by(mut self, settings: mpsc::Receiver<String>) -> Self {
+        self.settings = Some(settings);
+        self
+    }
+
+    /// Apply the settings typed since the last exchange, each answered on
+    /// standard error: the simulator has just caught up with the wall
+    /// clock, so they act now.
+    fn drive_inputs(&mut self) {
+        let Some(settings) = &self.settings else {
+            return;
+        };
+        for setting in settings.try_iter() {
+            match self.sim.drive_input(&setting) {
+                Ok(said) => eprintln!("axterm sim: {said}"),
+                Err(message) => eprintln!("axterm sim: {message}"),
+            }
         }
     }
 
@@ -116,7 +168,9 @@ impl SimClock {
         if !input.is_empty() {
             self.line.host_wrote(now, input);
         }
-        self.line.run(self.sim.as_mut(), now)
+        let out = self.line.run(self.sim.as_mut(), now);
+        self.drive_inputs();
+        out
     }
 
     /// A new client on the same line.
@@ -359,6 +413,30 @@ mod tests {
         drop(client);
         let closed = read_within(&mut served, &mut buf, Duration::from_secs(10)).expect("reads");
         assert_eq!(closed, 0, "the client's close reads as the end");
+    }
+
+    #[test]
+    fn settings_are_read_a_line_each_until_the_input_ends() {
+        let typed = io::Cursor::new(b"IO5=1\n\n  # a comment\n AI1=1650 \r\nEMG=1".to_vec());
+        let read: Vec<String> = read_settings(typed).iter().collect();
+        assert_eq!(read, ["IO5=1", "AI1=1650", "EMG=1"]);
+    }
+
+    #[test]
+    fn a_setting_acts_on_the_served_simulator_at_the_next_exchange() {
+        let kind = crate::sim::find_kind("cmd4cr").expect("registered");
+        let sim = (kind.build)(&crate::sim::SimOptions::default());
+        let (tx, rx) = mpsc::channel();
+        let mut clock = SimClock::new(sim, &LineOptions::default()).driven_by(rx);
+        assert_eq!(clock.exchange(b"@01IO5\r").to_host, b"0\r");
+        tx.send("IO5=1".to_string()).expect("the clock listens");
+        tx.send("IO5=7".to_string())
+            .expect("a bad one is only reported");
+        let _ = clock.exchange(&[]);
+        assert_eq!(clock.exchange(b"@01IO5\r").to_host, b"1\r");
+        drop(tx);
+        // No more settings: serving goes on.
+        assert_eq!(clock.exchange(b"@01IO\r").to_host, b"16\r");
     }
 
     #[test]

@@ -202,7 +202,7 @@ impl fmt::Display for SettingError {
                 name,
                 value,
                 wanted,
-            } => write!(f, "`{name}={value}`: {name} takes {wanted}"),
+            } => write!(f, "{name} takes {wanted}, not `{value}`"),
             SettingError::Refused { name, why } => write!(f, "{name} cannot be driven: {why}"),
         }
     }
@@ -387,15 +387,15 @@ mod tests {
     #[test]
     fn values_that_do_not_fit_the_input_say_what_it_takes() {
         let cases = [
-            ("S1=2", "`S1=2`: S1 takes 1 (on) or 0 (off)"),
-            ("S1=open", "`S1=open`: S1 takes 1 (on) or 0 (off)"),
+            ("S1=2", "S1 takes 1 (on) or 0 (off), not `2`"),
+            ("S1=open", "S1 takes 1 (on) or 0 (off), not `open`"),
             (
                 "PA=yes",
-                "`PA=yes`: PA takes 1 (on), 0 (off) or open (nothing connected)",
+                "PA takes 1 (on), 0 (off) or open (nothing connected), not `yes`",
             ),
-            ("V0=501", "`V0=501`: V0 takes a whole number of mV, 0..500"),
-            ("V0=-1", "`V0=-1`: V0 takes a whole number of mV, 0..500"),
-            ("V0=1.5", "`V0=1.5`: V0 takes a whole number of mV, 0..500"),
+            ("V0=501", "V0 takes a whole number of mV, 0..500, not `501`"),
+            ("V0=-1", "V0 takes a whole number of mV, 0..500, not `-1`"),
+            ("V0=1.5", "V0 takes a whole number of mV, 0..500, not `1.5`"),
         ];
         for (text, message) in cases {
             let e = parse(TABLE, text).expect_err(text);

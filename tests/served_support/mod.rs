@@ -1,25 +1,42 @@
 //! A simulator served by the real binary (`axterm sim KIND --pty`) for
 //! tests of the front ends over a real pseudo-terminal: started, its pty
-//! path read from its first line, ended (SIGTERM) when dropped.
+//! path read from its first line, ended (SIGTERM) when dropped. Its
+//! standard input is empty (it reads input settings there) unless it is
+//! started to be driven ([`Served::start_driven`]).
 #![allow(dead_code)]
 
-use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Stdio};
+use std::io::{BufRead, BufReader, Write};
+use std::process::{Child, ChildStderr, ChildStdin, Command, Stdio};
 
 pub struct Served {
     child: Child,
     /// The pseudo-terminal to open as a serial port.
     pub pty: String,
+    /// Its standard input and error, when started to be driven.
+    stdin: Option<ChildStdin>,
+    stderr: Option<BufReader<ChildStderr>>,
 }
 
 impl Served {
     /// `axterm sim KIND --pty EXTRA...`.
     pub fn start(kind: &str, extra: &[&str]) -> Served {
+        Served::spawn(kind, extra, false)
+    }
+
+    /// The same, with its standard input open for input settings and its
+    /// standard error read for the answers ([`Served::drive`]).
+    pub fn start_driven(kind: &str, extra: &[&str]) -> Served {
+        Served::spawn(kind, extra, true)
+    }
+
+    fn spawn(kind: &str, extra: &[&str], driven: bool) -> Served {
+        let piped_if = |yes: bool| if yes { Stdio::piped() } else { Stdio::null() };
         let mut child = Command::new(env!("CARGO_BIN_EXE_axterm"))
             .args(["sim", kind, "--pty"])
             .args(extra)
+            .stdin(piped_if(driven))
             .stdout(Stdio::piped())
-            .stderr(Stdio::null())
+            .stderr(piped_if(driven))
             .spawn()
             .expect("start axterm sim");
         let stdout = child.stdout.take().expect("stdout");
@@ -28,9 +45,39 @@ impl Served {
             .read_line(&mut first)
             .expect("read the pty path");
         Served {
+            stdin: child.stdin.take(),
+            stderr: child.stderr.take().map(BufReader::new),
             child,
             pty: first.trim().to_string(),
         }
+    }
+
+    /// Type `setting` on its standard input and wait for its answer: the
+    /// next line on standard error from `axterm sim: `, without that.
+    pub fn drive(&mut self, setting: &str) -> String {
+        let stdin = self.stdin.as_mut().expect("started to be driven");
+        writeln!(stdin, "{setting}").expect("write a setting");
+        stdin.flush().expect("flush the setting");
+        self.next_answer()
+    }
+
+    /// The next line on standard error from `axterm sim: `, without that
+    /// (the answers to `--input` come before any typed setting's).
+    pub fn next_answer(&mut self) -> String {
+        let stderr = self.stderr.as_mut().expect("started to be driven");
+        loop {
+            let mut line = String::new();
+            let n = stderr.read_line(&mut line).expect("read standard error");
+            assert!(n > 0, "axterm sim ended without answering");
+            if let Some(answer) = line.trim_end().strip_prefix("axterm sim: ") {
+                return answer.to_string();
+            }
+        }
+    }
+
+    /// Close its standard input: the end of the settings.
+    pub fn end_input(&mut self) {
+        self.stdin = None;
     }
 }
 

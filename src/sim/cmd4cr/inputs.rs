@@ -136,9 +136,9 @@ mod tests {
             );
         }
         let e = parse("AI1=3301").expect_err("above 3.3 V").to_string();
-        assert_eq!(e, "`AI1=3301`: AI1 takes a whole number of mV, 0..3300");
+        assert_eq!(e, "AI1 takes a whole number of mV, 0..3300, not `3301`");
         let e = parse("EMG=open").expect_err("no open").to_string();
-        assert_eq!(e, "`EMG=open`: EMG takes 1 (on) or 0 (off)");
+        assert_eq!(e, "EMG takes 1 (on) or 0 (off), not `open`");
         let e = parse("IO5").expect_err("no value").to_string();
         assert!(e.contains("give NAME=VALUE, e.g. DI1=1"), "{e}");
     }
@@ -254,7 +254,7 @@ mod tests {
     fn a_bad_setting_changes_nothing_and_says_why() {
         let mut sim = Cmd4cr::new(SimConfig::default());
         let e = SimulatedController::drive_input(&mut sim, "IO5=2").expect_err("2");
-        assert_eq!(e, "`IO5=2`: IO5 takes 1 (on) or 0 (off)");
+        assert_eq!(e, "IO5 takes 1 (on) or 0 (off), not `2`");
         assert_eq!(ask(&mut sim, "IO"), "0");
         assert!(
             sim.help().contains("DI1..DI4=0|1, IO1..IO32=0|1"),

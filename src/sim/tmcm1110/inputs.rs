@@ -129,11 +129,11 @@ mod tests {
         let e = parse("AIN0=65536").expect_err("17 bits").to_string();
         assert_eq!(
             e,
-            "`AIN0=65536`: AIN0 takes a whole number of ADC counts, 0..65535"
+            "AIN0 takes a whole number of ADC counts, 0..65535, not `65536`"
         );
         assert_eq!(
             parse("IN2=high").expect_err("a word").to_string(),
-            "`IN2=high`: IN2 takes 1 (on), 0 (off) or open (nothing connected)"
+            "IN2 takes 1 (on), 0 (off) or open (nothing connected), not `high`"
         );
         assert_eq!(names().len(), 6 + 6 + 1);
     }
