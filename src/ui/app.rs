@@ -187,6 +187,9 @@ pub enum Effect {
         tag: u64,
         source: String,
     },
+    /// Drive an input of the connected simulator; the answer back as an
+    /// [`AppEvent::Notice`].
+    DriveSimInput(String),
     Quit,
 }
 
@@ -639,6 +642,7 @@ impl App {
             Request::LoadProgram { source, tag } => {
                 effects.push(Effect::LoadProgram { pane, tag, source })
             }
+            Request::DriveSimInput(setting) => effects.push(Effect::DriveSimInput(setting)),
             Request::Quit => {
                 self.quit = true;
                 effects.push(Effect::Quit);
@@ -959,6 +963,22 @@ pub trait Controller: Send + Sync {
             self.link_name()
         ))
     }
+    /// Drive an input of the simulator behind the link by a setting
+    /// (`IO5=1`, [`crate::sim::SimulatedController::drive_input`]): what
+    /// now holds, or why not. Only a simulator in this process can; a
+    /// real controller (or a served simulator) refuses.
+    fn drive_sim_input(&self, setting: &str) -> Result<String, String> {
+        let _ = setting;
+        Err(no_simulator_to_drive(&self.link_name()))
+    }
+}
+
+/// Why `:sim-input` does nothing on `link`.
+pub fn no_simulator_to_drive(link: &str) -> String {
+    format!(
+        "{link} is no simulator in this process: there is no input to drive \
+         (a real controller's inputs are wired; a served `axterm sim` reads settings on its standard input)"
+    )
 }
 
 /// Opens a connection for `:connect` (and the connect screen).
@@ -1587,6 +1607,17 @@ impl Runner {
                     None => Err("not connected: nothing to load into".to_string()),
                 };
                 queue.push(AppEvent::ProgramLoaded { pane, tag, result });
+            }
+            Effect::DriveSimInput(setting) => {
+                let Some(c) = self.connection.as_ref() else {
+                    queue.push(not_connected());
+                    return;
+                };
+                let notice = match c.controller.drive_sim_input(&setting) {
+                    Ok(said) => Notice::info(format!("simulator input: {said}")),
+                    Err(message) => Notice::error(format!(":sim-input {setting}: {message}")),
+                };
+                queue.push(AppEvent::Notice(notice));
             }
             Effect::Quit => {}
         }

@@ -82,6 +82,10 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
         ":wait-until LINE == VALUE [timeout D]",
         "read LINE again until it gives VALUE",
     ),
+    (
+        ":sim-input SETTING",
+        "drive an input of the simulator (--sim) as if wired: IO5=1, DI4=1, AI1=1650, EMG=1, ALMX=1 (`:help :sim-input` lists them)",
+    ),
     (":sleep D", "wait (500ms, 2s, 1m)"),
     (":echo TEXT", "show TEXT"),
     (":quit", "leave the console"),
@@ -435,6 +439,17 @@ impl CommandPane {
                 };
             }
             "run-ascript" => return self.start_host_run(rest, view),
+            "sim-input" => {
+                if session.is_none() {
+                    return self.fail(not_connected());
+                }
+                if rest.is_empty() {
+                    return self.fail(
+                        ":sim-input needs a setting NAME=VALUE, e.g. IO5=1 (`:help :sim-input` lists the inputs)",
+                    );
+                }
+                Request::DriveSimInput(rest.to_string())
+            }
             "expect" | "wait-until" | "sleep" | "echo" => {
                 return self.start_batch(&format!(":{name}"), line, view);
             }
@@ -643,6 +658,11 @@ impl CommandPane {
             for (syntax, what) in found {
                 self.say(Role::Normal, format!("{syntax}: {what}"));
             }
+            if word.eq_ignore_ascii_case(":sim-input") {
+                for line in sim_input_help(self.family(view)) {
+                    self.say(Role::Normal, format!("  {line}"));
+                }
+            }
             return;
         }
         let Some(family) = self.family(view) else {
@@ -804,6 +824,22 @@ impl CommandPane {
                             .map(|a| Candidate {
                                 text: a.number.to_string(),
                                 note: a.name.to_string(),
+                            })
+                            .collect(),
+                        separator: "",
+                    }
+                }
+                ("sim-input", _) => {
+                    let typed = line.get(offset..cursor).unwrap_or("").to_ascii_uppercase();
+                    Completions {
+                        start: offset,
+                        end: line.len(),
+                        candidates: sim_input_names(self.family(view))
+                            .into_iter()
+                            .filter(|name| name.starts_with(&typed))
+                            .map(|name| Candidate {
+                                text: format!("{name}="),
+                                note: String::new(),
                             })
                             .collect(),
                         separator: "",
@@ -1313,6 +1349,25 @@ impl Pane for CommandPane {
     }
 }
 
+/// The simulator of `family` (the one built-in simulator speaking it).
+fn simulator_of(family: Option<&'static Family>) -> Option<&'static crate::sim::SimKind> {
+    let family = family?;
+    crate::sim::SIM_KINDS
+        .iter()
+        .find(|kind| kind.family == family.name)
+}
+
+/// The input names `:sim-input` completes: those of the simulator of the
+/// family in use (the settings themselves are the simulator's to read).
+fn sim_input_names(family: Option<&'static Family>) -> Vec<String> {
+    simulator_of(family).map_or_else(Vec::new, |kind| (kind.input_names)())
+}
+
+/// One line per kind of input of that simulator, for `:help :sim-input`.
+fn sim_input_help(family: Option<&'static Family>) -> Vec<String> {
+    simulator_of(family).map_or_else(Vec::new, |kind| (kind.input_help)())
+}
+
 fn not_connected() -> String {
     "not connected: `:connect --sim tmcm1110` (or --port PATH, --tcp HOST:PORT)".into()
 }
@@ -1499,6 +1554,47 @@ mod tests {
             last(&pane).contains("a host run is going"),
             "{}",
             last(&pane)
+        );
+    }
+
+    #[test]
+    fn sim_input_completes_the_simulators_input_names() {
+        let theme = Theme::builtin("dark").expect("theme");
+        let keymap = Keymap::builtin("default").expect("keymap");
+        let cmd4cr_family = find_family("cmd4cr").expect("cmd4cr");
+        let cmd4cr = Snapshot {
+            family: cmd4cr_family,
+            axes: cmd4cr_family.console.axes().to_vec(),
+            ..snapshot()
+        };
+        let tmcl = snapshot();
+        let view = |session| View {
+            theme: &theme,
+            keymap: &keymap,
+            session,
+            focused: true,
+            shown: true,
+        };
+        let mut pane = CommandPane::new(None);
+        pane.set_input(":sim-input alm".into());
+        let offered = pane.completions(&view(Some(&cmd4cr)));
+        let texts: Vec<&str> = offered.candidates.iter().map(|c| c.text.as_str()).collect();
+        assert_eq!(texts, ["ALMX=", "ALMY=", "ALMZ=", "ALMU="]);
+        assert_eq!((offered.start, offered.end), (11, 14));
+        pane.set_input(":sim-input IN".into());
+        let offered = pane.completions(&view(Some(&tmcl)));
+        assert_eq!(offered.candidates.len(), 6, "IN1..IN6");
+        // The request carries the setting as typed; the simulator reads it.
+        let outcome = pane.console_command(":sim-input  io5=1 ", &view(Some(&cmd4cr)));
+        assert_eq!(
+            outcome,
+            Outcome::request(Request::DriveSimInput("io5=1".into()))
+        );
+        pane.console_command(":sim-input IO5=1", &view(None));
+        assert!(
+            pane.output_lines()
+                .last()
+                .is_some_and(|l| l.starts_with("not connected")),
         );
     }
 }

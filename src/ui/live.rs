@@ -149,6 +149,16 @@ impl Controller for SessionController {
             .map_err(|problems| problems.join("; "))
     }
 
+    fn drive_sim_input(&self, setting: &str) -> Result<String, String> {
+        let Some(simulator) = &self.simulator else {
+            return Err(app::no_simulator_to_drive(&self.link_name));
+        };
+        // As for load_program: a lock poisoned elsewhere still holds a
+        // usable simulator.
+        let mut sim = simulator.lock().unwrap_or_else(|e| e.into_inner());
+        sim.drive_input(setting)
+    }
+
     fn transfer(
         &self,
         job: TransferJob,

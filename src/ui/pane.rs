@@ -267,6 +267,10 @@ pub enum Request {
     /// CMD-4CR manual gives no wire format for it). The answer comes back
     /// as [`PaneEvent::ProgramLoaded`] under `tag`.
     LoadProgram { source: String, tag: u64 },
+    /// Drive an input of the connected simulator by a setting (`IO5=1`),
+    /// as if wired (only an in-process simulator can); what now holds, or
+    /// why not, comes back as a [`PaneEvent::Notice`].
+    DriveSimInput(String),
     /// Leave the console.
     Quit,
 }
