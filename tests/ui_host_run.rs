@@ -13,13 +13,11 @@ use axterm::cli::ConnectionArgs;
 use axterm::cli::connection::Target;
 use axterm::device::{Direction, Priority, TrafficKind, TrafficRecord};
 use axterm::session::{Session, SessionOptions};
-use axterm::ui::PaneSetup;
-use axterm::ui::app::{App, Controller};
+use axterm::ui::app::Controller;
 use axterm::ui::live::SessionController;
-use ratatui::crossterm::event::{Event, KeyCode};
+use ratatui::crossterm::event::KeyCode;
 use tokio::sync::broadcast;
-use ui_support::console_with;
-use ui_support::looped::{Rig, no_connector, press, run_console_on};
+use ui_support::looped::{Rig, enter, press, run_command_console};
 
 async fn session() -> Session {
     let target = Target::resolve(&ConnectionArgs {
@@ -38,25 +36,7 @@ async fn run_console(session: &Session, driver: impl AsyncFnOnce(&mut Rig)) {
         "sim cmd4cr".into(),
         SessionOptions::default(),
     ));
-    let mut app: App = console_with(&PaneSetup::default());
-    app.focus("command");
-    run_console_on(
-        app,
-        (120, 40),
-        Some(controller),
-        no_connector(),
-        async |mut rig: Rig| {
-            driver(&mut rig).await;
-            press(&rig, KeyCode::F(10));
-        },
-    )
-    .await;
-}
-
-/// Paste `line` into the command line and press Enter.
-fn enter(rig: &Rig, line: &str) {
-    let _ = rig.keys.send(Event::Paste(line.to_string()));
-    press(rig, KeyCode::Enter);
+    run_command_console(controller, (120, 40), driver).await;
 }
 
 fn sent(record: &TrafficRecord) -> Option<(Priority, String)> {

@@ -11,12 +11,9 @@ use std::sync::Arc;
 use axterm::cli::ConnectionArgs;
 use axterm::cli::connection::Target;
 use axterm::link::LinkSpec;
-use axterm::ui::PaneSetup;
-use axterm::ui::app::{App, Controller};
+use axterm::ui::app::Controller;
 use axterm::ui::live::SessionController;
-use ratatui::crossterm::event::{Event, KeyCode};
-use ui_support::console_with;
-use ui_support::looped::{Rig, no_connector, press, run_console_on};
+use ui_support::looped::{Rig, enter, run_command_console};
 
 /// The console's controller on the in-process simulator, as `axterm --sim
 /// cmd4cr` builds it; without the simulator handed over when `reach_sim`
@@ -36,30 +33,9 @@ async fn controller(reach_sim: bool) -> Arc<dyn Controller> {
     }
 }
 
-async fn run_console(controller: Arc<dyn Controller>, driver: impl AsyncFnOnce(&mut Rig)) {
-    let mut app: App = console_with(&PaneSetup::default());
-    app.focus("command");
-    run_console_on(
-        app,
-        (120, 40),
-        Some(controller),
-        no_connector(),
-        async |mut rig: Rig| {
-            driver(&mut rig).await;
-            press(&rig, KeyCode::F(10));
-        },
-    )
-    .await;
-}
-
-fn enter(rig: &Rig, line: &str) {
-    let _ = rig.keys.send(Event::Paste(line.to_string()));
-    press(rig, KeyCode::Enter);
-}
-
 #[tokio::test(start_paused = true)]
 async fn a_setting_closes_an_input_of_the_in_process_simulator() {
-    run_console(controller(true).await, async |rig: &mut Rig| {
+    run_command_console(controller(true).await, (120, 40), async |rig: &mut Rig| {
         enter(rig, "IO5");
         rig.screens.until("sent @01IO5\\r  got 0").await;
         enter(rig, ":sim-input IO5=1");
@@ -83,7 +59,7 @@ async fn a_setting_closes_an_input_of_the_in_process_simulator() {
 
 #[tokio::test(start_paused = true)]
 async fn without_a_simulator_in_this_process_there_is_nothing_to_drive() {
-    run_console(controller(false).await, async |rig: &mut Rig| {
+    run_command_console(controller(false).await, (120, 40), async |rig: &mut Rig| {
         enter(rig, ":sim-input IO5=1");
         rig.screens
             .until("is no simulator in this process: there is no input to drive")

@@ -90,8 +90,8 @@ pub const SIM_KINDS: &[SimKind] = &[
             }
             Box::new(sim)
         },
-        input_names: tmcm1110::inputs::names,
-        input_help: tmcm1110::inputs::help_lines,
+        input_names: || inputs::names(tmcm1110::inputs::INPUTS),
+        input_help: || inputs::help_lines(tmcm1110::inputs::INPUTS),
     },
     SimKind {
         name: "cmd4cr",
@@ -104,8 +104,8 @@ pub const SIM_KINDS: &[SimKind] = &[
                 ..cmd4cr::SimConfig::default()
             }))
         },
-        input_names: cmd4cr::inputs::names,
-        input_help: cmd4cr::inputs::help_lines,
+        input_names: || inputs::names(cmd4cr::inputs::INPUTS),
+        input_help: || inputs::help_lines(cmd4cr::inputs::INPUTS),
     },
 ];
 

@@ -1462,6 +1462,15 @@ mod tests {
         }
     }
 
+    fn cmd4cr_snapshot() -> Snapshot {
+        let family = find_family("cmd4cr").expect("cmd4cr");
+        Snapshot {
+            family,
+            axes: family.console.axes().to_vec(),
+            ..snapshot()
+        }
+    }
+
     #[test]
     fn help_offline_follows_the_connect_screen_only_while_nothing_is_connected() {
         let theme = Theme::builtin("dark").expect("theme");
@@ -1496,12 +1505,7 @@ mod tests {
         let theme = Theme::builtin("dark").expect("theme");
         let keymap = Keymap::builtin("default").expect("keymap");
         let tmcl = snapshot();
-        let cmd4cr_family = find_family("cmd4cr").expect("cmd4cr");
-        let cmd4cr = Snapshot {
-            family: cmd4cr_family,
-            axes: cmd4cr_family.console.axes().to_vec(),
-            ..snapshot()
-        };
+        let cmd4cr = cmd4cr_snapshot();
         let view = |session| View {
             theme: &theme,
             keymap: &keymap,
@@ -1561,12 +1565,7 @@ mod tests {
     fn sim_input_completes_the_simulators_input_names() {
         let theme = Theme::builtin("dark").expect("theme");
         let keymap = Keymap::builtin("default").expect("keymap");
-        let cmd4cr_family = find_family("cmd4cr").expect("cmd4cr");
-        let cmd4cr = Snapshot {
-            family: cmd4cr_family,
-            axes: cmd4cr_family.console.axes().to_vec(),
-            ..snapshot()
-        };
+        let cmd4cr = cmd4cr_snapshot();
         let tmcl = snapshot();
         let view = |session| View {
             theme: &theme,

@@ -114,6 +114,34 @@ pub async fn run_console_on(
     result.expect("the loop ends cleanly");
 }
 
+/// The default console at `size` (columns, rows) on `controller`, the
+/// command pane focused, until `driver` is done (then F10).
+pub async fn run_command_console(
+    controller: Arc<dyn Controller>,
+    size: (u16, u16),
+    driver: impl AsyncFnOnce(&mut Rig),
+) {
+    let mut app = super::console_with(&axterm::ui::PaneSetup::default());
+    app.focus("command");
+    run_console_on(
+        app,
+        size,
+        Some(controller),
+        no_connector(),
+        async |mut rig: Rig| {
+            driver(&mut rig).await;
+            press(&rig, KeyCode::F(10));
+        },
+    )
+    .await;
+}
+
+/// Paste `line` into the focused pane and press Enter.
+pub fn enter(rig: &Rig, line: &str) {
+    let _ = rig.keys.send(Event::Paste(line.to_string()));
+    press(rig, KeyCode::Enter);
+}
+
 /// A connector for tests that open no connections.
 pub fn no_connector() -> Connector {
     Box::new(|_args| Box::pin(async { Err("no connections in this test".to_string()) }))

@@ -89,16 +89,6 @@ pub fn parse(text: &str) -> Result<Setting<Input>, SettingError> {
     inputs::parse(INPUTS, text)
 }
 
-/// Every input name, for completion.
-pub fn names() -> Vec<String> {
-    inputs::names(INPUTS)
-}
-
-/// One line per kind of input, for help.
-pub fn help_lines() -> Vec<String> {
-    inputs::help_lines(INPUTS)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -145,11 +135,11 @@ mod tests {
 
     #[test]
     fn every_name_is_offered_for_completion() {
-        let names = names();
+        let names = inputs::names(INPUTS);
         assert_eq!(names.len(), 4 + 32 + 2 + 1 + 1 + 4);
         assert_eq!(names.first().map(String::as_str), Some("DI1"));
         assert!(names.iter().any(|n| n == "IO19"));
-        assert_eq!(help_lines().len(), INPUTS.len());
+        assert_eq!(inputs::help_lines(INPUTS).len(), INPUTS.len());
     }
 
     // ---- applied to the simulator, read back over the wire ------------

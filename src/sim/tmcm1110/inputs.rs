@@ -58,16 +58,6 @@ pub fn parse(text: &str) -> Result<Setting<Input>, SettingError> {
     inputs::parse(INPUTS, text)
 }
 
-/// Every input name, for completion.
-pub fn names() -> Vec<String> {
-    inputs::names(INPUTS)
-}
-
-/// One line per kind of input, for help.
-pub fn help_lines() -> Vec<String> {
-    inputs::help_lines(INPUTS)
-}
-
 /// The GIO bank-0 port a digital setting drives.
 pub fn port_of(setting: &Setting<Input>) -> Option<u8> {
     match setting.row.input {
@@ -135,7 +125,7 @@ mod tests {
             parse("IN2=high").expect_err("a word").to_string(),
             "IN2 takes 1 (on), 0 (off) or open (nothing connected), not `high`"
         );
-        assert_eq!(names().len(), 6 + 6 + 1);
+        assert_eq!(inputs::names(INPUTS).len(), 6 + 6 + 1);
     }
 
     fn gio(sim: &mut Tmcm1110, port: u8, bank: u8) -> i32 {
