@@ -93,7 +93,8 @@ pub struct ConnectionArgs {
     /// With --sim (and `axterm sim`): drive a simulated input before
     /// anything is sent, e.g. --input IO5=1 (repeatable). cmd4cr:
     /// DI1..DI4, IO1..IO32, EMG, STA, ALMX..ALMU =0|1, AI1..AI2 =mV
-    /// 0..3300; tmcm1110: IN1..IN6 =0|1|open, AIN0 =0..65535.
+    /// 0..3300, the switches L+X, L-X, HOMEX, SDX (and Y, Z, U) =0|1|stage;
+    /// tmcm1110: IN1..IN6 =0|1|open, AIN0 =0..65535.
     #[arg(long = "input", global = true, value_name = "SETTING")]
     pub input: Vec<String>,
 }

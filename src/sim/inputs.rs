@@ -28,8 +28,12 @@ pub enum Names {
 pub enum Values {
     /// `1` (or `on`) and `0` (or `off`).
     OnOff,
-    /// As [`Values::OnOff`], or `open`: nothing connected.
-    OnOffOpen,
+    /// As [`Values::OnOff`], or `word`: not driven from outside, as
+    /// `meaning` says (`open`: nothing connected).
+    OnOffOr {
+        word: &'static str,
+        meaning: &'static str,
+    },
     /// A whole number `0..=max`, in `unit`.
     Number { max: u32, unit: &'static str },
 }
@@ -39,7 +43,7 @@ impl Values {
     fn pattern(self) -> String {
         match self {
             Values::OnOff => "0|1".into(),
-            Values::OnOffOpen => "0|1|open".into(),
+            Values::OnOffOr { word, .. } => format!("0|1|{word}"),
             Values::Number { max, unit } => format!("<{unit} 0..{max}>"),
         }
     }
@@ -48,7 +52,7 @@ impl Values {
     fn wanted(self) -> String {
         match self {
             Values::OnOff => "1 (on) or 0 (off)".into(),
-            Values::OnOffOpen => "1 (on), 0 (off) or open (nothing connected)".into(),
+            Values::OnOffOr { word, meaning } => format!("1 (on), 0 (off) or {word} ({meaning})"),
             Values::Number { max, unit } => format!("a whole number of {unit}, 0..{max}"),
         }
     }
@@ -113,8 +117,8 @@ impl<T> InputRow<T> {
 pub enum Level {
     On,
     Off,
-    /// Nothing connected.
-    Open,
+    /// Not driven from outside: the row's [`Values::OnOffOr`] word.
+    Released,
     Number(u32),
 }
 
@@ -134,7 +138,7 @@ impl fmt::Display for Level {
         match self {
             Level::On => f.write_str("on"),
             Level::Off => f.write_str("off"),
-            Level::Open => f.write_str("open"),
+            Level::Released => f.write_str("released"),
             Level::Number(n) => write!(f, "{n}"),
         }
     }
@@ -233,9 +237,11 @@ pub fn parse<T>(table: &'static [InputRow<T>], text: &str) -> Result<Setting<T>,
         })?;
     let lower = value.to_ascii_lowercase();
     let level = match (row.values, lower.as_str()) {
-        (Values::OnOff | Values::OnOffOpen, "1" | "on") => Some(Level::On),
-        (Values::OnOff | Values::OnOffOpen, "0" | "off") => Some(Level::Off),
-        (Values::OnOffOpen, "open") => Some(Level::Open),
+        (Values::OnOff | Values::OnOffOr { .. }, "1" | "on") => Some(Level::On),
+        (Values::OnOff | Values::OnOffOr { .. }, "0" | "off") => Some(Level::Off),
+        (Values::OnOffOr { word, .. }, released) if released.eq_ignore_ascii_case(word) => {
+            Some(Level::Released)
+        }
         (Values::Number { max, .. }, _) => lower
             .parse::<u32>()
             .ok()
@@ -269,7 +275,7 @@ fn example<T>(table: &[InputRow<T>]) -> String {
     let name = row.names().into_iter().next().unwrap_or_default();
     match row.values {
         Values::Number { max, .. } => format!("{name}={}", max / 2),
-        Values::OnOff | Values::OnOffOpen => format!("{name}=1"),
+        Values::OnOff | Values::OnOffOr { .. } => format!("{name}=1"),
     }
 }
 
@@ -311,7 +317,10 @@ mod tests {
         InputRow {
             input: Probe::Pin,
             names: Names::Listed(&["PA", "PB"]),
-            values: Values::OnOffOpen,
+            values: Values::OnOffOr {
+                word: "open",
+                meaning: "nothing connected",
+            },
             what: "a pin",
         },
         InputRow {
@@ -341,7 +350,7 @@ mod tests {
             ok(" s3 = off "),
             (Probe::Switch, 3, Level::Off, "S3".into())
         );
-        assert_eq!(ok("pb=OPEN"), (Probe::Pin, 1, Level::Open, "PB".into()));
+        assert_eq!(ok("pb=OPEN"), (Probe::Pin, 1, Level::Released, "PB".into()));
         assert_eq!(ok("PA=on"), (Probe::Pin, 0, Level::On, "PA".into()));
         assert_eq!(
             ok("V0=500"),

@@ -6,9 +6,12 @@
 //! Names are the manual's: DI1..DI4 (§2.1.3.2, read with `DI`), IO1..IO32
 //! (§2.1.3.3, `IO`), AI1..AI2 (§2.5.1, `AI1`), /CEMG (§2.1.3.1.2) and
 //! /CSTA (§2.1.1.2) without their slash and C, ALM of each axis (§2.1.2.2,
-//! MST bit 3). Levels are logical, as the simulator's wiring is: `EMG=1`
-//! is /CEMG low, the emergency on. Limits and home are not here: they
-//! come from where the simulated carriage stands (see the sim's help).
+//! MST bit 3), and the switches of each axis after §2.1.3.1.1's signal
+//! names L+, L-, H (as HOME) and SD: `L+X`, `L-X`, `HOMEX`, `SDX`. Levels
+//! are logical, as the simulator's wiring is: `EMG=1` is /CEMG low, the
+//! emergency on. The switches come from where the simulated carriage
+//! stands (see the sim's help) until a setting forces one on or off;
+//! `=stage` gives it back to the carriage.
 
 use crate::sim::inputs::{self, InputRow, Names, Setting, SettingError, Values};
 
@@ -27,7 +30,18 @@ pub enum Input {
     Start,
     /// ALM of axis X, Y, Z, U.
     Alarm,
+    /// The switches of axis X, Y, Z, U, forced or left to the stage.
+    PlusLimit,
+    MinusLimit,
+    Home,
+    Slowdown,
 }
+
+/// A switch's values: forced on or off, or left to the demo stage.
+const SWITCH: Values = Values::OnOffOr {
+    word: "stage",
+    meaning: "where the simulated carriage is sets it",
+};
 
 /// Every input a setting can drive.
 pub const INPUTS: &[InputRow<Input>] = &[
@@ -82,6 +96,30 @@ pub const INPUTS: &[InputRow<Input>] = &[
         values: Values::OnOff,
         what: "ALM of the axis' driver: stops the axis, refuses moves (§2.1.2.2)",
     },
+    InputRow {
+        input: Input::PlusLimit,
+        names: Names::Listed(&["L+X", "L+Y", "L+Z", "L+U"]),
+        values: SWITCH,
+        what: "+limit switch: stops motion in the + direction (§2.1.3.1.1, MST bit 4)",
+    },
+    InputRow {
+        input: Input::MinusLimit,
+        names: Names::Listed(&["L-X", "L-Y", "L-Z", "L-U"]),
+        values: SWITCH,
+        what: "-limit switch: stops motion in the - direction (§2.1.3.1.1, MST bit 5)",
+    },
+    InputRow {
+        input: Input::Home,
+        names: Names::Listed(&["HOMEX", "HOMEY", "HOMEZ", "HOMEU"]),
+        values: SWITCH,
+        what: "home switch H, for the homing modes (§2.2.5, MST bit 6)",
+    },
+    InputRow {
+        input: Input::Slowdown,
+        names: Names::Listed(&["SDX", "SDY", "SDZ", "SDU"]),
+        values: SWITCH,
+        what: "slow-down switch SD (MST bit 7)",
+    },
 ];
 
 /// Read a setting (`IO5=1`) against [`INPUTS`].
@@ -120,7 +158,9 @@ mod tests {
             assert!(
                 e.ends_with(
                     "the inputs are DI1..DI4=0|1, IO1..IO32=0|1, AI1..AI2=<mV 0..3300>, \
-                     EMG=0|1, STA=0|1, ALMX|ALMY|ALMZ|ALMU=0|1"
+                     EMG=0|1, STA=0|1, ALMX|ALMY|ALMZ|ALMU=0|1, L+X|L+Y|L+Z|L+U=0|1|stage, \
+                     L-X|L-Y|L-Z|L-U=0|1|stage, HOMEX|HOMEY|HOMEZ|HOMEU=0|1|stage, \
+                     SDX|SDY|SDZ|SDU=0|1|stage"
                 ),
                 "{e}"
             );
@@ -136,7 +176,7 @@ mod tests {
     #[test]
     fn every_name_is_offered_for_completion() {
         let names = inputs::names(INPUTS);
-        assert_eq!(names.len(), 4 + 32 + 2 + 1 + 1 + 4);
+        assert_eq!(names.len(), 4 + 32 + 2 + 1 + 1 + 4 * 5);
         assert_eq!(names.first().map(String::as_str), Some("DI1"));
         assert!(names.iter().any(|n| n == "IO19"));
         assert_eq!(inputs::help_lines(INPUTS).len(), INPUTS.len());
@@ -238,6 +278,39 @@ mod tests {
         sim.advance(std::time::Duration::from_secs(1));
         assert_eq!(ask(&mut sim, "CLRY"), "OK");
         assert_eq!(ask(&mut sim, "Y1000"), "OK");
+    }
+
+    #[test]
+    fn a_forced_limit_stops_a_jog_and_stage_gives_the_switch_back() {
+        let mut sim = Cmd4cr::new(SimConfig::default());
+        for line in ["EO=15", "HSPD=1000", "JX+"] {
+            assert_eq!(ask(&mut sim, line), "OK", "{line}");
+        }
+        sim.advance(std::time::Duration::from_millis(500));
+        let moving: i64 = ask(&mut sim, "PX").parse().expect("a number");
+        assert!(moving > 0, "jogging: {moving}");
+        assert_eq!(drive(&mut sim, "L+X=1"), "L+X on");
+        sim.advance(std::time::Duration::from_millis(100));
+        let stopped = ask(&mut sim, "PX");
+        sim.advance(std::time::Duration::from_millis(500));
+        assert_eq!(ask(&mut sim, "PX"), stopped, "stopped at the limit");
+        let mst: u32 = ask(&mut sim, "MSTX").parse().expect("a number");
+        assert_eq!(
+            mst & (16 | 256),
+            16 | 256,
+            "+limit input and +limit error: {mst}"
+        );
+        assert_eq!(
+            drive(&mut sim, "l+x=STAGE"),
+            "L+X from the stage (where the carriage is)"
+        );
+        assert_eq!(ask(&mut sim, "CLRX"), "OK");
+        let mst: u32 = ask(&mut sim, "MSTX").parse().expect("a number");
+        assert_eq!(mst & 16, 0, "far from the stage's limit: {mst}");
+        // HOME at rest shows in MST (bit 6) while forced on.
+        drive(&mut sim, "HOMEY=1");
+        let mst: u32 = ask(&mut sim, "MSTY").parse().expect("a number");
+        assert_eq!(mst & 64, 64, "{mst}");
     }
 
     #[test]

@@ -412,15 +412,34 @@ impl Cmd4cr {
                     if on { "low" } else { "high" }
                 )
             }
-            (Input::Alarm, _) => {
+            (
+                axis_input @ (Input::Alarm
+                | Input::PlusLimit
+                | Input::MinusLimit
+                | Input::Home
+                | Input::Slowdown),
+                level,
+            ) => {
                 let Some(axis) = Axis::from_index(usize::from(setting.which)) else {
                     return Err(SettingError::UnknownName {
                         name,
                         inputs: super::inputs::summary(inputs::INPUTS),
                     });
                 };
-                self.motion.set_alarm(axis, on);
-                format!("{name} {}", setting.level)
+                let forced = level.is_on();
+                let inputs = &mut self.motion.axis_mut(axis).inputs;
+                match axis_input {
+                    Input::PlusLimit => inputs.plus_limit = forced,
+                    Input::MinusLimit => inputs.minus_limit = forced,
+                    Input::Home => inputs.home = forced,
+                    Input::Slowdown => inputs.slowdown = forced,
+                    // Input::Alarm, the one left in this arm.
+                    _ => self.motion.set_alarm(axis, on),
+                }
+                match level {
+                    Level::Released => format!("{name} from the stage (where the carriage is)"),
+                    _ => format!("{name} {level}"),
+                }
             }
         };
         Ok(said)

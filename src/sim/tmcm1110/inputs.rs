@@ -13,6 +13,12 @@
 use super::io::IO_LINES;
 use crate::sim::inputs::{self, InputRow, Names, Setting, SettingError, Values};
 
+/// A digital input's values: on, off, or open to its pull-up (§3.6.14).
+const PULLED_UP: Values = Values::OnOffOr {
+    word: "open",
+    meaning: "nothing connected",
+};
+
 /// Which input a setting drives.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Input {
@@ -33,13 +39,13 @@ pub const INPUTS: &[InputRow<Input>] = &[
             first: 1,
             last: 6,
         },
-        values: Values::OnOffOpen,
+        values: PULLED_UP,
         what: "digital input read by GIO n, 0 (§3.6.15); open: its pull-up decides (§3.6.14)",
     },
     InputRow {
         input: Input::Line,
         names: Names::Listed(&["PWMD0", "PWMD1", "PWMD2", "PWMU0", "PWMU1", "PWMU2"]),
-        values: Values::OnOffOpen,
+        values: PULLED_UP,
         what: "the same inputs by their line names (PWMD0 = IN1 … PWMU2 = IN6, §3.6.15)",
     },
     InputRow {
@@ -85,10 +91,10 @@ mod tests {
         let cases = [
             ("IN1=1", 1, Level::On),
             ("PWMD0=1", 1, Level::On),
-            ("in3=open", 3, Level::Open),
+            ("in3=open", 3, Level::Released),
             ("PWMD2=0", 3, Level::Off),
             ("PWMU0=1", 4, Level::On),
-            ("pwmu2=OPEN", 6, Level::Open),
+            ("pwmu2=OPEN", 6, Level::Released),
             ("IN6=0", 6, Level::Off),
         ];
         for (text, port, level) in cases {

@@ -360,7 +360,7 @@ impl Tmcm1110 {
             })?;
         let line = io::input_line(port).map_or("", |l| l.name);
         Ok(match setting.level {
-            Level::Open => format!("IN{port} ({line}) open: its pull-up decides"),
+            Level::Released => format!("IN{port} ({line}) open: its pull-up decides"),
             level => format!("IN{port} ({line}) {level}"),
         })
     }
