@@ -19,12 +19,17 @@ pub mod status {
     pub const IDLE: u8 = 0;
     pub const MOVING: u8 = 1;
     pub const CORRECTING: u8 = 2;
+    pub const STOPPING: u8 = 3;
+    pub const ABORTING: u8 = 4;
     pub const JOGGING: u8 = 5;
     pub const HOMING: u8 = 6;
+    pub const Z_HOMING: u8 = 7;
     pub const RANGE_ERROR: u8 = 8;
     pub const ATTEMPT_ERROR: u8 = 9;
     pub const STALL_ERROR: u8 = 10;
+    pub const LIMIT_ERROR: u8 = 11;
     pub const NOT_ENABLED: u8 = 12;
+    pub const LIMIT_HOMING: u8 = 13;
 }
 
 /// The settings (`SL`, `SLR`, `SLT`, `SLE`, `SLA`).
@@ -69,6 +74,9 @@ pub struct LoopState {
     pub status: u8,
     /// The encoder target of the last positioning move.
     pub target: i64,
+    /// Where the current positioning move started, in encoder counts (what
+    /// `P` read then): `T` in INC mode counts from here (§2.4.2).
+    pub origin: i64,
     /// Pulse counter and encoder when the current motion started.
     pub start: Option<(i64, i64)>,
     /// Corrections made for the current target.
