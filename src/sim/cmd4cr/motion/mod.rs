@@ -21,6 +21,11 @@
 //!   decelerates and stops" open; Appendix A always stops at once).
 //! - Circles and arcs do not check the end limits before starting (their
 //!   direction changes along the way); the limits still stop them.
+//! - `ESTOP` and /CEMG stop an axis under joystick control as they stop
+//!   any motion, with the EMG flag if it moved (§2.1.3.1.2); it then stays
+//!   still until CLR and until the stick is back in its dead band, so that
+//!   an emergency stop does not end by itself while the stick is held out.
+//! - StepNLoop with every kind of motion: see [`step_n_loop`].
 
 pub mod axis;
 mod group;
