@@ -24,6 +24,7 @@ use ratatui::widgets::Paragraph;
 use super::field::Field;
 use super::keymap::{Action, Context};
 use super::pane::{Input, NoticeLevel, Outcome, Pane, PaneEvent, Region, Request, View, key_label};
+use super::text::fit;
 use super::theme::Role;
 use crate::link::ports::PortInfo;
 use crate::protocol::{FAMILIES, Family, find_family};
@@ -442,18 +443,6 @@ pub fn family_of_args(args: &[String]) -> Option<&'static Family> {
         (None, Some(sim)) => find_family(find_kind(sim)?.family),
         (None, None) => find_family("tmcl"),
     }
-}
-
-fn fit(text: &str, width: usize) -> String {
-    if text.chars().count() <= width {
-        return text.to_string();
-    }
-    if width == 0 {
-        return String::new();
-    }
-    let mut out: String = text.chars().take(width - 1).collect();
-    out.push('…');
-    out
 }
 
 impl Pane for ConnectPane {
