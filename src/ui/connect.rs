@@ -229,6 +229,10 @@ impl ConnectPane {
                     host.into(),
                     "--protocol".into(),
                     self.protocol_name().into(),
+                    // The serial side of the bridge: the session keeps
+                    // its slow polls to a share of that line.
+                    "--baud".into(),
+                    self.baud()?,
                 ]
             }
         };
@@ -339,7 +343,7 @@ impl ConnectPane {
             Choice::Rescan => ("↻ look for serial ports again".into(), String::new()),
             Choice::Tcp => (
                 format!("tcp {}", self.tcp.text().trim()),
-                "serial-over-TCP bridge (ser2net, axterm sim --tcp)".into(),
+                "serial-over-TCP bridge (ser2net, axterm sim --tcp); baud = its serial side".into(),
             ),
         };
         let marker = if selected { "▶ " } else { "  " };
