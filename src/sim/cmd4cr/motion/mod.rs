@@ -1155,13 +1155,14 @@ impl Motion {
                 };
                 let machine = if a.step_n_loop.enabled && a.loop_state.start.is_some() {
                     let goal = if incremental {
-                        a.loop_state.origin + target
+                        a.loop_state.origin.saturating_add(target)
                     } else {
                         target
                     };
-                    let counts = (goal - a.loop_target()) as f64;
+                    let counts = goal.saturating_sub(a.loop_target()) as f64;
                     a.loop_state.target = goal;
-                    position + (counts * a.step_n_loop.pulses_per_count()).round() as i64
+                    position
+                        .saturating_add((counts * a.step_n_loop.pulses_per_count()).round() as i64)
                 } else {
                     let counter = if incremental {
                         start_counter + target
