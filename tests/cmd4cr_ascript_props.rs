@@ -10,7 +10,7 @@ use axterm::protocol::cmd4cr::ascript::{
     parse_statement, tokens,
 };
 use axterm::protocol::cmd4cr::catalog::Form;
-use axterm::protocol::cmd4cr::parse_command;
+use axterm::protocol::cmd4cr::{Cmd4crCommand, parse_command};
 use proptest::prelude::*;
 use proptest::sample::select;
 
@@ -127,13 +127,15 @@ fn action() -> impl Strategy<Value = Action> {
             direction,
             mode
         }),
-        (axis(), direction()).prop_map(|(axis, direction)| Action::ZMove { axis, direction }),
+        (axis(), direction()).prop_map(|(axis, direction)| Action::SameInAscii(
+            Cmd4crCommand::ZMove { axis, direction }
+        )),
         (two_axes(), rotation(), position(), position()).prop_map(|(axes, rotation, a, b)| {
-            Action::Circle {
+            Action::SameInAscii(Cmd4crCommand::Circle {
                 axes,
                 rotation,
                 centre: [a, b],
-            }
+            })
         }),
         (
             two_axes(),
@@ -142,18 +144,20 @@ fn action() -> impl Strategy<Value = Action> {
             position(),
             0..=360_000i64
         )
-            .prop_map(|(axes, rotation, a, b, angle)| Action::Arc {
-                axes,
-                rotation,
-                centre: [a, b],
-                angle,
-            }),
+            .prop_map(|(axes, rotation, a, b, angle)| Action::SameInAscii(
+                Cmd4crCommand::Arc {
+                    axes,
+                    rotation,
+                    centre: [a, b],
+                    angle,
+                }
+            )),
         (rotation(), position(), position(), position()).prop_map(|(rotation, a, b, z)| {
-            Action::HelixCircle {
+            Action::SameInAscii(Cmd4crCommand::HelicalCircle {
                 rotation,
                 centre: [a, b],
                 z,
-            }
+            })
         }),
         (
             rotation(),
@@ -162,12 +166,14 @@ fn action() -> impl Strategy<Value = Action> {
             0..=360_000i64,
             position()
         )
-            .prop_map(|(rotation, a, b, angle, z)| Action::HelixArc {
-                rotation,
-                centre: [a, b],
-                angle,
-                z,
-            }),
+            .prop_map(|(rotation, a, b, angle, z)| Action::SameInAscii(
+                Cmd4crCommand::HelicalArc {
+                    rotation,
+                    centre: [a, b],
+                    angle,
+                    z,
+                }
+            )),
     ]
 }
 

@@ -236,6 +236,7 @@ async fn over_tcp_a_lost_connection_is_reopened_and_polling_resumes() {
     let device = connect(
         LinkSpec::Tcp {
             address: address.clone(),
+            baud: None,
         },
         Arc::new(TmclWire::default()),
         options,

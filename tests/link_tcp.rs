@@ -15,6 +15,7 @@ async fn connected() -> (Link, TcpStream, String) {
     let address = listener.local_addr().expect("address").to_string();
     let spec = LinkSpec::Tcp {
         address: address.clone(),
+        baud: None,
     };
     let (link, accepted) = tokio::join!(spec.open(), listener.accept());
     let link = link.expect("connects");
@@ -115,6 +116,7 @@ async fn a_refused_connection_names_the_address() {
     drop(listener);
     let error = LinkSpec::Tcp {
         address: address.clone(),
+        baud: None,
     }
     .open()
     .await
@@ -129,6 +131,7 @@ async fn a_refused_connection_names_the_address() {
 async fn a_bad_address_names_the_address() {
     let error = LinkSpec::Tcp {
         address: "no port here".into(),
+        baud: None,
     }
     .open()
     .await

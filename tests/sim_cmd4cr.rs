@@ -656,3 +656,156 @@ fn the_joystick_drives_x_from_ai1_within_its_soft_limits() {
     assert_eq!(number(&mut sim, "MSTX") & 7, 0);
     ok(&mut sim, &["JX+"]);
 }
+
+/// X and Y on 2:1 drives (two motor pulses an encoder count), closed loop
+/// with SLT 5, SLE 300.
+fn closed_loop_xy(sim: &mut Cmd4cr) {
+    for axis in [Axis::X, Axis::Y] {
+        sim.motion_mut().axis_mut(axis).stage.encoder_ratio = 0.5;
+    }
+    ok(
+        sim,
+        &[
+            "SLRX=2", "SLRY=2", "SLTX=5", "SLTY=5", "SLEX=300", "SLEY=300", "SLX=1", "SLY=1",
+        ],
+    );
+}
+
+#[test]
+fn step_n_loop_interpolation_over_the_wire() {
+    // §2.5.3: X1000Y500 are encoder positions (2000 and 1000 pulses); the
+    // speed is HSPD in pulses/s (T2-29: "ALL interpolated moves").
+    let mut sim = sim();
+    ok(&mut sim, &GLOBAL_SETUP);
+    closed_loop_xy(&mut sim);
+    ok(&mut sim, &["X1000Y500"]);
+    sim.advance(seconds(0.3));
+    assert_eq!(number(&mut sim, "PSX"), 5000, "pulses/s");
+    assert_eq!(number(&mut sim, "SLSX"), 1);
+    assert_eq!(number(&mut sim, "SLSY"), 1);
+    // Y misses 30 steps: 15 counts, corrected on its own at the end.
+    sim.motion_mut().lose_steps(Axis::Y, 30);
+    let mut y_corrected = false;
+    for _ in 0..300 {
+        sim.advance(seconds(0.01));
+        y_corrected |= number(&mut sim, "SLSY") == 2;
+    }
+    assert!(y_corrected, "Y corrected (SLS 2)");
+    assert_eq!(send(&mut sim, "EP"), "1000:500:0:0");
+    assert_eq!(send(&mut sim, "PP"), "1000:500:0:0", "targets, in counts");
+    assert_eq!(number(&mut sim, "SLSX"), 0);
+    assert_eq!(number(&mut sim, "SLSY"), 0);
+    // A circle around encoder (0, 500) comes back to encoder (1000, 500).
+    ok(&mut sim, &["CIRXYN0:500"]);
+    assert_eq!(number(&mut sim, "SLSX"), 1);
+    wait_stopped(&mut sim, 'X', seconds(10.0));
+    assert_eq!(send(&mut sim, "EP"), "1000:500:0:0");
+    assert_eq!(number(&mut sim, "DX"), 0);
+}
+
+#[test]
+fn step_n_loop_codes_for_stop_abort_homing_and_limits() {
+    let mut sim = sim();
+    ok(&mut sim, &["HSPD=20000", "SLX=1", "JX+"]);
+    sim.advance(seconds(0.5));
+    ok(&mut sim, &["STOPX"]);
+    assert_eq!(number(&mut sim, "SLSX"), 3, "stopping");
+    wait_stopped(&mut sim, 'X', seconds(5.0));
+    assert_eq!(number(&mut sim, "SLSX"), 0);
+    ok(&mut sim, &["JX-"]);
+    sim.advance(seconds(0.1));
+    ok(&mut sim, &["ABORTX"]);
+    assert_eq!(number(&mut sim, "SLSX"), 4, "aborting");
+    sim.advance(seconds(0.001));
+    assert_eq!(number(&mut sim, "SLSX"), 0);
+    for (command, code) in [("HX-0", 6), ("ZMOVEX+", 7), ("HX+6", 13)] {
+        ok(&mut sim, &[command]);
+        assert_eq!(number(&mut sim, "SLSX"), code, "{command}");
+        wait_stopped(&mut sim, 'X', seconds(30.0));
+        assert_eq!(number(&mut sim, "SLSX"), 0, "{command} done");
+    }
+    // A jog into the end limit: SLS 11 beside the MST limit error (mode 6
+    // left its own limit flag: A.7, cleared by ERC or CLR).
+    ok(&mut sim, &["CLRX", "JX+"]);
+    wait_stopped(&mut sim, 'X', seconds(30.0));
+    assert_eq!(number(&mut sim, "SLSX"), 11, "limit error");
+    assert_eq!(send(&mut sim, "JX-"), "?Error Moving", "the MST flag");
+    ok(&mut sim, &["CLRX"]);
+    assert_eq!(number(&mut sim, "SLSX"), 0);
+}
+
+#[test]
+fn what_step_n_loop_cannot_be_used_with() {
+    let mut sim = sim();
+    closed_loop_xy(&mut sim);
+    // The buffer (§2.3.4): BSTART refused, nothing moves.
+    ok(&mut sim, &["BO", "I100:0:0:1000"]);
+    assert_eq!(send(&mut sim, "BSTART"), "?Error SNL");
+    sim.advance(seconds(0.5));
+    assert_eq!(send(&mut sim, "PP"), "0:0:0:0");
+    ok(&mut sim, &["BF"]);
+    // Latch values are "invalid" (§2.1.3.2.1): LTP keeps the raw pulse
+    // counter, not P's encoder-count target.
+    ok(&mut sim, &["LTX=1", "X500"]);
+    wait_stopped(&mut sim, 'X', seconds(5.0));
+    assert!(sim.set_digital_input(1, true));
+    assert_eq!(number(&mut sim, "PX"), 500);
+    assert_eq!(number(&mut sim, "LTPX"), 1000, "pulses");
+    assert_eq!(number(&mut sim, "LTEX"), 500);
+    // The joystick turns StepNLoop off, and keeps it off (§2.5.1).
+    ok(&mut sim, &["JENA=1"]);
+    assert_eq!(number(&mut sim, "SLX"), 0);
+    ok(&mut sim, &["SLX=1"]);
+    assert_eq!(number(&mut sim, "SLX"), 0, "still off under the joystick");
+    assert_eq!(number(&mut sim, "SLSX"), 12);
+    assert_eq!(number(&mut sim, "SLY"), 1, "Y is not under the joystick");
+    ok(&mut sim, &["JENA=0", "SLX=1"]);
+    assert_eq!(number(&mut sim, "SLX"), 1);
+}
+
+#[test]
+fn under_the_joystick_stop_is_not_processed_but_estop_is() {
+    let mut sim = sim();
+    ok(
+        &mut sim,
+        &["JMAXX=3300", "JMINX=0", "JSPDX=2000", "JDELX=100"],
+    );
+    assert!(sim.set_analog_input(1, 3300));
+    ok(&mut sim, &["JENA=1"]);
+    sim.advance(seconds(0.5));
+    assert_eq!(number(&mut sim, "PSX"), 2000);
+    // §2.5.1.3: "invalid status", string unknown: answered like any
+    // other command, and the joystick keeps the axis.
+    assert_eq!(send(&mut sim, "STOP"), "OK");
+    assert_eq!(send(&mut sim, "STOPX"), "OK");
+    sim.advance(seconds(0.1));
+    assert_eq!(number(&mut sim, "PSX"), 2000, "STOP did not stop it");
+    // ESTOP does, at once, and the axis stays still with the stick out.
+    ok(&mut sim, &["ESTOP"]);
+    assert_eq!(number(&mut sim, "PSX"), 0);
+    assert_eq!(number(&mut sim, "MSTX"), 1 << 16, "EMG error, no motion");
+    let x = number(&mut sim, "PX");
+    ok(&mut sim, &["CLRX"]);
+    sim.advance(seconds(0.5));
+    assert_eq!(number(&mut sim, "PX"), x, "held while the stick is out");
+    // Back to the dead band, then out again: it moves.
+    assert!(sim.set_analog_input(1, 1650));
+    sim.advance(seconds(0.5));
+    assert!(sim.set_analog_input(1, 3300));
+    sim.advance(seconds(0.5));
+    assert!(number(&mut sim, "PX") > x);
+}
+
+#[test]
+fn the_help_tells_the_step_n_loop_and_joystick_choices() {
+    let help = sim().help();
+    for words in [
+        "corrected per axis",
+        "BSTART with SL on answers ?Error SNL",
+        "STOP under the joystick answers like any command",
+        "\"invalid status\" reply is not given",
+        "ESTOP stops it",
+    ] {
+        assert!(help.contains(words), "{words}: {help}");
+    }
+}

@@ -214,7 +214,7 @@ fn tcp_takes_the_host_typed() {
     type_text(&mut app, "rig.local:4001");
     assert_eq!(
         connects(&app.handle(key(KeyCode::Enter))),
-        Some(args("--tcp rig.local:4001 --protocol tmcl"))
+        Some(args("--tcp rig.local:4001 --protocol tmcl --baud 9600"))
     );
 }
 

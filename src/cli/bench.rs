@@ -457,7 +457,7 @@ fn bare_loop(
                 .map(|bare| answered(bare, "serialport"))
                 .map_err(BareError::Exchange)
         }
-        LinkSpec::Tcp { address } => {
+        LinkSpec::Tcp { address, .. } => {
             let mut stream = TcpStream::connect(address)
                 .map_err(|e| BareError::Open(format!("cannot open {}: {e}", spec.describe())))?;
             let _ = stream.set_nodelay(true);

@@ -83,6 +83,8 @@ impl Target {
             },
             (None, None, Some(address)) => LinkSpec::Tcp {
                 address: address.clone(),
+                // The bridge's serial side, when the user says it.
+                baud: args.baud,
             },
             (None, None, None) => {
                 return Err(
@@ -238,6 +240,26 @@ mod tests {
             target.options.device.timeout,
             Some(Duration::from_millis(250))
         );
+    }
+
+    #[test]
+    fn a_tcp_bridge_learns_the_baud_rate_of_its_serial_side_only_when_told() {
+        let bridge = |baud| {
+            Target::resolve(&ConnectionArgs {
+                tcp: Some("localhost:4001".into()),
+                protocol: Some("cmd4cr".into()),
+                baud,
+                ..args()
+            })
+            .unwrap()
+            .spec
+        };
+        let told = bridge(Some(9600));
+        assert_eq!(told.byte_time(), Some(crate::link::byte_time(9600)));
+        assert_eq!(told.describe(), "tcp localhost:4001 (line at 9600 Bd)");
+        let untold = bridge(None);
+        assert_eq!(untold.byte_time(), None);
+        assert_eq!(untold.describe(), "tcp localhost:4001");
     }
 
     #[test]

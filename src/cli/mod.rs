@@ -76,7 +76,9 @@ pub struct ConnectionArgs {
     /// Protocol family: tmcl or cmd4cr (default: the simulator's, else tmcl).
     #[arg(long, global = true)]
     pub protocol: Option<String>,
-    /// Serial baud rate (default 9600); with --sim, emulate that wire time.
+    /// Serial baud rate (default 9600); with --sim, emulate that wire time;
+    /// with --tcp, the rate of the serial line behind the bridge (the slow
+    /// status polls keep to a share of it).
     #[arg(long, global = true)]
     pub baud: Option<u32>,
     /// Module address on the bus (default 1); with --sim, also the simulator's.

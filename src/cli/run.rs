@@ -34,7 +34,8 @@ pub struct RunArgs {
     pub format: Format,
 }
 
-fn read_source(file: &str) -> Result<(String, String), String> {
+/// The file's name as messages give it (`<stdin>` for `-`) and its text.
+pub(super) fn read_source(file: &str) -> Result<(String, String), String> {
     if file == "-" {
         let mut text = String::new();
         std::io::stdin()

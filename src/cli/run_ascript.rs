@@ -12,11 +12,12 @@
 //! failed at run time (or no answer came, or Ctrl-C), 2 a bad file or
 //! usage (nothing sent), 3 the connection could not be opened.
 
-use std::io::{Read, Write};
+use std::io::Write;
 
 use clap::Args;
 
 use super::connection::{Target, family_of, run_to_exit};
+use super::run::read_source;
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::session::ascript_host::{HostEvent, HostProgram};
 
@@ -37,19 +38,6 @@ pub struct RunAscriptArgs {
 /// The family A-Script belongs to; the one `run-ascript` speaks when the
 /// options name none.
 const FAMILY: &str = "cmd4cr";
-
-fn read_source(file: &str) -> Result<(String, String), String> {
-    if file == "-" {
-        let mut text = String::new();
-        std::io::stdin()
-            .read_to_string(&mut text)
-            .map_err(|e| format!("cannot read standard input: {e}"))?;
-        Ok(("<stdin>".into(), text))
-    } else {
-        let text = std::fs::read_to_string(file).map_err(|e| format!("cannot read {file}: {e}"))?;
-        Ok((file.to_string(), text))
-    }
-}
 
 fn say(text: &str) {
     let mut out = std::io::stdout().lock();

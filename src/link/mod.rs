@@ -84,8 +84,12 @@ pub type SharedSim = Arc<Mutex<Box<dyn SimulatedController>>>;
 pub enum LinkSpec {
     /// A serial port (8N1, no flow control).
     Serial { path: String, baud: u32 },
-    /// A serial-over-TCP bridge, `HOST:PORT`.
-    Tcp { address: String },
+    /// A serial-over-TCP bridge, `HOST:PORT`; `baud`, when known, is the
+    /// serial line's rate behind the bridge. The session paces its slow
+    /// polls by it; the link itself stays untimed (bytes arrive in network
+    /// packets, so inter-byte silences and reply timeouts cannot be told
+    /// from the baud rate).
+    Tcp { address: String, baud: Option<u32> },
     /// A simulator in this process, advanced on the (tokio) clock, with
     /// optional wire-time emulation and fault injection.
     Sim {
@@ -107,7 +111,14 @@ impl LinkSpec {
     pub fn describe(&self) -> String {
         match self {
             LinkSpec::Serial { path, baud } => format!("{path} at {baud} Bd"),
-            LinkSpec::Tcp { address } => format!("tcp {address}"),
+            LinkSpec::Tcp {
+                address,
+                baud: None,
+            } => format!("tcp {address}"),
+            LinkSpec::Tcp {
+                address,
+                baud: Some(baud),
+            } => format!("tcp {address} (line at {baud} Bd)"),
             LinkSpec::Sim { kind, baud, .. } => match baud {
                 Some(baud) => format!("sim {kind} at {baud} Bd"),
                 None => format!("sim {kind}"),
@@ -119,7 +130,7 @@ impl LinkSpec {
     pub fn byte_time(&self) -> Option<Duration> {
         match self {
             LinkSpec::Serial { baud, .. } => Some(byte_time(*baud)),
-            LinkSpec::Tcp { .. } => None,
+            LinkSpec::Tcp { baud, .. } => baud.map(byte_time),
             LinkSpec::Sim { baud, .. } => baud.map(byte_time),
         }
     }
@@ -141,7 +152,7 @@ impl LinkSpec {
     pub async fn open(&self) -> Result<Link, LinkError> {
         match self {
             LinkSpec::Serial { path, baud } => serial::open(path, *baud, self.describe()).await,
-            LinkSpec::Tcp { address } => tcp::open(address, self.describe()).await,
+            LinkSpec::Tcp { address, .. } => tcp::open(address, self.describe()).await,
             LinkSpec::Sim {
                 sim, baud, faults, ..
             } => Ok(sim_link::open(

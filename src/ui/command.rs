@@ -22,6 +22,7 @@ use super::keymap::{Action, Context};
 use super::pane::{
     Input, NoticeLevel, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View, key_label,
 };
+use super::text::fit;
 use super::theme::Role;
 use crate::device::{DeviceEvent, LinkState};
 use crate::protocol::console::{Candidate, Completions};
@@ -1051,7 +1052,7 @@ impl CommandPane {
             let mut row: Vec<Span> = Vec::new();
             let mut used = 0;
             for (i, candidate) in c.candidates.iter().enumerate() {
-                let note = truncate(&candidate.note, 28);
+                let note = fit(&candidate.note, 28);
                 let cell = if note.is_empty() {
                     candidate.text.clone()
                 } else {
@@ -1429,16 +1430,6 @@ fn common_prefix(candidates: &[Candidate]) -> String {
             .min(len);
     }
     first.text.get(..len).unwrap_or("").to_string()
-}
-
-fn truncate(text: &str, max: usize) -> String {
-    if text.chars().count() <= max {
-        text.to_string()
-    } else {
-        let mut t: String = text.chars().take(max.saturating_sub(1)).collect();
-        t.push('…');
-        t
-    }
 }
 
 #[cfg(test)]

@@ -24,6 +24,7 @@ use ratatui::widgets::Paragraph;
 use super::field::Field;
 use super::keymap::{Action, Context};
 use super::pane::{Input, NoticeLevel, Outcome, Pane, PaneEvent, Region, Request, View, key_label};
+use super::text::fit;
 use super::theme::Role;
 use crate::link::ports::PortInfo;
 use crate::protocol::{FAMILIES, Family, find_family};
@@ -228,6 +229,10 @@ impl ConnectPane {
                     host.into(),
                     "--protocol".into(),
                     self.protocol_name().into(),
+                    // The serial side of the bridge: the session keeps
+                    // its slow polls to a share of that line.
+                    "--baud".into(),
+                    self.baud()?,
                 ]
             }
         };
@@ -338,7 +343,7 @@ impl ConnectPane {
             Choice::Rescan => ("↻ look for serial ports again".into(), String::new()),
             Choice::Tcp => (
                 format!("tcp {}", self.tcp.text().trim()),
-                "serial-over-TCP bridge (ser2net, axterm sim --tcp)".into(),
+                "serial-over-TCP bridge (ser2net, axterm sim --tcp); baud = its serial side".into(),
             ),
         };
         let marker = if selected { "▶ " } else { "  " };
@@ -442,18 +447,6 @@ pub fn family_of_args(args: &[String]) -> Option<&'static Family> {
         (None, Some(sim)) => find_family(find_kind(sim)?.family),
         (None, None) => find_family("tmcl"),
     }
-}
-
-fn fit(text: &str, width: usize) -> String {
-    if text.chars().count() <= width {
-        return text.to_string();
-    }
-    if width == 0 {
-        return String::new();
-    }
-    let mut out: String = text.chars().take(width - 1).collect();
-    out.push('…');
-    out
 }
 
 impl Pane for ConnectPane {

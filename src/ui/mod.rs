@@ -14,7 +14,7 @@
 //!   [`batch`] for `:run`), [`axes`] (axis status gauges and lamps),
 //!   [`params`] (the parameter table, export and import), [`traffic`]
 //!   (every frame), [`plot`] (position and speed over time), [`connect`]
-//!   (the connect screen), [`editor`] (TMCL programs); [`field`] is the one-line text field they share.
+//!   (the connect screen), [`editor`] (TMCL programs); [`field`] is the one-line text field they share, [`text`] how they cut text to a width.
 //!
 //! # Adding a pane
 //!
@@ -62,6 +62,7 @@ pub mod pane;
 pub mod params;
 pub mod plot;
 pub mod terminal;
+pub mod text;
 pub mod theme;
 pub mod traffic;
 

@@ -28,6 +28,7 @@ use ratatui::widgets::Paragraph;
 use super::field::Field;
 use super::keymap::{Action, Context};
 use super::pane::{Input, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View, key_label};
+use super::text::fit;
 use super::theme::Role;
 use crate::protocol::console::ReplyValue;
 use crate::protocol::parameters::{
@@ -1402,19 +1403,6 @@ fn wrap(text: &str, width: usize, rows: usize) -> Vec<String> {
         lines.push(rest);
     }
     lines.into_iter().map(|l| fit(&l, width)).collect()
-}
-
-/// `text` cut to `width` characters, with an ellipsis when cut.
-fn fit(text: &str, width: usize) -> String {
-    if text.chars().count() <= width {
-        return text.to_string();
-    }
-    if width == 0 {
-        return String::new();
-    }
-    let mut out: String = text.chars().take(width - 1).collect();
-    out.push('…');
-    out
 }
 
 /// The name in a column of `width`, the part matching `filter` marked.

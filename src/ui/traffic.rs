@@ -29,6 +29,7 @@ use ratatui::widgets::Paragraph;
 use super::field::Field;
 use super::keymap::{Action, Context};
 use super::pane::{Input, Outcome, Pane, PaneEvent, Region, Request, View, key_label};
+use super::text::fit;
 use super::theme::Role;
 use crate::device::{Direction, Priority, TrafficKind, TrafficRecord};
 use crate::protocol::Family;
@@ -387,18 +388,6 @@ impl TrafficPane {
         ));
         parts.join(" · ")
     }
-}
-
-fn fit(text: &str, width: usize) -> String {
-    if text.chars().count() <= width {
-        return text.to_string();
-    }
-    if width == 0 {
-        return String::new();
-    }
-    let mut out: String = text.chars().take(width - 1).collect();
-    out.push('…');
-    out
 }
 
 impl Pane for TrafficPane {

@@ -36,8 +36,13 @@
 //! - Joystick control moves X and Y from AI1 and AI2 (set them with
 //!   [`Cmd4cr::set_analog_input`]): linear outside the dead band, JSPD in
 //!   pps, JDEL in pps per ms; MPG following: see [`Cmd4cr::turn_mpg`].
-//!   `STOP` under joystick control is answered like any other (the
-//!   manual's "invalid status" reply is not given).
+//!   `STOP` under joystick control is answered like any other command and
+//!   does not stop the joystick motion: §2.5.1.3 says it "will return an
+//!   invalid status" but the manual gives that reply nowhere (T4-41 has no
+//!   such string), so none is invented. `ESTOP` (and /CEMG) stop a
+//!   joystick axis at once; it stays still until CLR clears its EMG flag
+//!   and the stick is back in its dead band.
+//! - StepNLoop beyond single-axis moves: see [`motion::step_n_loop`].
 
 pub mod flash;
 pub mod inputs;
@@ -508,7 +513,12 @@ impl Cmd4cr {
              each axis a stage with end limits at ±{DEMO_LIMIT}, home switch {}..{}, \
              Z index every {} pulses at {}, encoder 1 count per pulse; \
              limits and ALM stop at once; HSPD is the arc speed of circles; \
-             StepNLoop defaults SLR 1.000 SLT 10 SLE 1000 SLA 3; joystick JSPD 1000 pps, JDEL 100 pps/ms, JTOL 50 mV, JLIM ±90000/±100000; \
+             StepNLoop defaults SLR 1.000 SLT 10 SLE 1000 SLA 3, interpolated moves (circle centres too) in encoder counts at pulse speeds, \
+             verified and corrected per axis, no correction after STOP/ABORT, SLS 4 for one tick after ABORT, \
+             BSTART with SL on answers ?Error SNL, LTP stays in pulses, SL=1 leaves SL off under the joystick; \
+             STOP under the joystick answers like any command and does not stop it (the manual's \"invalid status\" reply is not given), \
+             ESTOP stops it until CLR and the stick is back in its dead band; \
+             joystick JSPD 1000 pps, JDEL 100 pps/ms, JTOL 50 mV, JLIM ±90000/±100000; \
              inputs driven from outside (--input, a line on the standard input of `axterm sim`, :sim-input): {}",
             self.id,
             self.config.write_reply,

@@ -410,7 +410,13 @@ impl Cmd4cr {
             }
             (R::Mpm, A(a)) => self.mpg[a.index()].multiplier = value,
             (R::Mpd, A(a)) => self.mpg[a.index()].divider = value,
-            (R::Sl, A(a)) => self.motion.enable_step_n_loop(a, on),
+            (R::Sl, A(a)) => {
+                // §2.5.1: "If joystick control is enabled, StepNLoop is
+                // automatically disabled": SL=1 leaves it off (answered like
+                // any write; the manual gives no refusal).
+                let joystick = a.index() < 2 && self.joystick.enable & (1 << a.index()) != 0;
+                self.motion.enable_step_n_loop(a, on && !joystick);
+            }
             (R::Slr, A(a)) => self.motion.axis_mut(a).step_n_loop.ratio = value,
             (R::Slt, A(a)) => self.motion.axis_mut(a).step_n_loop.tolerance = value,
             (R::Sle, A(a)) => self.motion.axis_mut(a).step_n_loop.error_range = value,

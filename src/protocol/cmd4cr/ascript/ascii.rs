@@ -83,11 +83,7 @@ fn translate(statement: &Statement, variables: &[i32; VARIABLES]) -> Option<Cmd4
             direction: *direction,
             mode: *mode,
         },
-        Action::ZMove { .. }
-        | Action::Circle { .. }
-        | Action::Arc { .. }
-        | Action::HelixCircle { .. }
-        | Action::HelixArc { .. } => action.same_in_ascii()?,
+        Action::SameInAscii(command) => command.clone(),
     };
     Some(command)
 }
@@ -200,7 +196,9 @@ impl Program {
                 }
                 // §2.3.4: CIR and ARC are buffered with the same syntax in
                 // both sets, but the buffer moves X, Y and Z only.
-                Action::Circle { axes, .. } | Action::Arc { axes, .. } => {
+                Action::SameInAscii(
+                    Cmd4crCommand::Circle { axes, .. } | Cmd4crCommand::Arc { axes, .. },
+                ) => {
                     if !axes.contains(&Axis::U) {
                         continue;
                     }
@@ -208,7 +206,9 @@ impl Program {
                         "in buffer mode (BUFON on line {since}) only X, Y and Z can move (§2.3.4)"
                     )
                 }
-                Action::HelixCircle { .. } | Action::HelixArc { .. } => format!(
+                Action::SameInAscii(
+                    Cmd4crCommand::HelicalCircle { .. } | Cmd4crCommand::HelicalArc { .. },
+                ) => format!(
                     "in buffer mode (BUFON on line {since}) only linear, circular and arc moves of X, Y and Z are queued (§2.3.4); CIRT and ARCT use U"
                 ),
                 _ => continue,

@@ -428,93 +428,16 @@ pub enum Action {
         direction: Direction,
         mode: u8,
     },
-    /// `ZMOVEX+`.
-    ZMove { axis: Axis, direction: Direction },
-    /// `CIRXYP1000:0`: a full circle around an absolute centre.
-    Circle {
-        axes: [Axis; 2],
-        rotation: Rotation,
-        centre: [i64; 2],
-    },
-    /// `ARCXYN0:0:90000`: to an absolute angle in millidegrees.
-    Arc {
-        axes: [Axis; 2],
-        rotation: Rotation,
-        centre: [i64; 2],
-        angle: i64,
-    },
-    /// `CIRTP1000:0:500`: XY circle, Z linear to `z`.
-    HelixCircle {
-        rotation: Rotation,
-        centre: [i64; 2],
-        z: i64,
-    },
-    /// `ARCTN0:0:90000:500`: XY arc, Z linear to `z`.
-    HelixArc {
-        rotation: Rotation,
-        centre: [i64; 2],
-        angle: i64,
-        z: i64,
-    },
-}
-
-impl Action {
-    /// The ASCII command of a motion statement written the same way in
-    /// both sets: circles and arcs (§2.3.4: "The syntax for these commands
-    /// is the same in ASCII and standalone mode") and ZMOVE.
-    pub fn same_in_ascii(&self) -> Option<Cmd4crCommand> {
-        Some(match *self {
-            Action::ZMove { axis, direction } => Cmd4crCommand::ZMove { axis, direction },
-            Action::Circle {
-                axes,
-                rotation,
-                centre,
-            } => Cmd4crCommand::Circle {
-                axes,
-                rotation,
-                centre,
-            },
-            Action::Arc {
-                axes,
-                rotation,
-                centre,
-                angle,
-            } => Cmd4crCommand::Arc {
-                axes,
-                rotation,
-                centre,
-                angle,
-            },
-            Action::HelixCircle {
-                rotation,
-                centre,
-                z,
-            } => Cmd4crCommand::HelicalCircle {
-                rotation,
-                centre,
-                z,
-            },
-            Action::HelixArc {
-                rotation,
-                centre,
-                angle,
-                z,
-            } => Cmd4crCommand::HelicalArc {
-                rotation,
-                centre,
-                angle,
-                z,
-            },
-            _ => return None,
-        })
-    }
+    /// A motion statement written the same way in both command sets, kept
+    /// as its ASCII command: `ZMOVEX+`, `CIRXYP1000:0`, `ARCXYN0:0:90000`,
+    /// `CIRTP1000:0:500`, `ARCTN0:0:90000:500` (§2.3.4: "The syntax for
+    /// these commands is the same in ASCII and standalone mode"; their
+    /// values are numbers only, §2.3.2).
+    SameInAscii(Cmd4crCommand),
 }
 
 impl fmt::Display for Action {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if let Some(command) = self.same_in_ascii() {
-            return write!(f, "{command}");
-        }
         match self {
             Action::Let { variable, value } => write!(f, "V{variable}={value}"),
             Action::Set { command, value } => write!(f, "{command}={value}"),
@@ -532,11 +455,7 @@ impl fmt::Display for Action {
                 direction,
                 mode,
             } => write!(f, "HOME{}{}{mode}", axis.letter(), direction.sign()),
-            Action::ZMove { .. }
-            | Action::Circle { .. }
-            | Action::Arc { .. }
-            | Action::HelixCircle { .. }
-            | Action::HelixArc { .. } => Ok(()),
+            Action::SameInAscii(command) => write!(f, "{command}"),
         }
     }
 }

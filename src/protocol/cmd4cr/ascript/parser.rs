@@ -7,6 +7,7 @@
 //! module documentation ([`super`]).
 
 use super::super::catalog::{Form, FormShape};
+use super::super::command::Cmd4crCommand;
 use super::ast::{
     Action, Address, Axis, BinaryOp, Command, Comparison, Condition, Direction, Expr, Operand,
     Rotation, Statement, Target, Value,
@@ -605,10 +606,10 @@ impl Parser<'_> {
             Shape::ZMove => {
                 let direction = self.direction(&command)?;
                 self.expect_end(&format!("{command}{}", direction.sign()))?;
-                Action::ZMove {
+                Action::SameInAscii(Cmd4crCommand::ZMove {
                     axis: self.axis_of(&command)?,
                     direction,
-                }
+                })
             }
             Shape::Home => self.home(&command)?,
             Shape::Circle | Shape::Arc | Shape::HelixCircle | Shape::HelixArc => {
@@ -976,30 +977,31 @@ impl Parser<'_> {
             }
         }
         let v = |i: usize| values.get(i).copied().unwrap_or(0);
-        let action = match (kind, axes) {
-            (Shape::Arc, Some(axes)) => Action::Arc {
+        let command = match (kind, axes) {
+            (Shape::Arc, Some(axes)) => Cmd4crCommand::Arc {
                 axes,
                 rotation,
                 centre: [v(0), v(1)],
                 angle: v(2),
             },
-            (Shape::HelixCircle, _) => Action::HelixCircle {
+            (Shape::HelixCircle, _) => Cmd4crCommand::HelicalCircle {
                 rotation,
                 centre: [v(0), v(1)],
                 z: v(2),
             },
-            (Shape::HelixArc, _) => Action::HelixArc {
+            (Shape::HelixArc, _) => Cmd4crCommand::HelicalArc {
                 rotation,
                 centre: [v(0), v(1)],
                 angle: v(2),
                 z: v(3),
             },
-            (_, axes) => Action::Circle {
+            (_, axes) => Cmd4crCommand::Circle {
                 axes: axes.unwrap_or([Axis::X, Axis::Y]),
                 rotation,
                 centre: [v(0), v(1)],
             },
         };
+        let action = Action::SameInAscii(command);
         self.expect_end(&action.to_string())?;
         Ok(Statement::Action(action))
     }

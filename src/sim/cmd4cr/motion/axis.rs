@@ -203,6 +203,9 @@ pub struct AxisState {
     /// The axis follows its MPG input or the joystick: motion commands are
     /// refused (§2.2.2 "operating conditions").
     pub manual_control: bool,
+    /// An emergency stop caught the axis under joystick control: it stays
+    /// still until the stick is back in its dead band.
+    pub(super) joystick_held: bool,
     /// `SL`, `SLR`, `SLT`, `SLE`, `SLA`.
     pub step_n_loop: StepNLoop,
     pub(super) loop_state: LoopState,
@@ -234,6 +237,7 @@ impl AxisState {
             latch: Latch::default(),
             sync: Sync::default(),
             manual_control: false,
+            joystick_held: false,
             step_n_loop: StepNLoop::default(),
             loop_state: LoopState::default(),
         };

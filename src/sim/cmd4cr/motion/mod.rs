@@ -21,6 +21,11 @@
 //!   decelerates and stops" open; Appendix A always stops at once).
 //! - Circles and arcs do not check the end limits before starting (their
 //!   direction changes along the way); the limits still stop them.
+//! - `ESTOP` and /CEMG stop an axis under joystick control as they stop
+//!   any motion, with the EMG flag if it moved (§2.1.3.1.2); it then stays
+//!   still until CLR and until the stick is back in its dead band, so that
+//!   an emergency stop does not end by itself while the stick is held out.
+//! - StepNLoop with every kind of motion: see [`step_n_loop`].
 
 pub mod axis;
 mod group;
@@ -313,7 +318,7 @@ impl Motion {
         let a = self.axis_mut(name);
         a.errors &= !mst::CLEARED_BY_CLR;
         // CLR clears the StepNLoop errors too (Table 27).
-        if a.loop_state.in_error() {
+        if a.loop_state.in_error() || a.loop_state.status == sls::LIMIT_ERROR {
             a.loop_state.status = sls::IDLE;
         }
     }
@@ -365,7 +370,15 @@ impl Motion {
         if self.is_busy(name) {
             return;
         }
+        let a = &mut self.axes[name.index()];
+        if a.joystick_held && velocity == 0.0 {
+            // The stick is back in its dead band: it may drive again.
+            a.joystick_held = false;
+        }
         let blocked = self.emg_input
+            || a.joystick_held
+            // "The error status is clear" (§2.5.1 operating conditions).
+            || a.errors & mst::EMG_ERROR != 0
             || (velocity > 0.0 && self.axis(name).limit_on(Direction::Plus))
             || (velocity < 0.0 && self.axis(name).limit_on(Direction::Minus));
         let velocity = if blocked { 0.0 } else { velocity };
@@ -571,7 +584,8 @@ impl Motion {
             Start::Arc { axes, helix_z, .. } => {
                 let mut v = vec![(axes.0, None), (axes.1, None)];
                 if let Some(z) = helix_z {
-                    v.push((Axis::Z, direction_of(z - self.counter(Axis::Z))));
+                    let to = self.counter_value(Axis::Z, *z);
+                    v.push((Axis::Z, direction_of(to - self.counter(Axis::Z))));
                     v.push((Axis::U, None));
                 }
                 v
@@ -604,16 +618,60 @@ impl Motion {
         }
     }
 
+    /// The pulse counter value an absolute position means: the value
+    /// itself, or with StepNLoop on an encoder position (§2.5.3: "this
+    /// applies to individual as well as interpolated moves"), reached from
+    /// where the encoder is at SLR pulses a count.
+    fn counter_value(&self, axis: Axis, value: i64) -> i64 {
+        let a = self.axis(axis);
+        if !a.step_n_loop.enabled {
+            return value;
+        }
+        let pulses = (value.saturating_sub(a.encoder())) as f64 * a.step_n_loop.pulses_per_count();
+        // `as` saturates: an absurd value gives an absurd, harmless radius.
+        a.counter().saturating_add(pulses.round() as i64)
+    }
+
+    /// The encoder position a StepNLoop axis should reach when it stands
+    /// at machine position `end`.
+    fn loop_goal_at(&self, axis: Axis, end: i64) -> i64 {
+        let a = self.axis(axis);
+        let counts = (end - a.position) as f64 / a.step_n_loop.pulses_per_count();
+        a.encoder() + counts.round() as i64
+    }
+
+    /// Note `code` in SLS of those of `axes` whose loop follows a motion.
+    fn loop_note(&mut self, axes: &[Axis], code: u8) {
+        for &axis in axes {
+            let a = &mut self.axes[axis.index()];
+            if a.step_n_loop.enabled && a.loop_state.start.is_some() && !a.loop_state.in_error() {
+                a.loop_state.status = code;
+            }
+        }
+    }
+
+    /// A StepNLoop axis stopped by an end limit: SLS 11 (Table 27).
+    fn loop_limit_error(&mut self, axes: &[Axis]) {
+        for &axis in axes {
+            let a = &mut self.axes[axis.index()];
+            let at_limit = a.limit_on(Direction::Plus) || a.limit_on(Direction::Minus);
+            if a.step_n_loop.enabled && at_limit && !a.loop_state.in_error() {
+                a.loop_state.status = sls::LIMIT_ERROR;
+            }
+        }
+    }
+
     /// A commanded motion of `axis` starts: the loop follows it.
     fn loop_starts(&mut self, axis: Axis, code: u8, goal: Option<i64>) {
         let a = &mut self.axes[axis.index()];
         if !a.step_n_loop.enabled {
             return;
         }
-        let target = goal.unwrap_or_else(|| a.loop_target());
+        let origin = a.loop_target();
         a.loop_state = step_n_loop::LoopState {
             status: code,
-            target,
+            target: goal.unwrap_or(origin),
+            origin,
             start: Some((a.counter(), a.encoder())),
             tries: 0,
         };
@@ -723,7 +781,7 @@ impl Motion {
                         if distance == 0 {
                             // Already there: the move ends as it starts, so the
                             // axis is never seen busy with MST reading 0.
-                            self.finish(axis, Some(&run));
+                            self.finish(axis, Some(&run), true);
                         } else {
                             self.launch(axis, run);
                         }
@@ -751,6 +809,10 @@ impl Motion {
                 helix_z,
             } => {
                 let group = self.arc_group(axes, rotation, centre, end_mdeg, helix_z, None)?;
+                for (axis, end) in group.path.positions(group.path.length()) {
+                    let goal = self.loop_goal_at(axis, end);
+                    self.loop_starts(axis, sls::MOVING, Some(goal));
+                }
                 self.launch_group(group);
             }
         }
@@ -775,7 +837,15 @@ impl Motion {
             returning: false,
         });
         let run = Run::new(position, sign(direction), ramps, Goal::Endless, purpose);
-        self.loop_starts(axis, sls::HOMING, None);
+        // Table 27: ZMOVE is Z-homing, modes on an end limit limit homing.
+        let code = if procedure.mode == homing::Z_MOVE.mode {
+            sls::Z_HOMING
+        } else if procedure.uses_limit {
+            sls::LIMIT_HOMING
+        } else {
+            sls::HOMING
+        };
+        self.loop_starts(axis, code, None);
         self.launch(axis, run);
     }
 
@@ -788,6 +858,13 @@ impl Motion {
         helix_z: Option<i64>,
         buffered_speed: Option<f64>,
     ) -> Result<Group, Refusal> {
+        // With StepNLoop on, the centre and Z are encoder positions: the
+        // circle is laid in pulses from where the encoder is.
+        let centre = (
+            self.counter_value(axes.0, centre.0),
+            self.counter_value(axes.1, centre.1),
+        );
+        let helix_z = helix_z.map(|z| self.counter_value(Axis::Z, z));
         let from = (self.counter(axes.0), self.counter(axes.1));
         // Counters and machine positions differ by an offset: lay the
         // circle in counter space, move in machine space.
@@ -852,6 +929,8 @@ impl Motion {
     pub fn stop(&mut self, name: Option<Axis>) {
         let axes: Vec<Axis> = name.map_or_else(|| Axis::ALL.to_vec(), |a| vec![a]);
         for axis in axes {
+            let holders = self.holders(axis);
+            self.loop_note(&holders, sls::STOPPING);
             let position = self.axes[axis.index()].position;
             match &mut self.activity[axis.index()] {
                 Activity::Run(run) => run.stop(position),
@@ -879,6 +958,9 @@ impl Motion {
     pub fn abort(&mut self, name: Option<Axis>) {
         let axes: Vec<Axis> = name.map_or_else(|| Axis::ALL.to_vec(), |a| vec![a]);
         for axis in axes {
+            // The stop is at once: SLS 4 shows until the next tick.
+            let holders = self.holders(axis);
+            self.loop_note(&holders, sls::ABORTING);
             self.halt(axis);
         }
         if name.is_none() {
@@ -896,29 +978,32 @@ impl Motion {
     /// Stop `axis` (and its interpolation) at once; the axes that were in
     /// motion.
     fn halt(&mut self, axis: Axis) -> Vec<Axis> {
-        let members = match &self.activity[axis.index()] {
-            Activity::Idle => return Vec::new(),
-            Activity::Run(_) | Activity::WaitInp => vec![axis],
-            Activity::Group(id) => {
-                let id = *id;
-                if Some(id) == self.buffer_group {
-                    self.buffer.started = false;
-                    self.buffer_group = None;
-                }
-                let members = self
-                    .groups
-                    .iter()
-                    .find(|(g, _)| *g == id)
-                    .map(|(_, g)| g.members())
-                    .unwrap_or_default();
-                self.groups.retain(|(g, _)| *g != id);
-                members
+        let members = self.holders(axis);
+        if let Activity::Group(id) = self.activity[axis.index()] {
+            if Some(id) == self.buffer_group {
+                self.buffer.started = false;
+                self.buffer_group = None;
             }
-        };
+            self.groups.retain(|(g, _)| *g != id);
+        }
         for &m in &members {
             self.settle(m);
         }
         members
+    }
+
+    /// The axes the motion of `axis` holds: itself, or its interpolation.
+    fn holders(&self, axis: Axis) -> Vec<Axis> {
+        match &self.activity[axis.index()] {
+            Activity::Idle => Vec::new(),
+            Activity::Run(_) | Activity::WaitInp => vec![axis],
+            Activity::Group(id) => self
+                .groups
+                .iter()
+                .find(|(g, _)| g == id)
+                .map(|(_, g)| g.members())
+                .unwrap_or_default(),
+        }
     }
 
     /// The axis stands still and is free.
@@ -929,13 +1014,13 @@ impl Motion {
         a.phase = None;
         a.waiting_for_inp = false;
         if a.loop_state.start.is_some() {
-            // A move keeps its target; a jog or homing ends where it is.
-            if !matches!(a.loop_state.status, sls::MOVING | sls::CORRECTING) {
-                a.loop_state.target = a.loop_target();
-            }
+            // The target is where the pulses stopped; a move that completes
+            // takes its goal back (finish).
+            a.loop_state.target = a.loop_target();
             let state = &mut a.loop_state;
             state.start = None;
-            if !state.in_error() {
+            // ABORT's code lasts until the next tick (end_aborts).
+            if !state.in_error() && state.status != sls::ABORTING {
                 state.status = sls::IDLE;
             }
         }
@@ -1005,8 +1090,18 @@ impl Motion {
                 self.activity[axis.index()],
                 Activity::Run(_) | Activity::Group(_)
             );
-            let stopped = self.halt(axis);
-            if moving && !self.global.ignore_errors {
+            let mut stopped = self.halt(axis);
+            // An axis under joystick control stops too (it is no Run): it
+            // stays still until the stick is back in its dead band.
+            let a = &mut self.axes[axis.index()];
+            let joystick = a.manual_control && !moving && (a.rate != 0.0 || a.phase.is_some());
+            if joystick {
+                a.rate = 0.0;
+                a.phase = None;
+                a.joystick_held = true;
+                stopped.push(axis);
+            }
+            if (moving || joystick) && !self.global.ignore_errors {
                 for m in stopped {
                     self.axes[m.index()].errors |= mst::EMG_ERROR;
                     if self.axes[m.index()].settings.erc & 1 != 0 {
@@ -1024,35 +1119,58 @@ impl Motion {
         }
         let a = self.axis(name);
         let window = profile::window_for_sspdm(a.settings.sspdm).ok_or(Refusal::SpeedWindow)?;
-        if a.settings.s_curve || speed < window.min_lspd || speed > window.max_speed {
+        // With StepNLoop on a single-axis speed is in encoder counts/s; the
+        // window is in pulses/s (App. B note: EPS = PPS / ratio).
+        let pps = if a.step_n_loop.enabled {
+            (f64::from(speed) * a.step_n_loop.pulses_per_count()).round()
+        } else {
+            f64::from(speed)
+        };
+        if a.settings.s_curve
+            || pps < f64::from(window.min_lspd)
+            || pps > f64::from(window.max_speed)
+        {
             return Err(Refusal::SpeedWindow);
         }
         let position = a.position;
         match &mut self.activity[name.index()] {
             Activity::Run(run) if run.accepts_override(false) => {
-                run.change_speed(position, f64::from(speed));
+                run.change_speed(position, pps);
                 Ok(())
             }
             _ => Err(Refusal::OverrideFailed),
         }
     }
 
-    /// `T[axis]target` (§2.4.2): ABS absolute, INC from the move's start.
+    /// `T[axis]target` (§2.4.2): ABS absolute, INC from the move's start;
+    /// with StepNLoop on, in encoder counts like any target (§2.5.3).
     pub fn change_target(&mut self, name: Axis, target: i64) -> Result<(), Refusal> {
         let incremental = self.global.incremental;
-        let a = &self.axes[name.index()];
+        let a = &mut self.axes[name.index()];
         let position = a.position;
         match &mut self.activity[name.index()] {
             Activity::Run(run) if run.accepts_override(true) => {
                 let Purpose::Position { start_counter } = run.purpose else {
                     return Err(Refusal::OverrideFailed);
                 };
-                let counter = if incremental {
-                    start_counter + target
+                let machine = if a.step_n_loop.enabled && a.loop_state.start.is_some() {
+                    let goal = if incremental {
+                        a.loop_state.origin.saturating_add(target)
+                    } else {
+                        target
+                    };
+                    let counts = goal.saturating_sub(a.loop_target()) as f64;
+                    a.loop_state.target = goal;
+                    position
+                        .saturating_add((counts * a.step_n_loop.pulses_per_count()).round() as i64)
                 } else {
-                    target
+                    let counter = if incremental {
+                        start_counter + target
+                    } else {
+                        target
+                    };
+                    a.machine_for_counter(counter)
                 };
-                let machine = a.machine_for_counter(counter);
                 run.change_target(position, machine);
                 Ok(())
             }
@@ -1119,6 +1237,9 @@ impl Motion {
         if !self.buffer.enabled {
             return Err(Refusal::BufferDisabled);
         }
+        if self.buffer_step_n_loop() {
+            return Err(Refusal::StepNLoop);
+        }
         if self.buffer_group.is_none() {
             for axis in [Axis::X, Axis::Y, Axis::Z] {
                 if self.is_busy(axis) || self.axis(axis).errors & mst::BLOCKING_ERRORS != 0 {
@@ -1134,9 +1255,21 @@ impl Motion {
         Ok(())
     }
 
+    /// "The buffered move operation cannot be used while StepNLoop is
+    /// enabled" (§2.3.4) on an axis the buffer drives.
+    fn buffer_step_n_loop(&self) -> bool {
+        [Axis::X, Axis::Y, Axis::Z]
+            .iter()
+            .any(|&a| self.axis(a).step_n_loop.enabled)
+    }
+
     /// Start the next buffered move if the buffer runs and nothing it fed
     /// is moving.
     fn feed_buffer(&mut self) {
+        if self.buffer_step_n_loop() {
+            // SL turned on while the buffer ran: it stops feeding.
+            self.buffer.started = false;
+        }
         while self.buffer.started && self.buffer_group.is_none() {
             let Some(entry) = self.buffer.pop() else {
                 return;
@@ -1190,6 +1323,9 @@ impl Motion {
     /// Let `dt` of virtual time pass.
     pub fn advance(&mut self, dt: Duration) {
         self.pending += dt;
+        if self.pending >= TICK {
+            self.end_aborts();
+        }
         while self.pending >= TICK {
             self.pending -= TICK;
             if self.idle() {
@@ -1200,6 +1336,15 @@ impl Motion {
                 break;
             }
             self.tick();
+        }
+    }
+
+    /// An aborted StepNLoop axis is idle from the tick after ABORT.
+    fn end_aborts(&mut self) {
+        for (i, a) in self.axes.iter_mut().enumerate() {
+            if a.loop_state.status == sls::ABORTING && self.activity[i] == Activity::Idle {
+                a.loop_state.status = sls::IDLE;
+            }
         }
     }
 
@@ -1250,11 +1395,13 @@ impl Motion {
                     self.activity[i] = Activity::Run(run);
                 }
                 Outcome::Completed => {
-                    self.finish(axis, Some(&run));
+                    let targeted = matches!(run.purpose, Purpose::Position { .. });
+                    self.finish(axis, Some(&run), targeted);
                 }
                 Outcome::Stopped => self.settle(axis),
                 Outcome::LimitStop => {
                     self.settle(axis);
+                    self.loop_limit_error(&[axis]);
                     self.error_stop(&[axis]);
                 }
             }
@@ -1287,8 +1434,9 @@ impl Motion {
                     }
                     match other {
                         GroupOutcome::Completed => {
+                            // Every StepNLoop member is verified on its own.
                             for &m in &members {
-                                self.finish(m, None);
+                                self.finish(m, None, !group.buffered);
                             }
                             if buffered {
                                 self.feed_buffer();
@@ -1301,6 +1449,7 @@ impl Motion {
                             for &m in &members {
                                 self.settle(m);
                             }
+                            self.loop_limit_error(&members);
                             self.error_stop(&members);
                         }
                         _ => {
@@ -1339,14 +1488,22 @@ impl Motion {
         }
     }
 
-    /// A motion ended normally: homing completion actions, then wait for
-    /// INP if asked (§2.1.6.2).
-    fn finish(&mut self, axis: Axis, run: Option<&Run>) {
+    /// A motion ended normally: position verification of a `targeted`
+    /// move, homing completion actions, then wait for INP if asked
+    /// (§2.1.6.2).
+    fn finish(&mut self, axis: Axis, run: Option<&Run>, targeted: bool) {
+        let state = self.axes[axis.index()].loop_state;
         self.settle(axis);
-        if matches!(run.map(|r| &r.purpose), Some(Purpose::Position { .. }))
-            && self.verify_position(axis)
-        {
-            return;
+        // Only a move the loop followed from its start is verified.
+        let followed = state.start.is_some()
+            && matches!(state.status, sls::MOVING | sls::CORRECTING)
+            && self.axes[axis.index()].step_n_loop.enabled;
+        if targeted && followed {
+            // The goal, not where the pulses rounded to.
+            self.axes[axis.index()].loop_state.target = state.target;
+            if self.verify_position(axis) {
+                return;
+            }
         }
         let a = &mut self.axes[axis.index()];
         if let Some(Purpose::Procedure(p)) = run.map(|r| &r.purpose)

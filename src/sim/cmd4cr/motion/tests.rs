@@ -867,3 +867,394 @@ fn refusals_come_in_order() {
     assert_eq!(m.start(both), Err(Refusal::Alarm));
     assert!(!m.is_busy(Y));
 }
+
+// ---- StepNLoop beyond single-axis moves (§2.5.3, Table 2-26, Table 27) --
+
+/// StepNLoop on `axis` of a drive making `pulses` motor pulses an encoder
+/// count (SLR = pulses), SLT 5, SLE 300, SLA 3.
+fn closed_loop(m: &mut Motion, axis: Axis, pulses: i64) {
+    let a = m.axis_mut(axis);
+    a.stage.encoder_ratio = 1.0 / pulses as f64;
+    a.step_n_loop.ratio = pulses * 1000;
+    a.step_n_loop.tolerance = 5;
+    a.step_n_loop.error_range = 300;
+    a.step_n_loop.attempts = 3;
+    m.enable_step_n_loop(axis, true);
+}
+
+/// Advance 1 ms at a time until `axis` is idle, noting every SLS seen.
+fn loop_codes_until_idle(m: &mut Motion, axis: Axis) -> Vec<u8> {
+    let mut seen = vec![m.loop_status(axis)];
+    for _ in 0..20_000 {
+        if !m.is_busy(axis) {
+            break;
+        }
+        m.advance(ms(1));
+        let code = m.loop_status(axis);
+        if seen.last() != Some(&code) {
+            seen.push(code);
+        }
+    }
+    assert!(!m.is_busy(axis), "{axis:?} still busy");
+    seen
+}
+
+#[test]
+fn an_interpolated_move_is_verified_and_corrected_per_axis() {
+    // X on a 2:1 drive, Y 1:1, both closed loop: X1000 Y500 are encoder
+    // positions, the main axis (X, 2000 pulses) runs at HSPD in pulses/s.
+    let mut m = example_speeds();
+    closed_loop(&mut m, X, 2);
+    closed_loop(&mut m, Y, 1);
+    m.start(Start::Position {
+        targets: vec![(X, 1000), (Y, 500)],
+    })
+    .expect("move");
+    m.advance(ms(300));
+    assert_eq!(m.pulse_rate_reading(X), 5000, "any interpolation: pulse/s");
+    assert_eq!(m.loop_status(X), sls::MOVING);
+    // X misses 40 steps: 20 counts, beyond SLT, within SLE.
+    m.lose_steps(X, 40);
+    assert_eq!(m.axis(X).deviation(), 20);
+    let x_codes = loop_codes_until_idle(&mut m, X);
+    assert!(!m.is_busy(Y));
+    assert!(
+        x_codes.contains(&sls::CORRECTING),
+        "X corrects on its own: {x_codes:?}"
+    );
+    assert_eq!((m.encoder(X), m.encoder(Y)), (1000, 500));
+    assert_eq!((m.loop_status(X), m.loop_status(Y)), (sls::IDLE, sls::IDLE));
+    assert_eq!(m.position_reading(X), 1000);
+    assert_eq!(m.axis(X).deviation(), 0);
+}
+
+#[test]
+fn each_axis_of_an_interpolation_gets_its_own_verdict() {
+    // X may not correct (SLA 0): its miss is an attempt error; Y is in
+    // position and stays free.
+    let mut m = example_speeds();
+    closed_loop(&mut m, X, 1);
+    closed_loop(&mut m, Y, 1);
+    m.axis_mut(X).step_n_loop.attempts = 0;
+    m.start(Start::Position {
+        targets: vec![(X, 2000), (Y, 1000)],
+    })
+    .expect("move");
+    m.advance(ms(300));
+    m.lose_steps(X, 50);
+    run_until_idle(&mut m, X, ms(5), Duration::from_secs(10));
+    assert_eq!(m.loop_status(X), sls::ATTEMPT_ERROR);
+    assert_eq!(m.loop_status(Y), sls::IDLE);
+    assert_eq!(m.encoder(X), 1950);
+    let x_back = Start::Position {
+        targets: vec![(X, 0), (Y, 0)],
+    };
+    assert_eq!(m.start(x_back), Err(Refusal::StepNLoop));
+    m.start(Start::Position {
+        targets: vec![(Y, 0)],
+    })
+    .expect("Y alone");
+}
+
+#[test]
+fn a_circle_in_encoder_counts_runs_at_pulse_speed_and_is_verified() {
+    // Both axes 2 pulses a count. From encoder (500, 0), ARCXYN0:0:90000
+    // ends at encoder (0, 500): 1000 pulses of radius.
+    let mut m = example_speeds();
+    m.global.hspd = 2000;
+    m.set_encoder(X, 500);
+    closed_loop(&mut m, X, 2);
+    closed_loop(&mut m, Y, 2);
+    assert_eq!(m.position_reading(X), 500);
+    m.start(Start::Arc {
+        axes: (X, Y),
+        rotation: Rotation::CounterClockwise,
+        centre: (0, 0),
+        end_mdeg: Some(90_000),
+        helix_z: None,
+    })
+    .expect("arc");
+    assert_eq!(m.loop_status(X), sls::MOVING);
+    // A quarter of a 1000-pulse circle is 1571 pulses: at 45° both axes
+    // run at 2000·sin 45° pulses/s, read in pulses/s.
+    let mut at_45 = None;
+    for _ in 0..2000 {
+        m.advance(ms(1));
+        // Counters from (0, 0) to (-1000, 1000) around (-1000, 0).
+        if m.counter(Y) >= m.counter(X) + 1000 && at_45.is_none() {
+            at_45 = Some((m.pulse_rate_reading(X), m.pulse_rate_reading(Y)));
+            m.lose_steps(Y, 30);
+        }
+        if !m.is_busy(X) {
+            break;
+        }
+    }
+    let (vx, vy) = at_45.expect("passed 45°");
+    assert!(
+        (1380..=1450).contains(&vx) && (1380..=1450).contains(&vy),
+        "{vx} {vy}"
+    );
+    let y_codes = loop_codes_until_idle(&mut m, Y);
+    assert!(y_codes.contains(&sls::CORRECTING), "{y_codes:?}");
+    assert_eq!((m.encoder(X), m.encoder(Y)), (0, 500));
+    // Y's 30 lost pulses were sent again by the correction.
+    assert_eq!((m.counter(X), m.counter(Y)), (-1000, 1030));
+    assert_eq!((m.loop_status(X), m.loop_status(Y)), (sls::IDLE, sls::IDLE));
+}
+
+#[test]
+fn a_helical_z_target_is_an_encoder_position() {
+    let mut m = example_speeds();
+    m.set_counter(X, 1000);
+    closed_loop(&mut m, Z, 2);
+    m.start(Start::Arc {
+        axes: (X, Y),
+        rotation: Rotation::CounterClockwise,
+        centre: (0, 0),
+        end_mdeg: None,
+        helix_z: Some(-250),
+    })
+    .expect("helix");
+    assert_eq!(m.loop_status(Z), sls::MOVING);
+    run_until_idle(&mut m, X, ms(1), Duration::from_secs(10));
+    assert_eq!(m.encoder(Z), -250);
+    assert_eq!(m.counter(Z), -500, "2 pulses a count");
+    assert_eq!(m.loop_status(Z), sls::IDLE);
+}
+
+#[test]
+fn a_stall_in_a_circle_stops_the_whole_interpolation() {
+    let mut m = example_speeds();
+    m.set_encoder(X, 1000);
+    closed_loop(&mut m, X, 1);
+    closed_loop(&mut m, Y, 1);
+    m.start(Start::Arc {
+        axes: (X, Y),
+        rotation: Rotation::Clockwise,
+        centre: (0, 0),
+        end_mdeg: None,
+        helix_z: None,
+    })
+    .expect("circle");
+    m.advance(ms(300));
+    m.lose_steps(Y, 400);
+    m.advance(ms(1));
+    assert!(!m.is_busy(X) && !m.is_busy(Y), "C.6: all stop");
+    assert_eq!(m.loop_status(Y), sls::STALL_ERROR);
+    assert_eq!(m.loop_status(X), sls::IDLE);
+    assert_eq!(
+        m.start(Start::Jog {
+            axis: Y,
+            direction: Direction::Plus
+        }),
+        Err(Refusal::StepNLoop)
+    );
+}
+
+#[test]
+fn stop_and_abort_show_in_sls_until_the_axis_stands() {
+    let mut m = example_speeds();
+    closed_loop(&mut m, X, 1);
+    let jog = Start::Jog {
+        axis: X,
+        direction: Direction::Plus,
+    };
+    m.start(jog.clone()).expect("jog");
+    assert_eq!(m.loop_status(X), sls::JOGGING);
+    m.advance(ms(500));
+    m.stop(Some(X));
+    assert_eq!(m.loop_status(X), sls::STOPPING);
+    m.advance(ms(50));
+    assert_eq!(m.loop_status(X), sls::STOPPING, "still braking");
+    assert_eq!(
+        loop_codes_until_idle(&mut m, X),
+        vec![sls::STOPPING, sls::IDLE]
+    );
+    // ABORT stops at once; its code lasts until the next tick.
+    m.start(Start::Position {
+        targets: vec![(X, 50_000)],
+    })
+    .expect("move");
+    m.advance(ms(500));
+    m.abort(Some(X));
+    assert!(!m.is_busy(X));
+    assert_eq!(m.loop_status(X), sls::ABORTING);
+    let stood = m.encoder(X);
+    m.advance(TICK);
+    assert_eq!(m.loop_status(X), sls::IDLE);
+    assert_eq!(m.position_reading(X), stood, "P reads where it stopped");
+    assert_eq!(m.axis(X).deviation(), 0, "no correction after ABORT");
+}
+
+#[test]
+fn homing_kinds_have_their_own_codes() {
+    // Table 27: 6 homing (home switch), 7 Z-homing (ZMOVE), 13 limit
+    // homing (modes on an end limit).
+    for (start, code) in [
+        (
+            Start::Home {
+                axis: X,
+                direction: Direction::Minus,
+                mode: 0,
+            },
+            sls::HOMING,
+        ),
+        (
+            Start::ZMove {
+                axis: X,
+                direction: Direction::Plus,
+            },
+            sls::Z_HOMING,
+        ),
+        (
+            Start::Home {
+                axis: X,
+                direction: Direction::Plus,
+                mode: 6,
+            },
+            sls::LIMIT_HOMING,
+        ),
+        (
+            Start::Home {
+                axis: X,
+                direction: Direction::Plus,
+                mode: 12,
+            },
+            sls::LIMIT_HOMING,
+        ),
+    ] {
+        let mut m = example_speeds();
+        m.global.hspd = 50_000;
+        closed_loop(&mut m, X, 1);
+        m.start(start.clone()).expect("homing");
+        m.advance(ms(10));
+        assert_eq!(m.loop_status(X), code, "{start:?}");
+        let codes = loop_codes_until_idle(&mut m, X);
+        assert_eq!(codes.last(), Some(&sls::IDLE), "{start:?}: {codes:?}");
+        assert_eq!(m.axis(X).deviation(), 0);
+    }
+}
+
+#[test]
+fn an_end_limit_stop_is_sls_limit_error_until_clr() {
+    let mut m = example_speeds();
+    closed_loop(&mut m, X, 1);
+    m.start(Start::Jog {
+        axis: X,
+        direction: Direction::Plus,
+    })
+    .expect("jog");
+    run_until_idle(&mut m, X, ms(10), Duration::from_secs(30));
+    assert_eq!(m.loop_status(X), sls::LIMIT_ERROR);
+    // The MST limit flag refuses the next move, not StepNLoop.
+    let back = Start::Jog {
+        axis: X,
+        direction: Direction::Minus,
+    };
+    assert_eq!(m.start(back.clone()), Err(Refusal::Moving));
+    m.clear_errors(X);
+    assert_eq!(m.loop_status(X), sls::IDLE);
+    m.start(back).expect("away from the limit");
+}
+
+#[test]
+fn a_new_target_with_step_n_loop_is_in_encoder_counts() {
+    // 2 pulses a count: X1500, then TX800 on the way; INC counts from
+    // where the move began.
+    for (incremental, first, change, end) in [(false, 1500, 800, 800), (true, 1500, 300, 400)] {
+        let mut m = example_speeds();
+        (m.global.lspd, m.global.hspd) = (500, 1000);
+        m.set_encoder(X, 100);
+        closed_loop(&mut m, X, 2);
+        m.global.incremental = incremental;
+        let target = if incremental { first - 100 } else { first };
+        m.start(Start::Position {
+            targets: vec![(X, target)],
+        })
+        .expect("move");
+        m.advance(ms(300));
+        m.change_target(X, change).expect("T");
+        let codes = loop_codes_until_idle(&mut m, X);
+        assert!(!codes.contains(&sls::CORRECTING), "{codes:?}");
+        assert_eq!(m.encoder(X), end, "INC {incremental}");
+        assert_eq!(m.position_reading(X), end);
+    }
+}
+
+#[test]
+fn an_on_the_fly_speed_with_step_n_loop_is_in_encoder_counts() {
+    let mut m = Motion::new();
+    m.axis_mut(X).stage = Stage::bare();
+    closed_loop(&mut m, X, 2);
+    let s = &mut m.axis_mut(X).settings;
+    (s.lspd, s.hspd, s.acc, s.dec, s.sspdm) = (500, 1000, 100, 100, 0);
+    m.start(Start::Jog {
+        axis: X,
+        direction: Direction::Plus,
+    })
+    .expect("jog");
+    m.advance(ms(500));
+    assert_eq!(m.pulse_rate_reading(X), 1000);
+    assert_eq!(m.pulse_rate(X), 2000);
+    m.change_speed(X, 1500).expect("SSPD");
+    m.advance(ms(500));
+    assert_eq!(m.pulse_rate_reading(X), 1500, "encoder counts/s");
+    assert_eq!(m.pulse_rate(X), 3000);
+}
+
+#[test]
+fn the_buffer_does_not_run_with_step_n_loop() {
+    // §2.3.4: "cannot be used while StepNLoop is enabled".
+    let mut m = example_speeds();
+    m.set_buffer(true);
+    m.buffer_push(BufferedMove::Linear {
+        target: [1000, 0, 0],
+        speed: 1000,
+    })
+    .expect("queued");
+    closed_loop(&mut m, Z, 1);
+    assert_eq!(m.buffer_start(), Err(Refusal::StepNLoop));
+    m.advance(ms(100));
+    assert_eq!(m.counter(X), 0);
+    // Turned on while the buffer runs: the next move is not fed.
+    m.enable_step_n_loop(Z, false);
+    m.buffer_push(BufferedMove::Linear {
+        target: [2000, 0, 0],
+        speed: 1000,
+    })
+    .expect("queued");
+    m.buffer_start().expect("BSTART");
+    m.advance(ms(100));
+    m.enable_step_n_loop(Y, true);
+    run_until_idle(&mut m, X, ms(10), Duration::from_secs(10));
+    assert_eq!(m.counter(X), 1000, "the move under way ends, no more");
+    assert_eq!(m.buffer_status().available, BUFFER_SIZE - 1);
+}
+
+#[test]
+fn an_emergency_stop_holds_a_joystick_axis_until_the_stick_is_centred() {
+    let mut m = Motion::new();
+    m.axis_mut(X).manual_control = true;
+    for _ in 0..10 {
+        m.joystick_move(X, 1, 10_000.0);
+    }
+    assert_eq!(m.counter(X), 10);
+    assert_eq!(m.pulse_rate(X), 10_000);
+    m.emergency_stop();
+    assert_eq!(m.pulse_rate(X), 0);
+    assert_eq!(m.status(X), mst::EMG_ERROR, "moving: flagged");
+    m.clear_errors(X);
+    m.joystick_move(X, 1, 10_000.0);
+    assert_eq!(m.counter(X), 10, "held while the stick is out");
+    m.joystick_move(X, 0, 0.0);
+    m.joystick_move(X, 1, 10_000.0);
+    assert_eq!(m.counter(X), 11, "free again");
+    // The EMG flag alone holds it too.
+    m.emergency_stop();
+    m.joystick_move(X, 0, 0.0);
+    m.joystick_move(X, 1, 10_000.0);
+    assert_eq!(m.counter(X), 11, "until CLR");
+    m.clear_errors(X);
+    m.joystick_move(X, 1, 10_000.0);
+    assert_eq!(m.counter(X), 12);
+}

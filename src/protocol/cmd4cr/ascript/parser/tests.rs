@@ -218,44 +218,44 @@ fn motion_statements() {
     );
     assert_eq!(
         action("ZMOVEZ-"),
-        Action::ZMove {
+        Action::SameInAscii(Cmd4crCommand::ZMove {
             axis: Axis::Z,
             direction: Direction::Minus
-        }
+        })
     );
     assert_eq!(
         action("ARCXYN288899:267403:95000"),
-        Action::Arc {
+        Action::SameInAscii(Cmd4crCommand::Arc {
             axes: [Axis::X, Axis::Y],
             rotation: Rotation::CounterClockwise,
             centre: [288_899, 267_403],
             angle: 95000
-        }
+        })
     );
     assert_eq!(
         action("CIRXZP-1000:1000"),
-        Action::Circle {
+        Action::SameInAscii(Cmd4crCommand::Circle {
             axes: [Axis::X, Axis::Z],
             rotation: Rotation::Clockwise,
             centre: [-1000, 1000]
-        }
+        })
     );
     assert_eq!(
         action("CIRTN1:2:3"),
-        Action::HelixCircle {
+        Action::SameInAscii(Cmd4crCommand::HelicalCircle {
             rotation: Rotation::CounterClockwise,
             centre: [1, 2],
             z: 3
-        }
+        })
     );
     assert_eq!(
         action("ARCTP1:2:3:-4"),
-        Action::HelixArc {
+        Action::SameInAscii(Cmd4crCommand::HelicalArc {
             rotation: Rotation::Clockwise,
             centre: [1, 2],
             angle: 3,
             z: -4
-        }
+        })
     );
 }
 
