@@ -335,7 +335,7 @@ fn run_sim(
     }
     // Settings typed while it serves; the reader ends quietly at the end of
     // standard input (or with none open), the server goes on.
-    let settings = sim_serve::read_settings(std::io::stdin());
+    let settings = sim_serve::read_settings_from_stdin();
     // The signal handlers are in place before the endpoint is announced:
     // a script may send SIGTERM as soon as it has read that line.
     let runtime = match tokio::runtime::Builder::new_current_thread()

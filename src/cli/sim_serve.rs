@@ -62,19 +62,37 @@ pub fn parse_listen_address(text: &str) -> Result<SocketAddr, String> {
         .ok_or_else(|| format!("cannot listen on '{text}': no address"))
 }
 
+/// How long the settings reader waits before trying again to read a
+/// terminal it may not read now (the server runs in the background).
+const BACKGROUND_RETRY: Duration = Duration::from_millis(250);
+
 /// Read input settings (`IO5=1`), a line each, from `input` on a thread
 /// of their own: the served loop applies them as they come
 /// ([`SimulatedController::drive_input`]). Blank lines and `#` comments
-/// are skipped. At the end of `input`, or when it cannot be read (no
-/// standard input open), the reader ends and nothing more comes; the
-/// server goes on.
+/// are skipped; bytes that are no UTF-8 are kept as U+FFFD (the setting
+/// is then refused by name, and reading goes on). At the end of `input`,
+/// or when it cannot be read (no standard input open), the reader ends
+/// and nothing more comes; the server goes on. A terminal that may not be
+/// read now (EIO: the server is a background job, see
+/// [`read_settings_from_stdin`]) is tried again later.
 pub fn read_settings<R: Read + Send + 'static>(input: R) -> mpsc::Receiver<String> {
     let (tx, rx) = mpsc::channel();
     std::thread::spawn(move || {
-        for line in io::BufReader::new(input).lines() {
-            let Ok(line) = line else {
-                break;
-            };
+        let mut reader = io::BufReader::new(input);
+        let mut bytes = Vec::new();
+        loop {
+            bytes.clear();
+            match reader.read_until(b'\n', &mut bytes) {
+                Ok(0) => break,
+                Ok(_) => {}
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+                Err(e) if is_background_read(&e) => {
+                    std::thread::sleep(BACKGROUND_RETRY);
+                    continue;
+                }
+                Err(_) => break,
+            }
+            let line = String::from_utf8_lossy(&bytes);
             let line = line.trim();
             if line.is_empty() || line.starts_with('#') {
                 continue;
@@ -85,6 +103,33 @@ pub fn read_settings<R: Read + Send + 'static>(input: R) -> mpsc::Receiver<Strin
         }
     });
     rx
+}
+
+/// [`read_settings`] from standard input. A background job reading its
+/// terminal (`axterm sim cmd4cr --pty &` in an interactive shell) would be
+/// stopped whole by SIGTTIN; with that signal ignored the read fails with
+/// EIO instead, and is tried again until the job is brought to the
+/// foreground.
+pub fn read_settings_from_stdin() -> mpsc::Receiver<String> {
+    #[cfg(unix)]
+    // SAFETY: setting a signal's disposition to SIG_IGN touches no memory
+    // of ours; nothing else in this process handles SIGTTIN.
+    unsafe {
+        libc::signal(libc::SIGTTIN, libc::SIG_IGN);
+    }
+    read_settings(io::stdin())
+}
+
+fn is_background_read(e: &io::Error) -> bool {
+    #[cfg(unix)]
+    {
+        e.raw_os_error() == Some(libc::EIO)
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = e;
+        false
+    }
 }
 
 /// Serve `sim` until `stop` is set. `announce` receives the endpoint's
@@ -417,9 +462,10 @@ mod tests {
 
     #[test]
     fn settings_are_read_a_line_each_until_the_input_ends() {
-        let typed = io::Cursor::new(b"IO5=1\n\n  # a comment\n AI1=1650 \r\nEMG=1".to_vec());
+        let typed =
+            io::Cursor::new(b"IO5=1\n\n  # a comment\nIO\xff=1\n AI1=1650 \r\nEMG=1".to_vec());
         let read: Vec<String> = read_settings(typed).iter().collect();
-        assert_eq!(read, ["IO5=1", "AI1=1650", "EMG=1"]);
+        assert_eq!(read, ["IO5=1", "IO\u{fffd}=1", "AI1=1650", "EMG=1"]);
     }
 
     #[test]
