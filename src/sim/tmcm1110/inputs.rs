@@ -168,5 +168,20 @@ mod tests {
         assert_eq!(gio(&mut sim, 0, 1), 302, "§3.6.15's example value");
         assert_eq!(gio(&mut sim, 0, 0), 0);
         assert!(sim.help().contains("IN1..IN6=0|1|open"), "{}", sim.help());
+        // SGP 78, 0, 1 makes PWMU0 (IN4) an output: the level is kept, the
+        // answer says so.
+        let sgp = crate::protocol::tmcl::Request {
+            address: 1,
+            command: 9,
+            kind: 78,
+            motor_bank: 0,
+            value: 1,
+        };
+        sim.feed(&sgp.to_bytes());
+        let _ = sim.take_output();
+        assert_eq!(
+            drive(&mut sim, "IN4=0"),
+            "IN4 (PWMU0) off; an output now (GP78 bit 0): GIO reads its latch until it is an input again"
+        );
     }
 }

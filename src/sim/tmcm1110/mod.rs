@@ -358,10 +358,19 @@ impl Tmcm1110 {
                 name: setting.name(),
                 why: e.to_string(),
             })?;
-        let line = io::input_line(port).map_or("", |l| l.name);
-        Ok(match setting.level {
-            Level::Released => format!("IN{port} ({line}) open: its pull-up decides"),
-            level => format!("IN{port} ({line}) {level}"),
+        let line = io::input_line(port);
+        let name = line.map_or("", |l| l.name);
+        let said = match setting.level {
+            Level::Released => format!("IN{port} ({name}) open: its pull-up decides"),
+            level => format!("IN{port} ({name}) {level}"),
+        };
+        // A bidirectional line GP78 makes an output reads its own latch
+        // (see `Io::input`): the level waits until it is an input again.
+        Ok(match line.and_then(|l| l.mode_bit) {
+            Some(bit) if self.global(GP_IO_MODE) & (1 << bit) != 0 => format!(
+                "{said}; an output now (GP78 bit {bit}): GIO reads its latch until it is an input again"
+            ),
+            _ => said,
         })
     }
 
