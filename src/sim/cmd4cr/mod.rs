@@ -43,6 +43,10 @@
 //!   joystick axis at once; it stays still until CLR clears its EMG flag
 //!   and the stick is back in its dead band.
 //! - StepNLoop beyond single-axis moves: see [`motion::step_n_loop`].
+//! - Inputs driven from outside by a setting ([`Cmd4cr::drive_input`],
+//!   names in [`inputs`]): an IO that IOCFG makes an output is refused
+//!   (its pin is the core's to drive); forced switches (`L+X=1`) win over
+//!   the stage until `=stage`.
 
 pub mod flash;
 pub mod inputs;
