@@ -80,6 +80,53 @@ fn a_dry_run_checks_the_file_and_never_connects() {
 }
 
 #[test]
+fn a_dry_run_checks_the_connection_options_as_a_run_would() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = script(dir.path(), "PX\n");
+    let out = axterm(&[
+        "run",
+        "--dry-run",
+        "--sim",
+        "cmd4cr",
+        "--input",
+        "DI9=1",
+        &file,
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("--input DI9=1: there is no input `DI9`"),
+        "{}",
+        stderr(&out)
+    );
+    let out = axterm(&[
+        "run",
+        "--dry-run",
+        "--sim",
+        "cmd4cr",
+        "--address",
+        "100",
+        &file,
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("--address 100"), "{}", stderr(&out));
+    let out = axterm(&[
+        "run",
+        "--dry-run",
+        "--sim",
+        "cmd4cr",
+        "--input",
+        "DI4=1",
+        &file,
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("nothing sent (dry run)"),
+        "{}",
+        stderr(&out)
+    );
+}
+
+#[test]
 fn a_dry_run_still_refuses_a_bad_file() {
     let out = axterm_stdin(&["run", "--dry-run", "-"], "GAP 1, 0\nMVP ABS, 1, 5\n");
     assert_eq!(out.status.code(), Some(2));

@@ -125,6 +125,30 @@ fn usage_and_connection_errors_have_their_exit_codes() {
         "{}",
         stderr(&out)
     );
+    // A dry run given a connection checks its options, and opens nothing.
+    let out = axterm(&[
+        "run-ascript",
+        "--dry-run",
+        "--sim",
+        "cmd4cr",
+        "--input",
+        "ALMQ=1",
+        &file,
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("--input ALMQ=1: there is no input `ALMQ`"),
+        "{}",
+        stderr(&out)
+    );
+    let out = axterm(&[
+        "run-ascript",
+        "--dry-run",
+        "--port",
+        "/nonexistent/tty",
+        &file,
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     let out = axterm(&["run-ascript", "--dry-run", "--prg", "1", &file]);
     assert_eq!(out.status.code(), Some(2));
     assert!(

@@ -25,6 +25,13 @@ pub struct Target {
     pub options: SessionOptions,
 }
 
+/// Whether the options name a connection at all (`--sim`, `--port` or
+/// `--tcp`): a dry run without one checks its file against the family
+/// alone, one with one checks the connection's options too.
+pub fn names_a_connection(args: &ConnectionArgs) -> bool {
+    args.sim.is_some() || args.port.is_some() || args.tcp.is_some()
+}
+
 impl Target {
     /// Resolve the options. An error is a usage error (exit 2): no or
     /// conflicting connection, unknown simulator or protocol.

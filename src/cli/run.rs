@@ -10,7 +10,7 @@ use std::time::Duration;
 use clap::Args;
 use serde_json::json;
 
-use super::connection::{Target, family_of, run_to_exit};
+use super::connection::{Target, family_of, names_a_connection, run_to_exit};
 use super::output::{Format, print_outcome};
 use super::script::{Action, CheckedStep, WAIT_INTERVAL, check_script, result_matches};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
@@ -26,7 +26,8 @@ pub struct RunArgs {
     #[arg(long)]
     pub keep_going: bool,
     /// Check the file only: parse and validate every line, send nothing
-    /// (no connection needed).
+    /// (no connection needed; the options of one given are checked too,
+    /// nothing is opened).
     #[arg(long)]
     pub dry_run: bool,
     /// text: the value (or ok) per console line; json: one object per line.
@@ -49,8 +50,10 @@ pub(super) fn read_source(file: &str) -> Result<(String, String), String> {
 }
 
 pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
-    // A dry run needs only the family; a real run needs a connection.
-    let resolved = if args.dry_run {
+    // A dry run needs only the family; a real run needs a connection. A
+    // dry run given a connection checks its options as a real run would
+    // (address, --program, --input), though nothing is opened.
+    let resolved = if args.dry_run && !names_a_connection(connection) {
         family_of(connection).map(|family| {
             let address = connection
                 .address
@@ -58,7 +61,7 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
             (family, address, None)
         })
     } else {
-        Target::resolve(connection).map(|t| (t.family, t.address, Some(t)))
+        Target::resolve(connection).map(|t| (t.family, t.address, (!args.dry_run).then_some(t)))
     };
     let (family, address, target) = match resolved {
         Ok(resolved) => resolved,

@@ -16,7 +16,7 @@ use std::io::Write;
 
 use clap::Args;
 
-use super::connection::{Target, family_of, run_to_exit};
+use super::connection::{Target, family_of, names_a_connection, run_to_exit};
 use super::run::read_source;
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::session::ascript_host::{HostEvent, HostProgram};
@@ -30,7 +30,8 @@ pub struct RunAscriptArgs {
     /// not started still runs when another starts it with SR[n]=1.
     #[arg(long = "prg", value_name = "N", value_parser = clap::value_parser!(u8).range(0..=3))]
     pub prg: Vec<u8>,
-    /// Check the file only: send nothing (no connection needed).
+    /// Check the file only: send nothing (no connection needed; the
+    /// options of one given are checked too, nothing is opened).
     #[arg(long)]
     pub dry_run: bool,
 }
@@ -87,18 +88,26 @@ pub fn run(connection: &ConnectionArgs, args: &RunAscriptArgs) -> i32 {
     for warning in program.warnings() {
         eprintln!("{warning}");
     }
-    if args.dry_run {
-        eprintln!(
-            "axterm run-ascript: {name}: checks, {} would start from the host; nothing sent (dry run)",
-            program.started()
-        );
-        return EXIT_OK;
-    }
-    let target = match Target::resolve(&connection) {
-        Ok(target) => target,
-        Err(message) => {
-            eprintln!("axterm run-ascript: {message}");
-            return EXIT_USAGE;
+    // A dry run given a connection checks its options as a run would.
+    let target = if args.dry_run && !names_a_connection(&connection) {
+        None
+    } else {
+        match Target::resolve(&connection) {
+            Ok(target) => Some(target),
+            Err(message) => {
+                eprintln!("axterm run-ascript: {message}");
+                return EXIT_USAGE;
+            }
+        }
+    };
+    let target = match target {
+        Some(target) if !args.dry_run => target,
+        _ => {
+            eprintln!(
+                "axterm run-ascript: {name}: checks, {} would start from the host; nothing sent (dry run)",
+                program.started()
+            );
+            return EXIT_OK;
         }
     };
     run_to_exit("run-ascript", async move {
