@@ -1,14 +1,9 @@
 //! `axterm bench` runs against the simulator and prints every figure. Its
 //! numbers are measurements, never asserted.
 
-use std::process::{Command, Output};
+mod cli_support;
 
-fn axterm(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_axterm"))
-        .args(args)
-        .output()
-        .expect("run axterm")
-}
+use cli_support::axterm;
 
 #[test]
 fn bench_prints_a_row_per_measurement() {

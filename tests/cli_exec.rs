@@ -1,21 +1,8 @@
 //! `axterm exec` as a script sees it: stdout, stderr and the exit code.
 
-use std::process::{Command, Output};
+mod cli_support;
 
-fn axterm(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_axterm"))
-        .args(args)
-        .output()
-        .expect("run axterm")
-}
-
-fn stdout(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stdout).into_owned()
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
+use cli_support::{axterm, stderr, stdout};
 
 #[test]
 fn a_value_out_of_range_is_refused_before_sending() {

@@ -1,40 +1,9 @@
 //! `axterm run` as a script sees it: stdout, stderr and the exit code.
 
-use std::io::Write;
+mod cli_support;
+
+use cli_support::{axterm, axterm_stdin, stderr, stdout};
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
-
-fn axterm(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_axterm"))
-        .args(args)
-        .output()
-        .expect("run axterm")
-}
-
-fn axterm_stdin(args: &[&str], input: &str) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_axterm"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("run axterm");
-    child
-        .stdin
-        .take()
-        .expect("stdin")
-        .write_all(input.as_bytes())
-        .expect("write stdin");
-    child.wait_with_output().expect("wait for axterm")
-}
-
-fn stdout(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stdout).into_owned()
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
 
 fn script(dir: &Path, text: &str) -> String {
     let path = dir.join("commissioning.txt");

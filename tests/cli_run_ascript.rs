@@ -2,23 +2,11 @@
 //! code, on the in-process CMD-4CR simulator (short programs: it runs on
 //! the wall clock here, and every wait is a condition, never a time).
 
+mod cli_support;
+
+use cli_support::{axterm, stderr, stdout};
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn axterm(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_axterm"))
-        .args(args)
-        .output()
-        .expect("run axterm")
-}
-
-fn stdout(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stdout).into_owned()
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
+use std::process::Command;
 
 fn program(dir: &Path, text: &str) -> String {
     let path = dir.join("program.asc");

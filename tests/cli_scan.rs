@@ -1,22 +1,10 @@
 //! `axterm scan` finds the modules on a bus by their firmware version.
 
+mod cli_support;
+
+use cli_support::{axterm, stderr, stdout};
 use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Output, Stdio};
-
-fn axterm(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_axterm"))
-        .args(args)
-        .output()
-        .expect("run axterm")
-}
-
-fn stdout(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stdout).into_owned()
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
+use std::process::{Child, Command, Stdio};
 
 /// `axterm sim … --pty` running, with the path it announced.
 struct Served {

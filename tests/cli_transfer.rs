@@ -1,24 +1,12 @@
 //! `axterm download`, `upload` and `disasm CONNECTION` as a script sees
 //! them, against `axterm sim tmcm1110 --pty`: stdout, stderr, exit codes.
 
+mod cli_support;
+
+use cli_support::{axterm, stderr, stdout};
 use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 use std::process::{Child, Command, Output, Stdio};
-
-fn axterm(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_axterm"))
-        .args(args)
-        .output()
-        .expect("run axterm")
-}
-
-fn stdout(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stdout).into_owned()
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
 
 fn example(name: &str) -> String {
     format!("{}/tests/data/programs/{name}", env!("CARGO_MANIFEST_DIR"))

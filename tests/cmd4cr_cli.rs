@@ -3,25 +3,12 @@
 //! cmd4cr --tcp …` talks to a controller — here a scripted fake that
 //! answers the lines it expects, over a real TCP connection.
 
+mod cli_support;
+
+use cli_support::{axterm, stderr, stdout};
 use std::io::{BufRead, BufReader, Write};
 use std::net::TcpListener;
-use std::process::{Command, Output};
 use std::thread::JoinHandle;
-
-fn axterm(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_axterm"))
-        .args(args)
-        .output()
-        .expect("run axterm")
-}
-
-fn stdout(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stdout).into_owned()
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
 
 #[test]
 fn encode_prints_the_frame_escaped() {

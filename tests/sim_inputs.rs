@@ -3,18 +3,14 @@
 //! the standard input of a served `axterm sim` applied while it serves
 //! (synchronised on its answer on standard error, never on time).
 
+mod cli_support;
+
 mod served_support;
 
-use std::process::{Command, Output};
+use std::process::Command;
 
+use cli_support::axterm;
 use served_support::Served;
-
-fn axterm(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_axterm"))
-        .args(args)
-        .output()
-        .expect("run axterm")
-}
 
 fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()

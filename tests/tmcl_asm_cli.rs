@@ -1,40 +1,9 @@
 //! `axterm asm` and `axterm disasm` as a script sees them: stdout, stderr,
 //! exit codes and the files they write.
 
-use std::io::Write;
-use std::process::{Command, Output, Stdio};
+mod cli_support;
 
-fn axterm(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_axterm"))
-        .args(args)
-        .output()
-        .expect("run axterm")
-}
-
-fn axterm_with_input(args: &[&str], input: &str) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_axterm"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("run axterm");
-    child
-        .stdin
-        .take()
-        .expect("stdin")
-        .write_all(input.as_bytes())
-        .expect("write stdin");
-    child.wait_with_output().expect("axterm output")
-}
-
-fn stdout(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stdout).into_owned()
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
+use cli_support::{axterm, axterm_stdin, stderr, stdout};
 
 fn example(name: &str) -> String {
     format!("{}/tests/data/programs/{name}", env!("CARGO_MANIFEST_DIR"))
@@ -140,20 +109,20 @@ fn output_file_then_disasm_gives_source_that_assembles_to_the_same_image() {
     assert!(source.contains("    VECT 0, L_0009\n"), "{source}");
     assert!(source.contains("L_0013:\n    SIO 0, 2, 0\n"), "{source}");
 
-    let again = axterm_with_input(&["asm", "-"], &source);
+    let again = axterm_stdin(&["asm", "-"], &source);
     assert_eq!(again.status.code(), Some(0), "{}", stderr(&again));
     assert_eq!(stdout(&again), written);
 }
 
 #[test]
 fn disasm_reads_standard_input_and_names_bad_lines() {
-    let out = axterm_with_input(&["disasm", "-"], "16 00 00 00 00 00 00\n");
+    let out = axterm_stdin(&["disasm", "-"], "16 00 00 00 00 00 00\n");
     assert_eq!(out.status.code(), Some(0));
     assert_eq!(
         stdout(&out),
         "// TMCL program, 1 word, disassembled by axterm\nL_0000:\n    JA L_0000\n"
     );
-    let out = axterm_with_input(&["disasm", "-"], "16 00 00\nxx\n");
+    let out = axterm_stdin(&["disasm", "-"], "16 00 00\nxx\n");
     assert_eq!(out.status.code(), Some(2));
     assert_eq!(stdout(&out), "");
     let err = stderr(&out);
