@@ -143,6 +143,9 @@ pub struct AxisInputs {
     pub minus_limit: Option<bool>,
     pub home: Option<bool>,
     pub slowdown: Option<bool>,
+    /// Per mille of the steps sent that the motor misses while it moves (a
+    /// motor short of torque; 1000 = it does not turn at all). 0 normally.
+    pub slip: u16,
 }
 
 impl Default for AxisInputs {
@@ -154,6 +157,7 @@ impl Default for AxisInputs {
             minus_limit: None,
             home: None,
             slowdown: None,
+            slip: 0,
         }
     }
 }
@@ -209,6 +213,8 @@ pub struct AxisState {
     /// `SL`, `SLR`, `SLT`, `SLE`, `SLA`.
     pub step_n_loop: StepNLoop,
     pub(super) loop_state: LoopState,
+    /// Thousandths of a missed step not yet whole (see [`AxisInputs::slip`]).
+    pub(super) slip_carry: u64,
 }
 
 /// The 28-bit position range (§1.2): counters wrap within it.
@@ -240,6 +246,7 @@ impl AxisState {
             joystick_held: false,
             step_n_loop: StepNLoop::default(),
             loop_state: LoopState::default(),
+            slip_carry: 0,
         };
         axis.levels = axis.levels_at(0);
         axis
@@ -301,6 +308,30 @@ impl AxisState {
 
     pub(super) fn set_encoder(&mut self, value: i64) {
         self.encoder_offset = self.stage.encoder_at(self.position) - wrap28(value);
+    }
+
+    /// The motor misses `pulses` steps (signed, in the carriage's
+    /// coordinates: +30 leaves it 30 pulses short of a + move): the pulse
+    /// counter keeps what was sent, the carriage and so the encoder fall
+    /// behind. Clamped to the 28-bit range.
+    pub(super) fn miss(&mut self, pulses: i64) {
+        let pulses = pulses.clamp(-(1 << 27), 1 << 27);
+        self.position -= pulses;
+        self.counter_offset -= pulses;
+        self.levels = self.levels_at(self.position);
+    }
+
+    /// The steps the motor misses of `moved` pulses under its slip (signed
+    /// as `moved`), carrying fractions to the next call.
+    pub(super) fn slipped(&mut self, moved: i64) -> i64 {
+        if self.inputs.slip == 0 || moved == 0 {
+            return 0;
+        }
+        let slip = u64::from(self.inputs.slip.min(1000));
+        let owed = self.slip_carry + moved.unsigned_abs().saturating_mul(slip);
+        self.slip_carry = owed % 1000;
+        let whole = i64::try_from(owed / 1000).unwrap_or(i64::MAX);
+        whole * moved.signum()
     }
 
     /// Make the current trigger position `at` the zero of both counters.

@@ -26,6 +26,14 @@
 //!   still until CLR and until the stick is back in its dead band, so that
 //!   an emergency stop does not end by itself while the stick is held out.
 //! - StepNLoop with every kind of motion: see [`step_n_loop`].
+//! - Missed steps ([`Motion::miss_steps`], [`Motion::set_slip`]): the pulse
+//!   counter keeps every pulse sent, the carriage (and so the encoder)
+//!   falls behind against the direction the move drives the axis, and the
+//!   rest of the move goes on from where the carriage is. A slipping motor
+//!   misses its share of each tick's steps (fractions carried to the next
+//!   tick) on single-axis runs and interpolations alike, not on the tick an
+//!   end limit stops it (the carriage stays on the switch), and not under
+//!   the joystick or MPG, which move the axis outside the engine's moves.
 
 pub mod axis;
 mod group;
@@ -711,14 +719,11 @@ impl Motion {
     }
 
     /// The motor misses `pulses` steps (a stall the encoder sees): the
-    /// carriage lags the pulse counter by that much. For tests and demos of
-    /// StepNLoop.
+    /// carriage lags the pulse counter by that much (+ leaves it short of
+    /// a + move). For tests and demos of StepNLoop.
     pub fn lose_steps(&mut self, axis: Axis, pulses: i64) {
-        let a = &mut self.axes[axis.index()];
+        self.axes[axis.index()].miss(pulses);
         let pulses = pulses.clamp(-(1 << 27), 1 << 27);
-        a.position -= pulses;
-        a.counter_offset -= pulses;
-        a.levels = a.levels_at(a.position);
         // The pulses still to come start from where the carriage is now.
         match &mut self.activity[axis.index()] {
             Activity::Run(run) => run.shift(-pulses),
@@ -730,6 +735,43 @@ impl Motion {
             }
             Activity::Idle | Activity::WaitInp => {}
         }
+    }
+
+    /// Which way a move of the engine drives `axis` now: a single-axis run
+    /// (positioning, jog, homing, correction, braking) its direction, an
+    /// interpolation the way its path takes the axis at this point. `None`
+    /// if no move sends it pulses (at rest, waiting for INP, U held by a
+    /// helical move, an axis with no distance in its interpolation, the
+    /// joystick or MPG, which are no moves of the engine).
+    pub fn heading(&self, axis: Axis) -> Option<Direction> {
+        match &self.activity[axis.index()] {
+            Activity::Run(run) => direction_of(run.dir),
+            Activity::Group(id) => self
+                .groups
+                .iter()
+                .find(|(g, _)| g == id)
+                .and_then(|(_, g)| direction_of(g.path.heading(axis, g.covered))),
+            Activity::Idle | Activity::WaitInp => None,
+        }
+    }
+
+    /// The motor of `axis` misses `pulses` steps of the move under way:
+    /// the carriage (and the encoder) falls behind the pulse counter by
+    /// that many, against the way the move drives it. The direction it
+    /// was moving, or `None` (and nothing done) if no move drives it now
+    /// ([`Motion::heading`]).
+    pub fn miss_steps(&mut self, axis: Axis, pulses: u32) -> Option<Direction> {
+        let direction = self.heading(axis)?;
+        self.lose_steps(axis, sign(direction) * i64::from(pulses));
+        Some(direction)
+    }
+
+    /// From now on the motor of `axis` misses `per_mille` of the steps of
+    /// every move (0 none, 1000 all: it does not turn).
+    pub fn set_slip(&mut self, axis: Axis, per_mille: u16) {
+        let a = self.axis_mut(axis);
+        a.inputs.slip = per_mille.min(1000);
+        a.slip_carry = 0;
     }
 
     /// Start a checked command now.
@@ -1386,8 +1428,15 @@ impl Motion {
             else {
                 continue;
             };
+            let before = self.axes[i].position;
             let outcome = run.tick(&mut self.axes[i], ierr);
             let a = &mut self.axes[i];
+            if outcome != Outcome::LimitStop {
+                // The carriage stays on the limit that stopped it.
+                let missed = a.slipped(a.position - before);
+                a.miss(missed);
+                run.shift(-missed);
+            }
             match outcome {
                 Outcome::Running => {
                     a.rate = run.speed();
@@ -1410,7 +1459,16 @@ impl Motion {
         while index < self.groups.len() {
             let (id, group) = &mut self.groups[index];
             let id = *id;
+            let before: [i64; 4] = std::array::from_fn(|i| self.axes[i].position);
             let outcome = group.tick(&mut self.axes, ierr);
+            if outcome != GroupOutcome::LimitStop {
+                for member in group.path.axes() {
+                    let a = &mut self.axes[member.index()];
+                    let missed = a.slipped(a.position - before[member.index()]);
+                    a.miss(missed);
+                    group.path.shift(member, -missed);
+                }
+            }
             match outcome {
                 GroupOutcome::Running => {
                     let phase = group.phase();

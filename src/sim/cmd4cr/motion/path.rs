@@ -208,6 +208,39 @@ impl Path {
         }
     }
 
+    /// Which way `axis` travels after `s` of the path: +1, −1, or 0 if
+    /// the path does not move it there (no leg of its own, a leg of 0).
+    pub fn heading(&self, axis: Axis, s: f64) -> i64 {
+        match self {
+            Path::Linear { legs, .. } => legs
+                .iter()
+                .find(|&&(a, _, _)| a == axis)
+                .map_or(0, |&(_, _, d)| d.signum()),
+            Path::Arc(arc) => {
+                // d/ds of centre + r·(cos, sin) at the angle reached.
+                let turn = arc.sweep.signum();
+                let angle = arc.start + turn * s / arc.radius;
+                let slope = if arc.axes.0 == axis {
+                    -turn * angle.sin()
+                } else if arc.axes.1 == axis {
+                    turn * angle.cos()
+                } else {
+                    return match arc.helix {
+                        Some((_, distance)) if axis == Axis::Z => distance.signum(),
+                        _ => 0,
+                    };
+                };
+                if slope > 0.0 {
+                    1
+                } else if slope < 0.0 {
+                    -1
+                } else {
+                    0
+                }
+            }
+        }
+    }
+
     /// The axes the path moves.
     pub fn axes(&self) -> Vec<Axis> {
         match self {
@@ -353,5 +386,29 @@ mod tests {
         let path = Path::Arc(arc);
         let half = path.positions(path.length() / 2.0);
         assert_eq!(half, vec![(Axis::X, -1000), (Axis::Y, 0), (Axis::Z, 200)]);
+    }
+
+    #[test]
+    fn each_axis_heads_the_way_its_part_of_the_path_moves_it() {
+        let linear = Path::linear(vec![(Axis::X, 0, 500), (Axis::Y, 0, -300), (Axis::Z, 0, 0)]);
+        assert_eq!(linear.heading(Axis::X, 100.0), 1);
+        assert_eq!(linear.heading(Axis::Y, 100.0), -1);
+        assert_eq!(linear.heading(Axis::Z, 100.0), 0, "no distance");
+        assert_eq!(linear.heading(Axis::U, 100.0), 0, "not in it");
+        // Counter-clockwise from (1000, 0) around (0, 0): at 45° X falls
+        // and Y rises, at 135° both fall; clockwise the other way round.
+        for (rotation, turn) in [(Rotation::CounterClockwise, 1), (Rotation::Clockwise, -1)] {
+            let mut arc =
+                Arc::new((Axis::X, Axis::Y), (1000, 0), (0, 0), rotation, None).expect("arc");
+            arc.helix = Some((0, -400));
+            let path = Path::Arc(arc);
+            let eighth = path.length() / 8.0;
+            assert_eq!(path.heading(Axis::X, eighth), -1, "{rotation:?}");
+            assert_eq!(path.heading(Axis::Y, eighth), turn, "{rotation:?}");
+            assert_eq!(path.heading(Axis::X, 3.0 * eighth), -1, "{rotation:?}");
+            assert_eq!(path.heading(Axis::Y, 3.0 * eighth), -turn, "{rotation:?}");
+            assert_eq!(path.heading(Axis::Z, eighth), -1, "helical Z");
+            assert_eq!(path.heading(Axis::U, eighth), 0);
+        }
     }
 }

@@ -46,6 +46,9 @@
 //!   raw pulse counter, which is not in the units `P` reads.
 //! - `SL=1` on an axis under joystick control leaves SL off (§2.5.1:
 //!   "automatically disabled"); the write is answered like any other.
+//! - The simulated motor misses steps only when told to (the `MISS…` and
+//!   `SLIP…` settings, [`super::Motion::miss_steps`]); the loop sees them
+//!   as any encoder would.
 
 /// `SLS` codes (Table 27).
 pub mod status {
