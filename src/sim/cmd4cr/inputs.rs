@@ -12,6 +12,14 @@
 //! emergency on. The switches come from where the simulated carriage
 //! stands (see the sim's help) until a setting forces one on or off;
 //! `=stage` gives it back to the carriage.
+//!
+//! Two settings per axis disturb the motor rather than close a switch,
+//! so that StepNLoop (§2.5.3) has work to do on the simulator: `MISSX=n`
+//! (after "missed steps", which StepNLoop "can help overcome", §2.1.2.3) makes
+//! the X motor miss n steps of the move under way, now, and is refused
+//! while no move drives the axis; `SLIPX=n` makes it miss n per mille of
+//! the steps of every move from then on (1000: a motor that does not turn,
+//! a stall), `SLIPX=0` ends it.
 
 use crate::sim::inputs::{self, InputRow, Names, Setting, SettingError, Values};
 
@@ -35,7 +43,15 @@ pub enum Input {
     MinusLimit,
     Home,
     Slowdown,
+    /// The motor of axis X, Y, Z, U misses steps of the move under way.
+    Missed,
+    /// The motor of axis X, Y, Z, U misses a share of every move's steps.
+    Slip,
 }
+
+/// The most steps one `MISS…` setting makes a motor miss: far more than
+/// any SLE (and the demo stage's travel), far within the 28-bit counters.
+pub const MOST_MISSED: u32 = 1_000_000;
 
 /// A switch's values: forced on or off, or left to the demo stage.
 const SWITCH: Values = Values::OnOffOr {
@@ -120,6 +136,27 @@ pub const INPUTS: &[InputRow<Input>] = &[
         values: SWITCH,
         what: "slow-down switch SD (MST bit 7)",
     },
+    InputRow {
+        input: Input::Missed,
+        names: Names::Listed(&["MISSX", "MISSY", "MISSZ", "MISSU"]),
+        values: Values::Number {
+            max: MOST_MISSED,
+            unit: "steps",
+        },
+        what: "the motor misses that many steps of the move under way, now: carriage and encoder \
+               fall behind P against the direction of travel, for StepNLoop to correct or report \
+               (§2.5.3); refused while the axis stands still (no move sends it pulses)",
+    },
+    InputRow {
+        input: Input::Slip,
+        names: Names::Listed(&["SLIPX", "SLIPY", "SLIPZ", "SLIPU"]),
+        values: Values::Number {
+            max: 1000,
+            unit: "per mille",
+        },
+        what: "from now on the motor misses that share of the steps of every move \
+               (1000: it does not turn, a stall); 0 ends it",
+    },
 ];
 
 /// Read a setting (`IO5=1`) against [`INPUTS`].
@@ -160,7 +197,8 @@ mod tests {
                     "the inputs are DI1..DI4=0|1, IO1..IO32=0|1, AI1..AI2=<mV 0..3300>, \
                      EMG=0|1, STA=0|1, ALMX|ALMY|ALMZ|ALMU=0|1, L+X|L+Y|L+Z|L+U=0|1|stage, \
                      L-X|L-Y|L-Z|L-U=0|1|stage, HOMEX|HOMEY|HOMEZ|HOMEU=0|1|stage, \
-                     SDX|SDY|SDZ|SDU=0|1|stage"
+                     SDX|SDY|SDZ|SDU=0|1|stage, MISSX|MISSY|MISSZ|MISSU=<steps 0..1000000>, \
+                     SLIPX|SLIPY|SLIPZ|SLIPU=<per mille 0..1000>"
                 ),
                 "{e}"
             );
@@ -176,14 +214,17 @@ mod tests {
     #[test]
     fn every_name_is_offered_for_completion() {
         let names = inputs::names(INPUTS);
-        assert_eq!(names.len(), 4 + 32 + 2 + 1 + 1 + 4 * 5);
+        assert_eq!(names.len(), 4 + 32 + 2 + 1 + 1 + 4 * 7);
         assert_eq!(names.first().map(String::as_str), Some("DI1"));
         assert!(names.iter().any(|n| n == "IO19"));
+        assert!(names.iter().any(|n| n == "MISSU"));
+        assert!(names.iter().any(|n| n == "SLIPZ"));
         assert_eq!(inputs::help_lines(INPUTS).len(), INPUTS.len());
     }
 
     // ---- applied to the simulator, read back over the wire ------------
 
+    use crate::protocol::cmd4cr::Axis;
     use crate::sim::SimulatedController;
     use crate::sim::cmd4cr::{Cmd4cr, SimConfig};
 
@@ -311,6 +352,201 @@ mod tests {
         drive(&mut sim, "HOMEY=1");
         let mst: u32 = ask(&mut sim, "MSTY").parse().expect("a number");
         assert_eq!(mst & 64, 64, "{mst}");
+    }
+
+    // ---- missed steps and slip, seen by StepNLoop (§2.5.3) -------------
+
+    fn number(sim: &mut Cmd4cr, text: &str) -> i64 {
+        let reply = ask(sim, text);
+        reply
+            .parse()
+            .unwrap_or_else(|_| panic!("{text}: {reply} is no number"))
+    }
+
+    /// Advance in 10 ms steps until `axis` stands still and its loop is
+    /// idle or in error (at most 30 s); every SLS seen on the way.
+    fn settle(sim: &mut Cmd4cr, axis: char) -> Vec<i64> {
+        let mut seen = Vec::new();
+        for _ in 0..3000 {
+            let sls = number(sim, &format!("SLS{axis}"));
+            if seen.last() != Some(&sls) {
+                seen.push(sls);
+            }
+            let mst = number(sim, &format!("MST{axis}"));
+            if mst & 7 == 0 && matches!(sls, 0 | 8 | 9 | 10 | 12) {
+                return seen;
+            }
+            sim.advance(std::time::Duration::from_millis(10));
+        }
+        panic!("{axis} still moving, SLS seen {seen:?}");
+    }
+
+    fn ms(n: u64) -> std::time::Duration {
+        std::time::Duration::from_millis(n)
+    }
+
+    #[test]
+    fn missed_steps_during_a_move_are_corrected_by_step_n_loop() {
+        // SLT 10 < 30 <= SLE 1000: out of position, a correction (T2-26).
+        let mut sim = Cmd4cr::new(SimConfig::default());
+        for line in ["SLX=1", "SLTX=10", "SLEX=1000", "X5000"] {
+            assert_eq!(ask(&mut sim, line), "OK", "{line}");
+        }
+        sim.advance(ms(500));
+        assert_eq!(
+            drive(&mut sim, "MISSX=30"),
+            "MISSX 30: the X motor, moving +, missed 30 steps: \
+             carriage and encoder are 30 pulses behind the pulse counter"
+        );
+        assert_eq!(number(&mut sim, "DX"), 30, "target - encoder");
+        let seen = settle(&mut sim, 'X');
+        assert!(seen.contains(&2), "a correction (SLS 2) ran: {seen:?}");
+        assert_eq!(number(&mut sim, "SLSX"), 0);
+        // P reads the target in encoder counts; the encoder reached it.
+        assert_eq!(number(&mut sim, "EX"), 5000);
+        assert_eq!(number(&mut sim, "PX"), 5000);
+        assert_eq!(number(&mut sim, "DX"), 0);
+        // The pulses sent: 5000 and the 30 the correction added.
+        assert_eq!(sim.motion().counter(Axis::X), 5030);
+    }
+
+    #[test]
+    fn steps_missed_moving_minus_leave_the_encoder_on_the_plus_side() {
+        let mut sim = Cmd4cr::new(SimConfig::default());
+        for line in ["SLY=1", "Y-3000"] {
+            assert_eq!(ask(&mut sim, line), "OK", "{line}");
+        }
+        sim.advance(ms(500));
+        let said = drive(&mut sim, "MISSY=40");
+        assert!(said.contains("moving -, missed 40 steps"), "{said}");
+        assert_eq!(number(&mut sim, "DY"), -40, "the encoder lags at +40");
+        let seen = settle(&mut sim, 'Y');
+        assert!(seen.contains(&2), "{seen:?}");
+        assert_eq!(number(&mut sim, "EY"), -3000);
+    }
+
+    #[test]
+    fn a_large_loss_while_moving_is_a_stall_until_clr() {
+        let mut sim = Cmd4cr::new(SimConfig::default());
+        for line in ["SLX=1", "SLEX=100", "HSPDX=2000", "JX+"] {
+            assert_eq!(ask(&mut sim, line), "OK", "{line}");
+        }
+        assert_eq!(number(&mut sim, "SLSX"), 5, "jogging");
+        sim.advance(ms(500));
+        drive(&mut sim, "MISSX=150");
+        sim.advance(ms(1));
+        assert_eq!(number(&mut sim, "SLSX"), 10, "stall error");
+        assert_eq!(number(&mut sim, "MSTX") & 7, 0, "the motor stopped");
+        assert_eq!(number(&mut sim, "MSTX") & 0x1_0700, 0, "not an MST error");
+        assert_eq!(ask(&mut sim, "JX+"), "?Error SNL");
+        assert_eq!(ask(&mut sim, "X0"), "?Error SNL");
+        assert_eq!(ask(&mut sim, "CLRX"), "OK");
+        assert_eq!(number(&mut sim, "SLSX"), 0);
+        assert_eq!(ask(&mut sim, "JX-"), "OK");
+    }
+
+    #[test]
+    fn with_step_n_loop_off_p_and_e_part_by_the_missed_steps() {
+        let mut sim = Cmd4cr::new(SimConfig::default());
+        assert_eq!(ask(&mut sim, "X1000"), "OK");
+        sim.advance(ms(300));
+        drive(&mut sim, "MISSX=30");
+        settle(&mut sim, 'X');
+        assert_eq!(number(&mut sim, "PX"), 1000);
+        assert_eq!(number(&mut sim, "EX"), 970);
+        assert_eq!(number(&mut sim, "SLSX"), 12, "N/A: nothing corrects it");
+        // Back to 0: 20 more missed on the way, now short on the + side.
+        assert_eq!(ask(&mut sim, "X0"), "OK");
+        sim.advance(ms(300));
+        drive(&mut sim, "MISSX=20");
+        settle(&mut sim, 'X');
+        assert_eq!(number(&mut sim, "PX"), 0);
+        assert_eq!(number(&mut sim, "EX"), -10);
+    }
+
+    #[test]
+    fn an_interpolated_axis_misses_steps_in_the_way_its_path_moves_it() {
+        let mut sim = Cmd4cr::new(SimConfig::default());
+        assert_eq!(ask(&mut sim, "X2000Y-1000"), "OK");
+        sim.advance(ms(300));
+        let said = drive(&mut sim, "MISSY=25");
+        assert!(said.contains("moving -"), "{said}");
+        settle(&mut sim, 'X');
+        assert_eq!(ask(&mut sim, "PP"), "2000:-1000:0:0");
+        assert_eq!(ask(&mut sim, "EP"), "2000:-975:0:0");
+    }
+
+    #[test]
+    fn missed_steps_at_rest_or_out_of_range_are_refused() {
+        let mut sim = Cmd4cr::new(SimConfig::default());
+        let refused = SimulatedController::drive_input(&mut sim, "MISSX=30").expect_err("at rest");
+        assert_eq!(
+            refused,
+            "MISSX cannot be driven: no move drives X now, and a motor misses steps only while \
+             a move sends it pulses: start one (X1000, JX+, HX+0, an interpolation) and set \
+             MISSX while it runs"
+        );
+        assert_eq!(ask(&mut sim, "EX"), "0", "nothing moved");
+        assert_eq!(drive(&mut sim, "MISSX=0"), "MISSX 0: no steps missed");
+        let e = SimulatedController::drive_input(&mut sim, "MISSX=1000001").expect_err("too many");
+        assert_eq!(
+            e,
+            "MISSX takes a whole number of steps, 0..1000000, not `1000001`"
+        );
+        let e = SimulatedController::drive_input(&mut sim, "SLIPZ=1001").expect_err("over 1000");
+        assert_eq!(
+            e,
+            "SLIPZ takes a whole number of per mille, 0..1000, not `1001`"
+        );
+        let e = SimulatedController::drive_input(&mut sim, "MISSX=-5").expect_err("negative");
+        assert!(e.contains("not `-5`"), "{e}");
+    }
+
+    #[test]
+    fn a_slipping_motor_runs_out_of_correction_attempts() {
+        // Half of every step missed: 1000 -> 500 short -> 250 -> 125 -> 63:
+        // after SLA 3 corrections still out of tolerance, SLS 9 (T2-26).
+        let mut sim = Cmd4cr::new(SimConfig::default());
+        assert_eq!(
+            drive(&mut sim, "SLIPX=500"),
+            "SLIPX 500: the X motor misses 500 of every 1000 steps while it moves"
+        );
+        for line in ["SLX=1", "SLTX=10", "SLEX=1000", "SLAX=3", "X1000"] {
+            assert_eq!(ask(&mut sim, line), "OK", "{line}");
+        }
+        let seen = settle(&mut sim, 'X');
+        assert!(seen.contains(&2), "{seen:?}");
+        assert_eq!(number(&mut sim, "SLSX"), 9, "attempt error");
+        let e = number(&mut sim, "EX");
+        assert!((1000 - 63..1000 - 10).contains(&e), "short of 1000: {e}");
+        assert_eq!(ask(&mut sim, "X0"), "?Error SNL");
+        assert_eq!(ask(&mut sim, "CLRX"), "OK");
+        assert_eq!(
+            drive(&mut sim, "SLIPX=0"),
+            "SLIPX 0: the X motor makes every step"
+        );
+        assert_eq!(ask(&mut sim, "X0"), "OK");
+        settle(&mut sim, 'X');
+        assert_eq!(number(&mut sim, "EX"), 0);
+        assert_eq!(number(&mut sim, "SLSX"), 0);
+    }
+
+    #[test]
+    fn a_motor_that_does_not_turn_stalls_and_slip_parts_p_and_e() {
+        let mut sim = Cmd4cr::new(SimConfig::default());
+        drive(&mut sim, "SLIPY=1000");
+        for line in ["SLY=1", "SLEY=200", "JY+"] {
+            assert_eq!(ask(&mut sim, line), "OK", "{line}");
+        }
+        let seen = settle(&mut sim, 'Y');
+        assert_eq!(seen.last(), Some(&10), "stall: {seen:?}");
+        assert_eq!(number(&mut sim, "EY"), 0, "the encoder never moved");
+        // SL off: a tenth of the steps missed on the way.
+        drive(&mut sim, "SLIPZ=100");
+        assert_eq!(ask(&mut sim, "Z2000"), "OK");
+        settle(&mut sim, 'Z');
+        assert_eq!(number(&mut sim, "PZ"), 2000);
+        assert_eq!(number(&mut sim, "EZ"), 1800);
     }
 
     #[test]

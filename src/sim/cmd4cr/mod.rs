@@ -31,8 +31,15 @@
 //!   An explicit address ([`SimConfig::id`] from `--address`) wins over
 //!   the stored ID.
 //! - StepNLoop (§2.5.3) is simulated on an encoder that follows the
-//!   carriage; [`motion::Motion::lose_steps`] makes the motor miss steps so
-//!   that the loop has something to correct or report.
+//!   carriage. The motor misses steps (§2.1.2.3: StepNLoop "can help overcome
+//!   missed steps") when told from outside: `MISSX=30` (a setting, see
+//!   [`inputs`]) puts the carriage and encoder 30 pulses behind the pulse
+//!   counter, against the way the move under way drives X
+//!   ([`motion::Motion::miss_steps`]; refused while no move drives the
+//!   axis, since a motor at rest is sent no steps to miss), and `SLIPX=100`
+//!   makes it miss 100 ‰ of the steps of every move from then on (1000: it
+//!   does not turn), so that the loop has something to correct (SLS 2) or
+//!   report (SLS 8, 9, 10).
 //! - Joystick control moves X and Y from AI1 and AI2 (set them with
 //!   [`Cmd4cr::set_analog_input`]): linear outside the dead band, JSPD in
 //!   pps, JDEL in pps per ms; MPG following: see [`Cmd4cr::turn_mpg`].
@@ -65,7 +72,7 @@ use std::time::Duration;
 use crate::protocol::cmd4cr::{Axis, DEFAULT_ID, parse_request};
 
 use super::SimulatedController;
-use super::inputs::{Level, SettingError};
+use super::inputs::{Level, Setting, SettingError};
 use flash::{Flash, FlashError};
 use inputs::Input;
 use io::Io;
@@ -429,12 +436,7 @@ impl Cmd4cr {
                 | Input::Slowdown),
                 level,
             ) => {
-                let Some(axis) = Axis::from_index(usize::from(setting.which)) else {
-                    return Err(SettingError::UnknownName {
-                        name,
-                        inputs: super::inputs::summary(inputs::INPUTS),
-                    });
-                };
+                let axis = self.axis_of(&setting)?;
                 let forced = level.is_on();
                 let inputs = &mut self.motion.axis_mut(axis).inputs;
                 match axis_input {
@@ -450,8 +452,65 @@ impl Cmd4cr {
                     _ => format!("{name} {level}"),
                 }
             }
+            (Input::Missed, level) => {
+                let axis = self.axis_of(&setting)?;
+                let letter = axis.letter();
+                // The table reads MISS values as numbers only.
+                let steps = match level {
+                    Level::Number(n) => n,
+                    _ => 0,
+                };
+                if steps == 0 {
+                    format!("{name} 0: no steps missed")
+                } else {
+                    let Some(direction) = self.motion.miss_steps(axis, steps) else {
+                        return Err(SettingError::Refused {
+                            name: name.clone(),
+                            why: format!(
+                                "no move drives {letter} now, and a motor misses steps only while a move sends it pulses: \
+                                 start one ({letter}1000, J{letter}+, H{letter}+0, an interpolation) and set {name} while it runs"
+                            ),
+                        });
+                    };
+                    let sign = match direction {
+                        motion::Direction::Plus => '+',
+                        motion::Direction::Minus => '-',
+                    };
+                    format!(
+                        "{name} {steps}: the {letter} motor, moving {sign}, missed {steps} steps: \
+                         carriage and encoder are {steps} pulses behind the pulse counter"
+                    )
+                }
+            }
+            (Input::Slip, level) => {
+                let axis = self.axis_of(&setting)?;
+                let letter = axis.letter();
+                let per_mille = match level {
+                    Level::Number(n) => u16::try_from(n.min(1000)).unwrap_or(1000),
+                    _ => 0,
+                };
+                self.motion.set_slip(axis, per_mille);
+                match per_mille {
+                    0 => format!("{name} 0: the {letter} motor makes every step"),
+                    1000 => format!(
+                        "{name} 1000: the {letter} motor misses every step (it does not turn)"
+                    ),
+                    n => format!(
+                        "{name} {n}: the {letter} motor misses {n} of every 1000 steps while it moves"
+                    ),
+                }
+            }
         };
         Ok(said)
+    }
+
+    /// The axis a per-axis setting (`ALMY`, `MISSX`) names: the n-th of
+    /// its row's list is axis n.
+    fn axis_of(&self, setting: &Setting<Input>) -> Result<Axis, SettingError> {
+        Axis::from_index(usize::from(setting.which)).ok_or_else(|| SettingError::UnknownName {
+            name: setting.name(),
+            inputs: super::inputs::summary(inputs::INPUTS),
+        })
     }
 
     /// `counts` from the MPG input of `axis`, after the input stage: with
@@ -520,6 +579,8 @@ impl Cmd4cr {
              StepNLoop defaults SLR 1.000 SLT 10 SLE 1000 SLA 3, interpolated moves (circle centres too) in encoder counts at pulse speeds, \
              verified and corrected per axis, no correction after STOP/ABORT, SLS 4 for one tick after ABORT, \
              BSTART with SL on answers ?Error SNL, LTP stays in pulses, SL=1 leaves SL off under the joystick; \
+             MISSX=n makes the X motor miss n steps of the move under way (against its direction; refused at rest), \
+             SLIPX=n n per mille of every move's steps (not under the joystick or MPG); \
              STOP under the joystick answers like any command and does not stop it (the manual's \"invalid status\" reply is not given), \
              ESTOP stops it until CLR and the stick is back in its dead band; \
              joystick JSPD 1000 pps, JDEL 100 pps/ms, JTOL 50 mV, JLIM ±90000/±100000; \
