@@ -550,6 +550,27 @@ mod tests {
     }
 
     #[test]
+    fn a_slipping_motor_meets_each_switch_and_index_once() {
+        // ZMOVE with ZCNT 1 stops on the second index pulse (every 1000
+        // pulses from 250 on the demo stage) wherever the counter is.
+        let mut sim = Cmd4cr::new(SimConfig::default());
+        drive(&mut sim, "SLIPX=500");
+        for line in ["ZCNTX=1", "ZMOVEX+"] {
+            assert_eq!(ask(&mut sim, line), "OK", "{line}");
+        }
+        for _ in 0..3000 {
+            if number(&mut sim, "MSTX") & 7 == 0 {
+                break;
+            }
+            sim.advance(ms(10));
+        }
+        assert_eq!(number(&mut sim, "MSTX") & 7, 0, "stopped");
+        assert_eq!(number(&mut sim, "EX"), 1250, "on the second index");
+        let p = number(&mut sim, "PX");
+        assert!((2499..=2501).contains(&p), "twice the pulses: {p}");
+    }
+
+    #[test]
     fn a_bad_setting_changes_nothing_and_says_why() {
         let mut sim = Cmd4cr::new(SimConfig::default());
         let e = SimulatedController::drive_input(&mut sim, "IO5=2").expect_err("2");

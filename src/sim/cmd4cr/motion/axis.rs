@@ -321,17 +321,22 @@ impl AxisState {
         self.levels = self.levels_at(self.position);
     }
 
-    /// The steps the motor misses of `moved` pulses under its slip (signed
-    /// as `moved`), carrying fractions to the next call.
-    pub(super) fn slipped(&mut self, moved: i64) -> i64 {
+    /// One tick sends the pulses that would take the carriage from `old` to
+    /// `new`; under slip the motor misses its share of them (fractions
+    /// carried to the next tick). The counter keeps every pulse; the
+    /// missed ones (signed as the motion) are returned, for the carriage to
+    /// stop that much short.
+    pub(super) fn slip_tick(&mut self, old: i64, new: i64) -> i64 {
+        let moved = new - old;
         if self.inputs.slip == 0 || moved == 0 {
             return 0;
         }
         let slip = u64::from(self.inputs.slip.min(1000));
         let owed = self.slip_carry + moved.unsigned_abs().saturating_mul(slip);
         self.slip_carry = owed % 1000;
-        let whole = i64::try_from(owed / 1000).unwrap_or(i64::MAX);
-        whole * moved.signum()
+        let missed = i64::try_from(owed / 1000).unwrap_or(i64::MAX) * moved.signum();
+        self.counter_offset -= missed;
+        missed
     }
 
     /// Make the current trigger position `at` the zero of both counters.

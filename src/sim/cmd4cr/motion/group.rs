@@ -212,6 +212,11 @@ impl Group {
                 continue;
             };
             let old = axis.position;
+            // A slipping motor goes that much less far; the rest of the
+            // path follows from where it is.
+            let missed = axis.slip_tick(old, new);
+            self.path.shift(name, -missed);
+            let new = new - missed;
             axis.position = new;
             let dir = (new - old).signum();
             for (at, mark) in marks(axis, old, new) {

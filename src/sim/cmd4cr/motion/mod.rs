@@ -31,9 +31,10 @@
 //!   falls behind against the direction the move drives the axis, and the
 //!   rest of the move goes on from where the carriage is. A slipping motor
 //!   misses its share of each tick's steps (fractions carried to the next
-//!   tick) on single-axis runs and interpolations alike, not on the tick an
-//!   end limit stops it (the carriage stays on the switch), and not under
-//!   the joystick or MPG, which move the axis outside the engine's moves.
+//!   tick) on single-axis runs and interpolations alike: the carriage moves
+//!   that much less, and the switches it passes are the ones it reaches.
+//!   Not under the joystick or MPG, which move the axis outside the
+//!   engine's moves.
 
 pub mod axis;
 mod group;
@@ -1428,15 +1429,8 @@ impl Motion {
             else {
                 continue;
             };
-            let before = self.axes[i].position;
             let outcome = run.tick(&mut self.axes[i], ierr);
             let a = &mut self.axes[i];
-            if outcome != Outcome::LimitStop {
-                // The carriage stays on the limit that stopped it.
-                let missed = a.slipped(a.position - before);
-                a.miss(missed);
-                run.shift(-missed);
-            }
             match outcome {
                 Outcome::Running => {
                     a.rate = run.speed();
@@ -1459,16 +1453,7 @@ impl Motion {
         while index < self.groups.len() {
             let (id, group) = &mut self.groups[index];
             let id = *id;
-            let before: [i64; 4] = std::array::from_fn(|i| self.axes[i].position);
             let outcome = group.tick(&mut self.axes, ierr);
-            if outcome != GroupOutcome::LimitStop {
-                for member in group.path.axes() {
-                    let a = &mut self.axes[member.index()];
-                    let missed = a.slipped(a.position - before[member.index()]);
-                    a.miss(missed);
-                    group.path.shift(member, -missed);
-                }
-            }
             match outcome {
                 GroupOutcome::Running => {
                     let phase = group.phase();

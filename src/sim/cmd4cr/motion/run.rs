@@ -221,7 +221,12 @@ impl Run {
         } else {
             (self.profile.distance_at(t) + 1e-9).floor()
         };
-        let new = self.origin + self.dir * travelled as i64;
+        let sent = self.origin + self.dir * travelled as i64;
+        // A slipping motor goes that much less far; the rest of the run
+        // follows from where it is.
+        let missed = axis.slip_tick(old, sent);
+        self.shift(-missed);
+        let new = sent - missed;
         axis.position = new;
         for (at, mark) in marks(axis, old, new) {
             match self.on_mark(axis, at, mark, ignore_errors) {
