@@ -84,14 +84,23 @@ impl Tmux {
     /// Look at the screen until `ready` says yes; the screen it said yes
     /// to.
     pub fn until(&self, what: &str, ready: impl Fn(&str) -> bool) -> String {
-        loop {
+        self.until_found(what, || {
             let screen = self.screen();
-            if ready(&screen) {
-                return screen;
+            ready(&screen).then_some(screen)
+        })
+    }
+
+    /// Ask `found` (the screen, a file the console writes…) until it gives
+    /// something; what it gave.
+    pub fn until_found<T>(&self, what: &str, found: impl Fn() -> Option<T>) -> T {
+        loop {
+            if let Some(found) = found() {
+                return found;
             }
             assert!(
                 self.started.elapsed() < DEADLINE,
-                "gave up waiting for {what}; the screen:\n{screen}"
+                "gave up waiting for {what}; the screen:\n{}",
+                self.screen()
             );
             std::thread::sleep(LOOK_AGAIN);
         }
