@@ -9,26 +9,15 @@
 //! the waits are conditions (`SASTAT` back to idle; the host run's end),
 //! read through the session, never time.
 
+mod ascript_support;
+
 use std::time::Duration;
 
+use ascript_support::example;
 use axterm::cli::ConnectionArgs;
 use axterm::cli::connection::Target;
 use axterm::session::Session;
 use axterm::session::ascript_host::{HostEvent, HostProgram};
-
-/// The example program of manual section `section` from the vectors.
-fn example(section: &str) -> String {
-    let vectors: serde_json::Value =
-        serde_json::from_str(include_str!("data/cmd4cr-vectors.json")).expect("vectors");
-    vectors
-        .as_array()
-        .expect("array")
-        .iter()
-        .find(|e| e["section"] == section && e["program"].is_string())
-        .and_then(|e| e["program"].as_str())
-        .unwrap_or_else(|| panic!("no program for {section}"))
-        .to_string()
-}
 
 async fn connect(program: Option<&std::path::Path>) -> Session {
     let target = Target::resolve(&ConnectionArgs {

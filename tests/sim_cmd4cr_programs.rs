@@ -2,8 +2,11 @@
 //! as corrected in the digest), controlled over the wire exactly as §2.7
 //! documents: SACTRL, SASTAT, SPC, SLOAD, V0–V99 and GS.
 
+mod ascript_support;
+
 use std::time::Duration;
 
+use ascript_support::example;
 use axterm::sim::SimulatedController;
 use axterm::sim::cmd4cr::{Cmd4cr, SimConfig};
 
@@ -28,20 +31,6 @@ fn number(sim: &mut Cmd4cr, text: &str) -> i64 {
 
 fn ok(sim: &mut Cmd4cr, text: &str) {
     assert_eq!(send(sim, text), "OK", "{text}");
-}
-
-/// The example program of manual section `section` from the vectors.
-fn example(section: &str) -> String {
-    let vectors: serde_json::Value =
-        serde_json::from_str(include_str!("data/cmd4cr-vectors.json")).expect("vectors");
-    vectors
-        .as_array()
-        .expect("array")
-        .iter()
-        .find(|e| e["section"] == section && e["program"].is_string())
-        .and_then(|e| e["program"].as_str())
-        .unwrap_or_else(|| panic!("no program for {section}"))
-        .to_string()
 }
 
 fn ms(n: u64) -> Duration {
