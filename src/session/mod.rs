@@ -11,6 +11,7 @@
 
 pub mod ascript_host;
 pub mod program;
+pub mod run_end;
 mod status;
 
 use std::sync::{Arc, Mutex};
