@@ -8,6 +8,7 @@ pub mod exec;
 pub mod output;
 pub mod run;
 pub mod run_ascript;
+pub mod run_end;
 pub mod scan;
 /// The batch file syntax, shared with the console's `:run` (moved to
 /// [`crate::script`]; the old path stays for the front ends).
@@ -145,7 +146,10 @@ pub enum Command {
     /// // are comments. Directives: `:expect LINE == VALUE`, `:wait-until
     /// LINE == VALUE [timeout DURATION]` (re-reads every 20 ms; default
     /// timeout 10s), `:sleep DURATION`, `:echo TEXT`; DURATION as 500ms, 2s,
-    /// 1.5s, 1m. The whole file is checked before anything is sent.
+    /// 1.5s, 1m. The whole file is checked before anything is sent. A run
+    /// that fails, is cancelled with Ctrl-C or loses its link ends with
+    /// the stop-everything sequence (the console's emergency stop), each
+    /// stop line's answer printed, unless --no-stop-on-failure.
     Run(run::RunArgs),
     /// Run an A-Script program (CMD-4CR) from the host.
     ///
@@ -155,8 +159,9 @@ pub enum Command {
     /// FILE:LINE); then each statement that acts is sent as its ASCII
     /// command and printed with its answer, while variables, IF/WHILE,
     /// GOSUB, DELAY and SR run here and WAITx reads MSTx until the axis has
-    /// stopped. Speaks cmd4cr unless told otherwise. Ctrl-C stops it and
-    /// sends the emergency stop. Exit codes: 0 every program reached END, 1
+    /// stopped. Speaks cmd4cr unless told otherwise. A run that fails, is
+    /// stopped with Ctrl-C or loses its link ends with the emergency stop,
+    /// unless --no-stop-on-failure. Exit codes: 0 every program reached END, 1
     /// a program failed at run time (or no answer, or Ctrl-C), 2 a bad file
     /// (nothing sent), 3 the connection could not be opened.
     RunAscript(run_ascript::RunAscriptArgs),

@@ -2,7 +2,9 @@
 //! of console lines and directives (syntax in [`super::script`]). The whole
 //! file is parsed and every console line validated before anything is
 //! sent; a bad line anywhere sends nothing and lists every bad line as
-//! `FILE:LINE: message`.
+//! `FILE:LINE: message`. A run that fails, is cancelled (Ctrl-C) or loses
+//! its link ends with the stop-everything sequence unless
+//! `--no-stop-on-failure` (see [`super::run_end`]).
 
 use std::io::Read;
 use std::time::Duration;
@@ -12,11 +14,13 @@ use serde_json::json;
 
 use super::connection::{Target, family_of, names_a_connection, run_to_exit};
 use super::output::{Format, print_outcome};
+use super::run_end::{Interrupt, RunReport, run_then_end};
 use super::script::{Action, CheckedStep, WAIT_INTERVAL, check_script, result_matches};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 
 use crate::protocol::console::PreparedLine;
 use crate::session::Session;
+use crate::session::run_end::StopOnFailure;
 
 #[derive(Debug, Clone, Args)]
 pub struct RunArgs {
@@ -33,6 +37,13 @@ pub struct RunArgs {
     /// text: the value (or ok) per console line; json: one object per line.
     #[arg(long, value_enum, default_value_t)]
     pub format: Format,
+    /// When the run fails, is cancelled (Ctrl-C) or loses its link, leave
+    /// the axes as they are. By default the family's stop-everything
+    /// sequence is sent then (the console's emergency stop), waiting up to
+    /// 10 s for a lost link to come back, and each stop line's answer is
+    /// printed.
+    #[arg(long)]
+    pub no_stop_on_failure: bool,
 }
 
 /// The file's name as messages give it (`<stdin>` for `-`) and its text.
@@ -93,6 +104,7 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
         return EXIT_OK;
     };
     let (format, keep_going) = (args.format, args.keep_going);
+    let policy = StopOnFailure::from_flag(args.no_stop_on_failure);
     run_to_exit("run", async move {
         let session = match target.open().await {
             Ok(session) => session,
@@ -101,21 +113,40 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
                 return EXIT_CONNECTION;
             }
         };
+        // Watched from before the first line goes, so that a Ctrl-C as
+        // soon as the run starts still ends it properly.
+        let interrupt = match Interrupt::watch() {
+            Ok(interrupt) => interrupt,
+            Err(e) => {
+                eprintln!("axterm run: cannot watch for Ctrl-C: {e}");
+                return EXIT_DEVICE;
+            }
+        };
         let runner = Runner {
             session: &session,
             name: &name,
             format,
         };
-        let mut failed = false;
-        for item in &checked {
-            if !runner.step(item).await {
-                failed = true;
-                if !keep_going {
-                    break;
+        // With --keep-going a failed step does not end the run; the run
+        // still failed, and ends as one that did.
+        let work = async {
+            let mut failed = false;
+            for item in &checked {
+                if !runner.step(item).await {
+                    failed = true;
+                    if !keep_going {
+                        break;
+                    }
                 }
             }
-        }
-        if failed { EXIT_DEVICE } else { EXIT_OK }
+            !failed
+        };
+        let prefix = format!("axterm run: {name}: ");
+        let report = RunReport {
+            prefix: &prefix,
+            format,
+        };
+        run_then_end(&session, interrupt, policy, &report, work).await
     })
 }
 

@@ -167,6 +167,18 @@ impl SessionError {
         matches!(self, SessionError::Refused { .. })
     }
 
+    /// The line as the family writes it (`MST 0`).
+    pub fn line(&self) -> &str {
+        match self {
+            SessionError::Refused { line, .. } | SessionError::Device { line, .. } => line,
+            SessionError::Reply { error, .. } => match error.as_ref() {
+                ReplyError::Rejected { line, .. }
+                | ReplyError::Refused { line, .. }
+                | ReplyError::Malformed { line, .. } => line,
+            },
+        }
+    }
+
     /// The bytes sent, if any were.
     pub fn request(&self) -> Option<&[u8]> {
         match self {
