@@ -6,6 +6,7 @@ mod ui_support;
 use std::time::Duration;
 
 use axterm::protocol::console::{ReplyError, ReplyValue};
+use axterm::session::run_end::{LinkAtStop, RunAftermath, RunEnding, RunStop, StopOnFailure};
 use axterm::session::{LineResult, SessionError};
 use axterm::ui::PaneSetup;
 use axterm::ui::app::{App, AppEvent, Effect};
@@ -292,13 +293,96 @@ fn run_checks_the_whole_file_first_and_then_sends_line_after_line() {
         line: "GAP 4, 0".into(),
         result: ok("GAP 4, 0", ReplyValue::Number(999)),
     });
-    assert!(done.is_empty());
+    // The failed run is ended by the session: the stop, by default.
+    assert_eq!(
+        done,
+        [Effect::EndRun {
+            pane,
+            ending: RunEnding::Failed,
+            policy: StopOnFailure::Stop
+        }]
+    );
     let screen = text(&mut app, 160, 40);
     assert!(screen.contains("homing"), "{screen}");
     assert!(
         screen.contains("good.txt:4: expected GAP 4, 0 == 1000, got 999"),
         "{screen}"
     );
+    app.handle(AppEvent::RunEnded {
+        pane,
+        aftermath: RunAftermath::Stopped(RunStop {
+            ending: RunEnding::Failed,
+            lines: vec![
+                ok("MST 0", ReplyValue::None),
+                ok("STOPAPP", ReplyValue::None),
+                ok("MST 0", ReplyValue::None),
+            ],
+            link: LinkAtStop::Up,
+        }),
+    });
+    let screen = text(&mut app, 160, 40);
+    for line in [
+        "the run failed: stopping every axis:",
+        "  MST 0 → ok",
+        "  STOPAPP → ok",
+        "stop confirmed: every stop line answered ok",
+        "STOP: 3 sent, all ok",
+    ] {
+        assert!(screen.contains(line), "{line}:\n{screen}");
+    }
+}
+
+#[test]
+fn a_run_cancelled_with_esc_or_told_to_leave_the_axes_says_so_to_the_session() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("moves.txt");
+    std::fs::write(&file, "MVP ABS, 0, 51200\n:wait-until GAP 8, 0 == 1\n").expect("write");
+    let mut app = connected();
+    let (pane, _, _) = sent(&enter(&mut app, &format!(":run {}", file.display())));
+    assert_eq!(
+        app.handle(key(KeyCode::Esc)),
+        [Effect::EndRun {
+            pane,
+            ending: RunEnding::Cancelled,
+            policy: StopOnFailure::Stop
+        }]
+    );
+    // Nothing runs any more: Esc clears the line as before.
+    assert!(app.handle(key(KeyCode::Esc)).is_empty());
+
+    sent(&enter(
+        &mut app,
+        &format!(":run --no-stop-on-failure {}", file.display()),
+    ));
+    assert_eq!(
+        app.handle(key(KeyCode::Esc)),
+        [Effect::EndRun {
+            pane,
+            ending: RunEnding::Cancelled,
+            policy: StopOnFailure::Leave
+        }]
+    );
+    app.handle(AppEvent::RunEnded {
+        pane,
+        aftermath: RunAftermath::Left(RunEnding::Cancelled),
+    });
+    let screen = text(&mut app, 160, 40);
+    assert!(
+        screen.contains(
+            "the run was cancelled: the axes were left as they are (--no-stop-on-failure)"
+        ),
+        "{screen}"
+    );
+
+    // A directive typed alone is a check by hand: it stops nothing.
+    let (pane, tag, _) = sent(&enter(&mut app, ":expect GAP 4, 0 == 5"));
+    let done = app.handle(AppEvent::Reply {
+        pane,
+        tag,
+        line: "GAP 4, 0".into(),
+        result: ok("GAP 4, 0", ReplyValue::Number(4)),
+    });
+    assert!(done.is_empty(), "{done:?}");
 }
 
 #[test]

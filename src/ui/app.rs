@@ -35,6 +35,7 @@ use super::theme::{Role, Theme, load_theme};
 use crate::device::{DeviceEvent, Direction, LinkState, Priority, TrafficKind, TrafficRecord};
 use crate::protocol::Family;
 use crate::session::program::{Cancel, Progress, TransferError};
+use crate::session::run_end::{LinkAtStop, RunAftermath, RunEnding, RunStop, StopOnFailure};
 use crate::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
 
 /// How long the loop lets traffic gather before it hands it to the panes:
@@ -117,6 +118,11 @@ pub enum AppEvent {
     },
     /// The stop lines were sent; what came back for each.
     Stopped(Vec<Result<LineResult, SessionError>>),
+    /// A pane's run was ended ([`Effect::EndRun`]): what was done.
+    RunEnded {
+        pane: usize,
+        aftermath: RunAftermath,
+    },
     Wake {
         pane: usize,
         tag: u64,
@@ -157,6 +163,13 @@ pub enum Effect {
     /// Stop everything: abort the lines still waiting to be sent, then the
     /// session's emergency stop, ahead of anything queued.
     EmergencyStop,
+    /// End a pane's run ([`Controller::end_run`]); what was done back as
+    /// [`AppEvent::RunEnded`].
+    EndRun {
+        pane: usize,
+        ending: RunEnding,
+        policy: StopOnFailure,
+    },
     Poll(Option<PollCadence>),
     SetAddress(u8),
     /// Forget these latched error flags of an axis.
@@ -359,14 +372,16 @@ impl App {
                 self.deliver(pane, &PaneEvent::Wake { tag }, &mut effects)
             }
             AppEvent::Stopped(results) => {
-                let failed = results.iter().filter(|r| r.is_err()).count();
-                self.last_stop = Some(match (failed, results.len()) {
-                    (_, 0) => "STOP not sent".to_string(),
-                    (0, n) => format!("STOP: {n} sent, all ok"),
-                    (failed, n) => format!("STOP: {failed} of {n} FAILED"),
-                });
+                self.last_stop = Some(stop_summary(&results));
                 self.dirty = true;
                 self.broadcast(&PaneEvent::EmergencyStop(results), &mut effects);
+            }
+            AppEvent::RunEnded { pane, aftermath } => {
+                if let RunAftermath::Stopped(stop) = &aftermath {
+                    self.last_stop = Some(stop_summary(&stop.lines));
+                    self.dirty = true;
+                }
+                self.deliver(pane, &PaneEvent::RunEnded(aftermath), &mut effects);
             }
             AppEvent::Notice(notice) => self.broadcast(&PaneEvent::Notice(notice), &mut effects),
             AppEvent::TransferProgress {
@@ -584,6 +599,11 @@ impl App {
         match request {
             Request::Send { lines, tag } => effects.push(Effect::Send { pane, tag, lines }),
             Request::EmergencyStop => self.emergency_stop(effects),
+            Request::EndRun { ending, policy } => effects.push(Effect::EndRun {
+                pane,
+                ending,
+                policy,
+            }),
             Request::Poll(rate) => effects.push(Effect::Poll(cadence_for(rate))),
             Request::SelectAxis(axis) => {
                 if let Some(snapshot) = self.snapshot.as_mut()
@@ -893,6 +913,16 @@ pub fn cadence_for(rate: f64) -> Option<PollCadence> {
     })
 }
 
+/// The status bar's word on the stop lines sent.
+fn stop_summary(results: &[Result<LineResult, SessionError>]) -> String {
+    let failed = results.iter().filter(|r| r.is_err()).count();
+    match (failed, results.len()) {
+        (_, 0) => "STOP not sent".to_string(),
+        (0, n) => format!("STOP: {n} sent, all ok"),
+        (failed, n) => format!("STOP: {failed} of {n} FAILED"),
+    }
+}
+
 /// Times a second for a polling period, rounded for the status bar.
 pub fn rate_of(period: Duration) -> String {
     let hz = 1.0 / period.as_secs_f64();
@@ -923,6 +953,28 @@ pub trait Controller: Send + Sync {
     fn execute(&self, line: String) -> Pending<Result<LineResult, SessionError>>;
     /// Every stop line, ahead of everything queued; what came back for each.
     fn emergency_stop(&self) -> Pending<Vec<Result<LineResult, SessionError>>>;
+    /// End a run that ended so under `policy`
+    /// ([`crate::session::Session::end_run`]). By default: the stop lines
+    /// of [`Controller::emergency_stop`] when the policy says so, without
+    /// waiting for a lost link.
+    fn end_run(&self, ending: RunEnding, policy: StopOnFailure) -> Pending<RunAftermath> {
+        if !policy.stops_after(ending) {
+            let aftermath = if ending == RunEnding::Completed {
+                RunAftermath::Completed
+            } else {
+                RunAftermath::Left(ending)
+            };
+            return Box::pin(std::future::ready(aftermath));
+        }
+        let stop = self.emergency_stop();
+        Box::pin(async move {
+            RunAftermath::Stopped(RunStop {
+                ending,
+                lines: stop.await,
+                link: LinkAtStop::Up,
+            })
+        })
+    }
     fn set_polling(&self, cadence: Option<PollCadence>);
     fn acknowledge_errors(&self, axis: usize, seen: &[AxisFlag]);
     /// Clear the error flags of `axis` in the module where its family
@@ -1484,6 +1536,25 @@ impl Runner {
                 tokio::spawn(async move {
                     let results = stop.await;
                     let _ = tx.send(AppEvent::Stopped(results));
+                });
+            }
+            Effect::EndRun {
+                pane,
+                ending,
+                policy,
+            } => {
+                // Unlike the stop key, lines already queued are kept: they
+                // are other panes' and answered after the stop, which goes
+                // first at emergency-stop priority.
+                let Some(c) = self.connection.as_ref() else {
+                    queue.push(not_connected());
+                    return;
+                };
+                let end = c.controller.end_run(ending, policy);
+                let tx = self.internal.clone();
+                tokio::spawn(async move {
+                    let aftermath = end.await;
+                    let _ = tx.send(AppEvent::RunEnded { pane, aftermath });
                 });
             }
             Effect::Poll(cadence) => {

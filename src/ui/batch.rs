@@ -9,7 +9,21 @@ use tokio::time::Instant;
 
 use crate::protocol::Family;
 use crate::script::{Action, Step, WAIT_INTERVAL, check_script, result_matches};
+use crate::session::run_end::{NO_STOP_FLAG, StopOnFailure};
 use crate::session::{LineResult, SessionError};
+
+/// The options of `:run` and `:run-ascript` before the file name: only
+/// [`NO_STOP_FLAG`], as `axterm run` takes it. What a run that fails or is
+/// cancelled does to the axes, and the rest of the arguments.
+pub fn run_options(rest: &str) -> (StopOnFailure, &str) {
+    let rest = rest.trim();
+    match rest.strip_prefix(NO_STOP_FLAG) {
+        Some(after) if after.is_empty() || after.starts_with(char::is_whitespace) => {
+            (StopOnFailure::Leave, after.trim_start())
+        }
+        _ => (StopOnFailure::Stop, rest),
+    }
+}
 
 /// What the batch needs done next.
 #[derive(Debug, Clone, PartialEq)]
@@ -178,6 +192,24 @@ mod tests {
             elapsed: Duration::ZERO,
             attempts: 1,
         })
+    }
+
+    #[test]
+    fn run_options_take_the_no_stop_flag_before_the_file() {
+        assert_eq!(run_options(" f.txt "), (StopOnFailure::Stop, "f.txt"));
+        assert_eq!(
+            run_options("--no-stop-on-failure  my file.txt"),
+            (StopOnFailure::Leave, "my file.txt")
+        );
+        assert_eq!(
+            run_options("--no-stop-on-failure"),
+            (StopOnFailure::Leave, "")
+        );
+        // A file whose name only starts like it.
+        assert_eq!(
+            run_options("--no-stop-on-failure.txt"),
+            (StopOnFailure::Stop, "--no-stop-on-failure.txt")
+        );
     }
 
     #[test]

@@ -16,7 +16,7 @@ use ratatui::layout::{Position, Rect};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 
-use super::batch::{Batch, BatchStep};
+use super::batch::{Batch, BatchStep, run_options};
 use super::host_run::{ConsoleHostRun, HostUpdate};
 use super::keymap::{Action, Context};
 use super::pane::{
@@ -28,6 +28,7 @@ use crate::device::{DeviceEvent, LinkState};
 use crate::protocol::console::{Candidate, Completions};
 use crate::protocol::{Family, find_family};
 use crate::session::ascript_host::HostProgram;
+use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
 use crate::session::{LineResult, SessionError};
 
 /// Lines of output kept; older ones scroll away for good.
@@ -68,12 +69,12 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
         "connect: --sim KIND | --port PATH [--baud N] | --tcp HOST:PORT, with --protocol, --address",
     ),
     (
-        ":run FILE",
-        "run a batch file as `axterm run` does (checked whole first)",
+        ":run [--no-stop-on-failure] FILE",
+        "run a batch file as `axterm run` does (checked whole first; a failed or cancelled run stops every axis unless told not to)",
     ),
     (
-        ":run-ascript FILE [N…]",
-        "run a CMD-4CR A-Script program from the host (checked whole first; N: only these PRG blocks)",
+        ":run-ascript [--no-stop-on-failure] FILE [N…]",
+        "run a CMD-4CR A-Script program from the host (checked whole first; N: only these PRG blocks; stops every axis if it fails or is cancelled unless told not to)",
     ),
     (
         ":expect LINE == VALUE",
@@ -228,6 +229,9 @@ pub struct CommandPane {
     batch_wake: Option<u64>,
     /// An A-Script program running from the host (`:run-ascript`).
     host: Option<ConsoleHostRun>,
+    /// What becomes of the axes if the `:run` or `:run-ascript` going fails
+    /// or is cancelled; `None` for directives typed alone.
+    run_policy: Option<StopOnFailure>,
 }
 
 impl Default for CommandPane {
@@ -256,6 +260,7 @@ impl CommandPane {
             batch: None,
             batch_wake: None,
             host: None,
+            run_policy: None,
         }
     }
 
@@ -431,15 +436,21 @@ impl CommandPane {
                 Request::Connect(rest.split_whitespace().map(str::to_string).collect())
             }
             "run" => {
+                let (policy, rest) = run_options(rest);
                 if rest.is_empty() {
                     return self.fail(":run needs a file name");
                 }
                 return match fs::read_to_string(rest) {
-                    Ok(text) => self.start_batch(rest, &text, view),
+                    Ok(text) => {
+                        self.with_run_policy(policy, |pane| pane.start_batch(rest, &text, view))
+                    }
                     Err(e) => self.fail(format!("cannot read {rest}: {e}")),
                 };
             }
-            "run-ascript" => return self.start_host_run(rest, view),
+            "run-ascript" => {
+                let (policy, rest) = run_options(rest);
+                return self.with_run_policy(policy, |pane| pane.start_host_run(rest, view));
+            }
             "sim-input" => {
                 if session.is_none() {
                     return self.fail(not_connected());
@@ -461,6 +472,33 @@ impl CommandPane {
             }
         };
         Outcome::request(request)
+    }
+
+    /// Start a run (`:run`, `:run-ascript`) whose end, if it fails or is
+    /// cancelled, goes to the session under `policy`. Typed directives
+    /// (`:expect` alone) have none: a check typed by hand stops nothing.
+    fn with_run_policy(
+        &mut self,
+        policy: StopOnFailure,
+        start: impl FnOnce(&mut CommandPane) -> Outcome,
+    ) -> Outcome {
+        if self.batch.is_some() || self.host.is_some() {
+            // Refused, with its message: the run going keeps its policy.
+            return start(self);
+        }
+        self.run_policy = Some(policy);
+        let outcome = start(self);
+        if self.batch.is_none() && self.host.is_none() {
+            // Not started, or over already (its end was asked for).
+            self.run_policy = None;
+        }
+        outcome
+    }
+
+    /// The request that ends the run going, if it has a policy.
+    fn end_run(&mut self, ending: RunEnding) -> Option<Request> {
+        let policy = self.run_policy.take()?;
+        (ending != RunEnding::Completed).then_some(Request::EndRun { ending, policy })
     }
 
     fn fail(&mut self, message: impl Into<String>) -> Outcome {
@@ -536,10 +574,12 @@ impl CommandPane {
         for (role, text) in update.said {
             self.say(role, text);
         }
-        if update.ended.is_some() {
+        let mut requests = update.requests;
+        if let Some(end) = update.ended {
             self.host = None;
+            requests.extend(self.end_run(RunEnding::from_success(end.ok())));
         }
-        Outcome::Handled(update.requests)
+        Outcome::Handled(requests)
     }
 
     /// Stop the host run, if one goes: nothing more of it is sent.
@@ -599,11 +639,13 @@ impl CommandPane {
                 BatchStep::Failed(message) => {
                     self.batch = None;
                     self.say(Role::Error, message);
+                    requests.extend(self.end_run(RunEnding::Failed));
                 }
                 BatchStep::Done => {
                     if self.batch.take().is_some_and(|b| b.len() > 1) {
                         self.say(Role::Ok, "batch done");
                     }
+                    self.run_policy = None;
                 }
             }
         }
@@ -883,16 +925,19 @@ impl CommandPane {
             Some(Action::Help) => self.help_here(view),
             Some(Action::Cancel) => {
                 if let Some(name) = self.stop_host_run() {
-                    let stop = key_label(view.keymap, Context::Global, Action::EmergencyStop);
                     self.say(
                         Role::Warning,
-                        format!(
-                            "host run of {name} stopped: nothing more of it is sent (motion already commanded goes on: {stop} stops the axes)"
-                        ),
+                        format!("host run of {name} stopped: nothing more of it is sent"),
+                    );
+                    return Outcome::Handled(
+                        self.end_run(RunEnding::Cancelled).into_iter().collect(),
                     );
                 } else if self.batch.take().is_some() {
                     self.batch_wake = None;
                     self.say(Role::Warning, "batch stopped");
+                    return Outcome::Handled(
+                        self.end_run(RunEnding::Cancelled).into_iter().collect(),
+                    );
                 } else {
                     self.set_input(String::new());
                 }
@@ -1259,6 +1304,8 @@ impl Pane for CommandPane {
                 self.batch_wake = None;
                 let batch = self.batch.take().is_some();
                 let host = self.stop_host_run();
+                // The emergency stop ends the run and does the stopping.
+                self.run_policy = None;
                 let key = key_label(view.keymap, Context::Global, Action::EmergencyStop);
                 self.say(
                     Role::Emergency,
@@ -1299,6 +1346,23 @@ impl Pane for CommandPane {
                     self.say(Role::Error, "STOP: nothing was sent (not connected)");
                 } else {
                     self.say(Role::Error, "STOP: some stop lines failed; check the axes");
+                }
+                Outcome::redraw()
+            }
+            PaneEvent::RunEnded(aftermath) => {
+                let overall = match aftermath {
+                    RunAftermath::Left(_) => Role::Warning,
+                    _ if aftermath.settled() => Role::Ok,
+                    _ => Role::Error,
+                };
+                for line in aftermath.report() {
+                    // A stop line with its answer, or one that failed.
+                    let role = match line.strip_prefix("  ") {
+                        Some(stop) if stop.contains(" → ") => Role::Emergency,
+                        Some(_) => Role::Error,
+                        None => overall,
+                    };
+                    self.say(role, line);
                 }
                 Outcome::redraw()
             }

@@ -20,6 +20,7 @@ use super::script::{
 };
 use super::{EditorPane, PromptKind, TAG_LOAD, WATCH_PERIOD, Watch, number_read};
 use crate::session::ascript_host::{HostProgram, ThreadState};
+use crate::session::run_end::{RunEnding, StopOnFailure};
 use crate::ui::field::Field;
 use crate::ui::host_run::{ConsoleHostRun, HostUpdate};
 use crate::ui::keymap::{Action, Context};
@@ -169,11 +170,13 @@ impl EditorPane {
             && let Some(host) = self.end_host_run()
         {
             self.message = Some(Notice::warning(format!(
-                "host run of {} stopped: nothing more of it is sent (motion already commanded goes on: {} stops the axes)",
+                "host run of {} stopped: nothing more of it is sent; stopping every axis",
                 host.name(),
-                key_label(view.keymap, Context::Global, Action::EmergencyStop)
             )));
-            return Some(Outcome::redraw());
+            return Some(Outcome::request(Request::EndRun {
+                ending: RunEnding::Cancelled,
+                policy: StopOnFailure::Stop,
+            }));
         }
         if self.language != Language::AScript {
             return None;
@@ -413,10 +416,18 @@ impl EditorPane {
                 _ => Notice::info(text.clone()),
             });
         }
-        if update.ended.is_some() {
+        let mut requests = update.requests;
+        if let Some(end) = update.ended {
             self.end_host_run();
+            // A program that failed may have left an axis moving.
+            if !end.ok() {
+                requests.push(Request::EndRun {
+                    ending: RunEnding::Failed,
+                    policy: StopOnFailure::Stop,
+                });
+            }
         }
-        Outcome::Handled(update.requests)
+        Outcome::Handled(requests)
     }
 
     /// Let the host run go; its variables stay shown until the
@@ -506,6 +517,18 @@ impl EditorPane {
                 } else {
                     Outcome::Ignored
                 })
+            }
+            PaneEvent::RunEnded(aftermath) => {
+                let summary = aftermath.summary();
+                self.message = Some(if aftermath.settled() {
+                    Notice::info(summary)
+                } else {
+                    Notice::error(format!(
+                        "{summary}: check the axes ({} stops everything)",
+                        key_label(view.keymap, Context::Global, Action::EmergencyStop)
+                    ))
+                });
+                Some(Outcome::redraw())
             }
             PaneEvent::Stopping => {
                 self.script_state.watching = false;
