@@ -169,7 +169,7 @@ pub struct EditorPane {
     recovered: Option<Recovered>,
     /// F3 was pressed with unsaved changes: the next F3 opens anyway.
     open_confirmed: bool,
-    /// Shift-F3 was pressed with unsaved changes: the next uploads anyway.
+    /// Upload (Ctrl-F4) was pressed with unsaved changes: the next uploads anyway.
     upload_confirmed: bool,
     /// The program transfer under way.
     transfer: Option<transfer::Running>,

@@ -10,7 +10,7 @@
 //! - Verify (Shift-F4) reads back as many words as the text assembles to
 //!   (134, nothing stored) and compares them: the library has no
 //!   verify-only entry, and an upload of exactly that many words is one.
-//! - Upload (Shift-F3) reads until the first blank word and opens the
+//! - Upload (Ctrl-F4) reads until the first blank word and opens the
 //!   disassembly as a new unsaved buffer; unsaved text is asked about
 //!   first, as Open does.
 //!
