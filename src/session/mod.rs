@@ -20,7 +20,7 @@ use std::time::Duration;
 use tokio::sync::watch;
 
 pub use crate::protocol::console::{AxisFlag, AxisInfo, PreparedLine, ReplyError, ReplyValue};
-pub use status::{AxisStatus, RefreshRate};
+pub use status::{AxisMotion, AxisStatus, RefreshRate};
 
 use crate::device::{
     self, DeviceError, DeviceHandle, DeviceOptions, Expect, LinkState, PollItem, PollPlan,
