@@ -333,6 +333,73 @@ fn run_checks_the_whole_file_first_and_then_sends_line_after_line() {
 }
 
 #[test]
+fn a_wait_until_shows_one_line_that_follows_its_reads() {
+    let mut app = connected();
+    let (mut pane, mut tag, lines) = sent(&enter(&mut app, ":wait-until GAP 8, 0 == 1 timeout 1m"));
+    assert_eq!(lines, ["GAP 8, 0"]);
+    for read in 1..=5 {
+        let effects = app.handle(AppEvent::Reply {
+            pane,
+            tag,
+            line: "GAP 8, 0".into(),
+            result: ok("GAP 8, 0", ReplyValue::Number(0)),
+        });
+        let [
+            Effect::Wake {
+                pane: p, tag: t, ..
+            },
+        ] = effects.as_slice()
+        else {
+            panic!("read {read}: {effects:?}");
+        };
+        let screen = text(&mut app, 120, 40);
+        let shown: Vec<&str> = screen.lines().filter(|l| l.contains("GAP 8, 0")).collect();
+        // The line typed, and one line of how the wait stands.
+        assert_eq!(shown.len(), 2, "read {read}:\n{screen}");
+        let reads = if read == 1 {
+            "1 read".to_string()
+        } else {
+            format!("{read} reads")
+        };
+        assert!(
+            shown[1].contains(&format!("> :wait-until GAP 8, 0 == 1: 0 ({reads})")),
+            "{screen}"
+        );
+        assert!(
+            !screen.contains("status 100"),
+            "no answer rows per read:\n{screen}"
+        );
+        (pane, tag, _) = sent(&app.handle(AppEvent::Wake { pane: *p, tag: *t }));
+    }
+    let done = app.handle(AppEvent::Reply {
+        pane,
+        tag,
+        line: "GAP 8, 0".into(),
+        result: ok("GAP 8, 0", ReplyValue::Number(1)),
+    });
+    assert!(done.is_empty(), "{done:?}");
+    let screen = text(&mut app, 120, 40);
+    let shown: Vec<&str> = screen.lines().filter(|l| l.contains("GAP 8, 0")).collect();
+    assert_eq!(shown.len(), 2, "{screen}");
+    assert!(shown[1].contains(": 1 (6 reads)"), "{screen}");
+    // Something else said: the next wait starts a line of its own.
+    let (pane, tag, _) = sent(&enter(&mut app, ":wait-until GAP 8, 0 == 1 timeout 1m"));
+    app.handle(AppEvent::Reply {
+        pane,
+        tag,
+        line: "GAP 8, 0".into(),
+        result: ok("GAP 8, 0", ReplyValue::Number(1)),
+    });
+    let screen = text(&mut app, 120, 40);
+    assert_eq!(
+        screen.lines().filter(|l| l.contains("(1 read)")).count(),
+        1,
+        "{screen}"
+    );
+    assert!(screen.contains(": 1 (6 reads)"), "{screen}");
+}
+
+#[test]
 fn a_run_cancelled_with_esc_or_told_to_leave_the_axes_says_so_to_the_session() {
     let dir = tempfile::tempdir().expect("temp dir");
     let file = dir.path().join("moves.txt");

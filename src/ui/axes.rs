@@ -1,7 +1,8 @@
 //! The axis status pane: per axis, live from the session's snapshots,
 //! position against target, speed against the maximum speed, the ramp
-//! state (as the module reports it, else read from the speed) and the
-//! reached flag, the switch lamps, the load gauge or the family's lamps
+//! state (as the module reports it, else read from the speed) and what
+//! the axis does (moving, at its target, stopped short of it:
+//! [`AxisStatus::motion`]), the switch lamps, the load gauge or the family's lamps
 //! (CMD-4CR: the MST inputs and waits) and the latched error flags
 //! (cleared with F8, or `:clear`). The title and the status bar show the
 //! poll rate asked for and the full refreshes a second the link gives.

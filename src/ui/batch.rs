@@ -49,6 +49,8 @@ pub struct Batch {
     next: usize,
     /// The `:wait-until` in progress gives up at this instant.
     deadline: Option<Instant>,
+    /// Reads the `:wait-until` in progress has made.
+    reads: u32,
 }
 
 impl Batch {
@@ -70,6 +72,7 @@ impl Batch {
             steps,
             next: 0,
             deadline: None,
+            reads: 0,
         })
     }
 
@@ -111,6 +114,7 @@ impl Batch {
                 }
                 Action::WaitUntil { line, timeout, .. } => {
                     self.deadline = Some(Instant::now() + *timeout);
+                    self.reads = 0;
                     out.push(BatchStep::Send(line.clone()));
                     return out;
                 }
@@ -120,6 +124,26 @@ impl Batch {
                 }
             }
         }
+    }
+
+    /// While a `:wait-until` reads: one line saying how it stands, which
+    /// replaces the one of its previous read (its reads come every 20 ms;
+    /// a line each would bury everything else). `None` for other steps and
+    /// for a read that failed, which is shown in full. Call it with each
+    /// answer before [`Batch::on_reply`].
+    pub fn wait_progress(&mut self, result: &Result<LineResult, SessionError>) -> Option<String> {
+        let Some(Action::WaitUntil { line, value, .. }) =
+            self.steps.get(self.next).map(|s| &s.action)
+        else {
+            return None;
+        };
+        let got = result.as_ref().ok()?.value.to_string();
+        self.reads = self.reads.saturating_add(1);
+        let reads = match self.reads {
+            1 => "1 read".to_string(),
+            n => format!("{n} reads"),
+        };
+        Some(format!(":wait-until {line} == {value}: {got} ({reads})"))
     }
 
     /// The answer to the line of the current step.
@@ -247,6 +271,44 @@ mod tests {
             [BatchStep::Failed(
                 "f.txt:4: expected GAP 8, 0 == 5, got 6".into()
             )]
+        );
+    }
+
+    #[tokio::test(start_paused = true)]
+    async fn a_wait_until_tells_how_it_stands_in_one_line_per_read() {
+        let mut batch = Batch::check(
+            "f.txt",
+            "GAP 8, 0\n:wait-until GAP 8, 0 == 1 timeout 1s\n",
+            tmcl(),
+            1,
+        )
+        .expect("valid");
+        batch.advance();
+        // Not a wait: shown as any line is.
+        assert_eq!(batch.wait_progress(&reply(ReplyValue::Number(0))), None);
+        batch.on_reply(&reply(ReplyValue::Number(0)));
+        assert_eq!(
+            batch
+                .wait_progress(&reply(ReplyValue::Number(0)))
+                .as_deref(),
+            Some(":wait-until GAP 8, 0 == 1: 0 (1 read)")
+        );
+        batch.on_reply(&reply(ReplyValue::Number(0)));
+        batch.on_wake();
+        assert_eq!(
+            batch
+                .wait_progress(&reply(ReplyValue::Number(1)))
+                .as_deref(),
+            Some(":wait-until GAP 8, 0 == 1: 1 (2 reads)")
+        );
+        let failed: Result<LineResult, SessionError> = Err(SessionError::Refused {
+            line: "GAP 8, 0".into(),
+            message: "no".into(),
+        });
+        assert_eq!(
+            batch.wait_progress(&failed),
+            None,
+            "an error is shown in full"
         );
     }
 

@@ -232,6 +232,8 @@ pub struct CommandPane {
     /// What becomes of the axes if the `:run` or `:run-ascript` going fails
     /// or is cancelled; `None` for directives typed alone.
     run_policy: Option<StopOnFailure>,
+    /// The last output row is a state [`CommandPane::say_live`] replaces.
+    live: bool,
 }
 
 impl Default for CommandPane {
@@ -261,6 +263,7 @@ impl CommandPane {
             batch_wake: None,
             host: None,
             run_policy: None,
+            live: false,
         }
     }
 
@@ -274,7 +277,21 @@ impl CommandPane {
         self.output.iter().map(|o| o.text.as_str())
     }
 
+    /// Show a one-line state that replaces the previous one while nothing
+    /// else was said in between (a `:wait-until`'s reads).
+    fn say_live(&mut self, role: Role, text: String) {
+        match self.output.last_mut() {
+            Some(last) if self.live => {
+                *last = Output { role, text };
+                self.scroll = 0;
+            }
+            _ => self.say(role, text),
+        }
+        self.live = true;
+    }
+
     fn say(&mut self, role: Role, text: impl Into<String>) {
+        self.live = false;
         let text = text.into();
         for line in text.lines() {
             self.output.push(Output {
@@ -1278,12 +1295,20 @@ impl Pane for CommandPane {
                 let Some(origin) = self.sent.remove(tag) else {
                     return Outcome::Ignored;
                 };
-                if origin == Origin::Batch
-                    && let Ok(r) = result
-                {
-                    self.say(Role::Normal, format!("{PROMPT}{}", r.line));
+                let progress = match (origin, self.batch.as_mut()) {
+                    (Origin::Batch, Some(batch)) => batch.wait_progress(result),
+                    _ => None,
+                };
+                if let Some(progress) = progress {
+                    self.say_live(Role::Normal, format!("{PROMPT}{progress}"));
+                } else {
+                    if origin == Origin::Batch
+                        && let Ok(r) = result
+                    {
+                        self.say(Role::Normal, format!("{PROMPT}{}", r.line));
+                    }
+                    self.show_reply(family, result);
                 }
-                self.show_reply(family, result);
                 if origin == Origin::Batch {
                     let steps = match self.batch.as_mut() {
                         Some(batch) => batch.on_reply(result),
