@@ -19,6 +19,7 @@
 //! say how their run ended and print [`RunAftermath::report`].
 
 use std::fmt;
+use std::future::Future;
 use std::time::Duration;
 
 use tokio::time::Instant;
@@ -137,6 +138,27 @@ pub enum RunAftermath {
 }
 
 impl RunAftermath {
+    /// What a run that ended so comes to under `policy`: nothing after a
+    /// completed run, the axes left when the policy says so, else the stop
+    /// that `stop` sends. Every front end's end of a run goes through
+    /// here ([`Session::end_run`], the console's controllers).
+    pub async fn of<F>(
+        ending: RunEnding,
+        policy: StopOnFailure,
+        stop: impl FnOnce() -> F,
+    ) -> RunAftermath
+    where
+        F: Future<Output = RunStop>,
+    {
+        if ending == RunEnding::Completed {
+            RunAftermath::Completed
+        } else if !policy.stops_after(ending) {
+            RunAftermath::Left(ending)
+        } else {
+            RunAftermath::Stopped(stop().await)
+        }
+    }
+
     /// Whether nothing is left in doubt: the run completed, or every stop
     /// line answered with success. (Leaving the axes by choice is not.)
     pub fn settled(&self) -> bool {
@@ -279,13 +301,10 @@ impl Session {
     /// run or when told to leave the axes; otherwise the stop sequence,
     /// waiting up to [`LINK_RETURN_WAIT`] for a lost link to come back.
     pub async fn end_run(&self, ending: RunEnding, policy: StopOnFailure) -> RunAftermath {
-        if ending == RunEnding::Completed {
-            return RunAftermath::Completed;
-        }
-        if !policy.stops_after(ending) {
-            return RunAftermath::Left(ending);
-        }
-        RunAftermath::Stopped(self.stop_after_run(ending, LINK_RETURN_WAIT).await)
+        RunAftermath::of(ending, policy, || {
+            self.stop_after_run(ending, LINK_RETURN_WAIT)
+        })
+        .await
     }
 
     /// Send the stop-everything sequence after a run that did not

@@ -372,15 +372,16 @@ impl App {
                 self.deliver(pane, &PaneEvent::Wake { tag }, &mut effects)
             }
             AppEvent::Stopped(results) => {
-                self.last_stop = Some(stop_summary(&results));
+                let failed = results.iter().filter(|r| r.is_err()).count();
+                self.last_stop = Some(match (failed, results.len()) {
+                    (_, 0) => "STOP not sent".to_string(),
+                    (0, n) => format!("STOP: {n} sent, all ok"),
+                    (failed, n) => format!("STOP: {failed} of {n} FAILED"),
+                });
                 self.dirty = true;
                 self.broadcast(&PaneEvent::EmergencyStop(results), &mut effects);
             }
             AppEvent::RunEnded { pane, aftermath } => {
-                if let RunAftermath::Stopped(stop) = &aftermath {
-                    self.last_stop = Some(stop_summary(&stop.lines));
-                    self.dirty = true;
-                }
                 self.deliver(pane, &PaneEvent::RunEnded(aftermath), &mut effects);
             }
             AppEvent::Notice(notice) => self.broadcast(&PaneEvent::Notice(notice), &mut effects),
@@ -913,16 +914,6 @@ pub fn cadence_for(rate: f64) -> Option<PollCadence> {
     })
 }
 
-/// The status bar's word on the stop lines sent.
-fn stop_summary(results: &[Result<LineResult, SessionError>]) -> String {
-    let failed = results.iter().filter(|r| r.is_err()).count();
-    match (failed, results.len()) {
-        (_, 0) => "STOP not sent".to_string(),
-        (0, n) => format!("STOP: {n} sent, all ok"),
-        (failed, n) => format!("STOP: {failed} of {n} FAILED"),
-    }
-}
-
 /// Times a second for a polling period, rounded for the status bar.
 pub fn rate_of(period: Duration) -> String {
     let hz = 1.0 / period.as_secs_f64();
@@ -958,22 +949,17 @@ pub trait Controller: Send + Sync {
     /// of [`Controller::emergency_stop`] when the policy says so, without
     /// waiting for a lost link.
     fn end_run(&self, ending: RunEnding, policy: StopOnFailure) -> Pending<RunAftermath> {
-        if !policy.stops_after(ending) {
-            let aftermath = if ending == RunEnding::Completed {
-                RunAftermath::Completed
-            } else {
-                RunAftermath::Left(ending)
-            };
-            return Box::pin(std::future::ready(aftermath));
-        }
-        let stop = self.emergency_stop();
-        Box::pin(async move {
-            RunAftermath::Stopped(RunStop {
+        let stop = policy.stops_after(ending).then(|| self.emergency_stop());
+        Box::pin(RunAftermath::of(ending, policy, move || async move {
+            RunStop {
                 ending,
-                lines: stop.await,
+                lines: match stop {
+                    Some(stop) => stop.await,
+                    None => Vec::new(),
+                },
                 link: LinkAtStop::Up,
-            })
-        })
+            }
+        }))
     }
     fn set_polling(&self, cadence: Option<PollCadence>);
     fn acknowledge_errors(&self, axis: usize, seen: &[AxisFlag]);
