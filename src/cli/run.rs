@@ -2,7 +2,8 @@
 //! of console lines and directives (syntax in [`super::script`]). The whole
 //! file is parsed and every console line validated before anything is
 //! sent; a bad line anywhere sends nothing and lists every bad line as
-//! `FILE:LINE: message`.
+//! `FILE:LINE: message`. So does a line the family wants confirmed when
+//! `--yes` is not given.
 
 use std::io::Read;
 use std::time::Duration;
@@ -10,11 +11,13 @@ use std::time::Duration;
 use clap::Args;
 use serde_json::json;
 
+use super::confirm::cautions;
 use super::connection::{Target, family_of, names_a_connection, run_to_exit};
 use super::output::{Format, print_outcome};
 use super::script::{Action, CheckedStep, WAIT_INTERVAL, check_script, result_matches};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 
+use crate::protocol::Family;
 use crate::protocol::console::PreparedLine;
 use crate::session::Session;
 
@@ -33,6 +36,11 @@ pub struct RunArgs {
     /// text: the value (or ok) per console line; json: one object per line.
     #[arg(long, value_enum, default_value_t)]
     pub format: Format,
+    /// Send lines the family wants confirmed (a reset, a baud or address
+    /// change, a motion that starts at once); without it the file is
+    /// refused and nothing is sent.
+    #[arg(long)]
+    pub yes: bool,
 }
 
 /// The file's name as messages give it (`<stdin>` for `-`) and its text.
@@ -87,6 +95,10 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
             return EXIT_USAGE;
         }
     };
+    if !said_cautions(&name, family, &checked, args.yes) {
+        eprintln!("axterm run: {name}: nothing was sent");
+        return EXIT_USAGE;
+    }
     let Some(target) = target else {
         let lines = checked.iter().filter(|c| c.line.is_some()).count();
         eprintln!("axterm run: {name}: {lines} console lines valid, nothing sent (dry run)");
@@ -117,6 +129,26 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
         }
         if failed { EXIT_DEVICE } else { EXIT_OK }
     })
+}
+
+/// Print the family's warnings about every line of the file, and each
+/// line it wants confirmed when `--yes` was not given; false if there was
+/// such a line.
+fn said_cautions(name: &str, family: &Family, checked: &[CheckedStep], yes: bool) -> bool {
+    let mut ok = true;
+    for item in checked {
+        let Some(line) = &item.line else { continue };
+        let said = cautions(family.console, line, yes);
+        let at = format!("{name}:{}: `{}`: ", item.step.line_number, line.canonical);
+        for warning in &said.warnings {
+            eprintln!("{at}{warning}");
+        }
+        if let Some(refusal) = said.refusal {
+            eprintln!("{at}{refusal}");
+            ok = false;
+        }
+    }
+    ok
 }
 
 struct Runner<'a> {

@@ -84,9 +84,7 @@ pub fn complete(line: &str, cursor: usize) -> Completions {
         return Completions::default();
     };
     // The word being typed starts after the last blank, comma or `=`.
-    let start = before
-        .rfind(|c: char| c.is_whitespace() || c == ',' || c == '=')
-        .map_or(0, |i| i + 1);
+    let start = after_last(before, |c| c.is_whitespace() || c == ',' || c == '=');
     let partial = &before[start..];
     let head = &before[..start];
     let Some(first) = head.split_whitespace().next() else {
@@ -167,6 +165,15 @@ fn operand_at(spec: &'static CommandSpec, operands: &str) -> Option<(usize, &'st
         .filter(|i| !keyed.contains(i))
         .nth(positional)?;
     spec.fields.get(index).map(|f| (index, f))
+}
+
+/// The byte offset just after the last character of `text` that
+/// `breaks`, or 0.
+fn after_last(text: &str, breaks: impl Fn(char) -> bool) -> usize {
+    text.char_indices()
+        .rev()
+        .find(|(_, c)| breaks(*c))
+        .map_or(0, |(i, c)| i + c.len_utf8())
 }
 
 fn starts_with_ignoring_case(text: &str, prefix: &str) -> bool {
@@ -301,7 +308,7 @@ fn word_at(line: &str, cursor: usize) -> &str {
     let Some(before) = line.get(..cursor) else {
         return "";
     };
-    let start = before.rfind(is_break).map_or(0, |i| i + 1);
+    let start = after_last(before, is_break);
     let end = line
         .get(cursor..)
         .and_then(|after| after.find(is_break))
