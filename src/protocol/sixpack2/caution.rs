@@ -262,6 +262,14 @@ pub fn warnings(request: &Request, known: &Known) -> Vec<String> {
                 ));
             }
         }
+        0x28 if value("wait") != 0 => {
+            found.push(format!(
+                "the answer comes only once motors {} are inactive: later than the reply timeout \
+                 it arrives as news; on RS-485 with several units keep the bus idle until it \
+                 does (§7.2)",
+                super::command::format_mask(value("wait"))
+            ));
+        }
         0x25 => {
             let velocity = value("velocity");
             let div = Setting::of(mine.div, factory::DIV);
@@ -432,6 +440,12 @@ mod tests {
         assert_eq!(w.len(), 2, "{w:?}");
         assert!(w[0].starts_with("I1 13% is below 19 %"));
         assert!(w[1].starts_with("T0 is odd"));
+        assert!(warn("GetAllActivities").is_empty());
+        let w = warn("GetAllActivities 0 1,2");
+        assert!(
+            w[0].starts_with("the answer comes only once motors 1,2 are inactive"),
+            "{w:?}"
+        );
         let w = warn("SetMotorParameters 0 6400 Rotary,MechRef");
         assert!(w[0].contains("linear axes only"), "{w:?}");
     }

@@ -139,12 +139,19 @@ impl Sixpack2Console {
     }
 }
 
-/// Queries that may be asked again after a lost answer. A `$28` with a
-/// wait mask is not one: what a second one does while the first is
-/// pending is not known (digest D4), and on RS-485 its answer may collide.
+/// Queries that may be asked again after a lost answer. Not a `$28` with
+/// a wait mask: what a second one does while the first is pending is not
+/// known (digest D4), and on RS-485 its answer may collide. Not `$44`: it
+/// also sets the RS-232 forwarding (§7.4). `$20` and `$43` clear a flag
+/// by being read (the stop flag, the reset flag), so a retry after a lost
+/// answer may find it cleared; they still count as reads, as TMCL's
+/// AP207 does, so that `:wait-until` may poll them.
 fn only_reads(command: &Command) -> bool {
-    command.spec.class == Class::Query
-        && !(command.spec.code == 0x28 && command.value("wait").unwrap_or(0) != 0)
+    match command.spec.code {
+        0x28 => command.value("wait") == Some(0),
+        0x44 => false,
+        _ => command.spec.class == Class::Query,
+    }
 }
 
 /// The request a prepared line carries.
@@ -443,7 +450,6 @@ mod tests {
             "GetAllActivities",
             "GetInputValues 7",
             "GetUnitInformation",
-            "ConfigRS232ViaCAN",
         ] {
             let line = prepare(text);
             assert!(matches!(line.answering, Answering::Reply(_)), "{text}");
@@ -453,7 +459,12 @@ mod tests {
                 "{text}: no reply is an error"
             );
         }
-        for text in ["FlashChecksum", "FlashRead", "EepromWrite 0 0 0 0"] {
+        for text in [
+            "FlashChecksum",
+            "FlashRead",
+            "EepromWrite 0 0 0 0",
+            "ConfigRS232ViaCAN",
+        ] {
             let line = prepare(text);
             assert!(matches!(line.answering, Answering::Reply(_)), "{text}");
             assert_eq!(

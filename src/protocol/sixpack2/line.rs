@@ -20,14 +20,12 @@
 //!   A frame is sent exactly as written; if it carries a documented
 //!   command its values are checked like a typed one.
 
-use std::fmt;
-
 use super::catalog::{
     ALL_MOTORS, CURRENT_STEPS, CommandSpec, Field, FieldKind, UNDOCUMENTED, by_code, by_name,
     flag_by_name,
 };
 use super::command::{Command, RangeError, flag_names};
-use super::frame::{REQUEST_LEN, Request, to_hex};
+use super::frame::{REQUEST_LEN, Request};
 
 /// Why a line was refused. Messages name the command, the operand and
 /// what it takes.
@@ -81,8 +79,8 @@ pub enum LineError {
     #[error("{form}: {reason}")]
     Frame { form: &'static str, reason: String },
     #[error(
-        "the frame is for unit {line}, the console talks to unit {session}: change the frame's \
-         first byte or the address (:address {line})"
+        "the frame is for unit {line}, but unit {session} is addressed: change the frame's first \
+         byte, or address unit {line} (--address {line}, or :address {line} in the console)"
     )]
     OtherUnit { line: u8, session: u8 },
 }
@@ -446,18 +444,10 @@ fn frame_line(bytes: [u8; REQUEST_LEN], address: Option<u8>) -> Result<ParsedLin
     })
 }
 
-/// Bytes of a request as SQPack shows them, for messages.
-pub struct Hex<'a>(pub &'a [u8]);
-
-impl fmt::Display for Hex<'_> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&to_hex(self.0))
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::protocol::sixpack2::frame::to_hex;
 
     fn bytes(line: &str) -> String {
         let parsed = parse_line(line, None).unwrap_or_else(|e| panic!("{line}: {e}"));
