@@ -2,6 +2,7 @@
 
 pub mod asm;
 pub mod bench;
+pub mod confirm;
 pub mod connection;
 pub mod console;
 pub mod exec;
@@ -74,15 +75,18 @@ pub struct ConnectionArgs {
     /// Built-in simulator: tmcm1110 or cmd4cr.
     #[arg(long, global = true)]
     pub sim: Option<String>,
-    /// Protocol family: tmcl or cmd4cr (default: the simulator's, else tmcl).
+    /// Protocol family: tmcl, cmd4cr or sixpack2 (default: the simulator's,
+    /// else tmcl).
     #[arg(long, global = true)]
     pub protocol: Option<String>,
-    /// Serial baud rate (default 9600); with --sim, emulate that wire time;
+    /// Serial baud rate (default: the family's factory rate, 9600; sixpack2
+    /// 19200); with --sim, emulate that wire time;
     /// with --tcp, the rate of the serial line behind the bridge (the slow
     /// status polls keep to a share of it).
     #[arg(long, global = true)]
     pub baud: Option<u32>,
-    /// Module address on the bus (default 1); with --sim, also the simulator's.
+    /// Module address on the bus (default: the family's, 1; sixpack2 0);
+    /// with --sim, also the simulator's.
     #[arg(long, global = true)]
     pub address: Option<u8>,
     /// Reply timeout in milliseconds (default: from the baud rate).
@@ -106,7 +110,7 @@ pub struct ConnectionArgs {
 pub enum Command {
     /// Print the bytes a console line becomes.
     Encode {
-        /// Protocol family: tmcl or cmd4cr.
+        /// Protocol family: tmcl, cmd4cr or sixpack2.
         family: String,
         /// The console line, e.g. 'MVP ABS, 0, 1000'.
         line: String,
@@ -136,9 +140,12 @@ pub enum Command {
     },
     /// Run console lines one by one and print one result line each.
     ///
-    /// Every line is checked before anything is sent. Exit codes: 0 all
-    /// good, 1 a device error or timeout, 2 a line that does not parse or
-    /// validate (nothing sent), 3 the connection could not be opened.
+    /// Every line is checked before anything is sent; the family's
+    /// warnings go to stderr, and a line it wants confirmed (SIXpack 2:
+    /// HardwareReset, StartReferenceSearch…) needs --yes. Exit codes: 0
+    /// all good, 1 a device error or timeout, 2 a line that does not parse
+    /// or validate or needs --yes (nothing sent), 3 the connection could
+    /// not be opened.
     Exec(exec::ExecArgs),
     /// Run a batch file of console lines (- for standard input).
     ///
@@ -149,7 +156,8 @@ pub enum Command {
     /// 1.5s, 1m. The whole file is checked before anything is sent. A run
     /// that fails, is cancelled with Ctrl-C or loses its link ends with
     /// the stop-everything sequence (the console's emergency stop), each
-    /// stop line's answer printed, unless --no-stop-on-failure.
+    /// stop line's answer printed, unless --no-stop-on-failure. A line the
+    /// family wants confirmed needs --yes.
     Run(run::RunArgs),
     /// Run an A-Script program (CMD-4CR) from the host.
     ///

@@ -4,7 +4,8 @@
 //! sent; a bad line anywhere sends nothing and lists every bad line as
 //! `FILE:LINE: message`. A run that fails, is cancelled (Ctrl-C) or loses
 //! its link ends with the stop-everything sequence unless
-//! `--no-stop-on-failure` (see [`super::run_end`]).
+//! `--no-stop-on-failure` (see [`super::run_end`]). A line the family
+//! wants confirmed is refused when `--yes` is not given.
 
 use std::io::Read;
 use std::time::Duration;
@@ -12,12 +13,14 @@ use std::time::Duration;
 use clap::Args;
 use serde_json::json;
 
+use super::confirm::cautions;
 use super::connection::{Target, family_of, names_a_connection, run_to_exit};
 use super::output::{Format, print_outcome};
 use super::run_end::{Interrupt, RunReport, run_then_end};
 use super::script::{Action, CheckedStep, WAIT_INTERVAL, check_script, result_matches};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 
+use crate::protocol::Family;
 use crate::protocol::console::PreparedLine;
 use crate::session::Session;
 use crate::session::run_end::StopOnFailure;
@@ -44,6 +47,11 @@ pub struct RunArgs {
     /// printed.
     #[arg(long)]
     pub no_stop_on_failure: bool,
+    /// Send lines the family wants confirmed (a reset, a baud or address
+    /// change, a motion that starts at once); without it the file is
+    /// refused and nothing is sent.
+    #[arg(long)]
+    pub yes: bool,
 }
 
 /// The file's name as messages give it (`<stdin>` for `-`) and its text.
@@ -98,6 +106,10 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
             return EXIT_USAGE;
         }
     };
+    if !said_cautions(&name, family, &checked, args.yes) {
+        eprintln!("axterm run: {name}: nothing was sent");
+        return EXIT_USAGE;
+    }
     let Some(target) = target else {
         let lines = checked.iter().filter(|c| c.line.is_some()).count();
         eprintln!("axterm run: {name}: {lines} console lines valid, nothing sent (dry run)");
@@ -148,6 +160,26 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
         };
         run_then_end(&session, interrupt, policy, &report, work).await
     })
+}
+
+/// Print the family's warnings about every line of the file, and each
+/// line it wants confirmed when `--yes` was not given; false if there was
+/// such a line.
+fn said_cautions(name: &str, family: &Family, checked: &[CheckedStep], yes: bool) -> bool {
+    let mut ok = true;
+    for item in checked {
+        let Some(line) = &item.line else { continue };
+        let said = cautions(family.console, line, yes);
+        let at = format!("{name}:{}: `{}`: ", item.step.line_number, line.canonical);
+        for warning in &said.warnings {
+            eprintln!("{at}{warning}");
+        }
+        if let Some(refusal) = said.refusal {
+            eprintln!("{at}{refusal}");
+            ok = false;
+        }
+    }
+    ok
 }
 
 struct Runner<'a> {

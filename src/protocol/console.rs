@@ -239,6 +239,12 @@ pub trait FamilyConsole: Send + Sync {
     /// The module address when the user gives none.
     fn default_address(&self) -> u8;
 
+    /// The serial baud rate when the user gives none: the family's
+    /// factory setting (TMCL GP65 = 9600 Bd, §5.1; the default).
+    fn default_baud(&self) -> u32 {
+        9600
+    }
+
     /// Every address a module of this family can have: what a bus scan
     /// tries when told nothing else, and all it may try.
     fn addresses(&self) -> std::ops::RangeInclusive<u8> {
@@ -251,6 +257,24 @@ pub trait FamilyConsole: Send + Sync {
     /// Parse and validate a console line for the module at `address`. An
     /// error is a message naming what is wrong; nothing may be sent then.
     fn prepare(&self, line: &str, address: u8) -> Result<PreparedLine, String>;
+
+    /// Cautions about a prepared line that do not stop it being sent (a
+    /// value the manual advises against, a setting that clashes with one
+    /// written before): shown before sending, on stderr in batch use.
+    /// None by default.
+    fn warnings(&self, line: &PreparedLine) -> Vec<String> {
+        let _ = line;
+        Vec::new()
+    }
+
+    /// Why `line` must not be sent without the user's confirmation (it
+    /// moves at once, resets the module, cuts the connection…), if it
+    /// must not: the console asks, batch use needs `--yes`. `None` by
+    /// default.
+    fn confirmation(&self, line: &PreparedLine) -> Option<String> {
+        let _ = line;
+        None
+    }
 
     /// What the answer to `line` means. `frames` are the frames of the
     /// answer as the device task collected them (empty when none came for

@@ -5,6 +5,7 @@ pub mod ascii;
 pub mod cmd4cr;
 pub mod console;
 pub mod parameters;
+pub mod sixpack2;
 pub mod tmcl;
 pub mod wire;
 
@@ -47,6 +48,13 @@ pub const FAMILIES: &[Family] = &[
         encode_line: cmd4cr::encode_line,
         show_bytes: cmd4cr::show_bytes,
         console: &cmd4cr::Cmd4crConsole,
+    },
+    Family {
+        name: "sixpack2",
+        description: "Trinamic SIXpack 2 (6 axes), 9-byte binary frames without checksum",
+        encode_line: sixpack2::encode_line,
+        show_bytes: sixpack2::to_hex,
+        console: &sixpack2::Sixpack2Console::AUTO,
     },
 ];
 
