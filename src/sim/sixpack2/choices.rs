@@ -127,125 +127,112 @@ impl Choices {
         }
     }
 
-    /// The choices in words, for the simulator's help.
+    /// The choices in words, for the simulator's help: each followed by
+    /// the setting that changes it, in brackets.
     pub fn describe(&self) -> String {
-        let yes_no = |b: bool, yes: &str, no: &str| if b { yes } else { no }.to_string();
-        let framing = self.describe_framing();
+        let pick = |b: bool, yes: &str, no: &str| if b { yes } else { no }.to_string();
         let second = match self.second_28 {
-            Second28::EachOwn => "each waiting $28 is answered when its own motors are idle",
-            Second28::Replace => "a second $28 replaces the waiting one",
-            Second28::Ignore => "a second $28 is dropped while one waits",
+            Second28::EachOwn => {
+                "a $28 while another waits: each answered when its own motors are idle"
+            }
+            Second28::Replace => "a $28 while another waits replaces it",
+            Second28::Ignore => "a $28 while another waits is dropped",
         };
-        let timeout = if self.packet_timeout == 0 {
-            "no packet timeout after a reset".to_string()
-        } else {
-            format!(
-                "packet timeout {} ms after a reset, from a frame's first byte",
-                u32::from(self.packet_timeout) * 2
-            )
-        };
-        let slow_search = if self.slow_search_velocity == 0 {
-            "without FastRef the search drives at vmin (div 3)".to_string()
-        } else {
-            format!(
-                "without FastRef the search drives at velocity {} (div 3) and takes the switch edge at once",
-                self.slow_search_velocity
-            )
-        };
-        [
-            framing.to_string(),
-            format!("unspecified reply bytes ${:02X}", self.fill),
-            second.to_string(),
-            timeout,
-            format!(
-                "a command acts {} ms after its last byte, motion from the next 2 ms tick",
-                self.latency.as_millis()
+        let timeout = match self.packet_timeout {
+            0 => "no packet timeout".to_string(),
+            n => format!(
+                "packet timeout {} ms at power-on and after $CC, counted from a frame's first byte",
+                u32::from(n) * 2
             ),
-            yes_no(
-                self.out_of_range == OutOfRange::Clamp,
-                "values outside their §7 range are clamped (vstart to its firmware limit, amax to 64·vstart)",
-                "frames with values outside their §7 range are dropped",
-            ),
-            "unknown commands, motno > 5 and the service commands $F2..$F7 are dropped without a reply"
+        };
+        let slow_search = match self.slow_search_velocity {
+            0 => "without FastRef the search drives at vmin (div 3) and takes the edge it meets"
                 .to_string(),
-            format!(
-                "ramps decelerate at amax·{}/1000, stops and overshoots at amax",
-                1000 - u32::from(self.slower_deceleration.min(999))
+            v => format!(
+                "without FastRef the search drives at velocity {v} (div 3, §6.4.8) and takes the edge it meets"
             ),
-            yes_no(
+        };
+        let choices: [(String, &str); 31] = [
+            (self.describe_framing().to_string(), "ADDR9"),
+            (format!("reply bytes without a meaning (the rest of $21, $28 P6, …) ${:02X}", self.fill), "FILL"),
+            (second.to_string(), "SECOND28"),
+            (timeout, "TIMEOUT"),
+            ("a BREAK is a line event, not a byte: it drops the frame in progress".to_string(), "BREAK on the standard input"),
+            (format!(
+                "a command acts {} ms after its last byte (a $20 right after a $23 shows action 5), motion from the next 2 ms tick",
+                self.latency.as_millis()
+            ), "LATENCY"),
+            (pick(
+                self.out_of_range == OutOfRange::Clamp,
+                "values outside their §7 range are clamped (vstart to its firmware limit, amax to 64·vstart, vmin to vstart and 250 Hz)",
+                "a frame with a value outside its §7 range is dropped",
+            ), "CLAMP"),
+            ("unknown commands, motno > 5, $30/$31 channels > 7 and the service commands $F2..$F7 are dropped without a reply; $12, $13, $16 while moving act at once (a new div at the next rest)".to_string(), "-"),
+            (format!(
+                "ramps decelerate at amax·{}/1000 and creep at vstart to the target; stops, overshoots and speed changes use amax",
+                1000 - u32::from(self.slower_deceleration.min(999))
+            ), "SLOWDECEL"),
+            (pick(
                 self.pi_times_64,
                 "PI: v = 64·Δ/propdiv + I/intdiv, limited to ±vmax, no acceleration limit",
                 "PI: v = Δ/propdiv + I/intdiv, limited to ±vmax, no acceleration limit",
-            ),
-            yes_no(
-                self.pi_holds,
-                "PI stays action 10 at its target",
-                "PI ends (action 0) at its target",
-            ),
-            yes_no(
-                self.rotation_holds,
-                "a rotation at velocity 0 stays action 15",
-                "a rotation at velocity 0 ends (action 0)",
-            ),
-            yes_no(
+            ), "PIX64"),
+            (pick(self.pi_holds, "PI stays action 10 at its target", "PI ends (action 0) at its target"), "PIHOLD"),
+            (pick(self.rotation_holds, "a rotation at velocity 0 stays action 15", "a rotation at velocity 0 ends (action 0)"), "ROTHOLD"),
+            (pick(
                 self.ramp_after_rotation,
-                "$23 during a rotation stops it, then drives to the target",
-                "$23 during a rotation only stops it",
-            ),
-            "$2A stops a rotation or PI like a ramp (overshoot and return); $23, $24, $25, $26, $29, $2A, $50 leave a reference search alone"
-                .to_string(),
-            "$50: the lead axis (longest time at its vmax) ramps, the others follow its progress on the line".to_string(),
-            "StopAtFullsteps: a ramp ends on the nearest full step (multiple of 16) to its target".to_string(),
-            "rotary axes wrap the counter every tick, and targets and $27 positions into range".to_string(),
-            "search codes: 20 stopping, 21 driving to the switch, 22 backing off, 23 slow approach, 24 crossing (NullCenter), 25 driving to zero; 30 mechanical".to_string(),
-            slow_search,
-            yes_no(
+                "$23 during a rotation stops it, then drives to the target (§6.6.3)",
+                "$23 during a rotation only stops it (§7.2)",
+            ), "ROTRAMP"),
+            ("$2A turns a rotation into a ramp back to where it was (overshoot and return) and retargets PI; $23 $24 $25 $26 $29 $2A $50 leave a reference search alone; $29 leaves an active motor alone; $50 starts nothing if a masked motor is active; $26 at rest only stores the target; $27 is taken while moving (the ramp goes on to its target)".to_string(), "-"),
+            ("$50: the lead (the longest time at its own vmax) ramps with its own settings, the others keep their share of its progress, on a straight line".to_string(), "-"),
+            ("StopAtFullsteps: a ramp ends on the full step (multiple of 16) nearest its target, a tie in the direction of travel; rotary axes wrap the counter every tick, targets and $27 positions into range".to_string(), "-"),
+            ("search codes 20 stopping, 21 driving to the switch, 22 backing off, 23 slow approach at vmin, 24 crossing it (NullCenter), 25 driving to zero; 30 the whole mechanical reference".to_string(), "-"),
+            (slow_search, "SLOWREF"),
+            (pick(
                 self.mech_ref_at_vrefmax,
                 "the mechanical reference drives at vrefmax",
                 "the mechanical reference drives as a ramp (vstart, vmax, amax)",
-            ),
-            yes_no(
+            ), "MECHFAST"),
+            (pick(
                 self.offset_mirrored,
-                "a positive nulloffset moves zero into the switch on either side",
-                "the switch point gets coordinate +nulloffset on either side",
-            ),
-            "NullCenter: zero is the middle of the two edges found at vmin; retries at once, without limit; after $2B the motor stops where it is, unreferenced".to_string(),
-            yes_no(
+                "a positive nulloffset puts zero that far into the switch on either side (the switch point gets +nulloffset with NullLeft, -nulloffset without); the mechanical stop likewise",
+                "the switch point (or the mechanical stop) gets coordinate +nulloffset on either side",
+            ), "OFFSETMIRROR"),
+            ("NullCenter: zero is the middle of the two edges met at vmin; the slow approach gives up (and all starts again) past twice the back-off; retries at once, without limit; after $2B the motor brakes and stays unreferenced; after the search a motor at rest drives back to the number it started at, a ramp, rotation or PI goes on".to_string(), "-"),
+            ("a stop condition stops abruptly: above vstart the carriage runs on a tick's travel (steps lost); TestNull looks once per rest at exactly position 0, after T0 (DelayTestNull) and the debounce delay; no stop condition during a search".to_string(), "-"),
+            (pick(
                 self.ref_bits_are_levels,
                 "$30 shows the reference inputs' electrical levels",
-                "$30 shows the reference inputs inverted (1 = input pulled low)",
-            ),
-            yes_no(
-                self.jumper_bits_open,
-                "$30 jumper bits 1 = open",
-                "$30 jumper bits 1 = fitted",
-            ),
-            yes_no(
+                "$30 shows the reference inputs inverted (1 = pin low); channels 6/7 P3 = 0",
+            ), "REFLEVEL"),
+            (pick(self.jumper_bits_open, "$30 jumper bits 1 = open", "$30 jumper bits 1 = fitted; the jumpers set the baud rate at the next reset"), "JPOPEN"),
+            (pick(
                 self.limits_need_stop_null,
-                "$31 limits act only with StopNull, checked strictly (below MinLeft, above MaxRight), not during a search",
-                "$31 limits act without StopNull, checked strictly (below MinLeft, above MaxRight), not during a search",
-            ),
-            yes_no(
-                self.address_kept,
-                "a $42 address survives $CC",
-                "$CC reads the address from the rotary switches again",
-            ),
-            "$40 changes the switch-over delay at once; its baud divisor is kept, the line does not follow"
-                .to_string(),
-            match self.reset_key {
+                "$31 limits act only with StopNull, strictly (below MinLeft, above MaxRight); off after a reset (0, 1023); channels 6/7 kept, acting on nothing",
+                "$31 limits act without StopNull, strictly (below MinLeft, above MaxRight); off after a reset (0, 1023); channels 6/7 kept, acting on nothing",
+            ), "LIMITSTOPNULL"),
+            (pick(self.address_kept, "a $42 address survives $CC", "$42 acts at once; $CC reads the rotary switches again"), "KEEPADDR"),
+            ("$40: the switch-over delay acts from the next reply; the baud divisor is kept, the line does not follow; $44 answers 0 bytes waiting, CTS 0".to_string(), "-"),
+            (match self.reset_key {
                 None => "$CC resets with any P0".to_string(),
                 Some(key) => format!("$CC resets only with P0 = {key}"),
-            },
-            yes_no(
+            }, "RESETKEY"),
+            (pick(
                 self.stray_zero,
-                "$CC: deaf for 1 s, then one $00 byte",
+                "$CC: deaf for 1 s, then one $00 byte (none at power-on)",
                 "$CC: deaf for 1 s, no $00 byte",
-            ),
-            format!(
-                "$43: firmware {}, serial {}, {} °C",
-                self.firmware, self.serial, self.temperature
-            ),
-        ]
-        .join("; ")
+            ), "STRAY00"),
+            ("the coils get I3 while the velocity changes (decelerating too), I2 at constant velocity, I1 at rest, I0 after T0".to_string(), "-"),
+            (format!("$43: firmware {}, serial {}, {} °C", self.firmware, self.serial, self.temperature), "FIRMWARE, SERIAL, TEMP"),
+        ];
+        choices
+            .iter()
+            .map(|(text, setting)| match *setting {
+                "-" => text.clone(),
+                setting => format!("{text} [{setting}]"),
+            })
+            .collect::<Vec<_>>()
+            .join("; ")
     }
 }

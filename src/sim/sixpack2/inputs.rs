@@ -235,7 +235,7 @@ pub const INPUTS: &[InputRow<Input>] = &[
             max: 65535,
             unit: "2 ms units",
         },
-        what: "choice: the packet timeout after a reset (0: none; $41 sets it from the host)",
+        what: "choice: the packet timeout now and after a reset (0: none; $41 sets it from the host)",
     },
     InputRow {
         input: Input::Latency,

@@ -947,7 +947,14 @@ impl Sixpack2 {
             }
             Input::Timeout => {
                 c.packet_timeout = n as u16;
-                format!("{name} {n}: from the next reset ($41 sets it now)")
+                self.unit.packet_timeout = c.packet_timeout;
+                match n {
+                    0 => format!("{name} 0: no packet timeout, now and after a reset"),
+                    n => format!(
+                        "{name} {n}: a packet timeout of {} ms, now and after a reset",
+                        2 * n
+                    ),
+                }
             }
             Input::Latency => {
                 c.latency = Duration::from_millis(u64::from(n));
