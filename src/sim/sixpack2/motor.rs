@@ -849,6 +849,11 @@ mod tests {
         assert!((hz(5, 2, 100.0) - 5086.0).abs() < 0.5, "5086 Hz");
         assert!((hz(31, 3, 1.0) - 4.77).abs() < 0.005, "slowest");
         assert!(hz(0, 0, 511.0) > 600_000.0, "over the 200 kHz limit");
+        // §2.3 "full step frequencies from 0.3 Hz 12.5 kHz": a sixteenth of
+        // the µstep frequency (E10: §6.3.1.1 says times 16), from the
+        // slowest setting to the 200 kHz limit.
+        assert!((hz(31, 3, 1.0) / 16.0 - 0.3).abs() < 0.01);
+        assert_eq!(200_000.0 / 16.0, 12_500.0);
     }
 
     #[test]

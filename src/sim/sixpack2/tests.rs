@@ -801,6 +801,52 @@ fn a_fast_search_finds_the_middle_of_the_switch() {
 }
 
 #[test]
+fn the_slow_approach_runs_at_vmin_with_div_3() {
+    // §6.2.1.8: "vmin=4 … // 102 Hz", with div 3 whatever the motor's
+    // (§7.1 $13): 4 × 25.43 Hz = 101.7 µsteps a second.
+    let mut sim = sim();
+    tell(&mut sim, "00 15 00 00 19 00 00 90 42"); // FilterSwitch, NullLeft, FastRef, NullPositive
+    sim.drive_input("CARRIAGE0=3000").expect("an input");
+    sim.feed(&frame("00 22 00 00 00 00 00 00 00"));
+    let phase = |sim: &Sixpack2| sim.motor(0).map_or(0, Motor::action);
+    for _ in 0..20_000 {
+        if phase(&sim) == 23 && sim.motor(0).is_some_and(|m| m.velocity() == -4) {
+            break;
+        }
+        sim.advance(TICK);
+    }
+    assert_eq!(
+        velocity(&mut sim, 0),
+        (-4, 23),
+        "towards the switch on the left"
+    );
+    let before = sim.motor(0).map_or(0, Motor::position);
+    sim.advance(Duration::from_secs(1));
+    assert_eq!(phase(&sim), 23, "still approaching");
+    let made = sim.motor(0).map_or(0, Motor::position) - before;
+    assert!((-102..=-101).contains(&made), "{made} µsteps in a second");
+}
+
+#[test]
+fn the_ready_output_and_the_display_show_activity() {
+    // §6.1.3, §7.3 $32/$33, §2.3: ready active while a masked motor moves
+    // or searches; the display counts active motors, its point a search.
+    let mut sim = sim();
+    tell(&mut sim, "00 32 01 00 00 01 00 00 00"); // TTLOUT1 = the ready output
+    assert!(sim.ttlout1() && !sim.ready_output_active());
+    assert_eq!(sim.display(), (0, false));
+    tell(&mut sim, "00 25 01 0A 00 00 00 00 00");
+    assert!(!sim.ttlout1(), "active: low");
+    assert_eq!(sim.display(), (1, false));
+    tell(&mut sim, "00 33 01 00 00 00 00 00 00"); // only motor 0 counts
+    assert!(sim.ttlout1());
+    tell(&mut sim, "00 22 02 00 00 00 00 00 00");
+    assert_eq!(sim.display(), (2, true));
+    tell(&mut sim, "00 33 01 04 00 00 00 00 00"); // and motor 2 searching
+    assert!(!sim.ttlout1());
+}
+
+#[test]
 fn the_null_offset_moves_zero_into_the_switch() {
     // §6.2.1.5: NullLeft and a positive offset: "the reference switch is
     // reliably closed at position null".
@@ -1043,4 +1089,191 @@ fn every_input_and_choice_is_answered_in_words() {
         assert!(said.starts_with(&name), "{name}: {said}");
     }
     assert!(sim.help_line().contains("SIXpack 2"));
+}
+
+#[test]
+fn autonull_cmd_in_the_motor_parameters_starts_a_search() {
+    // §7.1 $15 P5 bit 2: "$22 and CMD $15, P5, Bit2 start the same action".
+    let mut sim = sim();
+    sim.feed(&frame("00 15 00 00 19 00 00 54 40")); // AutonullCmd, NullLeft, StopNull, NullPositive
+    assert_eq!(sim.motor(0).map(Motor::action), Some(20));
+    let flags = sim.motor(0).map_or(0, |m| m.settings.flags);
+    assert_eq!(flags, 0x4050, "kept without the command bit");
+    actions_until_idle(&mut sim, 50_000);
+    assert_eq!(carriage(&sim, 0), 399);
+}
+
+#[test]
+fn the_debounce_mask_delays_the_switch() {
+    // §7.1 $16: "$0001=0ms, $0003=2ms, … $FFFF=30ms"; $0FFF is 22 ms
+    // (§6.2.1.8: "Filter delay 12-1 cycles"). Samples every 2 ms.
+    for (mask, samples) in [("01 00", 1), ("03 00", 2), ("FF 0F", 12), ("FF FF", 16)] {
+        let mut sim = sim();
+        tell(&mut sim, "00 15 00 00 19 00 00 80 40"); // FilterSwitch, NullPositive
+        tell(&mut sim, &format!("00 16 00 64 00 {mask} 00 00"));
+        sim.drive_input("REF0=1").expect("an input");
+        sim.advance(TICK * (samples - 1));
+        assert!(!sim.motor(0).is_some_and(Motor::switch_active), "{mask}");
+        sim.advance(TICK);
+        assert!(sim.motor(0).is_some_and(Motor::switch_active), "{mask}");
+    }
+}
+
+#[test]
+fn the_microstep_table_is_written_four_entries_at_a_time() {
+    let mut sim = sim();
+    tell(&mut sim, "00 17 04 FF FF FF FF 00 00");
+    let table = sim.unit().microstep_table;
+    assert_eq!(table[..8], [13, 37, 62, 86, 255, 255, 255, 255]);
+    tell(&mut sim, "00 17 0E 01 02 03 04 00 00"); // 14: clamped to 12
+    assert_eq!(sim.unit().microstep_table[12..], [1, 2, 3, 4]);
+    sim.drive_input("CLAMP=0").expect("a choice");
+    tell(&mut sim, "00 17 05 09 09 09 09 00 00");
+    assert_eq!(sim.unit().microstep_table[4..8], [255; 4], "dropped");
+}
+
+#[test]
+fn set_actual_position_moves_the_counter_not_the_carriage() {
+    let mut sim = sim();
+    tell(&mut sim, "00 27 00 A0 86 01 00 00 00"); // 100000
+    assert_eq!(position(&mut sim, 0).0, 100_000);
+    assert_eq!(carriage(&sim, 0), 480);
+}
+
+// ---- the choices, each changed by its setting -----------------------------
+
+#[test]
+fn the_reply_choices_change_the_bytes() {
+    let mut sim = sim();
+    for setting in [
+        "FILL=170",
+        "FIRMWARE=150",
+        "SERIAL=4660",
+        "TEMP=45",
+        "REFLEVEL=1",
+        "JPOPEN=1",
+    ] {
+        sim.drive_input(setting).expect(setting);
+    }
+    assert_eq!(
+        ask(&mut sim, "00 43 00 00 00 00 00 00 00"),
+        [0x43, 150, 1, 45, 0x34, 0x12, 0xAA, 0xAA]
+    );
+    assert_eq!(
+        ask(&mut sim, "00 21 01 00 00 00 00 00 00"),
+        [0x21, 1, 0, 0, 0, 0xAA, 0xAA, 0xAA]
+    );
+    // Levels: the idle openers hold their pins low (0); no jumper fitted: 1s.
+    assert_eq!(
+        ask(&mut sim, "00 30 00 00 00 00 00 00 00"),
+        [0x30, 0, 0x00, 0x02, 0, 0b1100_0000, 0, 0xAA]
+    );
+    assert_eq!(
+        ask(&mut sim, "00 28 00 00 00 00 00 00 00")[7],
+        0xAA,
+        "$28 P6"
+    );
+}
+
+#[test]
+fn a_kept_address_survives_a_reset() {
+    let mut sim = sim();
+    sim.drive_input("KEEPADDR=1").expect("a choice");
+    tell(&mut sim, "00 42 07 00 00 00 00 00 00");
+    sim.feed(&frame("07 CC 00 00 00 00 00 00 00"));
+    sim.advance(RESET_TIME);
+    assert_eq!(sim.take_output(), [0]);
+    assert_eq!(ask(&mut sim, "07 43 00 00 00 00 00 00 00")[0], 0x43);
+}
+
+#[test]
+fn the_stop_switches_and_outputs_show_in_the_inputs() {
+    let mut sim = sim();
+    sim.drive_input("STOPL1=1").expect("an input");
+    assert_eq!(ask(&mut sim, "00 30 01 00 00 00 00 00 00")[2..4], [0, 0]);
+    sim.drive_input("STOPL1=0").expect("an input");
+    sim.drive_input("STOPR1=1").expect("an input");
+    assert_eq!(
+        ask(&mut sim, "00 30 01 00 00 00 00 00 00")[2..4],
+        [0xFF, 0x03]
+    );
+    sim.drive_input("STOPR1=stage").expect("an input");
+    assert_eq!(
+        ask(&mut sim, "00 30 01 00 00 00 00 00 00")[2..4],
+        [0x00, 0x02]
+    );
+    // TTLIO1 as an output set high ($32 P1 = 0, P2 = 1).
+    tell(&mut sim, "00 32 00 00 01 00 00 00 00");
+    assert_eq!(ask(&mut sim, "00 30 01 00 00 00 00 00 00")[6], 1);
+}
+
+#[test]
+fn the_pi_gain_may_leave_out_the_64() {
+    // PIX64=0: the defaults' comment "v = position-difference / 8".
+    let mut sim = sim();
+    sim.drive_input("PIX64=0").expect("a choice");
+    sim.feed(&frame("00 24 00 E8 03 00 00 00 00"));
+    sim.advance(TICK);
+    assert_eq!(sim.motor(0).map(Motor::velocity), Some(125), "1000 / 8");
+}
+
+#[test]
+fn the_deceleration_may_be_as_quick_as_the_acceleration() {
+    let mut sim = sim();
+    sim.drive_input("SLOWDECEL=0").expect("a choice");
+    sim.feed(&frame("00 23 00 A0 86 01 00 00 00")); // 100000
+    let v = |sim: &Sixpack2| sim.motor(0).map_or(0, Motor::velocity);
+    let (mut up, mut down) = (0, 0);
+    while v(&sim) < 511 {
+        sim.advance(TICK);
+        up += 1;
+    }
+    while v(&sim) == 511 {
+        sim.advance(TICK);
+    }
+    while v(&sim) > 5 {
+        sim.advance(TICK);
+        down += 1;
+    }
+    assert!((up - 2..=up + 2).contains(&down), "{up} up, {down} down");
+}
+
+#[test]
+fn the_slow_search_velocity_and_the_mechanical_speed_are_choices() {
+    // SLOWREF=0: without FastRef the first drive is at vmin (4), not 1.
+    let mut sim = sim();
+    sim.drive_input("SLOWREF=0").expect("a choice");
+    tell(&mut sim, "00 15 00 00 19 00 00 10 40");
+    sim.feed(&frame("00 22 00 00 00 00 00 00 00"));
+    sim.advance(TICK * 2); // a tick to stop (at rest already), one driving
+    assert_eq!(velocity(&mut sim, 0), (-4, 21));
+    // MECHFAST=1: the mechanical reference at vrefmax (100).
+    let mut sim = self::sim();
+    sim.drive_input("MECHFAST=1").expect("a choice");
+    sim.drive_input("CARRIAGE0=100000").expect("an input");
+    tell(&mut sim, "00 15 00 40 0D 03 00 10 04"); // poslimit 200000
+    sim.feed(&frame("00 22 00 00 00 00 00 00 00"));
+    sim.advance(Duration::from_secs(1));
+    assert_eq!(velocity(&mut sim, 0), (-100, 30));
+}
+
+#[test]
+fn the_null_offset_on_the_right_follows_the_chosen_sign() {
+    // NullLeft = 0: the switch on the right, searched ascending. Ours:
+    // zero 100 further into the switch (right); OFFSETMIRROR=0: the switch
+    // point is +100, zero 100 left of it.
+    for (mirrored, zero_at) in [("1", 199_700), ("0", 199_500)] {
+        let mut sim = sim();
+        sim.drive_input(&format!("OFFSETMIRROR={mirrored}"))
+            .expect("a choice");
+        sim.drive_input("REFAT0=199600").expect("an input");
+        sim.drive_input("CARRIAGE0=199590").expect("an input");
+        tell(&mut sim, "00 18 00 64 00 00 00 F0 00"); // offset 100
+        tell(&mut sim, "00 16 00 64 00 FF 0F 01 00"); // stop after the search
+        tell(&mut sim, "00 15 00 00 19 00 00 00 40"); // NullPositive
+        sim.feed(&frame("00 22 00 00 00 00 00 00 00"));
+        actions_until_idle(&mut sim, 50_000);
+        assert_eq!(position(&mut sim, 0).0, 0);
+        assert_eq!(carriage(&sim, 0), zero_at, "OFFSETMIRROR={mirrored}");
+    }
 }
