@@ -233,6 +233,28 @@ mod tests {
     }
 
     #[test]
+    fn the_sixpack2_kind_answers_at_its_rotary_address_and_stores_nothing() {
+        let kind = find_kind("SIXpack2").expect("registered");
+        let mut sim = (kind.build)(&SimOptions {
+            address: Some(3),
+            eeprom_file: None,
+        });
+        sim.feed(&[0, 0x43, 0, 0, 0, 0, 0, 0, 0]);
+        sim.feed(&[3, 0x43, 0, 0, 0, 0, 0, 0, 0]);
+        sim.advance(std::time::Duration::from_millis(6));
+        assert_eq!(sim.take_output(), [0x43, 148, 1, 30, 1, 0, 0, 0]);
+        assert!(sim.help().contains("SIXpack 2"));
+        assert!(kind.eeprom_refusal.is_some());
+        assert!(
+            SIM_KINDS
+                .iter()
+                .filter(|k| k.eeprom_refusal.is_none())
+                .count()
+                >= 2
+        );
+    }
+
+    #[test]
     fn only_the_cmd4cr_loads_a_script_programs() {
         let options = SimOptions::default();
         let mut tmcl = (find_kind("tmcm1110").expect("registered").build)(&options);
