@@ -316,6 +316,14 @@ fn run_sim(
         baud: connection.baud,
         faults: faults.clone(),
     };
+    if let (Some(file), Some(why)) = (&eeprom_file, sim_kind.eeprom_refusal) {
+        eprintln!(
+            "axterm sim: --eeprom {}: the {} simulator keeps no memory file: {why}",
+            file.display(),
+            sim_kind.name
+        );
+        return EXIT_USAGE;
+    }
     let options = SimOptions {
         address: connection.address,
         eeprom_file,

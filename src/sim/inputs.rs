@@ -36,6 +36,14 @@ pub enum Values {
     },
     /// A whole number `0..=max`, in `unit`.
     Number { max: u32, unit: &'static str },
+    /// As [`Values::Number`], or `word`: not driven from outside, as
+    /// `meaning` says (`stage`: where the simulated carriage is sets it).
+    NumberOr {
+        max: u32,
+        unit: &'static str,
+        word: &'static str,
+        meaning: &'static str,
+    },
 }
 
 impl Values {
@@ -45,6 +53,9 @@ impl Values {
             Values::OnOff => "0|1".into(),
             Values::OnOffOr { word, .. } => format!("0|1|{word}"),
             Values::Number { max, unit } => format!("<{unit} 0..{max}>"),
+            Values::NumberOr {
+                max, unit, word, ..
+            } => format!("<{unit} 0..{max}>|{word}"),
         }
     }
 
@@ -54,6 +65,12 @@ impl Values {
             Values::OnOff => "1 (on) or 0 (off)".into(),
             Values::OnOffOr { word, meaning } => format!("1 (on), 0 (off) or {word} ({meaning})"),
             Values::Number { max, unit } => format!("a whole number of {unit}, 0..{max}"),
+            Values::NumberOr {
+                max,
+                unit,
+                word,
+                meaning,
+            } => format!("a whole number of {unit}, 0..{max}, or {word} ({meaning})"),
         }
     }
 }
@@ -242,7 +259,10 @@ pub fn parse<T>(table: &'static [InputRow<T>], text: &str) -> Result<Setting<T>,
         (Values::OnOffOr { word, .. }, released) if released.eq_ignore_ascii_case(word) => {
             Some(Level::Released)
         }
-        (Values::Number { max, .. }, _) => lower
+        (Values::NumberOr { word, .. }, released) if released.eq_ignore_ascii_case(word) => {
+            Some(Level::Released)
+        }
+        (Values::Number { max, .. } | Values::NumberOr { max, .. }, _) => lower
             .parse::<u32>()
             .ok()
             .filter(|n| *n <= max)
@@ -274,7 +294,9 @@ fn example<T>(table: &[InputRow<T>]) -> String {
     };
     let name = row.names().into_iter().next().unwrap_or_default();
     match row.values {
-        Values::Number { max, .. } => format!("{name}={}", max / 2),
+        Values::Number { max, .. } | Values::NumberOr { max, .. } => {
+            format!("{name}={}", max / 2)
+        }
         Values::OnOff | Values::OnOffOr { .. } => format!("{name}=1"),
     }
 }
@@ -424,6 +446,40 @@ mod tests {
                 "V0=<mV 0..500>: a voltage"
             ]
         );
+    }
+
+    const LEVELS: &[InputRow<Probe>] = &[InputRow {
+        input: Probe::Volts,
+        names: Names::Numbered {
+            stem: "A",
+            first: 0,
+            last: 1,
+        },
+        values: Values::NumberOr {
+            max: 1023,
+            unit: "counts",
+            word: "stage",
+            meaning: "from where the carriage is",
+        },
+        what: "a level or the stage's",
+    }];
+
+    #[test]
+    fn a_number_or_its_word_is_read() {
+        let read = |text| parse(LEVELS, text).map(|s| (s.which, s.level));
+        assert_eq!(read("A1=1023"), Ok((1, Level::Number(1023))));
+        assert_eq!(read("a0=Stage"), Ok((0, Level::Released)));
+        let e = parse(LEVELS, "A0=1024").expect_err("above max");
+        assert_eq!(
+            e.to_string(),
+            "A0 takes a whole number of counts, 0..1023, or stage (from where the carriage is), not `1024`"
+        );
+        assert_eq!(
+            help_lines(LEVELS),
+            ["A0..A1=<counts 0..1023>|stage: a level or the stage's"]
+        );
+        let e = parse(LEVELS, "A0").expect_err("no value");
+        assert!(e.to_string().contains("e.g. A0=511"), "{e}");
     }
 
     #[test]

@@ -8,6 +8,7 @@ use std::time::Duration;
 pub mod cmd4cr;
 pub mod faults;
 pub mod inputs;
+pub mod sixpack2;
 pub mod stored_file;
 pub mod tmcm1110;
 
@@ -47,6 +48,12 @@ pub trait SimulatedController: Send {
         let _ = source;
         Err(vec!["this simulator runs no A-Script programs".to_string()])
     }
+    /// A BREAK on the line: the host held it at space for longer than a
+    /// character, which a UART reports apart from the bytes (a line
+    /// `BREAK` on the standard input of `axterm sim`). Protocols that
+    /// resynchronise with one act on it; to the others it is line noise,
+    /// and they ignore it.
+    fn line_break(&mut self) {}
 }
 
 /// Options common to every simulator kind.
@@ -70,6 +77,10 @@ pub struct SimKind {
     pub input_names: fn() -> Vec<String>,
     /// One line per kind of input: its settings and what it is, for help.
     pub input_help: fn() -> Vec<String>,
+    /// Why `axterm sim KIND --eeprom FILE` is refused, for a controller
+    /// that keeps nothing a host sets between power-ups; `None` when the
+    /// file keeps its non-volatile memory.
+    pub eeprom_refusal: Option<&'static str>,
 }
 
 /// Every built-in simulator. A new family adds one line here.
@@ -92,6 +103,7 @@ pub const SIM_KINDS: &[SimKind] = &[
         },
         input_names: || inputs::names(tmcm1110::inputs::INPUTS),
         input_help: || inputs::help_lines(tmcm1110::inputs::INPUTS),
+        eeprom_refusal: None,
     },
     SimKind {
         name: "cmd4cr",
@@ -106,6 +118,22 @@ pub const SIM_KINDS: &[SimKind] = &[
         },
         input_names: || inputs::names(cmd4cr::inputs::INPUTS),
         input_help: || inputs::help_lines(cmd4cr::inputs::INPUTS),
+        eeprom_refusal: None,
+    },
+    SimKind {
+        name: "sixpack2",
+        description: "Trinamic SIXpack 2 (9-byte binary frames, 6 axes)",
+        family: "sixpack2",
+        build: |options| {
+            let mut config = sixpack2::SimConfig::default();
+            if let Some(address) = options.address {
+                config.rotary_address = address;
+            }
+            Box::new(sixpack2::Sixpack2::new(config))
+        },
+        input_names: || inputs::names(sixpack2::inputs::INPUTS),
+        input_help: || inputs::help_lines(sixpack2::inputs::INPUTS),
+        eeprom_refusal: Some(sixpack2::NOTHING_STORED),
     },
 ];
 
@@ -205,6 +233,28 @@ mod tests {
     }
 
     #[test]
+    fn the_sixpack2_kind_answers_at_its_rotary_address_and_stores_nothing() {
+        let kind = find_kind("SIXpack2").expect("registered");
+        let mut sim = (kind.build)(&SimOptions {
+            address: Some(3),
+            eeprom_file: None,
+        });
+        sim.feed(&[0, 0x43, 0, 0, 0, 0, 0, 0, 0]);
+        sim.feed(&[3, 0x43, 0, 0, 0, 0, 0, 0, 0]);
+        sim.advance(std::time::Duration::from_millis(6));
+        assert_eq!(sim.take_output(), [0x43, 148, 1, 30, 1, 0, 0, 0]);
+        assert!(sim.help().contains("SIXpack 2"));
+        assert!(kind.eeprom_refusal.is_some());
+        assert!(
+            SIM_KINDS
+                .iter()
+                .filter(|k| k.eeprom_refusal.is_none())
+                .count()
+                >= 2
+        );
+    }
+
+    #[test]
     fn only_the_cmd4cr_loads_a_script_programs() {
         let options = SimOptions::default();
         let mut tmcl = (find_kind("tmcm1110").expect("registered").build)(&options);
@@ -238,6 +288,6 @@ mod tests {
     #[test]
     fn unknown_kinds_are_not_found() {
         assert!(find_kind("tmcm9999").is_none());
-        assert_eq!(kind_names(), "tmcm1110, cmd4cr");
+        assert_eq!(kind_names(), "tmcm1110, cmd4cr, sixpack2");
     }
 }
