@@ -4,6 +4,7 @@
 pub mod ascii;
 pub mod cmd4cr;
 pub mod console;
+pub mod mccl;
 pub mod parameters;
 pub mod tmcl;
 pub mod wire;
