@@ -49,6 +49,13 @@ pub const FAMILIES: &[Family] = &[
         show_bytes: cmd4cr::show_bytes,
         console: &cmd4cr::Cmd4crConsole,
     },
+    Family {
+        name: "mccl",
+        description: "PMC MultiFlex MCCL (up to 8 axes), ASCII lines with echo and prompt",
+        encode_line: mccl::encode_line,
+        show_bytes: mccl::show_bytes,
+        console: &mccl::MclConsole::DEFAULT,
+    },
 ];
 
 /// The family called `name` (case-insensitive).
