@@ -202,18 +202,24 @@ fn check_axis(f: &mut Findings, index: usize, command: &Command, machine: &Machi
     }
     match command.spec.axis {
         AxisRule::One | AxisRule::OneOrAll => match f.line.axis_of(index) {
-            AxisRef::Default => f.warning(
-                index,
-                format!(
+            AxisRef::Default => {
+                let message = format!(
                     "`{name}`: no axis on the line yet: {mnemonic} goes to the default axis (UA; \
-                     0 = {} at power-up)",
+                     at power-up {})",
                     if command.spec.axis == AxisRule::OneOrAll {
-                        "all axes".to_string()
+                        "0 = all axes".to_string()
                     } else {
-                        format!("no axis, which {mnemonic} does not take")
+                        format!("0, which {mnemonic} does not take")
                     }
-                ),
-            ),
+                );
+                // A macro without axis numbers is the generic macro of Ch5
+                // UA (`MD10,MR1000` + `UA1,MC10`).
+                if f.line.defines_macro() {
+                    f.note(index, message);
+                } else {
+                    f.warning(index, message);
+                }
+            }
             AxisRef::Given(0) | AxisRef::Carried(0) if command.spec.axis == AxisRule::One => f
                 .error(
                     index,

@@ -117,6 +117,10 @@ impl MclConsole {
     /// Commands that would change how later lines are written or read,
     /// which a stateless console must not send.
     fn refusal(&self, line: &Line) -> Option<String> {
+        // A macro or a task holds them without running them here.
+        if line.defines_macro() || line.is_task() {
+            return None;
+        }
         for command in &line.commands {
             let name = command.to_string();
             let refused = match command.mnemonic() {
@@ -571,6 +575,8 @@ mod tests {
             let e = CONSOLE.prepare(line, 0).unwrap_err();
             assert!(e.contains(why), "{line}: {e}");
         }
+        // Stored in a macro they are not run now.
+        assert!(CONSOLE.prepare("MD10,1TP,BK\"wait\",RP1", 0).is_ok());
         // Warnings do not stop a line.
         assert!(CONSOLE.prepare("TP,RP999", 0).is_ok());
         assert!(CONSOLE.prepare("PC62", 0).is_ok(), "the prompt it has");

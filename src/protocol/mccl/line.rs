@@ -509,6 +509,10 @@ pub fn parse_line(text: &str, base: NumberBase) -> Result<Line, ParseErrors> {
         Some(at) => &norm[..at],
         None => &norm[..],
     };
+    // Blanks before the first command and before a comment are no blanks
+    // between commands.
+    let lead = body.len() - body.trim_start_matches(is_blank).len();
+    let body = body.trim_end_matches(is_blank);
     let original = |range: &Range<usize>| -> Range<usize> {
         let start = origin.get(range.start).copied().unwrap_or(text.len());
         let end = origin.get(range.end).copied().unwrap_or(text.len());
@@ -524,11 +528,12 @@ pub fn parse_line(text: &str, base: NumberBase) -> Result<Line, ParseErrors> {
     }
     let mut commands = Vec::new();
     let mut errors = Vec::new();
-    for (index, range) in split_commands(body).into_iter().enumerate() {
+    for (index, range) in split_commands(&body[lead..]).into_iter().enumerate() {
+        let range = range.start + lead..range.end + lead;
         let raw = &body[range.clone()];
         let trimmed = raw.trim_matches(is_blank);
-        let lead = raw.len() - raw.trim_start_matches(is_blank).len();
-        let range = range.start + lead..range.start + lead + trimmed.len();
+        let blanks = raw.len() - raw.trim_start_matches(is_blank).len();
+        let range = range.start + blanks..range.start + blanks + trimmed.len();
         let span = original(&range);
         match parse_command(trimmed, base) {
             Ok((axis, spec, value)) => commands.push(Command {
