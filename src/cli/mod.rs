@@ -73,7 +73,8 @@ pub struct ConnectionArgs {
     /// Built-in simulator: tmcm1110 or cmd4cr.
     #[arg(long, global = true)]
     pub sim: Option<String>,
-    /// Protocol family: tmcl or cmd4cr (default: the simulator's, else tmcl).
+    /// Protocol family: tmcl, cmd4cr or mccl (default: the simulator's, else
+    /// tmcl).
     #[arg(long, global = true)]
     pub protocol: Option<String>,
     /// Serial baud rate (default 9600); with --sim, emulate that wire time;
@@ -105,7 +106,7 @@ pub struct ConnectionArgs {
 pub enum Command {
     /// Print the bytes a console line becomes.
     Encode {
-        /// Protocol family: tmcl or cmd4cr.
+        /// Protocol family: tmcl, cmd4cr or mccl.
         family: String,
         /// The console line, e.g. 'MVP ABS, 0, 1000'.
         line: String,

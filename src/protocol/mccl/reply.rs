@@ -773,4 +773,99 @@ mod tests {
         assert_eq!(rule.examine(&[], b"01 5"), Verdict::Continue);
         assert_eq!(rule.examine(&frames(&["01 5"]), b">"), Verdict::Complete);
     }
+
+    mod properties {
+        use super::*;
+        use proptest::prelude::*;
+
+        fn frame() -> impl Strategy<Value = Frame> {
+            prop_oneof![
+                Just(b">".to_vec()),
+                "[0-9]{2} -?[0-9]{1,6}(\\.[0-9]{1,5})?".prop_map(String::into_bytes),
+                "\\?-?[0-9]{1,3}.{0,6}".prop_map(String::into_bytes),
+                proptest::collection::vec(any::<u8>(), 0..20),
+            ]
+        }
+
+        proptest! {
+            #[test]
+            fn reading_any_answer_never_panics(
+                text in "[0-9]?[A-Za-z]{2}[0-9.@-]{0,4}(,[0-9]?[A-Za-z]{2}[0-9.-]{0,4}){0,3}",
+                frames in proptest::collection::vec(frame(), 0..8),
+                echo in any::<bool>(),
+                hex in any::<bool>(),
+            ) {
+                let Ok(line) = parse_line(&text, NumberBase::Decimal) else {
+                    return Ok(());
+                };
+                let sent = line.to_string();
+                let profile = LinkProfile::MANUAL.with_echo(if echo { Echo::Line } else { Echo::Off });
+                let mut state = LinkState::new(&profile);
+                if hex {
+                    state.base = NumberBase::Hex;
+                }
+                let mut all = vec![sent.clone().into_bytes()];
+                all.extend(frames.iter().cloned());
+                let _ = read_reply(&line, &sent, &state, &profile, &all);
+                let rule = AnswerRule::new(&line, &sent, &profile, &state);
+                for at in 0..all.len() {
+                    let _ = rule.examine(&all[..at], &all[at]);
+                }
+            }
+
+            #[test]
+            fn reply_lines_never_panic(line in "\\PC{0,40}") {
+                let _ = ErrorReply::parse(&line);
+                for base in [NumberBase::Decimal, NumberBase::Hex] {
+                    let _ = parse_told(&line, base);
+                }
+            }
+
+            #[test]
+            fn tell_values_read_back_as_printed(
+                axis in 1u8..9,
+                values in proptest::collection::vec((-9_999_999i64..9_999_999, 0usize..6), 1..5),
+            ) {
+                // `aTPp,TPp,…` printed with p decimals each, as Ch8 shows.
+                let commands: Vec<String> = values
+                    .iter()
+                    .enumerate()
+                    .map(|(i, (_, p))| {
+                        let axis = if i == 0 { axis.to_string() } else { String::new() };
+                        if *p == 0 { format!("{axis}TP") } else { format!("{axis}TP.{p}") }
+                    })
+                    .collect();
+                let text = commands.join(",");
+                let line = parse_line(&text, NumberBase::Decimal).expect("a Tell line");
+                let printed: Vec<String> = values
+                    .iter()
+                    .map(|(n, p)| {
+                        if *p == 0 {
+                            n.to_string()
+                        } else {
+                            format!("{:.p$}", *n as f64 / 1000.0, p = *p)
+                        }
+                    })
+                    .collect();
+                let mut frames = vec![text.clone().into_bytes()];
+                frames.extend(printed.iter().map(|v| format!("{axis:02} {v}").into_bytes()));
+                frames.push(b">".to_vec());
+                let profile = LinkProfile::MANUAL;
+                let reply = read_reply(&line, &text, &LinkState::new(&profile), &profile, &frames)
+                    .expect("read");
+                let got: Vec<String> = reply
+                    .reports
+                    .iter()
+                    .map(|r| match &r.printed {
+                        Printed::Value(told) => {
+                            prop_assert_eq!(told.field, Some(axis));
+                            Ok(told.value.to_string())
+                        }
+                        Printed::Text(_) => Ok(String::new()),
+                    })
+                    .collect::<Result<_, _>>()?;
+                prop_assert_eq!(got, printed);
+            }
+        }
+    }
 }
