@@ -22,6 +22,8 @@
 //! - `PC`: syntax "n > 0", text "PC0 inhibits the prompt" — 0–255.
 //! - `ID`: syntax "n ≤ 6", table lists 7 — 0–7.
 //! - `TR`: syntax "n ≤ 255", 1000 registers (Ch4) — 0–999.
+//! - `LM`: syntax "0 - 136", text "hard + soft … 128 plus desired mode" —
+//!   up to 128 + 2 + 8 = 138.
 //! - `SS`: range garbled, examples 5, −.1, −1000 — any.
 
 use std::fmt;
@@ -489,9 +491,9 @@ pub const COMMANDS: &[CommandSpec] = &[
         "disable limits, coded as LN (Ch3 gives LF and LS the same code 36h)"),
     spec("LL", Some(0xD2), Setup, "set motion Low Limit", One, ANY, SERVO_STEPPER,
         "low soft limit (enabled by LN)"),
-    spec("LM", Some(0x34), Setup, "Limit Mode", One, int(0, 136), SERVO_STEPPER,
+    spec("LM", Some(0x34), Setup, "Limit Mode", One, int(0, 138), SERVO_STEPPER,
         "limit reaction: hard 0 off/1 abrupt/2 decelerate + soft 0/4 abrupt/8 decelerate \
-         + 128 invert the hard-limit inputs"),
+         + 128 invert the hard-limit inputs (syntax prints 0–136; 128 + 2 + 8 is 138)"),
     spec("LN", Some(0x35), Setup, "motion Limits oN", One, int(0, 15), SERVO_STEPPER,
         "enable limits: 0 all four, else 1 hard +, 2 hard −, 4 soft high, 8 soft low"),
     spec("LR", Some(0x334), Setup, "Load commutation repeat count", Optional,

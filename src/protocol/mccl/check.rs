@@ -846,6 +846,7 @@ mod tests {
         );
         assert!(of("1IM2", Severity::Error)[0].contains("one of 0, 1, 128"));
         assert!(of("1LM3", Severity::Error)[0].contains("hard 0/1/2"));
+        clean("1LM138");
         clean("1MR@10");
         clean("HE\"id\"");
         clean("BK");

@@ -92,7 +92,13 @@ impl MclConsole {
             address: ADDRESS,
             bytes,
             answering: Answering::Reply(Arc::new(rule)),
-            effect: if line.commands.iter().all(|c| c.spec.only_reads()) {
+            // Only a line that reads and ends at once may be sent again: a
+            // repeating Tell (`1TP,RP`) still runs after a timeout.
+            effect: if line
+                .commands
+                .iter()
+                .all(|c| c.spec.only_reads() && c.spec.blocks == Blocks::No)
+            {
                 Effect::Reads
             } else {
                 Effect::Acts
@@ -545,6 +551,11 @@ mod tests {
         assert_eq!(line.bytes, b"2MR1000,WS0.5\r".to_vec());
         assert_eq!(line.effect, Effect::Acts);
         assert_eq!(prepare("1TP,TV,TS").effect, Effect::Reads);
+        assert_eq!(
+            prepare("1TP,RP").effect,
+            Effect::Acts,
+            "still running after a timeout"
+        );
         assert_eq!(
             prepare("1CG,TR0").effect,
             Effect::Acts,
