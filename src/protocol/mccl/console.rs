@@ -15,6 +15,7 @@ use super::catalog::{Blocks, Output};
 use super::check::{CheckContext, Severity, check_line};
 use super::line::{Line, NumberBase, parse_line};
 use super::machine::{AxisKind, DEFAULT_MACHINE, Machine};
+use super::parameter_set::MclParameters;
 use super::profile::{LinkProfile, LinkState};
 use super::reply::{AnswerRule, Printed, Reply, Report, read_reply, runs_straight};
 use super::status::{BitClass, PRIMARY, StatusBit, StatusSelector, StatusWord, StatusWordKind};
@@ -51,7 +52,14 @@ pub struct MclConsole {
     /// stated), so it ends each of these; an ID no task has is answered
     /// −20 and read as "not running".
     pub tasks: &'static [i64],
+    /// The settings table, for the same machine.
+    pub parameters: &'static MclParameters,
 }
+
+/// The settings of the default machine.
+pub static DEFAULT_PARAMETERS: MclParameters = MclParameters {
+    machine: DEFAULT_MACHINE,
+};
 
 /// Task IDs 1–21: as many as the controller runs tasks (Ch4: "The maximum
 /// number of background tasks is 21"), numbered from 1 [?].
@@ -67,6 +75,7 @@ impl MclConsole {
         machine: DEFAULT_MACHINE,
         stop: StopMotion::Abort,
         tasks: FIRST_TASK_IDS,
+        parameters: &DEFAULT_PARAMETERS,
     };
 
     fn context(&self) -> CheckContext<'_> {
@@ -498,9 +507,7 @@ impl FamilyConsole for MclConsole {
     }
 
     fn parameters(&self) -> Option<&'static dyn ParameterSet> {
-        Some(&super::parameter_set::MclParameters {
-            machine: DEFAULT_MACHINE,
-        })
+        Some(self.parameters)
     }
 
     fn describe_request(&self, bytes: &[u8]) -> Option<String> {
