@@ -72,11 +72,11 @@ pub struct ConnectionArgs {
     /// Serial-over-TCP bridge, HOST:PORT.
     #[arg(long, global = true, conflicts_with = "sim")]
     pub tcp: Option<String>,
-    /// Built-in simulator: tmcm1110 or cmd4cr.
+    /// Built-in simulator: tmcm1110, cmd4cr or sixpack2.
     #[arg(long, global = true)]
     pub sim: Option<String>,
-    /// Protocol family: tmcl, cmd4cr or sixpack2 (default: the simulator's,
-    /// else tmcl).
+    /// Protocol family: tmcl, cmd4cr, sixpack2 or mccl (default: the
+    /// simulator's, else tmcl).
     #[arg(long, global = true)]
     pub protocol: Option<String>,
     /// Serial baud rate (default: the family's factory rate, 9600; sixpack2
@@ -110,7 +110,7 @@ pub struct ConnectionArgs {
 pub enum Command {
     /// Print the bytes a console line becomes.
     Encode {
-        /// Protocol family: tmcl, cmd4cr or sixpack2.
+        /// Protocol family: tmcl, cmd4cr, sixpack2 or mccl.
         family: String,
         /// The console line, e.g. 'MVP ABS, 0, 1000'.
         line: String,

@@ -4,6 +4,7 @@
 pub mod ascii;
 pub mod cmd4cr;
 pub mod console;
+pub mod mccl;
 pub mod parameters;
 pub mod sixpack2;
 pub mod tmcl;
@@ -55,6 +56,13 @@ pub const FAMILIES: &[Family] = &[
         encode_line: sixpack2::encode_line,
         show_bytes: sixpack2::to_hex,
         console: &sixpack2::Sixpack2Console::AUTO,
+    },
+    Family {
+        name: "mccl",
+        description: "PMC MultiFlex MCCL (up to 8 axes), ASCII lines with echo and prompt",
+        encode_line: mccl::encode_line,
+        show_bytes: mccl::show_bytes,
+        console: &mccl::MclConsole::DEFAULT,
     },
 ];
 

@@ -373,7 +373,10 @@ impl Session {
             Effect::Reads => Retry::Read(self.read_retries),
             Effect::Acts => Retry::Never,
         };
-        let result = self.send(Priority::User, line, retry, None).await?;
+        // A line that runs for long (MCCL `RP`, `WS`) is waited for as long
+        // as its family says.
+        let timeout = self.family.console.long_running(line).map(|l| l.timeout);
+        let result = self.send(Priority::User, line, retry, timeout).await?;
         program::after_user_line(self, line);
         Ok(result)
     }

@@ -46,6 +46,9 @@ pub struct AxisStatus {
     pub home_switch: Option<bool>,
     /// Motor load reading (TMCL AP206: 0 = highest load).
     pub load: Option<i64>,
+    /// Commanded minus actual position, where the family reads it (MCCL
+    /// `TF`).
+    pub following_error: Option<i64>,
     /// Error flags seen since the user last acknowledged them, in the
     /// family's table order, each once. Never cleared by a later reading.
     pub errors: Vec<AxisFlag>,
@@ -210,6 +213,7 @@ impl AxisStatus {
             AxisUpdate::Switch(SwitchKind::Right, v) => self.right_switch = Some(v),
             AxisUpdate::Switch(SwitchKind::Home, v) => self.home_switch = Some(v),
             AxisUpdate::Load(v) => self.load = Some(v),
+            AxisUpdate::FollowingError(v) => self.following_error = Some(v),
             AxisUpdate::Errors(flags) => {
                 for flag in flags {
                     if !self.errors.contains(&flag) {
@@ -514,6 +518,14 @@ mod tests {
         );
         sink.record(position, Ok(&answer(8)));
         assert!(status.has_changed().unwrap_or(false));
+    }
+
+    #[test]
+    fn a_following_error_is_kept_as_read() {
+        let mut axis = AxisStatus::default();
+        assert_eq!(axis.following_error, None);
+        axis.apply(AxisUpdate::FollowingError(-12));
+        assert_eq!(axis.following_error, Some(-12));
     }
 
     #[test]
