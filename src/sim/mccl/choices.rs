@@ -77,3 +77,21 @@ pub fn summary() -> String {
         .collect::<Vec<_>>()
         .join("; ")
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_readme_lists_every_choice() {
+        let readme = include_str!("../../../README.md");
+        let section = readme
+            .split_once("MultiFlex MCCL simulator")
+            .map(|(_, rest)| rest)
+            .expect("a MultiFlex MCCL simulator section");
+        for c in CHOICES {
+            let line = format!("**{}**: {}", c.topic, c.choice);
+            assert!(section.contains(&line), "README misses {line}");
+        }
+    }
+}

@@ -36,6 +36,7 @@ pub enum Input {
     Prompts,
     Errors,
     TellAxis,
+    OutputRate,
 }
 
 const AXES: u8 = 8;
@@ -141,6 +142,16 @@ pub const INPUTS: &[InputRow<Input>] = &[
         values: Values::OnOff,
         what: "Tell replies start with the two-digit axis (`01 1000`) or are the bare value",
     },
+    InputRow {
+        input: Input::OutputRate,
+        names: Names::Listed(&["OUTRATE"]),
+        values: Values::Number {
+            max: 1_000_000,
+            unit: "bytes/s",
+        },
+        what: "the rate the port sends at, bytes/s (11520, 115200 Bd): an endless reporting line \
+               (1TP,RP) waits for it; set it to the baud rate / 10 when serving at a lower --baud",
+    },
 ];
 
 /// Read a setting (`IN18=1`) against [`INPUTS`].
@@ -244,6 +255,14 @@ impl Mccl {
             Input::TellAxis => {
                 self.link.profile.tell_axis = on;
                 format!("{name} {}", setting.level)
+            }
+            Input::OutputRate => {
+                let rate = match setting.level {
+                    Level::Number(n) => n.max(1),
+                    _ => 1,
+                };
+                self.link.profile.output_rate = f64::from(rate);
+                format!("{name} {rate} bytes/s")
             }
         };
         Ok(said)

@@ -143,3 +143,30 @@ fn single_step_as_the_ch4_transcript() {
     let end = s.advance_ms(10);
     assert!(end.ends_with('>'), "{end:?}");
 }
+
+#[test]
+fn a_corrupt_store_fault_changes_what_tm_lists() {
+    // `--fault corrupt-store=2`: the second macro stored keeps a changed
+    // parameter while the reply says all is well; TM shows it.
+    use crate::sim::faults::FaultPlan;
+    let mut s = Session::new();
+    let plan = FaultPlan::parse("corrupt-store=2").expect("plan");
+    s.sim.arm_faults(&plan);
+    s.quiet(&["MD1,1MR1000", "MD2,1MR1000", "MD3,1MR1000"]);
+    assert_eq!(
+        s.line("TM-1"),
+        ["MC1,1MR1000", "MC2,1MR1001", "MC3,1MR1000"]
+    );
+    assert_eq!(plan.counts().corrupted_stores, 1);
+}
+
+#[test]
+fn help_names_the_model_and_every_choice() {
+    let s = Session::new();
+    let help = s.sim.help();
+    assert!(help.starts_with("MultiFlex PCI simulator"), "{help}");
+    for choice in crate::sim::mccl::choices::CHOICES {
+        assert!(help.contains(choice.choice), "{}", choice.topic);
+    }
+    assert!(help.contains("LIM+1..LIM+8=0|1"), "{help}");
+}

@@ -6,6 +6,7 @@ mod errors;
 mod flow;
 mod macros;
 mod motion;
+mod props;
 mod reports;
 mod tasks;
 mod wire;
