@@ -466,6 +466,7 @@ impl Axis {
         self.optimal += offset;
         self.target += offset;
         self.index_phase += offset;
+        self.index_position += offset;
         if let Some(b) = &mut self.breakpoint {
             b.at += offset;
         }

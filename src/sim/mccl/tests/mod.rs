@@ -3,6 +3,7 @@
 //! back. The numbers checked are the manual's own where it has them.
 
 mod errors;
+mod examples;
 mod flow;
 mod macros;
 mod motion;

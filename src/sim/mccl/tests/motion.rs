@@ -210,7 +210,7 @@ fn homing_on_the_index_with_ia_wi_mn() {
     // The index mark is at 500 counts: it is now 1000.
     assert_eq!(after - before, 500.0);
     assert_eq!(s.line("1TS21"), ["01 1"], "homed");
-    assert_eq!(s.tell("1TZ"), 500.0, "where the index was seen");
+    assert_eq!(s.tell("1TZ"), 1000.0, "where the index was seen, redefined");
 }
 
 #[test]
