@@ -179,3 +179,66 @@ fn inputs_are_driven_while_it_serves() {
     );
     assert_eq!(port.line("1TS28"), "1TS28\r\n01 1\r\n>");
 }
+
+/// `axterm sim mccl --tcp 127.0.0.1:0 EXTRA...`, ended when dropped.
+struct ServedTcp {
+    child: std::process::Child,
+    endpoint: String,
+}
+
+impl ServedTcp {
+    fn start(extra: &[&str]) -> ServedTcp {
+        use std::io::BufRead;
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_axterm"))
+            .args(["sim", "mccl", "--tcp", "127.0.0.1:0"])
+            .args(extra)
+            .stdin(std::process::Stdio::null())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .expect("start axterm sim");
+        let stdout = child.stdout.take().expect("stdout");
+        let mut first = String::new();
+        std::io::BufReader::new(stdout)
+            .read_line(&mut first)
+            .expect("read the endpoint");
+        ServedTcp {
+            child,
+            endpoint: first.trim().to_string(),
+        }
+    }
+}
+
+impl Drop for ServedTcp {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+#[test]
+fn tcp_at_a_baud_rate_with_a_stored_macro_corrupted() {
+    // --fault corrupt-store=1: the first macro stored keeps a changed
+    // parameter; only TM shows it.
+    let served = ServedTcp::start(&["--baud", "115200", "--fault", "corrupt-store=1"]);
+    let mut stream = std::net::TcpStream::connect(&served.endpoint).expect("connect");
+    stream
+        .set_read_timeout(Some(GIVE_UP_AFTER))
+        .expect("timeout");
+    let mut line = |text: &str| -> String {
+        stream
+            .write_all(format!("{text}\r").as_bytes())
+            .expect("write");
+        let mut got = Vec::new();
+        let mut byte = [0u8; 1];
+        while !got.ends_with(b">") {
+            stream.read_exact(&mut byte).expect("a byte");
+            got.push(byte[0]);
+        }
+        String::from_utf8_lossy(&got).into_owned()
+    };
+    assert_eq!(line("MD4,1MR1000"), "MD4,1MR1000\r\n>");
+    assert_eq!(line("TM4"), "TM4\r\nMC4,1MR1001\r\n>");
+    assert_eq!(line("MD5,1MR1000"), "MD5,1MR1000\r\n>");
+    assert_eq!(line("TM5"), "TM5\r\nMC5,1MR1000\r\n>");
+}

@@ -24,6 +24,8 @@ pub const CHOICES: &[Choice] = &[
     choice("Tell reply", "`AA value`, the axis as two digits (setting TELLAXIS=1|0 for the bare value)"),
     choice("TR reply field", "the axis in force, 01 when none"),
     choice("TE reply", "the bare code"),
+    choice("Tell with axis 0", "-14 (no axis); TC and TA carry their channel in the field"),
+    choice("DE", "16 lines `aaaa: hh hh ...` of the scratch pad"),
     choice("LF, TAB, case", "LF is ignored, blanks and tabs around commands are skipped, mnemonics in any case"),
     choice("backspace", "BS or DEL removes the last character, echoed as BS space BS"),
     choice("Escape while typing", "drops the line typed so far"),
@@ -35,7 +37,7 @@ pub const CHOICES: &[Choice] = &[
     // ---- error codes ----
     choice("error codes", "1 unknown mnemonic; 2 bad parameter text, empty command, two RP or DM with HM in one line; 3 line noise; 4 line too long; -1 value out of range or a real where an integer is due; -2 command the axis kind does not take; -13 move or wait on an axis that tripped; -14 no axis; -15 axis beyond the machine; -16 CM/SM of an axis already in another group or gearing; -17 an axis twice in a path command or geared to itself; -18 macro memory, 21 tasks or 32 nested calls exceeded; -21 reporting command in a task, BK\"text\" in a task, commands not simulated"),
     // ---- numbers ----
-    choice("hex mode", "integers are hex digits starting with a digit, replies 8 lower-case hex digits of the 32-bit word; reals stay decimal"),
+    choice("hex mode", "integers are hex digits starting with a digit (a sign allowed), replies 8 lower-case hex digits of the 32-bit word; reals stay decimal; a line is read in the base in force when it arrives"),
     choice("precision", "values are truncated to the decimals asked (Ch8 example), after rounding at the ninth"),
     choice("register arithmetic", "the result takes the more precise type (Ch4); integers wrap at 32 bits and divide toward zero; bitwise works on the accumulator rounded; AV angles in radians; AV25 truncates"),
     choice("R1 and doubles", "a double in the accumulator does not touch R1"),
@@ -46,6 +48,7 @@ pub const CHOICES: &[Choice] = &[
     choice("machine", "axes 1-4 servo, 5 stepper; axes n and n+4 share their opto inputs (Ch9 Table 1)"),
     // ---- motion ----
     choice("servo model", "the shaft follows the optimal position with a 4 ms lag at SG 0.04 (shorter as SG grows); the encoder reads it rounded to a count"),
+    choice("command output", "SG x following error + VG x speed, plus OB and OO, limited to SQ (DQ, ID4); the integral and derivative terms are not modelled"),
     choice("stepper model", "the shaft turns with every step unless stalled (STALLn); closed loop (IM1) reads it with an encoder of ES steps a count"),
     choice("profiles", "trapezoid re-planned each tick; S-curve a = SA sin(pi t/T) and parabolic a = SA (1 - t/T) planned at the start with peak SA, a new target mid-move goes on as a trapezoid"),
     choice("motor off", "no trajectory: the trajectory-complete bit is set, at target clear; a move only changes the target"),
@@ -60,12 +63,13 @@ pub const CHOICES: &[Choice] = &[
     choice("macro bytes", "2 a command + 4 an integer, 8 a real, 2 @n, a string and its NUL; 510000 bytes in all"),
     choice("TM listing", "`MC<n>,` and the commands as typed (upper-case mnemonics)"),
     choice("axis in macros", "a called macro starts without an axis; the task of GT takes the parent's UA"),
-    choice("RP", "commands after RP run once after the last repetition"),
+    choice("RP", "commands after RP run once after the last repetition; each line or macro counts its own RP, also when called"),
     choice("GT0", "first on a line: the rest of the line is the task; alone: macro 0"),
     choice("tasks", "IDs count up from 1; 4 slices of 250 us a ms, 10 commands a slice, round robin; NP is taken but not used; a task's error ends it silently"),
     choice("OT from a task", "printed on the port as it happens"),
     choice("RT", "resets axes, registers, tasks, I/O polarity, prompt and DM; PCI macros are lost, ETH ones kept; input wiring stays; ends the line"),
     choice("LU addresses", "tokens above the 64 KB scratch pad, read per axis by aRx@0"),
+    choice("FT/FD", "the text, NUL-terminated, in a new scratch-pad block; its address in ACC (0 when full, as ME)"),
     choice("ID, HE, VE texts", "VE is the manual's MFX-PCI1440 text; ID and HE one item a line in the manual's words"),
 ];
 

@@ -140,8 +140,9 @@ pub struct Axis {
     // ---- status ----
     /// Latched bits of the primary status word.
     pub latched: u32,
-    /// Seconds within DB of the target with the trajectory complete.
-    pub settled: f64,
+    /// Seconds within DB of the target with the trajectory complete, the
+    /// last tick included; `None` while not within it.
+    pub settled: Option<f64>,
     pub breakpoint: Option<Breakpoint>,
     /// Last breakpoint position set, counts (TB).
     pub breakpoint_at: f64,
@@ -190,7 +191,7 @@ impl Axis {
             index_phase: INDEX_PHASE,
             index_period: INDEX_PERIOD,
             latched: 0,
-            settled: 0.0,
+            settled: None,
             breakpoint: None,
             breakpoint_at: 0.0,
             homing: Homing::default(),
@@ -325,7 +326,9 @@ impl Axis {
             return false;
         }
         match self.kind {
-            AxisKind::Servo => self.settled >= self.settings.target_delay - 1e-9,
+            AxisKind::Servo => self
+                .settled
+                .is_some_and(|t| t >= self.settings.target_delay - 1e-9),
             AxisKind::Stepper => self.position() == self.target.round(),
         }
     }
@@ -379,7 +382,7 @@ impl Axis {
         self.stopping = false;
         self.phase = Phase::Idle;
         self.optimal = self.position();
-        self.settled = 0.0;
+        self.settled = None;
         self.index_latched = false;
     }
 
@@ -400,11 +403,11 @@ impl Axis {
                     // A PS/PP move given a new target goes on as a trapezoid.
                     _ => None,
                 };
-                self.settled = 0.0;
+                self.settled = None;
             }
             Mode::Gain => {
                 self.optimal = target;
-                self.settled = 0.0;
+                self.settled = None;
             }
             _ => {}
         }

@@ -109,3 +109,16 @@ fn dh_redefines_every_position_without_moving() {
     tick(&mut axis, 10);
     assert!((axis.shaft - (shaft - 300.0)).abs() < 1e-9);
 }
+
+#[test]
+fn at_target_with_no_delay_still_needs_the_deadband() {
+    let mut axis = servo();
+    axis.settings.target_delay = 0.0;
+    axis.settings.following_limit = 0.0;
+    axis.mode = Mode::Gain;
+    axis.move_to(1000.0);
+    tick(&mut axis, 1);
+    assert!(!axis.at_target(), "far from the target");
+    tick(&mut axis, 100);
+    assert!(axis.at_target());
+}

@@ -188,9 +188,9 @@ impl Axis {
             let within = (self.position() - self.target).abs()
                 <= self.units.distance_to_counts(self.settings.deadband);
             if self.motor_on && self.trajectory_complete() && within {
-                self.settled += dt;
+                self.settled = Some(self.settled.unwrap_or(0.0) + dt);
             } else {
-                self.settled = 0.0;
+                self.settled = None;
             }
         }
         let sample = self.sample();

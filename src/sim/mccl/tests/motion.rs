@@ -411,3 +411,58 @@ fn recorded_samples_are_displayed() {
     assert!(lines.iter().all(|l| l.starts_with("03 ")), "{lines:?}");
     assert_eq!(s.error("3DO10"), -1, "only 10 taken");
 }
+
+#[test]
+fn the_auxiliary_and_encoder_fault_words_show_the_settings() {
+    let mut s = Session::new();
+    // LN3: hard limits + and - enabled; LM2: hard limits decelerate;
+    // FN: amp fault checked; high speed is the servo default.
+    s.quiet(&["1LN3,1LM2,1FN"]);
+    assert_eq!(s.tell("1TS64") as u32, 1 | 2 | 8 | 1 << 10 | 1 << 18);
+    s.quiet(&["1LM132"]);
+    assert_eq!(s.line("1TS72"), ["01 1"], "bit 8: positive limit inverted");
+    // EE1 and an encoder fault: TS160 and a trip with motor error.
+    s.quiet(&["1EE1,1SE0,1MN"]);
+    assert_eq!(s.tell("1TS160") as u32, 1 << 12);
+    s.drive("ENCFAULT1=1");
+    s.advance_ms(2);
+    assert_eq!(s.tell("1TS160") as u32, 0b1111 | 1 << 12);
+    let ts = s.status(1);
+    assert_eq!(ts & status::ENCODER_FAULT, status::ENCODER_FAULT);
+    assert_eq!(ts & status::MOTOR_ON, 0);
+}
+
+#[test]
+fn an_amplifier_fault_turns_the_motor_off_when_checked() {
+    let mut s = Session::new();
+    s.quiet(&["1MN"]);
+    s.drive("FAULT1=1");
+    s.advance_ms(2);
+    assert_eq!(
+        s.status(1) & status::MOTOR_ON,
+        status::MOTOR_ON,
+        "FF: not checked"
+    );
+    assert_eq!(s.status(1) & status::FAULT_INPUT, status::FAULT_INPUT);
+    s.quiet(&["1FN"]);
+    s.advance_ms(2);
+    let ts = s.status(1);
+    assert_eq!(
+        ts & (status::AMP_FAULT | status::MOTOR_ON),
+        status::AMP_FAULT
+    );
+}
+
+#[test]
+fn rt_of_an_axis_restores_its_defaults_and_turns_it_off() {
+    let mut s = Session::new();
+    s.quiet(&["1SV500,1SG.1,1MN,2MN", "1RT"]);
+    assert_eq!(s.status(1) & status::MOTOR_ON, 0);
+    assert_eq!(s.status(2) & status::MOTOR_ON, status::MOTOR_ON);
+    assert_eq!(s.line("1TG.2"), ["01 0.04"]);
+    s.quiet(&["AL5,AR500"]);
+    assert_eq!(s.typed("PC42\r"), "PC42\r\n*");
+    // RT with no axis: the controller, prompt included.
+    assert_eq!(s.typed("RT\r"), "RT\r\n>");
+    assert_eq!(s.line("TR500"), ["01 0"]);
+}
