@@ -18,7 +18,7 @@ const fn choice(topic: &'static str, choice: &'static str) -> Choice {
 pub const CHOICES: &[Choice] = &[
     // ---- the port ----
     choice("echo", "every byte typed is echoed as it arrives, CR as the line terminator (setting ECHO; EN/EF too)"),
-    choice("line terminator", "CR LF after every line of output (setting EOL=cr|lf|crlf)"),
+    choice("line terminator", "CR LF after every line of output (setting EOL=crlf|cr|lf)"),
     choice("prompt", "`>` (PCn) once a line has completed, after an error report too; it ends no line (setting PROMPTS=line|command)"),
     choice("error reply", "`?code command`, e.g. `?-6 MC10` (setting ERRORS=command|code for `?-6` alone); the line stops at its first error"),
     choice("Tell reply", "`AA value`, the axis as two digits (setting TELLAXIS=1|0 for the bare value)"),

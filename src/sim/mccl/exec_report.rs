@@ -69,7 +69,7 @@ impl Mccl {
                 }
                 return Ok(Flow::Next);
             }
-            "ID" => return self.information(interp, target, op.int),
+            "ID" => return self.information(target, op.int),
             "CG" | "GC" => {
                 let axis = self.axis(target.axis()).ok_or(Code::AXIS_NOT_ASSIGNED)?;
                 let count = if command.is("CG") {
@@ -171,8 +171,7 @@ impl Mccl {
     }
 
     /// ID n: the formatted pages of Ch8 ID.
-    fn information(&mut self, interp: &Interpreter, target: Target, n: i64) -> Result<Flow, Code> {
-        let _ = interp;
+    fn information(&mut self, target: Target, n: i64) -> Result<Flow, Code> {
         let lines = if n == 7 {
             text::tasks(&self.tasks.ids())
         } else {

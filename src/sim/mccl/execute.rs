@@ -357,9 +357,8 @@ impl Mccl {
 
     /// `GT0` first on a line: the rest of the line runs as a task (Ch4);
     /// `GT0` alone runs macro 0.
-    pub(super) fn spawn_line_task(&mut self, body: Vec<Command>, gt: &Command) -> Result<(), Code> {
+    pub(super) fn spawn_line_task(&mut self, body: Vec<Command>) -> Result<(), Code> {
         let program = if body.is_empty() {
-            let _ = gt;
             self.macro_sequence(0)?
         } else {
             program::check(&body, false).map_err(|m| m.code)?;

@@ -146,8 +146,6 @@ pub struct Link {
     /// TE: the last interpreter error.
     pub last_error: Code,
     pub activity: Activity,
-    /// Single stepping may run one command.
-    pub step_granted: bool,
     line: Vec<u8>,
     overflow: bool,
     /// The last line, run again by a bare CR until any other key.
@@ -165,7 +163,6 @@ impl Link {
             radix: Radix::Decimal,
             last_error: Code::NONE,
             activity: Activity::Typing,
-            step_granted: false,
             line: Vec::new(),
             overflow: false,
             retained: None,
@@ -214,10 +211,7 @@ impl Link {
             },
             Activity::Stepping => match byte {
                 ESCAPE => Keyed::Abort,
-                SPACE => {
-                    self.step_granted = true;
-                    Keyed::StepOnce
-                }
+                SPACE => Keyed::StepOnce,
                 b'\r' => {
                     self.activity = Activity::Running;
                     Keyed::EndStepping

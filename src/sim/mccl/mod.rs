@@ -283,12 +283,11 @@ impl Mccl {
     /// A line arrived: read it, store a macro, spawn a `GT0` task, or run it.
     fn start_line(&mut self, bytes: &[u8]) {
         // Line noise: bytes that are no 7-bit text (error 3, "I/O error").
-        if let Some(&bad) = bytes
+        if bytes
             .iter()
-            .find(|&&b| !(b.is_ascii_graphic() || b == b' ' || b == b'\t'))
+            .any(|&b| !(b.is_ascii_graphic() || b == b' ' || b == b'\t'))
         {
             let text = String::from_utf8_lossy(bytes).into_owned();
-            let _ = bad;
             self.line_failed(Code::IO_ERROR, text.trim());
             return;
         }
@@ -304,7 +303,7 @@ impl Mccl {
         }
         if first.is("GT") && matches!(first.param, Param::None | Param::Int(0)) {
             let body = commands[1..].to_vec();
-            let result = self.spawn_line_task(body, first);
+            let result = self.spawn_line_task(body);
             return self.line_done(result, first);
         }
         if let Err(m) = program::check(&commands, false) {
@@ -418,12 +417,8 @@ impl Mccl {
 
     /// A slice of the foreground if it can run: `true` if it used one.
     fn foreground_slice(&mut self) -> bool {
-        let runnable = match self.link.activity {
-            Activity::Running => true,
-            Activity::Stepping => false,
-            Activity::Typing | Activity::Paused => false,
-        };
-        if !runnable || !self.wait_over_foreground() {
+        // Paused or single stepping, it runs only when a key says so.
+        if self.link.activity != Activity::Running || !self.wait_over_foreground() {
             return false;
         }
         self.run_foreground(COMMANDS_PER_SLICE);
