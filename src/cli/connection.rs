@@ -278,7 +278,7 @@ mod tests {
                     sim: Some("nosuch".into()),
                     ..args()
                 },
-                "unknown simulator 'nosuch' (known: tmcm1110, cmd4cr)",
+                "unknown simulator 'nosuch' (known: tmcm1110, cmd4cr, mccl, mccl-eth)",
             ),
             (
                 ConnectionArgs {
