@@ -143,8 +143,6 @@ pub struct Interpreter {
     pub priority: u8,
     /// The task ID; `None` for the foreground.
     pub task: Option<i32>,
-    /// Commands run since it started (single stepping counts them).
-    pub executed: u64,
 }
 
 impl Default for Interpreter {
@@ -168,7 +166,6 @@ impl Interpreter {
             waiting_command: String::new(),
             priority: DEFAULT_PRIORITY,
             task: None,
-            executed: 0,
         }
     }
 
@@ -286,7 +283,6 @@ impl Mccl {
             };
             let program = frame.program.clone();
             let command = &program.commands[frame.pc];
-            interp.executed += 1;
             let flow = match self.execute(interp, command) {
                 Ok(flow) => flow,
                 Err(code) => {
@@ -325,7 +321,6 @@ impl Mccl {
                 Flow::Retry(wait) => {
                     interp.wait = Some(wait);
                     interp.waiting_command = command.text.clone();
-                    interp.executed -= 1;
                     continue;
                 }
                 Flow::EndTask => return SliceEnd::EndTask,

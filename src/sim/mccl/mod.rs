@@ -18,12 +18,17 @@
 //!
 //! Files: [`link`] the port (echo, line editing, prompt, errors);
 //! [`lexer`] reading a line; [`commands`] the command table; [`program`]
-//! placement rules; [`interpreter`] running sequences (flow, waits,
-//! macros, tasks); `exec_*` what each group of commands does; [`axis`]
-//! the axis models; [`contour`] contour groups; [`io`] channels;
-//! [`registers`] the accumulator and memory; [`macros`] macro memory;
-//! [`tasks`] background tasks; [`text`] VE, ID and HE; [`inputs`] what can
-//! be driven from outside.
+//! placement rules; [`interpreter`] running sequences (frames, waits,
+//! the round robin); [`execute`] the checks every command goes through and
+//! the flow, macro and task commands; `exec_setup`, `exec_motion`,
+//! `exec_report`, `exec_register` what the other groups do; [`axis`] the
+//! axis models (profiles, servo lag, stepper, limits, homing, status
+//! words); [`contour`] contour groups; [`io`] channels and the default
+//! channel map; [`registers`] shared registers, scratch pad, motor-table
+//! variables; [`values`] register values and number formats; [`printf`]
+//! OT/OD; [`macros`] macro memory and the ETH file; [`tasks`] background
+//! tasks; [`text`] VE, ID and HE; [`choices`] what the manual leaves open;
+//! [`inputs`] what can be driven from outside.
 
 pub mod axis;
 pub mod choices;
