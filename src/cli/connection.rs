@@ -289,7 +289,7 @@ mod tests {
                     sim: Some("nosuch".into()),
                     ..args()
                 },
-                "unknown simulator 'nosuch' (known: tmcm1110, cmd4cr, sixpack2)",
+                "unknown simulator 'nosuch' (known: tmcm1110, cmd4cr, sixpack2, mccl, mccl-eth)",
             ),
             (
                 ConnectionArgs {

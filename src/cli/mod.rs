@@ -72,7 +72,7 @@ pub struct ConnectionArgs {
     /// Serial-over-TCP bridge, HOST:PORT.
     #[arg(long, global = true, conflicts_with = "sim")]
     pub tcp: Option<String>,
-    /// Built-in simulator: tmcm1110, cmd4cr or sixpack2.
+    /// Built-in simulator: tmcm1110, cmd4cr, sixpack2, mccl or mccl-eth.
     #[arg(long, global = true)]
     pub sim: Option<String>,
     /// Protocol family: tmcl, cmd4cr, sixpack2 or mccl (default: the
@@ -101,7 +101,8 @@ pub struct ConnectionArgs {
     /// anything is sent, e.g. --input IO5=1 (repeatable). cmd4cr:
     /// DI1..DI4, IO1..IO32, EMG, STA, ALMX..ALMU =0|1, AI1..AI2 =mV
     /// 0..3300, the switches L+X, L-X, HOMEX, SDX (and Y, Z, U) =0|1|stage;
-    /// tmcm1110: IN1..IN6 =0|1|open, AIN0 =0..65535.
+    /// tmcm1110: IN1..IN6 =0|1|open, AIN0 =0..65535; mccl: IN1..IN32,
+    /// LIM+1, LIM-1, HOME1, FAULT1, STALL1 (1..8) =0|1, AD1..AD8 =0..65535.
     #[arg(long = "input", global = true, value_name = "SETTING")]
     pub input: Vec<String>,
 }
@@ -126,7 +127,8 @@ pub enum Command {
     /// answered on standard error (the end of standard input is no reason
     /// to stop). Runs until interrupted.
     Sim {
-        /// Which controller: tmcm1110 or cmd4cr.
+        /// Which controller: tmcm1110, cmd4cr, mccl (MultiFlex PCI) or
+        /// mccl-eth (MultiFlex ETH: macros kept in --eeprom FILE).
         kind: String,
         /// Serve it on a new pseudo-terminal and print its path.
         #[arg(long)]

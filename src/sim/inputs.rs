@@ -44,6 +44,8 @@ pub enum Values {
         word: &'static str,
         meaning: &'static str,
     },
+    /// One of these words (any case), or its position in the list from 0.
+    Choice(&'static [&'static str]),
 }
 
 impl Values {
@@ -56,6 +58,7 @@ impl Values {
             Values::NumberOr {
                 max, unit, word, ..
             } => format!("<{unit} 0..{max}>|{word}"),
+            Values::Choice(words) => words.join("|"),
         }
     }
 
@@ -71,6 +74,11 @@ impl Values {
                 word,
                 meaning,
             } => format!("a whole number of {unit}, 0..{max}, or {word} ({meaning})"),
+            Values::Choice(words) => format!(
+                "one of {} (or 0..{})",
+                words.join(", "),
+                words.len().saturating_sub(1)
+            ),
         }
     }
 }
@@ -137,6 +145,8 @@ pub enum Level {
     /// Not driven from outside: the row's [`Values::OnOffOr`] word.
     Released,
     Number(u32),
+    /// The position of a [`Values::Choice`] word.
+    Choice(u8),
 }
 
 impl Level {
@@ -157,6 +167,7 @@ impl fmt::Display for Level {
             Level::Off => f.write_str("off"),
             Level::Released => f.write_str("released"),
             Level::Number(n) => write!(f, "{n}"),
+            Level::Choice(n) => write!(f, "{n}"),
         }
     }
 }
@@ -267,6 +278,12 @@ pub fn parse<T>(table: &'static [InputRow<T>], text: &str) -> Result<Setting<T>,
             .ok()
             .filter(|n| *n <= max)
             .map(Level::Number),
+        (Values::Choice(words), _) => words
+            .iter()
+            .position(|w| w.eq_ignore_ascii_case(&lower))
+            .or_else(|| lower.parse::<usize>().ok().filter(|&i| i < words.len()))
+            .and_then(|i| u8::try_from(i).ok())
+            .map(Level::Choice),
         _ => None,
     };
     let level = level.ok_or_else(|| SettingError::BadValue {
@@ -298,6 +315,7 @@ fn example<T>(table: &[InputRow<T>]) -> String {
             format!("{name}={}", max / 2)
         }
         Values::OnOff | Values::OnOffOr { .. } => format!("{name}=1"),
+        Values::Choice(words) => format!("{name}={}", words.first().unwrap_or(&"0")),
     }
 }
 
@@ -323,6 +341,7 @@ mod tests {
         Switch,
         Pin,
         Volts,
+        Mode,
     }
 
     const TABLE: &[InputRow<Probe>] = &[
@@ -358,6 +377,12 @@ mod tests {
             },
             what: "a voltage",
         },
+        InputRow {
+            input: Probe::Mode,
+            names: Names::Listed(&["MODE"]),
+            values: Values::Choice(&["slow", "fast"]),
+            what: "a mode",
+        },
     ];
 
     fn ok(text: &str) -> (Probe, u8, Level, String) {
@@ -378,6 +403,14 @@ mod tests {
             ok("V0=500"),
             (Probe::Volts, 0, Level::Number(500), "V0".into())
         );
+        assert_eq!(
+            ok("mode=FAST"),
+            (Probe::Mode, 0, Level::Choice(1), "MODE".into())
+        );
+        assert_eq!(
+            ok("MODE=0"),
+            (Probe::Mode, 0, Level::Choice(0), "MODE".into())
+        );
     }
 
     #[test]
@@ -389,7 +422,7 @@ mod tests {
                 e.to_string(),
                 format!(
                     "`{}` is no input setting: give NAME=VALUE, e.g. S1=1; \
-                     the inputs are S1..S3=0|1, PA|PB=0|1|open, V0=<mV 0..500>",
+                     the inputs are S1..S3=0|1, PA|PB=0|1|open, V0=<mV 0..500>, MODE=slow|fast",
                     text.trim()
                 )
             );
@@ -408,7 +441,7 @@ mod tests {
             assert_eq!(
                 e.to_string(),
                 format!(
-                    "there is no input `{name}`: the inputs are S1..S3=0|1, PA|PB=0|1|open, V0=<mV 0..500>"
+                    "there is no input `{name}`: the inputs are S1..S3=0|1, PA|PB=0|1|open, V0=<mV 0..500>, MODE=slow|fast"
                 )
             );
         }
@@ -427,6 +460,11 @@ mod tests {
             ("V0=501", "V0 takes a whole number of mV, 0..500, not `501`"),
             ("V0=-1", "V0 takes a whole number of mV, 0..500, not `-1`"),
             ("V0=1.5", "V0 takes a whole number of mV, 0..500, not `1.5`"),
+            ("MODE=2", "MODE takes one of slow, fast (or 0..1), not `2`"),
+            (
+                "MODE=medium",
+                "MODE takes one of slow, fast (or 0..1), not `medium`",
+            ),
         ];
         for (text, message) in cases {
             let e = parse(TABLE, text).expect_err(text);
@@ -437,13 +475,14 @@ mod tests {
 
     #[test]
     fn names_and_help_come_from_the_table() {
-        assert_eq!(names(TABLE), ["S1", "S2", "S3", "PA", "PB", "V0"]);
+        assert_eq!(names(TABLE), ["S1", "S2", "S3", "PA", "PB", "V0", "MODE"]);
         assert_eq!(
             help_lines(TABLE),
             [
                 "S1..S3=0|1: a switch",
                 "PA|PB=0|1|open: a pin",
-                "V0=<mV 0..500>: a voltage"
+                "V0=<mV 0..500>: a voltage",
+                "MODE=slow|fast: a mode"
             ]
         );
     }

@@ -8,6 +8,7 @@ use std::time::Duration;
 pub mod cmd4cr;
 pub mod faults;
 pub mod inputs;
+pub mod mccl;
 pub mod sixpack2;
 pub mod stored_file;
 pub mod tmcm1110;
@@ -134,6 +135,31 @@ pub const SIM_KINDS: &[SimKind] = &[
         input_names: || inputs::names(sixpack2::inputs::INPUTS),
         input_help: || inputs::help_lines(sixpack2::inputs::INPUTS),
         eeprom_refusal: Some(sixpack2::NOTHING_STORED),
+    },
+    // MultiFlex PCI and ETH differ in one thing the host can see: the ETH
+    // keeps its macros (non-volatile, `--eeprom FILE`), the PCI loses them
+    // at a reset. Two kinds of one family, as the two products are.
+    SimKind {
+        name: "mccl",
+        description: "PMC MultiFlex PCI (MCCL ASCII, axes 1-4 servo, 5 stepper; volatile macros)",
+        family: "mccl",
+        build: |_| Box::new(mccl::Mccl::new(mccl::SimConfig::pci())),
+        input_names: || inputs::names(mccl::inputs::INPUTS),
+        input_help: || inputs::help_lines(mccl::inputs::INPUTS),
+        eeprom_refusal: Some(mccl::PCI_KEEPS_NOTHING),
+    },
+    SimKind {
+        name: "mccl-eth",
+        description: "PMC MultiFlex ETH (MCCL ASCII, axes 1-4 servo, 5 stepper; macros kept in --eeprom FILE)",
+        family: "mccl",
+        build: |options| {
+            Box::new(mccl::Mccl::new(mccl::SimConfig::eth(
+                options.eeprom_file.clone(),
+            )))
+        },
+        input_names: || inputs::names(mccl::inputs::INPUTS),
+        input_help: || inputs::help_lines(mccl::inputs::INPUTS),
+        eeprom_refusal: None,
     },
 ];
 
@@ -288,6 +314,6 @@ mod tests {
     #[test]
     fn unknown_kinds_are_not_found() {
         assert!(find_kind("tmcm9999").is_none());
-        assert_eq!(kind_names(), "tmcm1110, cmd4cr, sixpack2");
+        assert_eq!(kind_names(), "tmcm1110, cmd4cr, sixpack2, mccl, mccl-eth");
     }
 }
