@@ -49,8 +49,10 @@ fn corpora() -> &'static [FamilyCorpus] {
 #[test]
 fn every_family_has_a_corpus_to_start_from() {
     for corpus in corpora() {
+        // Too few to start from: give the family completion, parameter
+        // tables or tests/data/FAMILY-vectors.json.
         assert!(
-            corpus.lines.len() >= 20,
+            corpus.lines.len() >= 5,
             "{}: only {} valid lines found",
             corpus.family.name,
             corpus.lines.len()
