@@ -1,6 +1,7 @@
 //! The command pane inside the console, driven by keys and replies as the
 //! event loop would deliver them, drawn with ratatui's TestBackend.
 
+mod fifo_support;
 mod ui_support;
 
 use std::time::Duration;
@@ -449,6 +450,27 @@ fn a_run_cancelled_with_esc_or_told_to_leave_the_axes_says_so_to_the_session() {
         result: ok("GAP 4, 0", ReplyValue::Number(4)),
     });
     assert!(done.is_empty(), "{done:?}");
+}
+
+#[test]
+fn run_refuses_a_file_that_is_not_a_regular_one_without_reading_it() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    // Were it read, its line would be sent.
+    let fifo = fifo_support::Fifo::new(dir.path().join("batch.txt"), "GAP 1, 0\n");
+    let mut app = connected();
+    assert!(enter(&mut app, &format!(":run {}", fifo.path.display())).is_empty());
+    let screen = text(&mut app, 160, 40);
+    assert!(
+        screen.contains("batch.txt: it is a FIFO (named pipe), not a regular file"),
+        "{screen}"
+    );
+    drop(fifo);
+    assert!(enter(&mut app, ":run /dev/zero").is_empty());
+    let screen = text(&mut app, 160, 40);
+    assert!(
+        screen.contains("cannot read /dev/zero: it is a character device, not a regular file"),
+        "{screen}"
+    );
 }
 
 #[test]

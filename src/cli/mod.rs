@@ -133,7 +133,9 @@ pub enum Command {
         /// Serve it on a new pseudo-terminal and print its path.
         #[arg(long)]
         pty: bool,
-        /// File keeping the simulated EEPROM between runs.
+        /// File keeping the simulated EEPROM (CMD-4CR: flash) between runs:
+        /// a new name, an empty file, or one this simulator wrote (any
+        /// other file is refused and left as it is).
         #[arg(long)]
         eeprom: Option<std::path::PathBuf>,
         /// Faults to inject: drop=P,corrupt=P,garbage=P,delay=P:MS,disconnect-after=N,corrupt-store=N,seed=N.
@@ -331,6 +333,14 @@ fn run_sim(
         eeprom_file,
     };
     let mut sim = (sim_kind.build)(&options);
+    if let Some(problem) = sim.refused_memory_file() {
+        eprintln!("axterm sim: {problem}");
+        eprintln!(
+            "axterm sim: --eeprom takes a file this simulator wrote, an empty one or a new \
+             name; that file is left as it is and nothing is served"
+        );
+        return EXIT_USAGE;
+    }
     eprintln!("{}", sim.help());
     if let Some(path) = connection.program.as_deref() {
         match sim_program::load_program_file(sim.as_mut(), sim_kind.family, path) {

@@ -7,7 +7,6 @@
 //! `--no-stop-on-failure` (see [`super::run_end`]). A line the family
 //! wants confirmed is refused when `--yes` is not given.
 
-use std::io::Read;
 use std::time::Duration;
 
 use clap::Args;
@@ -57,13 +56,11 @@ pub struct RunArgs {
 /// The file's name as messages give it (`<stdin>` for `-`) and its text.
 pub(super) fn read_source(file: &str) -> Result<(String, String), String> {
     if file == "-" {
-        let mut text = String::new();
-        std::io::stdin()
-            .read_to_string(&mut text)
+        let text = crate::files::read_stdin_text()
             .map_err(|e| format!("cannot read standard input: {e}"))?;
         Ok(("<stdin>".into(), text))
     } else {
-        let text = std::fs::read_to_string(file).map_err(|e| format!("cannot read {file}: {e}"))?;
+        let text = crate::files::read_text(file).map_err(|e| format!("cannot read {file}: {e}"))?;
         Ok((file.to_string(), text))
     }
 }

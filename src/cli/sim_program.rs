@@ -20,7 +20,7 @@ pub fn load_program_file(
 ) -> Result<String, Vec<String>> {
     let name = path.display().to_string();
     let source =
-        std::fs::read_to_string(path).map_err(|e| vec![format!("{name}: cannot read it: {e}")])?;
+        crate::files::read_text(path).map_err(|e| vec![format!("{name}: cannot read it: {e}")])?;
     let program = if family == "cmd4cr" {
         Some(ascript::compile(&source).map_err(|errors| {
             errors

@@ -55,6 +55,16 @@ pub trait SimulatedController: Send {
     /// resynchronise with one act on it; to the others it is line noise,
     /// and they ignore it.
     fn line_break(&mut self) {}
+    /// Why the file given for its non-volatile memory
+    /// ([`SimOptions::eeprom_file`]) was refused: it is there but is not
+    /// this simulator's own (another program's file, another kind's,
+    /// damaged), so it was left untouched and the memory is kept in RAM
+    /// only; `axterm sim` then serves nothing. `None` when no file was
+    /// given, or it was missing, empty or loaded. A simulator with a
+    /// memory file reads it through [`stored_file`] and answers here.
+    fn refused_memory_file(&self) -> Option<String> {
+        None
+    }
 }
 
 /// Options common to every simulator kind.

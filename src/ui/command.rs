@@ -138,7 +138,7 @@ impl History {
         let file = dir.map(|d| d.join(format!("history-{family}.txt")));
         let mut entries: Vec<String> = file
             .as_ref()
-            .and_then(|f| fs::read_to_string(f).ok())
+            .and_then(|f| crate::files::read_text(f).ok())
             .map(|text| {
                 text.lines()
                     .filter(|l| !l.trim().is_empty())
@@ -150,7 +150,7 @@ impl History {
             entries.drain(..entries.len() - HISTORY_LIMIT);
             // Keep the file from growing without end.
             if let Some(f) = &file {
-                let _ = fs::write(f, entries.join("\n") + "\n");
+                let _ = crate::files::write_atomically(f, (entries.join("\n") + "\n").as_bytes());
             }
         }
         History {
@@ -457,7 +457,7 @@ impl CommandPane {
                 if rest.is_empty() {
                     return self.fail(":run needs a file name");
                 }
-                return match fs::read_to_string(rest) {
+                return match crate::files::read_text(rest) {
                     Ok(text) => {
                         self.with_run_policy(policy, |pane| pane.start_batch(rest, &text, view))
                     }
@@ -555,7 +555,7 @@ impl CommandPane {
             return self
                 .fail(":run-ascript needs a file name (and the PRG numbers to start, if not all)");
         }
-        let text = match fs::read_to_string(&file) {
+        let text = match crate::files::read_text(&file) {
             Ok(text) => text,
             Err(e) => return self.fail(format!("cannot read {file}: {e}")),
         };

@@ -68,7 +68,7 @@ struct SourceFiles;
 
 impl SourceLoader for SourceFiles {
     fn load(&self, path: &str) -> Result<String, String> {
-        std::fs::read_to_string(path).map_err(|e| e.to_string())
+        crate::files::read_text(path).map_err(|e| e.to_string())
     }
 }
 
@@ -266,7 +266,7 @@ impl EditorPane {
             pane.saved = copy
                 .file
                 .as_deref()
-                .and_then(|f| std::fs::read_to_string(f).ok())
+                .and_then(|f| crate::files::read_text(f).ok())
                 .unwrap_or_default();
             pane.file = copy.file.clone();
             pane.set_text(&copy.text);
@@ -683,7 +683,7 @@ impl EditorPane {
 
     /// Open `path` in place of the text.
     pub fn open_file(&mut self, path: &Path) -> Result<(), String> {
-        let text = std::fs::read_to_string(path)
+        let text = crate::files::read_text(path)
             .map_err(|e| format!("cannot open {}: {e}", path.display()))?;
         self.file = Some(path.to_path_buf());
         self.saved = text.clone();
@@ -704,7 +704,8 @@ impl EditorPane {
     /// Save the text to `path` (atomically), which becomes its file.
     pub fn save_to(&mut self, path: &Path) -> Result<(), String> {
         let text = self.text();
-        autosave::write_atomically(path, text.as_bytes())?;
+        crate::files::write_atomically(path, text.as_bytes())
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
         self.file = Some(path.to_path_buf());
         self.saved = text;
         self.recovered = None;
@@ -728,7 +729,7 @@ impl EditorPane {
         let text = recovered
             .file
             .as_deref()
-            .and_then(|f| std::fs::read_to_string(f).ok())
+            .and_then(|f| crate::files::read_text(f).ok())
             .unwrap_or_default();
         self.saved = text.clone();
         self.set_text(&text);

@@ -680,6 +680,10 @@ impl Cmd4cr {
 }
 
 impl SimulatedController for Cmd4cr {
+    fn refused_memory_file(&self) -> Option<String> {
+        self.flash.refused().map(ToString::to_string)
+    }
+
     fn feed(&mut self, bytes: &[u8]) {
         for &byte in bytes {
             self.receive(byte);

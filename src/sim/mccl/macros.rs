@@ -94,6 +94,8 @@ pub struct MacroStore {
     capacity: usize,
     file: Option<PathBuf>,
     problem: Option<StoredFileError>,
+    /// The file was there but could not be loaded: never written.
+    refused: Option<StoredFileError>,
 }
 
 impl MacroStore {
@@ -105,19 +107,29 @@ impl MacroStore {
             capacity: MACRO_MEMORY,
             file: None,
             problem: None,
+            refused: None,
         };
         if let Some(path) = file {
             match load(&path) {
                 Ok(Some((macros, used))) => {
                     store.macros = macros;
                     store.used = used;
+                    store.file = Some(path);
                 }
-                Ok(None) => {}
-                Err(problem) => store.problem = Some(problem),
+                Ok(None) => store.file = Some(path),
+                // A file that is there but not ours is never written
+                // over: the macros are kept in RAM only.
+                Err(problem) => store.refused = Some(problem),
             }
-            store.file = Some(path);
         }
         store
+    }
+
+    /// Why the file given to [`MacroStore::open`] was refused (it is there
+    /// but is not a macro memory of ours), if it was; it is then left
+    /// untouched.
+    pub fn refused(&self) -> Option<&StoredFileError> {
+        self.refused.as_ref()
     }
 
     /// A smaller memory, for tests of −18.
@@ -135,8 +147,10 @@ impl MacroStore {
         self.used
     }
 
+    /// The last write of the file that failed, or why the file was
+    /// refused.
     pub fn problem(&self) -> Option<&StoredFileError> {
-        self.problem.as_ref()
+        self.problem.as_ref().or(self.refused.as_ref())
     }
 
     /// MD n: store `body`, replacing macro n (its old bytes stay used).
@@ -362,13 +376,17 @@ mod tests {
             r#"{"format":"axterm MultiFlex simulated macro memory","version":1,"used":6,"macros":[{"number":1,"text":"1XX5"}]}"#,
         )
         .expect("write");
-        let store = MacroStore::open(Some(path));
+        let mut store = MacroStore::open(Some(path.clone()));
         assert!(store.listing().is_empty());
-        let problem = store.problem().map(ToString::to_string).unwrap_or_default();
+        let problem = store.refused().map(ToString::to_string).unwrap_or_default();
         assert!(
             problem.contains("macro 1: `1XX5` gives error 1"),
             "{problem}"
         );
+        // A refused file is never written over.
+        let before = std::fs::read(&path).expect("read");
+        assert_eq!(store.define(12, body("1MR5"), false), Ok(()));
+        assert_eq!(std::fs::read(&path).expect("read"), before);
     }
 
     #[test]

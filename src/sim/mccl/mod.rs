@@ -531,6 +531,10 @@ impl Mccl {
 }
 
 impl SimulatedController for Mccl {
+    fn refused_memory_file(&self) -> Option<String> {
+        self.macros.refused().map(ToString::to_string)
+    }
+
     fn feed(&mut self, bytes: &[u8]) {
         for &byte in bytes {
             self.receive(byte);

@@ -725,6 +725,10 @@ pub fn help_line(config: &SimConfig) -> String {
 }
 
 impl SimulatedController for Tmcm1110 {
+    fn refused_memory_file(&self) -> Option<String> {
+        self.eeprom.refused().map(ToString::to_string)
+    }
+
     fn help(&self) -> String {
         self.help_line()
     }

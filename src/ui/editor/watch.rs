@@ -7,7 +7,6 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::autosave::write_atomically;
 use crate::protocol::tmcl::asm::ProgramWord;
 use crate::protocol::tmcl::command::opcode;
 
@@ -30,7 +29,7 @@ struct WatchFile {
 }
 
 fn read_watch_file(data_dir: &Path) -> WatchFile {
-    std::fs::read_to_string(watch_path(data_dir))
+    crate::files::read_text(watch_path(data_dir))
         .ok()
         .and_then(|text| serde_json::from_str::<WatchFile>(&text).ok())
         .unwrap_or_default()
@@ -48,7 +47,9 @@ fn write_watch_file(data_dir: &Path, file: &WatchFile) -> Result<(), String> {
         serde_json::to_string(file).map_err(|e| format!("cannot keep the watch list: {e}"))?;
     std::fs::create_dir_all(data_dir)
         .map_err(|e| format!("cannot keep the watch list in {}: {e}", data_dir.display()))?;
-    write_atomically(&watch_path(data_dir), json.as_bytes())
+    let path = watch_path(data_dir);
+    crate::files::write_atomically(&path, json.as_bytes())
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
 /// The A-Script variables watched last time (see [`load_watch_list`]).
