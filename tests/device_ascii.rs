@@ -250,3 +250,34 @@ async fn cmd4cr_a_late_ok_is_never_a_later_writes_answer() {
     script.send(b"0\r");
     assert_eq!(frames(&read.await.expect("answered")), ["0"]);
 }
+
+#[tokio::test(start_paused = true)]
+async fn without_sentinels_a_stop_goes_at_once_and_the_rest_wait_for_quiet() {
+    let (device, mut script) = mccl();
+    let lost = device.transact(Priority::User, mccl_line("1TP")).await;
+    assert!(lost.is_err());
+    let timed_out = Instant::now();
+    script.request().await;
+    let user = device.submit(Priority::User, mccl_line("1TV"));
+    let stop = device.submit(Priority::EmergencyStop, mccl_line("1ST"));
+    assert_eq!(script.request().await, b"1ST\r".to_vec());
+    let silence = AsciiWire::mccl().silence(at_9600());
+    assert_eq!(
+        timed_out.elapsed(),
+        silence,
+        "the stop waits for silence only"
+    );
+    script.send(b"1ST\r\n>");
+    assert!(stop.await.is_ok());
+    assert_eq!(script.request().await, b"1TV\r".to_vec());
+    let timeout = axterm::device::default_timeout(at_9600(), 4);
+    assert!(
+        timed_out.elapsed() >= timeout,
+        "the next line waits for the quiet time after the lost answer"
+    );
+    script.send(b"1TV\r\n01 0.5\r\n>");
+    assert_eq!(
+        frames(&user.await.expect("answered")),
+        ["1TV", "01 0.5", ">"]
+    );
+}

@@ -978,3 +978,25 @@ async fn traffic_records_carry_virtual_timestamps() {
     assert_eq!(records[1].priority, Some(Priority::Poll));
     assert_eq!(records[1].bytes, ok(&gap, 0));
 }
+
+#[tokio::test(start_paused = true)]
+async fn an_answer_that_never_came_is_forgotten_after_the_horizon() {
+    let (device, mut script) = tmcl_device(DeviceOptions::default());
+    let lost = device.submit(Priority::User, transaction(&ggp(1), Retry::Never));
+    script.request().await;
+    assert!(lost.await.is_err());
+    // The sentinel gets no answer either, and the next GGP's answer could
+    // be the first one's: not taken.
+    let next = device.submit(Priority::User, transaction(&ggp(3), Retry::Never));
+    assert_eq!(script.request().await, sentinel().to_bytes().to_vec());
+    assert_eq!(script.request().await, ggp(3).to_bytes().to_vec());
+    script.send(&ok(&ggp(3), 333));
+    assert!(matches!(next.await, Err(DeviceError::Ambiguous { .. })));
+    // Long after, nothing is looked for any more: a GGP goes at once and
+    // its answer is its own.
+    sleep(nine_bytes() * (axterm::device::LATE_ANSWER_TIMEOUTS + 1)).await;
+    let later = device.submit(Priority::User, transaction(&ggp(2), Retry::Never));
+    assert_eq!(script.request().await, ggp(2).to_bytes().to_vec());
+    script.send(&ok(&ggp(2), 222));
+    assert_eq!(value_of(&later.await.expect("answered")), 222);
+}

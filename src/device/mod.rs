@@ -56,24 +56,24 @@
 //!   request fails with [`DeviceError::Ambiguous`] rather than take it
 //!   (its earlier attempts excepted: any of them answers a read as well).
 //! - A request whose answer could be taken for an unanswered attempt's
-//!   (the family's [`WireFormat::answers_apart`] says it could not: TMCL
-//!   commands of another number go at once) waits until the line has been
-//!   quiet for the silence time, then for a *sentinel*
-//!   ([`WireFormat::settling`]): a harmless read whose answer no unanswered
-//!   attempt can have (TMCL 136 type 1 or 135; CMD-4CR `PP` or `PX`). Once
-//!   its answer is in, every earlier answer has come or never will, and the
-//!   line is settled; whatever came before it is logged as stale. A
-//!   sentinel that gets no answer joins the unanswered, and the request goes
-//!   after it all the same (at most one sentinel between two requests); its
-//!   answer is judged in order as above.
+//!   (unless the family's [`WireFormat::answers_apart`] says it could not:
+//!   then it goes at once) waits until the line has been quiet for the
+//!   silence time, then for a *sentinel* ([`WireFormat::settling`]): a
+//!   harmless read of the family's choosing whose answer no unanswered
+//!   attempt can have. Once its answer is in, every earlier answer has
+//!   come or never will, and the line is settled; whatever came before it
+//!   is logged as stale. A sentinel that gets no answer joins the
+//!   unanswered, and the request goes after it all the same (at most one
+//!   sentinel between two requests); its answer is judged in order as
+//!   above.
 //! - A family without sentinels
 //!   ([`Settling::QuietTime`](crate::protocol::wire::Settling::QuietTime),
-//!   the default, and
-//!   TMCL or CMD-4CR with unanswered requests to another module) is served
-//!   as before: the request waits until the line has been quiet for one
-//!   timeout after the last deadline, and the unanswered attempts are then
-//!   forgotten. A reply later than that (about two timeouts after its
-//!   request) is the hole such a family's frames leave open.
+//!   the default, and what a family answers when the unanswered requests
+//!   went to another module than the next one) is served as before: the
+//!   request waits until the line has been quiet for one timeout after the
+//!   last deadline, and the unanswered attempts are then forgotten. A
+//!   reply later than that (about two timeouts after its request) is the
+//!   hole such a family's frames leave open.
 //!
 //! Two sendings skip all this: the retry of the same read (any answer to an
 //! earlier attempt answers it just as well) waits only for the silence
