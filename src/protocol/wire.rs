@@ -98,7 +98,11 @@ pub trait WireFormat: Send + Sync {
     /// `unanswered` (as sent, oldest first: they timed out or got no answer
     /// that could be read, and their answers may still come) is taken for
     /// the answer to `next`. The default, [`Settling::QuietTime`], is what
-    /// a family without a sentinel can do.
+    /// a family without a sentinel can do; a family with sentinels answers
+    /// it too when an unanswered request went to another module than
+    /// `next` (a module answers in order, but two modules' answers are not
+    /// ordered with each other, so a sentinel speaks for its own module
+    /// only).
     fn settling(&self, next: &[u8], unanswered: &[&[u8]]) -> Settling {
         let _ = (next, unanswered);
         Settling::QuietTime
