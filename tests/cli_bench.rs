@@ -2,8 +2,10 @@
 //! numbers are measurements, never asserted.
 
 mod cli_support;
+mod served_support;
 
-use cli_support::axterm;
+use cli_support::{axterm, stderr};
+use served_support::Served;
 
 #[test]
 fn bench_prints_a_row_per_measurement() {
@@ -25,10 +27,13 @@ fn bench_prints_a_row_per_measurement() {
             .lines()
             .find(|l| l.starts_with(row))
             .unwrap_or_else(|| panic!("no row {row}: {text}"));
+        let mut words = line.split_whitespace().rev();
         assert!(
-            line.split_whitespace()
-                .last()
-                .is_some_and(|rate| rate.parse::<f64>().is_ok()),
+            words.next().is_some_and(|faults| faults == "0"),
+            "no faults on the simulator: {line}"
+        );
+        assert!(
+            words.next().is_some_and(|rate| rate.parse::<f64>().is_ok()),
             "{line}"
         );
     }
@@ -125,4 +130,35 @@ fn without_a_baud_rate_there_is_no_wire_figure() {
 fn zero_requests_is_a_usage_error() {
     let out = axterm(&["bench", "--sim", "tmcm1110", "--requests", "0"]);
     assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn on_a_lossy_line_faults_are_counted_and_the_measuring_goes_on() {
+    // A fifth of the replies lost: before, the first lost poll ended the
+    // run with exit 1 and no figures.
+    let served = Served::start("tmcm1110", &["--fault", "drop=0.2,seed=5"]);
+    let out = axterm(&[
+        "bench",
+        "--port",
+        &served.pty,
+        "--timeout",
+        "50",
+        "--requests",
+        "30",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    let mut faults = 0;
+    for part in ["bare", "device", "polling", "user_while_polling"] {
+        let count = report[part]["count"].as_u64().expect("a count");
+        let lost = report[part]["faults"].as_u64().expect("a fault count");
+        assert_eq!(count + lost, 30, "{part}: {report}");
+        assert!(count > 0, "{part}: {report}");
+        faults += lost;
+    }
+    assert!(faults > 0, "{report}");
+    assert_eq!(report["faults"], faults, "{report}");
+    assert!(report["polling"]["per_second"].is_number(), "{report}");
 }

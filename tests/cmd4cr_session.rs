@@ -224,6 +224,35 @@ async fn lines_answer_with_values_and_refusals() {
 }
 
 #[tokio::test(start_paused = true)]
+async fn a_write_answered_other_than_ok_is_an_error_with_the_bytes() {
+    let (session, fake) = connect(STANDING).await;
+    // A controller that answers a write with something else (the manual
+    // shows `OK` only): never taken for success.
+    fake.set("HSPDX=5000", "5000");
+    fake.set("JX+", "fK");
+    for (line, reply) in [("HSPDX=5000", "5000"), ("JX+", "fK")] {
+        let error = session.execute_line(line).await.unwrap_err();
+        assert_eq!(error.reply(), Some(reply.as_bytes()), "{error}");
+        assert!(
+            error.to_string().starts_with(&format!(
+                "unreadable answer to {line}: `{reply}` is not OK, the answer to a write or action \
+                 (garbled: nothing readable came within "
+            )),
+            "{error}"
+        );
+        assert_eq!(error.request(), Some(format!("@01{line}\r").as_bytes()));
+    }
+    // Sent once each: a write is never sent again.
+    assert_eq!(
+        fake.received()
+            .iter()
+            .filter(|r| !STANDING.iter().any(|(c, _)| c == r) && *r != "PX")
+            .collect::<Vec<_>>(),
+        ["HSPDX=5000", "JX+"]
+    );
+}
+
+#[tokio::test(start_paused = true)]
 async fn the_emergency_stop_stops_motion_then_the_programs() {
     let (session, fake) = connect(STANDING).await;
     let results = session.emergency_stop_lines().await;

@@ -172,3 +172,112 @@ async fn mccl_an_answer_cut_short_times_out() {
         })
     );
 }
+
+/// A CMD-4CR line as the console prepares it: its own reply rule (the
+/// success answer or an error) and the CMD-4CR wire with its sentinels.
+fn cmd4cr_prepared(line: &str) -> Transaction {
+    use axterm::protocol::console::{Answering, FamilyConsole};
+    let prepared = axterm::protocol::cmd4cr::Cmd4crConsole
+        .prepare(line, 1)
+        .expect("a valid line");
+    let Answering::Reply(rule) = prepared.answering else {
+        panic!("{line} is answered")
+    };
+    Transaction {
+        bytes: prepared.bytes,
+        expect: Expect::Reply(rule),
+        retry: Retry::Never,
+        timeout: None,
+    }
+}
+
+fn cmd4cr_console_wire() -> (DeviceHandle, Script) {
+    device_with(
+        Arc::new(axterm::protocol::cmd4cr::Cmd4crWire::default()),
+        DeviceOptions::default(),
+    )
+}
+
+#[tokio::test(start_paused = true)]
+async fn cmd4cr_a_garbled_ok_is_never_success() {
+    let (device, mut script) = cmd4cr_console_wire();
+    let pending = device.submit(Priority::User, cmd4cr_prepared("STOPX"));
+    assert_eq!(script.request().await, b"@01STOPX\r".to_vec());
+    // `OK` with its first byte flipped (the issue's `corrupt=1,seed=1`).
+    script.send(b"\x97K\r");
+    let error = pending.await.unwrap_err();
+    assert!(
+        matches!(&error, DeviceError::Garbled { received, .. } if received == b"\x97K"),
+        "{error:?}"
+    );
+}
+
+#[tokio::test(start_paused = true)]
+async fn cmd4cr_a_late_ok_is_never_a_later_writes_answer() {
+    let (device, mut script) = cmd4cr_console_wire();
+    let mut traffic = device.traffic();
+    let jog = device
+        .transact(Priority::User, cmd4cr_prepared("JX+"))
+        .await;
+    assert!(matches!(jog, Err(DeviceError::Timeout { .. })), "{jog:?}");
+    script.request().await;
+    // Every write is answered `OK`: before STOPX, a read whose answer has
+    // a form no write's has settles the line.
+    let stop = device.submit(Priority::User, cmd4cr_prepared("STOPX"));
+    assert_eq!(script.request().await, b"@01PP\r".to_vec());
+    script.send(b"OK\r");
+    script.send(b"0:0:0:0\r");
+    assert_eq!(script.request().await, b"@01STOPX\r".to_vec());
+    script.send(b"?Error Moving\r");
+    let refused = stop.await.expect("an answer");
+    assert_eq!(frames(&refused), ["?Error Moving"], "the stop's own answer");
+    let stale: Vec<_> = drain(&mut traffic)
+        .into_iter()
+        .filter(|r| r.kind == TrafficKind::Stale)
+        .map(|r| r.bytes)
+        .collect();
+    assert_eq!(stale, [b"OK".to_vec()]);
+
+    // With a four-field read unanswered, the sentinel is a one-number read.
+    let positions = device.transact(Priority::User, cmd4cr_prepared("PP")).await;
+    assert!(positions.is_err());
+    script.request().await;
+    let read = device.submit(Priority::User, cmd4cr_prepared("MSTX"));
+    assert_eq!(script.request().await, b"@01PX\r".to_vec());
+    script.send(b"12:0:0:0\r");
+    script.send(b"12\r");
+    assert_eq!(script.request().await, b"@01MSTX\r".to_vec());
+    script.send(b"0\r");
+    assert_eq!(frames(&read.await.expect("answered")), ["0"]);
+}
+
+#[tokio::test(start_paused = true)]
+async fn without_sentinels_a_stop_goes_at_once_and_the_rest_wait_for_quiet() {
+    let (device, mut script) = mccl();
+    let lost = device.transact(Priority::User, mccl_line("1TP")).await;
+    assert!(lost.is_err());
+    let timed_out = Instant::now();
+    script.request().await;
+    let user = device.submit(Priority::User, mccl_line("1TV"));
+    let stop = device.submit(Priority::EmergencyStop, mccl_line("1ST"));
+    assert_eq!(script.request().await, b"1ST\r".to_vec());
+    let silence = AsciiWire::mccl().silence(at_9600());
+    assert_eq!(
+        timed_out.elapsed(),
+        silence,
+        "the stop waits for silence only"
+    );
+    script.send(b"1ST\r\n>");
+    assert!(stop.await.is_ok());
+    assert_eq!(script.request().await, b"1TV\r".to_vec());
+    let timeout = axterm::device::default_timeout(at_9600(), 4);
+    assert!(
+        timed_out.elapsed() >= timeout,
+        "the next line waits for the quiet time after the lost answer"
+    );
+    script.send(b"1TV\r\n01 0.5\r\n>");
+    assert_eq!(
+        frames(&user.await.expect("answered")),
+        ["1TV", "01 0.5", ">"]
+    );
+}

@@ -8,7 +8,8 @@
 //!   several at once at mixed priorities, with a poll plan running;
 //! - nothing panics;
 //! - every injected fault shows up as an error or a retry, and every error
-//!   or retry comes from a fault (compared with the injector's counters);
+//!   or retry comes from a fault (compared with the injector's counters;
+//!   a reply that never comes may cost two);
 //! - no write reaches the simulator twice (a wrapping simulator counts the
 //!   frames it is fed).
 
@@ -149,7 +150,11 @@ impl Tally {
         match result {
             Ok(attempts) if *attempts > 1 => self.answered_after_retry += 1,
             Ok(_) => {}
-            Err(DeviceError::Timeout { .. }) => self.timeouts += 1,
+            Err(
+                DeviceError::Timeout { .. }
+                | DeviceError::Garbled { .. }
+                | DeviceError::Ambiguous { .. },
+            ) => self.timeouts += 1,
             Err(DeviceError::LinkLost(_)) => self.lost += 1,
             // A poll waiting for its retry when the link went: never sent
             // again (its failed attempt is counted as a retry).
@@ -358,18 +363,27 @@ async fn run_case(plan: FaultPlan, seed: u64) {
     // hide one fault on the reply of an attempt it no longer needed.
     let faults = plan.counts();
     let counters = *device.counters().borrow();
-    let failed_attempts = counters.retries + tally.timeouts;
+    // Sentinels' attempts included.
+    let failed_attempts = counters.timeouts + counters.garbled_answers;
     let reply_faults = faults.dropped + faults.corrupted + faults.delayed;
     let report = format!("{faults}; {counters:?}; {tally:?}");
     assert!(
         reply_faults <= failed_attempts + tally.answered_after_retry,
         "a fault went unnoticed: {report}"
     );
+    // A reply that never comes (dropped, or garbled past reading) leaves its
+    // attempt unanswered: the next frame that could be its answer is taken
+    // for that late answer, never for a later request's, so each such
+    // fault may cost one more failed attempt (a sentinel's, whose answer
+    // went the same way, or the next request's).
+    let never_answered = faults.dropped + faults.corrupted;
     assert!(
-        failed_attempts <= reply_faults + faults.garbage,
+        failed_attempts <= reply_faults + never_answered + faults.garbage,
         "an error or retry without a fault: {report}"
     );
-    assert_eq!(tally.lost, faults.disconnects, "{report}");
+    // A cut may come while a sentinel is on the wire, which fails no
+    // request: the next one finds the link down and is never sent.
+    assert!(tally.lost <= faults.disconnects, "{report}");
     assert_eq!(counters.reconnects, faults.disconnects, "{report}");
     if faults.garbage > 0 {
         assert!(counters.garbage_bytes > 0, "{report}");
@@ -379,8 +393,9 @@ async fn run_case(plan: FaultPlan, seed: u64) {
 
 fn fault_plan() -> impl Strategy<Value = FaultPlan> {
     // A delay longer than the timeout (so that it is a fault the task must
-    // see) and shorter than two (a reply later than that cannot be told from
-    // the next answer on a bus without sequence numbers).
+    // see) and shorter than two, so that the counts above hold (a reply
+    // later than that holds up the sentinels and requests behind it, each
+    // a failed attempt; tests/session_soak.rs goes to five timeouts).
     let timeout = default_timeout(Some(byte_time(BAUD)), FRAME_LEN);
     let delay_ms = u64::try_from((timeout * 3 / 2).as_millis()).unwrap_or(u64::MAX);
     (

@@ -7,7 +7,7 @@ mod device_support;
 use std::sync::Arc;
 use std::time::Duration;
 
-use tokio::time::{Instant, sleep, timeout_at};
+use tokio::time::{Instant, sleep, sleep_until, timeout_at};
 
 use axterm::device::{
     DeviceError, DeviceEvent, DeviceOptions, Direction, Expect, LinkState, PollItem, PollPlan,
@@ -82,6 +82,12 @@ async fn an_error_status_is_an_answer_too() {
     assert_eq!(answer.frames, [reply(&sap, Status::INVALID_VALUE, 0)]);
 }
 
+/// The sentinel the device task sends to module 1 after a GGP or GAP went
+/// unanswered: 136 type 1 (firmware version as a number).
+fn sentinel() -> axterm::protocol::tmcl::Request {
+    request(136, 1, 0, 0)
+}
+
 #[tokio::test(start_paused = true)]
 async fn a_late_reply_after_a_timeout_is_stale_never_the_next_answer() {
     let (device, mut script) = tmcl_device(DeviceOptions::default());
@@ -97,48 +103,99 @@ async fn a_late_reply_after_a_timeout_is_stale_never_the_next_answer() {
             attempts: 1
         })
     );
+    let timed_out = Instant::now();
     assert_eq!(script.request().await, first.to_bytes().to_vec());
 
-    // Both GGP replies look alike (command 10, module 1): only timing tells
-    // the late one from the next answer.
+    // Both GGP replies look alike (command 10, module 1): a sentinel of
+    // another command goes first, after the line has been quiet.
     let next = device.submit(Priority::User, transaction(&second, Retry::Never));
-    sleep(Duration::from_millis(30)).await;
-    assert!(
-        script.nothing_written(),
-        "after a timeout the next request waits for the line to settle"
-    );
+    assert_eq!(script.request().await, sentinel().to_bytes().to_vec());
+    assert_eq!(timed_out.elapsed(), silence());
     script.send(&ok(&first, 111));
+    sleep(Duration::from_millis(5)).await;
+    assert!(script.nothing_written(), "the sentinel is not answered yet");
+    script.send(&ok(&sentinel(), 1012));
     assert_eq!(script.request().await, second.to_bytes().to_vec());
     script.send(&ok(&second, 222));
     assert_eq!(value_of(&next.await.expect("answered")), 222);
 
-    let stale: Vec<_> = drain(&mut traffic)
+    let records: Vec<_> = drain(&mut traffic)
         .into_iter()
-        .filter(|r| r.kind == TrafficKind::Stale)
-        .map(|r| r.bytes)
+        .map(|r| (r.direction, r.kind, r.bytes))
         .collect();
-    assert_eq!(stale, [ok(&first, 111)]);
-    assert_eq!(device.counters().borrow().timeouts, 1);
+    assert_eq!(
+        records,
+        [
+            (
+                Direction::Sent,
+                TrafficKind::Request,
+                first.to_bytes().to_vec()
+            ),
+            (
+                Direction::Sent,
+                TrafficKind::Request,
+                sentinel().to_bytes().to_vec()
+            ),
+            (Direction::Received, TrafficKind::Stale, ok(&first, 111)),
+            (
+                Direction::Received,
+                TrafficKind::Answer,
+                ok(&sentinel(), 1012)
+            ),
+            (
+                Direction::Sent,
+                TrafficKind::Request,
+                second.to_bytes().to_vec()
+            ),
+            (Direction::Received, TrafficKind::Answer, ok(&second, 222)),
+        ]
+    );
+    let counters = *device.counters().borrow();
+    assert_eq!((counters.timeouts, counters.sentinels), (1, 1));
 }
 
 #[tokio::test(start_paused = true)]
-async fn a_reply_late_by_up_to_one_timeout_is_still_caught() {
+async fn a_reply_however_late_is_never_the_next_answer() {
     let (device, mut script) = tmcl_device(DeviceOptions::default());
-    let (first, second) = (ggp(1), ggp(2));
+    let (first, second, third) = (ggp(1), ggp(2), ggp(3));
     let failed = device.submit(Priority::User, transaction(&first, Retry::Never));
-    let next = device.submit(Priority::User, transaction(&second, Retry::Never));
+    // A patient read, so that the late replies come while it waits.
+    let patient = Transaction {
+        timeout: Some(nine_bytes() * 4),
+        ..transaction(&second, Retry::Never)
+    };
+    let next = device.submit(Priority::User, patient);
     script.request().await;
+    let first_sent = Instant::now();
     assert!(failed.await.is_err());
-    let timed_out = Instant::now();
-    sleep(nine_bytes() - Duration::from_millis(1)).await;
-    script.send(&ok(&first, 111));
+    // The module is busy: the sentinel waits behind the late reply and
+    // times out too; the next request goes after it all the same.
+    assert_eq!(script.request().await, sentinel().to_bytes().to_vec());
     assert_eq!(script.request().await, second.to_bytes().to_vec());
-    assert!(
-        timed_out.elapsed() >= nine_bytes() * 2 - Duration::from_millis(1),
-        "the quiet time starts again with the late reply"
-    );
+    // Five timeouts after the first was sent, the replies come, in order.
+    sleep_until(first_sent + nine_bytes() * 5).await;
+    script.send(&ok(&first, 111));
+    script.send(&ok(&sentinel(), 1012));
     script.send(&ok(&second, 222));
     assert_eq!(value_of(&next.await.expect("answered")), 222);
+    assert_eq!(device.counters().borrow().stale_frames, 2);
+
+    // The same when the first reply never comes: the next GGP's answer
+    // could be it, so it is not taken for the next one's.
+    let lost = device.submit(Priority::User, transaction(&third, Retry::Never));
+    script.request().await;
+    assert!(lost.await.is_err());
+    let after = device.submit(Priority::User, transaction(&second, Retry::Never));
+    assert_eq!(script.request().await, sentinel().to_bytes().to_vec());
+    assert_eq!(script.request().await, second.to_bytes().to_vec());
+    script.send(&ok(&second, 222));
+    assert_eq!(
+        after.await,
+        Err(DeviceError::Ambiguous {
+            attempts: 1,
+            answer: ok(&second, 222)
+        })
+    );
 }
 
 #[tokio::test(start_paused = true)]
@@ -151,24 +208,67 @@ async fn after_a_retried_answer_the_other_attempts_reply_is_stale() {
     assert_eq!(
         script.request().await,
         read.to_bytes().to_vec(),
-        "the retry"
+        "the retry, without a sentinel: either answer is this read's"
     );
-    let retried = Instant::now();
     // One of the two replies comes (whose, nobody can tell) ...
     sleep(Duration::from_millis(10)).await;
     script.send(&ok(&read, 111));
     let answer = pending.await.expect("answered");
     assert_eq!((value_of(&answer), answer.attempts), (111, 2));
-    // ... and the other one late: more than a timeout after the answer,
-    // less than two after the retry was sent.
-    sleep(nine_bytes() + Duration::from_millis(5)).await;
-    assert!(retried.elapsed() < nine_bytes() * 2);
-    assert!(script.nothing_written());
+    // ... so the other may still come: a sentinel goes before the next GGP.
+    assert_eq!(script.request().await, sentinel().to_bytes().to_vec());
     script.send(&ok(&read, 111));
+    script.send(&ok(&sentinel(), 1012));
     assert_eq!(script.request().await, next.to_bytes().to_vec());
     script.send(&ok(&next, 222));
     assert_eq!(value_of(&pending_next.await.expect("answered")), 222);
     assert_eq!(device.counters().borrow().stale_frames, 1);
+}
+
+#[tokio::test(start_paused = true)]
+async fn a_request_whose_answer_looks_different_goes_at_once() {
+    let (device, mut script) = tmcl_device(DeviceOptions::default());
+    let lost = device.submit(Priority::User, transaction(&ggp(1), Retry::Never));
+    script.request().await;
+    assert!(lost.await.is_err());
+    let timed_out = Instant::now();
+    // SAP's reply echoes command 5, never GGP's 10 (§3.2).
+    let sap = request(SAP, 4, 0, 100);
+    let pending = device.submit(Priority::User, transaction(&sap, Retry::Never));
+    assert_eq!(script.request().await, sap.to_bytes().to_vec());
+    assert_eq!(timed_out.elapsed(), silence());
+    script.send(&ok(&ggp(1), 111));
+    script.send(&ok(&sap, 0));
+    assert!(pending.await.is_ok());
+    let counters = *device.counters().borrow();
+    assert_eq!((counters.sentinels, counters.stale_frames), (0, 1));
+}
+
+#[tokio::test(start_paused = true)]
+async fn a_garbled_answer_is_reported_with_its_bytes() {
+    let (device, mut script) = tmcl_device(DeviceOptions::default());
+    let sap = request(SAP, 4, 0, 1000);
+    let pending = device.submit(Priority::User, transaction(&sap, Retry::Never));
+    script.request().await;
+    let mut mangled = ok(&sap, 1000);
+    mangled[4] ^= 0x10;
+    script.send(&mangled);
+    let error = pending.await.unwrap_err();
+    assert_eq!(
+        error,
+        DeviceError::Garbled {
+            timeout: nine_bytes(),
+            attempts: 1,
+            received: mangled.clone(),
+        }
+    );
+    assert_eq!(
+        error.to_string(),
+        format!(
+            "no readable reply within {} ms, only 02 01 64 05 10 00 03 E8 57 (after 1 attempt)",
+            nine_bytes().as_millis()
+        )
+    );
 }
 
 #[tokio::test(start_paused = true)]
@@ -296,21 +396,23 @@ async fn after_a_timeout_an_emergency_stop_waits_only_for_silence() {
     let (device, mut script) = tmcl_device(DeviceOptions::default());
     let mut traffic = device.traffic();
     let lost = request(SAP, 4, 0, 1000);
-    let (user, stop) = (request(GAP, 1, 0, 0), request(MST, 0, 0, 0));
+    let (user, stop) = (request(SAP, 5, 0, 10), request(MST, 0, 0, 0));
     let failed = device.submit(Priority::User, transaction(&lost, Retry::Never));
     script.request().await;
     let pending_user = device.submit(Priority::User, transaction(&user, Retry::Never));
     let pending_stop = device.submit(Priority::EmergencyStop, transaction(&stop, Retry::Never));
     assert!(failed.await.is_err());
     let timed_out = Instant::now();
+    // MST's reply cannot be SAP's: nothing to settle.
     assert_eq!(script.request().await, stop.to_bytes().to_vec());
     assert_eq!(timed_out.elapsed(), silence());
     script.send(&ok(&stop, 0));
     assert!(pending_stop.await.is_ok());
-    let answered = Instant::now();
+    // The stop does not settle the line for what follows: another SAP
+    // waits for a sentinel.
+    assert_eq!(script.request().await, sentinel().to_bytes().to_vec());
+    script.send(&ok(&sentinel(), 1012));
     assert_eq!(script.request().await, user.to_bytes().to_vec());
-    // The stop does not lift the guard for what follows.
-    assert_waited(answered.elapsed(), nine_bytes());
     script.send(&ok(&user, 0));
     assert!(pending_user.await.is_ok());
     let priorities: Vec<_> = drain(&mut traffic)
@@ -323,9 +425,30 @@ async fn after_a_timeout_an_emergency_stop_waits_only_for_silence() {
         [
             Some(Priority::User),
             Some(Priority::EmergencyStop),
+            Some(Priority::User),
             Some(Priority::User)
         ]
     );
+}
+
+#[tokio::test(start_paused = true)]
+async fn an_emergency_stop_after_a_lost_stop_settles_with_a_sentinel_first() {
+    let (device, mut script) = tmcl_device(DeviceOptions::default());
+    let stop = request(MST, 0, 0, 0);
+    let failed = device.submit(Priority::EmergencyStop, transaction(&stop, Retry::Never));
+    script.request().await;
+    assert!(failed.await.is_err());
+    let timed_out = Instant::now();
+    let again = device.submit(Priority::EmergencyStop, transaction(&stop, Retry::Never));
+    assert_eq!(script.request().await, sentinel().to_bytes().to_vec());
+    assert_eq!(timed_out.elapsed(), silence());
+    // The first stop's late answer, then the sentinel's: the second stop's
+    // answer will be its own.
+    script.send(&ok(&stop, 0));
+    script.send(&ok(&sentinel(), 1012));
+    assert_eq!(script.request().await, stop.to_bytes().to_vec());
+    script.send(&ok(&stop, 0));
+    assert!(again.await.is_ok());
 }
 
 #[tokio::test(start_paused = true)]
@@ -376,15 +499,17 @@ async fn a_write_is_never_sent_twice() {
     let sap = request(SAP, 4, 0, 1000);
     let pending = device.submit(Priority::User, transaction(&sap, Retry::Never));
     script.request().await;
-    // A mangled answer: a bad answer for a read, but a write waits on.
+    // A mangled answer: a bad answer for a read, but a write waits on
+    // until its timeout and is not sent again.
     let mut mangled = ok(&sap, 1000);
     mangled[5] ^= 0x40;
     script.send(&mangled);
     assert_eq!(
         pending.await,
-        Err(DeviceError::Timeout {
+        Err(DeviceError::Garbled {
             timeout: nine_bytes(),
-            attempts: 1
+            attempts: 1,
+            received: mangled,
         })
     );
     sleep(Duration::from_secs(10)).await;
@@ -852,4 +977,26 @@ async fn traffic_records_carry_virtual_timestamps() {
     assert_eq!(records[1].at - records[0].at, Duration::from_millis(25));
     assert_eq!(records[1].priority, Some(Priority::Poll));
     assert_eq!(records[1].bytes, ok(&gap, 0));
+}
+
+#[tokio::test(start_paused = true)]
+async fn an_answer_that_never_came_is_forgotten_after_the_horizon() {
+    let (device, mut script) = tmcl_device(DeviceOptions::default());
+    let lost = device.submit(Priority::User, transaction(&ggp(1), Retry::Never));
+    script.request().await;
+    assert!(lost.await.is_err());
+    // The sentinel gets no answer either, and the next GGP's answer could
+    // be the first one's: not taken.
+    let next = device.submit(Priority::User, transaction(&ggp(3), Retry::Never));
+    assert_eq!(script.request().await, sentinel().to_bytes().to_vec());
+    assert_eq!(script.request().await, ggp(3).to_bytes().to_vec());
+    script.send(&ok(&ggp(3), 333));
+    assert!(matches!(next.await, Err(DeviceError::Ambiguous { .. })));
+    // Long after, nothing is looked for any more: a GGP goes at once and
+    // its answer is its own.
+    sleep(nine_bytes() * (axterm::device::LATE_ANSWER_TIMEOUTS + 1)).await;
+    let later = device.submit(Priority::User, transaction(&ggp(2), Retry::Never));
+    assert_eq!(script.request().await, ggp(2).to_bytes().to_vec());
+    script.send(&ok(&ggp(2), 222));
+    assert_eq!(value_of(&later.await.expect("answered")), 222);
 }

@@ -15,12 +15,16 @@ use axterm::sim::{SimOptions, find_kind};
 const GIVE_UP_AFTER: Duration = Duration::from_secs(600);
 
 async fn connect(baud: Option<u32>) -> Session {
+    connect_with(baud, FaultPlan::none()).await
+}
+
+async fn connect_with(baud: Option<u32>, faults: FaultPlan) -> Session {
     let kind = find_kind("tmcm1110").expect("registered");
     let spec = LinkSpec::Sim {
         kind: kind.name.into(),
         sim: Arc::new(Mutex::new((kind.build)(&SimOptions::default()))),
         baud,
-        faults: FaultPlan::none(),
+        faults,
     };
     let family = find_family(kind.family).expect("family");
     Session::connect(spec, family, SessionOptions::default())
@@ -196,4 +200,25 @@ async fn emergency_stop_stops_the_motor() {
     assert_eq!(value(&session, "GAP 2, 0").await, ReplyValue::Number(0));
     tokio::time::sleep(Duration::from_secs(5)).await;
     assert_eq!(value(&session, "GAP 3, 0").await, ReplyValue::Number(0));
+}
+
+#[tokio::test(start_paused = true)]
+async fn every_reply_corrupted_no_line_is_ok_but_the_reset_whose_reply_may_be_lost() {
+    let faults = FaultPlan::parse("corrupt=1,seed=4").expect("a fault spec");
+    let session = connect_with(Some(115_200), faults.clone()).await;
+    let error = session.execute_line("SAP 4, 0, 1000").await.unwrap_err();
+    assert!(
+        error
+            .to_string()
+            .starts_with("unreadable answer to SAP 4, 0, 1000: 02 01 "),
+        "{error}"
+    );
+    assert_eq!(error.reply().map(<[u8]>::len), Some(9), "{error}");
+    assert!(session.execute_line("GAP 4, 0").await.is_err());
+    // §3.6.53: the reply to a software reset "might not always get
+    // through"; one that comes garbled is as good as one that is lost.
+    let reset = session.execute_line("RESET").await.expect("done");
+    assert_eq!(reset.value, ReplyValue::None);
+    assert!(reset.reply.is_empty());
+    assert!(faults.counts().corrupted >= 3);
 }

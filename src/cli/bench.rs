@@ -11,12 +11,17 @@
 //!
 //! The request is the family's first status query (TMCL `GAP 1, 0`).
 //!
+//! A request that gets no answer (a timeout, a garbled answer, on a lossy
+//! line) is a fault: counted beside the figures of its measurement, which
+//! go on with the next request. Only a measurement that got no answer at
+//! all ends the run (exit 1).
+//!
 //! Where the link has a baud rate, the wire time of one transaction (its
 //! request and answer bytes) is the ceiling the figures are held against:
 //! polling's share of that rate, and the device task's fastest round trip,
 //! which a faithful line never beats.
 
-use std::io::{Read, Write};
+use std::io::{ErrorKind, Read, Write};
 use std::net::TcpStream;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -29,15 +34,12 @@ use super::connection::{Target, run_to_exit};
 use super::output::Format;
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::device::{
-    Answer, DeviceError, Expect, PollItem, PollPlan, PollSink, Retry, Transaction,
+    Answer, DeviceError, Expect, PollItem, PollPlan, PollSink, Retry, Transaction, default_timeout,
 };
 use crate::link::{LinkSpec, SharedSim};
 use crate::protocol::console::{Answering, PreparedLine};
 use crate::protocol::wire::{Framer, ReplyRule, Verdict, WireFormat};
 use crate::session::Session;
-
-/// How long the bare loop waits for one answer before giving up.
-const BARE_TIMEOUT: Duration = Duration::from_secs(2);
 
 #[derive(Debug, Clone, Args)]
 pub struct BenchArgs {
@@ -52,10 +54,12 @@ pub struct BenchArgs {
 /// Round trips of one measurement.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Figures {
-    /// Each request's round trip.
+    /// Each answered request's round trip.
     pub samples: Vec<Duration>,
     /// From the first request to the last answer.
     pub total: Duration,
+    /// Requests that got no answer (timed out, garbled, refused).
+    pub faults: usize,
 }
 
 impl Figures {
@@ -123,6 +127,7 @@ fn figures_json(f: &Figures) -> Value {
         "min_us": micros(f.quantile(0.0)),
         "per_second": f.per_second(f.samples.len()),
         "count": f.samples.len(),
+        "faults": f.faults,
     })
 }
 
@@ -131,6 +136,12 @@ impl Report {
     pub fn polling_share_of_wire(&self) -> Option<f64> {
         let wire = self.wire?.per_second()?;
         Some(self.polls.per_second(self.polls.samples.len())? / wire)
+    }
+
+    /// Requests of every measurement that got no answer.
+    pub fn faults(&self) -> usize {
+        let bare = self.bare.as_ref().map_or(0, |f| f.faults);
+        bare + self.device.faults + self.polls.faults + self.user_while_polling.faults
     }
 
     /// A user read's p99 while polling, in bare p99s.
@@ -156,9 +167,12 @@ impl Report {
             "polling": {
                 "per_second": self.polls.per_second(self.polls.samples.len()),
                 "share_of_wire": self.polling_share_of_wire(),
+                "count": self.polls.samples.len(),
+                "faults": self.polls.faults,
             },
             "user_while_polling": figures_json(&self.user_while_polling),
             "user_p99_over_bare_p99": self.user_p99_over_bare(),
+            "faults": self.faults(),
         })
     }
 
@@ -177,20 +191,22 @@ impl Report {
                 ("-".into(), "-".into())
             };
             format!(
-                "{name:<34}{p50:>12}{p99:>12}{:>12}\n",
-                rate(f.per_second(f.samples.len()))
+                "{name:<34}{p50:>12}{p99:>12}{:>12}{:>8}\n",
+                rate(f.per_second(f.samples.len())),
+                f.faults
             )
         };
         let mut out = format!(
-            "axterm bench: {}, {} × {}\n{:<34}{:>12}{:>12}{:>12}\n",
-            self.link, self.requests, self.line, "", "p50", "p99", "per second"
+            "axterm bench: {}, {} × {}\n{:<34}{:>12}{:>12}{:>12}{:>8}\n",
+            self.link, self.requests, self.line, "", "p50", "p99", "per second", "faults"
         );
         if let Some(wire) = self.wire {
             let name = format!("wire time alone ({} bytes)", wire.bytes);
             let time = show(Some(wire.round_trip()));
             out.push_str(&format!(
-                "{name:<34}{time:>12}{time:>12}{:>12}\n",
-                rate(wire.per_second())
+                "{name:<34}{time:>12}{time:>12}{:>12}{:>8}\n",
+                rate(wire.per_second()),
+                "-"
             ));
         }
         match &self.bare {
@@ -230,6 +246,14 @@ impl Report {
             out.push_str(&against.join("; "));
             out.push('\n');
         }
+        let faults = self.faults();
+        if faults > 0 {
+            out.push_str(&format!(
+                "{faults} request{} got no answer (timed out or garbled): counted as faults, \
+                 left out of the figures\n",
+                if faults == 1 { "" } else { "s" }
+            ));
+        }
         out
     }
 }
@@ -261,15 +285,26 @@ pub fn run(connection: &ConnectionArgs, args: &BenchArgs) -> i32 {
     };
     // The floor first: a serial port can have only one owner at a time.
     let wire = console.wire();
-    let (bare, bare_note, wire_bytes) =
-        match bare_loop(&target.spec, wire.as_ref(), &line, args.requests) {
-            Ok((bare, note)) => (Some(bare.figures), note, Some(bare.bytes)),
-            Err(BareError::Open(message)) => {
-                eprintln!("axterm bench: {message}");
-                return EXIT_CONNECTION;
-            }
-            Err(BareError::Exchange(message)) => (None, message, None),
-        };
+    // As long as the device task would wait for an answer.
+    let answer_timeout = target
+        .options
+        .device
+        .timeout
+        .unwrap_or_else(|| default_timeout(target.spec.byte_time(), line.bytes.len()));
+    let (bare, bare_note, wire_bytes) = match bare_loop(
+        &target.spec,
+        wire.as_ref(),
+        &line,
+        args.requests,
+        answer_timeout,
+    ) {
+        Ok((bare, note)) => (Some(bare.figures), note, Some(bare.bytes)),
+        Err(BareError::Open(message)) => {
+            eprintln!("axterm bench: {message}");
+            return EXIT_CONNECTION;
+        }
+        Err(BareError::Exchange(message)) => (None, message, None),
+    };
     let byte_time = target.spec.byte_time();
     let (requests, format) = (args.requests, args.format);
     run_to_exit("bench", async move {
@@ -311,14 +346,28 @@ async fn measure(
 ) -> Result<Report, String> {
     let mut device = Figures::default();
     let mut transaction_bytes = 0;
+    let mut last_fault = String::new();
     let start = Instant::now();
     for _ in 0..requests {
         let sent = Instant::now();
-        let result = session.execute(line).await.map_err(|e| e.to_string())?;
-        device.samples.push(sent.elapsed());
-        transaction_bytes = result.request.len() + result.reply.len();
+        match session.execute(line).await {
+            Ok(result) => {
+                device.samples.push(sent.elapsed());
+                transaction_bytes = result.request.len() + result.reply.len();
+            }
+            Err(error) => {
+                device.faults += 1;
+                last_fault = error.to_string();
+            }
+        }
     }
     device.total = start.elapsed();
+    if device.samples.is_empty() {
+        return Err(format!(
+            "no request was answered ({} faults; the last: {last_fault})",
+            device.faults
+        ));
+    }
     // The answer's frames may leave out a terminator that was on the wire:
     // the bare loop's count is the better one.
     let wire = byte_time.map(|byte_time| WireTime {
@@ -350,13 +399,10 @@ async fn measure(
     }));
     let mut polls = Figures::default();
     let start = Instant::now();
-    while polls.samples.len() < requests {
+    while polls.samples.len() + polls.faults < requests {
         match done.recv().await {
             Some(Ok(sample)) => polls.samples.push(sample),
-            Some(Err(error)) => {
-                session.device().set_poll_plan(None);
-                return Err(format!("a status poll failed: {error}"));
-            }
+            Some(Err(_)) => polls.faults += 1,
             None => return Err("the device task ended".into()),
         }
     }
@@ -374,11 +420,10 @@ async fn measure(
             let offset = round_trip.mul_f64(arrival_fraction(i));
             let _ = tokio::task::spawn_blocking(move || std::thread::sleep(offset)).await;
             let sent = Instant::now();
-            if let Err(e) = session.execute(line).await {
-                session.device().set_poll_plan(None);
-                return Err(e.to_string());
+            match session.execute(line).await {
+                Ok(_) => figures.samples.push(sent.elapsed()),
+                Err(_) => figures.faults += 1,
             }
-            figures.samples.push(sent.elapsed());
         }
         figures.total = start.elapsed();
         figures
@@ -402,7 +447,8 @@ fn arrival_fraction(i: usize) -> f64 {
     (i as f64 * GOLDEN).fract()
 }
 
-/// Reports each poll's completion to the bench.
+/// Reports each poll's completion to the bench: the time since the one
+/// before, or the fault.
 struct TimingSink {
     done: mpsc::UnboundedSender<Result<Duration, DeviceError>>,
     last: Instant,
@@ -431,12 +477,14 @@ enum BareError {
     Exchange(String),
 }
 
-/// Measurement 1: request and answer with no device task in between.
+/// Measurement 1: request and answer with no device task in between,
+/// waiting at most `answer_timeout` for an answer (then a fault).
 fn bare_loop(
     spec: &LinkSpec,
     wire: &dyn WireFormat,
     line: &PreparedLine,
     requests: usize,
+    answer_timeout: Duration,
 ) -> Result<(Bare, String), BareError> {
     let rule = match &line.answering {
         Answering::Reply(rule) | Answering::MaybeReply(rule) => Arc::clone(rule),
@@ -450,7 +498,7 @@ fn bare_loop(
     match spec {
         LinkSpec::Serial { path, baud } => {
             let mut port = serialport::new(path, *baud)
-                .timeout(BARE_TIMEOUT)
+                .timeout(answer_timeout)
                 .open()
                 .map_err(|e| BareError::Open(format!("cannot open {}: {e}", spec.describe())))?;
             blocking_loop(&mut port, wire, rule.as_ref(), &line.bytes, requests)
@@ -461,7 +509,7 @@ fn bare_loop(
             let mut stream = TcpStream::connect(address)
                 .map_err(|e| BareError::Open(format!("cannot open {}: {e}", spec.describe())))?;
             let _ = stream.set_nodelay(true);
-            let _ = stream.set_read_timeout(Some(BARE_TIMEOUT));
+            let _ = stream.set_read_timeout(Some(answer_timeout));
             blocking_loop(&mut stream, wire, rule.as_ref(), &line.bytes, requests)
                 .map(|bare| answered(bare, "TcpStream"))
                 .map_err(BareError::Exchange)
@@ -472,7 +520,9 @@ fn bare_loop(
     }
 }
 
-/// Write a request, read until the rule accepts an answer, repeat.
+/// Write a request, read until the rule accepts an answer, repeat. A read
+/// that times out (the stream's read timeout) is a fault: the request is
+/// given up and the next one goes.
 fn blocking_loop<S: Read + Write>(
     stream: &mut S,
     wire: &dyn WireFormat,
@@ -484,33 +534,46 @@ fn blocking_loop<S: Read + Write>(
     let mut figures = Figures::default();
     let mut buffer = [0u8; 256];
     let mut bytes = 0;
+    let mut last_fault = String::new();
     let start = Instant::now();
     for _ in 0..requests {
         let sent = Instant::now();
         stream
             .write_all(request)
             .map_err(|e| format!("write failed: {e}"))?;
-        bytes = request.len();
+        let mut received = request.len();
         let mut accepted = Vec::new();
-        'answer: loop {
-            let n = stream
-                .read(&mut buffer)
-                .map_err(|e| format!("no answer: {e}"))?;
-            if n == 0 {
-                return Err("the other end closed the link".into());
-            }
-            bytes += n;
+        let answered = 'answer: loop {
+            let n = match stream.read(&mut buffer) {
+                Ok(0) => return Err("the other end closed the link".into()),
+                Ok(n) => n,
+                Err(e) if matches!(e.kind(), ErrorKind::TimedOut | ErrorKind::WouldBlock) => {
+                    last_fault = format!("no answer: {e}");
+                    break 'answer false;
+                }
+                Err(e) => return Err(format!("reading failed: {e}")),
+            };
+            received += n;
             for frame in framer.push(buffer.get(..n).unwrap_or_default()) {
                 match rule.examine(&accepted, &frame) {
-                    Verdict::Complete => break 'answer,
+                    Verdict::Complete => break 'answer true,
                     Verdict::Continue => accepted.push(frame),
                     Verdict::NotMine => {}
                 }
             }
+        };
+        if answered {
+            figures.samples.push(sent.elapsed());
+            bytes = received;
+        } else {
+            figures.faults += 1;
+            framer.discard_pending();
         }
-        figures.samples.push(sent.elapsed());
     }
     figures.total = start.elapsed();
+    if figures.samples.is_empty() {
+        return Err(last_fault);
+    }
     Ok(Bare { figures, bytes })
 }
 
@@ -555,6 +618,7 @@ mod tests {
         Figures {
             samples: micros.iter().map(|&m| Duration::from_micros(m)).collect(),
             total: Duration::from_secs(1),
+            faults: 0,
         }
     }
 
@@ -593,6 +657,7 @@ mod tests {
             polls: Figures {
                 samples: vec![Duration::from_micros(1645); 608],
                 total: Duration::from_secs(1),
+                faults: 0,
             },
             user_while_polling: figures(&(1..=100).map(|n| n * 34).collect::<Vec<_>>()),
             wire: Some(wire),
@@ -605,10 +670,18 @@ mod tests {
         assert!((times - 3366.0 / 1699.0).abs() < 1e-9, "{times}");
         let table = report.to_table();
         assert!(
-            table
-                .contains("wire time alone (18 bytes)           1562.5 µs   1562.5 µs         640"),
+            table.contains(
+                "wire time alone (18 bytes)           1562.5 µs   1562.5 µs         640       -"
+            ),
             "{table}"
         );
+        assert!(
+            table.contains(
+                "status polling (saturating)                  -           -         608       0"
+            ),
+            "{table}"
+        );
+        assert!(!table.contains("no answer"), "{table}");
         assert!(
             table.contains(
                 "polling at 95.0% of the wire's rate; fastest round trip 1590.0 µs \
@@ -620,6 +693,44 @@ mod tests {
         assert_eq!(json["wire"]["bytes"], 18);
         assert_eq!(json["bare"]["min_us"], 1601.0);
         assert_eq!(json["polling"]["share_of_wire"], share);
+    }
+
+    #[test]
+    fn faults_stand_beside_the_figures_they_are_left_out_of() {
+        let lossy = |micros: &[u64], faults| Figures {
+            faults,
+            ..figures(micros)
+        };
+        let report = Report {
+            requests: 4,
+            bare: Some(lossy(&[100, 100, 100], 1)),
+            device: lossy(&[200, 200], 2),
+            polls: lossy(&[200, 200, 200], 1),
+            user_while_polling: lossy(&[300, 300, 300, 300], 0),
+            ..Report::default()
+        };
+        assert_eq!(report.faults(), 4);
+        let table = report.to_table();
+        let device_row = format!(
+            "{:<34}{:>12}{:>12}{:>12}{:>8}\n",
+            "device task round trip", "200.0 µs", "200.0 µs", 2, 2
+        );
+        assert!(table.contains(&device_row), "{table}");
+        assert!(
+            table.ends_with(
+                "4 requests got no answer (timed out or garbled): counted as faults, \
+                 left out of the figures\n"
+            ),
+            "{table}"
+        );
+        let json = report.to_json();
+        assert_eq!(json["faults"], 4);
+        assert_eq!(json["bare"]["faults"], 1);
+        assert_eq!(json["device"]["faults"], 2);
+        assert_eq!(json["device"]["count"], 2);
+        assert_eq!(json["polling"]["faults"], 1);
+        assert_eq!(json["polling"]["count"], 3);
+        assert_eq!(json["user_while_polling"]["faults"], 0);
     }
 
     #[test]

@@ -16,42 +16,69 @@
 //!    are queued the same way) and, when no poll of the current plan is
 //!    pending, the newest [`PollPlan`].
 //! 2. Process the input already received: complete frames answer nothing
-//!    now, so each is unsolicited news ([`WireFormat::unsolicited`],
-//!    published as [`DeviceEvent::Unsolicited`]) or stale (logged, counted,
-//!    never delivered). A partial frame is dropped as garbage once the line
-//!    has been quiet for [`WireFormat::silence`].
+//!    now, so each is the late answer to an unanswered attempt (see below),
+//!    unsolicited news ([`WireFormat::unsolicited`], published as
+//!    [`DeviceEvent::Unsolicited`]) or stale (logged, counted, never
+//!    delivered). A partial frame is dropped as garbage once the line has
+//!    been quiet for [`WireFormat::silence`].
 //! 3. Pick the next job: the head of the highest non-empty queue
 //!    (emergency stop, user, transfer, poll); only when every queue is empty,
 //!    the most overdue item of the poll plan. If the line must settle first
 //!    (see below), wait, still taking orders, so that an emergency stop that
 //!    arrives meanwhile goes first.
 //! 4. Send it (one attempt) and wait for its answer: each frame received
-//!    is put to the request's [`ReplyRule`]; frames it does not claim are
-//!    unsolicited or stale as in step 2. The attempt ends when the rule says
-//!    the answer is complete, at the timeout, when a burst of garbage ends in
-//!    silence with nothing accepted (a bad answer), or when the link is lost.
-//!    [`Expect::Nothing`] ends as soon as the bytes are written.
-//! 5. A read ([`Retry::Read`]) that timed out or got a bad answer goes back
-//!    to the head of its queue for another attempt; anything else finishes:
-//!    the caller gets its [`Answer`] or [`DeviceError`], a poll's result goes
-//!    to the plan's [`PollSink`]. A [`Retry::Never`] request is written once,
-//!    whatever happens.
+//!    is first offered to the unanswered attempts, oldest first, then put
+//!    to the request's [`ReplyRule`]; frames nobody claims are unsolicited
+//!    or stale as in step 2. The attempt ends when the rule says the answer
+//!    is complete, at the timeout, when a read got only bytes that made no
+//!    answer and the line fell silent (a garbled answer), or when the link
+//!    is lost. [`Expect::Nothing`] ends as soon as the bytes are written.
+//! 5. A read ([`Retry::Read`]) that timed out or got a garbled answer goes
+//!    back to the head of its queue for another attempt; anything else
+//!    finishes: the caller gets its [`Answer`] or [`DeviceError`] (a
+//!    [`DeviceError::Garbled`] carries the bytes that came), a poll's result
+//!    goes to the plan's [`PollSink`]. A [`Retry::Never`] request is written
+//!    once, whatever happens.
 //!
-//! Settling: TMCL has no start byte and no sequence number, so a late reply
-//! is told from the next request's answer only by when it arrives. After
-//! garbage the next request waits until the line has been quiet for the
-//! silence time. After a timeout, a bad answer, or an answer that took more
-//! than one attempt (another attempt may still be answered), it waits until
-//! one timeout has passed after the last attempt's deadline and the line
-//! has been quiet that long: a reply that comes less than two timeouts
-//! after its attempt was sent is received as stale, never taken for the
-//! next request's answer. Later than that, nothing on the wire tells it
-//! from the next answer; the default timeout leaves room for this. Two
-//! sendings skip the wait and wait only for the silence time: the retry of
-//! the same read (any reply to an earlier attempt answers it just as well),
-//! and an emergency stop, which must not wait; a late reply echoing the
-//! same command (an earlier stop's) could then be taken for the stop's own
-//! answer, which is the price of stopping at once.
+//! # Late answers
+//!
+//! No family axterm speaks numbers its requests: an answer that comes
+//! after its request timed out looks like the next request's. The rule is
+//! that a read never returns a value that was not the answer to that read,
+//! and a write is ok only on its own success answer. Three things keep it:
+//!
+//! - Every attempt that ended without an answer stays *unanswered* until
+//!   its answer comes, the line is settled, or [`LATE_ANSWER_TIMEOUTS`]
+//!   timeouts after its deadline. A module answers in order, so a frame
+//!   that an unanswered attempt's rule accepts is taken for the late answer
+//!   of the oldest such attempt, never for the answer to a request sent
+//!   after it, even when that request's rule accepts it too: such a
+//!   request fails with [`DeviceError::Ambiguous`] rather than take it
+//!   (its earlier attempts excepted: any of them answers a read as well).
+//! - A request whose answer could be taken for an unanswered attempt's
+//!   (unless the family's [`WireFormat::answers_apart`] says it could not:
+//!   then it goes at once) waits until the line has been quiet for the
+//!   silence time, then for a *sentinel* ([`WireFormat::settling`]): a
+//!   harmless read of the family's choosing whose answer no unanswered
+//!   attempt can have. Once its answer is in, every earlier answer has
+//!   come or never will, and the line is settled; whatever came before it
+//!   is logged as stale. A sentinel that gets no answer joins the
+//!   unanswered, and the request goes after it all the same (at most one
+//!   sentinel between two requests); its answer is judged in order as
+//!   above.
+//! - A family without sentinels
+//!   ([`Settling::QuietTime`](crate::protocol::wire::Settling::QuietTime),
+//!   the default, and what a family answers when the unanswered requests
+//!   went to another module than the next one) is served as before: the
+//!   request waits until the line has been quiet for one timeout after the
+//!   last deadline, and the unanswered attempts are then forgotten. A
+//!   reply later than that (about two timeouts after its request) is the
+//!   hole such a family's frames leave open.
+//!
+//! Two sendings skip all this: the retry of the same read (any answer to an
+//! earlier attempt answers it just as well) waits only for the silence
+//! time, and so does an emergency stop, which sends a sentinel first only
+//! when the family has one, and never waits for the quiet time.
 //!
 //! When the link is lost (a [`LinkInput::Lost`](crate::link::LinkInput),
 //! its channel closing, a failed write) the request on the wire fails with
@@ -134,14 +161,47 @@ pub struct Answer {
 /// Why a transaction failed.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum DeviceError {
-    #[error("no reply within {} ms (after {attempts} attempt{})", timeout.as_millis(), if *attempts == 1 { "" } else { "s" })]
+    #[error("no reply within {} ms (after {})", timeout.as_millis(), attempts_text(*attempts))]
     Timeout { timeout: Duration, attempts: u32 },
+    /// Bytes came, but none made this request's answer (a corrupted
+    /// reply, noise, a line that is not its success answer or an error),
+    /// and no answer came before the timeout.
+    #[error("no readable reply within {} ms, only {} (after {})", timeout.as_millis(), hex(received), attempts_text(*attempts))]
+    Garbled {
+        timeout: Duration,
+        attempts: u32,
+        /// The bytes that answered nothing in the last attempt that
+        /// received any.
+        received: Vec<u8>,
+    },
+    /// What came could be this request's answer, but also the late answer
+    /// to an earlier request whose answer went missing: a bus without
+    /// transaction ids cannot tell which, so it is not taken for this one's.
+    #[error("a reply came ({}), but it may be the late reply to an earlier request, so it is not taken for this one's (after {})", hex(answer), attempts_text(*attempts))]
+    Ambiguous { attempts: u32, answer: Vec<u8> },
     #[error("not connected: {0}")]
     Disconnected(String),
     #[error("the link was lost while waiting for the reply: {0}")]
     LinkLost(String),
     #[error("the device task has ended")]
     Closed,
+}
+
+fn attempts_text(attempts: u32) -> String {
+    match attempts {
+        1 => "1 attempt".to_string(),
+        n => format!("{n} attempts"),
+    }
+}
+
+/// Bytes in hex, as a device error shows them (the family's own way is
+/// for the layers above, which know it).
+fn hex(bytes: &[u8]) -> String {
+    bytes
+        .iter()
+        .map(|b| format!("{b:02X}"))
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// The link as the console shows it.
@@ -266,8 +326,14 @@ pub struct DeviceCounters {
     pub transactions: u64,
     /// Of which polls of the poll plan.
     pub polls: u64,
-    /// Attempts that got no complete answer in time.
+    /// Attempts (sentinels included) that got no complete answer in time.
     pub timeouts: u64,
+    /// Attempts of reads and sentinels that ended before their timeout
+    /// because only bytes that made no answer came (a corrupted reply) and
+    /// the line fell silent.
+    pub garbled_answers: u64,
+    /// Sentinels sent to settle the line after an answer went missing.
+    pub sentinels: u64,
     /// Failed attempts (a timeout or a bad answer) put back for another
     /// one; a loss of the link or a shutdown may come before it is sent.
     pub retries: u64,
@@ -466,6 +532,13 @@ pub const REPLY_ALLOWANCE_BYTES: u32 = 64;
 /// latency timer in each direction (16 ms by default on FTDI chips), an
 /// RS-485 turnaround.
 pub const PROCESSING_MARGIN: Duration = Duration::from_millis(50);
+
+/// How long an answer that went missing is still looked for, in reply
+/// timeouts after its deadline: until then a frame that could be it is
+/// taken for it (and never for a later request's answer), unless a
+/// sentinel's answer has shown that it will not come. An answer later
+/// than that is the hole a bus without transaction ids leaves open.
+pub const LATE_ANSWER_TIMEOUTS: u32 = 10;
 
 /// Timeout on links without a baud rate (TCP, unthrottled simulators): a
 /// serial-over-TCP bridge may sit in front of a slow serial line we know

@@ -93,6 +93,11 @@ impl PollSchedule {
             .map(|(at, _, index)| (index, Some(at)))
     }
 
+    /// Item `index` of the plan.
+    pub(super) fn item(&self, index: usize) -> Option<&PollItem> {
+        self.plan.items.get(index)
+    }
+
     /// Item `index` is being sent now.
     pub(super) fn sent(&mut self, index: usize, now: Instant) -> Option<&PollItem> {
         self.sends += 1;

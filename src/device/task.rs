@@ -11,12 +11,12 @@ use tokio::time::{Instant, sleep, sleep_until};
 
 use super::poll::PollSchedule;
 use super::{
-    Answer, DeviceCounters, DeviceError, DeviceEvent, DeviceOptions, Direction, Expect, LinkState,
-    Order, PollPlan, Priority, Reopen, Retry, Submission, TrafficKind, TrafficRecord, Transaction,
-    default_timeout,
+    Answer, DeviceCounters, DeviceError, DeviceEvent, DeviceOptions, Direction, Expect,
+    LATE_ANSWER_TIMEOUTS, LinkState, Order, PollPlan, Priority, Reopen, Retry, Submission,
+    TrafficKind, TrafficRecord, Transaction, default_timeout,
 };
 use crate::link::{Link, LinkInput, LinkWriter};
-use crate::protocol::wire::{Frame, Framer, Verdict, WireFormat};
+use crate::protocol::wire::{Frame, Framer, ReplyRule, Sentinel, Settling, Verdict, WireFormat};
 
 /// Where the task publishes what it does.
 pub(super) struct Outlets {
@@ -41,9 +41,29 @@ struct Job {
     /// Attempts sent so far.
     attempts: u32,
     origin: Origin,
+    /// The bytes that answered nothing (garbage, frames no request
+    /// claimed) in the last attempt that received any: a garbled answer,
+    /// if it came at all.
+    garbled: Vec<u8>,
+    /// The frames its rule accepted but that could be the late answer to
+    /// an earlier request (so they were taken for that one's), in the last
+    /// attempt that received any.
+    ambiguous: Vec<u8>,
 }
 
 impl Job {
+    fn new(id: u64, priority: Priority, transaction: Transaction, origin: Origin) -> Job {
+        Job {
+            id,
+            priority,
+            transaction,
+            attempts: 0,
+            origin,
+            garbled: Vec::new(),
+            ambiguous: Vec::new(),
+        }
+    }
+
     /// Whether a failed attempt may be followed by another one.
     fn may_retry(&self) -> bool {
         match self.transaction.retry {
@@ -51,20 +71,56 @@ impl Job {
             Retry::Read(further) => self.attempts <= further,
         }
     }
+
+    /// Why its last attempt failed, all attempts considered.
+    fn failure(&self, timeout: Duration) -> DeviceError {
+        let attempts = self.attempts;
+        if !self.ambiguous.is_empty() {
+            DeviceError::Ambiguous {
+                attempts,
+                answer: self.ambiguous.clone(),
+            }
+        } else if !self.garbled.is_empty() {
+            DeviceError::Garbled {
+                timeout,
+                attempts,
+                received: self.garbled.clone(),
+            }
+        } else {
+            DeviceError::Timeout { timeout, attempts }
+        }
+    }
 }
 
-/// After a timeout, a bad answer or an answer that took several attempts:
-/// replies may still come, so the line must be quiet for `quiet` (counted
-/// from `since`, the last attempt's deadline, or the last byte received,
-/// whichever is later) before another request.
-struct Guard {
-    since: Instant,
-    quiet: Duration,
-    /// The retry of the same read and an emergency stop wait only for the
-    /// silence time, counted from here (or the last byte received).
-    settled: Instant,
-    /// The job whose retry needs only the silence time.
-    retry_of: Option<u64>,
+/// An attempt whose answer has not come (it timed out, or got only bytes
+/// that made no answer) and may still come: until it does, or the line is
+/// settled, or [`LATE_ANSWER_TIMEOUTS`] timeouts after its deadline, a
+/// frame its rule accepts is taken for its late answer, never for the
+/// answer to a request sent after it.
+struct Unanswered {
+    /// The job it was an attempt of (a sentinel's own id for a sentinel).
+    job: u64,
+    request: Vec<u8>,
+    rule: Arc<dyn ReplyRule>,
+    deadline: Instant,
+    timeout: Duration,
+}
+
+impl Unanswered {
+    fn forget_at(&self) -> Instant {
+        self.deadline + self.timeout.saturating_mul(LATE_ANSWER_TIMEOUTS)
+    }
+}
+
+/// What has to happen before the next request may go.
+enum Settle {
+    /// Nothing: no answer that may still come could be taken for its.
+    Go,
+    /// Send this sentinel first.
+    Sentinel(Sentinel),
+    /// Wait until then (the line quiet for one timeout after the last
+    /// deadline), then forget the unanswered requests.
+    QuietUntil(Instant),
 }
 
 /// The open link and what the task knows of its line.
@@ -76,9 +132,16 @@ struct Line {
     framer: Box<dyn Framer>,
     silence: Duration,
     last_rx: Instant,
-    guard: Option<Guard>,
     /// Garbage was seen at this time: wait for silence before sending.
     garbage_at: Option<Instant>,
+    /// The last attempt failed at this time: wait for silence before
+    /// sending (a late answer may be on its way).
+    failed_at: Option<Instant>,
+    /// Attempts whose answers may still come, oldest first.
+    unanswered: VecDeque<Unanswered>,
+    /// A sentinel went since the last request: the next request goes
+    /// without another, whatever became of it.
+    sentinel_sent: bool,
 }
 
 impl Line {
@@ -91,8 +154,10 @@ impl Line {
             outgoing: link.outgoing,
             byte_time: link.byte_time,
             last_rx: Instant::now(),
-            guard: None,
             garbage_at: None,
+            failed_at: None,
+            unanswered: VecDeque::new(),
+            sentinel_sent: false,
         }
     }
 
@@ -106,21 +171,77 @@ impl Line {
         (self.framer.pending() > 0).then(|| self.last_rx + self.silence)
     }
 
-    /// When the line will be quiet enough to send a request of `priority`
-    /// (job `id`, `None` for a poll not yet made); `None`: now.
-    fn ready_at(&self, priority: Priority, id: Option<u64>) -> Option<Instant> {
+    /// The oldest unanswered attempt whose answer `frame` could be: a
+    /// module answers in order, so the earliest possible owner is the one
+    /// to take it for (a frame that could answer both an earlier request
+    /// and the one in flight is never taken for the one in flight's).
+    fn late_owner(&self, frame: &[u8]) -> Option<usize> {
+        self.unanswered
+            .iter()
+            .position(|u| u.rule.examine(&[], frame) != Verdict::NotMine)
+    }
+
+    fn forget_expired(&mut self, now: Instant) {
+        self.unanswered.retain(|u| u.forget_at() > now);
+    }
+
+    /// What has to happen before a request of `priority` (job `id`, `None`
+    /// for a poll not yet made) with these `bytes` and `expect` may go.
+    fn settle(
+        &self,
+        wire: &dyn WireFormat,
+        priority: Priority,
+        id: Option<u64>,
+        bytes: &[u8],
+        expect: &Expect,
+    ) -> Settle {
+        if matches!(expect, Expect::Nothing) {
+            return Settle::Go;
+        }
+        // Earlier attempts of the same read answer it just as well.
+        let confusable = self
+            .unanswered
+            .iter()
+            .any(|u| Some(u.job) != id && !wire.answers_apart(&u.request, bytes));
+        if !confusable || self.sentinel_sent {
+            return Settle::Go;
+        }
+        let unanswered: Vec<&[u8]> = self
+            .unanswered
+            .iter()
+            .map(|u| u.request.as_slice())
+            .collect();
+        match wire.settling(bytes, &unanswered) {
+            Settling::Sentinel(sentinel) => Settle::Sentinel(sentinel),
+            Settling::InOrder => Settle::Go,
+            // An emergency stop does not wait: its answer is judged in
+            // order like any other, and the unanswered stay in view.
+            Settling::QuietTime if priority == Priority::EmergencyStop => Settle::Go,
+            Settling::QuietTime => {
+                let last = self.unanswered.iter().map(|u| u.deadline).max();
+                let quiet = self
+                    .unanswered
+                    .iter()
+                    .map(|u| u.timeout)
+                    .max()
+                    .unwrap_or_default()
+                    .max(self.silence);
+                Settle::QuietUntil(last.unwrap_or(self.last_rx).max(self.last_rx) + quiet)
+            }
+        }
+    }
+
+    /// When the line will be quiet enough to send, given what settling
+    /// asks for; `None`: now.
+    fn ready_at(&self, settle: &Settle) -> Option<Instant> {
         let quiet_from = |since: Instant| since.max(self.last_rx);
         let garbage = self.garbage_at.map(|at| quiet_from(at) + self.silence);
-        let guard = self.guard.as_ref().map(|guard| {
-            let short =
-                priority == Priority::EmergencyStop || (id.is_some() && guard.retry_of == id);
-            if short {
-                quiet_from(guard.settled) + self.silence
-            } else {
-                quiet_from(guard.since) + guard.quiet.max(self.silence)
-            }
-        });
-        [self.partial_deadline(), garbage, guard]
+        let failed = self.failed_at.map(|at| quiet_from(at) + self.silence);
+        let settling = match settle {
+            Settle::QuietUntil(at) => Some(*at),
+            Settle::Go | Settle::Sentinel(_) => None,
+        };
+        [self.partial_deadline(), garbage, failed, settling]
             .into_iter()
             .flatten()
             .max()
@@ -131,10 +252,25 @@ impl Line {
 enum Attempt {
     Answered,
     TimedOut,
-    /// Garbage ended in silence and nothing was accepted: the answer came
-    /// mangled, if at all.
-    BadAnswer,
+    /// Only bytes that made no answer came, then silence (ends a read's
+    /// attempt early, so that it is asked again at once).
+    Garbled,
     Lost(String),
+}
+
+/// What one attempt received.
+#[derive(Default)]
+struct Received {
+    /// The frames of the answer.
+    accepted: Vec<Frame>,
+    /// The answer came as the late answer to an earlier attempt of the
+    /// same job: this attempt's own answer may still come.
+    through_earlier_attempt: bool,
+    /// Garbage and frames nobody claimed.
+    garbled: Vec<u8>,
+    /// Frames this request's rule accepted but taken for an earlier
+    /// request's late answer.
+    ambiguous: Vec<u8>,
 }
 
 /// Why serving a link ended.
@@ -246,19 +382,37 @@ impl Task {
             let now = Instant::now();
             self.expire_partial(&mut line, now);
             self.drop_abandoned();
+            line.forget_expired(now);
 
-            // When the next job may go: `Some(None)` now, `None` never.
-            let wake_for_work = match self.next(now) {
-                Next::Queued { priority, id } => Some(line.ready_at(priority, Some(id))),
-                Next::Poll => Some(line.ready_at(Priority::Poll, None)),
+            // What the next job needs first, and when it may go:
+            // `Some(None)` now, `None` never.
+            let next = self.next(now);
+            let settle = self.settle_for(&line, &next, now);
+            let wake_for_work = match next {
+                Next::Queued { .. } | Next::Poll => Some(line.ready_at(&settle)),
                 Next::PollAt(at) => Some(Some(at)),
                 Next::Idle => None,
             }
             .map(|at| at.filter(|at| *at > now));
-            if let Some(None) = wake_for_work
-                && let Some(job) = self.take_job(now)
-            {
-                if let Err(reason) = self.execute(&mut line, job).await {
+            if let Some(None) = wake_for_work {
+                let sent = match settle {
+                    Settle::Sentinel(sentinel) => {
+                        let priority = match next {
+                            Next::Queued { priority, .. } => priority,
+                            _ => Priority::Poll,
+                        };
+                        self.send_sentinel(&mut line, sentinel, priority).await
+                    }
+                    Settle::QuietUntil(_) => {
+                        // Quiet for a timeout after the last deadline: a
+                        // family without sentinels can only take it that
+                        // no answer comes later than that.
+                        line.unanswered.clear();
+                        self.execute_next(&mut line, now).await
+                    }
+                    Settle::Go => self.execute_next(&mut line, now).await,
+                };
+                if let Err(reason) = sent {
                     return Ended::Lost(reason);
                 }
                 continue;
@@ -282,30 +436,94 @@ impl Task {
         }
     }
 
+    /// What has to happen before `next` goes.
+    fn settle_for(&self, line: &Line, next: &Next, now: Instant) -> Settle {
+        if line.unanswered.is_empty() {
+            return Settle::Go;
+        }
+        let (priority, id, transaction) = match *next {
+            Next::Queued { priority, id } => {
+                let Some(job) = self
+                    .queues
+                    .iter()
+                    .find_map(|queue| queue.front().filter(|job| job.id == id))
+                else {
+                    return Settle::Go;
+                };
+                (priority, Some(id), &job.transaction)
+            }
+            Next::Poll => {
+                let Some(item) = self
+                    .schedule
+                    .as_ref()
+                    .and_then(|s| s.next(now).and_then(|(index, _)| s.item(index)))
+                else {
+                    return Settle::Go;
+                };
+                (Priority::Poll, None, &item.transaction)
+            }
+            Next::PollAt(_) | Next::Idle => return Settle::Go,
+        };
+        line.settle(
+            self.wire.as_ref(),
+            priority,
+            id,
+            &transaction.bytes,
+            &transaction.expect,
+        )
+    }
+
+    /// Take the next job and send it. `Err` carries the reason the link
+    /// was lost.
+    async fn execute_next(&mut self, line: &mut Line, now: Instant) -> Result<(), String> {
+        match self.take_job(now) {
+            Some(job) => self.execute(line, job).await,
+            None => Ok(()),
+        }
+    }
+
+    /// The reply timeout of a request of `len` bytes that gives none.
+    fn timeout_for(&self, line: &Line, given: Option<Duration>, len: usize) -> Duration {
+        given
+            .or(self.options.timeout)
+            .unwrap_or_else(|| default_timeout(line.byte_time, len))
+    }
+
+    /// Write `bytes` as a request and log it; `Err` with the reason the
+    /// link was lost if writing failed.
+    fn write_request(
+        &mut self,
+        line: &mut Line,
+        bytes: &[u8],
+        priority: Priority,
+    ) -> Result<(), String> {
+        if let Err(error) = line.outgoing.send(bytes) {
+            return Err(format!("{}: writing failed: {error}", line.name));
+        }
+        line.garbage_at = None;
+        line.failed_at = None;
+        self.publish(
+            Direction::Sent,
+            TrafficKind::Request,
+            bytes.to_vec(),
+            Some(priority),
+        );
+        Ok(())
+    }
+
     /// Send one attempt of `job` and see it through. `Err` carries the
     /// reason the link was lost.
     async fn execute(&mut self, line: &mut Line, mut job: Job) -> Result<(), String> {
         job.attempts += 1;
         let bytes = job.transaction.bytes.clone();
-        let timeout = job
-            .transaction
-            .timeout
-            .or(self.options.timeout)
-            .unwrap_or_else(|| default_timeout(line.byte_time, bytes.len()));
-        if let Err(error) = line.outgoing.send(&bytes) {
-            let reason = format!("{}: writing failed: {error}", line.name);
+        let timeout = self.timeout_for(line, job.transaction.timeout, bytes.len());
+        let priority = job.priority;
+        if let Err(reason) = self.write_request(line, &bytes, priority) {
             self.finish(job, Err(DeviceError::LinkLost(reason.clone())));
             return Err(reason);
         }
         let started = Instant::now();
-        let priority = job.priority;
-        // An emergency stop jumps the guard but does not lift it: a late
-        // reply may still come for whatever goes after it.
-        if priority != Priority::EmergencyStop {
-            line.guard = None;
-        }
-        line.garbage_at = None;
-        self.publish(Direction::Sent, TrafficKind::Request, bytes, Some(priority));
+        line.sentinel_sent = false;
         let rule = match &job.transaction.expect {
             Expect::Nothing => {
                 let answer = Answer {
@@ -320,95 +538,54 @@ impl Task {
         };
         let deadline = started + timeout;
         let may_retry = job.may_retry();
-        let mut accepted: Vec<Frame> = Vec::new();
-        let outcome = loop {
-            let partial = line.partial_deadline();
-            tokio::select! {
-                biased;
-                input = line.incoming.recv() => match input {
-                    Some(LinkInput::Bytes(bytes)) => {
-                        let frames = line.take_bytes(&bytes);
-                        self.log_skipped(line);
-                        let mut complete = false;
-                        for frame in frames {
-                            let verdict = if complete {
-                                Verdict::NotMine
-                            } else {
-                                rule.examine(&accepted, &frame)
-                            };
-                            match verdict {
-                                Verdict::NotMine => self.classify(frame),
-                                Verdict::Continue | Verdict::Complete => {
-                                    complete = verdict == Verdict::Complete;
-                                    self.publish(
-                                        Direction::Received,
-                                        TrafficKind::Answer,
-                                        frame.clone(),
-                                        Some(priority),
-                                    );
-                                    accepted.push(frame);
-                                }
-                            }
-                        }
-                        if complete {
-                            break Attempt::Answered;
-                        }
-                    }
-                    Some(LinkInput::Lost(reason)) => break Attempt::Lost(reason),
-                    None => break Attempt::Lost("the link closed".into()),
-                },
-                order = self.orders.recv(), if self.orders_open => self.order(order),
-                () = sleep_until(deadline) => break Attempt::TimedOut,
-                () = sleep_until(partial.unwrap_or(deadline)), if partial.is_some() => {
-                    self.expire_partial(line, Instant::now());
-                    if accepted.is_empty() && may_retry {
-                        break Attempt::BadAnswer;
-                    }
-                }
-            }
-        };
+        let (outcome, received) = self
+            .attempt(line, job.id, &rule, priority, deadline, may_retry)
+            .await;
         let now = Instant::now();
-        // A reply to this attempt may come until one timeout after its
-        // deadline: the guard lasts that long, and longer if bytes keep
-        // coming.
-        let since = (started + timeout).max(line.last_rx);
-        // A bad answer was followed by silence already.
-        let settled = match outcome {
-            Attempt::BadAnswer => line.last_rx,
-            _ => now,
-        };
-        let guard = |retry_of| Guard {
-            since,
-            quiet: timeout,
-            settled,
-            retry_of,
+        // The last attempt's bytes: a reply garbled once, read whole.
+        if !received.garbled.is_empty() {
+            job.garbled = received.garbled.clone();
+        }
+        if !received.ambiguous.is_empty() {
+            job.ambiguous = received.ambiguous.clone();
+        }
+        let unanswered = Unanswered {
+            job: job.id,
+            request: bytes,
+            rule,
+            deadline,
+            timeout,
         };
         match outcome {
             Attempt::Answered => {
-                if job.attempts > 1 {
-                    // An earlier attempt may still be answered.
-                    line.guard = Some(guard(None));
+                if received.through_earlier_attempt {
+                    // An earlier attempt's answer came: this one's may
+                    // still come.
+                    line.unanswered.push_back(unanswered);
                 }
                 let answer = Answer {
-                    frames: accepted,
+                    frames: received.accepted,
                     elapsed: now.saturating_duration_since(started),
                     attempts: job.attempts,
                 };
                 self.finish(job, Ok(answer));
             }
-            Attempt::TimedOut | Attempt::BadAnswer => {
-                if matches!(outcome, Attempt::TimedOut) {
-                    self.counters.timeouts += 1;
-                    self.publish_counters();
-                }
-                line.guard = Some(guard(may_retry.then_some(job.id)));
+            Attempt::TimedOut | Attempt::Garbled => {
+                self.count_failure(&outcome);
+                line.unanswered.push_back(unanswered);
+                // A garbled answer was followed by silence already.
+                line.failed_at = Some(match outcome {
+                    Attempt::Garbled => line.last_rx,
+                    _ => now,
+                });
                 if may_retry {
                     self.counters.retries += 1;
                     self.publish_counters();
                     self.queues[queue_index(priority)].push_front(job);
                 } else {
-                    let attempts = job.attempts;
-                    self.finish(job, Err(DeviceError::Timeout { timeout, attempts }));
+                    self.publish_counters();
+                    let error = job.failure(timeout);
+                    self.finish(job, Err(error));
                 }
             }
             Attempt::Lost(reason) => {
@@ -418,6 +595,160 @@ impl Task {
             }
         }
         Ok(())
+    }
+
+    /// Send a sentinel before the next request (see [`Settling`]): once its
+    /// answer is in, no answer to an earlier request can come any more,
+    /// and none is looked for. If it gets none, it joins the unanswered
+    /// and the request goes after it all the same.
+    async fn send_sentinel(
+        &mut self,
+        line: &mut Line,
+        sentinel: Sentinel,
+        priority: Priority,
+    ) -> Result<(), String> {
+        let id = self.new_id();
+        let timeout = self.timeout_for(line, None, sentinel.bytes.len());
+        self.write_request(line, &sentinel.bytes, priority)?;
+        line.sentinel_sent = true;
+        self.counters.sentinels += 1;
+        self.publish_counters();
+        let deadline = Instant::now() + timeout;
+        let (outcome, _) = self
+            .attempt(line, id, &sentinel.rule, priority, deadline, true)
+            .await;
+        match outcome {
+            Attempt::Answered => line.unanswered.clear(),
+            Attempt::TimedOut | Attempt::Garbled => {
+                self.count_failure(&outcome);
+                self.publish_counters();
+                line.failed_at = Some(Instant::now());
+                line.unanswered.push_back(Unanswered {
+                    job: id,
+                    request: sentinel.bytes,
+                    rule: sentinel.rule,
+                    deadline,
+                    timeout,
+                });
+            }
+            Attempt::Lost(reason) => return Err(format!("{}: {reason}", line.name)),
+        }
+        Ok(())
+    }
+
+    /// Count an attempt that ended without an answer.
+    fn count_failure(&mut self, outcome: &Attempt) {
+        match outcome {
+            Attempt::TimedOut => self.counters.timeouts += 1,
+            Attempt::Garbled => self.counters.garbled_answers += 1,
+            Attempt::Answered | Attempt::Lost(_) => {}
+        }
+    }
+
+    /// Wait for the answer to the attempt of job `id` on the wire: each
+    /// frame received is either the late answer to an unanswered attempt
+    /// (the oldest that could have it), or put to `rule`, or news or stale.
+    /// The attempt ends when the rule says the answer is complete, at
+    /// `deadline`, when the link is lost, or (`end_early`, for reads) when
+    /// only bytes that made no answer came and the line fell silent.
+    async fn attempt(
+        &mut self,
+        line: &mut Line,
+        id: u64,
+        rule: &Arc<dyn ReplyRule>,
+        priority: Priority,
+        deadline: Instant,
+        end_early: bool,
+    ) -> (Attempt, Received) {
+        let mut received = Received::default();
+        let outcome = loop {
+            let partial = line.partial_deadline();
+            let garbled = (end_early
+                && received.accepted.is_empty()
+                && !received.garbled.is_empty()
+                && partial.is_none())
+            .then(|| line.last_rx + line.silence);
+            tokio::select! {
+                biased;
+                input = line.incoming.recv() => match input {
+                    Some(LinkInput::Bytes(bytes)) => {
+                        let frames = line.take_bytes(&bytes);
+                        let skipped = self.log_skipped(line);
+                        received.garbled.extend(skipped);
+                        if self.take_frames(line, id, rule, priority, frames, &mut received) {
+                            break Attempt::Answered;
+                        }
+                    }
+                    Some(LinkInput::Lost(reason)) => break Attempt::Lost(reason),
+                    None => break Attempt::Lost("the link closed".into()),
+                },
+                order = self.orders.recv(), if self.orders_open => self.order(order),
+                () = sleep_until(deadline) => break Attempt::TimedOut,
+                () = sleep_until(partial.unwrap_or(deadline)), if partial.is_some() => {
+                    let dropped = self.expire_partial(line, Instant::now());
+                    received.garbled.extend(dropped);
+                }
+                () = sleep_until(garbled.unwrap_or(deadline)), if garbled.is_some() => {
+                    break Attempt::Garbled;
+                }
+            }
+        };
+        (outcome, received)
+    }
+
+    /// Frames received while job `id`'s attempt is on the wire; true once
+    /// its answer is complete.
+    fn take_frames(
+        &mut self,
+        line: &mut Line,
+        id: u64,
+        rule: &Arc<dyn ReplyRule>,
+        priority: Priority,
+        frames: Vec<Frame>,
+        received: &mut Received,
+    ) -> bool {
+        let mut complete = false;
+        for frame in frames {
+            if complete {
+                self.unrelated(line, frame);
+                continue;
+            }
+            if received.accepted.is_empty()
+                && let Some(index) = line.late_owner(&frame)
+            {
+                let owner = line.unanswered.remove(index);
+                if owner.as_ref().is_some_and(|u| u.job == id) {
+                    // An earlier attempt of this job: its answer is this
+                    // job's answer too.
+                    received.through_earlier_attempt = true;
+                } else {
+                    if rule.examine(&[], &frame) != Verdict::NotMine {
+                        received.ambiguous.extend_from_slice(&frame);
+                    }
+                    self.stale(frame);
+                    continue;
+                }
+            }
+            match rule.examine(&received.accepted, &frame) {
+                Verdict::NotMine => {
+                    if !self.news(&frame) {
+                        received.garbled.extend_from_slice(&frame);
+                        self.stale(frame);
+                    }
+                }
+                verdict @ (Verdict::Continue | Verdict::Complete) => {
+                    complete = verdict == Verdict::Complete;
+                    self.publish(
+                        Direction::Received,
+                        TrafficKind::Answer,
+                        frame.clone(),
+                        Some(priority),
+                    );
+                    received.accepted.push(frame);
+                }
+            }
+        }
+        complete
     }
 
     /// What goes next, given the queues and the poll plan.
@@ -446,13 +777,12 @@ impl Task {
         }
         let transaction = schedule.sent(index, now)?.transaction.clone();
         let id = self.new_id();
-        Some(Job {
+        Some(Job::new(
             id,
-            priority: Priority::Poll,
+            Priority::Poll,
             transaction,
-            attempts: 0,
-            origin: Origin::Plan(index),
-        })
+            Origin::Plan(index),
+        ))
     }
 
     fn new_id(&mut self) -> u64 {
@@ -487,13 +817,12 @@ impl Task {
                 reply,
             })) => {
                 let id = self.new_id();
-                self.queues[queue_index(priority)].push_back(Job {
+                self.queues[queue_index(priority)].push_back(Job::new(
                     id,
                     priority,
                     transaction,
-                    attempts: 0,
-                    origin: Origin::Caller(reply),
-                });
+                    Origin::Caller(reply),
+                ));
             }
             Some(Order::Shutdown) => self.closing = true,
             None => {
@@ -543,7 +872,7 @@ impl Task {
                 let frames = line.take_bytes(&bytes);
                 self.log_skipped(line);
                 for frame in frames {
-                    self.classify(frame);
+                    self.unrelated(line, frame);
                 }
                 Ok(())
             }
@@ -552,51 +881,76 @@ impl Task {
         }
     }
 
-    /// A frame that answers nothing: news or stale.
-    fn classify(&mut self, frame: Frame) {
-        match self.wire.unsolicited(&frame) {
-            Some(description) => {
-                self.counters.unsolicited += 1;
-                self.publish(
-                    Direction::Received,
-                    TrafficKind::Unsolicited,
-                    frame.clone(),
-                    None,
-                );
-                let _ = self
-                    .out
-                    .events
-                    .send(DeviceEvent::Unsolicited { frame, description });
-            }
-            None => {
-                self.counters.stale_frames += 1;
-                self.publish(Direction::Received, TrafficKind::Stale, frame, None);
-            }
+    /// A frame that answers no request on the wire: the late answer to an
+    /// unanswered attempt (which is then answered), news, or stale.
+    fn unrelated(&mut self, line: &mut Line, frame: Frame) {
+        if let Some(index) = line.late_owner(&frame) {
+            line.unanswered.remove(index);
+            self.stale(frame);
+        } else if !self.news(&frame) {
+            self.stale(frame);
         }
+    }
+
+    /// Publish `frame` as unsolicited news if the family says it is; false
+    /// if it is not.
+    fn news(&mut self, frame: &[u8]) -> bool {
+        let Some(description) = self.wire.unsolicited(frame) else {
+            return false;
+        };
+        self.counters.unsolicited += 1;
+        self.publish(
+            Direction::Received,
+            TrafficKind::Unsolicited,
+            frame.to_vec(),
+            None,
+        );
+        let _ = self.out.events.send(DeviceEvent::Unsolicited {
+            frame: frame.to_vec(),
+            description,
+        });
+        self.publish_counters();
+        true
+    }
+
+    /// A well-formed frame nobody waited for (a late answer, discarded).
+    fn stale(&mut self, frame: Frame) {
+        self.counters.stale_frames += 1;
+        self.publish(Direction::Received, TrafficKind::Stale, frame, None);
         self.publish_counters();
     }
 
-    /// Drop a partial frame once the line has been quiet long enough.
-    fn expire_partial(&mut self, line: &mut Line, now: Instant) {
+    /// Drop a partial frame once the line has been quiet long enough; the
+    /// bytes dropped.
+    fn expire_partial(&mut self, line: &mut Line, now: Instant) -> Vec<u8> {
         if line.partial_deadline().is_some_and(|at| at <= now) {
             let bytes = line.framer.discard_pending();
-            self.log_garbage(line, bytes);
+            self.log_garbage(line, &bytes);
+            return bytes;
         }
+        Vec::new()
     }
 
-    fn log_skipped(&mut self, line: &mut Line) {
+    /// Log the bytes the framer stepped over; the bytes.
+    fn log_skipped(&mut self, line: &mut Line) -> Vec<u8> {
         let bytes = line.framer.take_skipped();
-        self.log_garbage(line, bytes);
+        self.log_garbage(line, &bytes);
+        bytes
     }
 
-    fn log_garbage(&mut self, line: &mut Line, bytes: Vec<u8>) {
+    fn log_garbage(&mut self, line: &mut Line, bytes: &[u8]) {
         if bytes.is_empty() {
             return;
         }
         // The garbage ended with the last byte received.
         line.garbage_at = Some(line.last_rx);
         self.counters.garbage_bytes += u64::try_from(bytes.len()).unwrap_or(u64::MAX);
-        self.publish(Direction::Received, TrafficKind::Garbage, bytes, None);
+        self.publish(
+            Direction::Received,
+            TrafficKind::Garbage,
+            bytes.to_vec(),
+            None,
+        );
         self.publish_counters();
     }
 

@@ -3,10 +3,22 @@
 //! frame answers the request in flight, means something on its own (an
 //! unsolicited event such as TMCL 138's second reply, §3.6.52) or is stale.
 //!
+//! Neither TMCL nor the ASCII families carry a transaction id, so an answer
+//! that comes after its request timed out looks like the next request's.
+//! A family tells the device task what it has to tell answers apart: which
+//! requests' answers can never be taken for each other
+//! ([`WireFormat::answers_apart`]), and a harmless request whose answer
+//! nothing else can give, sent to settle the line after an answer went
+//! missing ([`WireFormat::settling`], [`Sentinel`]). Both are optional; a
+//! family that offers neither is served as before: after a timeout the
+//! line must be quiet for a while, and an answer later than that is the
+//! hole its frames leave open.
+//!
 //! Pure code, no I/O: each family implements these next to its codec, and
 //! the device task (`device/`) serves every family through them unchanged.
 
 use std::fmt;
+use std::sync::Arc;
 use std::time::Duration;
 
 /// One frame as cut from the byte stream (a 9-byte TMCL reply, one ASCII
@@ -36,7 +48,11 @@ pub trait Framer: Send {
 pub trait ReplyRule: Send + Sync + fmt::Debug {
     /// `accepted` holds the frames of this answer accepted so far (empty for
     /// the first); `frame` is the next frame received while the request is
-    /// in flight.
+    /// in flight. Also asked, with `accepted` empty, whether a frame could
+    /// be the late answer to a request that timed out: a rule that accepts
+    /// only what its own request's answer can look like (the success
+    /// answer, or an error the module names) is what lets a late answer be
+    /// told from the next one.
     fn examine(&self, accepted: &[Frame], frame: &[u8]) -> Verdict;
 }
 
@@ -67,4 +83,59 @@ pub trait WireFormat: Send + Sync {
     /// for links without a baud rate). TMCL has no start byte, so this is
     /// its only way back into step after garbage.
     fn silence(&self, byte_time: Option<Duration>) -> Duration;
+
+    /// Whether no answer to `earlier` can ever be taken for an answer to
+    /// `next`, nor the other way round, judged from the two requests as
+    /// sent (TMCL: they go to different modules or are different commands,
+    /// and the reply echoes both, §3.2). Then `next` may go while an answer
+    /// to `earlier` may still come. The default, `false`, is always safe.
+    fn answers_apart(&self, earlier: &[u8], next: &[u8]) -> bool {
+        let _ = (earlier, next);
+        false
+    }
+
+    /// How to make sure that no late answer to the requests in
+    /// `unanswered` (as sent, oldest first: they timed out or got no answer
+    /// that could be read, and their answers may still come) is taken for
+    /// the answer to `next`. The default, [`Settling::QuietTime`], is what
+    /// a family without a sentinel can do; a family with sentinels answers
+    /// it too when an unanswered request went to another module than
+    /// `next` (a module answers in order, but two modules' answers are not
+    /// ordered with each other, so a sentinel speaks for its own module
+    /// only).
+    fn settling(&self, next: &[u8], unanswered: &[&[u8]]) -> Settling {
+        let _ = (next, unanswered);
+        Settling::QuietTime
+    }
+}
+
+/// What the device task does before sending a request while answers to
+/// earlier ones may still come (and cannot be told from its answer).
+#[derive(Debug, Clone)]
+pub enum Settling {
+    /// Nothing tells a late answer from the next one: wait until the line
+    /// has been quiet for one reply timeout after the last request's
+    /// deadline, then take it that no answer comes later than that.
+    QuietTime,
+    /// Send this sentinel first. Its answer cannot be any unanswered
+    /// request's, and a module answers in order: once it is in, every
+    /// earlier answer has come or never will.
+    Sentinel(Sentinel),
+    /// The family has sentinels, but none whose answer can be told from
+    /// every unanswered request's just now (a sentinel is among them):
+    /// send the request; the answers that come are matched to the
+    /// requests in the order they were sent, and one that could be an
+    /// earlier request's is never taken for this one's.
+    InOrder,
+}
+
+/// A request that reads and changes nothing, whose answer marks a point in
+/// the stream of answers (see [`Settling::Sentinel`]).
+#[derive(Debug, Clone)]
+pub struct Sentinel {
+    /// The bytes to send.
+    pub bytes: Vec<u8>,
+    /// Accepts its answer, and nothing an unanswered request could still
+    /// get back (an error reply included).
+    pub rule: Arc<dyn ReplyRule>,
 }

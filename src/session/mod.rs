@@ -206,6 +206,34 @@ impl SessionError {
     }
 }
 
+/// The error for a line whose answer came garbled: what the family makes
+/// of the bytes that came instead (CMD-4CR: "`fK` is not OK, the answer
+/// to a write or action"; TMCL: a wrong checksum), with those bytes as the
+/// reply. Never a success, whatever the bytes say.
+fn garbled(
+    console: &dyn crate::protocol::console::FamilyConsole,
+    line: &PreparedLine,
+    received: Vec<u8>,
+    timeout: Duration,
+) -> SessionError {
+    let why = match console.interpret(line, std::slice::from_ref(&received)) {
+        Err(ReplyError::Malformed { reason, .. }) => reason,
+        _ => "it is not an answer to this line".to_string(),
+    };
+    SessionError::Reply {
+        error: Box::new(ReplyError::Malformed {
+            line: line.canonical.clone(),
+            reason: format!(
+                "{why} (garbled: nothing readable came within {} ms)",
+                timeout.as_millis()
+            ),
+        }),
+        request: line.bytes.clone(),
+        reply: received,
+        elapsed: timeout,
+    }
+}
+
 /// One connected controller. Cheap to clone; clones share everything.
 #[derive(Clone)]
 pub struct Session {
@@ -543,12 +571,22 @@ impl Session {
             _ => retry,
         };
         let transaction = self.transaction(line, retry, timeout);
+        let console = self.family.console;
         let (frames, elapsed, attempts) = match self.device.transact(priority, transaction).await {
             Ok(answer) => (answer.frames, answer.elapsed, answer.attempts),
-            Err(DeviceError::Timeout { timeout, attempts })
-                if matches!(line.answering, Answering::MaybeReply(_)) =>
-            {
+            // An answer that may be lost is not needed.
+            Err(
+                DeviceError::Timeout { timeout, attempts }
+                | DeviceError::Garbled {
+                    timeout, attempts, ..
+                },
+            ) if matches!(line.answering, Answering::MaybeReply(_)) => {
                 (Vec::new(), timeout, attempts)
+            }
+            Err(DeviceError::Garbled {
+                timeout, received, ..
+            }) => {
+                return Err(garbled(console, line, received, timeout));
             }
             Err(error) => {
                 return Err(SessionError::Device {
@@ -560,7 +598,6 @@ impl Session {
             }
         };
         let reply: Vec<u8> = frames.concat();
-        let console = self.family.console;
         let reading = console
             .interpret(line, &frames)
             .map_err(|error| SessionError::Reply {

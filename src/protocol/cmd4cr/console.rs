@@ -9,7 +9,6 @@ use super::catalog::{Action, Axis, Format, Register};
 use super::command::{Cmd4crCommand, Selector, parse_command};
 use super::reply::{Answer, AnswerError, MST_BITS, Mst, MstBit, MstClass, answers, parse_answer};
 use super::{ControllerId, DEFAULT_ID, MAX_ID, frame};
-use crate::protocol::ascii::AsciiWire;
 use crate::protocol::console::{
     Answering, AxisFlag, AxisInfo, AxisUpdate, Completions, Effect, FamilyConsole, MotionPhase,
     PreparedLine, Reading, ReplyError, ReplyValue, StatusPoll, SwitchKind,
@@ -48,13 +47,16 @@ fn mst_flag(bit: &'static MstBit) -> AxisFlag {
     }
 }
 
-/// How an answer to a CMD-4CR command is recognised: the next line, if it
-/// could answer this command (a read is not answered by a late `OK` of an
-/// earlier write: that line is stale). Errors (`?…`) answer anything.
+/// How an answer to a CMD-4CR command is recognised: the next line that
+/// is its success answer (`OK` for a write or action, the register's
+/// format for a read) or an error (`?…`, which may answer anything). Any
+/// other line is not this command's answer: a late `OK` of an earlier
+/// write while a read waits, a garbled `fK`, noise. If nothing better
+/// comes, the device task reports those bytes as a garbled answer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Cmd4crReplyRule {
     /// The register's format for a read; `None` for writes and actions,
-    /// which any line answers (digest §0: only STORE's `OK` is documented).
+    /// answered by [`super::reply::DONE`].
     pub format: Option<Format>,
 }
 
@@ -214,7 +216,7 @@ fn per_axis(text: &str) -> Option<Vec<i64>> {
 
 impl FamilyConsole for Cmd4crConsole {
     fn wire(&self) -> Arc<dyn WireFormat> {
-        Arc::new(AsciiWire::cmd4cr())
+        Arc::new(super::Cmd4crWire::default())
     }
 
     fn default_address(&self) -> u8 {
@@ -247,8 +249,7 @@ impl FamilyConsole for Cmd4crConsole {
         let text = String::from_utf8_lossy(last);
         let command = parse_command(&line.canonical).map_err(|e| malformed(line, e.to_string()))?;
         let value = match parse_answer(&text, command.reply_format()) {
-            Ok(Answer::Done(text)) if text.eq_ignore_ascii_case("OK") => ReplyValue::None,
-            Ok(Answer::Done(text)) => ReplyValue::Text(text),
+            Ok(Answer::Done(_)) => ReplyValue::None,
             Ok(Answer::Integer(value)) => ReplyValue::Number(value),
             Ok(Answer::Thousandths(_, text) | Answer::Fields(_, text) | Answer::Text(text)) => {
                 ReplyValue::Text(text)
@@ -261,8 +262,16 @@ impl FamilyConsole for Cmd4crConsole {
                     meaning: error.meaning().to_string(),
                 });
             }
-            Err(error @ AnswerError::Unreadable { .. }) => {
-                return Err(malformed(line, error.to_string()));
+            Err(AnswerError::Unreadable { expected, .. }) => {
+                // The bytes as they came, escaped: a garbled answer may
+                // hold anything, a terminal's control sequences included.
+                return Err(malformed(
+                    line,
+                    format!(
+                        "`{}` is not {expected}",
+                        super::show_bytes(last.trim_ascii())
+                    ),
+                ));
             }
         };
         Ok(Reading {
@@ -498,10 +507,11 @@ mod tests {
             reply(&prepare("VER"), "V126BL").map(|r| r.value),
             Ok(ReplyValue::Text("V126BL".into()))
         );
-        // A write answered other than OK: success, shown as it came.
+        // A write answered other than OK: never success.
+        let error = reply(&prepare("HSPDX=5000"), "fK").unwrap_err();
         assert_eq!(
-            reply(&prepare("HSPD=100"), "100").map(|r| r.value),
-            Ok(ReplyValue::Text("100".into()))
+            error.to_string(),
+            "unreadable answer to HSPDX=5000: `fK` is not OK, the answer to a write or action"
         );
     }
 
@@ -540,6 +550,10 @@ mod tests {
             panic!("X100 expects a reply")
         };
         assert_eq!(rule.examine(&[], b"OK"), Verdict::Complete);
+        assert_eq!(rule.examine(&[], b"?Error Moving"), Verdict::Complete);
+        for garbled in [&b"fK"[..], b"K", b"O\xAA", b"12", b"0:0:0:0"] {
+            assert_eq!(rule.examine(&[], garbled), Verdict::NotMine, "{garbled:?}");
+        }
     }
 
     #[test]

@@ -15,6 +15,7 @@ pub mod parameter_set;
 pub mod program_control;
 pub mod reply;
 pub mod traffic;
+pub mod wire;
 
 use std::fmt;
 
@@ -23,6 +24,7 @@ pub use command::{Cmd4crCommand, CommandError, Direction, Rotation, Selector, pa
 pub use console::Cmd4crConsole;
 pub use program_control::ProgramControl;
 pub use reply::{Answer, ErrorCode, ErrorReply, Mst, parse_answer};
+pub use wire::Cmd4crWire;
 
 /// The ID every controller ships with (§2.1.1.1).
 pub const DEFAULT_ID: u8 = 1;

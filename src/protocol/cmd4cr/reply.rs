@@ -2,8 +2,15 @@
 //! either an error starting with `?` (§4.0: "Invalid commands are returned
 //! with a '?'"), or the value read (a signed integer, `:`-separated
 //! integers for PP/EP/BSTAT, text for VER), or, for a write or an action,
-//! `OK` — the manual shows `OK` for STORE only; any other line that is not
-//! an error is taken as success too (digest §0).
+//! [`DONE`].
+//!
+//! The manual shows `OK` for STORE only (§3.2.2) and tells the host to
+//! "always check for a proper reply when a command is sent" (§4.0). The
+//! digest (§0) would take any line that is not an error as success; axterm
+//! does not: `OK` is the success answer of every write and action, and any
+//! other line (a garbled `OK`, noise, a late value) is not an answer at
+//! all, so that a stop the controller may not have understood is never
+//! reported done.
 //!
 //! Also the MST status word decoded bit by bit (§2.6.2.1 Table 2-28) and
 //! the field names of the POL word (§2.1.6.3; its Table 2-17 is lost, so
@@ -217,10 +224,14 @@ fn strip_prefix_ignore_case<'a>(text: &'a str, prefix: &str) -> Option<&'a str> 
         .then(|| text.get(prefix.len()..).unwrap_or_default())
 }
 
+/// The success answer to a write or an action (§3.2.2, shown for STORE;
+/// taken for every write and action, see the module documentation).
+pub const DONE: &str = "OK";
+
 /// A successful answer, read as the command's format says.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Answer {
-    /// `OK`, or another line answering a write or action.
+    /// [`DONE`], the answer to a write or action.
     Done(String),
     Integer(i64),
     /// SLR, in thousandths; with the text as it came.
@@ -255,7 +266,8 @@ pub fn parse_answer(line: &str, format: Option<Format>) -> Result<Answer, Answer
         expected,
     };
     match format {
-        None => Ok(Answer::Done(line.to_string())),
+        None if line == DONE => Ok(Answer::Done(line.to_string())),
+        None => Err(unreadable("OK, the answer to a write or action")),
         Some(Format::Integer | Format::TwoDigits) => parse_integer(line)
             .map(Answer::Integer)
             .ok_or_else(|| unreadable("a whole number")),
@@ -284,13 +296,20 @@ fn field_description(count: usize) -> &'static str {
 }
 
 /// Whether `line` could be the answer to a command whose answer reads as
-/// `format` (a stale line — `OK` from an earlier write arriving late while
-/// a read waits — could not).
+/// `format`: its success answer or an error. A stale line (`OK` of an
+/// earlier write arriving late while a read waits) could not, nor a
+/// garbled one (`fK` for `OK`).
 pub fn answers(line: &str, format: Option<Format>) -> bool {
     match parse_answer(line, format) {
         Ok(_) | Err(AnswerError::Refused(_)) => true,
         Err(AnswerError::Unreadable { .. }) => false,
     }
+}
+
+/// Whether `line` is a success answer for `format` (no error): what a
+/// sentinel accepts.
+pub fn succeeds(line: &str, format: Option<Format>) -> bool {
+    parse_answer(line, format).is_ok()
 }
 
 /// One bit of the MST word (§2.6.2.1 Table 2-28).
@@ -542,8 +561,43 @@ mod tests {
         assert!(!answers("OK", Some(Format::Integer)));
         assert!(answers("?Invalid Index", Some(Format::Integer)));
         assert!(answers("12", Some(Format::Integer)));
-        assert!(answers("whatever", None));
         assert!(!answers("1:2", Some(Format::Fields(&["X", "Y", "Z", "U"]))));
+    }
+
+    #[test]
+    fn a_write_is_answered_by_ok_or_an_error_only() {
+        assert!(answers("OK", None));
+        assert!(answers(" OK ", None), "blanks around it are no garbling");
+        assert!(answers("?Error Moving", None));
+        // The garbled answers of the issue's `--fault corrupt=1,seed=1` run,
+        // a late value, noise, and what the manual never shows.
+        for line in [
+            "K", "fK", "\u{b3}K", "O\u{aa}", "12", "ok", "Ok", "OKAY", "whatever", "",
+        ] {
+            assert!(!answers(line, None), "{line:?}");
+        }
+        assert_eq!(
+            parse_answer("fK", None),
+            Err(AnswerError::Unreadable {
+                found: "fK".into(),
+                expected: "OK, the answer to a write or action",
+            })
+        );
+        assert_eq!(
+            parse_answer("fK", None).unwrap_err().to_string(),
+            "`fK` is not OK, the answer to a write or action"
+        );
+    }
+
+    #[test]
+    fn a_sentinel_takes_its_value_and_never_an_error() {
+        let fields = Some(Format::Fields(&["X", "Y", "Z", "U"]));
+        assert!(succeeds("1:2:3:4", fields));
+        assert!(!succeeds("?Program Error", fields));
+        assert!(!succeeds("12", fields));
+        assert!(succeeds("-12", Some(Format::Integer)));
+        assert!(!succeeds("?Invalid Index", Some(Format::Integer)));
+        assert!(!succeeds("1:2:3:4", Some(Format::Integer)));
     }
 
     #[test]

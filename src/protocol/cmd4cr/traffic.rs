@@ -32,10 +32,7 @@ pub fn describe_reply(bytes: &[u8], request: Option<&[u8]>) -> String {
         Err(AnswerError::Unreadable { .. }) => {
             format!("`{text}`: not an answer to {}", name(command.as_ref()))
         }
-        Ok(Answer::Done(done)) if done.eq_ignore_ascii_case("OK") => {
-            format!("{} done", name(command.as_ref()))
-        }
-        Ok(Answer::Done(other)) => format!("{}: {other}", name(command.as_ref())),
+        Ok(Answer::Done(_)) => format!("{} done", name(command.as_ref())),
         Ok(Answer::Integer(value)) => integer(command.as_ref(), value),
         Ok(Answer::Thousandths(_, text) | Answer::Text(text)) => {
             format!("{} = {text}", name(command.as_ref()))

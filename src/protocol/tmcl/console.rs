@@ -447,7 +447,11 @@ impl FamilyConsole for TmclConsole {
         let frame: &[u8; FRAME_LEN] = last.as_slice().try_into().map_err(|_| {
             malformed(
                 line,
-                format!("a reply has {FRAME_LEN} bytes, this one {}", last.len()),
+                format!(
+                    "a reply has {FRAME_LEN} bytes, this one {}: {}",
+                    last.len(),
+                    super::to_hex(last)
+                ),
             )
         })?;
         let command = Command::from_request(&request);
@@ -470,7 +474,8 @@ impl FamilyConsole for TmclConsole {
                 value: ReplyValue::Text(text),
             });
         }
-        let reply = Reply::from_bytes(frame).map_err(|e| malformed(line, e.to_string()))?;
+        let reply = Reply::from_bytes(frame)
+            .map_err(|e| malformed(line, format!("{}: {e}", super::to_hex(frame))))?;
         if !reply.status.is_success() {
             return Err(rejected(line, &reply));
         }
@@ -668,12 +673,17 @@ mod tests {
         frame[8] ^= 0xFF;
         let error = TmclConsole.interpret(&gap, &[frame]).unwrap_err();
         assert!(matches!(error, ReplyError::Malformed { .. }), "{error}");
-        assert!(
+        assert_eq!(
+            error.to_string(),
+            "unreadable answer to GAP 1, 0: 02 01 64 06 00 00 00 05 8D: wrong checksum: \
+             frame carries 0x8d, its bytes sum to 0x72"
+        );
+        assert_eq!(
             TmclConsole
                 .interpret(&gap, &[vec![1, 2, 3]])
                 .unwrap_err()
-                .to_string()
-                .contains("9 bytes")
+                .to_string(),
+            "unreadable answer to GAP 1, 0: a reply has 9 bytes, this one 3: 01 02 03"
         );
     }
 

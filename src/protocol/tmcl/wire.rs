@@ -2,12 +2,21 @@
 //! (§3.1, §3.2), a reply recognised by its module address and echoed
 //! command, and the one unsolicited frame TMCL has, the status-128 second
 //! reply of command 138 (§3.6.52).
+//!
+//! A reply carries no sequence number, but it echoes the module address
+//! and the command (§3.2 Table 3): answers to requests that differ in
+//! either are never taken for each other, and a control command of another
+//! number is a sentinel after a lost answer. The value field does not help:
+//! the manual gives the reply value of SAP, SGP, MVP and most writes as
+//! "don't care" (§3.6.5, §3.6.9), so it cannot be expected to echo the
+//! value written.
 
+use std::sync::Arc;
 use std::time::Duration;
 
 use super::command::opcode;
 use super::frame::{FRAME_LEN, Reply, Request, Status, checksum};
-use crate::protocol::wire::{Frame, Framer, ReplyRule, Verdict, WireFormat};
+use crate::protocol::wire::{Frame, Framer, ReplyRule, Sentinel, Settling, Verdict, WireFormat};
 
 /// Line silence after which a partial frame is dropped, in byte times.
 /// Modbus RTU, the nearest standard without a start byte, uses 3.5.
@@ -52,6 +61,28 @@ pub fn is_version_string(frame: &[u8]) -> bool {
     frame.len() == FRAME_LEN && frame.iter().skip(1).all(u8::is_ascii_graphic)
 }
 
+/// The sentinels: control commands that read and change nothing (§3.6.53
+/// Table 14) and that a module executes even in download mode, where other
+/// commands are stored instead (§3.6.53, command 132): 136 type 1 (the
+/// firmware version as a number, one of the commands "relevant for custom
+/// hosts") and 135 type 0 (the application status), as (command, type).
+const SENTINELS: [(u8, u8); 2] = [
+    (opcode::FIRMWARE_VERSION, 1),
+    (opcode::APPLICATION_STATUS, 0),
+];
+
+/// A request whose answer is laid out other than an ordinary reply (136
+/// type 0: eight characters and no checksum; 134: a program word): it
+/// echoes neither address nor command, so nothing tells it apart.
+fn answered_specially(request: &[u8]) -> bool {
+    match request {
+        [_, command, kind, ..] => {
+            (*command == opcode::FIRMWARE_VERSION && *kind == 0) || *command == opcode::READ_MEMORY
+        }
+        _ => true,
+    }
+}
+
 /// A well-formed reply frame, decoded.
 fn decode_reply(frame: &[u8]) -> Option<Reply> {
     let bytes: &[u8; FRAME_LEN] = frame.try_into().ok()?;
@@ -87,6 +118,54 @@ impl WireFormat for TmclWire {
             .map(|t| t.saturating_mul(SILENCE_BYTES))
             .unwrap_or_default()
             .max(MIN_SILENCE)
+    }
+
+    /// Different modules or different commands (§3.2: the reply echoes
+    /// both), unless one of them is answered in a layout of its own.
+    fn answers_apart(&self, earlier: &[u8], next: &[u8]) -> bool {
+        if earlier.len() != FRAME_LEN
+            || next.len() != FRAME_LEN
+            || answered_specially(earlier)
+            || answered_specially(next)
+        {
+            return false;
+        }
+        earlier[0] != next[0] || earlier[1] != next[1]
+    }
+
+    /// A sentinel to the module `next` goes to, of a command none of the
+    /// unanswered requests has; none if one of them went to another module
+    /// (a sentinel says nothing about another module's answers) or reads
+    /// program memory (whose answer any checksummed frame could be).
+    fn settling(&self, next: &[u8], unanswered: &[&[u8]]) -> Settling {
+        let Some(&address) = next.first().filter(|_| next.len() == FRAME_LEN) else {
+            return Settling::QuietTime;
+        };
+        let same_module = unanswered
+            .iter()
+            .all(|r| r.len() == FRAME_LEN && r[0] == address);
+        if !same_module {
+            return Settling::QuietTime;
+        }
+        if unanswered.iter().any(|r| r[1] == opcode::READ_MEMORY) {
+            return Settling::InOrder;
+        }
+        SENTINELS
+            .into_iter()
+            .find(|(command, _)| unanswered.iter().all(|r| r[1] != *command))
+            .map_or(Settling::InOrder, |(command, kind)| {
+                let request = Request {
+                    address,
+                    command,
+                    kind,
+                    motor_bank: 0,
+                    value: 0,
+                };
+                Settling::Sentinel(Sentinel {
+                    bytes: request.to_bytes().to_vec(),
+                    rule: Arc::new(TmclReplyRule::for_request(&request)),
+                })
+            })
     }
 }
 
@@ -248,6 +327,89 @@ mod tests {
         let mut bad = reached.clone();
         bad[4] ^= 0x10;
         assert_eq!(wire.unsolicited(&bad), None);
+    }
+
+    fn bytes(request: &Request) -> Vec<u8> {
+        request.to_bytes().to_vec()
+    }
+
+    #[test]
+    fn answers_are_apart_when_module_or_command_differ() {
+        let wire = TmclWire::default();
+        let gap = gap(1);
+        let sap = Request { command: 5, ..gap };
+        let other_module = Request { address: 2, ..gap };
+        let other_param = Request { kind: 4, ..gap };
+        assert!(wire.answers_apart(&bytes(&gap), &bytes(&sap)));
+        assert!(wire.answers_apart(&bytes(&gap), &bytes(&other_module)));
+        assert!(
+            !wire.answers_apart(&bytes(&gap), &bytes(&other_param)),
+            "GAP 1 and GAP 4 are both answered by command 6 with a value"
+        );
+        let version = Request {
+            command: 136,
+            kind: 0,
+            ..gap
+        };
+        let version_elsewhere = Request {
+            address: 2,
+            ..version
+        };
+        assert!(
+            !wire.answers_apart(&bytes(&version), &bytes(&version_elsewhere)),
+            "the version string carries no module address"
+        );
+        assert!(!wire.answers_apart(&bytes(&version), &bytes(&sap)));
+        assert!(!wire.answers_apart(&bytes(&gap)[..8], &bytes(&sap)));
+    }
+
+    fn settling_of(next: &Request, unanswered: &[Request]) -> Settling {
+        let unanswered: Vec<Vec<u8>> = unanswered.iter().map(bytes).collect();
+        let views: Vec<&[u8]> = unanswered.iter().map(Vec::as_slice).collect();
+        TmclWire::default().settling(&bytes(next), &views)
+    }
+
+    #[test]
+    fn the_sentinel_is_a_control_command_no_unanswered_request_has() {
+        let Settling::Sentinel(sentinel) = settling_of(&gap(1), &[gap(1)]) else {
+            panic!("a sentinel")
+        };
+        assert_eq!(sentinel.bytes, vec![1, 136, 1, 0, 0, 0, 0, 0, 138]);
+        let answer = reply(1, 100, 136, 1012);
+        assert_eq!(sentinel.rule.examine(&[], &answer), Verdict::Complete);
+        assert_eq!(
+            sentinel.rule.examine(&[], &reply(1, 100, 6, 1012)),
+            Verdict::NotMine
+        );
+        let version = Request {
+            command: 136,
+            kind: 1,
+            ..gap(1)
+        };
+        let Settling::Sentinel(sentinel) = settling_of(&gap(1), &[gap(1), version]) else {
+            panic!("a sentinel")
+        };
+        assert_eq!(sentinel.bytes[..3], [1, 135, 0]);
+        let status = Request {
+            command: 135,
+            ..version
+        };
+        assert!(matches!(
+            settling_of(&gap(1), &[version, status]),
+            Settling::InOrder
+        ));
+        let read_memory = Request {
+            command: 134,
+            ..gap(1)
+        };
+        assert!(matches!(
+            settling_of(&gap(1), &[read_memory]),
+            Settling::InOrder
+        ));
+        assert!(
+            matches!(settling_of(&gap(1), &[gap(2)]), Settling::QuietTime),
+            "a sentinel to module 1 says nothing of module 2's answers"
+        );
     }
 
     #[test]
