@@ -498,20 +498,19 @@ pub fn choose_keymap(flag: Option<&str>, config_dir: Option<&Path>) -> Loaded<Ke
 /// the built-in of that name. A user file that cannot be used gives a
 /// [`ConfigProblem`] and the built-in of that name (else `default`).
 pub fn load_keymap(name: &str, config_dir: Option<&Path>) -> Loaded<Keymap> {
-    load_config(
-        &ConfigKind {
-            folder: "keymaps",
-            noun: "keymap",
-            default_name: DEFAULT_KEYMAP,
-            builtin: Keymap::builtin,
-            builtin_names: || Keymap::builtin_names().collect(),
-            last_resort: Keymap::fallback,
-            parse: parse_keymap,
-        },
-        name,
-        config_dir,
-    )
+    load_config(&KEYMAPS, name, config_dir)
 }
+
+/// Keymaps as the configuration loader knows them.
+const KEYMAPS: ConfigKind<Keymap> = ConfigKind {
+    folder: "keymaps",
+    noun: "keymap",
+    default_name: DEFAULT_KEYMAP,
+    builtin: Keymap::builtin,
+    builtin_names: || Keymap::builtin_names().collect(),
+    last_resort: Keymap::fallback,
+    parse: parse_keymap,
+};
 
 /// Parses a user's keymap file named `name` over its base (a built-in; by
 /// default the built-in of the same name, else `default`): each action it
@@ -519,25 +518,7 @@ pub fn load_keymap(name: &str, config_dir: Option<&Path>) -> Loaded<Keymap> {
 /// Every mistake found is returned, in file order.
 pub fn parse_keymap(name: &str, text: &str) -> Result<Keymap, Vec<ConfigError>> {
     let draft = read_keymap(text, None)?;
-    let base_name = match &draft.base {
-        Some((base, span)) => {
-            if !Keymap::builtin_names().any(|n| n == base) {
-                let names: Vec<&str> = Keymap::builtin_names().collect();
-                return Err(vec![ConfigError::at(
-                    text,
-                    span.clone(),
-                    "base",
-                    format!(
-                        "no built-in keymap named `{base}` (built-ins: {})",
-                        names.join(", ")
-                    ),
-                )]);
-            }
-            base.as_str()
-        }
-        None if Keymap::builtin_names().any(|n| n == name) => name,
-        None => DEFAULT_KEYMAP,
-    };
+    let base_name = config::base_name(&KEYMAPS, draft.base.as_ref(), name, text)?;
     let (base_name, base_text) = BUILTIN_KEYMAPS
         .iter()
         .find(|(n, _)| *n == base_name)
