@@ -6,7 +6,6 @@ use std::time::Duration;
 
 use axterm::cli::asm::SourceFiles;
 use axterm::link::LinkSpec;
-use axterm::protocol::find_family;
 use axterm::protocol::tmcl::asm::{NoIncludes, ProgramWord, assemble, disassemble};
 use axterm::protocol::tmcl::transfer::ApplicationState;
 use axterm::session::program::{
@@ -27,7 +26,7 @@ async fn connect_with(faults: FaultPlan, baud: Option<u32>) -> Session {
         baud,
         faults,
     };
-    let family = find_family(kind.family).expect("family");
+    let family = kind.family().expect("family");
     Session::connect(spec, family, SessionOptions::default())
         .await
         .expect("the simulator link opens")

@@ -9,7 +9,6 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use axterm::link::LinkSpec;
-use axterm::protocol::find_family;
 use axterm::protocol::tmcl::asm::{NoIncludes, ProgramWord, assemble};
 use axterm::session::program::{Cancel, DownloadOptions, UploadExtent};
 use axterm::session::{Session, SessionOptions};
@@ -35,7 +34,7 @@ async fn session_with(faults: FaultPlan) -> Session {
         baud: Some(9600),
         faults,
     };
-    let family = find_family(kind.family).expect("family");
+    let family = kind.family().expect("family");
     Session::connect(spec, family, SessionOptions::default())
         .await
         .expect("the simulator link opens")

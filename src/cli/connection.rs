@@ -57,8 +57,12 @@ impl Target {
                     eeprom_file: None,
                 });
                 if let Some(path) = args.program.as_deref() {
-                    super::sim_program::load_program_file(controller.as_mut(), kind.family, path)
-                        .map_err(|problems| problems.join("\n"))?;
+                    super::sim_program::load_program_file(
+                        controller.as_mut(),
+                        kind.family().map_or("", |f| f.name),
+                        path,
+                    )
+                    .map_err(|problems| problems.join("\n"))?;
                 }
                 drive_inputs(controller.as_mut(), &args.input)?;
                 LinkSpec::Sim {
@@ -137,7 +141,9 @@ pub fn family_of(args: &ConnectionArgs) -> Result<&'static Family, String> {
         Some(kind) => Some(
             sim::find_kind(kind)
                 .ok_or_else(|| unknown_sim(kind))?
-                .family,
+                .family()
+                .map(|f| f.name)
+                .unwrap_or_default(),
         ),
         None => None,
     };

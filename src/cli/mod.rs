@@ -310,7 +310,11 @@ fn run_sim(
     let mut sim = (sim_kind.build)(&options);
     eprintln!("{}", sim.help());
     if let Some(path) = connection.program.as_deref() {
-        match sim_program::load_program_file(sim.as_mut(), sim_kind.family, path) {
+        match sim_program::load_program_file(
+            sim.as_mut(),
+            sim_kind.family().map_or("", |f| f.name),
+            path,
+        ) {
             Ok(said) => eprintln!("{said}"),
             Err(problems) => {
                 for problem in problems {

@@ -11,7 +11,7 @@ pub mod wire;
 use console::FamilyConsole;
 
 /// One controller family as the command line knows it. A new family adds
-/// one entry to [`FAMILIES`].
+/// one entry to [`FAMILIES`], its simulators included.
 pub struct Family {
     /// Name on the command line (`axterm encode tmcl …`).
     pub name: &'static str,
@@ -24,6 +24,9 @@ pub struct Family {
     /// What the session layer needs of the family: its wire format, how a
     /// line is sent and its answer read, emergency stop, status polling.
     pub console: &'static dyn FamilyConsole,
+    /// The built-in simulators of controllers of this family (`--sim
+    /// NAME`), in the order the connect screen offers them.
+    pub simulators: &'static [crate::sim::SimKind],
 }
 
 /// Every protocol family axterm speaks.
@@ -40,6 +43,7 @@ pub const FAMILIES: &[Family] = &[
         },
         show_bytes: tmcl::to_hex,
         console: &tmcl::TmclConsole,
+        simulators: &[crate::sim::tmcm1110::KIND],
     },
     Family {
         name: "cmd4cr",
@@ -47,6 +51,7 @@ pub const FAMILIES: &[Family] = &[
         encode_line: cmd4cr::encode_line,
         show_bytes: cmd4cr::show_bytes,
         console: &cmd4cr::Cmd4crConsole,
+        simulators: &[crate::sim::cmd4cr::KIND],
     },
 ];
 

@@ -269,10 +269,7 @@ impl CommandPane {
 
 /// The simulator of `family` (the one built-in simulator speaking it).
 fn simulator_of(family: Option<&'static Family>) -> Option<&'static crate::sim::SimKind> {
-    let family = family?;
-    crate::sim::SIM_KINDS
-        .iter()
-        .find(|kind| kind.family == family.name)
+    family?.simulators.first()
 }
 
 /// The input names `:sim-input` completes: those of the simulator of the
