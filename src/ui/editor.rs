@@ -22,7 +22,7 @@
 //! ([`script_run`]).
 
 pub mod autosave;
-pub mod highlight;
+
 pub mod script;
 mod script_run;
 pub mod transfer;
@@ -46,9 +46,9 @@ use super::pane::{
     Input, Notice, NoticeLevel, Outcome, Pane, PaneEvent, Region, Request, View, key_label,
 };
 use super::theme::Role;
+use crate::protocol::tmcl::asm::highlight::{Names, Token, highlight};
 use crate::protocol::tmcl::asm::{AsmError, NoIncludes, Program, SourceLoader, assemble};
 use autosave::{Autosave, read_autosave, remove_autosave, utc_time, write_autosave};
-use highlight::{Names, Token, highlight};
 use script::{Language, Problem};
 use watch::{
     MAX_WATCHED, load_watch_list, save_watch_list, variable_line, variable_of_line,
