@@ -374,6 +374,66 @@ pub fn is_file_of(tool: &dyn ProgramTool, path: &std::path::Path) -> bool {
         .is_some_and(|e| tool.extensions().iter().any(|x| x.eq_ignore_ascii_case(e)))
 }
 
+/// A transfer the console or the command line asks for; the session makes
+/// its plan for the module it talks to.
+#[derive(Debug, Clone)]
+pub enum TransferJob {
+    /// Store the program and verify it.
+    Download {
+        program: Arc<dyn CheckedProgram>,
+        options: DownloadOptions,
+    },
+    /// Compare the module's program with this one, storing nothing.
+    Verify { program: Arc<dyn CheckedProgram> },
+    /// Read the module's program back.
+    Upload(UploadExtent),
+}
+
+impl TransferJob {
+    /// "download", "verify", "upload".
+    pub fn name(&self) -> &'static str {
+        match self {
+            TransferJob::Download { .. } => "download",
+            TransferJob::Verify { .. } => "verify",
+            TransferJob::Upload(_) => "upload",
+        }
+    }
+
+    /// The program sent or compared with, if any.
+    pub fn program(&self) -> Option<&Arc<dyn CheckedProgram>> {
+        match self {
+            TransferJob::Download { program, .. } | TransferJob::Verify { program } => {
+                Some(program)
+            }
+            TransferJob::Upload(_) => None,
+        }
+    }
+}
+
+/// Jobs are the same when they move the same program (the very same
+/// check) the same way.
+impl PartialEq for TransferJob {
+    fn eq(&self, other: &TransferJob) -> bool {
+        let same = |a: &Arc<dyn CheckedProgram>, b: &Arc<dyn CheckedProgram>| {
+            std::ptr::addr_eq(Arc::as_ptr(a), Arc::as_ptr(b))
+        };
+        match (self, other) {
+            (
+                TransferJob::Download { program, options },
+                TransferJob::Download {
+                    program: p,
+                    options: o,
+                },
+            ) => same(program, p) && options == o,
+            (TransferJob::Verify { program }, TransferJob::Verify { program: p }) => {
+                same(program, p)
+            }
+            (TransferJob::Upload(a), TransferJob::Upload(b)) => a == b,
+            _ => false,
+        }
+    }
+}
+
 /// What came back for a line a plan or a host run sent.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Answer {

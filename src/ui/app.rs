@@ -28,12 +28,10 @@ use ratatui::crossterm::event::{Event as TermEvent, KeyEvent, KeyEventKind};
 use ratatui::layout::Rect;
 
 use super::keymap::{Action, Context, Keymap, load_keymap};
-use super::pane::{
-    Input, Notice, Outcome, Pane, PaneEvent, Request, Snapshot, TransferDone, TransferJob, View,
-};
+use super::pane::{Input, Notice, Outcome, Pane, PaneEvent, Request, Snapshot, View};
 use super::theme::{Theme, load_theme};
 use crate::device::{DeviceEvent, TrafficRecord};
-use crate::session::program::{Progress, TransferError};
+use crate::protocol::program::{Progress, TransferFailure, TransferJob, TransferReport};
 use crate::session::{AxisFlag, LineResult, PollCadence, SessionError};
 
 /// Something that happened, for [`App::handle`].
@@ -73,7 +71,7 @@ pub enum AppEvent {
     Transferred {
         pane: usize,
         tag: u64,
-        result: Result<TransferDone, TransferError>,
+        result: Result<TransferReport, TransferFailure>,
     },
     /// A pane's program was loaded into the simulator (or not).
     ProgramLoaded {
@@ -919,7 +917,7 @@ mod tests {
 
     #[test]
     fn transfer_progress_is_shown_at_each_phase_each_percent_and_the_end() {
-        use crate::session::program::Phase;
+        use crate::protocol::program::Phase;
         let at = |phase, done, total| Progress { phase, done, total };
         let mut shown = Vec::new();
         let mut last: Option<Progress> = None;

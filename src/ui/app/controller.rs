@@ -8,9 +8,9 @@ use tokio::sync::{broadcast, watch};
 
 use crate::device::{DeviceEvent, LinkState, TrafficRecord};
 use crate::protocol::Family;
-use crate::session::program::{Cancel, Progress, TransferError};
+use crate::protocol::program::{Progress, TransferFailure, TransferJob, TransferReport};
+use crate::session::Cancel;
 use crate::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
-use crate::ui::pane::{TransferDone, TransferJob};
 
 /// A future the loop can spawn.
 pub type Pending<T> = Pin<Box<dyn Future<Output = T> + Send>>;
@@ -56,10 +56,14 @@ pub trait Controller: Send + Sync {
         job: TransferJob,
         cancel: Cancel,
         progress: Box<dyn FnMut(Progress) + Send>,
-    ) -> Pending<Result<TransferDone, TransferError>> {
+    ) -> Pending<Result<TransferReport, TransferFailure>> {
         let _ = (job, cancel, progress);
         let family = self.family().name;
-        Box::pin(async move { Err(TransferError::Unsupported { family }) })
+        Box::pin(async move {
+            Err(TransferFailure::refused(format!(
+                "{family} modules keep no program that axterm can transfer"
+            )))
+        })
     }
     /// Load program source into the simulator behind the link, as its
     /// vendor's tool would write it into the controller: what it holds

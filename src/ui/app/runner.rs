@@ -11,8 +11,9 @@ use tokio::task::JoinHandle;
 use super::traffic_log::TrafficLog;
 use super::{App, AppEvent, Connector, Controller, Effect, Pending};
 use crate::device::{DeviceEvent, LinkState, TrafficRecord};
-use crate::session::program::{Cancel, Progress, TransferError};
-use crate::session::{AxisStatus, PollCadence, SessionError};
+use crate::protocol::program::{Progress, TransferFailure};
+use crate::session::Cancel;
+use crate::session::{AxisStatus, PollCadence};
 use crate::ui::pane::{Notice, Snapshot};
 
 /// How long the loop lets traffic gather before it hands it to the panes:
@@ -586,17 +587,11 @@ impl Runner {
 }
 
 /// A transfer asked for with no controller connected.
-fn not_connected_transfer() -> TransferError {
-    TransferError::Step {
-        step: "start the transfer",
-        error: Box::new(SessionError::Refused {
-            line: String::new(),
-            message: "not connected: give :connect --sim tmcm1110 (or --port PATH, --tcp \
-                      HOST:PORT)"
-                .into(),
-        }),
-        hint: String::new(),
-    }
+fn not_connected_transfer() -> TransferFailure {
+    TransferFailure::refused(
+        "cannot start the transfer: not connected: give :connect --sim tmcm1110 (or --port \
+         PATH, --tcp HOST:PORT)",
+    )
 }
 
 /// Whether a transfer's progress is worth a redraw: the start of each

@@ -25,16 +25,17 @@ use ratatui::text::Span;
 use ratatui::widgets::Gauge;
 use ratatui_textarea::CursorMove;
 
+use std::sync::Arc;
+
 use super::EditorPane;
-use crate::protocol::tmcl::asm::{PROGRAM_MEMORY_WORDS, Program, ProgramWord, disassemble};
-use crate::protocol::tmcl::line::format_command;
-use crate::session::program::{
-    DownloadOptions, DownloadReport, Phase, Progress, TransferError, UploadExtent, UploadReport,
+use crate::protocol::program::{
+    CheckedProgram, DownloadOptions, Progress, TransferFailure, TransferJob, TransferReport,
+    UploadExtent,
 };
+use crate::protocol::tmcl::asm::{PROGRAM_MEMORY_WORDS, Program};
+use crate::protocol::tmcl::tool::TmclProgram;
 use crate::ui::keymap::{Action, Context};
-use crate::ui::pane::{
-    Notice, Outcome, PaneEvent, Request, TransferDone, TransferJob, View, key_label,
-};
+use crate::ui::pane::{Notice, Outcome, PaneEvent, Request, View, key_label};
 use crate::ui::theme::Role;
 
 /// The tag of this pane's transfers.
@@ -156,7 +157,7 @@ impl EditorPane {
             return Outcome::redraw();
         };
         let job = TransferJob::Download {
-            words: program.words.clone(),
+            program: Arc::new(TmclProgram(program.clone())) as Arc<dyn CheckedProgram>,
             options: DownloadOptions::default(),
         };
         self.begin(TransferKind::Download, Some(program), job)
@@ -169,7 +170,9 @@ impl EditorPane {
         let Some(program) = self.program_to_send(TransferKind::Verify) else {
             return Outcome::redraw();
         };
-        let job = TransferJob::Upload(UploadExtent::Words(program.words.len()));
+        let job = TransferJob::Verify {
+            program: Arc::new(TmclProgram(program.clone())) as Arc<dyn CheckedProgram>,
+        };
         self.begin(TransferKind::Verify, Some(program), job)
     }
 
@@ -230,42 +233,27 @@ impl EditorPane {
     fn finished(
         &mut self,
         running: Running,
-        result: &Result<TransferDone, TransferError>,
+        result: &Result<TransferReport, TransferFailure>,
     ) -> Outcome {
         match (running.kind, result) {
-            (TransferKind::Download, Ok(TransferDone::Downloaded(report))) => {
+            (TransferKind::Download, Ok(report)) => {
                 self.message = Some(Notice::info(downloaded(report)));
             }
-            (TransferKind::Verify, Ok(TransferDone::Uploaded(report))) => {
-                self.compare(running.program.as_ref(), report);
-            }
-            (TransferKind::Upload, Ok(TransferDone::Uploaded(report))) => {
-                return self.open_upload(report);
-            }
-            (kind, Ok(_)) => {
-                self.message = Some(Notice::error(format!(
-                    "{}: the console got the answer of another kind of transfer",
-                    kind.name()
+            (TransferKind::Verify, Ok(report)) => {
+                self.message = Some(Notice::info(format!(
+                    "verified: module {} holds these {} words",
+                    report.module, report.count
                 )));
             }
+            (TransferKind::Upload, Ok(report)) => return self.open_upload(report),
             (kind, Err(error)) => self.failed(kind, running.program.as_ref(), error),
         }
         Outcome::redraw()
     }
 
-    fn failed(&mut self, kind: TransferKind, program: Option<&Program>, error: &TransferError) {
-        if let TransferError::Cancelled { phase, done, total } = error {
-            let text = match phase {
-                Phase::Storing => {
-                    let of = total.map_or_else(String::new, |t| format!(" of {t}"));
-                    format!(
-                        "cancelled: the module left download mode; the program in it is \
-                         incomplete ({done}{of} words stored)"
-                    )
-                }
-                _ => error.to_string(),
-            };
-            self.message = Some(Notice::warning(text));
+    fn failed(&mut self, kind: TransferKind, program: Option<&Program>, error: &TransferFailure) {
+        if error.cancelled().is_some() {
+            self.message = Some(Notice::warning(error.console_text()));
             return;
         }
         let line = error
@@ -294,56 +282,19 @@ impl EditorPane {
         Some(line)
     }
 
-    /// Verify: the words read back against the program's.
-    fn compare(&mut self, program: Option<&Program>, report: &UploadReport) {
-        let Some(program) = program else {
-            return;
-        };
-        let differs = program
-            .words
-            .iter()
-            .zip(&report.words)
-            .position(|(wrote, read)| wrote != read);
-        self.message = Some(match differs {
-            Some(address) => {
-                let show = |w: Option<&ProgramWord>| {
-                    w.map_or_else(|| "-".to_string(), |w| format_command(&w.command()))
-                };
-                let source = show(program.words.get(address));
-                let module = show(report.words.get(address));
-                let at = self
-                    .mark_address(Some(program), address)
-                    .map_or_else(String::new, |l| format!(" at source line {}", l + 1));
-                Notice::error(format!(
-                    "verify failed{at}: word {address} differs: module {} holds {module}, the \
-                     source has {source}",
-                    report.module
-                ))
-            }
-            None if report.words.len() < program.words.len() => Notice::error(format!(
-                "verify failed: module {} gave {} of {} words",
-                report.module,
-                report.words.len(),
-                program.words.len()
-            )),
-            None => Notice::info(format!(
-                "verified: module {} holds these {} words",
-                report.module,
-                program.words.len()
-            )),
-        });
-    }
-
     /// Upload: the disassembly as a new buffer without a file.
-    fn open_upload(&mut self, report: &UploadReport) -> Outcome {
-        if report.words.is_empty() {
+    fn open_upload(&mut self, report: &TransferReport) -> Outcome {
+        let text = report
+            .program
+            .as_ref()
+            .map_or_else(String::new, |p| p.source.clone());
+        if report.count == 0 {
             self.message = Some(Notice::warning(format!(
                 "module {} holds no program (word 0 is blank); the text is unchanged",
                 report.module
             )));
             return Outcome::redraw();
         }
-        let text = disassemble(&report.words);
         self.file = None;
         self.saved = String::new();
         self.set_text(text.strip_suffix('\n').unwrap_or(&text));
@@ -352,8 +303,7 @@ impl EditorPane {
         let outcome = self.changed();
         self.message = Some(Notice::info(format!(
             "uploaded {} words from module {} into a new unsaved buffer",
-            report.words.len(),
-            report.module
+            report.count, report.module
         )));
         outcome
     }
@@ -406,22 +356,14 @@ fn fraction(done: usize, total: usize) -> f64 {
     (done as f64 / total as f64).clamp(0.0, 1.0)
 }
 
-fn downloaded(report: &DownloadReport) -> String {
+fn downloaded(report: &TransferReport) -> String {
     let mut text = format!(
         "downloaded and verified {} word{}",
-        report.words,
-        if report.words == 1 { "" } else { "s" }
+        report.count,
+        if report.count == 1 { "" } else { "s" }
     );
-    if let Some(state) = report.stopped {
-        text.push_str(&format!(
-            "; the program on module {} was {state}: stopped and reset first",
-            report.module
-        ));
-    }
-    if let Some(from) = report.leftover_from {
-        text.push_str(&format!(
-            "; words from {from} on still hold an earlier program (an upload shows them)"
-        ));
+    for said in report.facts.iter().filter_map(|f| f.said.as_ref()) {
+        text.push_str(said);
     }
     text
 }
