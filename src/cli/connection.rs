@@ -57,12 +57,8 @@ impl Target {
                     eeprom_file: None,
                 });
                 if let Some(path) = args.program.as_deref() {
-                    super::sim_program::load_program_file(
-                        controller.as_mut(),
-                        kind.family().map_or("", |f| f.name),
-                        path,
-                    )
-                    .map_err(|problems| problems.join("\n"))?;
+                    super::sim_program::load_program_file(controller.as_mut(), kind.family(), path)
+                        .map_err(|problems| problems.join("\n"))?;
                 }
                 drive_inputs(controller.as_mut(), &args.input)?;
                 LinkSpec::Sim {

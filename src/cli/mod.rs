@@ -164,7 +164,7 @@ pub enum Command {
     Ports,
     /// Look for modules on a bus (firmware version request at each address).
     Scan(scan::ScanArgs),
-    /// Assemble a TMCL program: print its image, or its listing.
+    /// Assemble a program (TMCL): print its image, or its listing.
     Asm {
         /// The program source (- for standard input).
         file: String,
@@ -242,7 +242,7 @@ pub fn run(cli: Cli) -> i32 {
             file,
             listing,
             output,
-        }) => asm::run_asm(&file, listing, output.as_deref()),
+        }) => asm::run_asm(&file, listing, output.as_deref(), &cli.connection),
         Some(Command::Disasm { file, extent }) => {
             asm::run_disasm(file.as_deref(), &cli.connection, &extent)
         }
@@ -310,11 +310,7 @@ fn run_sim(
     let mut sim = (sim_kind.build)(&options);
     eprintln!("{}", sim.help());
     if let Some(path) = connection.program.as_deref() {
-        match sim_program::load_program_file(
-            sim.as_mut(),
-            sim_kind.family().map_or("", |f| f.name),
-            path,
-        ) {
+        match sim_program::load_program_file(sim.as_mut(), sim_kind.family(), path) {
             Ok(said) => eprintln!("{said}"),
             Err(problems) => {
                 for problem in problems {

@@ -5,7 +5,7 @@
 //! ASCII equivalent, each as `FILE:LINE:` — and nothing is sent if any is
 //! found. Then every statement that acts goes out as its ASCII command,
 //! printed with its answer; variables, control flow and waits stay here
-//! (see [`crate::session::ascript_host`]). Ctrl-C ends the run and sends
+//! (see [`crate::protocol::cmd4cr::host`]). Ctrl-C ends the run and sends
 //! the emergency stop (ESTOP, the four programs stopped, ESTOP).
 //!
 //! Exit codes as `axterm run`: 0 every program ran to its END, 1 a program
@@ -19,7 +19,8 @@ use clap::Args;
 use super::connection::{Target, family_of, names_a_connection, run_to_exit};
 use super::run::read_source;
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
-use crate::session::ascript_host::{HostEvent, HostProgram};
+use crate::protocol::program::{HostNews, ProgramTool};
+use crate::protocol::{FAMILIES, Family};
 
 #[derive(Debug, Clone, Args)]
 pub struct RunAscriptArgs {
@@ -36,9 +37,15 @@ pub struct RunAscriptArgs {
     pub dry_run: bool,
 }
 
-/// The family A-Script belongs to; the one `run-ascript` speaks when the
+/// The family whose programs `run-ascript` runs from the host (A-Script,
+/// the CMD-4CR's), and its program tool: the one it speaks when the
 /// options name none.
-const FAMILY: &str = "cmd4cr";
+fn host_family() -> Option<(&'static Family, &'static dyn ProgramTool)> {
+    FAMILIES.iter().find_map(|family| {
+        let tool = family.console.program().filter(|t| t.runs_from_host())?;
+        Some((family, tool))
+    })
+}
 
 fn say(text: &str) {
     let mut out = std::io::stdout().lock();
@@ -48,10 +55,14 @@ fn say(text: &str) {
 }
 
 pub fn run(connection: &ConnectionArgs, args: &RunAscriptArgs) -> i32 {
+    let Some((host, host_tool)) = host_family() else {
+        eprintln!("axterm run-ascript: no family's programs run from the host");
+        return EXIT_USAGE;
+    };
     // A-Script is the CMD-4CR's: speak it unless told otherwise.
     let mut connection = connection.clone();
     if connection.protocol.is_none() && connection.sim.is_none() {
-        connection.protocol = Some(FAMILY.into());
+        connection.protocol = Some(host.name.into());
     }
     let family = match family_of(&connection) {
         Ok(family) => family,
@@ -60,13 +71,20 @@ pub fn run(connection: &ConnectionArgs, args: &RunAscriptArgs) -> i32 {
             return EXIT_USAGE;
         }
     };
-    if family.name != FAMILY {
+    let Some(tool) = family.console.program().filter(|t| t.runs_from_host()) else {
+        let sim = host
+            .simulators
+            .first()
+            .map_or_else(String::new, |k| format!(" or --sim {}", k.name));
         eprintln!(
-            "axterm run-ascript: A-Script is the CMD-4CR's language (§5); this connection speaks {}: give --protocol cmd4cr or --sim cmd4cr",
-            family.name
+            "axterm run-ascript: {} is the {}'s language; this connection speaks {}: give --protocol {}{sim}",
+            host_tool.name(),
+            host_tool.controller(),
+            family.name,
+            host.name
         );
         return EXIT_USAGE;
-    }
+    };
     let (name, text) = match read_source(&args.file) {
         Ok(source) => source,
         Err(message) => {
@@ -75,9 +93,16 @@ pub fn run(connection: &ConnectionArgs, args: &RunAscriptArgs) -> i32 {
         }
     };
     let start = (!args.prg.is_empty()).then_some(args.prg.as_slice());
-    let program = match HostProgram::check(&name, &text, start) {
-        Ok(program) => program,
-        Err(problems) => {
+    let program = match tool.host_run(&name, &text, start) {
+        Some(Ok(program)) => program,
+        None => {
+            eprintln!(
+                "axterm run-ascript: {} programs do not run from the host",
+                tool.name()
+            );
+            return EXIT_USAGE;
+        }
+        Some(Err(problems)) => {
             for problem in problems {
                 eprintln!("{problem}");
             }
@@ -85,7 +110,7 @@ pub fn run(connection: &ConnectionArgs, args: &RunAscriptArgs) -> i32 {
             return EXIT_USAGE;
         }
     };
-    for warning in program.warnings() {
+    for warning in &program.warnings {
         eprintln!("{warning}");
     }
     // A dry run given a connection checks its options as a run would.
@@ -105,7 +130,7 @@ pub fn run(connection: &ConnectionArgs, args: &RunAscriptArgs) -> i32 {
         _ => {
             eprintln!(
                 "axterm run-ascript: {name}: checks, {} would start from the host; nothing sent (dry run)",
-                program.started()
+                program.started
             );
             return EXIT_OK;
         }
@@ -121,7 +146,7 @@ pub fn run(connection: &ConnectionArgs, args: &RunAscriptArgs) -> i32 {
         eprintln!(
             "axterm run-ascript: running {name} from the host on {}: {} (Ctrl-C stops it and sends the emergency stop)",
             target.spec.describe(),
-            program.started()
+            program.started
         );
         // Watched from before the first line goes, so that a Ctrl-C as soon
         // as the run is announced is not lost.
@@ -132,11 +157,11 @@ pub fn run(connection: &ConnectionArgs, args: &RunAscriptArgs) -> i32 {
                 return EXIT_DEVICE;
             }
         };
-        let mut show = |event: &HostEvent| say(&event.to_string());
-        let run = session.run_ascript(&program, &mut show);
+        let mut show = |news: &HostNews| say(&news.text);
+        let run = session.run_from_host(program.run, &mut show);
         tokio::select! {
             end = run => {
-                if end.ok() {
+                if end.ok {
                     eprintln!("axterm run-ascript: {name}: {end}");
                     EXIT_OK
                 } else {

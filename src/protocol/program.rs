@@ -76,6 +76,8 @@ pub struct Problem {
     pub column: usize,
     /// The whole message, with its place as the tool writes it.
     pub text: String,
+    /// What is wrong, without the place.
+    pub message: String,
     /// An error (the program cannot be built); else a warning.
     pub error: bool,
     /// In the source checked (not in a file it includes).
@@ -122,6 +124,11 @@ pub trait CheckedProgram: Send + Sync + fmt::Debug {
     fn line_of(&self, unit: usize) -> Option<usize>;
     /// The source line of a program counter as the controller reports it.
     fn line_of_counter(&self, counter: i64) -> Option<usize>;
+    /// The programs the source defines, where the controller has several
+    /// (A-Script's PRG numbers).
+    fn programs(&self) -> Vec<u8> {
+        Vec::new()
+    }
     /// The program the run keys act on at source line `line` (1-based):
     /// A-Script's PRG block; `None` where the controller has one program.
     fn program_at(&self, line: usize) -> Option<u8> {
@@ -268,6 +275,8 @@ pub trait ProgramControl: Send + Sync {
 pub trait ProgramTool: Send + Sync {
     /// The language's name ("TMCL", "A-Script").
     fn name(&self) -> &'static str;
+    /// The controllers that run it, as messages name them ("CMD-4CR").
+    fn controller(&self) -> &'static str;
     /// File extensions, lower case without the dot; the first names an
     /// untitled buffer.
     fn extensions(&self) -> &'static [&'static str];
@@ -337,6 +346,11 @@ pub trait ProgramTool: Send + Sync {
     fn disassemble(&self, name: &str, image: &str) -> Option<Result<String, Vec<String>>> {
         let _ = (name, image);
         None
+    }
+    /// Whether programs of this language run from the host
+    /// ([`ProgramTool::host_run`]).
+    fn runs_from_host(&self) -> bool {
+        false
     }
     /// Check `source` for a run from the host and start it, the programs
     /// `start` (all when `None`); `None` when the language has no host
@@ -857,4 +871,8 @@ pub trait HostRun: Send + fmt::Debug {
     fn places(&self) -> Vec<RunningPlace>;
     /// The variables as the host holds them.
     fn variables(&self) -> &[i32];
+    /// How messages name program `program` of the run ("PRG 0").
+    fn place_name(&self, program: u8) -> String {
+        format!("program {program}")
+    }
 }

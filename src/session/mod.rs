@@ -9,7 +9,7 @@
 //! or writes never), and the answer read back as a value or an error that
 //! names the line and the module's status.
 
-pub mod ascript_host;
+mod host_run;
 mod status;
 pub mod transfer;
 

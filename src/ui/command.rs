@@ -28,8 +28,7 @@ use super::text::fit;
 use super::theme::Role;
 use crate::device::{DeviceEvent, LinkState};
 use crate::protocol::console::{Candidate, Completions};
-use crate::protocol::{Family, find_family};
-use crate::session::ascript_host::HostProgram;
+use crate::protocol::{FAMILIES, Family, find_family};
 use crate::session::{LineResult, SessionError};
 
 /// Lines of output kept; older ones scroll away for good.
@@ -293,12 +292,12 @@ impl CommandPane {
 
     /// The family whose tables help and completion come from: the
     /// connected module's, else [`CommandPane::offline_family`], else
-    /// TMCL.
+    /// the first family's (TMCL).
     fn family(&self, view: &View) -> Option<&'static Family> {
         view.session
             .map(|s| s.family)
             .or_else(|| self.offline_family.and_then(find_family))
-            .or_else(|| find_family("tmcl"))
+            .or_else(|| FAMILIES.first())
     }
 
     /// Said before help given with nothing connected, so that it is clear
@@ -471,7 +470,8 @@ impl CommandPane {
     }
 
     /// `:run-ascript FILE [N…]`: check the whole file, then run it from the
-    /// host (see [`crate::session::ascript_host`]).
+    /// host, as the connected family's program tool offers it (A-Script:
+    /// [`crate::protocol::program::HostRun`]).
     fn start_host_run(&mut self, rest: &str, view: &View) -> Outcome {
         if self.batch.is_some() || self.host.is_some() {
             return self.fail("a batch or a host run is going: wait for it, or stop it (Esc)");
@@ -479,12 +479,14 @@ impl CommandPane {
         let Some(session) = view.session else {
             return self.fail(not_connected());
         };
-        if session.family.name != "cmd4cr" {
-            return self.fail(format!(
-                "A-Script is the CMD-4CR's language (§5); this module speaks {}",
-                session.family.name
-            ));
-        }
+        let Some(tool) = session
+            .family
+            .console
+            .program()
+            .filter(|tool| tool.runs_from_host())
+        else {
+            return self.fail(no_host_run(session.family));
+        };
         // Trailing numbers are the PRG blocks to start.
         let mut words: Vec<&str> = rest.split_whitespace().collect();
         let mut start = Vec::new();
@@ -507,28 +509,29 @@ impl CommandPane {
             Err(e) => return self.fail(format!("cannot read {file}: {e}")),
         };
         let chosen = (!start.is_empty()).then_some(start.as_slice());
-        let program = match HostProgram::check(&file, &text, chosen) {
-            Ok(program) => program,
-            Err(problems) => {
+        let program = match tool.host_run(&file, &text, chosen) {
+            Some(Ok(program)) => program,
+            Some(Err(problems)) => {
                 for problem in problems {
                     self.say(Role::Error, problem);
                 }
                 return self.fail(format!("{file}: nothing was sent"));
             }
+            None => return self.fail(no_host_run(session.family)),
         };
-        for warning in program.warnings() {
+        for warning in &program.warnings {
             self.say(Role::Warning, warning.clone());
         }
         self.say(
             Role::Accent,
             format!(
                 "running {file} from the host: {} ({} stops it, {} stops everything)",
-                program.started(),
+                program.started,
                 key_label(view.keymap, Context::Command, Action::Cancel),
                 key_label(view.keymap, Context::Global, Action::EmergencyStop),
             ),
         );
-        let (run, update) = ConsoleHostRun::start(&program, &mut self.next_tag);
+        let (run, update) = ConsoleHostRun::start(program, &mut self.next_tag);
         self.host = Some(run);
         self.host_update(update)
     }
@@ -1089,6 +1092,23 @@ impl Pane for CommandPane {
             _ => Outcome::Ignored,
         }
     }
+}
+
+/// Why `:run-ascript` runs nothing on a module of `family`: which
+/// families' programs run from the host.
+fn no_host_run(family: &Family) -> String {
+    let offered: Vec<String> = FAMILIES
+        .iter()
+        .filter_map(|f| {
+            let tool = f.console.program().filter(|t| t.runs_from_host())?;
+            Some(format!("{} ({})", tool.name(), f.name))
+        })
+        .collect();
+    format!(
+        "running a program from the host is for {}; this module speaks {}",
+        offered.join(", "),
+        family.name
+    )
 }
 
 fn not_connected() -> String {

@@ -182,7 +182,10 @@ impl ConnectPane {
     }
 
     fn protocol_name(&self) -> &'static str {
-        FAMILIES.get(self.protocol).map_or("tmcl", |f| f.name)
+        FAMILIES
+            .get(self.protocol)
+            .or_else(|| FAMILIES.first())
+            .map_or("", |f| f.name)
     }
 
     /// The address typed, checked; `None` when left empty (the family's
@@ -445,7 +448,8 @@ pub fn family_of_args(args: &[String]) -> Option<&'static Family> {
     match (value("--protocol"), value("--sim")) {
         (Some(protocol), _) => find_family(protocol),
         (None, Some(sim)) => find_kind(sim)?.family(),
-        (None, None) => find_family("tmcl"),
+        // As the command line: the first family when nothing says.
+        (None, None) => FAMILIES.first(),
     }
 }
 

@@ -15,6 +15,7 @@ pub mod host;
 pub mod parameter_set;
 pub mod program_control;
 pub mod reply;
+pub mod tool;
 pub mod traffic;
 
 use std::fmt;

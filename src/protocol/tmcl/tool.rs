@@ -137,6 +137,7 @@ fn problem_of(error: &AsmError, name: &str) -> Problem {
         line: error.line,
         column: error.column,
         text: error.to_string(),
+        message: error.message(),
         error: true,
         in_source: error.file == name,
     }
@@ -145,6 +146,10 @@ fn problem_of(error: &AsmError, name: &str) -> Problem {
 impl ProgramTool for TmclTool {
     fn name(&self) -> &'static str {
         "TMCL"
+    }
+
+    fn controller(&self) -> &'static str {
+        "TMCL module"
     }
 
     fn extensions(&self) -> &'static [&'static str] {
