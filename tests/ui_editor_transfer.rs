@@ -358,3 +358,84 @@ fn an_empty_module_leaves_the_text_alone() {
     let all = screen(&mut app, 80, 24).join("\n");
     assert!(all.contains("module 1 holds no program"), "{all}");
 }
+
+/// The answer to one of the pane's lines, as the loop delivers it.
+fn number_reply(pane: usize, tag: u64, line: &str, value: i64) -> AppEvent {
+    AppEvent::Reply {
+        pane,
+        tag,
+        line: line.into(),
+        result: Ok(axterm::session::LineResult {
+            line: line.into(),
+            request: Vec::new(),
+            reply: Vec::new(),
+            status: Some(100),
+            value: axterm::session::ReplyValue::Number(value),
+            elapsed: Duration::ZERO,
+            attempts: 1,
+        }),
+    }
+}
+
+/// The message timer the pane asked for, if any: its pane and tag.
+fn message_timer(effects: &[Effect]) -> Option<(usize, u64)> {
+    effects.iter().find_map(|e| match e {
+        Effect::Wake { pane, tag, after } if *tag >= 1 << 47 && *tag < 1 << 48 => {
+            assert_eq!(*after, axterm::ui::editor::MESSAGE_LIFETIME);
+            Some((*pane, *tag))
+        }
+        _ => None,
+    })
+}
+
+/// Issue: "downloaded and verified" stayed up through F5 while the
+/// program's state waited behind it.
+#[test]
+fn the_programs_state_wins_over_an_older_message_and_messages_age_out() {
+    let text = program_text();
+    let mut app = editor_with(&text);
+    let (pane, tag, _) = transfer_of(&app.handle(key(KeyCode::F(4))));
+    let effects = app.handle(ended(pane, tag, Ok(report(12))));
+    let downloaded_timer = message_timer(&effects).expect("the message ages out");
+    let bottom = |app: &mut App| {
+        let lines = screen(app, 80, 24);
+        lines[lines.len() - 3].clone()
+    };
+    assert!(bottom(&mut app).contains("downloaded and verified"));
+    // F5: the registers are read; once they come, they are what shows.
+    let effects = app.handle(key(KeyCode::F(5)));
+    let (pane, tag) = effects
+        .iter()
+        .filter_map(|e| match e {
+            Effect::Send { pane, tag, lines } if lines.len() > 1 => Some((*pane, *tag)),
+            _ => None,
+        })
+        .next()
+        .expect("the register reads");
+    for (line, value) in [
+        ("GGP 128, 0", 1),
+        ("GGP 130, 0", 1),
+        ("APPSTATUS ACCU", 0),
+        ("APPSTATUS X", 0),
+    ] {
+        app.handle(number_reply(pane, tag, line, value));
+    }
+    let line = bottom(&mut app);
+    assert!(line.contains("running PC 1 ACC 0 X 0"), "{line}");
+    assert!(!line.contains("downloaded"), "{line}");
+
+    // A message newer than the state shows, then ages out.
+    let effects = app.handle(key(KeyCode::F(9)));
+    assert!(bottom(&mut app).contains("assembled: 12 words"));
+    let (pane, timer) = message_timer(&effects).expect("the new message ages out");
+    // The older message's timer takes nothing away.
+    app.handle(AppEvent::Wake {
+        pane: downloaded_timer.0,
+        tag: downloaded_timer.1,
+    });
+    assert!(bottom(&mut app).contains("assembled: 12 words"));
+    app.handle(AppEvent::Wake { pane, tag: timer });
+    let line = bottom(&mut app);
+    assert!(!line.contains("assembled"), "{line}");
+    assert!(line.contains("running PC 1 ACC 0 X 0"), "{line}");
+}

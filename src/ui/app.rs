@@ -34,6 +34,10 @@ use crate::device::{DeviceEvent, TrafficRecord};
 use crate::protocol::program::{Progress, TransferFailure, TransferJob, TransferReport};
 use crate::session::{AxisFlag, LineResult, PollCadence, SessionError};
 
+/// How long a message stays in the status bar ("STOP: 3 sent, all ok"):
+/// long enough to read, then the state it pushed aside is seen again.
+pub const STATUS_MESSAGE_LIFETIME: Duration = Duration::from_secs(10);
+
 /// Something that happened, for [`App::handle`].
 #[derive(Debug)]
 pub enum AppEvent {
@@ -73,6 +77,9 @@ pub enum AppEvent {
         tag: u64,
         result: Result<TransferReport, TransferFailure>,
     },
+    /// A status bar message has been up long enough (see
+    /// [`Effect::Expire`]).
+    Expired(u64),
     /// A pane's program was loaded into the simulator (or not).
     ProgramLoaded {
         pane: usize,
@@ -129,6 +136,12 @@ pub enum Effect {
     /// Drive an input of the connected simulator; the answer back as an
     /// [`AppEvent::Notice`].
     DriveSimInput(String),
+    /// Answer with [`AppEvent::Expired`] after this long: the status bar
+    /// message `id` ages out.
+    Expire {
+        id: u64,
+        after: Duration,
+    },
     Quit,
 }
 
@@ -143,8 +156,10 @@ pub struct App {
     theme: Theme,
     keymap: Keymap,
     snapshot: Option<Snapshot>,
-    /// What the last emergency stop did, for the status bar.
-    last_stop: Option<String>,
+    /// What the last emergency stop did, for the status bar, and its
+    /// number (it ages out, see [`STATUS_MESSAGE_LIFETIME`]).
+    last_stop: Option<(u64, String)>,
+    status_messages: u64,
     dirty: bool,
     quit: bool,
     /// Where each shown pane was drawn last, for mouse clicks.
@@ -173,6 +188,7 @@ impl App {
             keymap,
             snapshot: None,
             last_stop: None,
+            status_messages: 0,
             dirty: true,
             quit: false,
             drawn: Vec::new(),
@@ -290,10 +306,15 @@ impl App {
             }
             AppEvent::Stopped(results) => {
                 let failed = results.iter().filter(|r| r.is_err()).count();
-                self.last_stop = Some(match (failed, results.len()) {
+                let text = match (failed, results.len()) {
                     (_, 0) => "STOP not sent".to_string(),
                     (0, n) => format!("STOP: {n} sent, all ok"),
                     (failed, n) => format!("STOP: {failed} of {n} FAILED"),
+                };
+                let id = self.status_message(text);
+                effects.push(Effect::Expire {
+                    id,
+                    after: STATUS_MESSAGE_LIFETIME,
                 });
                 self.dirty = true;
                 self.broadcast(&PaneEvent::EmergencyStop(results), &mut effects);
@@ -310,6 +331,16 @@ impl App {
             AppEvent::Transferred { pane, tag, result } => {
                 let event = PaneEvent::Transferred { tag, result };
                 self.deliver(pane, &event, &mut effects);
+            }
+            AppEvent::Expired(id) => {
+                if self
+                    .last_stop
+                    .as_ref()
+                    .is_some_and(|(shown, _)| *shown == id)
+                {
+                    self.last_stop = None;
+                    self.dirty = true;
+                }
             }
             AppEvent::ProgramLoaded { pane, tag, result } => {
                 let event = PaneEvent::ProgramLoaded { tag, result };
@@ -429,11 +460,19 @@ impl App {
     }
 
     fn emergency_stop(&mut self, effects: &mut Vec<Effect>) {
-        self.last_stop = Some("STOP sending…".into());
+        // In progress: state, up until the stop's answers come.
+        self.status_message("STOP sending…".into());
         self.dirty = true;
         // The loop drops the lines of every earlier Send before it stops.
         effects.push(Effect::EmergencyStop);
         self.broadcast(&PaneEvent::Stopping, effects);
+    }
+
+    /// Show `text` in the status bar as its newest message; its number.
+    fn status_message(&mut self, text: String) -> u64 {
+        self.status_messages += 1;
+        self.last_stop = Some((self.status_messages, text));
+        self.status_messages
     }
 
     fn cycle_focus(&mut self, step: usize) {
@@ -805,6 +844,58 @@ mod tests {
         let status = screen(&mut app, 100, 30).pop().unwrap_or_default();
         assert!(status.contains("sim tmcm1110 #1 connected"), "{status}");
         assert!(status.contains("poll 20 Hz"), "{status}");
+    }
+
+    /// The stop's answers as the session gives them: `n` lines, all ok.
+    fn stopped(n: usize) -> AppEvent {
+        let ok = || {
+            Ok(LineResult {
+                line: "MST 0".into(),
+                request: Vec::new(),
+                reply: Vec::new(),
+                status: Some(100),
+                value: crate::session::ReplyValue::None,
+                elapsed: Duration::ZERO,
+                attempts: 1,
+            })
+        };
+        AppEvent::Stopped((0..n).map(|_| ok()).collect())
+    }
+
+    #[test]
+    fn a_stop_message_ages_out_and_the_quit_and_help_keys_never_fall_off() {
+        let mut app = three();
+        let mut long = snapshot();
+        long.link_name = "/dev/serial/by-id/usb-FTDI_FT232R_USB_UART_A50285BI-if00-port0".into();
+        app.handle(AppEvent::Snapshot(long));
+        let effects = app.handle(stopped(3));
+        let status = screen(&mut app, 80, 24).pop().unwrap_or_default();
+        assert!(status.starts_with(" F12 STOP "), "{status}");
+        assert!(status.contains("STOP: 3 sent, all ok"), "{status}");
+        assert!(status.trim_end().ends_with("F10 quit F1 help"), "{status}");
+        // The loop comes back after the lifetime: the message is gone and
+        // the link's state shows again.
+        let id = effects
+            .iter()
+            .find_map(|e| match e {
+                Effect::Expire { id, after } => {
+                    assert_eq!(*after, STATUS_MESSAGE_LIFETIME);
+                    Some(*id)
+                }
+                _ => None,
+            })
+            .expect("the message asks to age out");
+        app.handle(AppEvent::Expired(id));
+        assert!(app.needs_redraw());
+        let status = screen(&mut app, 80, 24).pop().unwrap_or_default();
+        assert!(!status.contains("STOP: 3"), "{status}");
+        assert!(status.contains("/dev/serial/by-id/"), "{status}");
+        assert!(status.trim_end().ends_with("F10 quit F1 help"), "{status}");
+        // An older message's timer does not take a newer one away.
+        app.handle(stopped(2));
+        app.handle(AppEvent::Expired(id));
+        let status = screen(&mut app, 80, 24).pop().unwrap_or_default();
+        assert!(status.contains("STOP: 2 sent, all ok"), "{status}");
     }
 
     #[test]

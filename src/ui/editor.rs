@@ -138,6 +138,13 @@ const PANEL_MIN_TEXT: u16 = 40;
 /// How often the program's state is read while it runs.
 pub const WATCH_PERIOD: Duration = Duration::from_millis(200);
 
+/// How long a message stays on the bottom line: long enough to read,
+/// short enough not to hide what the editor shows by itself.
+pub const MESSAGE_LIFETIME: Duration = Duration::from_secs(10);
+
+/// Tags of the message timers count up from here.
+const TAG_MESSAGE: u64 = 1 << 47;
+
 /// The program editor pane.
 pub struct EditorPane {
     text: TextArea<'static>,
@@ -157,6 +164,14 @@ pub struct EditorPane {
     checked: Checked,
     prompt: Option<(PromptKind, Field)>,
     message: Option<Notice>,
+    /// The message's number: its timer carries it.
+    message_seq: u64,
+    /// When the message came and when the program's state last changed,
+    /// on one count: the newer of the two is shown (state wins over an
+    /// older message).
+    message_at: u64,
+    state_at: u64,
+    clock: u64,
     recovered: Option<Recovered>,
     /// F3 was pressed with unsaved changes: the next F3 opens anyway.
     open_confirmed: bool,
@@ -203,6 +218,10 @@ impl EditorPane {
             checked: Checked::default(),
             prompt: None,
             message: None,
+            message_seq: 0,
+            message_at: 0,
+            state_at: 0,
+            clock: 0,
             recovered: None,
             open_confirmed: false,
             upload_confirmed: false,
@@ -717,6 +736,49 @@ impl EditorPane {
         }
     }
 
+    /// The next tick of the count that orders messages and state.
+    fn tick(&mut self) -> u64 {
+        self.clock += 1;
+        self.clock
+    }
+
+    /// The program's state as shown changed: it wins over older messages.
+    pub(super) fn state_changed(&mut self) {
+        self.state_at = self.tick();
+    }
+
+    /// After an input or an event: a new message gets its time and a
+    /// timer that puts it away.
+    fn after(&mut self, before: Option<Notice>, outcome: Outcome) -> Outcome {
+        if self.message == before || self.message.is_none() {
+            return outcome;
+        }
+        self.message_at = self.tick();
+        self.message_seq += 1;
+        let timer = Request::WakeAfter {
+            after: MESSAGE_LIFETIME,
+            tag: TAG_MESSAGE + self.message_seq,
+        };
+        match outcome {
+            Outcome::Ignored => Outcome::Handled(vec![timer]),
+            Outcome::Handled(mut requests) => {
+                requests.push(timer);
+                Outcome::Handled(requests)
+            }
+        }
+    }
+
+    /// The message, unless the program's state changed since it came.
+    fn shown_message(&self) -> Option<&Notice> {
+        let state_shown = self
+            .tool
+            .control()
+            .and_then(|control| self.state.describe(control))
+            .is_some();
+        let older = state_shown && self.state_at > self.message_at;
+        self.message.as_ref().filter(|_| !older)
+    }
+
     /// The bottom line: the prompt, a message, or what the tool says of
     /// the line under the cursor.
     fn bottom_line(&self, view: &View, width: u16) -> Line<'static> {
@@ -727,7 +789,7 @@ impl EditorPane {
                 Span::raw(field.text().to_string()),
             ]);
         }
-        if let Some(message) = &self.message {
+        if let Some(message) = self.shown_message() {
             let role = match message.level {
                 NoticeLevel::Info => Role::Ok,
                 NoticeLevel::Warning => Role::Warning,
@@ -1020,6 +1082,26 @@ impl Pane for EditorPane {
     }
 
     fn handle_input(&mut self, input: &Input, view: &View) -> Outcome {
+        let before = self.message.clone();
+        let outcome = self.input(input, view);
+        self.after(before, outcome)
+    }
+
+    fn activity(&self) -> Option<String> {
+        self.host
+            .as_ref()
+            .map(|h| format!("editor: {}", h.describe()))
+    }
+
+    fn on_event(&mut self, event: &PaneEvent, view: &View) -> Outcome {
+        let before = self.message.clone();
+        let outcome = self.event(event, view);
+        self.after(before, outcome)
+    }
+}
+
+impl EditorPane {
+    fn input(&mut self, input: &Input, view: &View) -> Outcome {
         match input {
             Input::Key(key) => {
                 if self.prompt.is_some() {
@@ -1056,13 +1138,16 @@ impl Pane for EditorPane {
         }
     }
 
-    fn activity(&self) -> Option<String> {
-        self.host
-            .as_ref()
-            .map(|h| format!("editor: {}", h.describe()))
-    }
-
-    fn on_event(&mut self, event: &PaneEvent, view: &View) -> Outcome {
+    fn event(&mut self, event: &PaneEvent, view: &View) -> Outcome {
+        if let PaneEvent::Wake { tag } = event
+            && *tag == TAG_MESSAGE + self.message_seq
+        {
+            // The message has been up long enough.
+            return match self.message.take() {
+                Some(_) => Outcome::redraw(),
+                None => Outcome::Ignored,
+            };
+        }
         if let Some(outcome) = self.host_event(event) {
             return outcome;
         }

@@ -181,7 +181,7 @@ impl App {
             ),
             Span::styled(" ", bar),
         ];
-        if let Some(stop) = &self.last_stop {
+        if let Some((_, stop)) = &self.last_stop {
             spans.push(Span::styled(format!("{stop} │ "), bar));
         }
         for activity in self.panes.iter().filter_map(|p| p.activity()) {
@@ -210,19 +210,51 @@ impl App {
             None => spans.push(Span::styled("not connected │ ", bar)),
         }
         let context = self.context();
-        spans.push(Span::styled(
-            key_label(&self.keymap, context, Action::Quit),
-            key,
-        ));
-        spans.push(Span::styled(" quit ", bar));
-        spans.push(Span::styled(
-            key_label(&self.keymap, context, Action::Help),
-            key,
-        ));
-        spans.push(Span::styled(" help", bar));
+        let hints = vec![
+            Span::styled(key_label(&self.keymap, context, Action::Quit), key),
+            Span::styled(" quit ", bar),
+            Span::styled(key_label(&self.keymap, context, Action::Help), key),
+            Span::styled(" help", bar),
+        ];
+        // The quit and help keys never fall off: what comes before them is
+        // cut to leave them room.
+        let room = usize::from(area.width).saturating_sub(width_of(&hints));
+        let mut spans = if width_of(&spans) > room {
+            let mut kept = cut(spans, room.saturating_sub(1));
+            kept.push(Span::styled(" ", bar));
+            kept
+        } else {
+            spans
+        };
+        spans.extend(hints);
         let line = Line::from(spans).style(bar);
         frame.render_widget(Paragraph::new(line).style(Style::default()), area);
     }
+}
+
+/// Columns `spans` take.
+fn width_of(spans: &[Span]) -> usize {
+    spans.iter().map(|s| s.content.chars().count()).sum()
+}
+
+/// `spans` cut to `room` columns, the last one kept ending in an ellipsis.
+fn cut(spans: Vec<Span<'static>>, room: usize) -> Vec<Span<'static>> {
+    let mut left = room;
+    let mut kept = Vec::new();
+    for span in spans {
+        let width = span.content.chars().count();
+        if width <= left {
+            left -= width;
+            kept.push(span);
+            continue;
+        }
+        if left > 0 {
+            let text = crate::ui::text::fit(&span.content, left);
+            kept.push(Span::styled(text, span.style));
+        }
+        break;
+    }
+    kept
 }
 
 /// How the screen is shared out.

@@ -581,6 +581,13 @@ impl Runner {
                 };
                 queue.push(AppEvent::Notice(notice));
             }
+            Effect::Expire { id, after } => {
+                let tx = self.internal.clone();
+                tokio::spawn(async move {
+                    tokio::time::sleep(after).await;
+                    let _ = tx.send(AppEvent::Expired(id));
+                });
+            }
             Effect::Quit => {}
         }
     }

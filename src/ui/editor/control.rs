@@ -219,6 +219,20 @@ impl EditorPane {
         let Some(control) = self.tool.control() else {
             return Vec::new();
         };
+        let shown = self.state.describe(control);
+        let requests = self.take_state(control, line, value);
+        if self.state.describe(control) != shown {
+            self.state_changed();
+        }
+        requests
+    }
+
+    fn take_state(
+        &mut self,
+        control: &dyn ProgramControl,
+        line: &str,
+        value: Option<i64>,
+    ) -> Vec<Request> {
         let target = self.state.target.unwrap_or(0);
         let slot = control
             .state_reads(target)
