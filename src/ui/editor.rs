@@ -10,9 +10,9 @@
 //! file's extension names, the connected family's, or the one the language
 //! key chose. The tool checks the text, colours it, says which variables
 //! can be watched and which lines run, stop and read a program in the
-//! controller ([`control`]), how the text reaches the controller
+//! controller (`control`), how the text reaches the controller
 //! ([`transfer`]: a download plan, or only the in-process simulator), and
-//! whether it runs from the host ([`host`]).
+//! whether it runs from the host (`host`).
 //!
 //! The text is kept and edited by `ratatui-textarea`; this pane draws it
 //! itself, because the colours come from the tool's syntax.

@@ -12,10 +12,10 @@
 //! [`HostProgram::check`] checks the whole source before anything is sent:
 //! the compile errors of Table 5-43 and the statements that have no ASCII
 //! equivalent ([`ascript::Program::host_problems`]), each as `FILE:LINE:`.
-//! [`HostRun`] is the run itself as a plain state machine (no I/O, no
+//! [`AScriptRun`] is the run itself as a plain state machine (no I/O, no
 //! clock of its own): it says what to send or how long to wait
 //! ([`HostStep`]) and is told the answers, so the console drives it
-//! through its panes' requests and [`Session::run_ascript`] drives it
+//! through its panes' requests and `Session::run_from_host` drives it
 //! directly. Dropping it ends the run: nothing more is sent.
 //!
 //! Choices where the manual is silent (the simulator's interpreter makes
@@ -201,9 +201,9 @@ fn list_programs(numbers: &[u8]) -> String {
 /// What the run needs done next.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum HostStep {
-    /// Send this console line; call [`HostRun::on_reply`] with its answer.
+    /// Send this console line; call [`AScriptRun::on_reply`] with its answer.
     Send(String),
-    /// Call [`HostRun::on_wake`] after this long.
+    /// Call [`AScriptRun::on_wake`] after this long.
     Wake(Duration),
     /// The run is over.
     Finished(HostEnd),
