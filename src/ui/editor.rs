@@ -260,7 +260,7 @@ impl EditorPane {
             }
             None => {
                 if let Some(file) = copy.file.as_deref() {
-                    self.tool_of_file(file, None);
+                    self.tool_of_file(file);
                 }
             }
         }
@@ -455,7 +455,7 @@ impl EditorPane {
         self.set_text(&text);
         self.recovered = None;
         self.current = None;
-        self.tool_of_file(path, None);
+        self.tool_of_file(path);
         self.assemble();
         self.write_safety_copy();
         self.message = Some(Notice::info(format!(
@@ -473,7 +473,7 @@ impl EditorPane {
         self.file = Some(path.to_path_buf());
         self.saved = text;
         self.recovered = None;
-        self.tool_of_file(path, None);
+        self.tool_of_file(path);
         self.assemble();
         self.write_safety_copy();
         self.message = Some(Notice::info(format!(

@@ -297,13 +297,13 @@ impl EditorPane {
 
     /// The watch key: the variable the cursor names, else ask for one.
     pub(super) fn watch_key(&mut self, view: &View) -> Outcome {
-        let Some(set) = self.variable_set() else {
+        if self.variable_set().is_none() {
             self.message = Some(Notice::warning(format!(
                 "{} programs have no variables to watch",
                 self.tool.name()
             )));
             return Outcome::redraw();
-        };
+        }
         let (row, col) = self.cursor();
         let line = self.text.lines().get(row).cloned().unwrap_or_default();
         let byte = line
@@ -317,7 +317,6 @@ impl EditorPane {
         match named {
             Some(n) => self.toggle_variable(n, view),
             None => {
-                let _ = set;
                 self.prompt = Some((PromptKind::Watch, Field::default()));
                 Outcome::redraw()
             }

@@ -7,8 +7,8 @@
 use std::path::Path;
 
 use super::EditorPane;
-use crate::protocol::FAMILIES;
 use crate::protocol::program::{ProgramTool, SyntaxClass, is_file_of};
+use crate::protocol::{FAMILIES, Family};
 use crate::ui::keymap::{Action, Context};
 use crate::ui::pane::{Notice, Outcome, View, key_label};
 use crate::ui::theme::Role;
@@ -27,6 +27,20 @@ pub fn registered_tools() -> Vec<&'static dyn ProgramTool> {
 /// The tool a buffer starts with: the first family's.
 pub fn default_tool() -> Option<&'static dyn ProgramTool> {
     registered_tools().first().copied()
+}
+
+/// The registered family whose programs `tool` writes.
+pub fn family_of(tool: &dyn ProgramTool) -> Option<&'static Family> {
+    FAMILIES
+        .iter()
+        .find(|f| f.console.program().is_some_and(|t| same(t, tool)))
+}
+
+/// How to name a simulator of `tool`'s family on `:connect` (`--sim
+/// cmd4cr`), if it has one.
+pub fn simulator_of(tool: &dyn ProgramTool) -> Option<String> {
+    let kind = family_of(tool)?.simulators.first()?;
+    Some(format!("--sim {}", kind.name))
 }
 
 /// Whether `a` and `b` are the same tool (tools are told by their names).
@@ -68,18 +82,13 @@ pub fn role_of(class: SyntaxClass) -> Option<Role> {
 }
 
 impl EditorPane {
-    /// The tool the file's extension names, if one does.
-    pub(super) fn tool_of_file(&mut self, path: &Path, view: Option<&View>) {
-        let tools = match view {
-            Some(view) => known_tools(view),
-            None => {
-                let mut tools = registered_tools();
-                if !tools.iter().any(|t| same(*t, self.tool)) {
-                    tools.push(self.tool);
-                }
-                tools
-            }
-        };
+    /// The tool the file's extension names, if one does: a registered
+    /// one, or the text's own.
+    pub(super) fn tool_of_file(&mut self, path: &Path) {
+        let mut tools = registered_tools();
+        if !tools.iter().any(|t| same(*t, self.tool)) {
+            tools.push(self.tool);
+        }
         if let Some(tool) = tool_of_file(&tools, path) {
             self.set_tool(tool);
             self.tool_fixed = true;
@@ -172,17 +181,9 @@ impl EditorPane {
     /// What to say when nothing is connected: how to connect to a
     /// controller of this text's tool.
     pub(super) fn not_connected(&self) -> String {
-        let family = FAMILIES.iter().find(|f| {
-            f.console
-                .program()
-                .is_some_and(|tool| same(tool, self.tool))
-        });
-        match family {
+        match family_of(self.tool) {
             Some(family) => {
-                let sim = family
-                    .simulators
-                    .first()
-                    .map_or_else(String::new, |k| format!("--sim {} (or ", k.name));
+                let sim = simulator_of(self.tool).map_or_else(String::new, |s| format!("{s} (or "));
                 let close = if sim.is_empty() { "" } else { ")" };
                 format!(
                     "not connected: give :connect {sim}--port PATH --protocol {}, --tcp HOST:PORT{close}",

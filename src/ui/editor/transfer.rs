@@ -233,18 +233,8 @@ impl EditorPane {
     fn load_into_simulator(&mut self, why: &str, view: &View) -> Outcome {
         let host = key_label(view.keymap, Context::Editor, Action::EditorHostRun);
         if view.session.is_none() {
-            let sim = crate::protocol::FAMILIES
-                .iter()
-                .find(|f| {
-                    f.console
-                        .program()
-                        .is_some_and(|t| super::language::same(t, self.tool))
-                })
-                .and_then(|f| f.simulators.first())
-                .map_or_else(
-                    || "an in-process simulator".to_string(),
-                    |k| format!("--sim {}", k.name),
-                );
+            let sim = super::language::simulator_of(self.tool)
+                .unwrap_or_else(|| "an in-process simulator".to_string());
             self.message = Some(Notice::warning(format!(
                 "not connected; {why}. With {sim} this key loads the simulator; {host} runs the text from the host"
             )));
