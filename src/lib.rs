@@ -4,10 +4,12 @@
 //! `cli` and `ui` (front ends) → `session` (what the console knows of a controller)
 //! → `device` (the async task owning a link) → `link` (byte transports)
 //! → `sim` (simulated controllers). `protocol` is pure code used by all;
-//! `ui` holds the console's themes and keymaps.
+//! `ui` holds the console's themes and keymaps. `files` is the one way
+//! any of them reads a file a user names or writes a file.
 
 pub mod cli;
 pub mod device;
+pub mod files;
 pub mod link;
 pub mod protocol;
 pub mod script;

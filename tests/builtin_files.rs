@@ -195,6 +195,61 @@ fn no_builtin_keymap_binds_what_terminals_swallow() {
     }
 }
 
+/// Every binding of every built-in keymap is a key a terminal delivers:
+/// xterm or one like it, tmux or screen between, legacy key encodings (what
+/// axterm asks for), read by crossterm. The rule, with the reason for
+/// each chord it refuses, is `axterm::ui::key_delivery`; in short: no F3
+/// with a modifier (`ESC [1;2R` is read as a cursor position report, so
+/// Shift-F3 never arrived), no F13-F24, ctrl only with a letter (not h)
+/// or space, no modified Esc, no ctrl-/shift-Enter, ctrl-Tab,
+/// alt-shift-Tab, ctrl-/shift-Backspace, no shift-PageUp/PageDown/Insert
+/// (the terminal's scrollback and paste), no alt-[ or alt-O (the start of
+/// escape sequences).
+#[test]
+fn every_builtin_binding_is_a_key_a_terminal_delivers() {
+    use axterm::ui::key_delivery::why_undeliverable;
+    // The rule refuses what issue 11 found, and what the encodings lose.
+    for lost in [
+        "shift-f3",
+        "ctrl-f3",
+        "f13",
+        "ctrl-0",
+        "ctrl-enter",
+        "shift-pageup",
+        "alt-[",
+    ] {
+        assert!(why_undeliverable(chord(lost)).is_some(), "{lost}");
+    }
+    let mut checked = 0;
+    for name in Keymap::builtin_names() {
+        for binding in keymap(name).bindings() {
+            for chord in &binding.chords {
+                checked += 1;
+                if let Some(why) = why_undeliverable(*chord) {
+                    panic!(
+                        "keymap {name} binds {chord} to {} in [{}]: {why}",
+                        binding.action, binding.context
+                    );
+                }
+            }
+        }
+    }
+    assert!(checked > 100, "only {checked} chords checked");
+}
+
+#[test]
+fn upload_sits_beside_download_and_verify_on_a_key_that_arrives() {
+    let keymap = keymap("default");
+    let key = |action| keymap.chords(Context::Editor, action);
+    assert_eq!(key(Action::EditorDownload), [chord("f4")]);
+    assert_eq!(key(Action::EditorVerify), [chord("shift-f4")]);
+    assert_eq!(key(Action::EditorUpload), [chord("ctrl-f4")]);
+    assert_eq!(
+        keymap.action_for(Context::Editor, &chord("ctrl-f4").to_event()),
+        Some(Action::EditorUpload)
+    );
+}
+
 #[test]
 fn the_default_keymap_quits_on_f10_and_ctrl_c_only_cancels_a_line() {
     let keymap = keymap("default");

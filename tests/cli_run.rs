@@ -1,9 +1,13 @@
 //! `axterm run` as a script sees it: stdout, stderr and the exit code.
 
 mod cli_support;
+mod served_support;
 
 use cli_support::{axterm, axterm_stdin, stderr, stdout};
+use served_support::Served;
+use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
+use std::process::{Command, Stdio};
 
 fn script(dir: &Path, text: &str) -> String {
     let path = dir.join("commissioning.txt");
@@ -159,9 +163,15 @@ fn a_failed_expect_stops_the_run_with_file_and_line() {
     );
     assert_eq!(out.status.code(), Some(1));
     assert_eq!(stdout(&out), "ok\n");
+    let err = stderr(&out);
     assert_eq!(
-        stderr(&out),
-        "<stdin>:2: expected GAP 4, 0 == 200, got 100\n"
+        err.lines().next(),
+        Some("<stdin>:2: expected GAP 4, 0 == 200, got 100"),
+        "{err}"
+    );
+    assert!(
+        err.contains("axterm run: <stdin>: the run failed: stopping every axis:"),
+        "{err}"
     );
 }
 
@@ -202,9 +212,11 @@ fn wait_until_gives_up_at_its_timeout() {
         ":wait-until GAP 1, 0 == 5 timeout 50ms\n",
     );
     assert_eq!(out.status.code(), Some(1));
+    let err = stderr(&out);
     assert_eq!(
-        stderr(&out),
-        "<stdin>:1: GAP 1, 0 did not become 5 within 50 ms (last 0)\n"
+        err.lines().next(),
+        Some("<stdin>:1: GAP 1, 0 did not become 5 within 50 ms (last 0)"),
+        "{err}"
     );
 }
 
@@ -223,4 +235,164 @@ fn json_output_has_an_object_per_console_line_and_echo() {
     assert_eq!(objects[0]["command"], "GAP 4, 0");
     assert_eq!(objects[0]["ok"], true);
     assert_eq!(objects[1]["echo"], "hello");
+}
+
+/// The batch of issue 11: a long move, then a wait for its end that gives
+/// up long before it.
+const FAILS_MID_MOVE: &str =
+    "SAP 4, 0, 1500\nMVP ABS, 0, 512000000\n:wait-until GAP 8, 0 == 1 timeout 100ms\n";
+
+/// The TMCL stop sequence as `run` reports it.
+const STOPPED: [&str; 3] = ["  MST 0 → ok", "  STOPAPP → ok", "  MST 0 → ok"];
+
+/// The report's stop lines: those after its first line, indented.
+fn stop_lines(err: &str, heading: &str) -> Vec<String> {
+    err.lines()
+        .skip_while(|l| !l.ends_with(heading))
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .map(str::to_string)
+        .collect()
+}
+
+/// A follow-up run on the served simulator: waits (at most 10 s) for the
+/// speed to become `speed`, then runs `expect`. Its exit code and standard
+/// error.
+fn speed_becomes(pty: &str, speed: i64, expect: &str) -> (Option<i32>, String) {
+    let out = axterm_stdin(
+        &["run", "--port", pty, "--no-stop-on-failure", "-"],
+        &format!(":wait-until GAP 3, 0 == {speed} timeout 10s\n{expect}"),
+    );
+    (out.status.code(), stderr(&out))
+}
+
+#[test]
+fn a_failed_wait_until_ends_the_run_with_the_stop_sequence_and_the_axis_at_speed_0() {
+    let served = Served::start("tmcm1110", &[]);
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = script(dir.path(), FAILS_MID_MOVE);
+    let out = axterm(&["run", "--port", &served.pty, &file]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert_eq!(stdout(&out), "ok\nok\n");
+    assert!(
+        err.starts_with(&format!(
+            "{file}:3: GAP 8, 0 did not become 1 within 100 ms (last 0)\n"
+        )),
+        "{err}"
+    );
+    assert_eq!(
+        stop_lines(&err, "the run failed: stopping every axis:"),
+        STOPPED,
+        "{err}"
+    );
+    assert!(
+        err.ends_with(&format!(
+            "axterm run: {file}: stop confirmed: every stop line answered ok\n"
+        )),
+        "{err}"
+    );
+    // The simulator says: the motor comes to rest short of its target.
+    let (code, err) = speed_becomes(&served.pty, 0, ":expect GAP 8, 0 == 0\n");
+    assert_eq!(code, Some(0), "the motor still runs: {err}");
+    let out = axterm(&["exec", "--port", &served.pty, "GAP 3, 0", "GAP 1, 0"]);
+    let values: Vec<i64> = stdout(&out)
+        .lines()
+        .map(|l| l.parse().expect("a number"))
+        .collect();
+    assert_eq!(values[0], 0, "speed");
+    assert!(values[1] > 0 && values[1] < 512_000_000, "{values:?}");
+}
+
+#[test]
+fn no_stop_on_failure_leaves_the_axis_running() {
+    let served = Served::start("tmcm1110", &[]);
+    let out = axterm_stdin(
+        &["run", "--port", &served.pty, "--no-stop-on-failure", "-"],
+        FAILS_MID_MOVE,
+    );
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains(
+            "axterm run: <stdin>: the run failed: the axes were left as they are (--no-stop-on-failure)"
+        ),
+        "{err}"
+    );
+    assert!(!err.contains("MST"), "{err}");
+    let (code, err) = speed_becomes(&served.pty, 1500, "");
+    assert_eq!(code, Some(0), "the motor should run on: {err}");
+    // Stop it for good measure before the simulator goes.
+    let out = axterm(&["exec", "--port", &served.pty, "MST 0"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+}
+
+#[test]
+fn ctrl_c_cancels_the_run_and_sends_the_stop_sequence() {
+    let served = Served::start("tmcm1110", &[]);
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = script(
+        dir.path(),
+        "SAP 4, 0, 1500\nMVP ABS, 0, 512000000\n:echo moving\n:wait-until GAP 8, 0 == 1 timeout 10m\n",
+    );
+    let mut child = Command::new(env!("CARGO_BIN_EXE_axterm"))
+        .args(["run", "--port", &served.pty, &file])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start axterm run");
+    let mut lines = BufReader::new(child.stdout.take().expect("stdout")).lines();
+    // The move is under way and the wait has begun.
+    loop {
+        let line = lines.next().expect("a line").expect("text");
+        if line == "moving" {
+            break;
+        }
+    }
+    let pid = libc::pid_t::try_from(child.id()).expect("pid");
+    // SAFETY: a signal to our own child process; nothing is shared.
+    unsafe {
+        libc::kill(pid, libc::SIGINT);
+    }
+    let status = child.wait().expect("wait");
+    let mut err = String::new();
+    child
+        .stderr
+        .take()
+        .expect("stderr")
+        .read_to_string(&mut err)
+        .expect("stderr text");
+    assert_eq!(status.code(), Some(1), "{err}");
+    assert!(
+        err.contains(&format!("axterm run: {file}: stopped by Ctrl-C\n")),
+        "{err}"
+    );
+    assert_eq!(
+        stop_lines(&err, "the run was cancelled: stopping every axis:"),
+        STOPPED,
+        "{err}"
+    );
+    let (code, err) = speed_becomes(&served.pty, 0, ":expect GAP 8, 0 == 0\n");
+    assert_eq!(code, Some(0), "the motor still runs: {err}");
+}
+
+#[test]
+fn json_output_gives_each_stop_line_an_object() {
+    let out = axterm_stdin(
+        &["run", "--sim", "tmcm1110", "--format", "json", "-"],
+        FAILS_MID_MOVE,
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let objects: Vec<serde_json::Value> = stdout(&out)
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("JSON"))
+        .collect();
+    let stops: Vec<&serde_json::Value> = objects.iter().filter(|o| o["stop"] == true).collect();
+    let commands: Vec<&str> = stops
+        .iter()
+        .map(|o| o["command"].as_str().expect("command"))
+        .collect();
+    assert_eq!(commands, ["MST 0", "STOPAPP", "MST 0"]);
+    assert!(stops.iter().all(|o| o["ok"] == true));
+    assert_eq!(stops[0]["request"], "01 03 00 00 00 00 00 00 04");
 }

@@ -3,6 +3,7 @@
 //! the wall clock here, and every wait is a condition, never a time).
 
 mod cli_support;
+mod served_support;
 
 use cli_support::{axterm, stderr, stdout};
 use std::path::Path;
@@ -92,7 +93,65 @@ fn a_runtime_error_without_sub_31_fails_the_run_with_exit_1() {
         "{text}"
     );
     assert!(!text.contains("DO1=1"), "{text}");
-    assert!(stderr(&out).contains("PRG 0 line 2:"), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(err.contains("PRG 0 line 2:"), "{err}");
+    // A failed run ends with the emergency stop.
+    assert!(
+        err.contains(&format!(
+            "{file}: the run failed: stopping every axis:\n  ESTOP → ok\n"
+        )),
+        "{err}"
+    );
+    assert!(
+        err.ends_with("stop confirmed: every stop line answered ok\n"),
+        "{err}"
+    );
+    let out = axterm(&[
+        "run-ascript",
+        "--sim",
+        "cmd4cr",
+        "--no-stop-on-failure",
+        &file,
+    ]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(
+        err.contains("the run failed: the axes were left as they are (--no-stop-on-failure)"),
+        "{err}"
+    );
+    assert!(!err.contains("ESTOP"), "{err}");
+}
+
+#[test]
+fn a_failed_program_stops_the_axis_it_left_moving() {
+    // The joystick-free way to leave an axis running: a jog, then a
+    // division by zero, a runtime error with no SUB 31 to handle it.
+    let served = served_support::Served::start("cmd4cr", &[]);
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = program(
+        dir.path(),
+        "PRG 0\n    EO=1\n    HSPD=1000\n    JOGX+\n    V1=0\n    V2=5/V1\nEND\n",
+    );
+    let out = axterm(&["run-ascript", "--port", &served.pty, &file]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("the run failed: stopping every axis:"),
+        "{err}"
+    );
+    assert!(err.contains("stop confirmed"), "{err}");
+    // The controller says: the axis stands (MSTX bits 0-2 clear).
+    let out = axterm(&[
+        "exec",
+        "--protocol",
+        "cmd4cr",
+        "--port",
+        &served.pty,
+        "MSTX",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let mst: i64 = stdout(&out).trim().parse().expect("a number");
+    assert_eq!(mst & 0b111, 0, "MSTX {mst}: still moving");
 }
 
 #[test]
@@ -196,10 +255,13 @@ fn ctrl_c_ends_the_run_and_sends_the_emergency_stop() {
         .read_to_string(&mut err)
         .expect("stderr text");
     assert_eq!(status.code(), Some(1), "{err}");
-    assert!(err.contains("stopped by Ctrl-C; emergency stop:"), "{err}");
+    assert!(
+        err.contains(&format!("{file}: stopped by Ctrl-C\n")),
+        "{err}"
+    );
     let stops: Vec<&str> = err
         .lines()
-        .skip_while(|l| !l.contains("emergency stop:"))
+        .skip_while(|l| !l.ends_with("the run was cancelled: stopping every axis:"))
         .skip(1)
         .collect();
     assert_eq!(
@@ -210,7 +272,8 @@ fn ctrl_c_ends_the_run_and_sends_the_emergency_stop() {
             "  SACTRL1=0 → ok",
             "  SACTRL2=0 → ok",
             "  SACTRL3=0 → ok",
-            "  ESTOP → ok"
+            "  ESTOP → ok",
+            &format!("axterm run-ascript: {file}: stop confirmed: every stop line answered ok"),
         ],
         "{err}"
     );

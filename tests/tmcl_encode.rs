@@ -22,9 +22,11 @@ const FRAMES: &[(&str, &str)] = &[
     ("MVP COORD, 0, 8", "01 04 02 00 00 00 00 08 0F"),
     ("SAP 4, 0, 1000", "01 05 04 00 00 00 03 E8 F5"),
     ("GAP 1, 0", "01 06 01 00 00 00 00 00 08"),
-    // §3.6.7/§3.6.8 store and restore AP6, which §4 Table 16 marks RW (not
-    // storable): AP4 (RWE) stands in; the AP6 frame is checked by the JSON
-    // test below without module validation.
+    // §3.6.7/§3.6.8 store and restore AP6 (§4 Table 16 prints RW; the
+    // examples win, see params.rs). RSAP's printed checksum is wrong
+    // (digest D11): 01+08+06 = 0F.
+    ("STAP 6, 0", "01 07 06 00 00 00 00 00 0E"),
+    ("RSAP 6, 0", "01 08 06 00 00 00 00 00 0F"),
     ("STAP 4, 0", "01 07 04 00 00 00 00 00 0C"),
     ("RSAP 4, 0", "01 08 04 00 00 00 00 00 0D"),
     ("SGP 66, 0, 3", "01 09 42 00 00 00 00 03 4F"),
@@ -188,10 +190,9 @@ fn manual_examples() -> Vec<Example> {
 const MNEMONIC_CORRECTIONS: &[(&str, &str, &str)] = &[("3.6.7", "STAP 7, 6", "STAP 6, 0")];
 
 /// Correct manual examples that the TMCM-1110 validation refuses, and why.
-const REFUSED_BY_MODULE: &[(&str, &str)] = &[(
-    "STAP 6, 0",
-    "§4 Table 16 marks AP6 RW: not storable, although §3.6.7 stores it",
-)];
+/// (STAP 6, 0 of §3.6.7 was one until AP6 was made storable as the
+/// example stores it, against §4 Table 16's RW.)
+const REFUSED_BY_MODULE: &[(&str, &str)] = &[];
 
 #[test]
 fn every_correct_manual_example_encodes_as_printed() {
@@ -329,9 +330,12 @@ fn read_only_parameters_cannot_be_written() {
 #[test]
 fn stap_and_rsap_take_only_storable_parameters() {
     assert_eq!(
-        message("STAP 6, 0"),
-        "STAP 6: Maximum current cannot be stored in EEPROM (access RW; only parameters marked E can)"
+        message("STAP 7, 0"),
+        "STAP 7: Standby current cannot be stored in EEPROM (access RW; only parameters marked E can)"
     );
+    // The run current is stored as the manual's own example stores it.
+    assert!(parse_line("STAP 6, 0").is_ok());
+    assert!(parse_line("RSAP 6, 0").is_ok());
     assert!(message("RSAP 140, 0").contains("cannot be stored"));
     assert!(parse_line("STAP 214, 0").is_ok());
 }

@@ -47,6 +47,39 @@ fn one_axis_at_80x24_shows_position_target_speed_switches_and_load() {
 }
 
 #[test]
+fn an_axis_stopped_short_of_its_target_says_so_not_moving_at_80x24() {
+    let mut app = console();
+    let mut s = snapshot(axes(&["motor 0"]));
+    s.status[0] = moving_status(104_195, 200_000, 1_500, 1_500);
+    app.handle(AppEvent::Snapshot(s.clone()));
+    let lines = screen(&mut app, 80, 24);
+    assert!(lines[1].contains("○ moving"), "{}", lines[1]);
+    // The emergency stop (or Space): the speed falls to 0, the target
+    // stays where it was, the module's reached flag stays clear.
+    s.status[0].speed = Some(0);
+    app.handle(AppEvent::Snapshot(s.clone()));
+    let lines = screen(&mut app, 80, 24);
+    let text = lines.join("\n");
+    assert!(
+        lines[1].contains("tgt      200000 ○ stopped short"),
+        "{text}"
+    );
+    assert!(!lines[1].contains("moving"), "{text}");
+    // The whole label fits inside the border.
+    assert!(lines[1].ends_with("stopped short│"), "{text}");
+    assert!(lines[2].contains("standing"), "{text}");
+    // A new move: moving again; there: reached.
+    s.status[0].speed = Some(300);
+    app.handle(AppEvent::Snapshot(s.clone()));
+    assert!(screen(&mut app, 80, 24)[1].contains("○ moving"));
+    s.status[0].speed = Some(0);
+    s.status[0].position = Some(200_000);
+    s.status[0].reached = Some(true);
+    app.handle(AppEvent::Snapshot(s));
+    assert!(screen(&mut app, 80, 24)[1].contains("● reached"));
+}
+
+#[test]
 fn the_position_gauge_fills_toward_the_target_and_marks_it() {
     let mut app = console();
     let mut s = snapshot(axes(&["motor 0"]));

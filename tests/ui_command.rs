@@ -1,11 +1,13 @@
 //! The command pane inside the console, driven by keys and replies as the
 //! event loop would deliver them, drawn with ratatui's TestBackend.
 
+mod fifo_support;
 mod ui_support;
 
 use std::time::Duration;
 
 use axterm::protocol::console::{ReplyError, ReplyValue};
+use axterm::session::run_end::{LinkAtStop, RunAftermath, RunEnding, RunStop, StopOnFailure};
 use axterm::session::{LineResult, SessionError};
 use axterm::ui::PaneSetup;
 use axterm::ui::app::{App, AppEvent, Effect};
@@ -292,11 +294,181 @@ fn run_checks_the_whole_file_first_and_then_sends_line_after_line() {
         line: "GAP 4, 0".into(),
         result: ok("GAP 4, 0", ReplyValue::Number(999)),
     });
-    assert!(done.is_empty());
+    // The failed run is ended by the session: the stop, by default.
+    assert_eq!(
+        done,
+        [Effect::EndRun {
+            pane,
+            ending: RunEnding::Failed,
+            policy: StopOnFailure::Stop
+        }]
+    );
     let screen = text(&mut app, 160, 40);
     assert!(screen.contains("homing"), "{screen}");
     assert!(
         screen.contains("good.txt:4: expected GAP 4, 0 == 1000, got 999"),
+        "{screen}"
+    );
+    app.handle(AppEvent::RunEnded {
+        pane,
+        aftermath: RunAftermath::Stopped(RunStop {
+            ending: RunEnding::Failed,
+            lines: vec![
+                ok("MST 0", ReplyValue::None),
+                ok("STOPAPP", ReplyValue::None),
+                ok("MST 0", ReplyValue::None),
+            ],
+            link: LinkAtStop::Up,
+        }),
+    });
+    let screen = text(&mut app, 160, 40);
+    for line in [
+        "the run failed: stopping every axis:",
+        "  MST 0 → ok",
+        "  STOPAPP → ok",
+        "stop confirmed: every stop line answered ok",
+    ] {
+        assert!(screen.contains(line), "{line}:\n{screen}");
+    }
+}
+
+#[test]
+fn a_wait_until_shows_one_line_that_follows_its_reads() {
+    let mut app = connected();
+    let (mut pane, mut tag, lines) = sent(&enter(&mut app, ":wait-until GAP 8, 0 == 1 timeout 1m"));
+    assert_eq!(lines, ["GAP 8, 0"]);
+    for read in 1..=5 {
+        let effects = app.handle(AppEvent::Reply {
+            pane,
+            tag,
+            line: "GAP 8, 0".into(),
+            result: ok("GAP 8, 0", ReplyValue::Number(0)),
+        });
+        let [
+            Effect::Wake {
+                pane: p, tag: t, ..
+            },
+        ] = effects.as_slice()
+        else {
+            panic!("read {read}: {effects:?}");
+        };
+        let screen = text(&mut app, 120, 40);
+        let shown: Vec<&str> = screen.lines().filter(|l| l.contains("GAP 8, 0")).collect();
+        // The line typed, and one line of how the wait stands.
+        assert_eq!(shown.len(), 2, "read {read}:\n{screen}");
+        let reads = if read == 1 {
+            "1 read".to_string()
+        } else {
+            format!("{read} reads")
+        };
+        assert!(
+            shown[1].contains(&format!("> :wait-until GAP 8, 0 == 1: 0 ({reads})")),
+            "{screen}"
+        );
+        assert!(
+            !screen.contains("status 100"),
+            "no answer rows per read:\n{screen}"
+        );
+        (pane, tag, _) = sent(&app.handle(AppEvent::Wake { pane: *p, tag: *t }));
+    }
+    let done = app.handle(AppEvent::Reply {
+        pane,
+        tag,
+        line: "GAP 8, 0".into(),
+        result: ok("GAP 8, 0", ReplyValue::Number(1)),
+    });
+    assert!(done.is_empty(), "{done:?}");
+    let screen = text(&mut app, 120, 40);
+    let shown: Vec<&str> = screen.lines().filter(|l| l.contains("GAP 8, 0")).collect();
+    assert_eq!(shown.len(), 2, "{screen}");
+    assert!(shown[1].contains(": 1 (6 reads)"), "{screen}");
+    // Something else said: the next wait starts a line of its own.
+    let (pane, tag, _) = sent(&enter(&mut app, ":wait-until GAP 8, 0 == 1 timeout 1m"));
+    app.handle(AppEvent::Reply {
+        pane,
+        tag,
+        line: "GAP 8, 0".into(),
+        result: ok("GAP 8, 0", ReplyValue::Number(1)),
+    });
+    let screen = text(&mut app, 120, 40);
+    assert_eq!(
+        screen.lines().filter(|l| l.contains("(1 read)")).count(),
+        1,
+        "{screen}"
+    );
+    assert!(screen.contains(": 1 (6 reads)"), "{screen}");
+}
+
+#[test]
+fn a_run_cancelled_with_esc_or_told_to_leave_the_axes_says_so_to_the_session() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("moves.txt");
+    std::fs::write(&file, "MVP ABS, 0, 51200\n:wait-until GAP 8, 0 == 1\n").expect("write");
+    let mut app = connected();
+    let (pane, _, _) = sent(&enter(&mut app, &format!(":run {}", file.display())));
+    assert_eq!(
+        app.handle(key(KeyCode::Esc)),
+        [Effect::EndRun {
+            pane,
+            ending: RunEnding::Cancelled,
+            policy: StopOnFailure::Stop
+        }]
+    );
+    // Nothing runs any more: Esc clears the line as before.
+    assert!(app.handle(key(KeyCode::Esc)).is_empty());
+
+    sent(&enter(
+        &mut app,
+        &format!(":run --no-stop-on-failure {}", file.display()),
+    ));
+    assert_eq!(
+        app.handle(key(KeyCode::Esc)),
+        [Effect::EndRun {
+            pane,
+            ending: RunEnding::Cancelled,
+            policy: StopOnFailure::Leave
+        }]
+    );
+    app.handle(AppEvent::RunEnded {
+        pane,
+        aftermath: RunAftermath::Left(RunEnding::Cancelled),
+    });
+    let screen = text(&mut app, 160, 40);
+    assert!(
+        screen.contains(
+            "the run was cancelled: the axes were left as they are (--no-stop-on-failure)"
+        ),
+        "{screen}"
+    );
+
+    // A directive typed alone is a check by hand: it stops nothing.
+    let (pane, tag, _) = sent(&enter(&mut app, ":expect GAP 4, 0 == 5"));
+    let done = app.handle(AppEvent::Reply {
+        pane,
+        tag,
+        line: "GAP 4, 0".into(),
+        result: ok("GAP 4, 0", ReplyValue::Number(4)),
+    });
+    assert!(done.is_empty(), "{done:?}");
+}
+
+#[test]
+fn run_refuses_a_file_that_is_not_a_regular_one_without_reading_it() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    // Were it read, its line would be sent.
+    let fifo = fifo_support::Fifo::new(dir.path().join("batch.txt"), "GAP 1, 0\n");
+    let mut app = connected();
+    assert!(enter(&mut app, &format!(":run {}", fifo.path.display())).is_empty());
+    let screen = text(&mut app, 160, 40);
+    assert!(
+        screen.contains("batch.txt: it is a FIFO (named pipe), not a regular file"),
+        "{screen}"
+    );
+    drop(fifo);
+    assert!(enter(&mut app, ":run /dev/zero").is_empty());
+    let screen = text(&mut app, 160, 40);
+    assert!(
+        screen.contains("cannot read /dev/zero: it is a character device, not a regular file"),
         "{screen}"
     );
 }

@@ -370,3 +370,28 @@ async fn the_text_runs_from_the_host_with_its_lines_marked_and_the_stop_key_ends
     })
     .await;
 }
+
+#[tokio::test(start_paused = true)]
+async fn esc_ends_a_host_run_from_the_editor_with_the_emergency_stop() {
+    on_the_simulator(async |rig: &mut Rig, session: &Session| {
+        rig.screens.until("Program (A-Script)").await;
+        paste_into(
+            rig,
+            "PRG 0\n    EO=1\n    HSPD=1000\n    JOGX+\n    WHILE 1=1\n        DELAY=100\n    ENDWHILE\nEND\n",
+        );
+        rig.screens.until("A-Script checks: PRG 0").await;
+        press_with(rig, KeyCode::F(5), KeyModifiers::CONTROL);
+        // At the DELAY, the jog already sent.
+        rig.screens
+            .until("running untitled.asc from the host: PRG 0 line 6")
+            .await;
+        assert_ne!(read(session, "MSTX").await, "0", "jogging");
+        press(rig, KeyCode::Esc);
+        rig.screens
+            .until("the run was cancelled: STOP sent, 6 lines ok")
+            .await;
+        let mst: i64 = read(session, "MSTX").await.parse().expect("a number");
+        assert_eq!(mst & 0b111, 0, "MSTX {mst}: the axis stands");
+    })
+    .await;
+}

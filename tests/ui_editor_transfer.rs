@@ -325,12 +325,12 @@ fn verify_reads_back_as_many_words_and_reports_the_first_difference() {
 #[test]
 fn upload_asks_before_replacing_unsaved_text_and_opens_a_new_buffer() {
     let mut app = editor_with("ROL 0, 5");
-    let upload = || key_with(KeyCode::F(3), KeyModifiers::SHIFT);
+    let upload = || key_with(KeyCode::F(4), KeyModifiers::CONTROL);
     let effects = app.handle(upload());
     assert!(!effects.iter().any(|e| matches!(e, Effect::Transfer { .. })));
     let all = screen(&mut app, 80, 24).join("\n");
     assert!(
-        all.contains("unsaved changes: F2 saves them; Shift-F3 again uploads over them"),
+        all.contains("unsaved changes: F2 saves them; Ctrl-F4 again uploads over them"),
         "{all}"
     );
     let (pane, tag, job) = transfer_of(&app.handle(upload()));
@@ -353,7 +353,7 @@ fn upload_asks_before_replacing_unsaved_text_and_opens_a_new_buffer() {
 #[test]
 fn an_empty_module_leaves_the_text_alone() {
     let mut app = editor_with("");
-    let (pane, tag, _) = transfer_of(&app.handle(key_with(KeyCode::F(3), KeyModifiers::SHIFT)));
+    let (pane, tag, _) = transfer_of(&app.handle(key_with(KeyCode::F(4), KeyModifiers::CONTROL)));
     app.handle(ended(pane, tag, Ok(uploaded(&[]))));
     let all = screen(&mut app, 80, 24).join("\n");
     assert!(all.contains("module 1 holds no program"), "{all}");

@@ -297,9 +297,9 @@ async fn verify_compares_without_storing_and_upload_opens_what_the_module_holds(
             "{frame}"
         );
         // Upload over the unsaved text: asked first.
-        rig.press(KeyCode::F(3), KeyModifiers::SHIFT);
-        rig.until("Shift-F3 again uploads over them").await;
-        rig.press(KeyCode::F(3), KeyModifiers::SHIFT);
+        rig.press(KeyCode::F(4), KeyModifiers::CONTROL);
+        rig.until("Ctrl-F4 again uploads over them").await;
+        rig.press(KeyCode::F(4), KeyModifiers::CONTROL);
         let frame = rig
             .until("uploaded 12 words from module 1 into a new unsaved buffer")
             .await;

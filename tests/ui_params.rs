@@ -249,8 +249,13 @@ fn store_and_restore_send_their_lines_and_refuse_what_cannot_be_stored() {
     assert!(screen_text(&mut app, 80, 24).contains("STAP 4, 0: stored in EEPROM"));
     let served = press(&mut app, &mut module, KeyCode::Char('r'));
     assert_eq!(served.lines, ["RSAP 4, 0", "GAP 4, 0"]);
-    // AP6 has no EEPROM copy (§4 Table 16: RW): nothing is sent.
+    // The run current is stored, as the manual's STAP example stores it.
     filter(&mut app, &mut module, "maximum current");
+    let served = press(&mut app, &mut module, KeyCode::Char('s'));
+    assert_eq!(served.lines, ["STAP 6, 0"]);
+    assert!(screen_text(&mut app, 80, 24).contains("STAP 6, 0: stored in EEPROM"));
+    // AP7 has no EEPROM copy (§4 Table 16: RW): nothing is sent.
+    filter(&mut app, &mut module, "standby current");
     let served = press(&mut app, &mut module, KeyCode::Char('s'));
     assert!(served.lines.is_empty());
     assert!(screen_text(&mut app, 80, 24).contains("no EEPROM copy"));

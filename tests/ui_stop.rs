@@ -90,3 +90,30 @@ async fn the_stop_lines_go_before_queued_lines_and_polls() {
         assert_eq!(request.priority, Some(Priority::Poll), "{request:?}");
     }
 }
+
+#[tokio::test(start_paused = true)]
+async fn after_the_emergency_stop_the_axis_lamp_says_stopped_short_not_moving() {
+    use ratatui::crossterm::event::KeyCode;
+    use ui_support::looped::{enter, press, run_command_console};
+    let controller = sim_controller("tmcm1110", 115_200).await;
+    run_command_console(controller, (80, 24), async |rig| {
+        enter(rig, "SAP 4, 0, 1500");
+        enter(rig, "MVP ABS, 0, 512000000");
+        rig.screens
+            .until_frame("the axis moving at full speed", |f| {
+                f.contains("○ moving") && f.contains("at max speed")
+            })
+            .await;
+        press(rig, KeyCode::F(12));
+        let frame = rig
+            .screens
+            .until_frame("the axis standing after the stop", |f| {
+                f.contains("standing") && f.contains("STOP confirmed")
+            })
+            .await;
+        let lamp_row = frame.lines().nth(1).unwrap_or_default();
+        assert!(lamp_row.contains("○ stopped short"), "{frame}");
+        assert!(!lamp_row.contains("moving"), "{frame}");
+    })
+    .await;
+}

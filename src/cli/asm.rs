@@ -6,7 +6,7 @@
 //! files. `axterm disasm CONNECTION` reads the program from a module
 //! ([`super::transfer`]).
 
-use std::io::{Read, Write};
+use std::io::Write;
 use std::path::Path;
 
 use super::connection::family_of;
@@ -25,7 +25,7 @@ pub struct SourceFiles;
 
 impl SourceLoader for SourceFiles {
     fn load(&self, path: &str) -> Result<String, String> {
-        std::fs::read_to_string(path).map_err(|e| describe_io(&e))
+        crate::files::read_text(path).map_err(|e| e.to_string())
     }
 }
 
@@ -41,14 +41,11 @@ fn describe_io(error: &std::io::Error) -> String {
 /// A file's text, or standard input for `-`; the name to show for it.
 pub(super) fn read_input(file: &str) -> Result<(String, String), String> {
     if file == "-" {
-        let mut text = String::new();
-        std::io::stdin()
-            .read_to_string(&mut text)
-            .map_err(|e| format!("cannot read standard input: {}", describe_io(&e)))?;
+        let text = crate::files::read_stdin_text()
+            .map_err(|e| format!("cannot read standard input: {e}"))?;
         Ok((STDIN_NAME.to_string(), text))
     } else {
-        let text = std::fs::read_to_string(file)
-            .map_err(|e| format!("cannot read {file}: {}", describe_io(&e)))?;
+        let text = crate::files::read_text(file).map_err(|e| format!("cannot read {file}: {e}"))?;
         Ok((file.to_string(), text))
     }
 }
@@ -120,7 +117,7 @@ pub fn run_asm(
         return EXIT_USAGE;
     };
     if let Some(path) = output
-        && let Err(e) = std::fs::write(path, &image)
+        && let Err(e) = crate::files::write_atomically(path, image.as_bytes())
     {
         eprintln!(
             "axterm asm: cannot write {}: {}",

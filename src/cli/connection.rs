@@ -13,10 +13,6 @@ use crate::session::{Session, SessionOptions};
 use crate::sim::faults::FaultPlan;
 use crate::sim::{self, SimOptions};
 
-/// Serial baud rate when none is given: the TMCL modules' factory setting
-/// (GP65 = 0, 9600 baud, §5.1) and the common default of the others.
-pub const DEFAULT_BAUD: u32 = 9600;
-
 /// A connection as the options describe it, not opened yet.
 pub struct Target {
     pub spec: LinkSpec,
@@ -84,9 +80,11 @@ impl Target {
                     args.input.first().map_or("", String::as_str)
                 ));
             }
+            // The family's factory rate when none is given (TMCL 9600 Bd,
+            // SIXpack 2 19200 Bd).
             (None, Some(path), None) => LinkSpec::Serial {
                 path: path.clone(),
-                baud: args.baud.unwrap_or(DEFAULT_BAUD),
+                baud: args.baud.unwrap_or(family.console.default_baud()),
             },
             (None, None, Some(address)) => LinkSpec::Tcp {
                 address: address.clone(),
@@ -252,6 +250,19 @@ mod tests {
     }
 
     #[test]
+    fn a_serial_port_defaults_to_the_familys_factory_rate() {
+        let target = Target::resolve(&ConnectionArgs {
+            port: Some("/dev/ttyUSB0".into()),
+            protocol: Some("sixpack2".into()),
+            ..args()
+        })
+        .unwrap();
+        // SIXpack 2: 19200 Bd with no jumpers fitted, address 0 (§5.2).
+        assert!(matches!(target.spec, LinkSpec::Serial { baud: 19200, .. }));
+        assert_eq!(target.address, 0);
+    }
+
+    #[test]
     fn a_tcp_bridge_learns_the_baud_rate_of_its_serial_side_only_when_told() {
         let bridge = |baud| {
             Target::resolve(&ConnectionArgs {
@@ -280,7 +291,7 @@ mod tests {
                     sim: Some("nosuch".into()),
                     ..args()
                 },
-                "unknown simulator 'nosuch' (known: tmcm1110, cmd4cr)",
+                "unknown simulator 'nosuch' (known: tmcm1110, cmd4cr, sixpack2, mccl, mccl-eth)",
             ),
             (
                 ConnectionArgs {

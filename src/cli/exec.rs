@@ -1,9 +1,11 @@
 //! `axterm exec CONNECTION LINE...`: run console lines in order, one
 //! result line each. Every line is parsed and validated before anything is
-//! sent; the first line that fails stops the rest.
+//! sent, and a line the family wants confirmed needs `--yes`; the first
+//! line that fails stops the rest.
 
 use clap::Args;
 
+use super::confirm::cautions;
 use super::connection::{Target, run_to_exit};
 use super::output::{Format, print_outcome};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
@@ -16,6 +18,11 @@ pub struct ExecArgs {
     /// text: the value (or ok) per line; json: one object per line.
     #[arg(long, value_enum, default_value_t)]
     pub format: Format,
+    /// Send lines the family wants confirmed (a reset, a baud or address
+    /// change, a motion that starts at once); without it they are refused
+    /// and nothing is sent.
+    #[arg(long)]
+    pub yes: bool,
 }
 
 pub fn run(connection: &ConnectionArgs, args: &ExecArgs) -> i32 {
@@ -31,7 +38,18 @@ pub fn run(connection: &ConnectionArgs, args: &ExecArgs) -> i32 {
     let mut refused = false;
     for (index, line) in args.lines.iter().enumerate() {
         match console.prepare(line, target.address) {
-            Ok(p) => prepared.push((line.clone(), p)),
+            Ok(p) => {
+                let at = format!("axterm exec: line {} `{}`: ", index + 1, line.trim());
+                let said = cautions(console, &p, args.yes);
+                for warning in &said.warnings {
+                    eprintln!("{at}{warning}");
+                }
+                if let Some(refusal) = said.refusal {
+                    eprintln!("{at}{refusal}");
+                    refused = true;
+                }
+                prepared.push((line.clone(), p));
+            }
             Err(message) => {
                 eprintln!(
                     "axterm exec: line {} `{}`: {message}",

@@ -2,12 +2,14 @@
 
 pub mod asm;
 pub mod bench;
+pub mod confirm;
 pub mod connection;
 pub mod console;
 pub mod exec;
 pub mod output;
 pub mod run;
 pub mod run_ascript;
+pub mod run_end;
 pub mod scan;
 /// The batch file syntax, shared with the console's `:run` (moved to
 /// [`crate::script`]; the old path stays for the front ends).
@@ -70,18 +72,21 @@ pub struct ConnectionArgs {
     /// Serial-over-TCP bridge, HOST:PORT.
     #[arg(long, global = true, conflicts_with = "sim")]
     pub tcp: Option<String>,
-    /// Built-in simulator: tmcm1110 or cmd4cr.
+    /// Built-in simulator: tmcm1110, cmd4cr, sixpack2, mccl or mccl-eth.
     #[arg(long, global = true)]
     pub sim: Option<String>,
-    /// Protocol family: tmcl or cmd4cr (default: the simulator's, else tmcl).
+    /// Protocol family: tmcl, cmd4cr, sixpack2 or mccl (default: the
+    /// simulator's, else tmcl).
     #[arg(long, global = true)]
     pub protocol: Option<String>,
-    /// Serial baud rate (default 9600); with --sim, emulate that wire time;
+    /// Serial baud rate (default: the family's factory rate, 9600; sixpack2
+    /// 19200); with --sim, emulate that wire time;
     /// with --tcp, the rate of the serial line behind the bridge (the slow
     /// status polls keep to a share of it).
     #[arg(long, global = true)]
     pub baud: Option<u32>,
-    /// Module address on the bus (default 1); with --sim, also the simulator's.
+    /// Module address on the bus (default: the family's, 1; sixpack2 0);
+    /// with --sim, also the simulator's.
     #[arg(long, global = true)]
     pub address: Option<u8>,
     /// Reply timeout in milliseconds (default: from the baud rate).
@@ -96,7 +101,8 @@ pub struct ConnectionArgs {
     /// anything is sent, e.g. --input IO5=1 (repeatable). cmd4cr:
     /// DI1..DI4, IO1..IO32, EMG, STA, ALMX..ALMU =0|1, AI1..AI2 =mV
     /// 0..3300, the switches L+X, L-X, HOMEX, SDX (and Y, Z, U) =0|1|stage;
-    /// tmcm1110: IN1..IN6 =0|1|open, AIN0 =0..65535.
+    /// tmcm1110: IN1..IN6 =0|1|open, AIN0 =0..65535; mccl: IN1..IN32,
+    /// LIM+1, LIM-1, HOME1, FAULT1, STALL1 (1..8) =0|1, AD1..AD8 =0..65535.
     #[arg(long = "input", global = true, value_name = "SETTING")]
     pub input: Vec<String>,
 }
@@ -105,7 +111,7 @@ pub struct ConnectionArgs {
 pub enum Command {
     /// Print the bytes a console line becomes.
     Encode {
-        /// Protocol family: tmcl or cmd4cr.
+        /// Protocol family: tmcl, cmd4cr, sixpack2 or mccl.
         family: String,
         /// The console line, e.g. 'MVP ABS, 0, 1000'.
         line: String,
@@ -121,12 +127,15 @@ pub enum Command {
     /// answered on standard error (the end of standard input is no reason
     /// to stop). Runs until interrupted.
     Sim {
-        /// Which controller: tmcm1110 or cmd4cr.
+        /// Which controller: tmcm1110, cmd4cr, mccl (MultiFlex PCI) or
+        /// mccl-eth (MultiFlex ETH: macros kept in --eeprom FILE).
         kind: String,
         /// Serve it on a new pseudo-terminal and print its path.
         #[arg(long)]
         pty: bool,
-        /// File keeping the simulated EEPROM between runs.
+        /// File keeping the simulated EEPROM (CMD-4CR: flash) between runs:
+        /// a new name, an empty file, or one this simulator wrote (any
+        /// other file is refused and left as it is).
         #[arg(long)]
         eeprom: Option<std::path::PathBuf>,
         /// Faults to inject: drop=P,corrupt=P,garbage=P,delay=P:MS,disconnect-after=N,corrupt-store=N,seed=N.
@@ -135,9 +144,12 @@ pub enum Command {
     },
     /// Run console lines one by one and print one result line each.
     ///
-    /// Every line is checked before anything is sent. Exit codes: 0 all
-    /// good, 1 a device error or timeout, 2 a line that does not parse or
-    /// validate (nothing sent), 3 the connection could not be opened.
+    /// Every line is checked before anything is sent; the family's
+    /// warnings go to stderr, and a line it wants confirmed (SIXpack 2:
+    /// HardwareReset, StartReferenceSearch…) needs --yes. Exit codes: 0
+    /// all good, 1 a device error or timeout, 2 a line that does not parse
+    /// or validate or needs --yes (nothing sent), 3 the connection could
+    /// not be opened.
     Exec(exec::ExecArgs),
     /// Run a batch file of console lines (- for standard input).
     ///
@@ -145,7 +157,11 @@ pub enum Command {
     /// // are comments. Directives: `:expect LINE == VALUE`, `:wait-until
     /// LINE == VALUE [timeout DURATION]` (re-reads every 20 ms; default
     /// timeout 10s), `:sleep DURATION`, `:echo TEXT`; DURATION as 500ms, 2s,
-    /// 1.5s, 1m. The whole file is checked before anything is sent.
+    /// 1.5s, 1m. The whole file is checked before anything is sent. A run
+    /// that fails, is cancelled with Ctrl-C or loses its link ends with
+    /// the stop-everything sequence (the console's emergency stop), each
+    /// stop line's answer printed, unless --no-stop-on-failure. A line the
+    /// family wants confirmed needs --yes.
     Run(run::RunArgs),
     /// Run an A-Script program (CMD-4CR) from the host.
     ///
@@ -155,8 +171,9 @@ pub enum Command {
     /// FILE:LINE); then each statement that acts is sent as its ASCII
     /// command and printed with its answer, while variables, IF/WHILE,
     /// GOSUB, DELAY and SR run here and WAITx reads MSTx until the axis has
-    /// stopped. Speaks cmd4cr unless told otherwise. Ctrl-C stops it and
-    /// sends the emergency stop. Exit codes: 0 every program reached END, 1
+    /// stopped. Speaks cmd4cr unless told otherwise. A run that fails, is
+    /// stopped with Ctrl-C or loses its link ends with the emergency stop,
+    /// unless --no-stop-on-failure. Exit codes: 0 every program reached END, 1
     /// a program failed at run time (or no answer, or Ctrl-C), 2 a bad file
     /// (nothing sent), 3 the connection could not be opened.
     RunAscript(run_ascript::RunAscriptArgs),
@@ -303,11 +320,27 @@ fn run_sim(
         baud: connection.baud,
         faults: faults.clone(),
     };
+    if let (Some(file), Some(why)) = (&eeprom_file, sim_kind.eeprom_refusal) {
+        eprintln!(
+            "axterm sim: --eeprom {}: the {} simulator keeps no memory file: {why}",
+            file.display(),
+            sim_kind.name
+        );
+        return EXIT_USAGE;
+    }
     let options = SimOptions {
         address: connection.address,
         eeprom_file,
     };
     let mut sim = (sim_kind.build)(&options);
+    if let Some(problem) = sim.refused_memory_file() {
+        eprintln!("axterm sim: {problem}");
+        eprintln!(
+            "axterm sim: --eeprom takes a file this simulator wrote, an empty one or a new \
+             name; that file is left as it is and nothing is served"
+        );
+        return EXIT_USAGE;
+    }
     eprintln!("{}", sim.help());
     if let Some(path) = connection.program.as_deref() {
         match sim_program::load_program_file(sim.as_mut(), sim_kind.family(), path) {

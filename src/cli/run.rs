@@ -2,21 +2,27 @@
 //! of console lines and directives (syntax in [`super::script`]). The whole
 //! file is parsed and every console line validated before anything is
 //! sent; a bad line anywhere sends nothing and lists every bad line as
-//! `FILE:LINE: message`.
+//! `FILE:LINE: message`. A run that fails, is cancelled (Ctrl-C) or loses
+//! its link ends with the stop-everything sequence unless
+//! `--no-stop-on-failure` (see [`super::run_end`]). A line the family
+//! wants confirmed is refused when `--yes` is not given.
 
-use std::io::Read;
 use std::time::Duration;
 
 use clap::Args;
 use serde_json::json;
 
+use super::confirm::cautions;
 use super::connection::{Target, family_of, names_a_connection, run_to_exit};
 use super::output::{Format, print_outcome};
+use super::run_end::{Interrupt, RunReport, run_then_end};
 use super::script::{Action, CheckedStep, WAIT_INTERVAL, check_script, result_matches};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 
+use crate::protocol::Family;
 use crate::protocol::console::PreparedLine;
 use crate::session::Session;
+use crate::session::run_end::StopOnFailure;
 
 #[derive(Debug, Clone, Args)]
 pub struct RunArgs {
@@ -33,18 +39,28 @@ pub struct RunArgs {
     /// text: the value (or ok) per console line; json: one object per line.
     #[arg(long, value_enum, default_value_t)]
     pub format: Format,
+    /// When the run fails, is cancelled (Ctrl-C) or loses its link, leave
+    /// the axes as they are. By default the family's stop-everything
+    /// sequence is sent then (the console's emergency stop), waiting up to
+    /// 10 s for a lost link to come back, and each stop line's answer is
+    /// printed.
+    #[arg(long)]
+    pub no_stop_on_failure: bool,
+    /// Send lines the family wants confirmed (a reset, a baud or address
+    /// change, a motion that starts at once); without it the file is
+    /// refused and nothing is sent.
+    #[arg(long)]
+    pub yes: bool,
 }
 
 /// The file's name as messages give it (`<stdin>` for `-`) and its text.
 pub(super) fn read_source(file: &str) -> Result<(String, String), String> {
     if file == "-" {
-        let mut text = String::new();
-        std::io::stdin()
-            .read_to_string(&mut text)
+        let text = crate::files::read_stdin_text()
             .map_err(|e| format!("cannot read standard input: {e}"))?;
         Ok(("<stdin>".into(), text))
     } else {
-        let text = std::fs::read_to_string(file).map_err(|e| format!("cannot read {file}: {e}"))?;
+        let text = crate::files::read_text(file).map_err(|e| format!("cannot read {file}: {e}"))?;
         Ok((file.to_string(), text))
     }
 }
@@ -87,12 +103,17 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
             return EXIT_USAGE;
         }
     };
+    if !said_cautions(&name, family, &checked, args.yes) {
+        eprintln!("axterm run: {name}: nothing was sent");
+        return EXIT_USAGE;
+    }
     let Some(target) = target else {
         let lines = checked.iter().filter(|c| c.line.is_some()).count();
         eprintln!("axterm run: {name}: {lines} console lines valid, nothing sent (dry run)");
         return EXIT_OK;
     };
     let (format, keep_going) = (args.format, args.keep_going);
+    let policy = StopOnFailure::from_flag(args.no_stop_on_failure);
     run_to_exit("run", async move {
         let session = match target.open().await {
             Ok(session) => session,
@@ -101,22 +122,61 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
                 return EXIT_CONNECTION;
             }
         };
+        // Watched from before the first line goes, so that a Ctrl-C as
+        // soon as the run starts still ends it properly.
+        let interrupt = match Interrupt::watch() {
+            Ok(interrupt) => interrupt,
+            Err(e) => {
+                eprintln!("axterm run: cannot watch for Ctrl-C: {e}");
+                return EXIT_DEVICE;
+            }
+        };
         let runner = Runner {
             session: &session,
             name: &name,
             format,
         };
-        let mut failed = false;
-        for item in &checked {
-            if !runner.step(item).await {
-                failed = true;
-                if !keep_going {
-                    break;
+        // With --keep-going a failed step does not end the run; the run
+        // still failed, and ends as one that did.
+        let work = async {
+            let mut failed = false;
+            for item in &checked {
+                if !runner.step(item).await {
+                    failed = true;
+                    if !keep_going {
+                        break;
+                    }
                 }
             }
-        }
-        if failed { EXIT_DEVICE } else { EXIT_OK }
+            !failed
+        };
+        let prefix = format!("axterm run: {name}: ");
+        let report = RunReport {
+            prefix: &prefix,
+            format,
+        };
+        run_then_end(&session, interrupt, policy, &report, work).await
     })
+}
+
+/// Print the family's warnings about every line of the file, and each
+/// line it wants confirmed when `--yes` was not given; false if there was
+/// such a line.
+fn said_cautions(name: &str, family: &Family, checked: &[CheckedStep], yes: bool) -> bool {
+    let mut ok = true;
+    for item in checked {
+        let Some(line) = &item.line else { continue };
+        let said = cautions(family.console, line, yes);
+        let at = format!("{name}:{}: `{}`: ", item.step.line_number, line.canonical);
+        for warning in &said.warnings {
+            eprintln!("{at}{warning}");
+        }
+        if let Some(refusal) = said.refusal {
+            eprintln!("{at}{refusal}");
+            ok = false;
+        }
+    }
+    ok
 }
 
 struct Runner<'a> {

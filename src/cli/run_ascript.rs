@@ -5,8 +5,10 @@
 //! ASCII equivalent, each as `FILE:LINE:` — and nothing is sent if any is
 //! found. Then every statement that acts goes out as its ASCII command,
 //! printed with its answer; variables, control flow and waits stay here
-//! (see [`crate::protocol::cmd4cr::host`]). Ctrl-C ends the run and sends
-//! the emergency stop (ESTOP, the four programs stopped, ESTOP).
+//! (see [`crate::protocol::cmd4cr::host`]). A run that fails, is stopped
+//! with Ctrl-C or loses its link ends with the emergency stop (ESTOP, the
+//! four programs stopped, ESTOP) unless `--no-stop-on-failure` (see
+//! [`super::run_end`]).
 //!
 //! Exit codes as `axterm run`: 0 every program ran to its END, 1 a program
 //! failed at run time (or no answer came, or Ctrl-C), 2 a bad file or
@@ -17,10 +19,13 @@ use std::io::Write;
 use clap::Args;
 
 use super::connection::{Target, family_of, names_a_connection, run_to_exit};
+use super::output::Format;
 use super::run::read_source;
+use super::run_end::{Interrupt, RunReport, run_then_end};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::protocol::program::{HostNews, ProgramTool};
 use crate::protocol::{FAMILIES, Family};
+use crate::session::run_end::StopOnFailure;
 
 #[derive(Debug, Clone, Args)]
 pub struct RunAscriptArgs {
@@ -35,6 +40,12 @@ pub struct RunAscriptArgs {
     /// options of one given are checked too, nothing is opened).
     #[arg(long)]
     pub dry_run: bool,
+    /// When a program fails, the run is stopped (Ctrl-C) or loses its
+    /// link, leave the axes as they are. By default the emergency stop is
+    /// sent then (ESTOP, the four programs stopped, ESTOP), waiting up to
+    /// 10 s for a lost link to come back.
+    #[arg(long)]
+    pub no_stop_on_failure: bool,
 }
 
 /// The family whose programs `run-ascript` runs from the host (A-Script,
@@ -135,6 +146,7 @@ pub fn run(connection: &ConnectionArgs, args: &RunAscriptArgs) -> i32 {
             return EXIT_OK;
         }
     };
+    let policy = StopOnFailure::from_flag(args.no_stop_on_failure);
     run_to_exit("run-ascript", async move {
         let session = match target.open().await {
             Ok(session) => session,
@@ -144,9 +156,13 @@ pub fn run(connection: &ConnectionArgs, args: &RunAscriptArgs) -> i32 {
             }
         };
         eprintln!(
-            "axterm run-ascript: running {name} from the host on {}: {} (Ctrl-C stops it and sends the emergency stop)",
+            "axterm run-ascript: running {name} from the host on {}: {} (Ctrl-C stops it{})",
             target.spec.describe(),
-            program.started
+            program.started,
+            match policy {
+                StopOnFailure::Stop => " and sends the emergency stop",
+                StopOnFailure::Leave => "; the axes are left as they are",
+            }
         );
         // Watched from before the first line goes, so that a Ctrl-C as soon
         // as the run is announced is not lost.
@@ -158,62 +174,16 @@ pub fn run(connection: &ConnectionArgs, args: &RunAscriptArgs) -> i32 {
             }
         };
         let mut show = |news: &HostNews| say(&news.text);
-        let run = session.run_from_host(program.run, &mut show);
-        tokio::select! {
-            end = run => {
-                if end.ok {
-                    eprintln!("axterm run-ascript: {name}: {end}");
-                    EXIT_OK
-                } else {
-                    eprintln!("axterm run-ascript: {name}: {end}");
-                    EXIT_DEVICE
-                }
-            }
-            () = interrupt.received() => {
-                // The run is dropped here: its line in flight is answered,
-                // nothing more of it is sent.
-                eprintln!("axterm run-ascript: {name}: stopped by Ctrl-C; emergency stop:");
-                for result in session.emergency_stop_lines().await {
-                    match result {
-                        Ok(r) => eprintln!("  {} → {}", r.line, r.value),
-                        Err(e) => eprintln!("  {e}"),
-                    }
-                }
-                EXIT_DEVICE
-            }
-        }
+        let prefix = format!("axterm run-ascript: {name}: ");
+        let work = async {
+            let end = session.run_from_host(program.run, &mut show).await;
+            eprintln!("{prefix}{end}");
+            end.ok
+        };
+        let report = RunReport {
+            prefix: &prefix,
+            format: Format::Text,
+        };
+        run_then_end(&session, interrupt, policy, &report, work).await
     })
-}
-
-/// Ctrl-C (SIGINT), registered when made.
-struct Interrupt {
-    #[cfg(unix)]
-    signal: tokio::signal::unix::Signal,
-}
-
-impl Interrupt {
-    fn watch() -> std::io::Result<Interrupt> {
-        #[cfg(unix)]
-        {
-            use tokio::signal::unix::{SignalKind, signal};
-            Ok(Interrupt {
-                signal: signal(SignalKind::interrupt())?,
-            })
-        }
-        #[cfg(not(unix))]
-        {
-            Ok(Interrupt {})
-        }
-    }
-
-    async fn received(mut self) {
-        #[cfg(unix)]
-        {
-            self.signal.recv().await;
-        }
-        #[cfg(not(unix))]
-        {
-            let _ = tokio::signal::ctrl_c().await;
-        }
-    }
 }

@@ -21,7 +21,7 @@ pub fn load_program_file(
 ) -> Result<String, Vec<String>> {
     let name = path.display().to_string();
     let source =
-        std::fs::read_to_string(path).map_err(|e| vec![format!("{name}: cannot read it: {e}")])?;
+        crate::files::read_text(path).map_err(|e| vec![format!("{name}: cannot read it: {e}")])?;
     // The family's program tool checks what only a simulator takes.
     let tool = family
         .and_then(|f| f.console.program())

@@ -62,6 +62,10 @@ pub fn parse_listen_address(text: &str) -> Result<SocketAddr, String> {
         .ok_or_else(|| format!("cannot listen on '{text}': no address"))
 }
 
+/// The line on the standard input of `axterm sim` that puts a BREAK on
+/// the line (any case).
+pub const LINE_BREAK: &str = "BREAK";
+
 /// How long the settings reader waits before trying again to read a
 /// terminal it may not read now (the server runs in the background).
 const BACKGROUND_RETRY: Duration = Duration::from_millis(250);
@@ -186,12 +190,20 @@ impl SimClock {
 
     /// Apply the settings typed since the last exchange, each answered on
     /// standard error: the simulator has just caught up with the wall
-    /// clock, so they act now.
+    /// clock, so they act now. A line [`LINE_BREAK`] is no setting but a
+    /// BREAK on the line ([`SimulatedController::line_break`]), after the
+    /// bytes the client has written so far: a pseudo-terminal or a socket
+    /// cannot carry one.
     fn drive_inputs(&mut self) {
         let Some(settings) = &self.settings else {
             return;
         };
         for setting in settings.try_iter() {
+            if setting.eq_ignore_ascii_case(LINE_BREAK) {
+                self.sim.line_break();
+                eprintln!("axterm sim: a BREAK on the line");
+                continue;
+            }
             match self.sim.drive_input(&setting) {
                 Ok(said) => eprintln!("axterm sim: {said}"),
                 Err(message) => eprintln!("axterm sim: {message}"),
@@ -483,6 +495,49 @@ mod tests {
         drop(tx);
         // No more settings: serving goes on.
         assert_eq!(clock.exchange(b"@01IO\r").to_host, b"16\r");
+    }
+
+    /// Counts the BREAKs it sees and the bytes it is fed.
+    #[derive(Default)]
+    struct BreakCounter {
+        breaks: std::sync::Arc<std::sync::atomic::AtomicUsize>,
+        fed: Vec<u8>,
+    }
+
+    impl SimulatedController for BreakCounter {
+        fn feed(&mut self, bytes: &[u8]) {
+            self.fed.extend_from_slice(bytes);
+        }
+        fn advance(&mut self, _: Duration) {}
+        fn take_output(&mut self) -> Vec<u8> {
+            std::mem::take(&mut self.fed)
+        }
+        fn help(&self) -> String {
+            "counts breaks".into()
+        }
+        fn line_break(&mut self) {
+            self.breaks.fetch_add(1, Ordering::SeqCst);
+        }
+    }
+
+    #[test]
+    fn a_break_line_puts_a_break_on_the_line_after_the_bytes_so_far() {
+        let breaks = Arc::new(std::sync::atomic::AtomicUsize::new(0));
+        let sim = BreakCounter {
+            breaks: Arc::clone(&breaks),
+            fed: Vec::new(),
+        };
+        let (tx, rx) = mpsc::channel();
+        let mut clock = SimClock::new(Box::new(sim), &LineOptions::default()).driven_by(rx);
+        assert_eq!(clock.exchange(b"ab").to_host, b"ab");
+        tx.send("break".to_string()).expect("the clock listens");
+        tx.send("BREAK".to_string()).expect("the clock listens");
+        let _ = clock.exchange(&[]);
+        assert_eq!(breaks.load(Ordering::SeqCst), 2);
+        // Not a setting: the controller's drive_input never sees it.
+        tx.send("BREAKS".to_string()).expect("the clock listens");
+        let _ = clock.exchange(&[]);
+        assert_eq!(breaks.load(Ordering::SeqCst), 2);
     }
 
     #[test]

@@ -322,7 +322,7 @@ pub fn run_upload(connection: &ConnectionArgs, args: &UploadArgs) -> i32 {
             read.source.clone()
         };
         match &output {
-            Some(path) => std::fs::write(path, text)
+            Some(path) => crate::files::write_atomically(path, text.as_bytes())
                 .map_err(|e| format!("cannot write {}: {e}", path.display())),
             None => {
                 print_out(&text);

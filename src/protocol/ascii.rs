@@ -240,6 +240,23 @@ impl ReplyRule for EchoThenPrompt {
     }
 }
 
+/// Bytes as a technician reads an ASCII frame: printable characters as
+/// they are, CR and LF as `\r` and `\n`, a backslash doubled, anything
+/// else as `\xNN`.
+pub fn show_bytes(bytes: &[u8]) -> String {
+    let mut text = String::with_capacity(bytes.len());
+    for &b in bytes {
+        match b {
+            b'\r' => text.push_str("\\r"),
+            b'\n' => text.push_str("\\n"),
+            b'\\' => text.push_str("\\\\"),
+            b' '..=b'~' => text.push(char::from(b)),
+            _ => text.push_str(&format!("\\x{b:02X}")),
+        }
+    }
+    text
+}
+
 /// A console line as sent on an ASCII wire: the line and a CR.
 pub fn line_bytes(line: &str) -> Vec<u8> {
     let mut bytes = trimmed(line.as_bytes()).to_vec();

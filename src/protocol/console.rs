@@ -8,6 +8,7 @@
 
 use std::fmt;
 use std::sync::Arc;
+use std::time::Duration;
 
 use super::parameters::ParameterSet;
 use super::program::ProgramTool;
@@ -181,11 +182,31 @@ pub enum AxisUpdate {
     Switch(SwitchKind, bool),
     /// Motor load reading (TMCL: StallGuard2 value, 0 = highest load).
     Load(i64),
+    /// Commanded minus actual position of a closed-loop axis (MCCL `TF`,
+    /// Ch8).
+    FollowingError(i64),
     /// Error flags that were set; reading them may have cleared them in the
     /// module (TMCL AP207), so the session latches them.
     Errors(Vec<AxisFlag>),
     /// Conditions the driver reports now (not latched).
     DriverFlags(Vec<AxisFlag>),
+}
+
+/// How a line that may keep the module busy for long is dealt with while it
+/// runs (MCCL `RP`, `WS`, `MC`, `FI`: the controller takes nothing but an
+/// abort and a pause byte until the line's prompt, Ch2).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct LongRunning {
+    /// Sent while the line runs, aborts it (MCCL: Escape).
+    pub abort: Vec<u8>,
+    /// Sent while the line runs, pauses it; sent again, resumes it (MCCL:
+    /// Space).
+    pub pause: Option<Vec<u8>>,
+    /// How long its answer is waited for. A device layer that can hold
+    /// such a line busy until its answer, abort it and pause it does not
+    /// need one; until then it keeps a slow line from being reported as
+    /// unanswered.
+    pub timeout: Duration,
 }
 
 /// A line that reads part of an axis's status.
@@ -240,6 +261,12 @@ pub trait FamilyConsole: Send + Sync {
     /// The module address when the user gives none.
     fn default_address(&self) -> u8;
 
+    /// The serial baud rate when the user gives none: the family's
+    /// factory setting (TMCL GP65 = 9600 Bd, §5.1; the default).
+    fn default_baud(&self) -> u32 {
+        9600
+    }
+
     /// Every address a module of this family can have: what a bus scan
     /// tries when told nothing else, and all it may try.
     fn addresses(&self) -> std::ops::RangeInclusive<u8> {
@@ -252,6 +279,32 @@ pub trait FamilyConsole: Send + Sync {
     /// Parse and validate a console line for the module at `address`. An
     /// error is a message naming what is wrong; nothing may be sent then.
     fn prepare(&self, line: &str, address: u8) -> Result<PreparedLine, String>;
+
+    /// Cautions about a prepared line that do not stop it being sent (a
+    /// value the manual advises against, a setting that clashes with one
+    /// written before): shown before sending, on stderr in batch use.
+    /// None by default.
+    fn warnings(&self, line: &PreparedLine) -> Vec<String> {
+        let _ = line;
+        Vec::new()
+    }
+
+    /// Why `line` must not be sent without the user's confirmation (it
+    /// moves at once, resets the module, cuts the connection…), if it
+    /// must not: the console asks, batch use needs `--yes`. `None` by
+    /// default.
+    fn confirmation(&self, line: &PreparedLine) -> Option<String> {
+        let _ = line;
+        None
+    }
+
+    /// Whether `line` may keep the module busy for long, and how to abort
+    /// or pause it meanwhile. `None` (the default): it is answered within
+    /// the link's usual timeout.
+    fn long_running(&self, line: &PreparedLine) -> Option<LongRunning> {
+        let _ = line;
+        None
+    }
 
     /// What the answer to `line` means. `frames` are the frames of the
     /// answer as the device task collected them (empty when none came for

@@ -4,8 +4,10 @@
 pub mod ascii;
 pub mod cmd4cr;
 pub mod console;
+pub mod mccl;
 pub mod parameters;
 pub mod program;
+pub mod sixpack2;
 pub mod tmcl;
 pub mod wire;
 
@@ -53,6 +55,22 @@ pub const FAMILIES: &[Family] = &[
         show_bytes: cmd4cr::show_bytes,
         console: &cmd4cr::Cmd4crConsole,
         simulators: &[crate::sim::cmd4cr::KIND],
+    },
+    Family {
+        name: "sixpack2",
+        description: "Trinamic SIXpack 2 (6 axes), 9-byte binary frames without checksum",
+        encode_line: sixpack2::encode_line,
+        show_bytes: sixpack2::to_hex,
+        console: &sixpack2::Sixpack2Console::AUTO,
+        simulators: &[crate::sim::sixpack2::KIND],
+    },
+    Family {
+        name: "mccl",
+        description: "PMC MultiFlex MCCL (up to 8 axes), ASCII lines with echo and prompt",
+        encode_line: mccl::encode_line,
+        show_bytes: mccl::show_bytes,
+        console: &mccl::MclConsole::DEFAULT,
+        simulators: &[crate::sim::mccl::KIND_PCI, crate::sim::mccl::KIND_ETH],
     },
 ];
 

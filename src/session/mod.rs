@@ -10,6 +10,7 @@
 //! names the line and the module's status.
 
 mod host_run;
+pub mod run_end;
 mod status;
 pub mod transfer;
 
@@ -19,7 +20,7 @@ use std::time::Duration;
 use tokio::sync::watch;
 
 pub use crate::protocol::console::{AxisFlag, AxisInfo, PreparedLine, ReplyError, ReplyValue};
-pub use status::{AxisStatus, RefreshRate};
+pub use status::{AxisMotion, AxisStatus, RefreshRate};
 pub use transfer::Cancel;
 
 use crate::device::{
@@ -165,6 +166,18 @@ impl SessionError {
     /// True when nothing was sent (a usage error, not a device error).
     pub fn nothing_sent(&self) -> bool {
         matches!(self, SessionError::Refused { .. })
+    }
+
+    /// The line as the family writes it (`MST 0`).
+    pub fn line(&self) -> &str {
+        match self {
+            SessionError::Refused { line, .. } | SessionError::Device { line, .. } => line,
+            SessionError::Reply { error, .. } => match error.as_ref() {
+                ReplyError::Rejected { line, .. }
+                | ReplyError::Refused { line, .. }
+                | ReplyError::Malformed { line, .. } => line,
+            },
+        }
     }
 
     /// The bytes sent, if any were.
@@ -361,7 +374,10 @@ impl Session {
             Effect::Reads => Retry::Read(self.read_retries),
             Effect::Acts => Retry::Never,
         };
-        let result = self.send(Priority::User, line, retry, None).await?;
+        // A line that runs for long (MCCL `RP`, `WS`) is waited for as long
+        // as its family says.
+        let timeout = self.family.console.long_running(line).map(|l| l.timeout);
+        let result = self.send(Priority::User, line, retry, timeout).await?;
         transfer::after_user_line(self, line);
         Ok(result)
     }

@@ -46,6 +46,9 @@ pub struct AxisStatus {
     pub home_switch: Option<bool>,
     /// Motor load reading (TMCL AP206: 0 = highest load).
     pub load: Option<i64>,
+    /// Commanded minus actual position, where the family reads it (MCCL
+    /// `TF`).
+    pub following_error: Option<i64>,
     /// Error flags seen since the user last acknowledged them, in the
     /// family's table order, each once. Never cleared by a later reading.
     pub errors: Vec<AxisFlag>,
@@ -210,6 +213,7 @@ impl AxisStatus {
             AxisUpdate::Switch(SwitchKind::Right, v) => self.right_switch = Some(v),
             AxisUpdate::Switch(SwitchKind::Home, v) => self.home_switch = Some(v),
             AxisUpdate::Load(v) => self.load = Some(v),
+            AxisUpdate::FollowingError(v) => self.following_error = Some(v),
             AxisUpdate::Errors(flags) => {
                 for flag in flags {
                     if !self.errors.contains(&flag) {
@@ -235,6 +239,51 @@ impl AxisStatus {
     pub fn acknowledge(&mut self, seen: &[AxisFlag]) {
         self.errors.retain(|flag| !seen.contains(flag));
     }
+
+    /// What the axis does, from its readings: whether it moves comes from
+    /// the motion phase the module reports, else from the speed; standing,
+    /// it is at its target when the module says so (TMCL AP8, CMD-4CR
+    /// motion complete) or its position is the target, and short of it
+    /// otherwise — an emergency stop, a stop key, a switch or a stall
+    /// ended the move before it got there. A reached flag read before the
+    /// speed fell to 0 does not make a standing axis moving.
+    pub fn motion(&self) -> AxisMotion {
+        let standing = match (self.phase, self.speed) {
+            (Some(phase), _) => phase == MotionPhase::Standing,
+            (None, Some(speed)) => speed == 0,
+            (None, None) => {
+                return match self.reached {
+                    Some(true) => AxisMotion::AtTarget,
+                    _ => AxisMotion::Unknown,
+                };
+            }
+        };
+        if !standing {
+            return AxisMotion::Moving;
+        }
+        let on_target = match (self.position, self.target) {
+            (Some(position), Some(target)) => Some(position == target),
+            _ => None,
+        };
+        match (self.reached, on_target) {
+            (Some(true), _) | (_, Some(true)) => AxisMotion::AtTarget,
+            (Some(false), _) | (None, Some(false)) => AxisMotion::StoppedShort,
+            (None, None) => AxisMotion::Unknown,
+        }
+    }
+}
+
+/// What an axis does ([`AxisStatus::motion`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AxisMotion {
+    /// Not enough read yet to tell.
+    Unknown,
+    Moving,
+    /// Standing at its target (a family that reports no target: standing
+    /// with its motion complete).
+    AtTarget,
+    /// Standing short of its target: stopped before it got there.
+    StoppedShort,
 }
 
 /// The shared snapshots: written by the poll sink (in the device task) and
@@ -316,6 +365,57 @@ impl PollSink for StatusSink {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn motion_says_what_the_axis_does_not_whether_it_got_there() {
+        let axis = |speed: Option<i64>, reached: Option<bool>, position, target| AxisStatus {
+            speed,
+            reached,
+            position,
+            target,
+            ..AxisStatus::default()
+        };
+        use AxisMotion::*;
+        // Moving towards the target, then there.
+        assert_eq!(
+            axis(Some(1500), Some(false), Some(10), Some(90)).motion(),
+            Moving
+        );
+        assert_eq!(
+            axis(Some(0), Some(true), Some(90), Some(90)).motion(),
+            AtTarget
+        );
+        // After an emergency stop: speed 0, the flag clear, short of it.
+        assert_eq!(
+            axis(Some(0), Some(false), Some(50), Some(90)).motion(),
+            StoppedShort
+        );
+        assert_eq!(
+            axis(Some(0), None, Some(50), Some(90)).motion(),
+            StoppedShort
+        );
+        // The flag read a moment before the position reached the target.
+        assert_eq!(
+            axis(Some(0), Some(false), Some(90), Some(90)).motion(),
+            AtTarget
+        );
+        // Turning in velocity mode whatever the flag says.
+        assert_eq!(
+            axis(Some(-200), Some(true), Some(5), Some(5)).motion(),
+            Moving
+        );
+        // Not read enough.
+        assert_eq!(axis(None, None, None, None).motion(), Unknown);
+        assert_eq!(axis(None, Some(false), Some(1), Some(2)).motion(), Unknown);
+        assert_eq!(axis(None, Some(true), None, None).motion(), AtTarget);
+        assert_eq!(axis(Some(0), None, None, None).motion(), Unknown);
+        // A module that reports its phase: that decides, not the speed.
+        let mut cmd4cr = axis(Some(0), Some(false), None, None);
+        cmd4cr.phase = Some(MotionPhase::Decelerating);
+        assert_eq!(cmd4cr.motion(), Moving);
+        cmd4cr.phase = Some(MotionPhase::Standing);
+        assert_eq!(cmd4cr.motion(), StoppedShort);
+    }
     use crate::protocol::find_family;
     use crate::protocol::tmcl::{Reply, Status};
     use std::time::Duration;
@@ -418,6 +518,14 @@ mod tests {
         );
         sink.record(position, Ok(&answer(8)));
         assert!(status.has_changed().unwrap_or(false));
+    }
+
+    #[test]
+    fn a_following_error_is_kept_as_read() {
+        let mut axis = AxisStatus::default();
+        assert_eq!(axis.following_error, None);
+        axis.apply(AxisUpdate::FollowingError(-12));
+        assert_eq!(axis.following_error, Some(-12));
     }
 
     #[test]

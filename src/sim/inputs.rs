@@ -36,6 +36,16 @@ pub enum Values {
     },
     /// A whole number `0..=max`, in `unit`.
     Number { max: u32, unit: &'static str },
+    /// As [`Values::Number`], or `word`: not driven from outside, as
+    /// `meaning` says (`stage`: where the simulated carriage is sets it).
+    NumberOr {
+        max: u32,
+        unit: &'static str,
+        word: &'static str,
+        meaning: &'static str,
+    },
+    /// One of these words (any case), or its position in the list from 0.
+    Choice(&'static [&'static str]),
 }
 
 impl Values {
@@ -45,6 +55,10 @@ impl Values {
             Values::OnOff => "0|1".into(),
             Values::OnOffOr { word, .. } => format!("0|1|{word}"),
             Values::Number { max, unit } => format!("<{unit} 0..{max}>"),
+            Values::NumberOr {
+                max, unit, word, ..
+            } => format!("<{unit} 0..{max}>|{word}"),
+            Values::Choice(words) => words.join("|"),
         }
     }
 
@@ -54,6 +68,17 @@ impl Values {
             Values::OnOff => "1 (on) or 0 (off)".into(),
             Values::OnOffOr { word, meaning } => format!("1 (on), 0 (off) or {word} ({meaning})"),
             Values::Number { max, unit } => format!("a whole number of {unit}, 0..{max}"),
+            Values::NumberOr {
+                max,
+                unit,
+                word,
+                meaning,
+            } => format!("a whole number of {unit}, 0..{max}, or {word} ({meaning})"),
+            Values::Choice(words) => format!(
+                "one of {} (or 0..{})",
+                words.join(", "),
+                words.len().saturating_sub(1)
+            ),
         }
     }
 }
@@ -120,6 +145,8 @@ pub enum Level {
     /// Not driven from outside: the row's [`Values::OnOffOr`] word.
     Released,
     Number(u32),
+    /// The position of a [`Values::Choice`] word.
+    Choice(u8),
 }
 
 impl Level {
@@ -140,6 +167,7 @@ impl fmt::Display for Level {
             Level::Off => f.write_str("off"),
             Level::Released => f.write_str("released"),
             Level::Number(n) => write!(f, "{n}"),
+            Level::Choice(n) => write!(f, "{n}"),
         }
     }
 }
@@ -242,11 +270,20 @@ pub fn parse<T>(table: &'static [InputRow<T>], text: &str) -> Result<Setting<T>,
         (Values::OnOffOr { word, .. }, released) if released.eq_ignore_ascii_case(word) => {
             Some(Level::Released)
         }
-        (Values::Number { max, .. }, _) => lower
+        (Values::NumberOr { word, .. }, released) if released.eq_ignore_ascii_case(word) => {
+            Some(Level::Released)
+        }
+        (Values::Number { max, .. } | Values::NumberOr { max, .. }, _) => lower
             .parse::<u32>()
             .ok()
             .filter(|n| *n <= max)
             .map(Level::Number),
+        (Values::Choice(words), _) => words
+            .iter()
+            .position(|w| w.eq_ignore_ascii_case(&lower))
+            .or_else(|| lower.parse::<usize>().ok().filter(|&i| i < words.len()))
+            .and_then(|i| u8::try_from(i).ok())
+            .map(Level::Choice),
         _ => None,
     };
     let level = level.ok_or_else(|| SettingError::BadValue {
@@ -274,8 +311,11 @@ fn example<T>(table: &[InputRow<T>]) -> String {
     };
     let name = row.names().into_iter().next().unwrap_or_default();
     match row.values {
-        Values::Number { max, .. } => format!("{name}={}", max / 2),
+        Values::Number { max, .. } | Values::NumberOr { max, .. } => {
+            format!("{name}={}", max / 2)
+        }
         Values::OnOff | Values::OnOffOr { .. } => format!("{name}=1"),
+        Values::Choice(words) => format!("{name}={}", words.first().unwrap_or(&"0")),
     }
 }
 
@@ -301,6 +341,7 @@ mod tests {
         Switch,
         Pin,
         Volts,
+        Mode,
     }
 
     const TABLE: &[InputRow<Probe>] = &[
@@ -336,6 +377,12 @@ mod tests {
             },
             what: "a voltage",
         },
+        InputRow {
+            input: Probe::Mode,
+            names: Names::Listed(&["MODE"]),
+            values: Values::Choice(&["slow", "fast"]),
+            what: "a mode",
+        },
     ];
 
     fn ok(text: &str) -> (Probe, u8, Level, String) {
@@ -356,6 +403,14 @@ mod tests {
             ok("V0=500"),
             (Probe::Volts, 0, Level::Number(500), "V0".into())
         );
+        assert_eq!(
+            ok("mode=FAST"),
+            (Probe::Mode, 0, Level::Choice(1), "MODE".into())
+        );
+        assert_eq!(
+            ok("MODE=0"),
+            (Probe::Mode, 0, Level::Choice(0), "MODE".into())
+        );
     }
 
     #[test]
@@ -367,7 +422,7 @@ mod tests {
                 e.to_string(),
                 format!(
                     "`{}` is no input setting: give NAME=VALUE, e.g. S1=1; \
-                     the inputs are S1..S3=0|1, PA|PB=0|1|open, V0=<mV 0..500>",
+                     the inputs are S1..S3=0|1, PA|PB=0|1|open, V0=<mV 0..500>, MODE=slow|fast",
                     text.trim()
                 )
             );
@@ -386,7 +441,7 @@ mod tests {
             assert_eq!(
                 e.to_string(),
                 format!(
-                    "there is no input `{name}`: the inputs are S1..S3=0|1, PA|PB=0|1|open, V0=<mV 0..500>"
+                    "there is no input `{name}`: the inputs are S1..S3=0|1, PA|PB=0|1|open, V0=<mV 0..500>, MODE=slow|fast"
                 )
             );
         }
@@ -405,6 +460,11 @@ mod tests {
             ("V0=501", "V0 takes a whole number of mV, 0..500, not `501`"),
             ("V0=-1", "V0 takes a whole number of mV, 0..500, not `-1`"),
             ("V0=1.5", "V0 takes a whole number of mV, 0..500, not `1.5`"),
+            ("MODE=2", "MODE takes one of slow, fast (or 0..1), not `2`"),
+            (
+                "MODE=medium",
+                "MODE takes one of slow, fast (or 0..1), not `medium`",
+            ),
         ];
         for (text, message) in cases {
             let e = parse(TABLE, text).expect_err(text);
@@ -415,15 +475,50 @@ mod tests {
 
     #[test]
     fn names_and_help_come_from_the_table() {
-        assert_eq!(names(TABLE), ["S1", "S2", "S3", "PA", "PB", "V0"]);
+        assert_eq!(names(TABLE), ["S1", "S2", "S3", "PA", "PB", "V0", "MODE"]);
         assert_eq!(
             help_lines(TABLE),
             [
                 "S1..S3=0|1: a switch",
                 "PA|PB=0|1|open: a pin",
-                "V0=<mV 0..500>: a voltage"
+                "V0=<mV 0..500>: a voltage",
+                "MODE=slow|fast: a mode"
             ]
         );
+    }
+
+    const LEVELS: &[InputRow<Probe>] = &[InputRow {
+        input: Probe::Volts,
+        names: Names::Numbered {
+            stem: "A",
+            first: 0,
+            last: 1,
+        },
+        values: Values::NumberOr {
+            max: 1023,
+            unit: "counts",
+            word: "stage",
+            meaning: "from where the carriage is",
+        },
+        what: "a level or the stage's",
+    }];
+
+    #[test]
+    fn a_number_or_its_word_is_read() {
+        let read = |text| parse(LEVELS, text).map(|s| (s.which, s.level));
+        assert_eq!(read("A1=1023"), Ok((1, Level::Number(1023))));
+        assert_eq!(read("a0=Stage"), Ok((0, Level::Released)));
+        let e = parse(LEVELS, "A0=1024").expect_err("above max");
+        assert_eq!(
+            e.to_string(),
+            "A0 takes a whole number of counts, 0..1023, or stage (from where the carriage is), not `1024`"
+        );
+        assert_eq!(
+            help_lines(LEVELS),
+            ["A0..A1=<counts 0..1023>|stage: a level or the stage's"]
+        );
+        let e = parse(LEVELS, "A0").expect_err("no value");
+        assert!(e.to_string().contains("e.g. A0=511"), "{e}");
     }
 
     #[test]

@@ -10,6 +10,8 @@ use crate::protocol::{FAMILIES, Family};
 pub mod cmd4cr;
 pub mod faults;
 pub mod inputs;
+pub mod mccl;
+pub mod sixpack2;
 pub mod stored_file;
 pub mod tmcm1110;
 
@@ -49,6 +51,22 @@ pub trait SimulatedController: Send {
         let _ = source;
         Err(vec!["this simulator runs no A-Script programs".to_string()])
     }
+    /// A BREAK on the line: the host held it at space for longer than a
+    /// character, which a UART reports apart from the bytes (a line
+    /// `BREAK` on the standard input of `axterm sim`). Protocols that
+    /// resynchronise with one act on it; to the others it is line noise,
+    /// and they ignore it.
+    fn line_break(&mut self) {}
+    /// Why the file given for its non-volatile memory
+    /// ([`SimOptions::eeprom_file`]) was refused: it is there but is not
+    /// this simulator's own (another program's file, another kind's,
+    /// damaged), so it was left untouched and the memory is kept in RAM
+    /// only; `axterm sim` then serves nothing. `None` when no file was
+    /// given, or it was missing, empty or loaded. A simulator with a
+    /// memory file reads it through [`stored_file`] and answers here.
+    fn refused_memory_file(&self) -> Option<String> {
+        None
+    }
 }
 
 /// Options common to every simulator kind.
@@ -72,6 +90,10 @@ pub struct SimKind {
     pub input_names: fn() -> Vec<String>,
     /// One line per kind of input: its settings and what it is, for help.
     pub input_help: fn() -> Vec<String>,
+    /// Why `axterm sim KIND --eeprom FILE` is refused, for a controller
+    /// that keeps nothing a host sets between power-ups; `None` when the
+    /// file keeps its non-volatile memory.
+    pub eeprom_refusal: Option<&'static str>,
 }
 
 impl SimKind {
@@ -178,6 +200,22 @@ mod tests {
     }
 
     #[test]
+    fn the_sixpack2_kind_answers_at_its_rotary_address_and_stores_nothing() {
+        let kind = find_kind("SIXpack2").expect("registered");
+        let mut sim = (kind.build)(&SimOptions {
+            address: Some(3),
+            eeprom_file: None,
+        });
+        sim.feed(&[0, 0x43, 0, 0, 0, 0, 0, 0, 0]);
+        sim.feed(&[3, 0x43, 0, 0, 0, 0, 0, 0, 0]);
+        sim.advance(std::time::Duration::from_millis(6));
+        assert_eq!(sim.take_output(), [0x43, 148, 1, 30, 1, 0, 0, 0]);
+        assert!(sim.help().contains("SIXpack 2"));
+        assert!(kind.eeprom_refusal.is_some());
+        assert!(kinds().filter(|k| k.eeprom_refusal.is_none()).count() >= 2);
+    }
+
+    #[test]
     fn only_the_cmd4cr_loads_a_script_programs() {
         let options = SimOptions::default();
         let mut tmcl = (find_kind("tmcm1110").expect("registered").build)(&options);
@@ -211,6 +249,6 @@ mod tests {
     #[test]
     fn unknown_kinds_are_not_found() {
         assert!(find_kind("tmcm9999").is_none());
-        assert_eq!(kind_names(), "tmcm1110, cmd4cr");
+        assert_eq!(kind_names(), "tmcm1110, cmd4cr, sixpack2, mccl, mccl-eth");
     }
 }

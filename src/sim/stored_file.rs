@@ -1,7 +1,11 @@
 //! The file a simulator keeps its non-volatile memory in (the TMCM-1110's
-//! EEPROM, the CMD-4CR's flash): JSON, written whole through a rename, and
-//! the problems with it worded for the user. A problem never stops the
-//! simulator: it starts with factory settings, or keeps settings in memory.
+//! EEPROM, the CMD-4CR's flash): JSON, written whole and atomically
+//! ([`crate::files::write_atomically`]), and the problems with it worded
+//! for the user. A problem never stops the simulator: it starts with
+//! factory settings, or keeps settings in memory. A file that is there
+//! but cannot be loaded (not JSON, another simulator's, another program's
+//! file) is never written over: the simulator keeps its memory in RAM only
+//! and reports the file as refused (`axterm sim` then serves nothing).
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -13,25 +17,21 @@ use serde::de::DeserializeOwned;
 /// memory ("EEPROM", "flash").
 #[derive(Debug, thiserror::Error)]
 pub enum StoredFileError {
-    #[error(
-        "cannot read the simulated {memory} file {path}: {source}; started with factory settings"
-    )]
+    #[error("cannot read the simulated {memory} file {path}: {source}")]
     Read {
         memory: &'static str,
         path: DisplayPath,
-        source: std::io::Error,
+        source: crate::files::ReadError,
     },
     #[error(
-        "the simulated {memory} file {path} is not valid JSON of the expected shape: {source}; started with factory settings"
+        "{path} is not a simulated {memory} file of this simulator: it is not valid JSON of the expected shape ({source})"
     )]
     Parse {
         memory: &'static str,
         path: DisplayPath,
         source: serde_json::Error,
     },
-    #[error(
-        "the simulated {memory} file {path} was rejected: {problem}; started with factory settings"
-    )]
+    #[error("the simulated {memory} file {path} was rejected: {problem}")]
     Content {
         memory: &'static str,
         path: DisplayPath,
@@ -57,15 +57,17 @@ impl fmt::Display for DisplayPath {
     }
 }
 
-/// Read the memory file at `path`: `None` when there is none yet.
+/// Read the memory file at `path`: `None` when there is none yet, or an
+/// empty one (a file made for it, `touch eeprom.json`).
 pub(crate) fn read_json<T: DeserializeOwned>(
     path: &Path,
     memory: &'static str,
 ) -> Result<Option<T>, StoredFileError> {
     let display = || DisplayPath(path.to_path_buf());
-    let text = match std::fs::read_to_string(path) {
+    let text = match crate::files::read_text(path) {
+        Ok(text) if text.trim().is_empty() => return Ok(None),
         Ok(text) => text,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) if e.is_not_found() => return Ok(None),
         Err(source) => {
             return Err(StoredFileError::Read {
                 memory,
@@ -83,15 +85,12 @@ pub(crate) fn read_json<T: DeserializeOwned>(
         })
 }
 
-/// Write the memory file through a temporary file and a rename, so an
-/// interrupted write never leaves half a file behind.
+/// Write the memory file whole and atomically, so an interrupted write
+/// never leaves half a file behind, and two simulators on one file never
+/// mix their writes.
 pub(crate) fn write_json_whole<T: Serialize>(path: &Path, value: &T) -> std::io::Result<()> {
     let text = serde_json::to_string_pretty(value).map_err(std::io::Error::other)?;
-    let mut temporary = path.as_os_str().to_owned();
-    temporary.push(".tmp");
-    let temporary = PathBuf::from(temporary);
-    std::fs::write(&temporary, text)?;
-    std::fs::rename(&temporary, path)
+    crate::files::write_atomically(path, text.as_bytes())
 }
 
 #[cfg(test)]
@@ -108,13 +107,15 @@ mod tests {
         let error = read_json::<Vec<i64>>(&path, "flash").expect_err("bad file");
         let message = error.to_string();
         assert!(
-            message.starts_with("the simulated flash file "),
+            message.ends_with(
+                "memory.json is not a simulated flash file of this simulator: it is not valid \
+                 JSON of the expected shape (expected ident at line 1 column 2)"
+            ),
             "{message}"
         );
-        assert!(
-            message.ends_with("started with factory settings"),
-            "{message}"
-        );
+        std::fs::write(&path, " \n").expect("write");
+        let empty: Option<Vec<i64>> = read_json(&path, "flash").expect("empty is fine");
+        assert!(empty.is_none());
         write_json_whole(&path, &vec![1, 2]).expect("write whole");
         assert_eq!(
             read_json::<Vec<i64>>(&path, "flash").expect("read"),

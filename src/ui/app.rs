@@ -32,6 +32,7 @@ use super::pane::{Input, Notice, Outcome, Pane, PaneEvent, Request, Snapshot, Vi
 use super::theme::{Theme, load_theme};
 use crate::device::{DeviceEvent, TrafficRecord};
 use crate::protocol::program::{Progress, TransferFailure, TransferJob, TransferReport};
+use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
 use crate::session::{AxisFlag, LineResult, PollCadence, SessionError};
 
 /// How long a message stays in the status bar ("STOP: 3 sent, all ok"):
@@ -60,6 +61,11 @@ pub enum AppEvent {
     },
     /// The stop lines were sent; what came back for each.
     Stopped(Vec<Result<LineResult, SessionError>>),
+    /// A pane's run was ended ([`Effect::EndRun`]): what was done.
+    RunEnded {
+        pane: usize,
+        aftermath: RunAftermath,
+    },
     Wake {
         pane: usize,
         tag: u64,
@@ -103,6 +109,13 @@ pub enum Effect {
     /// Stop everything: abort the lines still waiting to be sent, then the
     /// session's emergency stop, ahead of anything queued.
     EmergencyStop,
+    /// End a pane's run ([`Controller::end_run`]); what was done back as
+    /// [`AppEvent::RunEnded`].
+    EndRun {
+        pane: usize,
+        ending: RunEnding,
+        policy: StopOnFailure,
+    },
     Poll(Option<PollCadence>),
     SetAddress(u8),
     /// Forget these latched error flags of an axis.
@@ -318,6 +331,9 @@ impl App {
                 });
                 self.dirty = true;
                 self.broadcast(&PaneEvent::EmergencyStop(results), &mut effects);
+            }
+            AppEvent::RunEnded { pane, aftermath } => {
+                self.deliver(pane, &PaneEvent::RunEnded(aftermath), &mut effects);
             }
             AppEvent::Notice(notice) => self.broadcast(&PaneEvent::Notice(notice), &mut effects),
             AppEvent::TransferProgress {
@@ -553,6 +569,11 @@ impl App {
         match request {
             Request::Send { lines, tag } => effects.push(Effect::Send { pane, tag, lines }),
             Request::EmergencyStop => self.emergency_stop(effects),
+            Request::EndRun { ending, policy } => effects.push(Effect::EndRun {
+                pane,
+                ending,
+                policy,
+            }),
             Request::Poll(rate) => effects.push(Effect::Poll(cadence_for(rate))),
             Request::SelectAxis(axis) => {
                 if let Some(snapshot) = self.snapshot.as_mut()

@@ -1,7 +1,8 @@
 //! The axis status pane: per axis, live from the session's snapshots,
 //! position against target, speed against the maximum speed, the ramp
-//! state (as the module reports it, else read from the speed) and the
-//! reached flag, the switch lamps, the load gauge or the family's lamps
+//! state (as the module reports it, else read from the speed) and what
+//! the axis does (moving, at its target, stopped short of it:
+//! [`AxisStatus::motion`]), the switch lamps, the load gauge or the family's lamps
 //! (CMD-4CR: the MST inputs and waits) and the latched error flags
 //! (cleared with F8, or `:clear`). The title and the status bar show the
 //! poll rate asked for and the full refreshes a second the link gives.
@@ -31,7 +32,7 @@ use super::theme::{Role, Theme};
 use crate::device::LinkState;
 use crate::protocol::console::{AxisFlag, LoadScale, MotionPhase, ReplyValue};
 use crate::protocol::parameters::{ParamOp, ParameterSet, Scope, SpeedUnit, StatusQuantity};
-use crate::session::{AxisInfo, AxisStatus};
+use crate::session::{AxisInfo, AxisMotion, AxisStatus};
 
 /// Rows of one axis card.
 const CARD_ROWS: u16 = 3;
@@ -407,14 +408,17 @@ impl AxesPane {
             .max()
             .unwrap_or(0)
             .max(11);
-        let reached = match status.reached {
-            Some(true) => lamp(theme, true, false, "reached"),
-            Some(false) => lamp(theme, false, false, "moving"),
-            None => lamp(theme, false, false, "reached?"),
+        // What the axis does: a stop before the target is no move.
+        let reached = match status.motion() {
+            AxisMotion::AtTarget => lamp(theme, true, false, "reached"),
+            AxisMotion::Moving => lamp(theme, false, false, "moving"),
+            AxisMotion::StoppedShort => lamp(theme, false, false, "stopped short"),
+            AxisMotion::Unknown => lamp(theme, false, false, "reached?"),
         };
-        // The widest fixed part is the speed row's: label, "spd ", number,
-        // " max ", number, the longest ramp label.
-        let fixed = label_width + 4 + (w + 1) + 5 + (w + 1) + 14;
+        // The widest fixed parts: label, "pos "/"spd ", number, " tgt "/
+        // " max ", number, then the longest lamp (`○ stopped short`) or
+        // ramp label (`constant speed`).
+        let fixed = label_width + 4 + (w + 1) + 5 + (w + 1) + 15;
         let gauge_width = width.saturating_sub(fixed).max(4);
         let (low, high) = self.span(index, status);
         let position_gauge = gauge(
@@ -532,7 +536,12 @@ impl AxesPane {
                 theme.style(Role::Normal),
             ),
         ];
-        spans.extend(lamp(theme, status.reached == Some(true), false, ""));
+        spans.extend(lamp(
+            theme,
+            status.motion() == AxisMotion::AtTarget,
+            false,
+            "",
+        ));
         spans.push(Span::styled(
             format!(
                 " v{:>ws$}/{:<wm$} {:<6} ",

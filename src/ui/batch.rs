@@ -9,7 +9,21 @@ use tokio::time::Instant;
 
 use crate::protocol::Family;
 use crate::script::{Action, Step, WAIT_INTERVAL, check_script, result_matches};
+use crate::session::run_end::{NO_STOP_FLAG, StopOnFailure};
 use crate::session::{LineResult, SessionError};
+
+/// The options of `:run` and `:run-ascript` before the file name: only
+/// [`NO_STOP_FLAG`], as `axterm run` takes it. What a run that fails or is
+/// cancelled does to the axes, and the rest of the arguments.
+pub fn run_options(rest: &str) -> (StopOnFailure, &str) {
+    let rest = rest.trim();
+    match rest.strip_prefix(NO_STOP_FLAG) {
+        Some(after) if after.is_empty() || after.starts_with(char::is_whitespace) => {
+            (StopOnFailure::Leave, after.trim_start())
+        }
+        _ => (StopOnFailure::Stop, rest),
+    }
+}
 
 /// What the batch needs done next.
 #[derive(Debug, Clone, PartialEq)]
@@ -35,6 +49,8 @@ pub struct Batch {
     next: usize,
     /// The `:wait-until` in progress gives up at this instant.
     deadline: Option<Instant>,
+    /// Reads the `:wait-until` in progress has made.
+    reads: u32,
 }
 
 impl Batch {
@@ -56,6 +72,7 @@ impl Batch {
             steps,
             next: 0,
             deadline: None,
+            reads: 0,
         })
     }
 
@@ -97,6 +114,7 @@ impl Batch {
                 }
                 Action::WaitUntil { line, timeout, .. } => {
                     self.deadline = Some(Instant::now() + *timeout);
+                    self.reads = 0;
                     out.push(BatchStep::Send(line.clone()));
                     return out;
                 }
@@ -106,6 +124,26 @@ impl Batch {
                 }
             }
         }
+    }
+
+    /// While a `:wait-until` reads: one line saying how it stands, which
+    /// replaces the one of its previous read (its reads come every 20 ms;
+    /// a line each would bury everything else). `None` for other steps and
+    /// for a read that failed, which is shown in full. Call it with each
+    /// answer before [`Batch::on_reply`].
+    pub fn wait_progress(&mut self, result: &Result<LineResult, SessionError>) -> Option<String> {
+        let Some(Action::WaitUntil { line, value, .. }) =
+            self.steps.get(self.next).map(|s| &s.action)
+        else {
+            return None;
+        };
+        let got = result.as_ref().ok()?.value.to_string();
+        self.reads = self.reads.saturating_add(1);
+        let reads = match self.reads {
+            1 => "1 read".to_string(),
+            n => format!("{n} reads"),
+        };
+        Some(format!(":wait-until {line} == {value}: {got} ({reads})"))
     }
 
     /// The answer to the line of the current step.
@@ -181,6 +219,24 @@ mod tests {
     }
 
     #[test]
+    fn run_options_take_the_no_stop_flag_before_the_file() {
+        assert_eq!(run_options(" f.txt "), (StopOnFailure::Stop, "f.txt"));
+        assert_eq!(
+            run_options("--no-stop-on-failure  my file.txt"),
+            (StopOnFailure::Leave, "my file.txt")
+        );
+        assert_eq!(
+            run_options("--no-stop-on-failure"),
+            (StopOnFailure::Leave, "")
+        );
+        // A file whose name only starts like it.
+        assert_eq!(
+            run_options("--no-stop-on-failure.txt"),
+            (StopOnFailure::Stop, "--no-stop-on-failure.txt")
+        );
+    }
+
+    #[test]
     fn a_file_with_bad_lines_lists_them_all_and_sends_nothing() {
         let problems = Batch::check("f.txt", "GAP 1, 0\nSAP 6, 0, 100000\n:bogus\n", tmcl(), 1)
             .expect_err("bad");
@@ -215,6 +271,44 @@ mod tests {
             [BatchStep::Failed(
                 "f.txt:4: expected GAP 8, 0 == 5, got 6".into()
             )]
+        );
+    }
+
+    #[tokio::test(start_paused = true)]
+    async fn a_wait_until_tells_how_it_stands_in_one_line_per_read() {
+        let mut batch = Batch::check(
+            "f.txt",
+            "GAP 8, 0\n:wait-until GAP 8, 0 == 1 timeout 1s\n",
+            tmcl(),
+            1,
+        )
+        .expect("valid");
+        batch.advance();
+        // Not a wait: shown as any line is.
+        assert_eq!(batch.wait_progress(&reply(ReplyValue::Number(0))), None);
+        batch.on_reply(&reply(ReplyValue::Number(0)));
+        assert_eq!(
+            batch
+                .wait_progress(&reply(ReplyValue::Number(0)))
+                .as_deref(),
+            Some(":wait-until GAP 8, 0 == 1: 0 (1 read)")
+        );
+        batch.on_reply(&reply(ReplyValue::Number(0)));
+        batch.on_wake();
+        assert_eq!(
+            batch
+                .wait_progress(&reply(ReplyValue::Number(1)))
+                .as_deref(),
+            Some(":wait-until GAP 8, 0 == 1: 1 (2 reads)")
+        );
+        let failed: Result<LineResult, SessionError> = Err(SessionError::Refused {
+            line: "GAP 8, 0".into(),
+            message: "no".into(),
+        });
+        assert_eq!(
+            batch.wait_progress(&failed),
+            None,
+            "an error is shown in full"
         );
     }
 

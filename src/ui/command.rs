@@ -18,7 +18,7 @@ use ratatui::layout::{Position, Rect};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 
-use super::batch::{Batch, BatchStep};
+use super::batch::{Batch, BatchStep, run_options};
 use super::host_run::{ConsoleHostRun, HostUpdate};
 use super::keymap::{Action, Context};
 use super::pane::{
@@ -29,6 +29,7 @@ use super::theme::Role;
 use crate::device::{DeviceEvent, LinkState};
 use crate::protocol::console::{Candidate, Completions};
 use crate::protocol::{FAMILIES, Family, find_family};
+use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
 use crate::session::{LineResult, SessionError};
 
 /// Lines of output kept; older ones scroll away for good.
@@ -69,12 +70,12 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
         "connect: --sim KIND | --port PATH [--baud N] | --tcp HOST:PORT, with --protocol, --address",
     ),
     (
-        ":run FILE",
-        "run a batch file as `axterm run` does (checked whole first)",
+        ":run [--no-stop-on-failure] FILE",
+        "run a batch file as `axterm run` does (checked whole first; a failed or cancelled run stops every axis unless told not to)",
     ),
     (
-        ":run-ascript FILE [N…]",
-        "run a CMD-4CR A-Script program from the host (checked whole first; N: only these PRG blocks)",
+        ":run-ascript [--no-stop-on-failure] FILE [N…]",
+        "run a CMD-4CR A-Script program from the host (checked whole first; N: only these PRG blocks; stops every axis if it fails or is cancelled unless told not to)",
     ),
     (
         ":expect LINE == VALUE",
@@ -138,7 +139,7 @@ impl History {
         let file = dir.map(|d| d.join(format!("history-{family}.txt")));
         let mut entries: Vec<String> = file
             .as_ref()
-            .and_then(|f| fs::read_to_string(f).ok())
+            .and_then(|f| crate::files::read_text(f).ok())
             .map(|text| {
                 text.lines()
                     .filter(|l| !l.trim().is_empty())
@@ -150,7 +151,7 @@ impl History {
             entries.drain(..entries.len() - HISTORY_LIMIT);
             // Keep the file from growing without end.
             if let Some(f) = &file {
-                let _ = fs::write(f, entries.join("\n") + "\n");
+                let _ = crate::files::write_atomically(f, (entries.join("\n") + "\n").as_bytes());
             }
         }
         History {
@@ -229,6 +230,11 @@ pub struct CommandPane {
     batch_wake: Option<u64>,
     /// An A-Script program running from the host (`:run-ascript`).
     host: Option<ConsoleHostRun>,
+    /// What becomes of the axes if the `:run` or `:run-ascript` going fails
+    /// or is cancelled; `None` for directives typed alone.
+    run_policy: Option<StopOnFailure>,
+    /// The last output row is a state [`CommandPane::say_live`] replaces.
+    live: bool,
 }
 
 impl Default for CommandPane {
@@ -257,6 +263,8 @@ impl CommandPane {
             batch: None,
             batch_wake: None,
             host: None,
+            run_policy: None,
+            live: false,
         }
     }
 
@@ -270,7 +278,21 @@ impl CommandPane {
         self.output.iter().map(|o| o.text.as_str())
     }
 
+    /// Show a one-line state that replaces the previous one while nothing
+    /// else was said in between (a `:wait-until`'s reads).
+    fn say_live(&mut self, role: Role, text: String) {
+        match self.output.last_mut() {
+            Some(last) if self.live => {
+                *last = Output { role, text };
+                self.scroll = 0;
+            }
+            _ => self.say(role, text),
+        }
+        self.live = true;
+    }
+
     fn say(&mut self, role: Role, text: impl Into<String>) {
+        self.live = false;
         let text = text.into();
         for line in text.lines() {
             self.output.push(Output {
@@ -432,15 +454,21 @@ impl CommandPane {
                 Request::Connect(rest.split_whitespace().map(str::to_string).collect())
             }
             "run" => {
+                let (policy, rest) = run_options(rest);
                 if rest.is_empty() {
                     return self.fail(":run needs a file name");
                 }
-                return match fs::read_to_string(rest) {
-                    Ok(text) => self.start_batch(rest, &text, view),
+                return match crate::files::read_text(rest) {
+                    Ok(text) => {
+                        self.with_run_policy(policy, |pane| pane.start_batch(rest, &text, view))
+                    }
                     Err(e) => self.fail(format!("cannot read {rest}: {e}")),
                 };
             }
-            "run-ascript" => return self.start_host_run(rest, view),
+            "run-ascript" => {
+                let (policy, rest) = run_options(rest);
+                return self.with_run_policy(policy, |pane| pane.start_host_run(rest, view));
+            }
             "sim-input" => {
                 if session.is_none() {
                     return self.fail(not_connected());
@@ -462,6 +490,33 @@ impl CommandPane {
             }
         };
         Outcome::request(request)
+    }
+
+    /// Start a run (`:run`, `:run-ascript`) whose end, if it fails or is
+    /// cancelled, goes to the session under `policy`. Typed directives
+    /// (`:expect` alone) have none: a check typed by hand stops nothing.
+    fn with_run_policy(
+        &mut self,
+        policy: StopOnFailure,
+        start: impl FnOnce(&mut CommandPane) -> Outcome,
+    ) -> Outcome {
+        if self.batch.is_some() || self.host.is_some() {
+            // Refused, with its message: the run going keeps its policy.
+            return start(self);
+        }
+        self.run_policy = Some(policy);
+        let outcome = start(self);
+        if self.batch.is_none() && self.host.is_none() {
+            // Not started, or over already (its end was asked for).
+            self.run_policy = None;
+        }
+        outcome
+    }
+
+    /// The request that ends the run going, if it has a policy.
+    fn end_run(&mut self, ending: RunEnding) -> Option<Request> {
+        let policy = self.run_policy.take()?;
+        (ending != RunEnding::Completed).then_some(Request::EndRun { ending, policy })
     }
 
     fn fail(&mut self, message: impl Into<String>) -> Outcome {
@@ -504,7 +559,7 @@ impl CommandPane {
             return self
                 .fail(":run-ascript needs a file name (and the PRG numbers to start, if not all)");
         }
-        let text = match fs::read_to_string(&file) {
+        let text = match crate::files::read_text(&file) {
             Ok(text) => text,
             Err(e) => return self.fail(format!("cannot read {file}: {e}")),
         };
@@ -541,10 +596,12 @@ impl CommandPane {
         for (role, text) in update.said {
             self.say(role, text);
         }
-        if update.ended.is_some() {
+        let mut requests = update.requests;
+        if let Some(end) = update.ended {
             self.host = None;
+            requests.extend(self.end_run(RunEnding::from_success(end.ok)));
         }
-        Outcome::Handled(update.requests)
+        Outcome::Handled(requests)
     }
 
     /// Stop the host run, if one goes: nothing more of it is sent.
@@ -604,11 +661,13 @@ impl CommandPane {
                 BatchStep::Failed(message) => {
                     self.batch = None;
                     self.say(Role::Error, message);
+                    requests.extend(self.end_run(RunEnding::Failed));
                 }
                 BatchStep::Done => {
                     if self.batch.take().is_some_and(|b| b.len() > 1) {
                         self.say(Role::Ok, "batch done");
                     }
+                    self.run_policy = None;
                 }
             }
         }
@@ -627,16 +686,19 @@ impl CommandPane {
             Some(Action::Help) => self.help_here(view),
             Some(Action::Cancel) => {
                 if let Some(name) = self.stop_host_run() {
-                    let stop = key_label(view.keymap, Context::Global, Action::EmergencyStop);
                     self.say(
                         Role::Warning,
-                        format!(
-                            "host run of {name} stopped: nothing more of it is sent (motion already commanded goes on: {stop} stops the axes)"
-                        ),
+                        format!("host run of {name} stopped: nothing more of it is sent"),
+                    );
+                    return Outcome::Handled(
+                        self.end_run(RunEnding::Cancelled).into_iter().collect(),
                     );
                 } else if self.batch.take().is_some() {
                     self.batch_wake = None;
                     self.say(Role::Warning, "batch stopped");
+                    return Outcome::Handled(
+                        self.end_run(RunEnding::Cancelled).into_iter().collect(),
+                    );
                 } else {
                     self.set_input(String::new());
                 }
@@ -977,12 +1039,20 @@ impl Pane for CommandPane {
                 let Some(origin) = self.sent.remove(tag) else {
                     return Outcome::Ignored;
                 };
-                if origin == Origin::Batch
-                    && let Ok(r) = result
-                {
-                    self.say(Role::Normal, format!("{PROMPT}{}", r.line));
+                let progress = match (origin, self.batch.as_mut()) {
+                    (Origin::Batch, Some(batch)) => batch.wait_progress(result),
+                    _ => None,
+                };
+                if let Some(progress) = progress {
+                    self.say_live(Role::Normal, format!("{PROMPT}{progress}"));
+                } else {
+                    if origin == Origin::Batch
+                        && let Ok(r) = result
+                    {
+                        self.say(Role::Normal, format!("{PROMPT}{}", r.line));
+                    }
+                    self.show_reply(family, result);
                 }
-                self.show_reply(family, result);
                 if origin == Origin::Batch {
                     let steps = match self.batch.as_mut() {
                         Some(batch) => batch.on_reply(result),
@@ -1003,6 +1073,8 @@ impl Pane for CommandPane {
                 self.batch_wake = None;
                 let batch = self.batch.take().is_some();
                 let host = self.stop_host_run();
+                // The emergency stop ends the run and does the stopping.
+                self.run_policy = None;
                 let key = key_label(view.keymap, Context::Global, Action::EmergencyStop);
                 self.say(
                     Role::Emergency,
@@ -1043,6 +1115,23 @@ impl Pane for CommandPane {
                     self.say(Role::Error, "STOP: nothing was sent (not connected)");
                 } else {
                     self.say(Role::Error, "STOP: some stop lines failed; check the axes");
+                }
+                Outcome::redraw()
+            }
+            PaneEvent::RunEnded(aftermath) => {
+                let overall = match aftermath {
+                    RunAftermath::Left(_) => Role::Warning,
+                    _ if aftermath.settled() => Role::Ok,
+                    _ => Role::Error,
+                };
+                for line in aftermath.report() {
+                    // A stop line with its answer, or one that failed.
+                    let role = match line.strip_prefix("  ") {
+                        Some(stop) if stop.contains(" → ") => Role::Emergency,
+                        Some(_) => Role::Error,
+                        None => overall,
+                    };
+                    self.say(role, line);
                 }
                 Outcome::redraw()
             }

@@ -233,18 +233,9 @@ pub(crate) fn read_user_file(config_dir: Option<&Path>, kind: &str, name: &str) 
         return UserFile::Absent;
     }
     let path = user_file_path(dir, kind, name);
-    match std::fs::read(&path) {
-        Ok(bytes) => match String::from_utf8(bytes) {
-            Ok(text) => UserFile::Text { path, text },
-            Err(e) => UserFile::Unreadable {
-                path,
-                reason: format!(
-                    "not UTF-8 text (byte {} is not a character)",
-                    e.utf8_error().valid_up_to()
-                ),
-            },
-        },
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => UserFile::Absent,
+    match crate::files::read_text(&path) {
+        Ok(text) => UserFile::Text { path, text },
+        Err(e) if e.is_not_found() => UserFile::Absent,
         Err(e) => UserFile::Unreadable {
             path,
             reason: format!("cannot be read: {e}"),

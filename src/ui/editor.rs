@@ -61,7 +61,7 @@ struct SourceFiles;
 
 impl SourceLoader for SourceFiles {
     fn load(&self, path: &str) -> Result<String, String> {
-        std::fs::read_to_string(path).map_err(|e| e.to_string())
+        crate::files::read_text(path).map_err(|e| e.to_string())
     }
 }
 
@@ -175,7 +175,7 @@ pub struct EditorPane {
     recovered: Option<Recovered>,
     /// F3 was pressed with unsaved changes: the next F3 opens anyway.
     open_confirmed: bool,
-    /// Shift-F3 was pressed with unsaved changes: the next uploads anyway.
+    /// Upload (Ctrl-F4) was pressed with unsaved changes: the next uploads anyway.
     upload_confirmed: bool,
     /// The program transfer under way.
     transfer: Option<transfer::Running>,
@@ -267,7 +267,7 @@ impl EditorPane {
         self.saved = copy
             .file
             .as_deref()
-            .and_then(|f| std::fs::read_to_string(f).ok())
+            .and_then(|f| crate::files::read_text(f).ok())
             .unwrap_or_default();
         self.file = copy.file.clone();
         self.set_text(&copy.text);
@@ -448,7 +448,7 @@ impl EditorPane {
 
     /// Open `path` in place of the text.
     pub fn open_file(&mut self, path: &Path) -> Result<(), String> {
-        let text = std::fs::read_to_string(path)
+        let text = crate::files::read_text(path)
             .map_err(|e| format!("cannot open {}: {e}", path.display()))?;
         self.file = Some(path.to_path_buf());
         self.saved = text.clone();
@@ -469,7 +469,8 @@ impl EditorPane {
     /// Save the text to `path` (atomically), which becomes its file.
     pub fn save_to(&mut self, path: &Path) -> Result<(), String> {
         let text = self.text();
-        autosave::write_atomically(path, text.as_bytes())?;
+        crate::files::write_atomically(path, text.as_bytes())
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
         self.file = Some(path.to_path_buf());
         self.saved = text;
         self.recovered = None;
@@ -494,7 +495,7 @@ impl EditorPane {
         let text = recovered
             .file
             .as_deref()
-            .and_then(|f| std::fs::read_to_string(f).ok())
+            .and_then(|f| crate::files::read_text(f).ok())
             .unwrap_or_default();
         self.saved = text.clone();
         self.set_text(&text);
@@ -637,7 +638,7 @@ impl EditorPane {
             Action::EditorNextError => self.next_error(),
             Action::EditorHostRun => return self.start_host_run(view),
             Action::Cancel => {
-                if let Some(outcome) = self.cancel_host_run(view) {
+                if let Some(outcome) = self.cancel_host_run() {
                     return outcome;
                 }
                 if let Some(outcome) = self.cancel_transfer() {
@@ -1149,6 +1150,9 @@ impl EditorPane {
             };
         }
         if let Some(outcome) = self.host_event(event) {
+            return outcome;
+        }
+        if let Some(outcome) = self.run_ended(event, view) {
             return outcome;
         }
         if let PaneEvent::Stopping = event {

@@ -21,6 +21,7 @@ use crate::link::SharedSim;
 use crate::protocol::Family;
 use crate::protocol::program::{Progress, TransferFailure, TransferJob, TransferReport};
 use crate::session::Cancel;
+use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
 use crate::session::{
     AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, Session, SessionError, SessionOptions,
 };
@@ -98,6 +99,11 @@ impl Controller for SessionController {
     fn emergency_stop(&self) -> Pending<Vec<Result<LineResult, SessionError>>> {
         let session = self.session.clone();
         Box::pin(async move { session.emergency_stop_lines().await })
+    }
+
+    fn end_run(&self, ending: RunEnding, policy: StopOnFailure) -> Pending<RunAftermath> {
+        let session = self.session.clone();
+        Box::pin(async move { session.end_run(ending, policy).await })
     }
 
     fn set_polling(&self, cadence: Option<PollCadence>) {

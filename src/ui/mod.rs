@@ -58,6 +58,7 @@ pub mod connect;
 pub mod editor;
 pub mod field;
 pub mod host_run;
+pub mod key_delivery;
 pub mod keymap;
 pub mod live;
 pub mod pane;

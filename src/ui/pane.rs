@@ -20,6 +20,7 @@ use super::theme::Theme;
 use crate::device::{DeviceEvent, LinkState, TrafficRecord};
 use crate::protocol::Family;
 use crate::protocol::program::{Progress, TransferFailure, TransferJob, TransferReport};
+use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
 use crate::session::{AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
 
 /// Where a pane lives when the screen is large enough to show several at
@@ -138,6 +139,9 @@ pub enum PaneEvent {
     Stopping,
     /// The emergency stop was sent: each stop line and what came back.
     EmergencyStop(Vec<Result<LineResult, SessionError>>),
+    /// What the session did about the axes after this pane's
+    /// [`Request::EndRun`].
+    RunEnded(RunAftermath),
     /// A message from the console itself (the answer to `:poll 10`, a
     /// theme that failed to load…), shown by the command pane.
     Notice(Notice),
@@ -207,6 +211,14 @@ pub enum Request {
     Send { lines: Vec<String>, tag: u64 },
     /// Stop every axis and any standalone program, ahead of everything.
     EmergencyStop,
+    /// A run of this pane (`:run`, a host run) ended so: the session
+    /// decides what becomes of the axes under `policy`
+    /// ([`crate::session::Session::end_run`]); what it did comes back to
+    /// this pane as [`PaneEvent::RunEnded`].
+    EndRun {
+        ending: RunEnding,
+        policy: StopOnFailure,
+    },
     /// Poll status this many times a second (0: stop polling).
     Poll(f64),
     /// Work with this axis (index into [`Snapshot::axes`]).

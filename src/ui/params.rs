@@ -598,7 +598,7 @@ impl ParamsPane {
             header.push(format!("firmware {identity}"));
         }
         let text = file::render(session.family.name, &header, &exported);
-        match std::fs::write(path, text) {
+        match crate::files::write_atomically(path, text.as_bytes()) {
             Ok(()) if failed == 0 => self.set_message(
                 Role::Ok,
                 format!("exported {} settings to {}", exported.len(), path.display()),
@@ -624,7 +624,7 @@ impl ParamsPane {
         let (Some(session), Some(parameters)) = (view.session, Self::parameters(view)) else {
             return self.no_parameters(view);
         };
-        let parsed = std::fs::read_to_string(&path)
+        let parsed = crate::files::read_text(&path)
             .map_err(|e| format!("cannot read {}: {e}", path.display()))
             .and_then(|text| {
                 file::parse(&text)

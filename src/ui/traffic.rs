@@ -276,13 +276,15 @@ impl TrafficPane {
             let _ = writeln!(text, "{}", self.line_text(entry));
             count += 1;
         }
-        self.message = Some(match std::fs::write(&path, text) {
-            Ok(()) => (
-                Role::Ok,
-                format!("saved {count} frame(s) to {}", path.display()),
-            ),
-            Err(e) => (Role::Error, format!("cannot write {}: {e}", path.display())),
-        });
+        self.message = Some(
+            match crate::files::write_atomically(&path, text.as_bytes()) {
+                Ok(()) => (
+                    Role::Ok,
+                    format!("saved {count} frame(s) to {}", path.display()),
+                ),
+                Err(e) => (Role::Error, format!("cannot write {}: {e}", path.display())),
+            },
+        );
     }
 
     fn save_key(&mut self, mut field: Field, key: &KeyEvent, view: &View) -> Outcome {

@@ -106,17 +106,7 @@ pub fn parse_request(line: &[u8]) -> Result<Request, RequestError> {
 /// Bytes as a technician reads an ASCII frame: printable characters as
 /// they are, CR and LF as `\r` and `\n`, anything else as `\xNN`.
 pub fn show_bytes(bytes: &[u8]) -> String {
-    let mut text = String::with_capacity(bytes.len());
-    for &b in bytes {
-        match b {
-            b'\r' => text.push_str("\\r"),
-            b'\n' => text.push_str("\\n"),
-            b'\\' => text.push_str("\\\\"),
-            b' '..=b'~' => text.push(char::from(b)),
-            _ => text.push_str(&format!("\\x{b:02X}")),
-        }
-    }
-    text
+    crate::protocol::ascii::show_bytes(bytes)
 }
 
 /// `axterm encode cmd4cr LINE`: the frame for the controller `id` (01

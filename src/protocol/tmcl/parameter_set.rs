@@ -447,7 +447,11 @@ mod tests {
     #[test]
     fn impossible_operations_say_why() {
         let line = |r: &ParamRow, op| TmclParameters.line(r, op).unwrap_err();
-        assert!(line(&row(Scope::Axis(0), 6), ParamOp::Store).contains("no EEPROM copy"));
+        assert!(line(&row(Scope::Axis(0), 7), ParamOp::Store).contains("no EEPROM copy"));
+        assert_eq!(
+            TmclParameters.line(&row(Scope::Axis(0), 6), ParamOp::Store),
+            Ok("STAP 6, 0".to_string())
+        );
         assert!(line(&row(Scope::Bank(0), 65), ParamOp::Store).contains("every write"));
         assert!(line(&row(Scope::Axis(0), 3), ParamOp::Write(1)).contains("read-only"));
         assert_eq!(

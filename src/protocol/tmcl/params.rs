@@ -242,7 +242,9 @@ const TIMER_PERIOD: ValueRange = ValueRange::span(0, u32::MAX as i64);
 ///
 /// Where Table 16 and other parts of the manual disagree, Table 16 wins:
 /// AP4 and AP5 are RWE here although §2.3 Table 1 prints RW, and AP5 starts
-/// at 1 although §6.1.2 says 0..2047. Rows whose cells were lost or mangled
+/// at 1 although §6.1.2 says 0..2047. One exception: AP6 is storable as
+/// the manual's own STAP/RSAP examples store it (§3.6.7, §3.6.8), where
+/// Table 16 prints RW; its row says so. Rows whose cells were lost or mangled
 /// in the PDF conversion carry a comment saying how they were read.
 pub const AXIS_PARAMS: &[ParamInfo] = &[
     ParamInfo {
@@ -305,17 +307,20 @@ pub const AXIS_PARAMS: &[ParamInfo] = &[
         description: "Maximum acceleration on ramp-up and deceleration on ramp-down; also used in velocity mode",
         section: "§4 Table 16",
     },
-    // §4 Table 16 says RW (not storable), yet the STAP/RSAP examples of §3.6.7/3.6.8
-    // store and restore AP6. Table 16 is followed here.
+    // The manual disagrees with itself: §4 Table 16 prints RW (not
+    // storable), while its own examples of §3.6.7 ("Store axis parameter
+    // #6") and §3.6.8 ("Restore axis parameter #6") store and restore AP6,
+    // and the run current is what every TMCL-IDE user stores. The examples
+    // win here (storable); the section field says so.
     ParamInfo {
         numbers: 6..=6,
         name: "Maximum current",
         range: span(0, 255),
         unit: Unit::None,
-        access: Access::RW,
+        access: Access::RWE,
         default: None,
         description: "Motor current while running; 255 = 100 % of the module maximum, effective in 32 steps of 8",
-        section: "§4 Table 16",
+        section: "§4 Table 16 prints RW; E per the STAP/RSAP examples of §3.6.7/§3.6.8",
     },
     ParamInfo {
         numbers: 7..=7,
@@ -1398,7 +1403,16 @@ mod tests {
         assert_eq!(p.range, ValueRange::span(0, 255));
         assert_eq!(p.range.to_string(), "0..255");
         assert!(!p.range.contains(256));
-        assert_eq!(p.access, Access::RW);
+        // Storable as the STAP/RSAP examples of §3.6.7/§3.6.8 store it,
+        // though Table 16 prints RW: the row names both.
+        assert_eq!(p.access, Access::RWE);
+        assert!(
+            p.section.contains("Table 16 prints RW") && p.section.contains("§3.6.7/§3.6.8"),
+            "{}",
+            p.section
+        );
+        // The standby current stays as Table 16 has it.
+        assert_eq!(axis_param(7).map(|p| p.access), Some(Access::RW));
     }
 
     #[test]

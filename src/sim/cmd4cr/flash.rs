@@ -9,8 +9,8 @@
 //! `SLOAD`), so the file reads like a list of settings and is checked with
 //! the one command parser: a key that is not a stored register of the
 //! command table, or a value outside its range, rejects the file, and the
-//! core starts from factory settings with the problem reported. Nothing
-//! here panics.
+//! core starts from factory settings with the problem reported, the file
+//! left as it is. Nothing here panics.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -49,11 +49,16 @@ pub struct Flash {
     program: Option<String>,
     path: Option<PathBuf>,
     problem: Option<FlashError>,
+    /// Why the file given could not be loaded; it is then not used.
+    refused: Option<FlashError>,
 }
 
 impl Flash {
-    /// Load `path` if given and present. A missing file is not a problem:
-    /// it is written at the first STORE.
+    /// Load `path` if given and present. A missing or empty file is not a
+    /// problem: it is written at the first STORE. An unusable one (not
+    /// JSON, another program's file, another simulator's) is refused
+    /// ([`Flash::refused`]) and never written: the flash is kept in memory
+    /// only.
     pub fn open(path: Option<PathBuf>) -> Flash {
         let mut flash = Flash::default();
         if let Some(path) = path {
@@ -63,11 +68,19 @@ impl Flash {
                     flash.program = program;
                 }
                 Ok(None) => {}
-                Err(problem) => flash.problem = Some(problem),
+                Err(problem) => {
+                    flash.refused = Some(problem);
+                    return flash;
+                }
             }
             flash.path = Some(path);
         }
         flash
+    }
+
+    /// Why the file given to [`Flash::open`] was refused, if it was.
+    pub fn refused(&self) -> Option<&FlashError> {
+        self.refused.as_ref()
     }
 
     /// What was stored, by reading command (`POLX` → 7).
@@ -124,7 +137,7 @@ impl Flash {
 
     /// The last problem with the file, if any.
     pub fn problem(&self) -> Option<&FlashError> {
-        self.problem.as_ref()
+        self.problem.as_ref().or(self.refused.as_ref())
     }
 }
 
@@ -217,10 +230,25 @@ mod tests {
             ),
         ] {
             std::fs::write(&path, text).expect("write");
-            let flash = Flash::open(Some(path.clone()));
+            let mut flash = Flash::open(Some(path.clone()));
             assert!(flash.values().is_empty());
-            let problem = flash.problem().map(|p| p.to_string()).unwrap_or_default();
+            let problem = flash.refused().map(|p| p.to_string()).unwrap_or_default();
             assert!(problem.contains(expect), "{problem}");
+            // STORE keeps the values in memory; the file is left alone.
+            flash.store(BTreeMap::from([("POLX".to_string(), 5)]));
+            assert_eq!(flash.values().get("POLX"), Some(&5));
+            assert_eq!(std::fs::read_to_string(&path).expect("read"), text);
         }
+    }
+
+    #[test]
+    fn an_empty_file_is_taken_as_a_new_one() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let path = dir.path().join("flash.json");
+        std::fs::write(&path, "").expect("write");
+        let mut flash = Flash::open(Some(path.clone()));
+        assert!(flash.problem().is_none());
+        flash.store(BTreeMap::from([("POLX".to_string(), 5)]));
+        assert_eq!(Flash::open(Some(path)).values().get("POLX"), Some(&5));
     }
 }

@@ -93,6 +93,7 @@ pub const KIND: super::SimKind = super::SimKind {
     },
     input_names: || super::inputs::names(inputs::INPUTS),
     input_help: || super::inputs::help_lines(inputs::INPUTS),
+    eeprom_refusal: None,
 };
 
 /// The firmware version `VER` answers (the manual's cover: V126BL).
@@ -695,6 +696,10 @@ impl Cmd4cr {
 }
 
 impl SimulatedController for Cmd4cr {
+    fn refused_memory_file(&self) -> Option<String> {
+        self.flash.refused().map(ToString::to_string)
+    }
+
     fn feed(&mut self, bytes: &[u8]) {
         for &byte in bytes {
             self.receive(byte);

@@ -3,7 +3,8 @@
 //! settings, user variables 0..55, coordinates 1..20 and the TMCL program.
 //! Optionally kept in a JSON file so that a restarted simulator finds it
 //! again. A file that cannot be read or makes no sense is reported and the
-//! module starts from factory settings; nothing here panics.
+//! module starts from factory settings, keeping its EEPROM in memory only:
+//! that file is refused, never written over. Nothing here panics.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -196,12 +197,16 @@ pub struct Eeprom {
     deferred: bool,
     dirty: bool,
     problem: Option<EepromError>,
+    /// Why the file given could not be loaded; it is then not used.
+    refused: Option<EepromError>,
 }
 
 impl Eeprom {
     /// Load `path` if given and present; otherwise, or if it is unusable,
-    /// start from `factory` (a problem is kept for [`Eeprom::problem`]).
-    /// A missing file is not a problem: it is written on the first change.
+    /// start from `factory`. A missing or empty file is not a problem: it
+    /// is written on the first change. An unusable one (not JSON, another
+    /// program's file, another simulator's) is refused ([`Eeprom::refused`])
+    /// and never written: the EEPROM is kept in memory only.
     pub fn open(path: Option<PathBuf>, factory: EepromImage) -> Self {
         let mut eeprom = Eeprom {
             image: factory.clone(),
@@ -209,12 +214,16 @@ impl Eeprom {
             deferred: false,
             dirty: false,
             problem: None,
+            refused: None,
         };
         if let Some(path) = path {
             match load(&path, factory) {
                 Ok(Some(image)) => eeprom.image = image,
                 Ok(None) => {}
-                Err(problem) => eeprom.problem = Some(problem),
+                Err(problem) => {
+                    eeprom.refused = Some(problem);
+                    return eeprom;
+                }
             }
             eeprom.path = Some(path);
         }
@@ -223,7 +232,12 @@ impl Eeprom {
 
     /// The last problem with the file, if any.
     pub fn problem(&self) -> Option<&EepromError> {
-        self.problem.as_ref()
+        self.problem.as_ref().or(self.refused.as_ref())
+    }
+
+    /// Why the file given to [`Eeprom::open`] was refused, if it was.
+    pub fn refused(&self) -> Option<&EepromError> {
+        self.refused.as_ref()
     }
 
     /// Record that the image changed: write it out now, or later if deferred.
@@ -316,15 +330,36 @@ mod tests {
     }
 
     #[test]
-    fn garbage_is_reported_and_factory_settings_used() {
+    fn garbage_is_refused_factory_settings_used_and_the_file_left_alone() {
         let dir = tempfile::tempdir().expect("temp dir");
         let path = dir.path().join("eeprom.json");
         std::fs::write(&path, "{ not json").expect("write");
-        let eeprom = Eeprom::open(Some(path), EepromImage::factory(1));
-        let message = eeprom.problem().map(|p| p.to_string()).unwrap_or_default();
+        let mut eeprom = Eeprom::open(Some(path.clone()), EepromImage::factory(1));
+        let message = eeprom.refused().map(|p| p.to_string()).unwrap_or_default();
         assert!(message.contains("not valid JSON"), "{message}");
-        assert!(message.contains("factory settings"), "{message}");
+        assert!(
+            message.contains("is not a simulated EEPROM file"),
+            "{message}"
+        );
         assert_eq!(eeprom.image, EepromImage::factory(1));
+        // A change is kept in memory; the file is not written over.
+        eeprom.image.user_variables[0] = 42;
+        eeprom.changed();
+        drop(eeprom);
+        assert_eq!(std::fs::read(&path).expect("read"), b"{ not json");
+    }
+
+    #[test]
+    fn an_empty_file_is_taken_as_a_new_one() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let path = dir.path().join("eeprom.json");
+        std::fs::write(&path, "").expect("write");
+        let mut eeprom = Eeprom::open(Some(path.clone()), EepromImage::factory(1));
+        assert!(eeprom.problem().is_none());
+        eeprom.image.user_variables[0] = 42;
+        eeprom.changed();
+        let loaded = load(&path, EepromImage::factory(1)).expect("load");
+        assert_eq!(loaded.map(|i| i.user_variables[0]), Some(42));
     }
 
     #[test]

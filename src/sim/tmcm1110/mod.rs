@@ -76,6 +76,7 @@ pub const KIND: super::SimKind = super::SimKind {
     },
     input_names: || super::inputs::names(inputs::INPUTS),
     input_help: || super::inputs::help_lines(inputs::INPUTS),
+    eeprom_refusal: None,
 };
 
 /// The firmware version string of command 136 type 0: module number, 'V',
@@ -745,6 +746,10 @@ pub fn help_line(config: &SimConfig) -> String {
 }
 
 impl SimulatedController for Tmcm1110 {
+    fn refused_memory_file(&self) -> Option<String> {
+        self.eeprom.refused().map(ToString::to_string)
+    }
+
     fn help(&self) -> String {
         self.help_line()
     }

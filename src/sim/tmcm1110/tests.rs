@@ -220,7 +220,7 @@ fn read_only_writes_answer_3_by_default_and_4_if_configured() {
 #[test]
 fn storing_a_parameter_without_e_answers_3() {
     let mut sim = sim();
-    assert_eq!(status(&mut sim, 7, 6, 0, 0), 3); // STAP 6 (run current: RW)
+    assert_eq!(status(&mut sim, 7, 7, 0, 0), 3); // STAP 7 (standby current: RW)
     assert_eq!(status(&mut sim, 8, 140, 0, 0), 3); // RSAP 140
     assert_eq!(status(&mut sim, 7, 99, 0, 0), 3); // STAP of no parameter
     assert_eq!(status(&mut sim, 11, 56, 2, 0), 3); // STGP 56: RAM-only variable
@@ -318,7 +318,7 @@ fn example_command_frames_of_the_manual_are_accepted() {
         "01 04 02 00 00 00 00 08 0F", // MVP COORD, 0, 8
         "01 05 04 00 00 00 03 E8 F5", // SAP 4, 0, 1000
         "01 06 01 00 00 00 00 00 08", // GAP 1, 0
-        "01 07 06 00 00 00 00 00 0E", // STAP 6, 0 -> 3: AP6 has no E
+        "01 07 06 00 00 00 00 00 0E", // STAP 6, 0 (storable as §3.6.7 stores it)
         "01 0B 2A 02 00 00 00 00 38", // STGP 42, 2
         "01 0C 2A 02 00 00 00 00 39", // RSGP 42, 2
         "01 0D 00 00 00 00 00 00 0E", // RFS START, 0
@@ -343,8 +343,7 @@ fn example_command_frames_of_the_manual_are_accepted() {
     ] {
         sim.feed(&hex(command));
         let out = sim.take_output();
-        let expected = if command.starts_with("01 07") { 3 } else { 100 };
-        assert_eq!(out.get(2), Some(&expected), "{command} got {out:02X?}");
+        assert_eq!(out.get(2), Some(&100), "{command} got {out:02X?}");
         assert_eq!(out.get(3), hex(command).get(1), "{command}: opcode echo");
     }
 }
@@ -1149,6 +1148,35 @@ fn factory_reset_sends_nothing_and_restores_defaults() {
     assert_eq!(ok(&mut sim, 10, 76, 0, 0), 2);
     assert_eq!(ok(&mut sim, 6, 214, 0, 0), 200);
     assert_eq!(sim.program_word(0), Some([0; 7]));
+}
+
+#[test]
+fn the_run_current_is_stored_and_restored_as_the_manuals_examples_do() {
+    // §3.6.7 and §3.6.8 store and restore AP6 (Table 16 prints RW): the
+    // frames as the manual prints them, RSAP's checksum corrected
+    // (01+08+06 = 0F; the manual prints another, digest D11).
+    let mut sim = sim();
+    ok(&mut sim, 5, 6, 0, 200); // SAP 6, 0, 200
+    sim.feed(&hex("01 07 06 00 00 00 00 00 0E")); // STAP 6, 0
+    assert_eq!(sim.take_output(), hex("02 01 64 07 00 00 00 00 6E"));
+    ok(&mut sim, 5, 6, 0, 100); // SAP 6, 0, 100
+    sim.feed(&hex("01 08 06 00 00 00 00 00 0F")); // RSAP 6, 0
+    assert_eq!(sim.take_output(), hex("02 01 64 08 00 00 00 00 6F"));
+    assert_eq!(ok(&mut sim, 6, 6, 0, 0), 200); // GAP 6, 0
+    // Across a power cycle too (§3.6.8: restored at power-up).
+    let dir = tempfile::tempdir().expect("temp dir");
+    let config = SimConfig {
+        eeprom_file: Some(dir.path().join("eeprom.json")),
+        ..SimConfig::default()
+    };
+    {
+        let mut sim = Tmcm1110::new(config.clone());
+        ok(&mut sim, 5, 6, 0, 64);
+        ok(&mut sim, 7, 6, 0, 0);
+        ok(&mut sim, 5, 6, 0, 255);
+    }
+    let mut sim = Tmcm1110::new(config);
+    assert_eq!(ok(&mut sim, 6, 6, 0, 0), 64);
 }
 
 #[test]

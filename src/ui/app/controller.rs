@@ -10,6 +10,7 @@ use crate::device::{DeviceEvent, LinkState, TrafficRecord};
 use crate::protocol::Family;
 use crate::protocol::program::{Progress, TransferFailure, TransferJob, TransferReport};
 use crate::session::Cancel;
+use crate::session::run_end::{LinkAtStop, RunAftermath, RunEnding, RunStop, StopOnFailure};
 use crate::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
 
 /// A future the loop can spawn.
@@ -32,6 +33,23 @@ pub trait Controller: Send + Sync {
     fn execute(&self, line: String) -> Pending<Result<LineResult, SessionError>>;
     /// Every stop line, ahead of everything queued; what came back for each.
     fn emergency_stop(&self) -> Pending<Vec<Result<LineResult, SessionError>>>;
+    /// End a run that ended so under `policy`
+    /// ([`crate::session::Session::end_run`]). By default: the stop lines
+    /// of [`Controller::emergency_stop`] when the policy says so, without
+    /// waiting for a lost link.
+    fn end_run(&self, ending: RunEnding, policy: StopOnFailure) -> Pending<RunAftermath> {
+        let stop = policy.stops_after(ending).then(|| self.emergency_stop());
+        Box::pin(RunAftermath::of(ending, policy, move || async move {
+            RunStop {
+                ending,
+                lines: match stop {
+                    Some(stop) => stop.await,
+                    None => Vec::new(),
+                },
+                link: LinkAtStop::Up,
+            }
+        }))
+    }
     fn set_polling(&self, cadence: Option<PollCadence>);
     fn acknowledge_errors(&self, axis: usize, seen: &[AxisFlag]);
     /// Clear the error flags of `axis` in the module where its family

@@ -448,6 +448,25 @@ impl Runner {
                     let _ = tx.send(AppEvent::Stopped(results));
                 });
             }
+            Effect::EndRun {
+                pane,
+                ending,
+                policy,
+            } => {
+                // Unlike the stop key, lines already queued are kept: they
+                // are other panes' and answered after the stop, which goes
+                // first at emergency-stop priority.
+                let Some(c) = self.connection.as_ref() else {
+                    queue.push(not_connected());
+                    return;
+                };
+                let end = c.controller.end_run(ending, policy);
+                let tx = self.internal.clone();
+                tokio::spawn(async move {
+                    let aftermath = end.await;
+                    let _ = tx.send(AppEvent::RunEnded { pane, aftermath });
+                });
+            }
             Effect::Poll(cadence) => {
                 if let Some(c) = self.connection.as_mut() {
                     c.poll = cadence;

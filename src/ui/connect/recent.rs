@@ -49,9 +49,9 @@ impl Recents {
         let Some(file) = file else {
             return recents;
         };
-        let text = match std::fs::read_to_string(&file) {
+        let text = match crate::files::read_text(&file) {
             Ok(text) => text,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return recents,
+            Err(e) if e.is_not_found() => return recents,
             Err(e) => {
                 recents.problem = Some(format!("cannot read {}: {e}", file.display()));
                 return recents;
@@ -112,9 +112,9 @@ impl Recents {
             std::fs::create_dir_all(dir)
                 .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
         }
-        std::fs::write(
+        crate::files::write_atomically(
             file,
-            format!("# axterm: recent connections, newest first\n{text}"),
+            format!("# axterm: recent connections, newest first\n{text}").as_bytes(),
         )
         .map_err(|e| format!("cannot write {}: {e}", file.display()))?;
         self.problem = None;

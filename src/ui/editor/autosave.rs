@@ -5,7 +5,6 @@
 //! atomically (a temporary file beside it, then a rename), so the copy on
 //! disk is always a whole one: the old or the new, never half of each.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::{SystemTime, UNIX_EPOCH};
 
@@ -64,12 +63,16 @@ pub fn autosave_path(data_dir: &Path) -> PathBuf {
 pub fn write_autosave(data_dir: &Path, copy: &Autosave) -> Result<(), String> {
     let json = serde_json::to_string(copy)
         .map_err(|e| format!("cannot keep a safety copy of the text: {e}"))?;
-    write_atomically(&autosave_path(data_dir), json.as_bytes())
+    std::fs::create_dir_all(data_dir)
+        .map_err(|e| format!("cannot create {}: {e}", data_dir.display()))?;
+    let path = autosave_path(data_dir);
+    crate::files::write_atomically(&path, json.as_bytes())
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
 /// The safety copy in `data_dir`, if there is a readable one.
 pub fn read_autosave(data_dir: &Path) -> Option<Autosave> {
-    let text = std::fs::read_to_string(autosave_path(data_dir)).ok()?;
+    let text = crate::files::read_text(autosave_path(data_dir)).ok()?;
     serde_json::from_str(&text).ok()
 }
 
@@ -81,33 +84,6 @@ pub fn remove_autosave(data_dir: &Path) -> Result<(), String> {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
         Err(e) => Err(format!("cannot remove {}: {e}", path.display())),
     }
-}
-
-/// Write `bytes` to `path` through a temporary file in the same directory
-/// and a rename, so that `path` is never seen half written (a rename
-/// within one file system replaces the old file in one step).
-pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    let dir = match path.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => dir.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let name = path
-        .file_name()
-        .map_or_else(|| "file".into(), |n| n.to_string_lossy().into_owned());
-    let temporary = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-    let written = std::fs::File::create(&temporary).and_then(|mut file| {
-        file.write_all(bytes)?;
-        file.sync_all()
-    });
-    if let Err(e) = written {
-        let _ = std::fs::remove_file(&temporary);
-        return Err(format!("cannot write {}: {e}", temporary.display()));
-    }
-    std::fs::rename(&temporary, path).map_err(|e| {
-        let _ = std::fs::remove_file(&temporary);
-        format!("cannot write {}: {e}", path.display())
-    })
 }
 
 /// Seconds since 1970 as `YYYY-MM-DD HH:MM UTC`.

@@ -4,9 +4,10 @@
 
 use super::EditorPane;
 use crate::protocol::program::PlaceState;
+use crate::session::run_end::{RunEnding, StopOnFailure};
 use crate::ui::host_run::{ConsoleHostRun, HostUpdate};
 use crate::ui::keymap::{Action, Context};
-use crate::ui::pane::{Notice, Outcome, PaneEvent, View, key_label};
+use crate::ui::pane::{Notice, Outcome, PaneEvent, Request, View, key_label};
 use crate::ui::theme::Role;
 
 impl EditorPane {
@@ -82,10 +83,18 @@ impl EditorPane {
                 _ => Notice::info(text.clone()),
             });
         }
-        if update.ended.is_some() {
+        let mut requests = update.requests;
+        if let Some(end) = update.ended {
             self.end_host_run();
+            // A program that failed may have left an axis moving.
+            if !end.ok {
+                requests.push(Request::EndRun {
+                    ending: RunEnding::Failed,
+                    policy: StopOnFailure::Stop,
+                });
+            }
         }
-        Outcome::Handled(update.requests)
+        Outcome::Handled(requests)
     }
 
     /// Let the host run go; its variables stay shown until the
@@ -96,14 +105,34 @@ impl EditorPane {
         Some(host)
     }
 
-    /// Esc during a host run: nothing more of it is sent.
-    pub(super) fn cancel_host_run(&mut self, view: &View) -> Option<Outcome> {
+    /// Esc during a host run: nothing more of it is sent, and the axes
+    /// are stopped.
+    pub(super) fn cancel_host_run(&mut self) -> Option<Outcome> {
         let host = self.end_host_run()?;
         self.message = Some(Notice::warning(format!(
-            "host run of {} stopped: nothing more of it is sent (motion already commanded goes on: {} stops the axes)",
+            "host run of {} stopped: nothing more of it is sent; stopping every axis",
             host.name(),
-            key_label(view.keymap, Context::Global, Action::EmergencyStop)
         )));
+        Some(Outcome::request(Request::EndRun {
+            ending: RunEnding::Cancelled,
+            policy: StopOnFailure::Stop,
+        }))
+    }
+
+    /// What the session did about the axes after a host run ended.
+    pub(super) fn run_ended(&mut self, event: &PaneEvent, view: &View) -> Option<Outcome> {
+        let PaneEvent::RunEnded(aftermath) = event else {
+            return None;
+        };
+        let summary = aftermath.summary();
+        self.message = Some(if aftermath.settled() {
+            Notice::info(summary)
+        } else {
+            Notice::error(format!(
+                "{summary}: check the axes ({} stops everything)",
+                key_label(view.keymap, Context::Global, Action::EmergencyStop)
+            ))
+        });
         Some(Outcome::redraw())
     }
 

@@ -8,7 +8,7 @@
 //!   fails is named by its address and its source line is marked.
 //! - Verify (Shift-F4) compares the module's program with the text,
 //!   storing nothing.
-//! - Upload (Shift-F3) reads the program back and opens its source as a
+//! - Upload (Ctrl-F4) reads the program back and opens its source as a
 //!   new unsaved buffer; unsaved text is asked about first, as Open does.
 //! - Where the tool documents no download over the wire
 //!   ([`DownloadWay::SimulatorOnly`]: A-Script), F4 loads the text into

@@ -6,7 +6,6 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use super::autosave::write_atomically;
 
 /// The watch list's file name in the data directory.
 pub const WATCH_FILE: &str = "editor-watch.json";
@@ -18,7 +17,7 @@ pub const MAX_WATCHED: usize = 12;
 type WatchFile = BTreeMap<String, Vec<u8>>;
 
 fn read_watch_file(data_dir: &Path) -> WatchFile {
-    std::fs::read_to_string(watch_path(data_dir))
+    crate::files::read_text(watch_path(data_dir))
         .ok()
         .and_then(|text| serde_json::from_str::<WatchFile>(&text).ok())
         .unwrap_or_default()
@@ -36,7 +35,9 @@ fn write_watch_file(data_dir: &Path, file: &WatchFile) -> Result<(), String> {
         serde_json::to_string(file).map_err(|e| format!("cannot keep the watch list: {e}"))?;
     std::fs::create_dir_all(data_dir)
         .map_err(|e| format!("cannot keep the watch list in {}: {e}", data_dir.display()))?;
-    write_atomically(&watch_path(data_dir), json.as_bytes())
+    let path = watch_path(data_dir);
+    crate::files::write_atomically(&path, json.as_bytes())
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
 /// Where the watch list lives in `data_dir`.

@@ -1,0 +1,122 @@
+//! How `axterm run` and `axterm run-ascript` end a run: the run's work
+//! goes until it ends or Ctrl-C (SIGINT) comes, then the session decides
+//! what becomes of the axes ([`Session::end_run`]: the stop sequence after
+//! a run that failed or was cancelled, unless `--no-stop-on-failure`) and
+//! its report is printed on standard error. A second Ctrl-C while the
+//! stop waits for a lost link gives up waiting, and says so.
+
+use std::future::Future;
+
+use serde_json::Value;
+
+use super::output::{Format, json_outcome};
+use super::{EXIT_DEVICE, EXIT_OK};
+use crate::session::Session;
+use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
+
+/// Ctrl-C (SIGINT), watched from when it is made: the default action
+/// (the process ends at once) is replaced, so the run can be ended
+/// properly.
+pub struct Interrupt {
+    #[cfg(unix)]
+    signal: tokio::signal::unix::Signal,
+}
+
+impl Interrupt {
+    pub fn watch() -> std::io::Result<Interrupt> {
+        #[cfg(unix)]
+        {
+            use tokio::signal::unix::{SignalKind, signal};
+            Ok(Interrupt {
+                signal: signal(SignalKind::interrupt())?,
+            })
+        }
+        #[cfg(not(unix))]
+        {
+            Ok(Interrupt {})
+        }
+    }
+
+    /// The next Ctrl-C.
+    pub async fn received(&mut self) {
+        #[cfg(unix)]
+        {
+            self.signal.recv().await;
+        }
+        #[cfg(not(unix))]
+        {
+            let _ = tokio::signal::ctrl_c().await;
+        }
+    }
+}
+
+/// Where and how a run's end is reported.
+pub struct RunReport<'a> {
+    /// `axterm run: FILE: `, before each line of the report that is not a
+    /// stop line.
+    pub prefix: &'a str,
+    /// With [`Format::Json`] each stop line is also printed on standard
+    /// output as the JSON object of its outcome, with `"stop": true`.
+    pub format: Format,
+}
+
+/// Run `work` (true when every step succeeded) to its end or to a Ctrl-C,
+/// then end the run under `policy` and print what was done. The exit code:
+/// 0 for a run that completed, 1 otherwise.
+pub async fn run_then_end(
+    session: &Session,
+    mut interrupt: Interrupt,
+    policy: StopOnFailure,
+    report: &RunReport<'_>,
+    work: impl Future<Output = bool>,
+) -> i32 {
+    let ending = tokio::select! {
+        ok = work => RunEnding::from_success(ok),
+        () = interrupt.received() => {
+            // The work is dropped here: its line in flight is answered,
+            // nothing more of it is sent.
+            eprintln!("{}stopped by Ctrl-C", report.prefix);
+            RunEnding::Cancelled
+        }
+    };
+    if ending == RunEnding::Completed {
+        return EXIT_OK;
+    }
+    let aftermath = tokio::select! {
+        aftermath = session.end_run(ending, policy) => aftermath,
+        () = interrupt.received() => {
+            eprintln!(
+                "{}Ctrl-C again: gave up sending the stop; the axes may still move",
+                report.prefix
+            );
+            return EXIT_DEVICE;
+        }
+    };
+    print_aftermath(session, report, &aftermath);
+    EXIT_DEVICE
+}
+
+fn print_aftermath(session: &Session, report: &RunReport<'_>, aftermath: &RunAftermath) {
+    for line in aftermath.report() {
+        if line.starts_with(' ') {
+            eprintln!("{line}");
+        } else {
+            eprintln!("{}{line}", report.prefix);
+        }
+    }
+    if report.format == Format::Json
+        && let RunAftermath::Stopped(stop) = aftermath
+    {
+        for result in &stop.lines {
+            let line = match result {
+                Ok(r) => r.line.as_str(),
+                Err(e) => e.line(),
+            };
+            let mut object = json_outcome(session.family(), line, result);
+            if let Value::Object(map) = &mut object {
+                map.insert("stop".into(), Value::Bool(true));
+            }
+            println!("{object}");
+        }
+    }
+}

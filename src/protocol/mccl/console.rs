@@ -1,0 +1,794 @@
+//! The MCCL controller as the session layer sees it ([`FamilyConsole`]):
+//! a line parsed, checked and sent with its CR; its answer recognised by
+//! the echo and the prompt and read against the line; the emergency stop;
+//! the status of each axis from `TP`, `TV`, `TS`, `TT` and `TF`.
+//!
+//! The console is stateless between lines: it reads every line and every
+//! answer in decimal with the profile's prompt and echo, so it refuses the
+//! commands that would change those for later lines (`HM`, `PC`, `EN`,
+//! `EF`) until the session keeps a per-link state for it. Lines that may
+//! run for long are marked [`LongRunning`] (Escape aborts, Space pauses).
+
+use std::sync::{Arc, LazyLock};
+
+use super::catalog::{Blocks, Output};
+use super::check::{CheckContext, Severity, check_line};
+use super::line::{Line, NumberBase, parse_line};
+use super::machine::{AxisKind, DEFAULT_MACHINE, Machine};
+use super::parameter_set::MclParameters;
+use super::profile::{LinkProfile, LinkState};
+use super::reply::{AnswerRule, Printed, Reply, Report, read_reply, runs_straight};
+use super::status::{BitClass, PRIMARY, StatusBit, StatusSelector, StatusWord, StatusWordKind};
+use crate::protocol::ascii::{ASCII_MIN_SILENCE, AsciiWire};
+use crate::protocol::console::{
+    Answering, AxisFlag, AxisInfo, AxisUpdate, Completions, Effect, FamilyConsole, LongRunning,
+    PreparedLine, Reading, ReplyError, ReplyValue, StatusPoll, SwitchKind,
+};
+use crate::protocol::parameters::ParameterSet;
+use crate::protocol::wire::{Frame, WireFormat};
+
+/// The ASCII interface is point to point: there is no bus address, and the
+/// console calls the controller 0.
+pub const ADDRESS: u8 = 0;
+
+/// How the emergency stop stops the axes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StopMotion {
+    /// `0AB`: "serves as an emergency stop", abrupt, PID and amplifier stay
+    /// on (Ch7 AB).
+    Abort,
+    /// `0ST`: decelerate at DS (Ch7 ST).
+    Decelerate,
+}
+
+/// The console for one kind of MultiFlex setup.
+#[derive(Debug, Clone, Copy)]
+pub struct MclConsole {
+    pub profile: LinkProfile,
+    pub machine: Machine,
+    pub stop: StopMotion,
+    /// Background task IDs the emergency stop ends with `ET`. Task IDs are
+    /// whatever `GT` put in the accumulator (Ch4; their values are not
+    /// stated), so it ends each of these; an ID no task has is answered
+    /// −20 and read as "not running".
+    pub tasks: &'static [i64],
+    /// The settings table, for the same machine.
+    pub parameters: &'static MclParameters,
+}
+
+/// The settings of the default machine.
+pub static DEFAULT_PARAMETERS: MclParameters = MclParameters {
+    machine: DEFAULT_MACHINE,
+};
+
+/// Task IDs 1–21: as many as the controller runs tasks (Ch4: "The maximum
+/// number of background tasks is 21"), numbered from 1 [?].
+const FIRST_TASK_IDS: &[i64] = &[
+    1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21,
+];
+
+impl MclConsole {
+    /// The manual's interface, the examples' machine (axes 1–4 servo, 5
+    /// stepper), an abort as the emergency stop.
+    pub const DEFAULT: MclConsole = MclConsole {
+        profile: LinkProfile::MANUAL,
+        machine: DEFAULT_MACHINE,
+        stop: StopMotion::Abort,
+        tasks: FIRST_TASK_IDS,
+        parameters: &DEFAULT_PARAMETERS,
+    };
+
+    fn context(&self) -> CheckContext<'_> {
+        CheckContext {
+            machine: &self.machine,
+            profile: &self.profile,
+        }
+    }
+
+    /// The interface at the start of every line (the console keeps it so).
+    fn state(&self) -> LinkState {
+        LinkState::new(&self.profile)
+    }
+
+    /// A parsed line, ready to send.
+    pub fn prepare_line(&self, line: &Line) -> PreparedLine {
+        let canonical = line.to_string();
+        let mut bytes = canonical.clone().into_bytes();
+        bytes.push(self.profile.send_end);
+        let rule = AnswerRule::new(line, &canonical, &self.profile, &self.state());
+        PreparedLine {
+            canonical,
+            address: ADDRESS,
+            bytes,
+            answering: Answering::Reply(Arc::new(rule)),
+            // Only a line that reads and ends at once may be sent again: a
+            // repeating Tell (`1TP,RP`) still runs after a timeout.
+            effect: if line
+                .commands
+                .iter()
+                .all(|c| c.spec.only_reads() && c.spec.blocks == Blocks::No)
+            {
+                Effect::Reads
+            } else {
+                Effect::Acts
+            },
+        }
+    }
+
+    /// Parse and check `text`, and refuse what this console cannot follow.
+    pub fn parse_checked(&self, text: &str) -> Result<Line, String> {
+        let line = parse_line(text, NumberBase::Decimal).map_err(|e| e.to_string())?;
+        let errors: Vec<String> = check_line(&line, &self.context())
+            .into_iter()
+            .filter(|d| d.severity == Severity::Error)
+            .map(|d| d.message)
+            .collect();
+        if !errors.is_empty() {
+            return Err(errors.join("; "));
+        }
+        self.refusal(&line).map_or(Ok(line), Err)
+    }
+
+    /// Commands that would change how later lines are written or read,
+    /// which a stateless console must not send.
+    fn refusal(&self, line: &Line) -> Option<String> {
+        // A macro or a task holds them without running them here.
+        if line.defines_macro() || line.is_task() {
+            return None;
+        }
+        for command in &line.commands {
+            let name = command.to_string();
+            let refused = match command.mnemonic() {
+                "HM" => Some(
+                    "HM switches the controller to hexadecimal for every later line both ways \
+                     (Ch13); this console reads lines and replies in decimal"
+                        .to_string(),
+                ),
+                "PC" if command.number().map(|n| n as i64)
+                    != self.profile.prompt.map(i64::from) =>
+                {
+                    Some(format!(
+                        "PC changes the prompt this console waits for ({})",
+                        self.profile
+                            .prompt
+                            .map_or("none".into(), |p| format!("`{}`", char::from(p)))
+                    ))
+                }
+                "EN" | "EF" => {
+                    Some("EN/EF change the echo this console reads (factory use only, Ch13)".into())
+                }
+                "BK" if command.text().is_some() => Some(
+                    "BK\"text\" single-steps, which waits for keys this console does not send \
+                     (Space, Enter)"
+                        .into(),
+                ),
+                _ => None,
+            };
+            if let Some(reason) = refused {
+                return Some(format!("`{name}`: {reason}"));
+            }
+        }
+        None
+    }
+
+    /// The line sent, parsed again (it parsed when it was prepared).
+    fn line_of(&self, prepared: &PreparedLine) -> Option<Line> {
+        parse_line(&prepared.canonical, NumberBase::Decimal).ok()
+    }
+
+    /// The index into [`MclConsole::axes`] of axis `number`.
+    fn axis_index(&self, number: u8) -> Option<usize> {
+        self.machine.axes.iter().position(|a| a.number == number)
+    }
+}
+
+fn malformed(line: &PreparedLine, reason: impl Into<String>) -> ReplyError {
+    ReplyError::Malformed {
+        line: line.canonical.clone(),
+        reason: reason.into(),
+    }
+}
+
+/// Whether `line` reads a motor-table variable (`LU"…"`, a read at `@0`,
+/// `TR0`): its value is a real whatever digits it is printed with, so it is
+/// given as text for the parameter table to scale.
+fn reads_variable(line: &Line) -> bool {
+    line.contains("LU") && line.commands.last().is_some_and(|c| c.mnemonic() == "TR")
+}
+
+/// What a reply shows: a single integer as a number, anything else as text
+/// (values with decimals as printed; several values separated by blanks;
+/// text lines by line ends, VE's on one line for the title).
+fn value_of(line: &Line, reply: &Reply) -> ReplyValue {
+    let text_of = |report: &Report| -> String {
+        match &report.printed {
+            Printed::Value(told) => told.value.to_string(),
+            Printed::Text(lines) => {
+                let is_version = report
+                    .command
+                    .and_then(|i| line.commands.get(i))
+                    .is_some_and(|c| c.mnemonic() == "VE");
+                lines.join(if is_version { " · " } else { "\n" })
+            }
+        }
+    };
+    match reply.reports.as_slice() {
+        [] => ReplyValue::None,
+        [
+            Report {
+                printed: Printed::Value(told),
+                ..
+            },
+        ] if !reads_variable(line) => match told.value {
+            super::reply::Quantity::Integer(n) => ReplyValue::Number(n),
+            _ => ReplyValue::Text(told.value.to_string()),
+        },
+        reports => {
+            let any_text = reports
+                .iter()
+                .any(|r| matches!(r.printed, Printed::Text(_)));
+            let parts: Vec<String> = reports.iter().map(text_of).collect();
+            ReplyValue::Text(parts.join(if any_text { "\n" } else { " " }))
+        }
+    }
+}
+
+/// Primary status bits shown as lamps: the states and inputs that are not
+/// a switch lamp, the reached lamp or an error flag of their own.
+const LAMP_BITS: &[u8] = &[1, 5, 6, 17, 18, 19, 20, 21, 24, 25, 26, 27];
+
+fn flag(bit: &'static StatusBit) -> AxisFlag {
+    AxisFlag {
+        name: bit.name,
+        description: bit.meaning,
+    }
+}
+
+static LAMPS: LazyLock<Vec<AxisFlag>> = LazyLock::new(|| {
+    PRIMARY
+        .iter()
+        .filter(|b| LAMP_BITS.contains(&b.bit))
+        .map(flag)
+        .collect()
+});
+
+/// The primary status word of an axis as updates: its limit and home
+/// inputs as switches (home: the coarse home input of a servo, the home
+/// input of a stepper, Ch8 TS bits 24/25), at target as reached, the
+/// latched faults as errors, the rest as lamps.
+fn primary_updates(axis: usize, kind: Option<AxisKind>, value: u32) -> Vec<(usize, AxisUpdate)> {
+    let word = StatusWord::new(StatusWordKind::Primary, value);
+    let home_bit = match kind {
+        Some(AxisKind::Servo) => 25,
+        _ => 24,
+    };
+    let errors: Vec<AxisFlag> = word
+        .set_bits()
+        .filter(|b| b.class == BitClass::Error)
+        .map(flag)
+        .collect();
+    let lamps: Vec<AxisFlag> = word
+        .set_bits()
+        .filter(|b| LAMP_BITS.contains(&b.bit))
+        .map(flag)
+        .collect();
+    vec![
+        (axis, AxisUpdate::Switch(SwitchKind::Right, word.is_set(28))),
+        (axis, AxisUpdate::Switch(SwitchKind::Left, word.is_set(29))),
+        (
+            axis,
+            AxisUpdate::Switch(SwitchKind::Home, word.is_set(home_bit)),
+        ),
+        (axis, AxisUpdate::Reached(word.is_set(2))),
+        (axis, AxisUpdate::Errors(errors)),
+        (axis, AxisUpdate::DriverFlags(lamps)),
+    ]
+}
+
+impl FamilyConsole for MclConsole {
+    fn wire(&self) -> Arc<dyn WireFormat> {
+        Arc::new(AsciiWire {
+            name: "mccl",
+            max_line: self.profile.max_reply_line,
+            prompt: self.profile.prompt,
+            min_silence: ASCII_MIN_SILENCE,
+        })
+    }
+
+    fn default_address(&self) -> u8 {
+        ADDRESS
+    }
+
+    fn addresses(&self) -> std::ops::RangeInclusive<u8> {
+        ADDRESS..=ADDRESS
+    }
+
+    fn axes(&self) -> &'static [AxisInfo] {
+        self.machine.axes
+    }
+
+    fn prepare(&self, line: &str, address: u8) -> Result<PreparedLine, String> {
+        if address != ADDRESS {
+            return Err(format!(
+                "address {address}: the MCCL interface is point to point and has no bus address"
+            ));
+        }
+        let line = self.parse_checked(line)?;
+        Ok(self.prepare_line(&line))
+    }
+
+    fn long_running(&self, line: &PreparedLine) -> Option<LongRunning> {
+        let parsed = self.line_of(line)?;
+        let blocks = !parsed.defines_macro()
+            && !parsed.is_task()
+            && parsed.commands.iter().any(|c| c.spec.blocks != Blocks::No);
+        blocks.then(|| LongRunning {
+            abort: vec![self.profile.abort],
+            pause: Some(vec![self.profile.pause]),
+            timeout: self.profile.busy_timeout,
+        })
+    }
+
+    fn interpret(&self, line: &PreparedLine, frames: &[Frame]) -> Result<Reading, ReplyError> {
+        let parsed = self
+            .line_of(line)
+            .ok_or_else(|| malformed(line, "the line sent does not parse"))?;
+        let reply = read_reply(
+            &parsed,
+            &line.canonical,
+            &self.state(),
+            &self.profile,
+            frames,
+        )
+        .map_err(|problem| malformed(line, problem.to_string()))?;
+        if let Some(error) = &reply.error {
+            // Ending a task that is not running leaves it not running: the
+            // emergency stop ends every task ID it may have (ET, Ch10).
+            if let [command] = parsed.commands.as_slice()
+                && command.mnemonic() == "ET"
+                && error.code == -20
+            {
+                return Ok(Reading {
+                    status: None,
+                    value: ReplyValue::Text(format!(
+                        "no background task {}: nothing to end ({})",
+                        command
+                            .value
+                            .as_ref()
+                            .map_or("0".into(), ToString::to_string),
+                        error.text()
+                    )),
+                });
+            }
+            return Err(ReplyError::Refused {
+                module: "the controller".into(),
+                line: line.canonical.clone(),
+                reply: error.text(),
+                meaning: format!("{}, Ch14", error.meaning()),
+            });
+        }
+        Ok(Reading {
+            status: None,
+            value: value_of(&parsed, &reply),
+        })
+    }
+
+    fn emergency_stop(&self, _address: u8) -> Vec<PreparedLine> {
+        // Escape first aborts a line running in the foreground: that is the
+        // device layer's, through the abort byte of the line's
+        // `long_running`. Then every axis, then every task that could
+        // start motion again.
+        let stop = match self.stop {
+            StopMotion::Abort => "0AB",
+            StopMotion::Decelerate => "0ST",
+        };
+        std::iter::once(stop.to_string())
+            .chain(self.tasks.iter().map(|id| format!("ET{id}")))
+            .filter_map(|text| parse_line(&text, NumberBase::Decimal).ok())
+            .map(|line| self.prepare_line(&line))
+            .collect()
+    }
+
+    fn identify(&self, _address: u8) -> PreparedLine {
+        // VE: "Reports the revision level of the firmware … and the amount
+        // of memory" (Ch8).
+        let line = parse_line("VE", NumberBase::Decimal).unwrap_or_default();
+        self.prepare_line(&line)
+    }
+
+    fn status_queries(&self, _address: u8) -> Vec<StatusPoll> {
+        // One line per axis for what moves (position, velocity, status word:
+        // one reply line each, the axis carried), one for the target and,
+        // on a closed-loop axis, the following error (digest §16).
+        let mut polls = Vec::new();
+        for (index, axis) in self.machine.axes.iter().enumerate() {
+            let closed = self
+                .machine
+                .kind(axis.number)
+                .is_some_and(AxisKind::closed_loop);
+            let fast = format!("{}TP,TV,TS", axis.number);
+            let slow = if closed {
+                format!("{}TT,TF", axis.number)
+            } else {
+                format!("{}TT", axis.number)
+            };
+            for (text, fast) in [(fast, true), (slow, false)] {
+                if let Ok(line) = parse_line(&text, NumberBase::Decimal) {
+                    polls.push(StatusPoll {
+                        axis: index,
+                        line: self.prepare_line(&line),
+                        fast,
+                    });
+                }
+            }
+        }
+        polls
+    }
+
+    fn status_update(&self, line: &PreparedLine, reading: &Reading) -> Vec<(usize, AxisUpdate)> {
+        let Some(parsed) = self.line_of(line) else {
+            return Vec::new();
+        };
+        // Values come back in the order of the line's value commands (see
+        // `value_of`); a line with text, jumps or repeats says nothing
+        // reliable about an axis.
+        let tells: Vec<usize> = (0..parsed.commands.len())
+            .filter(|&i| parsed.commands[i].spec.output != Output::Nothing)
+            .collect();
+        let all_values = tells
+            .iter()
+            .all(|&i| parsed.commands[i].spec.output == Output::Value);
+        if !runs_straight(&parsed) || !all_values || reads_variable(&parsed) {
+            return Vec::new();
+        }
+        let values: Vec<String> = match &reading.value {
+            ReplyValue::Number(n) => vec![n.to_string()],
+            ReplyValue::Text(text) => text.split(' ').map(str::to_string).collect(),
+            ReplyValue::None => Vec::new(),
+        };
+        if values.len() != tells.len() {
+            return Vec::new();
+        }
+        let mut updates = Vec::new();
+        for (&index, text) in tells.iter().zip(&values) {
+            let command = &parsed.commands[index];
+            let Some(axis_number) = parsed.axis_of(index).number() else {
+                continue;
+            };
+            let Some(axis) = self.axis_index(axis_number) else {
+                continue;
+            };
+            let Ok(value) = text.parse::<f64>() else {
+                continue;
+            };
+            let rounded = value.round() as i64;
+            match command.mnemonic() {
+                "TP" => updates.push((axis, AxisUpdate::Position(rounded))),
+                "TT" => updates.push((axis, AxisUpdate::Target(rounded))),
+                "TV" => updates.push((axis, AxisUpdate::Speed(rounded))),
+                "TF" => updates.push((axis, AxisUpdate::FollowingError(rounded))),
+                "TS" => {
+                    let selector = command
+                        .number()
+                        .and_then(|n| StatusSelector::from_parameter(n as i64));
+                    if selector == Some(StatusSelector::Word(StatusWordKind::Primary))
+                        && let Ok(word) = u32::try_from(rounded)
+                    {
+                        let kind = self.machine.kind(axis_number);
+                        updates.extend(primary_updates(axis, kind, word));
+                    }
+                }
+                _ => {}
+            }
+        }
+        updates
+    }
+
+    fn complete(&self, line: &str, cursor: usize) -> Completions {
+        super::assist::complete(line, cursor)
+    }
+
+    fn help(&self, line: &str, cursor: usize) -> Vec<String> {
+        super::assist::help(line, cursor)
+    }
+
+    fn stop_axis_line(&self, axis: u8) -> Option<String> {
+        self.machine.has(axis).then(|| format!("{axis}ST"))
+    }
+
+    /// None: the latched fault bits clear only with `MN` (Ch7 MN, Ch8 TS),
+    /// which also turns the motor on, so clearing them is left to the user.
+    fn clear_errors_line(&self, _axis: u8) -> Option<String> {
+        None
+    }
+
+    fn lamps(&self) -> &'static [AxisFlag] {
+        &LAMPS
+    }
+
+    fn parameters(&self) -> Option<&'static dyn ParameterSet> {
+        Some(self.parameters)
+    }
+
+    fn describe_request(&self, bytes: &[u8]) -> Option<String> {
+        Some(super::traffic::describe_request(bytes))
+    }
+
+    fn describe_reply(&self, bytes: &[u8], request: Option<&[u8]>) -> Option<String> {
+        Some(super::traffic::describe_reply(
+            bytes,
+            request,
+            &self.profile,
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::protocol::wire::Verdict;
+
+    const CONSOLE: MclConsole = MclConsole::DEFAULT;
+
+    fn prepare(line: &str) -> PreparedLine {
+        CONSOLE
+            .prepare(line, 0)
+            .unwrap_or_else(|e| panic!("{line}: {e}"))
+    }
+
+    fn frames(list: &[&str]) -> Vec<Frame> {
+        list.iter().map(|s| s.as_bytes().to_vec()).collect()
+    }
+
+    fn answer(line: &PreparedLine, replies: &[&str]) -> Result<Reading, ReplyError> {
+        let mut all = vec![line.canonical.as_str()];
+        all.extend_from_slice(replies);
+        all.push(">");
+        CONSOLE.interpret(line, &frames(&all))
+    }
+
+    fn canonicals(lines: &[PreparedLine]) -> Vec<String> {
+        lines.iter().map(|l| l.canonical.clone()).collect()
+    }
+
+    #[test]
+    fn a_line_is_sent_canonical_with_a_cr() {
+        let line = prepare("2mr1000, ws0.5 ;there and back");
+        assert_eq!(line.canonical, "2MR1000,WS0.5");
+        assert_eq!(line.bytes, b"2MR1000,WS0.5\r".to_vec());
+        assert_eq!(line.effect, Effect::Acts);
+        assert_eq!(prepare("1TP,TV,TS").effect, Effect::Reads);
+        assert_eq!(
+            prepare("1TP,RP").effect,
+            Effect::Acts,
+            "still running after a timeout"
+        );
+        assert_eq!(
+            prepare("1CG,TR0").effect,
+            Effect::Acts,
+            "CG loads the accumulator"
+        );
+        assert!(
+            CONSOLE
+                .prepare("1TP", 1)
+                .unwrap_err()
+                .contains("point to point")
+        );
+    }
+
+    #[test]
+    fn what_does_not_parse_or_check_is_refused() {
+        let e = CONSOLE.prepare("", 0).unwrap_err();
+        assert!(e.contains("repeat the controller's last line"), "{e}");
+        let e = CONSOLE.prepare("1DS0", 0).unwrap_err();
+        assert_eq!(e, "`1DS0`: DS must be > 0, not 0");
+        let e = CONSOLE.prepare("1EI9", 0).unwrap_err();
+        assert!(e.contains("malfunction"), "{e}");
+        for (line, why) in [
+            ("HM", "hexadecimal"),
+            ("PC35", "prompt"),
+            ("EF1", "echo"),
+            ("BK\"wait\"", "single-steps"),
+        ] {
+            let e = CONSOLE.prepare(line, 0).unwrap_err();
+            assert!(e.contains(why), "{line}: {e}");
+        }
+        // Stored in a macro they are not run now.
+        assert!(CONSOLE.prepare("MD10,1TP,BK\"wait\",RP1", 0).is_ok());
+        // Warnings do not stop a line.
+        assert!(CONSOLE.prepare("TP,RP999", 0).is_ok());
+        assert!(CONSOLE.prepare("PC62", 0).is_ok(), "the prompt it has");
+        assert!(CONSOLE.prepare("DM", 0).is_ok());
+    }
+
+    #[test]
+    fn the_answer_is_the_echo_the_output_and_the_prompt() {
+        let Answering::Reply(rule) = prepare("1TP").answering else {
+            panic!("a reply")
+        };
+        assert_eq!(rule.examine(&[], b">"), Verdict::NotMine);
+        assert_eq!(rule.examine(&[], b"1TP"), Verdict::Continue);
+        assert_eq!(
+            rule.examine(&frames(&["1TP", "01 997"]), b">"),
+            Verdict::Complete
+        );
+        let tp = prepare("1TP");
+        assert_eq!(
+            answer(&tp, &["01 997"]).map(|r| r.value),
+            Ok(ReplyValue::Number(997))
+        );
+        assert_eq!(
+            answer(&prepare("1TP.3"), &["01 121.025"]).map(|r| r.value),
+            Ok(ReplyValue::Text("121.025".into()))
+        );
+        assert_eq!(
+            answer(&prepare("1TP,TV,TS"), &["01 1000", "01 0", "01 10"]).map(|r| r.value),
+            Ok(ReplyValue::Text("1000 0 10".into()))
+        );
+        assert_eq!(
+            answer(&prepare("1MN"), &[]).map(|r| r.value),
+            Ok(ReplyValue::None)
+        );
+        let version = answer(
+            &prepare("VE"),
+            &["MFX-PCI1440-3-A Motion Controller", "Rev. 4.5a"],
+        );
+        assert_eq!(
+            version.map(|r| r.value),
+            Ok(ReplyValue::Text(
+                "MFX-PCI1440-3-A Motion Controller · Rev. 4.5a".into()
+            ))
+        );
+        let listing = answer(&prepare("TM-1"), &["MC1,1LM2", "MC10,1VM"]);
+        assert_eq!(
+            listing.map(|r| r.value),
+            Ok(ReplyValue::Text("MC1,1LM2\nMC10,1VM".into()))
+        );
+    }
+
+    #[test]
+    fn errors_are_refusals_with_their_ch14_meaning() {
+        let mc = prepare("MC10");
+        let error = answer(&mc, &["?-6"]).unwrap_err();
+        assert_eq!(
+            error.to_string(),
+            "the controller refused MC10: ?-6 (Macro Doesn't Exist, Ch14)"
+        );
+        // Anything else than the success answer is malformed.
+        let error = answer(&prepare("1TP"), &[]).unwrap_err();
+        assert!(matches!(error, ReplyError::Malformed { .. }), "{error}");
+        assert!(
+            error.to_string().contains("no reply line for 1TP"),
+            "{error}"
+        );
+        let error = CONSOLE
+            .interpret(&prepare("1TP"), &frames(&["1TP", "01 5"]))
+            .unwrap_err();
+        assert!(error.to_string().contains("no prompt"), "{error}");
+        let error = answer(&prepare("1MN"), &["01 5"]).unwrap_err();
+        assert!(matches!(error, ReplyError::Malformed { .. }), "{error}");
+        // ET of an ID no task has: nothing was running.
+        let et = answer(&prepare("ET5"), &["?-20"]).expect("not running");
+        assert!(
+            et.value.to_string().contains("no background task 5"),
+            "{}",
+            et.value
+        );
+        assert!(answer(&prepare("ET5,NO"), &["?-20"]).is_err());
+    }
+
+    #[test]
+    fn the_emergency_stop_aborts_every_axis_then_ends_every_task() {
+        let lines = CONSOLE.emergency_stop(0);
+        let names = canonicals(&lines);
+        assert_eq!(names[0], "0AB");
+        assert_eq!(names[1], "ET1");
+        assert_eq!(names.last().map(String::as_str), Some("ET21"));
+        assert_eq!(names.len(), 22);
+        let gentle = MclConsole {
+            stop: StopMotion::Decelerate,
+            tasks: &[7],
+            ..CONSOLE
+        };
+        assert_eq!(canonicals(&gentle.emergency_stop(0)), ["0ST", "ET7"]);
+        assert_eq!(lines[0].bytes, b"0AB\r".to_vec());
+    }
+
+    #[test]
+    fn long_lines_abort_with_escape_and_pause_with_space() {
+        for line in [
+            "2MR1000,WS0.5,MR-1000,WS0.5,RP6",
+            "1TP,RP",
+            "MC10",
+            "1FI1000",
+            "WA1",
+        ] {
+            let long = CONSOLE.long_running(&prepare(line)).expect(line);
+            assert_eq!(long.abort, [0x1B]);
+            assert_eq!(long.pause, Some(vec![b' ']));
+            assert_eq!(long.timeout, LinkProfile::MANUAL.busy_timeout);
+        }
+        for line in ["1MR1000", "1TP", "MD10,1MR1000,1WS,RP", "GT0,1MR5,1WS"] {
+            assert_eq!(CONSOLE.long_running(&prepare(line)), None, "{line}");
+        }
+    }
+
+    #[test]
+    fn status_comes_from_tell_lines_per_axis() {
+        let polls = CONSOLE.status_queries(0);
+        let names: Vec<(usize, &str, bool)> = polls
+            .iter()
+            .map(|p| (p.axis, p.line.canonical.as_str(), p.fast))
+            .collect();
+        assert_eq!(names[0], (0, "1TP,TV,TS", true));
+        assert_eq!(names[1], (0, "1TT,TF", false));
+        assert_eq!(names[8], (4, "5TP,TV,TS", true));
+        assert_eq!(
+            names[9],
+            (4, "5TT", false),
+            "an open-loop stepper has no TF"
+        );
+        assert!(polls.iter().all(|p| p.line.effect == Effect::Reads));
+
+        let fast = &polls[2].line;
+        let reading = answer(fast, &["02 -500", "02 1200", "02 268436489"]).expect("read");
+        let updates = CONSOLE.status_update(fast, &reading);
+        assert!(updates.iter().all(|(axis, _)| *axis == 1));
+        let updates: Vec<AxisUpdate> = updates.into_iter().map(|(_, u)| u).collect();
+        assert!(updates.contains(&AxisUpdate::Position(-500)));
+        assert!(updates.contains(&AxisUpdate::Speed(1200)));
+        assert!(updates.contains(&AxisUpdate::Switch(SwitchKind::Right, true)));
+        assert!(updates.contains(&AxisUpdate::Switch(SwitchKind::Left, false)));
+        assert!(updates.contains(&AxisUpdate::Reached(false)));
+        let errors = updates.iter().find_map(|u| match u {
+            AxisUpdate::Errors(flags) => Some(flags.iter().map(|f| f.name).collect::<Vec<_>>()),
+            _ => None,
+        });
+        assert_eq!(errors, Some(vec!["motor error", "hard limit +"]));
+
+        let slow = &polls[1].line;
+        let reading = answer(slow, &["01 1000", "01 3"]).expect("read");
+        assert_eq!(
+            CONSOLE.status_update(slow, &reading),
+            [
+                (0, AxisUpdate::Target(1000)),
+                (0, AxisUpdate::FollowingError(3))
+            ]
+        );
+        // A user's own read counts; real values are rounded.
+        let own = prepare("3TP.3");
+        let reading = answer(&own, &["03 121.725"]).expect("read");
+        assert_eq!(
+            CONSOLE.status_update(&own, &reading),
+            [(2, AxisUpdate::Position(122))]
+        );
+        // A stepper's home lamp is bit 24, a servo's coarse home bit 25.
+        let stepper = prepare("5TS");
+        let reading = answer(&stepper, &["05 16777216"]).expect("read");
+        assert!(
+            CONSOLE
+                .status_update(&stepper, &reading)
+                .contains(&(4, AxisUpdate::Switch(SwitchKind::Home, true)))
+        );
+        // A repeating line or a status bit says nothing reliable.
+        let repeat = prepare("1TP,RP2");
+        let reading = answer(&repeat, &["01 1", "01 2", "01 3"]).expect("read");
+        assert!(CONSOLE.status_update(&repeat, &reading).is_empty());
+        let bit = prepare("1TS3");
+        let reading = answer(&bit, &["01 1"]).expect("read");
+        assert!(CONSOLE.status_update(&bit, &reading).is_empty());
+    }
+
+    #[test]
+    fn lamps_stop_keys_and_identity() {
+        let names: Vec<&str> = CONSOLE.lamps().iter().map(|f| f.name).collect();
+        assert_eq!(names[0], "motor on");
+        assert!(names.contains(&"homed") && !names.contains(&"limit + in"));
+        assert_eq!(CONSOLE.stop_axis_line(2).as_deref(), Some("2ST"));
+        assert_eq!(CONSOLE.stop_axis_line(6), None);
+        assert_eq!(CONSOLE.clear_errors_line(1), None);
+        assert_eq!(CONSOLE.identify(0).bytes, b"VE\r".to_vec());
+        assert_eq!(CONSOLE.axes().len(), 5);
+        assert_eq!(CONSOLE.addresses(), 0..=0);
+    }
+}

@@ -1,0 +1,176 @@
+//! An MCCL session over the device task, the test playing the controller on
+//! a scripted 9600 Bd link with bytes written out by hand (echo, `01 value`
+//! lines, `>`), on tokio's paused clock: a line that waits for motion is
+//! waited for as long as it runs, polling reads every axis's status, and the
+//! emergency stop aborts every axis and ends every task.
+
+mod device_support;
+mod session_support;
+
+use std::time::Duration;
+
+use axterm::device::{DeviceError, DeviceOptions};
+use axterm::protocol::find_family;
+use axterm::session::{PollCadence, Session, SessionError, SessionOptions};
+use device_support::{Script, device_with};
+use session_support::wait_for;
+use tokio::time::sleep;
+
+fn session() -> (Session, Script) {
+    let family = find_family("mccl").expect("the mccl family");
+    let (device, script) = device_with(family.console.wire(), DeviceOptions::default());
+    let session = Session::new(device, family, &SessionOptions::default());
+    (session, script)
+}
+
+/// The controller's answer to `line`: its echo, `replies`, the prompt.
+fn answer(line: &str, replies: &[&str]) -> Vec<u8> {
+    let mut text = format!("{line}\r\n");
+    for reply in replies {
+        text.push_str(reply);
+        text.push_str("\r\n");
+    }
+    text.push('>');
+    text.into_bytes()
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes)
+        .trim_end_matches('\r')
+        .to_string()
+}
+
+#[tokio::test(start_paused = true)]
+async fn a_line_that_waits_for_motion_is_waited_for_while_it_runs() {
+    let (session, mut script) = session();
+    let cycle = "2MR1000,WS0.5,MR-1000,WS0.5,RP6";
+    let run = tokio::spawn({
+        let session = session.clone();
+        async move { session.execute_line(cycle).await }
+    });
+    assert_eq!(text(&script.request().await), cycle);
+    // Seven cycles of a second each: far beyond a plain line's timeout.
+    script.send(format!("{cycle}\r\n").as_bytes());
+    sleep(Duration::from_secs(7)).await;
+    script.send(b">");
+    let result = run.await.expect("joined").expect("the line completed");
+    assert_eq!(result.value.to_string(), "ok");
+
+    // A plain line gets the link's usual timeout.
+    let tell = tokio::spawn({
+        let session = session.clone();
+        async move { session.execute_line("1TP").await }
+    });
+    assert_eq!(text(&script.request().await), "1TP");
+    script.send(b"1TP\r\n");
+    let error = tell.await.expect("joined").expect_err("no answer");
+    assert!(
+        matches!(
+            error,
+            SessionError::Device {
+                error: DeviceError::Timeout { .. },
+                ..
+            }
+        ),
+        "{error}"
+    );
+}
+
+#[tokio::test(start_paused = true)]
+async fn polling_reads_position_velocity_status_target_and_following_error() {
+    let (session, mut script) = session();
+    session.start_polling(PollCadence::default());
+    let status = async {
+        loop {
+            let request = text(&script.request().await);
+            let axis = &request[..1];
+            let replies: Vec<String> = match &request[1..] {
+                // Axis 2: moving, hard limit + tripped and its input on.
+                "TP,TV,TS" if axis == "2" => vec!["02 -500", "02 1200", "02 268436489"]
+                    .into_iter()
+                    .map(String::from)
+                    .collect(),
+                "TP,TV,TS" => vec![
+                    format!("0{axis} 0"),
+                    format!("0{axis} 0"),
+                    format!("0{axis} 14"),
+                ],
+                "TT,TF" => vec![format!("0{axis} 1000"), format!("0{axis} 3")],
+                "TT" => vec![format!("0{axis} 0")],
+                other => panic!("unexpected poll {other}"),
+            };
+            let replies: Vec<&str> = replies.iter().map(String::as_str).collect();
+            script.send(&answer(&request, &replies));
+        }
+    };
+    let axes = tokio::select! {
+        axes = wait_for(&session, |axes| {
+            axes.len() == 5
+                && axes[1].position == Some(-500)
+                && axes[1].following_error == Some(3)
+                && axes[0].reached == Some(true)
+                && axes[4].target == Some(0)
+        }) => axes,
+        _ = status => unreachable!("the script answers for ever"),
+    };
+    let moving = &axes[1];
+    assert_eq!(moving.speed, Some(1200));
+    assert_eq!(moving.target, Some(1000));
+    assert_eq!(moving.right_switch, Some(true));
+    assert_eq!(moving.reached, Some(false));
+    let errors: Vec<&str> = moving.errors.iter().map(|f| f.name).collect();
+    assert_eq!(errors, ["motor error", "hard limit +"]);
+    // Axis 1: motor on, at target, trajectory complete (14 = bits 1–3).
+    let lamps: Vec<&str> = axes[0]
+        .driver_flags
+        .as_deref()
+        .unwrap_or_default()
+        .iter()
+        .map(|f| f.name)
+        .collect();
+    assert_eq!(lamps, ["motor on"]);
+    assert_eq!(
+        axes[4].following_error, None,
+        "an open-loop stepper has none"
+    );
+}
+
+#[tokio::test(start_paused = true)]
+async fn the_emergency_stop_aborts_every_axis_then_ends_every_task() {
+    let (session, mut script) = session();
+    let stop = tokio::spawn({
+        let session = session.clone();
+        async move { session.emergency_stop_lines().await }
+    });
+    let mut sent = Vec::new();
+    for _ in 0..22 {
+        let request = text(&script.request().await);
+        // Task 3 is running; no other ID is a task's.
+        let replies: &[&str] = match request.as_str() {
+            "0AB" | "ET3" => &[],
+            _ => &["?-20"],
+        };
+        script.send(&answer(&request, replies));
+        sent.push(request);
+    }
+    let results = stop.await.expect("joined");
+    assert_eq!(sent[0], "0AB");
+    assert_eq!(sent[1..4], ["ET1", "ET2", "ET3"]);
+    assert_eq!(sent.last().map(String::as_str), Some("ET21"));
+    let values: Vec<String> = results
+        .iter()
+        .map(|r| {
+            r.as_ref()
+                .map(|r| r.value.to_string())
+                .unwrap_or_else(|e| e.to_string())
+        })
+        .collect();
+    assert_eq!(values[0], "ok");
+    assert_eq!(values[3], "ok", "task 3 ended");
+    assert!(
+        values[1].starts_with("no background task 1: nothing to end (?-20)"),
+        "{}",
+        values[1]
+    );
+    assert!(results.iter().all(Result::is_ok));
+}
