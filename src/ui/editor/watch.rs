@@ -6,7 +6,6 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-
 /// The watch list's file name in the data directory.
 pub const WATCH_FILE: &str = "editor-watch.json";
 
