@@ -16,8 +16,9 @@ use std::time::Duration;
 use ascript_support::example;
 use axterm::cli::ConnectionArgs;
 use axterm::cli::connection::Target;
+use axterm::protocol::cmd4cr::host::start_host_run;
+use axterm::protocol::program::HostNews;
 use axterm::session::Session;
-use axterm::session::ascript_host::{HostEvent, HostProgram};
 
 async fn connect(program: Option<&std::path::Path>) -> Session {
     let target = Target::resolve(&ConnectionArgs {
@@ -61,12 +62,12 @@ async fn in_the_simulator(path: &std::path::Path, prg: u8) -> String {
 /// simulator (nothing loaded into it).
 async fn from_the_host(name: &str, source: &str) -> (String, Vec<String>) {
     let session = connect(None).await;
-    let program = HostProgram::check(name, source, None).expect("checks for the host");
+    let program = start_host_run(name, source, None).expect("checks for the host");
     let mut events = Vec::new();
     let end = session
-        .run_ascript(&program, &mut |e: &HostEvent| events.push(e.to_string()))
+        .run_from_host(program.run, &mut |n: &HostNews| events.push(n.text.clone()))
         .await;
-    assert!(end.ok(), "{end}\n{}", events.join("\n"));
+    assert!(end.ok, "{end}\n{}", events.join("\n"));
     (read(&session, "PP").await, events)
 }
 

@@ -4,7 +4,7 @@
 //! (`encode_line`, `FamilyConsole::prepare`, completion and help), its
 //! framer, its reply rules and reply reader (`interpret`, status updates,
 //! the traffic monitor's decoders), the batch-file parser on its lines;
-//! for every simulator in `sim::SIM_KINDS`: its request decoder; and the
+//! for every simulator in `sim::kinds()`: its request decoder; and the
 //! program tools: the TMCL assembler (with includes, listing, image and
 //! disassembler) and the A-Script compiler; the parameter-file reader.
 //!
@@ -25,7 +25,7 @@ use axterm::protocol::console::Answering;
 use axterm::protocol::tmcl::asm::{self, ProgramWord};
 use axterm::protocol::wire::Verdict;
 use axterm::script::check_script;
-use axterm::sim::{SIM_KINDS, SimOptions};
+use axterm::sim::{SimOptions, kinds};
 use fuzz_support::{
     FamilyCorpus, Report, Rng, assert_no_panics, bend_document, bend_text, cases, chunks,
     noise_text, run, seed, text_of_lines,
@@ -292,10 +292,10 @@ fn batch_files_never_panic() {
 
 #[test]
 fn simulators_never_panic_on_what_they_are_sent() {
-    let reports: Vec<Report> = SIM_KINDS
-        .iter()
+    let reports: Vec<Report> = kinds()
         .filter_map(|kind| {
-            let corpus = corpora().iter().find(|c| c.family.name == kind.family)?;
+            let family = kind.family()?;
+            let corpus = corpora().iter().find(|c| c.family.name == family.name)?;
             let inputs = (kind.input_names)();
             Some(run(
                 "simulator",

@@ -6,13 +6,13 @@ use std::time::Duration;
 
 use axterm::cli::asm::SourceFiles;
 use axterm::link::LinkSpec;
-use axterm::protocol::find_family;
-use axterm::protocol::tmcl::asm::{NoIncludes, ProgramWord, assemble, disassemble};
-use axterm::protocol::tmcl::transfer::ApplicationState;
-use axterm::session::program::{
-    Cancel, DownloadOptions, Phase, Progress, TransferError, UploadExtent,
+use axterm::protocol::program::{
+    DownloadOptions, FactValue, FailureKind, Phase, Progress, TransferFailure, TransferReport,
+    UploadExtent,
 };
-use axterm::session::{PollCadence, ReplyValue, Session, SessionError, SessionOptions};
+use axterm::protocol::tmcl::asm::{NoIncludes, ProgramWord, assemble, disassemble, parse_image};
+use axterm::protocol::tmcl::plan::{DownloadPlan, UploadPlan};
+use axterm::session::{Cancel, PollCadence, ReplyValue, Session, SessionError, SessionOptions};
 use axterm::sim::faults::FaultPlan;
 use axterm::sim::{SimOptions, find_kind};
 
@@ -27,7 +27,7 @@ async fn connect_with(faults: FaultPlan, baud: Option<u32>) -> Session {
         baud,
         faults,
     };
-    let family = find_family(kind.family).expect("family");
+    let family = kind.family().expect("family");
     Session::connect(spec, family, SessionOptions::default())
         .await
         .expect("the simulator link opens")
@@ -71,22 +71,50 @@ async fn value(session: &Session, line: &str) -> ReplyValue {
         .value
 }
 
+/// TMCL's download plan for `words`, driven by the session's runner.
+async fn download_program(
+    session: &Session,
+    words: &[ProgramWord],
+    options: DownloadOptions,
+    cancel: &Cancel,
+    progress: &mut (dyn FnMut(Progress) + Send),
+) -> Result<TransferReport, TransferFailure> {
+    let plan = DownloadPlan::new(words, session.address(), options)?;
+    session.transfer(Box::new(plan), cancel, progress).await
+}
+
+/// TMCL's upload plan driven by the session's runner: the words read back
+/// (from the image it reports) and the report.
+async fn upload_program(
+    session: &Session,
+    extent: UploadExtent,
+    cancel: &Cancel,
+    progress: &mut (dyn FnMut(Progress) + Send),
+) -> Result<(Vec<ProgramWord>, TransferReport), TransferFailure> {
+    let plan = UploadPlan::new(session.address(), extent);
+    let report = session.transfer(Box::new(plan), cancel, progress).await?;
+    let image = report
+        .program
+        .as_ref()
+        .and_then(|p| p.image.clone())
+        .unwrap_or_default();
+    let words = parse_image(&image).unwrap_or_else(|e| panic!("{e:?}"));
+    Ok((words, report))
+}
+
 async fn download(
     session: &Session,
     words: &[ProgramWord],
     options: DownloadOptions,
-) -> Result<axterm::session::program::DownloadReport, TransferError> {
-    session
-        .download_program(words, options, &Cancel::new(), &mut |_| {})
-        .await
+) -> Result<TransferReport, TransferFailure> {
+    download_program(session, words, options, &Cancel::new(), &mut |_| {}).await
 }
 
 async fn upload(session: &Session, extent: UploadExtent) -> Vec<ProgramWord> {
-    session
-        .upload_program(extent, &Cancel::new(), &mut |_| {})
+    upload_program(session, extent, &Cancel::new(), &mut |_| {})
         .await
         .expect("upload")
-        .words
+        .0
 }
 
 /// The word at `address` as the console reads it.
@@ -101,19 +129,19 @@ async fn a_download_is_stored_verified_and_reads_back() {
     let session = connect().await;
     let words = example("s8_6_host_routines.tmc");
     let mut seen: Vec<Progress> = Vec::new();
-    let report = session
-        .download_program(
-            &words,
-            DownloadOptions::default(),
-            &Cancel::new(),
-            &mut |p| seen.push(p),
-        )
-        .await
-        .expect("downloaded and verified");
-    assert_eq!(report.words, words.len());
+    let report = download_program(
+        &session,
+        &words,
+        DownloadOptions::default(),
+        &Cancel::new(),
+        &mut |p| seen.push(p),
+    )
+    .await
+    .expect("downloaded and verified");
+    assert_eq!(report.count, words.len());
     assert_eq!(report.module, 1);
-    assert_eq!(report.stopped, None);
-    assert_eq!(report.leftover_from, None);
+    assert_eq!(report.fact("stopped_program"), Some(&FactValue::Absent));
+    assert_eq!(report.fact("leftover_from"), Some(&FactValue::Absent));
     // GP128, 131, 132, the words, 133, the read-backs, the word after.
     assert_eq!(report.transactions, 2 * words.len() as u64 + 5);
     let storing = seen.iter().filter(|p| p.phase == Phase::Storing).count();
@@ -140,17 +168,12 @@ async fn a_word_stored_corrupted_fails_verification_at_its_address() {
     let error = download(&session, &words, DownloadOptions::default())
         .await
         .expect_err("a corrupted word is never verified");
-    let TransferError::Mismatch {
-        address,
-        wrote,
-        read,
-    } = &error
-    else {
-        panic!("{error}")
-    };
-    assert_eq!(*address, 4, "the fifth word stored is at address 4");
-    assert_eq!(wrote.value ^ read.value, 1, "one bit flipped");
-    assert_eq!(error.address(), Some(4));
+    assert_eq!(error.kind, FailureKind::Failed, "{error}");
+    assert_eq!(
+        error.address(),
+        Some(4),
+        "the fifth word stored is at address 4"
+    );
     assert!(
         error.to_string().starts_with(
             "word 4 differs: wrote MVP ABS, 0, 40 (04 00 00 00 00 00 28), read MVP ABS, 0, 41"
@@ -178,21 +201,26 @@ async fn cancelling_midway_leaves_download_mode_with_the_words_so_far() {
     let words = long_program(10);
     let cancel = Cancel::new();
     let canceller = cancel.clone();
-    let error = session
-        .download_program(&words, DownloadOptions::default(), &cancel, &mut |p| {
+    let error = download_program(
+        &session,
+        &words,
+        DownloadOptions::default(),
+        &cancel,
+        &mut |p| {
             if p.phase == Phase::Storing && p.done == 3 {
                 canceller.cancel();
             }
-        })
-        .await
-        .expect_err("cancelled");
+        },
+    )
+    .await
+    .expect_err("cancelled");
     assert_eq!(
-        error,
-        TransferError::Cancelled {
+        error.cancelled(),
+        Some(Progress {
             phase: Phase::Storing,
             done: 3,
             total: Some(10)
-        }
+        })
     );
     assert!(
         error.to_string().contains("download mode was left"),
@@ -217,26 +245,26 @@ async fn cancelling_the_verification_never_says_verified() {
     let session = connect().await;
     let cancel = Cancel::new();
     let canceller = cancel.clone();
-    let error = session
-        .download_program(
-            &long_program(6),
-            DownloadOptions::default(),
-            &cancel,
-            &mut |p| {
-                if p.phase == Phase::Verifying && p.done == 2 {
-                    canceller.cancel();
-                }
-            },
-        )
-        .await
-        .unwrap_err();
+    let error = download_program(
+        &session,
+        &long_program(6),
+        DownloadOptions::default(),
+        &cancel,
+        &mut |p| {
+            if p.phase == Phase::Verifying && p.done == 2 {
+                canceller.cancel();
+            }
+        },
+    )
+    .await
+    .unwrap_err();
     assert!(matches!(
-        error,
-        TransferError::Cancelled {
+        error.cancelled(),
+        Some(Progress {
             phase: Phase::Verifying,
             done: 2,
             ..
-        }
+        })
     ));
     assert!(error.to_string().contains("not verified"), "{error}");
 }
@@ -256,8 +284,13 @@ async fn a_dropped_download_still_leaves_download_mode() {
             let _ = reached.send(());
         }
     };
-    let transfer =
-        session.download_program(&words, DownloadOptions::default(), &cancel, &mut progress);
+    let transfer = download_program(
+        &session,
+        &words,
+        DownloadOptions::default(),
+        &cancel,
+        &mut progress,
+    );
     tokio::select! {
         _ = transfer => panic!("the download finished before word 3"),
         _ = at_word_3 => {}
@@ -342,15 +375,15 @@ async fn download_with_progress(
     session: &Session,
     words: &[ProgramWord],
     mut progress: impl FnMut(Progress) + Send,
-) -> Result<axterm::session::program::DownloadReport, TransferError> {
-    session
-        .download_program(
-            words,
-            DownloadOptions::default(),
-            &Cancel::new(),
-            &mut progress,
-        )
-        .await
+) -> Result<TransferReport, TransferFailure> {
+    download_program(
+        session,
+        words,
+        DownloadOptions::default(),
+        &Cancel::new(),
+        &mut progress,
+    )
+    .await
 }
 
 #[tokio::test(start_paused = true)]
@@ -377,11 +410,11 @@ async fn an_emergency_stop_cancels_a_download_and_is_never_stored() {
     .expect_err("the stop cancels it");
     assert!(
         matches!(
-            error,
-            TransferError::Cancelled {
+            error.cancelled(),
+            Some(Progress {
                 phase: Phase::Storing,
                 ..
-            }
+            })
         ),
         "{error}"
     );
@@ -412,7 +445,7 @@ async fn run_starts_the_verified_program() {
     )
     .await
     .expect("verified");
-    assert!(report.started);
+    assert_eq!(report.fact("started"), Some(&FactValue::Flag(true)));
     let set = async {
         loop {
             if value(&session, "GGP 42, 2").await == ReplyValue::Number(1234) {
@@ -454,7 +487,7 @@ async fn autostart_sets_gp77() {
     )
     .await
     .expect("verified");
-    assert!(report.autostart);
+    assert_eq!(report.fact("autostart"), Some(&FactValue::Flag(true)));
     assert_eq!(value(&session, "GGP 77, 0").await, ReplyValue::Number(1));
 }
 
@@ -474,7 +507,10 @@ async fn a_running_program_is_stopped_and_reset_first() {
     let report = download(&session, &program("STOP\n"), DownloadOptions::default())
         .await
         .expect("verified");
-    assert_eq!(report.stopped, Some(ApplicationState::Running));
+    assert_eq!(
+        report.fact("stopped_program"),
+        Some(&FactValue::Text("running".into()))
+    );
     assert_ne!(value(&session, "GGP 128, 0").await, ReplyValue::Number(1));
     assert_eq!(
         value(&session, "GGP 130, 0").await,
@@ -492,12 +528,12 @@ async fn an_older_longer_program_leaves_its_tail_and_the_report_says_so() {
     let report = download(&session, &long_program(3), DownloadOptions::default())
         .await
         .expect("verified");
-    assert_eq!(report.leftover_from, Some(3));
+    assert_eq!(report.fact("leftover_from"), Some(&FactValue::Number(3)));
     // The upload reads until the first blank word, tail included; a given
     // length reads the new program alone.
     assert_eq!(upload(&session, UploadExtent::UntilBlank).await.len(), 8);
     assert_eq!(
-        upload(&session, UploadExtent::Words(3)).await,
+        upload(&session, UploadExtent::Units(3)).await,
         long_program(3)
     );
 }
@@ -510,11 +546,12 @@ async fn upload_all_reads_the_whole_memory_and_drops_the_blank_tail() {
         .await
         .expect("verified");
     let mut last = None;
-    let report = session
-        .upload_program(UploadExtent::All, &Cancel::new(), &mut |p| last = Some(p))
-        .await
-        .expect("upload");
-    assert_eq!(report.words, words);
+    let (read, report) = upload_program(&session, UploadExtent::All, &Cancel::new(), &mut |p| {
+        last = Some(p)
+    })
+    .await
+    .expect("upload");
+    assert_eq!(read, words);
     assert_eq!(report.transactions, 2048);
     assert_eq!(
         last,
@@ -524,7 +561,7 @@ async fn upload_all_reads_the_whole_memory_and_drops_the_blank_tail() {
             total: Some(2048)
         })
     );
-    assert!(upload(&session, UploadExtent::Words(0)).await.is_empty());
+    assert!(upload(&session, UploadExtent::Units(0)).await.is_empty());
 }
 
 #[tokio::test(start_paused = true)]
@@ -539,7 +576,7 @@ async fn an_uploaded_program_disassembles_to_source_that_reassembles_to_it() {
         download(&session, &words, DownloadOptions::default())
             .await
             .unwrap_or_else(|e| panic!("{name}: {e}"));
-        let uploaded = upload(&session, UploadExtent::Words(words.len())).await;
+        let uploaded = upload(&session, UploadExtent::Units(words.len())).await;
         assert_eq!(uploaded, words, "{name}");
         let source = disassemble(&uploaded);
         assert_eq!(program(&source), uploaded, "{name}:\n{source}");
@@ -567,10 +604,14 @@ async fn protected_programs_are_refused_with_the_reason() {
     assert_eq!(value(&session, "SAP 4, 0, 100").await, ReplyValue::None);
 
     value(&session, "SGP 81, 0, 3").await;
-    let error = session
-        .upload_program(UploadExtent::UntilBlank, &Cancel::new(), &mut |_| {})
-        .await
-        .unwrap_err();
+    let error = upload_program(
+        &session,
+        UploadExtent::UntilBlank,
+        &Cancel::new(),
+        &mut |_| {},
+    )
+    .await
+    .unwrap_err();
     assert_eq!(error.address(), Some(0));
     assert!(error.to_string().contains("GP81"), "{error}");
 }
@@ -604,9 +645,9 @@ async fn one_transfer_at_a_time() {
     let other = session.clone();
     let second = tokio::spawn(async move {
         let _ = signal.await;
-        other
-            .upload_program(UploadExtent::Words(1), &Cancel::new(), &mut |_| {})
+        upload_program(&other, UploadExtent::Units(1), &Cancel::new(), &mut |_| {})
             .await
+            .map(|(words, _)| words)
     });
     let mut go = Some(go);
     download_with_progress(&session, &long_program(5), |p| {
@@ -619,7 +660,7 @@ async fn one_transfer_at_a_time() {
     .await
     .expect("verified");
     let error = second.await.expect("task").unwrap_err();
-    assert_eq!(error, TransferError::Busy);
+    assert_eq!(error, TransferFailure::busy());
 }
 
 /// A download whose 133 is lost with the link: the session stays marked
@@ -694,7 +735,7 @@ async fn the_first_program_of_the_manual_moves_the_motor_seen_by_polling() {
     )
     .await
     .expect("verified");
-    assert!(report.started);
+    assert_eq!(report.fact("started"), Some(&FactValue::Flag(true)));
     session.start_polling(PollCadence::default());
     let status = session.status();
     let position_seen = |wanted: fn(i64) -> bool| {

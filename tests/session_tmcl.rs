@@ -6,7 +6,6 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use axterm::link::LinkSpec;
-use axterm::protocol::find_family;
 use axterm::session::{AxisStatus, PollCadence, ReplyValue, Session, SessionError, SessionOptions};
 use axterm::sim::faults::FaultPlan;
 use axterm::sim::{SimOptions, find_kind};
@@ -26,7 +25,7 @@ async fn connect_with(baud: Option<u32>, faults: FaultPlan) -> Session {
         baud,
         faults,
     };
-    let family = find_family(kind.family).expect("family");
+    let family = kind.family().expect("family");
     Session::connect(spec, family, SessionOptions::default())
         .await
         .expect("the simulator link opens")

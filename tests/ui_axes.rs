@@ -416,6 +416,7 @@ mod no_units {
         encode_line: |_, _| Err("not here".into()),
         show_bytes: |_| String::new(),
         console: &Plain,
+        simulators: &[],
     };
 }
 

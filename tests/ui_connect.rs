@@ -85,7 +85,7 @@ fn connects(effects: &[Effect]) -> Option<Vec<String>> {
 /// Move the selection from the first simulator to the last one: the
 /// rows below count from there, whatever simulators are registered.
 fn past_the_other_simulators(app: &mut App) {
-    for _ in 1..axterm::sim::SIM_KINDS.len() {
+    for _ in 1..axterm::sim::kinds().count() {
         app.handle(key(KeyCode::Down));
     }
 }

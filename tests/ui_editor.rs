@@ -418,3 +418,96 @@ fn stop_step_and_reset_send_their_control_commands() {
     let effects = app.handle(key_with(KeyCode::F(7), KeyModifiers::SHIFT));
     assert!(matches!(effects.first(), Some(Effect::Send { lines, .. }) if lines == &["RESETAPP"]));
 }
+
+/// A console on `dir` whose safety copy holds `text` (typed, the timer
+/// come due), then a fresh console on the same directory: the one that
+/// recovers it.
+fn crashed_with(dir: &Path, text: &str) -> App {
+    let mut app = editor_console(Some(dir));
+    let effects = type_program(&mut app, text);
+    timers_due(&mut app, &effects);
+    assert!(read_autosave(dir).is_some(), "the safety copy was written");
+    editor_console(Some(dir))
+}
+
+#[test]
+fn recovered_text_keeps_its_language_when_another_familys_module_connects() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let copy_of = |dir: &Path| read_autosave(dir).expect("copy");
+    let mut again = crashed_with(dir.path(), "MVP ABS, 0, 1\nSTOP");
+    assert_eq!(copy_of(dir.path()).language.as_deref(), Some("TMCL"));
+    // The next connection is a CMD-4CR: the text stays TMCL, checks as
+    // TMCL, and is not marked full of A-Script errors.
+    let cmd4cr = axterm::ui::pane::Snapshot {
+        family: axterm::protocol::find_family("cmd4cr").expect("cmd4cr"),
+        ..ui_support::snapshot(ui_support::axes(&["X", "Y", "Z", "U"]))
+    };
+    again.handle(AppEvent::Snapshot(cmd4cr));
+    let all = screen(&mut again, 150, 40).join("\n");
+    assert!(all.contains("Program — untitled*"), "{all}");
+    assert!(all.contains("assembles: 2 words"), "{all}");
+    assert!(
+        all.contains("(TMCL)"),
+        "the banner says the language: {all}"
+    );
+    assert!(!all.contains("!  1"), "{all}");
+}
+
+#[test]
+fn a_copy_from_before_languages_were_kept_comes_back_by_its_extension() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    std::fs::write(
+        dir.path().join(AUTOSAVE_FILE),
+        r#"{"file": "prog.asc", "written": 0, "text": "PRG 0\n    V1=2\nEND"}"#,
+    )
+    .expect("write");
+    let mut app = editor_console(Some(dir.path()));
+    let all = screen(&mut app, 100, 30).join("\n");
+    assert!(all.contains("Program (A-Script) — prog.asc*"), "{all}");
+    assert!(all.contains("A-Script checks: PRG 0"), "{all}");
+}
+
+#[test]
+fn esc_discards_the_recovered_copy_only_until_it_is_edited() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mut again = crashed_with(dir.path(), "MVP ABS, 0, 1\nSTOP");
+    // Typed into the recovered text: it is the user's work now.
+    again.handle(key(KeyCode::End));
+    let effects = type_program(&mut again, " // mine");
+    timers_due(&mut again, &effects);
+    again.handle(key(KeyCode::Esc));
+    let all = screen(&mut again, 100, 30).join("\n");
+    assert!(all.contains("MVP ABS, 0, 1 // mine"), "{all}");
+    assert!(!all.contains("recovered unsaved"), "{all}");
+    let copy = read_autosave(dir.path()).expect("still kept safe");
+    assert_eq!(copy.text, "MVP ABS, 0, 1 // mine\nSTOP");
+}
+
+#[test]
+fn the_recovery_banners_keys_fit_80_columns_whatever_the_file() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let deep = dir
+        .path()
+        .join("a-directory-with-a-long-name")
+        .join("and-another-one-below-it")
+        .join("the-program-of-the-machine.tmc");
+    std::fs::create_dir_all(deep.parent().expect("parent")).expect("dirs");
+    std::fs::write(&deep, "STOP").expect("write");
+    let mut app = editor_console(Some(dir.path()));
+    app.handle(key(KeyCode::F(3)));
+    type_program(&mut app, &deep.display().to_string());
+    app.handle(key(KeyCode::Enter));
+    app.handle(key(KeyCode::Home));
+    let effects = type_program(&mut app, "ROL 0, 5\n");
+    timers_due(&mut app, &effects);
+    let mut again = editor_console(Some(dir.path()));
+    let lines = screen(&mut again, 80, 24);
+    let banner = lines
+        .iter()
+        .find(|l| l.contains("recovered unsaved"))
+        .unwrap_or_else(|| panic!("{}", lines.join("\n")));
+    assert!(
+        banner.contains("F2 to save, or discard with Esc"),
+        "{banner}"
+    );
+}

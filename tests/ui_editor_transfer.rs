@@ -8,13 +8,14 @@ mod ui_support;
 
 use std::time::Duration;
 
-use axterm::protocol::tmcl::asm::{NoIncludes, ProgramWord, assemble};
-use axterm::session::program::{
-    DownloadReport, Phase, Progress, TransferError, UploadExtent, UploadReport,
+use axterm::protocol::program::{
+    Fact, FactValue, Phase, Progress, ReadProgram, TransferFailure, TransferJob, TransferReport,
+    UploadExtent,
 };
+use axterm::protocol::tmcl::asm::{NoIncludes, ProgramWord, assemble, disassemble, format_image};
+use axterm::protocol::tmcl::plan::TransferError;
 use axterm::ui::PaneSetup;
 use axterm::ui::app::{App, AppEvent, Effect};
-use axterm::ui::pane::{TransferDone, TransferJob};
 use ratatui::crossterm::event::{Event, KeyCode, KeyModifiers};
 use ui_support::{axes, console_with, key, key_with, screen, snapshot};
 
@@ -66,21 +67,36 @@ fn progress(pane: usize, tag: u64, phase: Phase, done: usize, total: usize) -> A
     }
 }
 
-fn ended(pane: usize, tag: u64, result: Result<TransferDone, TransferError>) -> AppEvent {
+fn ended(pane: usize, tag: u64, result: Result<TransferReport, TransferFailure>) -> AppEvent {
     AppEvent::Transferred { pane, tag, result }
 }
 
-fn report(words: usize) -> DownloadReport {
-    DownloadReport {
-        module: 1,
-        words,
-        stopped: None,
-        leftover_from: None,
-        autostart: false,
-        started: false,
-        elapsed: Duration::ZERO,
-        transactions: 0,
-    }
+fn failed(error: TransferError) -> Result<TransferReport, TransferFailure> {
+    Err(error.into())
+}
+
+/// A verified download of `words` words, as TMCL's plan reports it.
+fn report(words: usize) -> TransferReport {
+    let mut report = TransferReport::new(1, words);
+    report.facts = vec![Fact {
+        key: "stopped_program",
+        value: FactValue::Absent,
+        said: None,
+        told: None,
+    }];
+    report
+}
+
+/// An upload of `words` from module 1.
+fn uploaded(words: &[ProgramWord]) -> TransferReport {
+    let mut report = TransferReport::new(1, words.len());
+    report.program = Some(ReadProgram {
+        source: disassemble(words),
+        image: Some(format_image(words)),
+        units: words.len(),
+    });
+    report.elapsed = Duration::ZERO;
+    report
 }
 
 fn row_with<'a>(lines: &'a [String], text: &str) -> Option<&'a String> {
@@ -93,10 +109,10 @@ fn download_sends_the_assembled_words_and_shows_its_progress_at_80x24() {
     let mut app = editor_with(&text);
     let effects = app.handle(key(KeyCode::F(4)));
     let (pane, tag, job) = transfer_of(&effects);
-    let TransferJob::Download { words: sent, .. } = job else {
+    let TransferJob::Download { program: sent, .. } = job else {
         panic!("{job:?}")
     };
-    assert_eq!(sent, words(&text));
+    assert_eq!(sent.image(), Some(format_image(&words(&text))));
 
     // Before the first word: a bar at 0.
     let lines = screen(&mut app, 80, 24);
@@ -127,7 +143,7 @@ fn download_sends_the_assembled_words_and_shows_its_progress_at_80x24() {
     let bar = row_with(&lines, "download: verifying 12/12 words").expect("verifying");
     assert_eq!(bar.chars().nth(77), Some('█'), "{bar}");
 
-    app.handle(ended(pane, tag, Ok(TransferDone::Downloaded(report(12)))));
+    app.handle(ended(pane, tag, Ok(report(12))));
     let all = screen(&mut app, 80, 24).join("\n");
     assert!(all.contains("downloaded and verified 12 words"), "{all}");
     assert!(!all.contains("verifying 12/12"), "the bar is gone: {all}");
@@ -175,7 +191,7 @@ fn a_failed_verification_names_the_address_and_marks_its_line() {
     app.handle(ended(
         pane,
         tag,
-        Err(TransferError::Mismatch {
+        failed(TransferError::Mismatch {
             address: 4,
             wrote,
             read,
@@ -232,7 +248,7 @@ fn esc_cancels_and_the_text_is_locked_until_the_end() {
     app.handle(ended(
         pane,
         tag,
-        Err(TransferError::Cancelled {
+        failed(TransferError::Cancelled {
             phase: Phase::Storing,
             done: 3,
             total: Some(12),
@@ -265,35 +281,32 @@ fn verify_reads_back_as_many_words_and_reports_the_first_difference() {
     let mut app = editor_with(&text);
     let effects = app.handle(key_with(KeyCode::F(4), KeyModifiers::SHIFT));
     let (pane, tag, job) = transfer_of(&effects);
-    assert_eq!(job, TransferJob::Upload(UploadExtent::Words(12)));
-    let mut module = words(&text);
-    app.handle(ended(
-        pane,
-        tag,
-        Ok(TransferDone::Uploaded(UploadReport {
-            module: 1,
-            words: module.clone(),
-            elapsed: Duration::ZERO,
-            transactions: 12,
-        })),
-    ));
+    let TransferJob::Verify { program } = job else {
+        panic!("{job:?}")
+    };
+    assert_eq!(program.image(), Some(format_image(&words(&text))));
+    let module = words(&text);
+    app.handle(ended(pane, tag, Ok(TransferReport::new(1, 12))));
     let all = screen(&mut app, 80, 24).join("\n");
     assert!(
         all.contains("verified: module 1 holds these 12 words"),
         "{all}"
     );
 
-    module[7].value = 999;
+    let held = ProgramWord {
+        value: 999,
+        ..module[7]
+    };
     let (pane, tag, _) = transfer_of(&app.handle(key_with(KeyCode::F(4), KeyModifiers::SHIFT)));
     app.handle(ended(
         pane,
         tag,
-        Ok(TransferDone::Uploaded(UploadReport {
+        failed(TransferError::Differs {
             module: 1,
-            words: module,
-            elapsed: Duration::ZERO,
-            transactions: 12,
-        })),
+            address: 7,
+            held,
+            expected: module[7],
+        }),
     ));
     let lines = screen(&mut app, 200, 50);
     let all = lines.join("\n");
@@ -323,16 +336,7 @@ fn upload_asks_before_replacing_unsaved_text_and_opens_a_new_buffer() {
     let (pane, tag, job) = transfer_of(&app.handle(upload()));
     assert_eq!(job, TransferJob::Upload(UploadExtent::UntilBlank));
     let text = program_text();
-    app.handle(ended(
-        pane,
-        tag,
-        Ok(TransferDone::Uploaded(UploadReport {
-            module: 1,
-            words: words(&text),
-            elapsed: Duration::ZERO,
-            transactions: 13,
-        })),
-    ));
+    app.handle(ended(pane, tag, Ok(uploaded(&words(&text)))));
     let all = screen(&mut app, 200, 50).join("\n");
     assert!(
         all.contains("uploaded 12 words from module 1 into a new unsaved buffer"),
@@ -350,16 +354,88 @@ fn upload_asks_before_replacing_unsaved_text_and_opens_a_new_buffer() {
 fn an_empty_module_leaves_the_text_alone() {
     let mut app = editor_with("");
     let (pane, tag, _) = transfer_of(&app.handle(key_with(KeyCode::F(4), KeyModifiers::CONTROL)));
-    app.handle(ended(
-        pane,
-        tag,
-        Ok(TransferDone::Uploaded(UploadReport {
-            module: 1,
-            words: Vec::new(),
-            elapsed: Duration::ZERO,
-            transactions: 1,
-        })),
-    ));
+    app.handle(ended(pane, tag, Ok(uploaded(&[]))));
     let all = screen(&mut app, 80, 24).join("\n");
     assert!(all.contains("module 1 holds no program"), "{all}");
+}
+
+/// The answer to one of the pane's lines, as the loop delivers it.
+fn number_reply(pane: usize, tag: u64, line: &str, value: i64) -> AppEvent {
+    AppEvent::Reply {
+        pane,
+        tag,
+        line: line.into(),
+        result: Ok(axterm::session::LineResult {
+            line: line.into(),
+            request: Vec::new(),
+            reply: Vec::new(),
+            status: Some(100),
+            value: axterm::session::ReplyValue::Number(value),
+            elapsed: Duration::ZERO,
+            attempts: 1,
+        }),
+    }
+}
+
+/// The message timer the pane asked for, if any: its pane and tag.
+fn message_timer(effects: &[Effect]) -> Option<(usize, u64)> {
+    effects.iter().find_map(|e| match e {
+        Effect::Wake { pane, tag, after } if *tag >= 1 << 47 && *tag < 1 << 48 => {
+            assert_eq!(*after, axterm::ui::editor::MESSAGE_LIFETIME);
+            Some((*pane, *tag))
+        }
+        _ => None,
+    })
+}
+
+/// Issue: "downloaded and verified" stayed up through F5 while the
+/// program's state waited behind it.
+#[test]
+fn the_programs_state_wins_over_an_older_message_and_messages_age_out() {
+    let text = program_text();
+    let mut app = editor_with(&text);
+    let (pane, tag, _) = transfer_of(&app.handle(key(KeyCode::F(4))));
+    let effects = app.handle(ended(pane, tag, Ok(report(12))));
+    let downloaded_timer = message_timer(&effects).expect("the message ages out");
+    let bottom = |app: &mut App| {
+        let lines = screen(app, 80, 24);
+        lines[lines.len() - 3].clone()
+    };
+    assert!(bottom(&mut app).contains("downloaded and verified"));
+    // F5: the registers are read; once they come, they are what shows.
+    let effects = app.handle(key(KeyCode::F(5)));
+    let (pane, tag) = effects
+        .iter()
+        .filter_map(|e| match e {
+            Effect::Send { pane, tag, lines } if lines.len() > 1 => Some((*pane, *tag)),
+            _ => None,
+        })
+        .next()
+        .expect("the register reads");
+    for (line, value) in [
+        ("GGP 128, 0", 1),
+        ("GGP 130, 0", 1),
+        ("APPSTATUS ACCU", 0),
+        ("APPSTATUS X", 0),
+    ] {
+        app.handle(number_reply(pane, tag, line, value));
+    }
+    let line = bottom(&mut app);
+    assert!(line.contains("running PC 1 ACC 0 X 0"), "{line}");
+    assert!(!line.contains("downloaded"), "{line}");
+
+    // A message newer than the state shows, then ages out.
+    let effects = app.handle(key(KeyCode::F(9)));
+    assert!(bottom(&mut app).contains("assembled: 12 words"));
+    let (pane, timer) = message_timer(&effects).expect("the new message ages out");
+    // The older message's timer takes nothing away.
+    app.handle(AppEvent::Wake {
+        pane: downloaded_timer.0,
+        tag: downloaded_timer.1,
+    });
+    assert!(bottom(&mut app).contains("assembled: 12 words"));
+    app.handle(AppEvent::Wake { pane, tag: timer });
+    let line = bottom(&mut app);
+    assert!(!line.contains("assembled"), "{line}");
+    assert!(line.contains("running PC 1 ACC 0 X 0"), "{line}");
 }

@@ -9,9 +9,11 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use axterm::link::LinkSpec;
-use axterm::protocol::find_family;
+use axterm::protocol::program::{DownloadOptions, UploadExtent};
+use axterm::protocol::tmcl::asm::parse_image;
 use axterm::protocol::tmcl::asm::{NoIncludes, ProgramWord, assemble};
-use axterm::session::program::{Cancel, DownloadOptions, UploadExtent};
+use axterm::protocol::tmcl::plan::{DownloadPlan, UploadPlan};
+use axterm::session::Cancel;
 use axterm::session::{Session, SessionOptions};
 use axterm::sim::faults::FaultPlan;
 use axterm::sim::{SimOptions, find_kind};
@@ -35,7 +37,7 @@ async fn session_with(faults: FaultPlan) -> Session {
         baud: Some(9600),
         faults,
     };
-    let family = find_family(kind.family).expect("family");
+    let family = kind.family().expect("family");
     Session::connect(spec, family, SessionOptions::default())
         .await
         .expect("the simulator link opens")
@@ -58,11 +60,13 @@ fn words(name: &str, text: &str) -> Vec<ProgramWord> {
 }
 
 async fn read_program(session: &Session) -> Vec<ProgramWord> {
-    session
-        .upload_program(UploadExtent::UntilBlank, &Cancel::new(), &mut |_| {})
+    let plan = UploadPlan::new(session.address(), UploadExtent::UntilBlank);
+    let report = session
+        .transfer(Box::new(plan), &Cancel::new(), &mut |_| {})
         .await
-        .expect("upload")
-        .words
+        .expect("upload");
+    let image = report.program.and_then(|p| p.image).unwrap_or_default();
+    parse_image(&image).unwrap_or_else(|e| panic!("{e:?}"))
 }
 
 /// The console loop's keyboard and what it draws.
@@ -263,13 +267,10 @@ async fn verify_compares_without_storing_and_upload_opens_what_the_module_holds(
     let session = session_with(FaultPlan::none()).await;
     let text = program_text(12);
     let image = words("test.tmc", &text);
+    let plan =
+        DownloadPlan::new(&image, session.address(), DownloadOptions::default()).expect("storable");
     session
-        .download_program(
-            &image,
-            DownloadOptions::default(),
-            &Cancel::new(),
-            &mut |_| {},
-        )
+        .transfer(Box::new(plan), &Cancel::new(), &mut |_| {})
         .await
         .expect("downloaded");
     let dir = tempfile::tempdir().expect("temp dir");

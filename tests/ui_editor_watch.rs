@@ -156,7 +156,7 @@ fn the_watch_key_on_a_variable_line_reads_it_now_and_with_every_register_read() 
     );
 
     // Kept for the next start.
-    assert_eq!(load_watch_list(dir.path()), [5]);
+    assert_eq!(load_watch_list(dir.path(), "user_variables"), [5]);
     assert!(dir.path().join(WATCH_FILE).exists());
     let mut again = editor(dir.path());
     let lines = screen(&mut again, 80, 24);
@@ -169,7 +169,7 @@ fn the_watch_key_on_a_variable_line_reads_it_now_and_with_every_register_read() 
     let all = screen(&mut app, 80, 24).join("\n");
     assert!(all.contains("user variable #5 no longer watched"), "{all}");
     assert!(!all.contains("user variables"), "{all}");
-    assert!(load_watch_list(dir.path()).is_empty());
+    assert!(load_watch_list(dir.path(), "user_variables").is_empty());
 }
 
 #[test]

@@ -1,15 +1,19 @@
 //! `axterm asm FILE [--listing] [-o IMAGE]` and `axterm disasm IMAGEFILE`:
-//! the TMCL program toolchain offline. The work is done by
-//! [`crate::protocol::tmcl::asm`]; this reads and writes the files.
-//! `axterm disasm CONNECTION` reads the program from a module
+//! a family's program toolchain offline, through its program tool
+//! ([`crate::protocol::program::ProgramTool`]; TMCL's assembler today):
+//! the tool a `--protocol` or `--sim` names, else the one the file's
+//! extension names, else the first family's. This reads and writes the
+//! files. `axterm disasm CONNECTION` reads the program from a module
 //! ([`super::transfer`]).
 
 use std::io::Write;
 use std::path::Path;
 
+use super::connection::family_of;
 use super::transfer::ExtentArgs;
 use super::{ConnectionArgs, EXIT_OK, EXIT_USAGE};
-use crate::protocol::tmcl::asm::{self, SourceLoader};
+use crate::protocol::FAMILIES;
+use crate::protocol::program::{ProgramTool, SourceLoader, is_file_of};
 
 /// The name standard input goes by in messages; includes from it are
 /// relative to the working directory.
@@ -46,10 +50,45 @@ pub(super) fn read_input(file: &str) -> Result<(String, String), String> {
     }
 }
 
+/// The program tool for `file`: the family `connection` names, else the
+/// one whose extension the file has, else the first family's.
+pub(super) fn tool_for(
+    file: &str,
+    connection: &ConnectionArgs,
+) -> Result<&'static dyn ProgramTool, String> {
+    let named = connection.protocol.is_some() || connection.sim.is_some();
+    let tools = || FAMILIES.iter().filter_map(|f| f.console.program());
+    let tool = if named {
+        let family = family_of(connection)?;
+        family
+            .console
+            .program()
+            .ok_or_else(|| format!("{} modules keep no program axterm can build", family.name))?
+    } else {
+        let by_extension = tools().find(|t| is_file_of(*t, Path::new(file)));
+        by_extension
+            .or_else(|| tools().next())
+            .ok_or_else(|| "no family has programs".to_string())?
+    };
+    Ok(tool)
+}
+
 /// `axterm asm`: the image on standard output (or in `output`), or the
 /// listing. On errors: every error on standard error, nothing written,
 /// exit 2.
-pub fn run_asm(file: &str, listing: bool, output: Option<&Path>) -> i32 {
+pub fn run_asm(
+    file: &str,
+    listing: bool,
+    output: Option<&Path>,
+    connection: &ConnectionArgs,
+) -> i32 {
+    let tool = match tool_for(file, connection) {
+        Ok(tool) => tool,
+        Err(message) => {
+            eprintln!("axterm asm: {message}");
+            return EXIT_USAGE;
+        }
+    };
     let (name, source) = match read_input(file) {
         Ok(input) => input,
         Err(message) => {
@@ -57,21 +96,26 @@ pub fn run_asm(file: &str, listing: bool, output: Option<&Path>) -> i32 {
             return EXIT_USAGE;
         }
     };
-    let program = match asm::assemble(&name, &source, &SourceFiles) {
-        Ok(program) => program,
-        Err(errors) => {
-            for error in &errors {
-                eprintln!("{error}");
-            }
-            eprintln!(
-                "axterm asm: {} error{} in {name}; nothing written",
-                errors.len(),
-                if errors.len() == 1 { "" } else { "s" }
-            );
-            return EXIT_USAGE;
-        }
+    let checked = tool.check(&name, &source, &SourceFiles);
+    for problem in &checked.problems {
+        eprintln!("{}", problem.text);
+    }
+    let Some(program) = checked.program else {
+        let errors = checked.errors().count();
+        eprintln!(
+            "axterm asm: {errors} error{} in {name}; nothing written",
+            if errors == 1 { "" } else { "s" }
+        );
+        return EXIT_USAGE;
     };
-    let image = asm::format_image(&program.words);
+    let Some(image) = program.image() else {
+        eprintln!(
+            "axterm asm: {name} {}, but {} programs have no image file: nothing written",
+            tool.wording().passes,
+            tool.name()
+        );
+        return EXIT_USAGE;
+    };
     if let Some(path) = output
         && let Err(e) = crate::files::write_atomically(path, image.as_bytes())
     {
@@ -83,7 +127,7 @@ pub fn run_asm(file: &str, listing: bool, output: Option<&Path>) -> i32 {
         return EXIT_USAGE;
     }
     let shown = if listing {
-        asm::listing(&program)
+        program.listing().unwrap_or_default()
     } else if output.is_none() {
         image
     } else {
@@ -98,6 +142,13 @@ pub fn run_disasm(file: Option<&str>, connection: &ConnectionArgs, extent: &Exte
     let Some(file) = file else {
         return disasm_from_module(connection, extent);
     };
+    let tool = match tool_for(file, connection) {
+        Ok(tool) => tool,
+        Err(message) => {
+            eprintln!("axterm disasm: {message}");
+            return EXIT_USAGE;
+        }
+    };
     let (name, text) = match read_input(file) {
         Ok(input) => input,
         Err(message) => {
@@ -105,20 +156,24 @@ pub fn run_disasm(file: Option<&str>, connection: &ConnectionArgs, extent: &Exte
             return EXIT_USAGE;
         }
     };
-    match asm::parse_image(&text) {
-        Ok(words) => print_out(&asm::disassemble(&words)),
-        Err(errors) => {
-            for error in &errors {
-                eprintln!("{name}:{}: {}", error.line, error.kind);
+    match tool.disassemble(&name, &text) {
+        Some(Ok(source)) => print_out(&source),
+        Some(Err(problems)) => {
+            for problem in &problems {
+                eprintln!("{problem}");
             }
             eprintln!("axterm disasm: {name} is not a program image");
+            EXIT_USAGE
+        }
+        None => {
+            eprintln!("axterm disasm: {} programs have no image file", tool.name());
             EXIT_USAGE
         }
     }
 }
 
-/// `axterm disasm --port …`: read the program with 134 per address, then
-/// [`asm::disassemble`] it.
+/// `axterm disasm --port …`: read the program back through the family's
+/// upload plan, as source.
 fn disasm_from_module(connection: &ConnectionArgs, extent: &ExtentArgs) -> i32 {
     let connected =
         connection.port.is_some() || connection.tcp.is_some() || connection.sim.is_some();
@@ -148,7 +203,10 @@ mod tests {
     fn missing_files_are_named() {
         let loaded = SourceFiles.load("no/such/dir/x.inc");
         assert_eq!(loaded, Err("no such file".to_string()));
-        assert_eq!(run_asm("no/such/dir/x.tmc", false, None), EXIT_USAGE);
+        assert_eq!(
+            run_asm("no/such/dir/x.tmc", false, None, &ConnectionArgs::default()),
+            EXIT_USAGE
+        );
         assert_eq!(
             run_disasm(
                 Some("no/such/dir/x.hex"),

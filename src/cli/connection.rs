@@ -53,7 +53,7 @@ impl Target {
                     eeprom_file: None,
                 });
                 if let Some(path) = args.program.as_deref() {
-                    super::sim_program::load_program_file(controller.as_mut(), kind.family, path)
+                    super::sim_program::load_program_file(controller.as_mut(), kind.family(), path)
                         .map_err(|problems| problems.join("\n"))?;
                 }
                 drive_inputs(controller.as_mut(), &args.input)?;
@@ -135,7 +135,9 @@ pub fn family_of(args: &ConnectionArgs) -> Result<&'static Family, String> {
         Some(kind) => Some(
             sim::find_kind(kind)
                 .ok_or_else(|| unknown_sim(kind))?
-                .family,
+                .family()
+                .map(|f| f.name)
+                .unwrap_or_default(),
         ),
         None => None,
     };

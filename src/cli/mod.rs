@@ -181,7 +181,7 @@ pub enum Command {
     Ports,
     /// Look for modules on a bus (firmware version request at each address).
     Scan(scan::ScanArgs),
-    /// Assemble a TMCL program: print its image, or its listing.
+    /// Assemble a program (TMCL): print its image, or its listing.
     Asm {
         /// The program source (- for standard input).
         file: String,
@@ -259,7 +259,7 @@ pub fn run(cli: Cli) -> i32 {
             file,
             listing,
             output,
-        }) => asm::run_asm(&file, listing, output.as_deref()),
+        }) => asm::run_asm(&file, listing, output.as_deref(), &cli.connection),
         Some(Command::Disasm { file, extent }) => {
             asm::run_disasm(file.as_deref(), &cli.connection, &extent)
         }
@@ -343,7 +343,7 @@ fn run_sim(
     }
     eprintln!("{}", sim.help());
     if let Some(path) = connection.program.as_deref() {
-        match sim_program::load_program_file(sim.as_mut(), sim_kind.family, path) {
+        match sim_program::load_program_file(sim.as_mut(), sim_kind.family(), path) {
             Ok(said) => eprintln!("{said}"),
             Err(problems) => {
                 for problem in problems {

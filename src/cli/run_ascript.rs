@@ -5,7 +5,7 @@
 //! ASCII equivalent, each as `FILE:LINE:` — and nothing is sent if any is
 //! found. Then every statement that acts goes out as its ASCII command,
 //! printed with its answer; variables, control flow and waits stay here
-//! (see [`crate::session::ascript_host`]). A run that fails, is stopped
+//! (see [`crate::protocol::cmd4cr::host`]). A run that fails, is stopped
 //! with Ctrl-C or loses its link ends with the emergency stop (ESTOP, the
 //! four programs stopped, ESTOP) unless `--no-stop-on-failure` (see
 //! [`super::run_end`]).
@@ -23,7 +23,8 @@ use super::output::Format;
 use super::run::read_source;
 use super::run_end::{Interrupt, RunReport, run_then_end};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
-use crate::session::ascript_host::{HostEvent, HostProgram};
+use crate::protocol::program::{HostNews, ProgramTool};
+use crate::protocol::{FAMILIES, Family};
 use crate::session::run_end::StopOnFailure;
 
 #[derive(Debug, Clone, Args)]
@@ -47,9 +48,15 @@ pub struct RunAscriptArgs {
     pub no_stop_on_failure: bool,
 }
 
-/// The family A-Script belongs to; the one `run-ascript` speaks when the
+/// The family whose programs `run-ascript` runs from the host (A-Script,
+/// the CMD-4CR's), and its program tool: the one it speaks when the
 /// options name none.
-const FAMILY: &str = "cmd4cr";
+fn host_family() -> Option<(&'static Family, &'static dyn ProgramTool)> {
+    FAMILIES.iter().find_map(|family| {
+        let tool = family.console.program().filter(|t| t.runs_from_host())?;
+        Some((family, tool))
+    })
+}
 
 fn say(text: &str) {
     let mut out = std::io::stdout().lock();
@@ -59,10 +66,14 @@ fn say(text: &str) {
 }
 
 pub fn run(connection: &ConnectionArgs, args: &RunAscriptArgs) -> i32 {
+    let Some((host, host_tool)) = host_family() else {
+        eprintln!("axterm run-ascript: no family's programs run from the host");
+        return EXIT_USAGE;
+    };
     // A-Script is the CMD-4CR's: speak it unless told otherwise.
     let mut connection = connection.clone();
     if connection.protocol.is_none() && connection.sim.is_none() {
-        connection.protocol = Some(FAMILY.into());
+        connection.protocol = Some(host.name.into());
     }
     let family = match family_of(&connection) {
         Ok(family) => family,
@@ -71,13 +82,20 @@ pub fn run(connection: &ConnectionArgs, args: &RunAscriptArgs) -> i32 {
             return EXIT_USAGE;
         }
     };
-    if family.name != FAMILY {
+    let Some(tool) = family.console.program().filter(|t| t.runs_from_host()) else {
+        let sim = host
+            .simulators
+            .first()
+            .map_or_else(String::new, |k| format!(" or --sim {}", k.name));
         eprintln!(
-            "axterm run-ascript: A-Script is the CMD-4CR's language (§5); this connection speaks {}: give --protocol cmd4cr or --sim cmd4cr",
-            family.name
+            "axterm run-ascript: {} is the {}'s language; this connection speaks {}: give --protocol {}{sim}",
+            host_tool.name(),
+            host_tool.controller(),
+            family.name,
+            host.name
         );
         return EXIT_USAGE;
-    }
+    };
     let (name, text) = match read_source(&args.file) {
         Ok(source) => source,
         Err(message) => {
@@ -86,9 +104,16 @@ pub fn run(connection: &ConnectionArgs, args: &RunAscriptArgs) -> i32 {
         }
     };
     let start = (!args.prg.is_empty()).then_some(args.prg.as_slice());
-    let program = match HostProgram::check(&name, &text, start) {
-        Ok(program) => program,
-        Err(problems) => {
+    let program = match tool.host_run(&name, &text, start) {
+        Some(Ok(program)) => program,
+        None => {
+            eprintln!(
+                "axterm run-ascript: {} programs do not run from the host",
+                tool.name()
+            );
+            return EXIT_USAGE;
+        }
+        Some(Err(problems)) => {
             for problem in problems {
                 eprintln!("{problem}");
             }
@@ -96,7 +121,7 @@ pub fn run(connection: &ConnectionArgs, args: &RunAscriptArgs) -> i32 {
             return EXIT_USAGE;
         }
     };
-    for warning in program.warnings() {
+    for warning in &program.warnings {
         eprintln!("{warning}");
     }
     // A dry run given a connection checks its options as a run would.
@@ -116,7 +141,7 @@ pub fn run(connection: &ConnectionArgs, args: &RunAscriptArgs) -> i32 {
         _ => {
             eprintln!(
                 "axterm run-ascript: {name}: checks, {} would start from the host; nothing sent (dry run)",
-                program.started()
+                program.started
             );
             return EXIT_OK;
         }
@@ -133,7 +158,7 @@ pub fn run(connection: &ConnectionArgs, args: &RunAscriptArgs) -> i32 {
         eprintln!(
             "axterm run-ascript: running {name} from the host on {}: {} (Ctrl-C stops it{})",
             target.spec.describe(),
-            program.started(),
+            program.started,
             match policy {
                 StopOnFailure::Stop => " and sends the emergency stop",
                 StopOnFailure::Leave => "; the axes are left as they are",
@@ -148,12 +173,12 @@ pub fn run(connection: &ConnectionArgs, args: &RunAscriptArgs) -> i32 {
                 return EXIT_DEVICE;
             }
         };
-        let mut show = |event: &HostEvent| say(&event.to_string());
+        let mut show = |news: &HostNews| say(&news.text);
         let prefix = format!("axterm run-ascript: {name}: ");
         let work = async {
-            let end = session.run_ascript(&program, &mut show).await;
+            let end = session.run_from_host(program.run, &mut show).await;
             eprintln!("{prefix}{end}");
-            end.ok()
+            end.ok
         };
         let report = RunReport {
             prefix: &prefix,

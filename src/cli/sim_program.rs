@@ -7,7 +7,8 @@
 
 use std::path::Path;
 
-use crate::protocol::cmd4cr::ascript;
+use crate::protocol::Family;
+use crate::protocol::program::{ControlKey, DownloadWay, NoIncludes};
 use crate::sim::SimulatedController;
 
 /// Load the program in `path` into `sim`, which speaks `family`. On
@@ -15,21 +16,30 @@ use crate::sim::SimulatedController;
 /// problem, as `FILE:LINE: …` where it has a line.
 pub fn load_program_file(
     sim: &mut dyn SimulatedController,
-    family: &str,
+    family: Option<&'static Family>,
     path: &Path,
 ) -> Result<String, Vec<String>> {
     let name = path.display().to_string();
     let source =
         crate::files::read_text(path).map_err(|e| vec![format!("{name}: cannot read it: {e}")])?;
-    let program = if family == "cmd4cr" {
-        Some(ascript::compile(&source).map_err(|errors| {
-            errors
-                .iter()
-                .map(|e| format!("{name}:{}: {}: {}", e.line, e.code, e.detail))
-                .collect::<Vec<_>>()
-        })?)
-    } else {
-        None
+    // The family's program tool checks what only a simulator takes.
+    let tool = family
+        .and_then(|f| f.console.program())
+        .filter(|t| matches!(t.download_way(), DownloadWay::SimulatorOnly { .. }));
+    let program = match tool {
+        Some(tool) => {
+            let checked = tool.check(&name, &source, &NoIncludes);
+            match checked.program {
+                Some(program) => Some((tool, program)),
+                None => {
+                    return Err(checked
+                        .errors()
+                        .map(|p| format!("{name}:{}: {}", p.line, p.message))
+                        .collect());
+                }
+            }
+        }
+        None => None,
     };
     sim.load_program(&source).map_err(|problems| {
         problems
@@ -37,21 +47,32 @@ pub fn load_program_file(
             .map(|p| format!("{name}: {p}"))
             .collect::<Vec<_>>()
     })?;
-    let programs: Vec<String> = program
-        .iter()
-        .flat_map(|p| p.program_numbers())
-        .map(|n| format!("PRG {n}"))
-        .collect();
-    let first = program
+    let control = program.as_ref().and_then(|(tool, _)| tool.control());
+    let numbers = program
         .as_ref()
-        .and_then(|p| p.program_numbers().next())
-        .unwrap_or(0);
+        .map(|(_, p)| p.programs())
+        .unwrap_or_default();
+    let names: Vec<String> = numbers
+        .iter()
+        .map(|&n| {
+            control
+                .and_then(|c| c.program_name(n))
+                .unwrap_or_else(|| format!("program {n}"))
+        })
+        .collect();
+    let first = numbers.first().copied().unwrap_or(0);
+    let start = control.map_or_else(String::new, |c| {
+        format!(
+            " (start with {})",
+            c.control(ControlKey::Run, first, None).line
+        )
+    });
     Ok(format!(
-        "{name} loaded into the simulator: {} (start with SACTRL{first}=1)",
-        if programs.is_empty() {
-            "no PRG block".to_string()
+        "{name} loaded into the simulator: {}{start}",
+        if names.is_empty() {
+            "no program to start".to_string()
         } else {
-            programs.join(", ")
+            names.join(", ")
         }
     ))
 }
@@ -59,6 +80,7 @@ pub fn load_program_file(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::protocol::find_family;
     use crate::sim::{SimOptions, find_kind};
 
     fn build(kind: &str) -> Box<dyn SimulatedController> {
@@ -71,7 +93,8 @@ mod tests {
         let path = dir.path().join("bad.asc");
         std::fs::write(&path, "PRG 0\n    V200=1\n    DO10=1\nEND\n").expect("write");
         let mut sim = build("cmd4cr");
-        let problems = load_program_file(sim.as_mut(), "cmd4cr", &path).expect_err("errors");
+        let problems =
+            load_program_file(sim.as_mut(), find_family("cmd4cr"), &path).expect_err("errors");
         let name = path.display().to_string();
         assert_eq!(problems.len(), 2, "{problems:?}");
         assert!(
@@ -90,7 +113,7 @@ mod tests {
         let path = dir.path().join("ok.asc");
         std::fs::write(&path, "PRG 2\n    V7=42\nEND\nPRG 1\nEND\n").expect("write");
         let mut sim = build("cmd4cr");
-        let said = load_program_file(sim.as_mut(), "cmd4cr", &path).expect("loads");
+        let said = load_program_file(sim.as_mut(), find_family("cmd4cr"), &path).expect("loads");
         assert!(
             said.ends_with("PRG 1, PRG 2 (start with SACTRL1=1)"),
             "{said}"
@@ -103,13 +126,15 @@ mod tests {
     fn a_missing_file_or_a_simulator_without_programs_is_refused() {
         let mut sim = build("cmd4cr");
         let missing = Path::new("no-such-dir/none.asc");
-        let problems = load_program_file(sim.as_mut(), "cmd4cr", missing).expect_err("missing");
+        let problems =
+            load_program_file(sim.as_mut(), find_family("cmd4cr"), missing).expect_err("missing");
         assert!(problems[0].contains("cannot read it"), "{problems:?}");
         let dir = tempfile::tempdir().expect("temp dir");
         let path = dir.path().join("p.asc");
         std::fs::write(&path, "PRG 0\nEND\n").expect("write");
         let mut tmcl = build("tmcm1110");
-        let problems = load_program_file(tmcl.as_mut(), "tmcl", &path).expect_err("no programs");
+        let problems =
+            load_program_file(tmcl.as_mut(), find_family("tmcl"), &path).expect_err("no programs");
         assert!(problems[0].contains("runs no A-Script"), "{problems:?}");
     }
 }

@@ -1,10 +1,13 @@
 //! `axterm download CONNECTION FILE [--run] [--autostart]`, `axterm upload
-//! CONNECTION` and `axterm disasm CONNECTION`: the TMCL program toolchain
-//! against a module. The work is [`crate::session::program`]'s; this reads
-//! and writes files, shows progress and sets the exit code: 0 done (a
-//! download verified), 1 a device error or a failed verification, 2 a
-//! program that does not assemble or cannot be downloaded (nothing sent),
-//! 3 the connection could not be opened.
+//! CONNECTION` and `axterm disasm CONNECTION`: a family's program toolchain
+//! against a module, through its program tool
+//! ([`crate::protocol::program::ProgramTool`]: TMCL's today). The plans are
+//! the tool's and the session's runner drives them
+//! ([`crate::session::transfer`]); this reads and writes files, shows
+//! progress and sets the exit code: 0 done (a download verified), 1 a
+//! device error or a failed verification, 2 a program that does not check
+//! or cannot be downloaded (nothing sent), 3 the connection could not be
+//! opened.
 //!
 //! Progress goes to standard error as one updating line when it is a
 //! terminal, and nowhere otherwise. Ctrl-C cancels a transfer between two
@@ -12,6 +15,7 @@
 
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use clap::Args;
@@ -21,12 +25,12 @@ use super::asm::{SourceFiles, read_input};
 use super::connection::{Target, run_to_exit};
 use super::output::Format;
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
-use crate::protocol::tmcl::asm::{self, ProgramWord};
-use crate::protocol::tmcl::transfer::check_image;
-use crate::session::Session;
-use crate::session::program::{
-    Cancel, DownloadOptions, DownloadReport, Progress, TransferError, UploadExtent,
+use crate::protocol::Family;
+use crate::protocol::program::{
+    CheckedProgram, DownloadOptions, DownloadWay, FactValue, ProgramTool, Progress,
+    TransferFailure, TransferReport, UploadExtent,
 };
+use crate::session::{Cancel, Session};
 
 #[derive(Debug, Clone, Args)]
 pub struct DownloadArgs {
@@ -62,7 +66,7 @@ pub struct ExtentArgs {
 impl ExtentArgs {
     pub fn extent(&self) -> UploadExtent {
         match (self.words, self.all) {
-            (Some(n), _) => UploadExtent::Words(n),
+            (Some(n), _) => UploadExtent::Units(n),
             (None, true) => UploadExtent::All,
             (None, false) => UploadExtent::UntilBlank,
         }
@@ -81,6 +85,16 @@ pub struct UploadArgs {
     pub extent: ExtentArgs,
 }
 
+/// The program tool of `family`, or why there is none (a usage error).
+fn tool_of(family: &'static Family) -> Result<&'static dyn ProgramTool, String> {
+    family.console.program().ok_or_else(|| {
+        format!(
+            "{} modules keep no program that axterm can transfer",
+            family.name
+        )
+    })
+}
+
 /// `axterm download`.
 pub fn run_download(connection: &ConnectionArgs, args: &DownloadArgs) -> i32 {
     let target = match Target::resolve(connection) {
@@ -90,19 +104,36 @@ pub fn run_download(connection: &ConnectionArgs, args: &DownloadArgs) -> i32 {
             return EXIT_USAGE;
         }
     };
-    let words = match load_program(&args.file, args.image) {
-        Ok(words) => words,
-        Err(code) => return code,
+    let tool = match tool_of(target.family) {
+        Ok(tool) => tool,
+        Err(message) => {
+            eprintln!("axterm download: {message}");
+            return EXIT_USAGE;
+        }
     };
-    if let Err(e) = check_image(&words) {
-        eprintln!("axterm download: {e}; nothing was sent");
+    if let DownloadWay::SimulatorOnly { why, .. } = tool.download_way() {
+        eprintln!(
+            "axterm download: {why}; nothing was sent (a simulator takes the program with --program FILE)"
+        );
         return EXIT_USAGE;
     }
+    let program = match load_program(tool, &args.file, args.image) {
+        Ok(program) => program,
+        Err(code) => return code,
+    };
     let options = DownloadOptions {
         run: args.run,
         autostart: args.autostart,
     };
+    let plan = match program.download(target.address, options) {
+        Ok(plan) => plan,
+        Err(failure) => {
+            eprintln!("axterm download: {failure}");
+            return EXIT_USAGE;
+        }
+    };
     let format = args.format;
+    let unit = tool.unit();
     run_to_exit("download", async move {
         let session = match target.open().await {
             Ok(session) => session,
@@ -112,15 +143,13 @@ pub fn run_download(connection: &ConnectionArgs, args: &DownloadArgs) -> i32 {
             }
         };
         let cancel = cancel_on_interrupt();
-        let mut line = ProgressLine::new("download");
-        let outcome = session
-            .download_program(&words, options, &cancel, &mut |p| line.show(p))
-            .await;
+        let mut line = ProgressLine::new("download", unit);
+        let outcome = session.transfer(plan, &cancel, &mut |p| line.show(p)).await;
         line.clear();
         let byte_time = target.spec.byte_time();
         match format {
-            Format::Text => print_download_text(&outcome, byte_time),
-            Format::Json => print_download_json(&outcome, byte_time),
+            Format::Text => print_download_text(&outcome, byte_time, unit),
+            Format::Json => print_download_json(&outcome, byte_time, unit),
         }
         match outcome {
             Ok(_) => EXIT_OK,
@@ -130,32 +159,47 @@ pub fn run_download(connection: &ConnectionArgs, args: &DownloadArgs) -> i32 {
     })
 }
 
-/// The program's words from source or an image file; the exit code (2)
-/// after saying what is wrong.
-fn load_program(file: &str, image: bool) -> Result<Vec<ProgramWord>, i32> {
+/// The program from source or an image file, checked by `tool`; the exit
+/// code (2) after saying what is wrong.
+fn load_program(
+    tool: &dyn ProgramTool,
+    file: &str,
+    image: bool,
+) -> Result<Arc<dyn CheckedProgram>, i32> {
     let (name, text) = read_input(file).map_err(|message| {
         eprintln!("axterm download: {message}");
         EXIT_USAGE
     })?;
     if image {
-        return asm::parse_image(&text).map_err(|errors| {
-            for error in &errors {
-                eprintln!("{name}:{}: {}", error.line, error.kind);
+        return match tool.load_image(&name, &text) {
+            Some(Ok(program)) => Ok(program),
+            Some(Err(problems)) => {
+                for problem in &problems {
+                    eprintln!("{problem}");
+                }
+                eprintln!("axterm download: {name} is not a program image; nothing was sent");
+                Err(EXIT_USAGE)
             }
-            eprintln!("axterm download: {name} is not a program image; nothing was sent");
-            EXIT_USAGE
-        });
+            None => {
+                eprintln!(
+                    "axterm download: {} programs have no image file; nothing was sent",
+                    tool.name()
+                );
+                Err(EXIT_USAGE)
+            }
+        };
     }
-    match asm::assemble(&name, &text, &SourceFiles) {
-        Ok(program) => Ok(program.words),
-        Err(errors) => {
-            for error in &errors {
-                eprintln!("{error}");
-            }
+    let checked = tool.check(&name, &text, &SourceFiles);
+    for problem in &checked.problems {
+        eprintln!("{}", problem.text);
+    }
+    match checked.program {
+        Some(program) => Ok(program),
+        None => {
+            let errors = checked.errors().count();
             eprintln!(
-                "axterm download: {} error{} in {name}; nothing was sent",
-                errors.len(),
-                if errors.len() == 1 { "" } else { "s" }
+                "axterm download: {errors} error{} in {name}; nothing was sent",
+                plural(errors)
             );
             Err(EXIT_USAGE)
         }
@@ -167,15 +211,16 @@ fn load_program(file: &str, image: bool) -> Result<Vec<ProgramWord>, i32> {
 const MAX_PLAUSIBLE_SHARE: f64 = 1.1;
 
 fn print_download_text(
-    outcome: &Result<DownloadReport, TransferError>,
+    outcome: &Result<TransferReport, TransferFailure>,
     byte_time: Option<Duration>,
+    unit: &str,
 ) {
     match outcome {
         Ok(report) => {
             let mut summary = format!(
-                "downloaded {} word{} to module {} and verified them in {:.2} s",
-                report.words,
-                plural(report.words),
+                "downloaded {} {unit}{} to module {} and verified them in {:.2} s",
+                report.count,
+                plural(report.count),
                 report.module,
                 report.elapsed.as_secs_f64()
             );
@@ -191,21 +236,12 @@ fn print_download_text(
                 ));
             }
             println!("{summary}");
-            if let Some(state) = report.stopped {
-                println!("the program on the module was {state}: stopped and reset it (131) first");
-            }
-            if report.autostart {
-                println!("autostart on: the module starts the program at power-up (GP77 = 1)");
-            }
-            if report.started {
-                println!("started the program (129)");
-            }
-            if let Some(from) = report.leftover_from {
-                eprintln!(
-                    "axterm download: note: memory from word {from} on still holds words of an \
-                     earlier program (there is no erase command); `axterm upload` reads until \
-                     the first blank word and shows them unless given --words {from}"
-                );
+            for told in report.facts.iter().filter_map(|f| f.told.as_ref()) {
+                if told.note {
+                    eprintln!("axterm download: note: {}", told.text);
+                } else {
+                    println!("{}", told.text);
+                }
             }
         }
         Err(error) => {
@@ -218,25 +254,42 @@ fn print_download_text(
 }
 
 fn print_download_json(
-    outcome: &Result<DownloadReport, TransferError>,
+    outcome: &Result<TransferReport, TransferFailure>,
     byte_time: Option<Duration>,
+    unit: &str,
 ) {
     let object = match outcome {
-        Ok(report) => json!({
-            "ok": true,
-            "verified": true,
-            "module": report.module,
-            "words": report.words,
-            "stopped_program": report.stopped.map(|s| s.to_string()),
-            "leftover_from": report.leftover_from,
-            "autostart": report.autostart,
-            "started": report.started,
-            "elapsed_us": u64::try_from(report.elapsed.as_micros()).unwrap_or(u64::MAX),
-            "transactions": report.transactions,
-            "wire_limit_us": byte_time
-                .map(|t| u64::try_from(report.wire_time(t).as_micros()).unwrap_or(u64::MAX)),
-            "wire_share": byte_time.map(|t| report.wire_share(t)),
-        }),
+        Ok(report) => {
+            let mut object = serde_json::Map::new();
+            object.insert("ok".into(), json!(true));
+            object.insert("verified".into(), json!(true));
+            object.insert("module".into(), json!(report.module));
+            object.insert(format!("{unit}s"), json!(report.count));
+            for fact in &report.facts {
+                let value = match &fact.value {
+                    FactValue::Flag(b) => json!(b),
+                    FactValue::Number(n) => json!(n),
+                    FactValue::Text(t) => json!(t),
+                    FactValue::Absent => serde_json::Value::Null,
+                };
+                object.insert(fact.key.into(), value);
+            }
+            object.insert(
+                "elapsed_us".into(),
+                json!(u64::try_from(report.elapsed.as_micros()).unwrap_or(u64::MAX)),
+            );
+            object.insert("transactions".into(), json!(report.transactions));
+            object.insert(
+                "wire_limit_us".into(),
+                json!(byte_time.map(|t| u64::try_from(report.wire_time(t).as_micros())
+                    .unwrap_or(u64::MAX))),
+            );
+            object.insert(
+                "wire_share".into(),
+                json!(byte_time.map(|t| report.wire_share(t))),
+            );
+            serde_json::Value::Object(object)
+        }
         Err(error) => json!({
             "ok": false,
             "verified": false,
@@ -260,11 +313,13 @@ fn plural(n: usize) -> &'static str {
 pub fn run_upload(connection: &ConnectionArgs, args: &UploadArgs) -> i32 {
     let output = args.output.clone();
     let image = args.image;
-    read_program("upload", connection, &args.extent, move |words| {
+    read_program("upload", connection, &args.extent, move |tool, read| {
         let text = if image {
-            asm::format_image(words)
+            read.image
+                .clone()
+                .ok_or_else(|| format!("{} programs have no image file", tool.name()))?
         } else {
-            asm::disassemble(words)
+            read.source.clone()
         };
         match &output {
             Some(path) => crate::files::write_atomically(path, text.as_bytes())
@@ -279,8 +334,8 @@ pub fn run_upload(connection: &ConnectionArgs, args: &UploadArgs) -> i32 {
 
 /// `axterm disasm CONNECTION`: the module's program as source.
 pub fn run_disasm(connection: &ConnectionArgs, extent: &ExtentArgs) -> i32 {
-    read_program("disasm", connection, extent, |words| {
-        print_out(&asm::disassemble(words));
+    read_program("disasm", connection, extent, |_, read| {
+        print_out(&read.source);
         Ok(())
     })
 }
@@ -291,7 +346,9 @@ fn read_program(
     command: &'static str,
     connection: &ConnectionArgs,
     extent: &ExtentArgs,
-    write: impl FnOnce(&[ProgramWord]) -> Result<(), String> + Send + 'static,
+    write: impl FnOnce(&dyn ProgramTool, &crate::protocol::program::ReadProgram) -> Result<(), String>
+    + Send
+    + 'static,
 ) -> i32 {
     let target = match Target::resolve(connection) {
         Ok(target) => target,
@@ -300,7 +357,21 @@ fn read_program(
             return EXIT_USAGE;
         }
     };
-    let extent = extent.extent();
+    let tool = match tool_of(target.family) {
+        Ok(tool) => tool,
+        Err(message) => {
+            eprintln!("axterm {command}: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    let plan = match tool.upload(target.address, extent.extent()) {
+        Ok(plan) => plan,
+        Err(failure) => {
+            eprintln!("axterm {command}: {failure}");
+            return EXIT_USAGE;
+        }
+    };
+    let unit = tool.unit();
     run_to_exit(command, async move {
         let session: Session = match target.open().await {
             Ok(session) => session,
@@ -310,22 +381,26 @@ fn read_program(
             }
         };
         let cancel = cancel_on_interrupt();
-        let mut line = ProgressLine::new(command);
-        let outcome = session
-            .upload_program(extent, &cancel, &mut |p| line.show(p))
-            .await;
+        let mut line = ProgressLine::new(command, unit);
+        let outcome = session.transfer(plan, &cancel, &mut |p| line.show(p)).await;
         line.clear();
         match outcome {
             Ok(report) => {
-                if let Err(message) = write(&report.words) {
+                let empty = crate::protocol::program::ReadProgram {
+                    source: String::new(),
+                    image: None,
+                    units: 0,
+                };
+                let read = report.program.as_ref().unwrap_or(&empty);
+                if let Err(message) = write(tool, read) {
                     eprintln!("axterm {command}: {message}");
                     return EXIT_USAGE;
                 }
                 if std::io::stderr().is_terminal() {
                     eprintln!(
-                        "axterm {command}: read {} word{} from module {} in {:.2} s",
-                        report.words.len(),
-                        plural(report.words.len()),
+                        "axterm {command}: read {} {unit}{} from module {} in {:.2} s",
+                        report.count,
+                        plural(report.count),
                         report.module,
                         report.elapsed.as_secs_f64()
                     );
@@ -366,6 +441,7 @@ fn cancel_on_interrupt() -> Cancel {
 /// One updating progress line on a terminal's standard error.
 struct ProgressLine {
     command: &'static str,
+    unit: &'static str,
     enabled: bool,
     shown: Option<Instant>,
     drawn: bool,
@@ -376,9 +452,10 @@ struct ProgressLine {
 const REDRAW_EVERY: Duration = Duration::from_millis(100);
 
 impl ProgressLine {
-    fn new(command: &'static str) -> ProgressLine {
+    fn new(command: &'static str, unit: &'static str) -> ProgressLine {
         ProgressLine {
             command,
+            unit,
             enabled: std::io::stderr().is_terminal(),
             shown: None,
             drawn: false,
@@ -399,9 +476,10 @@ impl ProgressLine {
         let of = progress.total.map_or(String::new(), |t| format!("/{t}"));
         let _ = write!(
             err,
-            "\r\x1b[2Kaxterm {}: {} word {}{of}",
+            "\r\x1b[2Kaxterm {}: {} {} {}{of}",
             self.command,
             progress.phase.name(),
+            self.unit,
             progress.done
         );
         let _ = err.flush();
@@ -429,7 +507,7 @@ mod tests {
             words: Some(12),
             all: false,
         };
-        assert_eq!(words.extent(), UploadExtent::Words(12));
+        assert_eq!(words.extent(), UploadExtent::Units(12));
         let all = ExtentArgs {
             words: None,
             all: true,

@@ -11,6 +11,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use super::parameters::ParameterSet;
+use super::program::ProgramTool;
 use super::wire::{Frame, ReplyRule, WireFormat};
 
 /// How a prepared line is answered.
@@ -378,6 +379,13 @@ pub trait FamilyConsole: Send + Sync {
     /// What an answer's status code means, in the manual's words.
     fn status_meaning(&self, status: u32) -> Option<String> {
         let _ = status;
+        None
+    }
+
+    /// The family's standalone programs: their language's check, colours,
+    /// watch and run control, and how a program reaches the controller;
+    /// `None` if the family has none.
+    fn program(&self) -> Option<&'static dyn ProgramTool> {
         None
     }
 

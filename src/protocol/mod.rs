@@ -6,6 +6,7 @@ pub mod cmd4cr;
 pub mod console;
 pub mod mccl;
 pub mod parameters;
+pub mod program;
 pub mod sixpack2;
 pub mod tmcl;
 pub mod wire;
@@ -13,7 +14,7 @@ pub mod wire;
 use console::FamilyConsole;
 
 /// One controller family as the command line knows it. A new family adds
-/// one entry to [`FAMILIES`].
+/// one entry to [`FAMILIES`], its simulators included.
 pub struct Family {
     /// Name on the command line (`axterm encode tmcl …`).
     pub name: &'static str,
@@ -26,6 +27,9 @@ pub struct Family {
     /// What the session layer needs of the family: its wire format, how a
     /// line is sent and its answer read, emergency stop, status polling.
     pub console: &'static dyn FamilyConsole,
+    /// The built-in simulators of controllers of this family (`--sim
+    /// NAME`), in the order the connect screen offers them.
+    pub simulators: &'static [crate::sim::SimKind],
 }
 
 /// Every protocol family axterm speaks.
@@ -42,6 +46,7 @@ pub const FAMILIES: &[Family] = &[
         },
         show_bytes: tmcl::to_hex,
         console: &tmcl::TmclConsole,
+        simulators: &[crate::sim::tmcm1110::KIND],
     },
     Family {
         name: "cmd4cr",
@@ -49,6 +54,7 @@ pub const FAMILIES: &[Family] = &[
         encode_line: cmd4cr::encode_line,
         show_bytes: cmd4cr::show_bytes,
         console: &cmd4cr::Cmd4crConsole,
+        simulators: &[crate::sim::cmd4cr::KIND],
     },
     Family {
         name: "sixpack2",
@@ -56,6 +62,7 @@ pub const FAMILIES: &[Family] = &[
         encode_line: sixpack2::encode_line,
         show_bytes: sixpack2::to_hex,
         console: &sixpack2::Sixpack2Console::AUTO,
+        simulators: &[crate::sim::sixpack2::KIND],
     },
     Family {
         name: "mccl",
@@ -63,6 +70,7 @@ pub const FAMILIES: &[Family] = &[
         encode_line: mccl::encode_line,
         show_bytes: mccl::show_bytes,
         console: &mccl::MclConsole::DEFAULT,
+        simulators: &[crate::sim::mccl::KIND_PCI, crate::sim::mccl::KIND_ETH],
     },
 ];
 

@@ -9,10 +9,10 @@
 //! or writes never), and the answer read back as a value or an error that
 //! names the line and the module's status.
 
-pub mod ascript_host;
-pub mod program;
+mod host_run;
 pub mod run_end;
 mod status;
+pub mod transfer;
 
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -21,6 +21,7 @@ use tokio::sync::watch;
 
 pub use crate::protocol::console::{AxisFlag, AxisInfo, PreparedLine, ReplyError, ReplyValue};
 pub use status::{AxisMotion, AxisStatus, RefreshRate};
+pub use transfer::Cancel;
 
 use crate::device::{
     self, DeviceError, DeviceHandle, DeviceOptions, Expect, LinkState, PollItem, PollPlan,
@@ -243,10 +244,10 @@ pub struct Session {
     read_retries: u32,
     board: StatusBoard,
     identity: Arc<watch::Sender<Option<String>>>,
-    /// The poll cadence asked for, if polling is on (paused during a
-    /// program download, see [`program`]).
+    /// The poll cadence asked for, if polling is on (paused while a
+    /// program transfer holds the module, see [`transfer`]).
     polling: Arc<Mutex<Option<PollCadence>>>,
-    transfer: Arc<program::TransferState>,
+    transfer: Arc<transfer::TransferState>,
     /// One byte's wire time on the link, when it has a known speed.
     byte_time: Option<Duration>,
 }
@@ -278,7 +279,7 @@ impl Session {
             board: Arc::new(board),
             identity: Arc::new(identity),
             polling: Arc::new(Mutex::new(None)),
-            transfer: Arc::new(program::TransferState::default()),
+            transfer: Arc::new(transfer::TransferState::default()),
             byte_time: None,
         }
     }
@@ -388,8 +389,8 @@ impl Session {
     }
 
     /// Send a prepared line at user priority and read the answer. While a
-    /// program download holds the module in download mode, lines it would
-    /// store instead of executing are refused (nothing is sent).
+    /// program transfer holds the module (TMCL download mode), lines it
+    /// would misread are refused (nothing is sent).
     pub async fn execute(&self, line: &PreparedLine) -> Result<LineResult, SessionError> {
         if let Some(message) = self.transfer.refusal(line) {
             return Err(SessionError::Refused {
@@ -405,18 +406,18 @@ impl Session {
         // as its family says.
         let timeout = self.family.console.long_running(line).map(|l| l.timeout);
         let result = self.send(Priority::User, line, retry, timeout).await?;
-        program::after_user_line(self, line);
+        transfer::after_user_line(self, line);
         Ok(result)
     }
 
     /// Stop every motor, ahead of everything queued. Every stop line is
     /// sent even if one fails; the first failure is returned.
     ///
-    /// A program transfer is cancelled. During a download the module
-    /// stores what it is sent instead of executing it, so the stop waits
-    /// until the download has left download mode (the word on the wire and
-    /// its 133: two transactions), or sends 133 first if that failed (see
-    /// [`program`]).
+    /// A program transfer is cancelled. While a transfer holds the module
+    /// (TMCL download mode stores what it is sent instead of executing
+    /// it), the stop waits until the transfer has let it go (the line on
+    /// the wire and the release: two transactions), or sends the release
+    /// first if that failed (see [`transfer`]).
     pub async fn emergency_stop(&self) -> Result<(), SessionError> {
         let results = self.emergency_stop_lines().await;
         results
@@ -432,12 +433,12 @@ impl Session {
     /// answer, a line waiting in the user queue would go on the wire
     /// between two stop lines (a move between `MST` and `STOPAPP`).
     ///
-    /// During a program download, the stop first waits for the download to
-    /// leave download mode (see [`Session::emergency_stop`]), or sends 133
-    /// itself as the first line.
+    /// While a transfer holds the module, the stop first waits for it to
+    /// let the module go (see [`Session::emergency_stop`]), or sends the
+    /// hold's release line itself as the first line.
     pub async fn emergency_stop_lines(&self) -> Vec<Result<LineResult, SessionError>> {
-        let halted = program::halt_transfer(self).await;
-        let leave = halted.leave_download().cloned();
+        let halted = transfer::halt_transfer(self).await;
+        let leave = halted.release().cloned();
         let lines: Vec<PreparedLine> = leave
             .iter()
             .cloned()
@@ -470,7 +471,7 @@ impl Session {
         drop(sends);
         let results: Vec<_> = results.into_iter().flatten().collect();
         if leave.is_some() && results.first().is_some_and(Result::is_ok) {
-            halted.left_download();
+            halted.released();
         }
         results
     }
@@ -497,10 +498,10 @@ impl Session {
     }
 
     /// Poll every axis's status at `cadence` (replaces any earlier plan).
-    /// During a program download polling starts once it is over.
+    /// While a transfer holds the module, polling starts once it lets go.
     pub fn start_polling(&self, cadence: PollCadence) {
         *self.polling.lock().unwrap_or_else(|e| e.into_inner()) = Some(cadence);
-        if !self.transfer.downloading() {
+        if !self.transfer.held() {
             self.apply_poll_plan(cadence);
         }
     }

@@ -5,6 +5,8 @@
 
 use std::time::Duration;
 
+use crate::protocol::{FAMILIES, Family};
+
 pub mod cmd4cr;
 pub mod faults;
 pub mod inputs;
@@ -77,11 +79,11 @@ pub struct SimOptions {
 }
 
 /// One built-in simulator: its name on the command line and how to make it.
+/// Listed in its protocol family's entry ([`crate::protocol::Family::simulators`]),
+/// so that registering a family and its simulators is one entry.
 pub struct SimKind {
     pub name: &'static str,
     pub description: &'static str,
-    /// The protocol family it speaks (a name in `protocol::FAMILIES`).
-    pub family: &'static str,
     pub build: fn(&SimOptions) -> Box<dyn SimulatedController>,
     /// The names of the inputs [`SimulatedController::drive_input`] drives
     /// (`IO5`, `ALMX`, …), for completion.
@@ -94,97 +96,29 @@ pub struct SimKind {
     pub eeprom_refusal: Option<&'static str>,
 }
 
-/// Every built-in simulator. A new family adds one line here.
-pub const SIM_KINDS: &[SimKind] = &[
-    SimKind {
-        name: "tmcm1110",
-        description: "Trinamic TMCM-1110 StepRocker (TMCL, 1 axis)",
-        family: "tmcl",
-        build: |options| {
-            let mut config = tmcm1110::SimConfig::default();
-            if let Some(address) = options.address {
-                config.address = address;
-            }
-            config.eeprom_file = options.eeprom_file.clone();
-            let mut sim = tmcm1110::Tmcm1110::new(config);
-            if let Some(address) = options.address {
-                sim.set_module_address(address);
-            }
-            Box::new(sim)
-        },
-        input_names: || inputs::names(tmcm1110::inputs::INPUTS),
-        input_help: || inputs::help_lines(tmcm1110::inputs::INPUTS),
-        eeprom_refusal: None,
-    },
-    SimKind {
-        name: "cmd4cr",
-        description: "Nippon Pulse Commander core CMD-4CR (ASCII, 4 axes X/Y/Z/U)",
-        family: "cmd4cr",
-        build: |options| {
-            Box::new(cmd4cr::Cmd4cr::new(cmd4cr::SimConfig {
-                id: options.address,
-                flash_file: options.eeprom_file.clone(),
-                ..cmd4cr::SimConfig::default()
-            }))
-        },
-        input_names: || inputs::names(cmd4cr::inputs::INPUTS),
-        input_help: || inputs::help_lines(cmd4cr::inputs::INPUTS),
-        eeprom_refusal: None,
-    },
-    SimKind {
-        name: "sixpack2",
-        description: "Trinamic SIXpack 2 (9-byte binary frames, 6 axes)",
-        family: "sixpack2",
-        build: |options| {
-            let mut config = sixpack2::SimConfig::default();
-            if let Some(address) = options.address {
-                config.rotary_address = address;
-            }
-            Box::new(sixpack2::Sixpack2::new(config))
-        },
-        input_names: || inputs::names(sixpack2::inputs::INPUTS),
-        input_help: || inputs::help_lines(sixpack2::inputs::INPUTS),
-        eeprom_refusal: Some(sixpack2::NOTHING_STORED),
-    },
-    // MultiFlex PCI and ETH differ in one thing the host can see: the ETH
-    // keeps its macros (non-volatile, `--eeprom FILE`), the PCI loses them
-    // at a reset. Two kinds of one family, as the two products are.
-    SimKind {
-        name: "mccl",
-        description: "PMC MultiFlex PCI (MCCL ASCII, axes 1-4 servo, 5 stepper; volatile macros)",
-        family: "mccl",
-        build: |_| Box::new(mccl::Mccl::new(mccl::SimConfig::pci())),
-        input_names: || inputs::names(mccl::inputs::INPUTS),
-        input_help: || inputs::help_lines(mccl::inputs::INPUTS),
-        eeprom_refusal: Some(mccl::PCI_KEEPS_NOTHING),
-    },
-    SimKind {
-        name: "mccl-eth",
-        description: "PMC MultiFlex ETH (MCCL ASCII, axes 1-4 servo, 5 stepper; macros kept in --eeprom FILE)",
-        family: "mccl",
-        build: |options| {
-            Box::new(mccl::Mccl::new(mccl::SimConfig::eth(
-                options.eeprom_file.clone(),
-            )))
-        },
-        input_names: || inputs::names(mccl::inputs::INPUTS),
-        input_help: || inputs::help_lines(mccl::inputs::INPUTS),
-        eeprom_refusal: None,
-    },
-];
+impl SimKind {
+    /// The protocol family whose entry lists this simulator (the one it
+    /// speaks).
+    pub fn family(&self) -> Option<&'static Family> {
+        FAMILIES
+            .iter()
+            .find(|f| f.simulators.iter().any(|k| k.name == self.name))
+    }
+}
+
+/// Every built-in simulator, in the order of the families that list them.
+pub fn kinds() -> impl Iterator<Item = &'static SimKind> {
+    FAMILIES.iter().flat_map(|f| f.simulators.iter())
+}
 
 /// The simulator called `name` (case-insensitive), if there is one.
 pub fn find_kind(name: &str) -> Option<&'static SimKind> {
-    SIM_KINDS.iter().find(|k| k.name.eq_ignore_ascii_case(name))
+    kinds().find(|k| k.name.eq_ignore_ascii_case(name))
 }
 
 /// Names of every simulator, for error messages and help.
 pub fn kind_names() -> String {
-    SIM_KINDS
-        .iter()
-        .map(|k| k.name)
-        .collect::<Vec<_>>()
-        .join(", ")
+    kinds().map(|k| k.name).collect::<Vec<_>>().join(", ")
 }
 
 #[cfg(test)]
@@ -237,14 +171,11 @@ mod tests {
 
     #[test]
     fn every_kind_speaks_a_known_family() {
-        for kind in SIM_KINDS {
-            assert!(
-                crate::protocol::find_family(kind.family).is_some(),
-                "{}: {}",
-                kind.name,
-                kind.family
-            );
+        for kind in kinds() {
+            assert!(kind.family().is_some(), "{}", kind.name);
         }
+        let tmcl = find_kind("tmcm1110").and_then(SimKind::family);
+        assert_eq!(tmcl.map(|f| f.name), Some("tmcl"));
     }
 
     #[test]
@@ -281,13 +212,7 @@ mod tests {
         assert_eq!(sim.take_output(), [0x43, 148, 1, 30, 1, 0, 0, 0]);
         assert!(sim.help().contains("SIXpack 2"));
         assert!(kind.eeprom_refusal.is_some());
-        assert!(
-            SIM_KINDS
-                .iter()
-                .filter(|k| k.eeprom_refusal.is_none())
-                .count()
-                >= 2
-        );
+        assert!(kinds().filter(|k| k.eeprom_refusal.is_none()).count() >= 2);
     }
 
     #[test]
@@ -303,7 +228,7 @@ mod tests {
 
     #[test]
     fn every_input_a_kind_names_can_be_driven() {
-        for kind in SIM_KINDS {
+        for kind in kinds() {
             let mut sim = (kind.build)(&SimOptions::default());
             for name in (kind.input_names)() {
                 let result = sim.drive_input(&format!("{name}=0"));

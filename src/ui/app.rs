@@ -10,91 +10,34 @@
 //! channel of the session changing, traffic, a reply, a signal) and draws
 //! only when the state changed, so an idle console costs nothing.
 
-use std::future::Future;
-use std::io::Write;
-use std::path::Path;
-use std::pin::Pin;
-use std::sync::Arc;
-use std::time::{Duration, Instant};
+mod controller;
+mod layout;
+mod runner;
+mod traffic_log;
 
-use ratatui::Frame;
+pub use controller::{Connector, Controller, Pending, no_simulator_to_drive};
+pub use layout::{SIDE_MIN_WIDTH, TILE_MIN_HEIGHT, TILE_MIN_WIDTH};
+pub use runner::{
+    TRAFFIC_BATCH, TRAFFIC_BATCH_HIDDEN, TRAFFIC_HEADROOM, run, traffic_pause, worth_showing,
+};
+pub use traffic_log::log_line;
+
+use std::time::Duration;
+
 use ratatui::crossterm::event::{Event as TermEvent, KeyEvent, KeyEventKind};
-use ratatui::layout::{Constraint, Layout, Rect};
-use ratatui::style::Style;
-use ratatui::text::{Line, Span};
-use ratatui::widgets::{Block, Borders, Paragraph};
-use tokio::sync::{broadcast, mpsc, oneshot, watch};
-use tokio::task::JoinHandle;
+use ratatui::layout::Rect;
 
 use super::keymap::{Action, Context, Keymap, load_keymap};
-use super::pane::{
-    Input, Notice, Outcome, Pane, PaneEvent, Region, Request, Snapshot, TransferDone, TransferJob,
-    View, key_label,
-};
-use super::theme::{Role, Theme, load_theme};
-use crate::device::{DeviceEvent, Direction, LinkState, Priority, TrafficKind, TrafficRecord};
-use crate::protocol::Family;
-use crate::session::program::{Cancel, Progress, TransferError};
-use crate::session::run_end::{LinkAtStop, RunAftermath, RunEnding, RunStop, StopOnFailure};
-use crate::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
+use super::pane::{Input, Notice, Outcome, Pane, PaneEvent, Request, Snapshot, View};
+use super::theme::{Theme, load_theme};
+use crate::device::{DeviceEvent, TrafficRecord};
+use crate::protocol::program::{Progress, TransferFailure, TransferJob, TransferReport};
+use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
+use crate::session::{AxisFlag, LineResult, PollCadence, SessionError};
 
-/// How long the loop lets traffic gather before it hands it to the panes:
-/// status polling alone sends a hundred or more frames a second, and
-/// waking the loop for each cost more than everything else an idle
-/// console does. The first frame after a quiet spell is handed on at once;
-/// the traffic monitor redraws no more often than this anyway
-/// ([`super::traffic::REFRESH`]).
-pub const TRAFFIC_BATCH: Duration = super::traffic::REFRESH;
-
-/// How long traffic may gather while the traffic monitor is not on screen
-/// (it keeps recording behind its tab): the pause doubles from
-/// [`TRAFFIC_BATCH`] up to this while frames keep coming.
-pub const TRAFFIC_BATCH_HIDDEN: Duration = Duration::from_secs(1);
-
-/// Records a pause may let gather at the rate last seen: a quarter of the
-/// device's traffic stream ([`crate::device::TRAFFIC_CAPACITY`]), so that
-/// a fast transfer shortens the pause before the stream overflows.
-pub const TRAFFIC_HEADROOM: usize = crate::device::TRAFFIC_CAPACITY / 4;
-
-/// The pane that shows traffic (see [`App::is_on_screen`]).
-const TRAFFIC_PANE: &str = "traffic";
-
-/// The pause after a batch of `taken` records gathered over `seen`:
-/// [`TRAFFIC_BATCH`] after a quiet spell (`fresh`), else twice the last
-/// one, at most `longest`, and never so long that [`TRAFFIC_HEADROOM`]
-/// records would come at the rate just seen.
-pub fn traffic_pause(
-    fresh: bool,
-    last: Duration,
-    longest: Duration,
-    taken: usize,
-    seen: Duration,
-) -> Duration {
-    let pause = if fresh {
-        TRAFFIC_BATCH
-    } else {
-        last.saturating_mul(2)
-    }
-    .min(longest);
-    let Ok(taken) = u32::try_from(taken) else {
-        return Duration::from_millis(1);
-    };
-    if taken == 0 {
-        return pause;
-    }
-    let headroom = u32::try_from(TRAFFIC_HEADROOM).unwrap_or(u32::MAX);
-    let safe = seen.saturating_mul(headroom) / taken;
-    pause.min(safe).max(Duration::from_millis(1))
-}
-
-/// Below this many rows (or columns) for the panes, every pane is a tab of
-/// one region.
-pub const TILE_MIN_HEIGHT: u16 = 16;
-pub const TILE_MIN_WIDTH: u16 = 40;
-/// From this width the side panes get a column of their own.
-pub const SIDE_MIN_WIDTH: u16 = 160;
-/// Rows the main region keeps at least when the top region is tall.
-const MAIN_MIN_HEIGHT: u16 = 10;
+/// How long a message stays in the status bar ("STOP: 3 sent, all ok"):
+/// long enough to read, then the state it pushed aside is seen again.
+pub const STATUS_MESSAGE_LIFETIME: Duration = Duration::from_secs(10);
 
 /// Something that happened, for [`App::handle`].
 #[derive(Debug)]
@@ -138,8 +81,11 @@ pub enum AppEvent {
     Transferred {
         pane: usize,
         tag: u64,
-        result: Result<TransferDone, TransferError>,
+        result: Result<TransferReport, TransferFailure>,
     },
+    /// A status bar message has been up long enough (see
+    /// [`Effect::Expire`]).
+    Expired(u64),
     /// A pane's program was loaded into the simulator (or not).
     ProgramLoaded {
         pane: usize,
@@ -203,16 +149,13 @@ pub enum Effect {
     /// Drive an input of the connected simulator; the answer back as an
     /// [`AppEvent::Notice`].
     DriveSimInput(String),
+    /// Answer with [`AppEvent::Expired`] after this long: the status bar
+    /// message `id` ages out.
+    Expire {
+        id: u64,
+        after: Duration,
+    },
     Quit,
-}
-
-/// Which part of the screen a pane is drawn in, after the screen size
-/// decided how many parts there are.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-enum Slot {
-    Top,
-    Main,
-    Side,
 }
 
 /// The console.
@@ -226,8 +169,10 @@ pub struct App {
     theme: Theme,
     keymap: Keymap,
     snapshot: Option<Snapshot>,
-    /// What the last emergency stop did, for the status bar.
-    last_stop: Option<String>,
+    /// What the last emergency stop did, for the status bar, and its
+    /// number (it ages out, see [`STATUS_MESSAGE_LIFETIME`]).
+    last_stop: Option<(u64, String)>,
+    status_messages: u64,
     dirty: bool,
     quit: bool,
     /// Where each shown pane was drawn last, for mouse clicks.
@@ -256,6 +201,7 @@ impl App {
             keymap,
             snapshot: None,
             last_stop: None,
+            status_messages: 0,
             dirty: true,
             quit: false,
             drawn: Vec::new(),
@@ -373,10 +319,15 @@ impl App {
             }
             AppEvent::Stopped(results) => {
                 let failed = results.iter().filter(|r| r.is_err()).count();
-                self.last_stop = Some(match (failed, results.len()) {
+                let text = match (failed, results.len()) {
                     (_, 0) => "STOP not sent".to_string(),
                     (0, n) => format!("STOP: {n} sent, all ok"),
                     (failed, n) => format!("STOP: {failed} of {n} FAILED"),
+                };
+                let id = self.status_message(text);
+                effects.push(Effect::Expire {
+                    id,
+                    after: STATUS_MESSAGE_LIFETIME,
                 });
                 self.dirty = true;
                 self.broadcast(&PaneEvent::EmergencyStop(results), &mut effects);
@@ -396,6 +347,16 @@ impl App {
             AppEvent::Transferred { pane, tag, result } => {
                 let event = PaneEvent::Transferred { tag, result };
                 self.deliver(pane, &event, &mut effects);
+            }
+            AppEvent::Expired(id) => {
+                if self
+                    .last_stop
+                    .as_ref()
+                    .is_some_and(|(shown, _)| *shown == id)
+                {
+                    self.last_stop = None;
+                    self.dirty = true;
+                }
             }
             AppEvent::ProgramLoaded { pane, tag, result } => {
                 let event = PaneEvent::ProgramLoaded { tag, result };
@@ -515,11 +476,19 @@ impl App {
     }
 
     fn emergency_stop(&mut self, effects: &mut Vec<Effect>) {
-        self.last_stop = Some("STOP sending…".into());
+        // In progress: state, up until the stop's answers come.
+        self.status_message("STOP sending…".into());
         self.dirty = true;
         // The loop drops the lines of every earlier Send before it stops.
         effects.push(Effect::EmergencyStop);
         self.broadcast(&PaneEvent::Stopping, effects);
+    }
+
+    /// Show `text` in the status bar as its newest message; its number.
+    fn status_message(&mut self, text: String) -> u64 {
+        self.status_messages += 1;
+        self.last_stop = Some((self.status_messages, text));
+        self.status_messages
     }
 
     fn cycle_focus(&mut self, step: usize) {
@@ -670,222 +639,6 @@ impl App {
             }
         }
     }
-
-    /// Draw the whole screen.
-    pub fn render(&mut self, frame: &mut Frame) {
-        self.dirty = false;
-        let area = frame.area();
-        // Ordinary text first; every other role patches over it.
-        frame.render_widget(Block::default().style(self.theme.style(Role::Normal)), area);
-        let [body, status] =
-            Layout::vertical([Constraint::Min(1), Constraint::Length(1)]).areas(area);
-        self.drawn.clear();
-        for (slot, rect) in self.slots(body) {
-            let members: Vec<usize> = (0..self.panes.len())
-                .filter(|&i| self.slot_of(i, body) == slot)
-                .collect();
-            let Some(&shown) = members
-                .iter()
-                .max_by_key(|&&i| self.focused_at.get(i).copied().unwrap_or(0))
-            else {
-                continue;
-            };
-            self.render_slot(frame, rect, &members, shown);
-        }
-        self.render_status(frame, status);
-    }
-
-    /// The slots the screen has room for, with their areas.
-    fn slots(&self, body: Rect) -> Vec<(Slot, Rect)> {
-        let mode = Mode::of(body);
-        if mode == Mode::Tabs {
-            return vec![(Slot::Main, body)];
-        }
-        let has = |region: Region| self.panes.iter().any(|p| p.region() == region);
-        let mut slots = Vec::new();
-        let mut rest = body;
-        if has(Region::Top) {
-            let view = self.view(false);
-            let inner_width = body.width.saturating_sub(2);
-            let room = body.height.saturating_sub(MAIN_MIN_HEIGHT);
-            let wanted = self
-                .panes
-                .iter()
-                .filter(|p| p.region() == Region::Top)
-                .filter_map(|p| p.height_hint(&view, inner_width, room.saturating_sub(2)))
-                .max()
-                .unwrap_or(body.height / 3)
-                .saturating_add(2);
-            let top = wanted.min(room);
-            let [top_area, below] =
-                Layout::vertical([Constraint::Length(top), Constraint::Min(0)]).areas(body);
-            slots.push((Slot::Top, top_area));
-            rest = below;
-        }
-        if mode == Mode::Columns && has(Region::Side) && has(Region::Main) {
-            let [main, side] =
-                Layout::horizontal([Constraint::Percentage(55), Constraint::Percentage(45)])
-                    .areas(rest);
-            slots.push((Slot::Main, main));
-            slots.push((Slot::Side, side));
-        } else {
-            slots.push((Slot::Main, rest));
-        }
-        slots
-    }
-
-    fn slot_of(&self, index: usize, body: Rect) -> Slot {
-        let Some(pane) = self.panes.get(index) else {
-            return Slot::Main;
-        };
-        match (Mode::of(body), pane.region()) {
-            (Mode::Tabs, _) => Slot::Main,
-            (_, Region::Top) => Slot::Top,
-            (Mode::Columns, Region::Side)
-                if self.panes.iter().any(|p| p.region() == Region::Main) =>
-            {
-                Slot::Side
-            }
-            _ => Slot::Main,
-        }
-    }
-
-    fn view(&self, focused: bool) -> View<'_> {
-        View {
-            theme: &self.theme,
-            keymap: &self.keymap,
-            session: self.snapshot.as_ref(),
-            focused,
-            shown: true,
-        }
-    }
-
-    /// A bordered slot: its title is the shown pane's, or a tab strip when
-    /// several panes share the slot.
-    fn render_slot(&mut self, frame: &mut Frame, area: Rect, members: &[usize], shown: usize) {
-        let focused = shown == self.focus;
-        let theme = &self.theme;
-        let border = theme.style(if focused {
-            Role::BorderFocused
-        } else {
-            Role::Border
-        });
-        let view = View {
-            theme,
-            keymap: &self.keymap,
-            session: self.snapshot.as_ref(),
-            focused,
-            shown: true,
-        };
-        let mut title = vec![Span::raw(" ")];
-        for (n, &index) in members.iter().enumerate() {
-            let Some(pane) = self.panes.get(index) else {
-                continue;
-            };
-            if n > 0 {
-                title.push(Span::styled(" │ ", border));
-            }
-            let text = if members.len() > 1 {
-                format!("{} {}", index + 1, pane.title(&view))
-            } else {
-                pane.title(&view)
-            };
-            let style = if index == shown {
-                theme.style(Role::Title)
-            } else {
-                theme.style(Role::Muted)
-            };
-            title.push(Span::styled(text, style));
-        }
-        title.push(Span::raw(" "));
-        let block = Block::default()
-            .borders(Borders::ALL)
-            .border_style(border)
-            .title(Line::from(title));
-        let inner = block.inner(area);
-        frame.render_widget(block, area);
-        if let Some(pane) = self.panes.get_mut(shown) {
-            pane.render(frame, inner, &view);
-        }
-        self.drawn.push((shown, area));
-    }
-
-    fn render_status(&self, frame: &mut Frame, area: Rect) {
-        let theme = &self.theme;
-        let bar = theme.style(Role::StatusBar);
-        let key = theme.style(Role::StatusKey);
-        let mut spans = vec![
-            Span::styled(
-                format!(" {} ", self.keymap.stop_hint()),
-                theme.style(Role::Emergency),
-            ),
-            Span::styled(" ", bar),
-        ];
-        if let Some(stop) = &self.last_stop {
-            spans.push(Span::styled(format!("{stop} │ "), bar));
-        }
-        for activity in self.panes.iter().filter_map(|p| p.activity()) {
-            spans.push(Span::styled(activity, key));
-            spans.push(Span::styled(" │ ", bar));
-        }
-        match &self.snapshot {
-            Some(s) => {
-                let state = match &s.link {
-                    LinkState::Connected { .. } => "connected".to_string(),
-                    LinkState::Disconnected { reason, .. } => format!("LOST: {reason}"),
-                    LinkState::Closed => "closed".to_string(),
-                };
-                spans.push(Span::styled(
-                    format!("{} #{} {state} │ ", s.link_name, s.address),
-                    bar,
-                ));
-                spans.push(Span::styled(
-                    format!("{} │ ", super::axes::poll_text(s)),
-                    bar,
-                ));
-                if let Some(axis) = s.selected_axis().filter(|_| s.axes.len() > 1) {
-                    spans.push(Span::styled(format!("axis {} │ ", axis.name), bar));
-                }
-            }
-            None => spans.push(Span::styled("not connected │ ", bar)),
-        }
-        let context = self.context();
-        spans.push(Span::styled(
-            key_label(&self.keymap, context, Action::Quit),
-            key,
-        ));
-        spans.push(Span::styled(" quit ", bar));
-        spans.push(Span::styled(
-            key_label(&self.keymap, context, Action::Help),
-            key,
-        ));
-        spans.push(Span::styled(" help", bar));
-        let line = Line::from(spans).style(bar);
-        frame.render_widget(Paragraph::new(line).style(Style::default()), area);
-    }
-}
-
-/// How the screen is shared out.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Mode {
-    /// One pane at a time, as tabs (80×24).
-    Tabs,
-    /// The top region over the main region.
-    Rows,
-    /// The top region over main and side columns.
-    Columns,
-}
-
-impl Mode {
-    fn of(body: Rect) -> Mode {
-        if body.width < TILE_MIN_WIDTH || body.height < TILE_MIN_HEIGHT {
-            Mode::Tabs
-        } else if body.width < SIDE_MIN_WIDTH {
-            Mode::Rows
-        } else {
-            Mode::Columns
-        }
-    }
 }
 
 /// Whether two snapshots would draw the same.
@@ -924,802 +677,18 @@ pub fn rate_of(period: Duration) -> String {
     }
 }
 
-/// A future the loop can spawn.
-pub type Pending<T> = Pin<Box<dyn Future<Output = T> + Send>>;
-
-/// The controller as the console drives it: a [`crate::session::Session`],
-/// or a fake in tests.
-pub trait Controller: Send + Sync {
-    fn family(&self) -> &'static Family;
-    fn address(&self) -> u8;
-    fn axes(&self) -> Vec<AxisInfo>;
-    /// The link as the user named it.
-    fn link_name(&self) -> String;
-    fn status(&self) -> watch::Receiver<Vec<AxisStatus>>;
-    fn link_state(&self) -> watch::Receiver<LinkState>;
-    fn identity(&self) -> watch::Receiver<Option<String>>;
-    fn traffic(&self) -> Option<broadcast::Receiver<TrafficRecord>>;
-    fn events(&self) -> Option<broadcast::Receiver<DeviceEvent>>;
-    /// Send one line at user priority.
-    fn execute(&self, line: String) -> Pending<Result<LineResult, SessionError>>;
-    /// Every stop line, ahead of everything queued; what came back for each.
-    fn emergency_stop(&self) -> Pending<Vec<Result<LineResult, SessionError>>>;
-    /// End a run that ended so under `policy`
-    /// ([`crate::session::Session::end_run`]). By default: the stop lines
-    /// of [`Controller::emergency_stop`] when the policy says so, without
-    /// waiting for a lost link.
-    fn end_run(&self, ending: RunEnding, policy: StopOnFailure) -> Pending<RunAftermath> {
-        let stop = policy.stops_after(ending).then(|| self.emergency_stop());
-        Box::pin(RunAftermath::of(ending, policy, move || async move {
-            RunStop {
-                ending,
-                lines: match stop {
-                    Some(stop) => stop.await,
-                    None => Vec::new(),
-                },
-                link: LinkAtStop::Up,
-            }
-        }))
-    }
-    fn set_polling(&self, cadence: Option<PollCadence>);
-    fn acknowledge_errors(&self, axis: usize, seen: &[AxisFlag]);
-    /// Clear the error flags of `axis` in the module where its family
-    /// needs a line for that (CMD-4CR `CLRX`), then forget those the user
-    /// has seen; what the clear line brought back, if one was sent. By
-    /// default only forgets them.
-    fn clear_errors(
-        &self,
-        axis: usize,
-        seen: Vec<AxisFlag>,
-    ) -> Pending<Result<Option<LineResult>, SessionError>> {
-        self.acknowledge_errors(axis, &seen);
-        Box::pin(async { Ok(None) })
-    }
-    /// The same link, sending to another module address.
-    fn with_address(&self, address: u8) -> Arc<dyn Controller>;
-    /// Run a program transfer, telling `progress` how far it came;
-    /// `cancel` stops it between two words (so does the emergency stop).
-    /// Controllers without program memory refuse.
-    fn transfer(
-        &self,
-        job: TransferJob,
-        cancel: Cancel,
-        progress: Box<dyn FnMut(Progress) + Send>,
-    ) -> Pending<Result<TransferDone, TransferError>> {
-        let _ = (job, cancel, progress);
-        let family = self.family().name;
-        Box::pin(async move { Err(TransferError::Unsupported { family }) })
-    }
-    /// Load program source into the simulator behind the link, as its
-    /// vendor's tool would write it into the controller: what it holds
-    /// now, or why not. Only a simulator in this process can; a real
-    /// controller (or a served simulator) refuses.
-    fn load_program(&self, source: &str) -> Result<String, String> {
-        let _ = source;
-        Err(format!(
-            "{} is no simulator in this process: there is no program memory to load into",
-            self.link_name()
-        ))
-    }
-    /// Drive an input of the simulator behind the link by a setting
-    /// (`IO5=1`, [`crate::sim::SimulatedController::drive_input`]): what
-    /// now holds, or why not. Only a simulator in this process can; a
-    /// real controller (or a served simulator) refuses.
-    fn drive_sim_input(&self, setting: &str) -> Result<String, String> {
-        let _ = setting;
-        Err(no_simulator_to_drive(&self.link_name()))
-    }
-}
-
-/// Why `:sim-input` does nothing on `link`.
-pub fn no_simulator_to_drive(link: &str) -> String {
-    format!(
-        "{link} is no simulator in this process: there is no input to drive \
-         (a real controller's inputs are wired; a served `axterm sim` reads settings on its standard input)"
-    )
-}
-
-/// Opens a connection for `:connect` (and the connect screen).
-pub type Connector =
-    Box<dyn Fn(Vec<String>) -> Pending<Result<Arc<dyn Controller>, String>> + Send>;
-
-/// One connected controller as the loop watches it.
-struct Connection {
-    controller: Arc<dyn Controller>,
-    status: watch::Receiver<Vec<AxisStatus>>,
-    link: watch::Receiver<LinkState>,
-    identity: watch::Receiver<Option<String>>,
-    traffic: Option<broadcast::Receiver<TrafficRecord>>,
-    /// Traffic is taken in batches: after a batch, none is taken before
-    /// this (see [`TRAFFIC_BATCH`]); `None`: the next record wakes the
-    /// loop.
-    traffic_after: Option<tokio::time::Instant>,
-    /// The last pause, and when traffic was last taken.
-    traffic_pause: Duration,
-    traffic_taken: tokio::time::Instant,
-    events: Option<broadcast::Receiver<DeviceEvent>>,
-    poll: Option<PollCadence>,
-}
-
-impl Connection {
-    fn new(controller: Arc<dyn Controller>, poll: Option<PollCadence>) -> Connection {
-        controller.set_polling(poll);
-        Connection {
-            status: controller.status(),
-            link: controller.link_state(),
-            identity: controller.identity(),
-            traffic: controller.traffic(),
-            traffic_after: None,
-            traffic_pause: TRAFFIC_BATCH,
-            traffic_taken: tokio::time::Instant::now(),
-            events: controller.events(),
-            controller,
-            poll,
-        }
-    }
-
-    fn snapshot(&mut self, axis: usize) -> Snapshot {
-        let c = &self.controller;
-        let axes = c.axes();
-        Snapshot {
-            family: c.family(),
-            address: c.address(),
-            link_name: c.link_name(),
-            axis: axis.min(axes.len().saturating_sub(1)),
-            axes,
-            status: self.status.borrow_and_update().clone(),
-            link: self.link.borrow_and_update().clone(),
-            identity: self.identity.borrow_and_update().clone(),
-            poll: self.poll,
-        }
-    }
-}
-
-/// Something the loop waits for, besides the app's own messages.
-enum Wakeup {
-    Input(Option<TermEvent>),
-    Changed,
-    ChannelGone,
-    Traffic(Result<TrafficRecord, broadcast::error::RecvError>),
-    /// The pause after a batch of traffic is over.
-    TrafficDue,
-    Device(Result<DeviceEvent, broadcast::error::RecvError>),
-    Internal(Option<AppEvent>),
-    Connected(Result<Arc<dyn Controller>, String>),
-}
-
-/// A log of every frame to a file (`:log FILE`), written by a task of its
-/// own from the device's traffic stream.
-struct TrafficLog {
-    stop: oneshot::Sender<()>,
-}
-
-impl TrafficLog {
-    /// Start logging `connection`'s traffic to `path`; the task reports
-    /// when it ends.
-    fn start(
-        path: &Path,
-        connection: &Connection,
-        internal: &mpsc::UnboundedSender<AppEvent>,
-    ) -> Result<TrafficLog, String> {
-        let Some(mut traffic) = connection.controller.traffic() else {
-            return Err("this connection has no traffic to log".into());
-        };
-        let file = std::fs::OpenOptions::new()
-            .create(true)
-            .append(true)
-            .open(path)
-            .map_err(|e| format!("cannot log to {}: {e}", path.display()))?;
-        let out = std::io::LineWriter::new(file);
-        let family = connection.controller.family();
-        let name = path.display().to_string();
-        let (stop, mut stopped) = oneshot::channel();
-        let report = internal.clone();
-        tokio::spawn(async move {
-            let mut log = LogWriter {
-                out,
-                family,
-                start: None,
-                frames: 0,
-                failure: None,
-            };
-            loop {
-                tokio::select! {
-                    _ = &mut stopped => {
-                        // Everything sent before the stop is written.
-                        while let Ok(record) = traffic.try_recv() {
-                            log.write(&record);
-                        }
-                        break;
-                    }
-                    record = traffic.recv() => match record {
-                        Ok(record) => log.write(&record),
-                        Err(broadcast::error::RecvError::Lagged(n)) => {
-                            log.failure
-                                .get_or_insert(format!("{n} frames were missed (the disk was too slow)"));
-                        }
-                        Err(broadcast::error::RecvError::Closed) => break,
-                    },
-                }
-            }
-            let frames = log.frames;
-            let notice = match log.failure {
-                None => Notice::info(format!("log {name} closed: {frames} frames")),
-                Some(e) => Notice::error(format!("log {name} closed after {frames} frames: {e}")),
-            };
-            let _ = report.send(AppEvent::Notice(notice));
-        });
-        Ok(TrafficLog { stop })
-    }
-
-    fn stop(self) {
-        let _ = self.stop.send(());
-    }
-}
-
-struct LogWriter {
-    out: std::io::LineWriter<std::fs::File>,
-    family: &'static Family,
-    start: Option<Instant>,
-    frames: u64,
-    /// The first write that failed; later frames are counted, not written.
-    failure: Option<String>,
-}
-
-impl LogWriter {
-    fn write(&mut self, record: &TrafficRecord) {
-        let start = *self.start.get_or_insert(record.at);
-        self.frames += 1;
-        if self.failure.is_none()
-            && let Err(e) = writeln!(self.out, "{}", log_line(self.family, start, record))
-        {
-            self.failure = Some(e.to_string());
-        }
-    }
-}
-
-/// One logged frame: milliseconds since the log began, direction, what it
-/// was, who asked, the bytes as the family shows them.
-pub fn log_line(family: &Family, start: Instant, record: &TrafficRecord) -> String {
-    let at = record.at.saturating_duration_since(start).as_secs_f64() * 1000.0;
-    let direction = match record.direction {
-        Direction::Sent => "->",
-        Direction::Received => "<-",
-    };
-    let kind = match record.kind {
-        TrafficKind::Request => "request",
-        TrafficKind::Answer => "answer",
-        TrafficKind::Unsolicited => "unsolicited",
-        TrafficKind::Stale => "stale",
-        TrafficKind::Garbage => "garbage",
-    };
-    let by = match record.priority {
-        Some(Priority::EmergencyStop) => "stop",
-        Some(Priority::User) => "user",
-        Some(Priority::Transfer) => "transfer",
-        Some(Priority::Poll) => "poll",
-        None => "-",
-    };
-    format!(
-        "{at:>12.3} ms {direction} {kind:<11} {by:<8} {}",
-        (family.show_bytes)(&record.bytes)
-    )
-}
-
-/// The loop's side of the console: the connection and everything in
-/// flight for the app.
-struct Runner {
-    connection: Option<Connection>,
-    internal: mpsc::UnboundedSender<AppEvent>,
-    /// Tasks sending lines, which the emergency stop aborts.
-    sending: Vec<JoinHandle<()>>,
-    connecting: Option<Pending<Result<Arc<dyn Controller>, String>>>,
-    connector: Connector,
-    log: Option<TrafficLog>,
-    /// The cancel handle of the last transfer started (one at a time:
-    /// the session refuses a second). Not aborted by the emergency stop:
-    /// the session cancels it, and its end is still reported.
-    transfer: Option<Cancel>,
-}
-
-/// Drives an [`App`] until it quits: `input` carries terminal events,
-/// `extra` anything else (signals, start-up notices), `draw` paints the
-/// app (it is called only when something changed). The session's watch
-/// channels and event stream, the replies and the timers wake the loop,
-/// and traffic at most once per [`TRAFFIC_BATCH`]; nothing else does.
-pub async fn run(
-    app: &mut App,
-    controller: Option<Arc<dyn Controller>>,
-    connector: Connector,
-    mut input: mpsc::UnboundedReceiver<TermEvent>,
-    extra: Option<mpsc::UnboundedReceiver<AppEvent>>,
-    draw: &mut (dyn FnMut(&mut App) -> std::io::Result<()> + Send),
-) -> std::io::Result<()> {
-    let (internal, mut internal_rx) = mpsc::unbounded_channel::<AppEvent>();
-    if let Some(mut extra) = extra {
-        let tx = internal.clone();
-        tokio::spawn(async move {
-            while let Some(event) = extra.recv().await {
-                if tx.send(event).is_err() {
-                    break;
-                }
-            }
-        });
-    }
-    let mut runner = Runner {
-        connection: controller.map(|c| Connection::new(c, Some(PollCadence::default()))),
-        internal,
-        sending: Vec::new(),
-        connecting: None,
-        connector,
-        log: None,
-        transfer: None,
-    };
-    if let Some(c) = runner.connection.as_mut() {
-        let snapshot = c.snapshot(0);
-        runner.handle(app, AppEvent::Connected(snapshot));
-    }
-    loop {
-        if app.should_quit() {
-            break;
-        }
-        if app.needs_redraw() {
-            draw(app)?;
-        }
-        let traffic_shown = app.is_on_screen(TRAFFIC_PANE);
-        let wakeup = runner
-            .wait(&mut input, &mut internal_rx, traffic_shown)
-            .await;
-        let traffic = matches!(wakeup, Wakeup::Traffic(Ok(_)) | Wakeup::TrafficDue);
-        if let Some(event) = runner.event(app, wakeup) {
-            runner.handle(app, event);
-        }
-        if traffic {
-            runner.take_traffic(app, traffic_shown);
-        }
-    }
-    if let Some(log) = runner.log.take() {
-        log.stop();
-    }
-    if let Some(c) = runner.connection {
-        c.controller.set_polling(None);
-    }
-    for job in runner.sending {
-        job.abort();
-    }
-    // A download leaves download mode before it ends.
-    if let Some(cancel) = runner.transfer {
-        cancel.cancel();
-    }
-    Ok(())
-}
-
-impl Runner {
-    async fn wait(
-        &mut self,
-        input: &mut mpsc::UnboundedReceiver<TermEvent>,
-        internal: &mut mpsc::UnboundedReceiver<AppEvent>,
-        traffic_shown: bool,
-    ) -> Wakeup {
-        let connecting = &mut self.connecting;
-        let connect = async {
-            match connecting.as_mut() {
-                Some(pending) => pending.await,
-                None => std::future::pending().await,
-            }
-        };
-        let Some(c) = self.connection.as_mut() else {
-            return tokio::select! {
-                event = input.recv() => Wakeup::Input(event),
-                event = internal.recv() => Wakeup::Internal(event),
-                result = connect => Wakeup::Connected(result),
-            };
-        };
-        // The traffic monitor brought to the front waits no longer than
-        // its refresh for the frames that gathered behind its tab.
-        let traffic_after = c.traffic_after.map(|at| {
-            if traffic_shown {
-                at.min(c.traffic_taken + TRAFFIC_BATCH)
-            } else {
-                at
-            }
-        });
-        let traffic = async {
-            match (c.traffic.as_mut(), traffic_after) {
-                (Some(_), Some(at)) => {
-                    tokio::time::sleep_until(at).await;
-                    Wakeup::TrafficDue
-                }
-                (Some(rx), None) => Wakeup::Traffic(rx.recv().await),
-                (None, _) => std::future::pending().await,
-            }
-        };
-        let events = async {
-            match c.events.as_mut() {
-                Some(rx) => rx.recv().await,
-                None => std::future::pending().await,
-            }
-        };
-        let gone = |changed: Result<(), watch::error::RecvError>| match changed {
-            Ok(()) => Wakeup::Changed,
-            Err(_) => Wakeup::ChannelGone,
-        };
-        tokio::select! {
-            event = input.recv() => Wakeup::Input(event),
-            event = internal.recv() => Wakeup::Internal(event),
-            result = connect => Wakeup::Connected(result),
-            changed = c.status.changed() => gone(changed),
-            changed = c.link.changed() => gone(changed),
-            changed = c.identity.changed() => gone(changed),
-            wakeup = traffic => wakeup,
-            event = events => Wakeup::Device(event),
-        }
-    }
-
-    /// What a wake-up means for the app, if anything.
-    fn event(&mut self, app: &App, wakeup: Wakeup) -> Option<AppEvent> {
-        Some(match wakeup {
-            Wakeup::Input(Some(event)) => AppEvent::Terminal(event),
-            Wakeup::Input(None) => AppEvent::Terminate,
-            Wakeup::Changed => {
-                let axis = app.snapshot().map_or(0, |s| s.axis);
-                AppEvent::Snapshot(self.connection.as_mut()?.snapshot(axis))
-            }
-            Wakeup::ChannelGone => {
-                self.disconnect();
-                AppEvent::Disconnected
-            }
-            Wakeup::Traffic(Ok(record)) => AppEvent::Traffic(record),
-            Wakeup::TrafficDue => return None,
-            Wakeup::Device(Ok(event)) => AppEvent::Device(event),
-            Wakeup::Traffic(Err(broadcast::error::RecvError::Closed))
-            | Wakeup::Device(Err(broadcast::error::RecvError::Closed)) => {
-                if let Some(c) = self.connection.as_mut() {
-                    c.traffic = None;
-                    c.events = None;
-                }
-                return None;
-            }
-            // A pane that could not keep up misses some traffic; the next
-            // record comes.
-            Wakeup::Traffic(Err(_)) | Wakeup::Device(Err(_)) => return None,
-            Wakeup::Internal(event) => event?,
-            Wakeup::Connected(result) => {
-                self.connecting = None;
-                match result {
-                    Ok(controller) => {
-                        let poll = self
-                            .connection
-                            .as_ref()
-                            .map_or(Some(PollCadence::default()), |c| c.poll);
-                        self.disconnect();
-                        let mut c = Connection::new(controller, poll);
-                        let snapshot = c.snapshot(0);
-                        self.connection = Some(c);
-                        AppEvent::Connected(snapshot)
-                    }
-                    Err(message) => AppEvent::Notice(Notice::error(message)),
-                }
-            }
-        })
-    }
-
-    /// Hand the panes every traffic record waiting, and pause before
-    /// taking more if there were any ([`traffic_pause`]; otherwise the
-    /// next record wakes the loop at once).
-    fn take_traffic(&mut self, app: &mut App, traffic_shown: bool) {
-        let Some(c) = self.connection.as_mut() else {
-            return;
-        };
-        let woken_by_a_record = c.traffic_after.is_none();
-        let mut records = Vec::new();
-        let mut closed = false;
-        if let Some(rx) = c.traffic.as_mut() {
-            loop {
-                match rx.try_recv() {
-                    Ok(record) => records.push(record),
-                    // Missed by a pane that could not keep up; read on.
-                    Err(broadcast::error::TryRecvError::Lagged(_)) => {}
-                    Err(broadcast::error::TryRecvError::Empty) => break,
-                    Err(broadcast::error::TryRecvError::Closed) => {
-                        closed = true;
-                        break;
-                    }
-                }
-            }
-        }
-        let now = tokio::time::Instant::now();
-        c.traffic_after = if woken_by_a_record || !records.is_empty() {
-            let longest = if traffic_shown {
-                TRAFFIC_BATCH
-            } else {
-                TRAFFIC_BATCH_HIDDEN
-            };
-            c.traffic_pause = traffic_pause(
-                woken_by_a_record,
-                c.traffic_pause,
-                longest,
-                records.len(),
-                now.saturating_duration_since(c.traffic_taken),
-            );
-            Some(now + c.traffic_pause)
-        } else {
-            None
-        };
-        c.traffic_taken = now;
-        if closed {
-            c.traffic = None;
-            c.traffic_after = None;
-        }
-        for record in records {
-            self.handle(app, AppEvent::Traffic(record));
-        }
-    }
-
-    /// Let go of the connection: no polling, no log.
-    fn disconnect(&mut self) {
-        if let Some(log) = self.log.take() {
-            log.stop();
-        }
-        if let Some(old) = self.connection.take() {
-            old.controller.set_polling(None);
-        }
-    }
-
-    /// Hand an event to the app and carry out what it asks for; events
-    /// that come of it are handled in turn.
-    fn handle(&mut self, app: &mut App, event: AppEvent) {
-        self.sending.retain(|job| !job.is_finished());
-        let mut queue = vec![event];
-        while let Some(event) = queue.pop() {
-            for effect in app.handle(event) {
-                self.carry_out(effect, app, &mut queue);
-            }
-        }
-    }
-
-    fn carry_out(&mut self, effect: Effect, app: &App, queue: &mut Vec<AppEvent>) {
-        let not_connected = || {
-            AppEvent::Notice(Notice::error(
-                "not connected: give :connect --sim tmcm1110 (or --port PATH, --tcp HOST:PORT)",
-            ))
-        };
-        match effect {
-            Effect::Send { pane, tag, lines } => {
-                let Some(c) = self.connection.as_ref() else {
-                    queue.push(not_connected());
-                    return;
-                };
-                let controller = Arc::clone(&c.controller);
-                let tx = self.internal.clone();
-                self.sending.push(tokio::spawn(async move {
-                    for line in lines {
-                        let result = controller.execute(line.clone()).await;
-                        let failed = result.is_err();
-                        let reply = AppEvent::Reply {
-                            pane,
-                            tag,
-                            line,
-                            result,
-                        };
-                        if tx.send(reply).is_err() || failed {
-                            break;
-                        }
-                    }
-                }));
-            }
-            Effect::EmergencyStop => {
-                // Lines still waiting to be sent must not go after the stop.
-                for job in self.sending.drain(..) {
-                    job.abort();
-                }
-                let Some(c) = self.connection.as_ref() else {
-                    queue.push(AppEvent::Stopped(Vec::new()));
-                    return;
-                };
-                let stop = c.controller.emergency_stop();
-                let tx = self.internal.clone();
-                tokio::spawn(async move {
-                    let results = stop.await;
-                    let _ = tx.send(AppEvent::Stopped(results));
-                });
-            }
-            Effect::EndRun {
-                pane,
-                ending,
-                policy,
-            } => {
-                // Unlike the stop key, lines already queued are kept: they
-                // are other panes' and answered after the stop, which goes
-                // first at emergency-stop priority.
-                let Some(c) = self.connection.as_ref() else {
-                    queue.push(not_connected());
-                    return;
-                };
-                let end = c.controller.end_run(ending, policy);
-                let tx = self.internal.clone();
-                tokio::spawn(async move {
-                    let aftermath = end.await;
-                    let _ = tx.send(AppEvent::RunEnded { pane, aftermath });
-                });
-            }
-            Effect::Poll(cadence) => {
-                if let Some(c) = self.connection.as_mut() {
-                    c.poll = cadence;
-                    c.controller.set_polling(cadence);
-                    let axis = app.snapshot().map_or(0, |s| s.axis);
-                    queue.push(AppEvent::Snapshot(c.snapshot(axis)));
-                } else {
-                    queue.push(not_connected());
-                }
-            }
-            Effect::SetAddress(address) => {
-                let Some(c) = self.connection.as_ref() else {
-                    queue.push(not_connected());
-                    return;
-                };
-                let poll = c.poll;
-                let controller = c.controller.with_address(address);
-                self.disconnect();
-                let mut fresh = Connection::new(controller, poll);
-                let axis = app.snapshot().map_or(0, |s| s.axis);
-                queue.push(AppEvent::Snapshot(fresh.snapshot(axis)));
-                self.connection = Some(fresh);
-            }
-            Effect::ClearErrors { axis, seen } => {
-                let Some(c) = self.connection.as_ref() else {
-                    return;
-                };
-                let name = app
-                    .snapshot()
-                    .and_then(|s| s.axes.get(axis))
-                    .map_or_else(|| format!("axis {axis}"), |a| a.name.to_string());
-                let clearing = c.controller.clear_errors(axis, seen);
-                let tx = self.internal.clone();
-                // Among the lines the emergency stop drops if still waiting.
-                self.sending.push(tokio::spawn(async move {
-                    let notice = match clearing.await {
-                        Ok(None) => return,
-                        Ok(Some(result)) => Notice::info(format!(
-                            "{}: {}, the error flags of {name} are cleared in the controller",
-                            result.line, result.value
-                        )),
-                        Err(e) => Notice::error(format!(
-                            "the error flags of {name} stay: clearing them failed: {e}"
-                        )),
-                    };
-                    let _ = tx.send(AppEvent::Notice(notice));
-                }));
-            }
-            Effect::Log(path) => {
-                if let Some(log) = self.log.take() {
-                    log.stop();
-                }
-                let Some(path) = path else {
-                    return;
-                };
-                let Some(c) = self.connection.as_ref() else {
-                    queue.push(not_connected());
-                    return;
-                };
-                match TrafficLog::start(&path, c, &self.internal) {
-                    Ok(log) => {
-                        self.log = Some(log);
-                        queue.push(AppEvent::Notice(Notice::info(format!(
-                            "logging every frame to {}",
-                            path.display()
-                        ))));
-                    }
-                    Err(message) => queue.push(AppEvent::Notice(Notice::error(message))),
-                }
-            }
-            Effect::Connect(args) => {
-                self.connecting = Some((self.connector)(args));
-            }
-            Effect::Wake { pane, tag, after } => {
-                let tx = self.internal.clone();
-                tokio::spawn(async move {
-                    tokio::time::sleep(after).await;
-                    let _ = tx.send(AppEvent::Wake { pane, tag });
-                });
-            }
-            Effect::Transfer { pane, tag, job } => {
-                let Some(c) = self.connection.as_ref() else {
-                    queue.push(AppEvent::Transferred {
-                        pane,
-                        tag,
-                        result: Err(not_connected_transfer()),
-                    });
-                    return;
-                };
-                let cancel = Cancel::new();
-                self.transfer = Some(cancel.clone());
-                let tx = self.internal.clone();
-                let mut last: Option<Progress> = None;
-                let progress = Box::new(move |progress: Progress| {
-                    if worth_showing(last.as_ref(), &progress) {
-                        last = Some(progress);
-                        let _ = tx.send(AppEvent::TransferProgress {
-                            pane,
-                            tag,
-                            progress,
-                        });
-                    }
-                });
-                let running = c.controller.transfer(job, cancel, progress);
-                let tx = self.internal.clone();
-                tokio::spawn(async move {
-                    let result = running.await;
-                    let _ = tx.send(AppEvent::Transferred { pane, tag, result });
-                });
-            }
-            Effect::CancelTransfer => {
-                if let Some(cancel) = self.transfer.as_ref() {
-                    cancel.cancel();
-                }
-            }
-            Effect::LoadProgram { pane, tag, source } => {
-                let result = match self.connection.as_ref() {
-                    Some(c) => c.controller.load_program(&source),
-                    None => Err("not connected: nothing to load into".to_string()),
-                };
-                queue.push(AppEvent::ProgramLoaded { pane, tag, result });
-            }
-            Effect::DriveSimInput(setting) => {
-                let Some(c) = self.connection.as_ref() else {
-                    queue.push(not_connected());
-                    return;
-                };
-                let notice = match c.controller.drive_sim_input(&setting) {
-                    Ok(said) => Notice::info(format!("simulator input: {said}")),
-                    Err(message) => Notice::error(format!(":sim-input {setting}: {message}")),
-                };
-                queue.push(AppEvent::Notice(notice));
-            }
-            Effect::Quit => {}
-        }
-    }
-}
-
-/// A transfer asked for with no controller connected.
-fn not_connected_transfer() -> TransferError {
-    TransferError::Step {
-        step: "start the transfer",
-        error: Box::new(SessionError::Refused {
-            line: String::new(),
-            message: "not connected: give :connect --sim tmcm1110 (or --port PATH, --tcp \
-                      HOST:PORT)"
-                .into(),
-        }),
-        hint: String::new(),
-    }
-}
-
-/// Whether a transfer's progress is worth a redraw: the start of each
-/// phase, every whole percent, the last word (a download of 2048 words
-/// on a fast link would otherwise redraw 4096 times). Without a total
-/// (an upload until the first blank word), every 16th word.
-pub fn worth_showing(last: Option<&Progress>, next: &Progress) -> bool {
-    let Some(last) = last else {
-        return true;
-    };
-    if last.phase != next.phase || next.done == 0 {
-        return true;
-    }
-    match next.total {
-        Some(total) if total > 0 => {
-            next.done >= total || last.done * 100 / total != next.done * 100 / total
-        }
-        _ => next.done.is_multiple_of(16),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::device::LinkState;
+    use crate::session::AxisStatus;
+    use crate::ui::pane::Region;
+    use ratatui::Frame;
     use ratatui::Terminal;
     use ratatui::backend::TestBackend;
     use ratatui::crossterm::event::{KeyCode, KeyEventState, KeyModifiers};
+    use ratatui::widgets::Paragraph;
+    use tokio::sync::mpsc;
 
     /// A pane that shows its name and keeps every key it is given, unless
     /// it is told to ignore keys.
@@ -1898,6 +867,58 @@ mod tests {
         assert!(status.contains("poll 20 Hz"), "{status}");
     }
 
+    /// The stop's answers as the session gives them: `n` lines, all ok.
+    fn stopped(n: usize) -> AppEvent {
+        let ok = || {
+            Ok(LineResult {
+                line: "MST 0".into(),
+                request: Vec::new(),
+                reply: Vec::new(),
+                status: Some(100),
+                value: crate::session::ReplyValue::None,
+                elapsed: Duration::ZERO,
+                attempts: 1,
+            })
+        };
+        AppEvent::Stopped((0..n).map(|_| ok()).collect())
+    }
+
+    #[test]
+    fn a_stop_message_ages_out_and_the_quit_and_help_keys_never_fall_off() {
+        let mut app = three();
+        let mut long = snapshot();
+        long.link_name = "/dev/serial/by-id/usb-FTDI_FT232R_USB_UART_A50285BI-if00-port0".into();
+        app.handle(AppEvent::Snapshot(long));
+        let effects = app.handle(stopped(3));
+        let status = screen(&mut app, 80, 24).pop().unwrap_or_default();
+        assert!(status.starts_with(" F12 STOP "), "{status}");
+        assert!(status.contains("STOP: 3 sent, all ok"), "{status}");
+        assert!(status.trim_end().ends_with("F10 quit F1 help"), "{status}");
+        // The loop comes back after the lifetime: the message is gone and
+        // the link's state shows again.
+        let id = effects
+            .iter()
+            .find_map(|e| match e {
+                Effect::Expire { id, after } => {
+                    assert_eq!(*after, STATUS_MESSAGE_LIFETIME);
+                    Some(*id)
+                }
+                _ => None,
+            })
+            .expect("the message asks to age out");
+        app.handle(AppEvent::Expired(id));
+        assert!(app.needs_redraw());
+        let status = screen(&mut app, 80, 24).pop().unwrap_or_default();
+        assert!(!status.contains("STOP: 3"), "{status}");
+        assert!(status.contains("/dev/serial/by-id/"), "{status}");
+        assert!(status.trim_end().ends_with("F10 quit F1 help"), "{status}");
+        // An older message's timer does not take a newer one away.
+        app.handle(stopped(2));
+        app.handle(AppEvent::Expired(id));
+        let status = screen(&mut app, 80, 24).pop().unwrap_or_default();
+        assert!(status.contains("STOP: 2 sent, all ok"), "{status}");
+    }
+
     #[test]
     fn the_stop_key_goes_to_the_app_whichever_pane_has_the_focus() {
         let mut app = three();
@@ -2008,7 +1029,7 @@ mod tests {
 
     #[test]
     fn transfer_progress_is_shown_at_each_phase_each_percent_and_the_end() {
-        use crate::session::program::Phase;
+        use crate::protocol::program::Phase;
         let at = |phase, done, total| Progress { phase, done, total };
         let mut shown = Vec::new();
         let mut last: Option<Progress> = None;

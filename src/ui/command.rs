@@ -5,10 +5,11 @@
 //! its decoded answer and status meaning, errors in plain words, the
 //! bytes on the wire.
 
+mod assist;
+mod history;
+
 use std::collections::HashMap;
-use std::fs::{self, OpenOptions};
-use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use ratatui::Frame;
 use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers, MouseEventKind};
@@ -26,15 +27,13 @@ use super::text::fit;
 use super::theme::Role;
 use crate::device::{DeviceEvent, LinkState};
 use crate::protocol::console::{Candidate, Completions};
-use crate::protocol::{Family, find_family};
-use crate::session::ascript_host::HostProgram;
+use crate::protocol::{FAMILIES, Family, find_family};
 use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
 use crate::session::{LineResult, SessionError};
+use history::History;
 
 /// Lines of output kept; older ones scroll away for good.
 const OUTPUT_LIMIT: usize = 5000;
-/// History entries kept per family.
-const HISTORY_LIMIT: usize = 1000;
 /// Rows of completion candidates shown at most.
 const CANDIDATE_ROWS: usize = 3;
 const PROMPT: &str = "> ";
@@ -119,86 +118,6 @@ struct Completing {
     chosen: Option<usize>,
     /// The line as completion left it: any edit ends the cycle.
     line: String,
-}
-
-/// Past lines of one family, newest last.
-#[derive(Debug, Default)]
-struct History {
-    entries: Vec<String>,
-    /// Position while browsing with Up/Down.
-    browsing: Option<usize>,
-    /// What was typed before browsing began.
-    draft: String,
-    file: Option<PathBuf>,
-}
-
-impl History {
-    /// Load `family`'s history from `dir` (missing or unreadable: empty).
-    fn load(dir: Option<&Path>, family: &str) -> History {
-        let file = dir.map(|d| d.join(format!("history-{family}.txt")));
-        let mut entries: Vec<String> = file
-            .as_ref()
-            .and_then(|f| crate::files::read_text(f).ok())
-            .map(|text| {
-                text.lines()
-                    .filter(|l| !l.trim().is_empty())
-                    .map(str::to_string)
-                    .collect()
-            })
-            .unwrap_or_default();
-        if entries.len() > HISTORY_LIMIT {
-            entries.drain(..entries.len() - HISTORY_LIMIT);
-            // Keep the file from growing without end.
-            if let Some(f) = &file {
-                let _ = crate::files::write_atomically(f, (entries.join("\n") + "\n").as_bytes());
-            }
-        }
-        History {
-            entries,
-            file,
-            ..History::default()
-        }
-    }
-
-    /// Remember a line, in memory and on disk.
-    fn push(&mut self, line: &str) -> Result<(), String> {
-        self.browsing = None;
-        if line.trim().is_empty() || self.entries.last().is_some_and(|l| l == line) {
-            return Ok(());
-        }
-        self.entries.push(line.to_string());
-        let Some(file) = &self.file else {
-            return Ok(());
-        };
-        let written = file
-            .parent()
-            .map_or(Ok(()), fs::create_dir_all)
-            .and_then(|()| OpenOptions::new().create(true).append(true).open(file))
-            .and_then(|mut f| writeln!(f, "{line}"));
-        written.map_err(|e| format!("history not saved to {}: {e}", file.display()))
-    }
-
-    fn older(&mut self, current: &str) -> Option<&str> {
-        let at = match self.browsing {
-            None => {
-                self.draft = current.to_string();
-                self.entries.len().checked_sub(1)?
-            }
-            Some(at) => at.checked_sub(1)?,
-        };
-        self.browsing = Some(at);
-        self.entries.get(at).map(String::as_str)
-    }
-
-    fn newer(&mut self) -> Option<String> {
-        let at = self.browsing? + 1;
-        if at >= self.entries.len() {
-            self.browsing = None;
-            return Some(std::mem::take(&mut self.draft));
-        }
-        self.browsing = Some(at);
-        self.entries.get(at).cloned()
-    }
 }
 
 /// The console line editor and its output.
@@ -313,12 +232,12 @@ impl CommandPane {
 
     /// The family whose tables help and completion come from: the
     /// connected module's, else [`CommandPane::offline_family`], else
-    /// TMCL.
+    /// the first family's (TMCL).
     fn family(&self, view: &View) -> Option<&'static Family> {
         view.session
             .map(|s| s.family)
             .or_else(|| self.offline_family.and_then(find_family))
-            .or_else(|| find_family("tmcl"))
+            .or_else(|| FAMILIES.first())
     }
 
     /// Said before help given with nothing connected, so that it is clear
@@ -524,7 +443,8 @@ impl CommandPane {
     }
 
     /// `:run-ascript FILE [N…]`: check the whole file, then run it from the
-    /// host (see [`crate::session::ascript_host`]).
+    /// host, as the connected family's program tool offers it (A-Script:
+    /// [`crate::protocol::program::HostRun`]).
     fn start_host_run(&mut self, rest: &str, view: &View) -> Outcome {
         if self.batch.is_some() || self.host.is_some() {
             return self.fail("a batch or a host run is going: wait for it, or stop it (Esc)");
@@ -532,12 +452,14 @@ impl CommandPane {
         let Some(session) = view.session else {
             return self.fail(not_connected());
         };
-        if session.family.name != "cmd4cr" {
-            return self.fail(format!(
-                "A-Script is the CMD-4CR's language (§5); this module speaks {}",
-                session.family.name
-            ));
-        }
+        let Some(tool) = session
+            .family
+            .console
+            .program()
+            .filter(|tool| tool.runs_from_host())
+        else {
+            return self.fail(no_host_run(session.family));
+        };
         // Trailing numbers are the PRG blocks to start.
         let mut words: Vec<&str> = rest.split_whitespace().collect();
         let mut start = Vec::new();
@@ -560,28 +482,29 @@ impl CommandPane {
             Err(e) => return self.fail(format!("cannot read {file}: {e}")),
         };
         let chosen = (!start.is_empty()).then_some(start.as_slice());
-        let program = match HostProgram::check(&file, &text, chosen) {
-            Ok(program) => program,
-            Err(problems) => {
+        let program = match tool.host_run(&file, &text, chosen) {
+            Some(Ok(program)) => program,
+            Some(Err(problems)) => {
                 for problem in problems {
                     self.say(Role::Error, problem);
                 }
                 return self.fail(format!("{file}: nothing was sent"));
             }
+            None => return self.fail(no_host_run(session.family)),
         };
-        for warning in program.warnings() {
+        for warning in &program.warnings {
             self.say(Role::Warning, warning.clone());
         }
         self.say(
             Role::Accent,
             format!(
                 "running {file} from the host: {} ({} stops it, {} stops everything)",
-                program.started(),
+                program.started,
                 key_label(view.keymap, Context::Command, Action::Cancel),
                 key_label(view.keymap, Context::Global, Action::EmergencyStop),
             ),
         );
-        let (run, update) = ConsoleHostRun::start(&program, &mut self.next_tag);
+        let (run, update) = ConsoleHostRun::start(program, &mut self.next_tag);
         self.host = Some(run);
         self.host_update(update)
     }
@@ -594,7 +517,7 @@ impl CommandPane {
         let mut requests = update.requests;
         if let Some(end) = update.ended {
             self.host = None;
-            requests.extend(self.end_run(RunEnding::from_success(end.ok())));
+            requests.extend(self.end_run(RunEnding::from_success(end.ok)));
         }
         Outcome::Handled(requests)
     }
@@ -667,267 +590,6 @@ impl CommandPane {
             }
         }
         Outcome::Handled(requests)
-    }
-
-    fn help_topic(&mut self, topic: &str, view: &View) {
-        if topic.is_empty() {
-            let key = |action| key_label(view.keymap, Context::Command, action);
-            self.say(
-                Role::Accent,
-                format!(
-                    "Type a command (`MVP ABS, 0, 51200`); {} completes, {} on a word explains it, {}/{} recall.",
-                    key(Action::Complete),
-                    key(Action::Help),
-                    key(Action::HistoryPrevious),
-                    key(Action::HistoryNext),
-                ),
-            );
-            self.say(
-                Role::Accent,
-                format!(
-                    "{} stops every axis and any running program; {} quits; {} next pane; {}/{} scroll.",
-                    key(Action::EmergencyStop),
-                    key(Action::Quit),
-                    key(Action::NextPane),
-                    key(Action::ScrollPageUp),
-                    key(Action::ScrollPageDown),
-                ),
-            );
-            for (syntax, what) in CONSOLE_COMMANDS {
-                self.say(Role::Normal, format!("  {syntax:<24} {what}"));
-            }
-            return;
-        }
-        if topic.starts_with(':') {
-            let word = topic.split_whitespace().next().unwrap_or(topic);
-            let found: Vec<_> = CONSOLE_COMMANDS
-                .iter()
-                .filter(|(syntax, _)| {
-                    syntax
-                        .split_whitespace()
-                        .next()
-                        .is_some_and(|w| w.eq_ignore_ascii_case(word))
-                })
-                .collect();
-            if found.is_empty() {
-                self.say(
-                    Role::Error,
-                    format!("no console command `{word}` (`:help` lists them)"),
-                );
-            }
-            for (syntax, what) in found {
-                self.say(Role::Normal, format!("{syntax}: {what}"));
-            }
-            if word.eq_ignore_ascii_case(":sim-input") {
-                for line in sim_input_help(self.family(view)) {
-                    self.say(Role::Normal, format!("  {line}"));
-                }
-            }
-            return;
-        }
-        let Some(family) = self.family(view) else {
-            self.say(Role::Error, not_connected());
-            return;
-        };
-        self.offline_note(view);
-        let lines = family.console.help(topic, topic.len());
-        if lines.is_empty() {
-            self.say(Role::Warning, format!("no help on `{topic}`"));
-        }
-        for line in lines {
-            self.say(Role::Normal, line);
-        }
-    }
-
-    /// F1: help on the word under the cursor, read in its line.
-    fn help_here(&mut self, view: &View) {
-        let line = self.input.trim_end().to_string();
-        if line.trim().is_empty() {
-            self.help_topic("", view);
-        } else if let Some(topic) = line.strip_prefix(":help") {
-            self.help_topic(topic.trim(), view);
-        } else if line.starts_with(':') {
-            self.help_topic(&line, view);
-        } else if let Some(family) = self.family(view) {
-            self.offline_note(view);
-            let lines = family
-                .console
-                .help(&self.input, self.cursor.min(self.input.len()));
-            if lines.is_empty() {
-                self.say(Role::Warning, format!("no help on `{}`", line.trim()));
-            }
-            for l in lines {
-                self.say(Role::Normal, l);
-            }
-        } else {
-            self.say(Role::Error, not_connected());
-        }
-    }
-
-    fn complete(&mut self, view: &View) {
-        self.hint = None;
-        // Tab again: the next candidate.
-        if let Some(c) = self.completing.as_mut()
-            && c.line == self.input
-            && !c.candidates.is_empty()
-        {
-            let next = c.chosen.map_or(0, |i| (i + 1) % c.candidates.len());
-            let text = c
-                .candidates
-                .get(next)
-                .map(|k| k.text.clone())
-                .unwrap_or_default();
-            let end = c.start + c.len;
-            if self.input.is_char_boundary(c.start) && self.input.is_char_boundary(end) {
-                self.input.replace_range(c.start..end, &text);
-                c.len = text.len();
-                c.chosen = Some(next);
-                self.cursor = c.start + c.len;
-                c.line = self.input.clone();
-            }
-            return;
-        }
-        self.completing = None;
-        let completions = self.completions(view);
-        let Completions {
-            start,
-            end,
-            candidates,
-            separator,
-        } = completions;
-        if candidates.is_empty() {
-            self.hint = Some(Output {
-                role: Role::Muted,
-                text: "nothing to complete here".into(),
-            });
-            return;
-        }
-        if !(self.input.is_char_boundary(start) && self.input.is_char_boundary(end) && start <= end)
-        {
-            return;
-        }
-        let at_end = self
-            .input
-            .get(end..)
-            .is_none_or(|rest| rest.trim().is_empty());
-        if let [only] = candidates.as_slice() {
-            let mut text = only.text.clone();
-            if at_end {
-                text.push_str(separator);
-                self.input.truncate(end);
-            }
-            self.input.replace_range(start..end, &text);
-            self.cursor = start + text.len();
-            return;
-        }
-        let typed = self
-            .input
-            .get(start..self.cursor.max(start).min(end))
-            .unwrap_or("");
-        let common = common_prefix(&candidates);
-        let len = if common.len() > typed.len() {
-            self.input.replace_range(start..end, &common);
-            self.cursor = start + common.len();
-            common.len()
-        } else {
-            end - start
-        };
-        self.completing = Some(Completing {
-            start,
-            len,
-            candidates,
-            chosen: None,
-            line: self.input.clone(),
-        });
-    }
-
-    /// What Tab offers here: console commands and their arguments, or the
-    /// family's completions of a console line.
-    fn completions(&self, view: &View) -> Completions {
-        let line = self.input.as_str();
-        let cursor = self.cursor.min(line.len());
-        if let Some(body) = line.strip_prefix(':') {
-            let head_end = body.find(char::is_whitespace).map_or(line.len(), |i| i + 1);
-            if cursor <= head_end {
-                let typed = line.get(..cursor).unwrap_or("");
-                return Completions {
-                    start: 0,
-                    end: head_end,
-                    candidates: CONSOLE_COMMANDS
-                        .iter()
-                        .filter_map(|(syntax, what)| {
-                            let word = syntax.split_whitespace().next()?;
-                            word.starts_with(&typed.to_ascii_lowercase())
-                                .then(|| Candidate {
-                                    text: word.to_string(),
-                                    note: what.to_string(),
-                                })
-                        })
-                        .collect(),
-                    separator: " ",
-                };
-            }
-            let head = line.get(1..head_end).unwrap_or("").to_ascii_lowercase();
-            let offset = line.get(head_end..).map_or(line.len(), |rest| {
-                head_end + (rest.len() - rest.trim_start().len())
-            });
-            return match (head.as_str(), view.session) {
-                ("axis" | "clear", Some(session)) => {
-                    let typed = line.get(offset..cursor).unwrap_or("");
-                    Completions {
-                        start: offset,
-                        end: line.len(),
-                        candidates: session
-                            .axes
-                            .iter()
-                            .filter(|a| a.number.to_string().starts_with(typed))
-                            .map(|a| Candidate {
-                                text: a.number.to_string(),
-                                note: a.name.to_string(),
-                            })
-                            .collect(),
-                        separator: "",
-                    }
-                }
-                ("sim-input", _) => {
-                    let typed = line.get(offset..cursor).unwrap_or("").to_ascii_uppercase();
-                    Completions {
-                        start: offset,
-                        end: line.len(),
-                        candidates: sim_input_names(self.family(view))
-                            .into_iter()
-                            .filter(|name| name.starts_with(&typed))
-                            .map(|name| Candidate {
-                                text: format!("{name}="),
-                                note: String::new(),
-                            })
-                            .collect(),
-                        separator: "",
-                    }
-                }
-                // `:help SAP 4`, `:expect GAP 8, 0 == 1`: the console line
-                // inside.
-                ("help" | "expect" | "wait-until", _) if cursor >= offset => {
-                    let Some(family) = self.family(view) else {
-                        return Completions::default();
-                    };
-                    let inner = line.get(offset..).unwrap_or("");
-                    let inner_line = inner.split("==").next().unwrap_or(inner);
-                    if cursor - offset > inner_line.len() {
-                        return Completions::default();
-                    }
-                    let mut c = family.console.complete(inner_line, cursor - offset);
-                    c.start += offset;
-                    c.end += offset;
-                    c
-                }
-                _ => Completions::default(),
-            };
-        }
-        match self.family(view) {
-            Some(family) => family.console.complete(line, cursor),
-            None => Completions::default(),
-        }
     }
 
     fn edit_key(&mut self, key: &KeyEvent, view: &View) -> Outcome {
@@ -1439,23 +1101,21 @@ impl Pane for CommandPane {
     }
 }
 
-/// The simulator of `family` (the one built-in simulator speaking it).
-fn simulator_of(family: Option<&'static Family>) -> Option<&'static crate::sim::SimKind> {
-    let family = family?;
-    crate::sim::SIM_KINDS
+/// Why `:run-ascript` runs nothing on a module of `family`: which
+/// families' programs run from the host.
+fn no_host_run(family: &Family) -> String {
+    let offered: Vec<String> = FAMILIES
         .iter()
-        .find(|kind| kind.family == family.name)
-}
-
-/// The input names `:sim-input` completes: those of the simulator of the
-/// family in use (the settings themselves are the simulator's to read).
-fn sim_input_names(family: Option<&'static Family>) -> Vec<String> {
-    simulator_of(family).map_or_else(Vec::new, |kind| (kind.input_names)())
-}
-
-/// One line per kind of input of that simulator, for `:help :sim-input`.
-fn sim_input_help(family: Option<&'static Family>) -> Vec<String> {
-    simulator_of(family).map_or_else(Vec::new, |kind| (kind.input_help)())
+        .filter_map(|f| {
+            let tool = f.console.program().filter(|t| t.runs_from_host())?;
+            Some(format!("{} ({})", tool.name(), f.name))
+        })
+        .collect();
+    format!(
+        "running a program from the host is for {}; this module speaks {}",
+        offered.join(", "),
+        family.name
+    )
 }
 
 fn not_connected() -> String {
@@ -1498,27 +1158,6 @@ fn find_axis(session: &Snapshot, text: &str) -> Result<usize, String> {
             .collect();
         format!("no axis `{text}`: this module has {}", known.join(", "))
     })
-}
-
-/// The longest start all candidates share (case-insensitive), in the
-/// first candidate's spelling.
-fn common_prefix(candidates: &[Candidate]) -> String {
-    let Some(first) = candidates.first() else {
-        return String::new();
-    };
-    let mut len = first.text.len();
-    for c in candidates.iter().skip(1) {
-        len = first
-            .text
-            .char_indices()
-            .zip(c.text.chars())
-            .take_while(|((_, a), b)| a.eq_ignore_ascii_case(b))
-            .map(|((i, a), _)| i + a.len_utf8())
-            .last()
-            .unwrap_or(0)
-            .min(len);
-    }
-    first.text.get(..len).unwrap_or("").to_string()
 }
 
 #[cfg(test)]

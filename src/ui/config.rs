@@ -323,6 +323,38 @@ pub(crate) fn load_config<T: Clone>(
     }
 }
 
+/// Which built-in a user's file of `kind` builds on (themes and keymaps
+/// layer alike): the `base` it names, which must be a built-in, else the
+/// built-in of its own `name`, else the kind's default. `text` is the
+/// file, for the place of a bad `base`.
+pub(crate) fn base_name<'a, T>(
+    kind: &ConfigKind<T>,
+    base: Option<&'a (String, std::ops::Range<usize>)>,
+    name: &'a str,
+    text: &str,
+) -> Result<&'a str, Vec<ConfigError>> {
+    let names = (kind.builtin_names)();
+    match base {
+        Some((base, span)) => {
+            if !names.contains(&base.as_str()) {
+                return Err(vec![ConfigError::at(
+                    text,
+                    span.clone(),
+                    "base",
+                    format!(
+                        "no built-in {} named `{base}` (built-ins: {})",
+                        kind.noun,
+                        names.join(", ")
+                    ),
+                )]);
+            }
+            Ok(base.as_str())
+        }
+        None if names.contains(&name) => Ok(name),
+        None => Ok(kind.default_name),
+    }
+}
+
 pub(crate) fn sort_errors(errors: &mut [ConfigError]) {
     errors.sort_by_key(|e| (e.line.is_none(), e.line, e.column));
 }

@@ -28,7 +28,7 @@ use super::text::fit;
 use super::theme::Role;
 use crate::link::ports::PortInfo;
 use crate::protocol::{FAMILIES, Family, find_family};
-use crate::sim::{SIM_KINDS, find_kind};
+use crate::sim::{find_kind, kinds};
 use recent::Recents;
 
 /// Lists the serial ports of the machine: the link layer's listing, or a
@@ -126,7 +126,7 @@ impl ConnectPane {
     pub fn chosen_family(&self) -> Option<&'static Family> {
         match self.choices().get(self.selected)? {
             Choice::Recent(args) => family_of_args(args),
-            Choice::Sim { name, .. } => find_family(find_kind(name)?.family),
+            Choice::Sim { name, .. } => find_kind(name)?.family(),
             Choice::Port(_) | Choice::Rescan | Choice::Tcp => find_family(self.protocol_name()),
         }
     }
@@ -171,7 +171,7 @@ impl ConnectPane {
             .cloned()
             .map(Choice::Recent)
             .collect();
-        choices.extend(SIM_KINDS.iter().map(|kind| Choice::Sim {
+        choices.extend(kinds().map(|kind| Choice::Sim {
             name: kind.name,
             description: kind.description,
         }));
@@ -182,7 +182,10 @@ impl ConnectPane {
     }
 
     fn protocol_name(&self) -> &'static str {
-        FAMILIES.get(self.protocol).map_or("tmcl", |f| f.name)
+        FAMILIES
+            .get(self.protocol)
+            .or_else(|| FAMILIES.first())
+            .map_or("", |f| f.name)
     }
 
     /// The address typed, checked; `None` when left empty (the family's
@@ -425,7 +428,7 @@ impl ConnectPane {
 pub fn initial_family(data_dir: Option<&Path>) -> Option<&'static Family> {
     match Recents::load(data_dir).entries().first() {
         Some(args) => family_of_args(args),
-        None => find_family(SIM_KINDS.first()?.family),
+        None => kinds().next()?.family(),
     }
 }
 
@@ -444,8 +447,9 @@ pub fn family_of_args(args: &[String]) -> Option<&'static Family> {
     };
     match (value("--protocol"), value("--sim")) {
         (Some(protocol), _) => find_family(protocol),
-        (None, Some(sim)) => find_family(find_kind(sim)?.family),
-        (None, None) => find_family("tmcl"),
+        (None, Some(sim)) => find_kind(sim)?.family(),
+        // As the command line: the first family when nothing says.
+        (None, None) => FAMILIES.first(),
     }
 }
 

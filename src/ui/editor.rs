@@ -1,34 +1,31 @@
-//! The program editor: TMCL program source with syntax colours and line
-//! numbers, assembled after every change so that the lines that do not
-//! assemble are marked as they are typed; open, save, save as; and a
+//! The program editor: a standalone program's source with syntax colours
+//! and line numbers, checked after every change so that the lines that do
+//! not check are marked as they are typed; open, save, save as; and a
 //! safety copy in the data directory ([`autosave`]) written shortly after
-//! each change, offered again when the console starts after a crash.
+//! each change, offered again, in its own language, when the console
+//! starts after a crash.
+//!
+//! The editor names no language: it holds the program tool of the text
+//! ([`ProgramTool`], [`language`]): the first family's at start, the one a
+//! file's extension names, the connected family's, or the one the language
+//! key chose. The tool checks the text, colours it, says which variables
+//! can be watched and which lines run, stop and read a program in the
+//! controller (`control`), how the text reaches the controller
+//! ([`transfer`]: a download plan, or only the in-process simulator), and
+//! whether it runs from the host (`host`).
 //!
 //! The text is kept and edited by `ratatui-textarea`; this pane draws it
-//! itself, because the colours come from the assembler's syntax.
-//!
-//! While a program runs, its registers (mode, PC, accumulator, X) are read
-//! over and over, and with them the user variables chosen to be watched
-//! ([`watch`]), shown in a panel beside the text.
-//!
-//! The text may be A-Script instead, the CMD-4CR's language ([`script`]):
-//! chosen by a `.asc` file, by a CMD-4CR connection, or by the language
-//! key. Then the colours and the marked lines come from the A-Script
-//! lexer and checker, the run keys drive programs already in the
-//! controller over the wire (`SACTRL`, `SASTAT`, `SPC`, `V`), the
-//! download key loads the in-process simulator (the manual documents no
-//! download to real hardware, and the editor says so), and the run-from-
-//! host key runs the text statement by statement from here
-//! ([`script_run`]).
+//! itself, because the colours come from the tool's syntax.
 
 pub mod autosave;
-pub mod highlight;
-pub mod script;
-mod script_run;
+mod control;
+mod host;
+pub mod language;
 pub mod transfer;
 pub mod watch;
 
 use std::collections::BTreeMap;
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -37,7 +34,7 @@ use ratatui::crossterm::event::{KeyCode, KeyEvent};
 use ratatui::layout::{Position, Rect};
 use ratatui::style::Style;
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Block, Borders, Paragraph};
+use ratatui::widgets::Paragraph;
 use ratatui_textarea::{CursorMove, TextArea};
 
 use super::field::Field;
@@ -45,25 +42,21 @@ use super::keymap::{Action, Context};
 use super::pane::{
     Input, Notice, NoticeLevel, Outcome, Pane, PaneEvent, Region, Request, View, key_label,
 };
+use super::text::fit;
 use super::theme::Role;
-use crate::protocol::tmcl::asm::{AsmError, NoIncludes, Program, SourceLoader, assemble};
-use autosave::{Autosave, read_autosave, remove_autosave, utc_time, write_autosave};
-use highlight::{Names, Token, highlight};
-use script::{Language, Problem};
-use watch::{
-    MAX_WATCHED, load_watch_list, save_watch_list, variable_line, variable_of_line,
-    variable_of_word,
+use crate::protocol::program::{
+    Checked, ControlKey, Problem, ProgramTool, SourceLoader, SyntaxClass, Wording, untitled,
 };
+use autosave::{Autosave, read_autosave, remove_autosave, utc_time, write_autosave};
+pub use control::ProgramState;
+use language::{default_tool, registered_tools, role_of, same};
 
 /// How long the text must stay unchanged before the safety copy is
 /// written: a burst of typing is one write, and a pause of this long
 /// is the most that a crash can lose.
 pub const AUTOSAVE_QUIET: Duration = Duration::from_millis(300);
 
-/// The name a TMCL buffer without a file is assembled under.
-const UNTITLED: &str = "untitled.tmc";
-
-/// Reads `#include`d files from disk, relative to the including file.
+/// Reads included files from disk, relative to the including file.
 struct SourceFiles;
 
 impl SourceLoader for SourceFiles {
@@ -72,26 +65,47 @@ impl SourceLoader for SourceFiles {
     }
 }
 
-/// A file name being typed.
+/// Plain text, for a console that knows no program language at all.
+struct PlainText;
+
+impl ProgramTool for PlainText {
+    fn name(&self) -> &'static str {
+        "text"
+    }
+
+    fn controller(&self) -> &'static str {
+        "controller"
+    }
+
+    fn extensions(&self) -> &'static [&'static str] {
+        &["txt"]
+    }
+
+    fn check(&self, _name: &str, _source: &str, _files: &dyn SourceLoader) -> Checked {
+        Checked::default()
+    }
+
+    fn highlight(
+        &self,
+        lines: &[String],
+        shown: Range<usize>,
+    ) -> Vec<Vec<(Range<usize>, SyntaxClass)>> {
+        lines
+            .get(shown)
+            .unwrap_or_default()
+            .iter()
+            .map(|l| vec![(0..l.len(), SyntaxClass::Plain)])
+            .collect()
+    }
+}
+
+/// A file name or number being typed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum PromptKind {
     Open,
     SaveAs,
-    /// The number of a user variable to watch (or stop watching).
+    /// The number of a variable to watch (or stop watching).
     Watch,
-    /// The same for an A-Script variable V0–V99.
-    WatchScript,
-}
-
-impl PromptKind {
-    fn label(self) -> &'static str {
-        match self {
-            PromptKind::Open => "open file: ",
-            PromptKind::SaveAs => "save as: ",
-            PromptKind::Watch => "watch user variable (0..255; a watched one stops): ",
-            PromptKind::WatchScript => "watch variable V (0..99; a watched one stops): ",
-        }
-    }
 }
 
 /// Text the console recovered from the safety copy at start.
@@ -100,14 +114,16 @@ pub struct Recovered {
     pub file: Option<PathBuf>,
     /// When the copy was written (seconds since 1970, UTC).
     pub written: u64,
+    /// The language it came back in.
+    pub language: &'static str,
 }
 
-/// Tags of the lines this pane sends, and of its register timer; the
+/// Tags of the lines this pane sends, and of its state timer; the
 /// safety-copy timers use the change count, far below these.
 const TAG_CONTROL: u64 = 1 << 48;
-const TAG_WATCH: u64 = (1 << 48) + 1;
-const TAG_WATCH_TIMER: u64 = (1 << 48) + 2;
-/// Reads of user variables outside the register batch (one just added).
+const TAG_STATUS: u64 = (1 << 48) + 1;
+const TAG_STATUS_TIMER: u64 = (1 << 48) + 2;
+/// Reads of variables outside the state batch (one just added).
 const TAG_VARIABLE: u64 = (1 << 48) + 3;
 /// Loading the text into the simulator.
 const TAG_LOAD: u64 = (1 << 48) + 4;
@@ -119,38 +135,15 @@ const TAG_HOST_FIRST: u64 = 1 << 49;
 const PANEL_WIDTH: u16 = 22;
 const PANEL_MIN_TEXT: u16 = 40;
 
-/// How often the registers are read while the program runs.
+/// How often the program's state is read while it runs.
 pub const WATCH_PERIOD: Duration = Duration::from_millis(200);
 
-/// The lines that read the program's state: the application status and
-/// the program counter as global parameters GP128 and GP130 (§5.1 Table
-/// 18), the accumulator and X with command 135 types 2 and 3 (§3.6.53).
-/// Command 135 types 0 and 1 would give the mode and the PC too, but packed
-/// with a wait flag in a layout Table 14 does not give.
-pub const WATCH_LINES: [&str; 4] = ["GGP 128, 0", "GGP 130, 0", "APPSTATUS ACCU", "APPSTATUS X"];
+/// How long a message stays on the bottom line: long enough to read,
+/// short enough not to hide what the editor shows by itself.
+pub const MESSAGE_LIFETIME: Duration = Duration::from_secs(10);
 
-/// The program's state as the module last told it.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct Watch {
-    /// 0 stopped, 1 running, 2 stepping, 3 reset (GP128, §5.1).
-    pub mode: Option<i64>,
-    pub pc: Option<i64>,
-    pub accu: Option<i64>,
-    pub x: Option<i64>,
-}
-
-impl Watch {
-    fn mode_name(&self) -> &'static str {
-        match self.mode {
-            Some(0) => "stopped",
-            Some(1) => "running",
-            Some(2) => "stepping",
-            Some(3) => "reset",
-            Some(_) => "?",
-            None => "-",
-        }
-    }
-}
+/// Tags of the message timers count up from here.
+const TAG_MESSAGE: u64 = 1 << 47;
 
 /// The program editor pane.
 pub struct EditorPane {
@@ -162,10 +155,23 @@ pub struct EditorPane {
     /// Changes so far; a safety-copy timer carries the count it was set
     /// at, and writes only if no change came since.
     changes: u64,
-    program: Option<Program>,
-    errors: Vec<AsmError>,
+    /// What the text is written for.
+    tool: &'static dyn ProgramTool,
+    /// The tool came from the file's extension, the safety copy or the
+    /// language key: a connection does not change it.
+    tool_fixed: bool,
+    /// The tool's check of the text.
+    checked: Checked,
     prompt: Option<(PromptKind, Field)>,
     message: Option<Notice>,
+    /// The message's number: its timer carries it.
+    message_seq: u64,
+    /// When the message came and when the program's state last changed,
+    /// on one count: the newer of the two is shown (state wins over an
+    /// older message).
+    message_at: u64,
+    state_at: u64,
+    clock: u64,
     recovered: Option<Recovered>,
     /// F3 was pressed with unsaved changes: the next F3 opens anyway.
     open_confirmed: bool,
@@ -173,36 +179,20 @@ pub struct EditorPane {
     upload_confirmed: bool,
     /// The program transfer under way.
     transfer: Option<transfer::Running>,
-    /// The source line (0-based) of the word the last transfer failed at.
+    /// The source line (0-based) of the unit the last transfer failed at.
     failed_line: Option<usize>,
     /// The source line (0-based) the program counter is on.
     current: Option<usize>,
-    /// The program's registers as last read from the module.
-    watch: Watch,
-    /// Reading the registers again and again while the program runs.
-    watching: bool,
-    /// The line the register batch under way ends with: its answer decides
-    /// whether to read again.
-    watch_last: Option<String>,
-    /// The user variables watched, and their values as last read.
-    variables: BTreeMap<u8, Option<i64>>,
+    /// The program in the controller as last read.
+    state: ProgramState,
+    /// The variables watched, per tool (its variable set's key), and
+    /// their values as last read.
+    variables: BTreeMap<&'static str, BTreeMap<u8, Option<i64>>>,
     /// First line and column shown, and rows shown at the last draw.
     top: usize,
     left: usize,
     rows: usize,
-    /// What the text is written in.
-    language: Language,
-    /// The language came from the file's extension or the language key:
-    /// a connection does not change it.
-    language_fixed: bool,
-    /// The A-Script check of the text (empty in TMCL mode).
-    script: script::Checked,
-    /// A-Script: the controller's program state as last read.
-    script_state: script_run::ProgramState,
-    /// The watched variables of the other language (TMCL user variables
-    /// 0..255, A-Script V0–V99), kept while this one is shown.
-    other_variables: BTreeMap<u8, Option<i64>>,
-    /// A-Script text running from the host.
+    /// The text running from the host.
     host: Option<super::host_run::ConsoleHostRun>,
     /// The variables of the last host run, shown until the controller's
     /// are read.
@@ -214,69 +204,78 @@ pub struct EditorPane {
 impl EditorPane {
     /// An empty editor keeping its safety copy in `data_dir` (`None`: no
     /// copy). A copy left there by a console that did not get to save is
-    /// loaded and offered.
+    /// loaded and offered, in its own language.
     pub fn new(data_dir: Option<PathBuf>) -> EditorPane {
+        let tool = default_tool().unwrap_or(&PlainText);
         let mut pane = EditorPane {
             text: TextArea::default(),
             file: None,
             saved: String::new(),
             data_dir,
             changes: 0,
-            program: None,
-            errors: Vec::new(),
+            tool,
+            tool_fixed: false,
+            checked: Checked::default(),
             prompt: None,
             message: None,
+            message_seq: 0,
+            message_at: 0,
+            state_at: 0,
+            clock: 0,
             recovered: None,
             open_confirmed: false,
             upload_confirmed: false,
             transfer: None,
             failed_line: None,
             current: None,
-            watch: Watch::default(),
-            watching: false,
-            watch_last: None,
+            state: ProgramState::default(),
             variables: BTreeMap::new(),
             top: 0,
             left: 0,
             rows: 1,
-            language: Language::Tmcl,
-            language_fixed: false,
-            script: script::Checked::default(),
-            script_state: script_run::ProgramState::default(),
-            other_variables: BTreeMap::new(),
             host: None,
             host_values: None,
             host_tag: TAG_HOST_FIRST,
         };
-        if let Some(dir) = pane.data_dir.as_deref() {
-            pane.variables = load_watch_list(dir)
-                .into_iter()
-                .map(|n| (n, None))
-                .collect();
-            pane.other_variables = watch::load_script_watch_list(dir)
-                .into_iter()
-                .map(|n| (n, None))
-                .collect();
-        }
+        pane.load_variables();
         if let Some(copy) = pane.data_dir.as_deref().and_then(read_autosave) {
-            if let Some(language) = copy.file.as_deref().and_then(Language::of_file) {
-                pane.set_language(language);
-                pane.language_fixed = true;
-            }
-            pane.saved = copy
-                .file
-                .as_deref()
-                .and_then(|f| crate::files::read_text(f).ok())
-                .unwrap_or_default();
-            pane.file = copy.file.clone();
-            pane.set_text(&copy.text);
-            pane.recovered = Some(Recovered {
-                file: copy.file,
-                written: copy.written,
-            });
+            pane.recover(copy);
         }
         pane.assemble();
         pane
+    }
+
+    /// Take the safety copy `copy` as the text, in the language it was
+    /// written in (else the one its file's extension names).
+    fn recover(&mut self, copy: Autosave) {
+        let tools = registered_tools();
+        let written_in = copy
+            .language
+            .as_deref()
+            .and_then(|name| tools.iter().copied().find(|t| t.name() == name));
+        match written_in {
+            Some(tool) => {
+                self.set_tool(tool);
+                self.tool_fixed = true;
+            }
+            None => {
+                if let Some(file) = copy.file.as_deref() {
+                    self.tool_of_file(file);
+                }
+            }
+        }
+        self.saved = copy
+            .file
+            .as_deref()
+            .and_then(|f| crate::files::read_text(f).ok())
+            .unwrap_or_default();
+        self.file = copy.file.clone();
+        self.set_text(&copy.text);
+        self.recovered = Some(Recovered {
+            file: copy.file,
+            written: copy.written,
+            language: self.tool.name(),
+        });
     }
 
     /// The whole text, lines joined with `\n`.
@@ -297,17 +296,17 @@ impl EditorPane {
         self.text() != self.saved
     }
 
-    /// What the assembler found wrong, in source order.
-    pub fn errors(&self) -> &[AsmError] {
-        &self.errors
+    /// The tool the text is written for.
+    pub fn tool(&self) -> &'static dyn ProgramTool {
+        self.tool
     }
 
-    /// The program, when the text assembles.
-    pub fn program(&self) -> Option<&Program> {
-        self.program.as_ref()
+    /// The tool's check of the text.
+    pub fn checked(&self) -> &Checked {
+        &self.checked
     }
 
-    /// Lines (1-based) of this buffer that do not assemble (or check).
+    /// Lines (1-based) of this buffer that do not check.
     pub fn error_lines(&self) -> Vec<usize> {
         let mut lines: Vec<usize> = self
             .problems()
@@ -332,64 +331,33 @@ impl EditorPane {
         lines
     }
 
-    /// What the assembler (or the A-Script checker) finds wrong in this
-    /// buffer, in line order.
+    /// What the tool finds wrong in this buffer (not in files it
+    /// includes), in line order.
     pub fn problems(&self) -> Vec<Problem> {
-        match self.language {
-            Language::Tmcl => {
-                let name = self.source_name();
-                self.errors
-                    .iter()
-                    .filter(|e| e.file == name)
-                    .map(|e| Problem {
-                        line: e.line,
-                        column: e.column,
-                        text: e.to_string(),
-                        error: true,
-                    })
-                    .collect()
-            }
-            Language::AScript => self.script.diagnostics.iter().map(Problem::of).collect(),
-        }
+        self.checked
+            .problems
+            .iter()
+            .filter(|p| p.in_source)
+            .cloned()
+            .collect()
     }
 
-    /// The first error anywhere (a TMCL `#include`d file's too), for a
-    /// message.
+    /// The first error anywhere (an included file's too), for a message.
     fn first_error(&self) -> Option<String> {
-        match self.language {
-            Language::Tmcl => self.errors.first().map(ToString::to_string),
-            Language::AScript => self
-                .script
-                .diagnostics
-                .iter()
-                .find(|d| d.is_error())
-                .map(ToString::to_string),
-        }
+        self.checked.errors().next().map(|p| p.text.clone())
     }
 
     fn error_count(&self) -> usize {
-        match self.language {
-            Language::Tmcl => self.errors.len(),
-            Language::AScript => self
-                .script
-                .diagnostics
-                .iter()
-                .filter(|d| d.is_error())
-                .count(),
-        }
+        self.checked.errors().count()
     }
 
-    /// Whether the text assembles (or checks).
+    /// Whether the text checks.
     fn runs(&self) -> bool {
-        match self.language {
-            Language::Tmcl => self.program.is_some(),
-            Language::AScript => self.script.program.is_some(),
-        }
+        self.checked.program.is_some()
     }
 
-    /// What the text is written in.
-    pub fn language(&self) -> Language {
-        self.language
+    fn wording(&self) -> Wording {
+        self.tool.wording()
     }
 
     /// The cursor: line and column, 0-based.
@@ -416,210 +384,17 @@ impl EditorPane {
         self.current
     }
 
-    /// The program's registers as last read.
-    pub fn watched(&self) -> Watch {
-        self.watch
+    /// The program in the controller as last read.
+    pub fn program_state(&self) -> &ProgramState {
+        &self.state
     }
 
-    /// The user variables watched, with their values as last read.
-    pub fn watched_variables(&self) -> Vec<(u8, Option<i64>)> {
-        self.variables.iter().map(|(n, v)| (*n, *v)).collect()
-    }
-
-    /// The source line (0-based) of program address `pc`, through the
-    /// assembled program's address map.
-    pub fn line_of_pc(&self, pc: i64) -> Option<usize> {
-        let name = self.source_name();
-        let program = self.program.as_ref()?;
-        let line = program.lines.iter().find(|l| i64::from(l.address) == pc)?;
-        (line.file == name).then(|| line.line.saturating_sub(1))
-    }
-
-    /// Ask for the registers, and the user variables watched.
-    fn read_registers(&mut self) -> Request {
-        let lines: Vec<String> = WATCH_LINES
-            .iter()
-            .map(|l| l.to_string())
-            .chain(self.variables.keys().map(|n| variable_line(*n)))
-            .collect();
-        self.watch_last = lines.last().cloned();
-        Request::Send {
-            lines,
-            tag: TAG_WATCH,
-        }
-    }
-
-    /// Send a program control line, then read the registers.
-    fn control(&mut self, line: &str, watch: bool) -> Outcome {
-        self.watching = watch;
-        let read = self.read_registers();
-        Outcome::Handled(vec![
-            Request::Send {
-                lines: vec![line.to_string()],
-                tag: TAG_CONTROL,
-            },
-            read,
-        ])
-    }
-
-    fn register_reply(&mut self, line: &str, value: Option<i64>) -> Vec<Request> {
-        match line {
-            "GGP 128, 0" => self.watch.mode = value,
-            "GGP 130, 0" => {
-                self.watch.pc = value;
-                self.current = value.and_then(|pc| self.line_of_pc(pc));
-            }
-            "APPSTATUS ACCU" => self.watch.accu = value,
-            "APPSTATUS X" => self.watch.x = value,
-            other => self.variable_reply(other, value),
-        }
-        if self.watch_last.as_deref() != Some(line) {
-            return Vec::new();
-        }
-        // The last of the batch: again later while the program runs.
-        if self.watching && self.watch.mode == Some(1) {
-            vec![Request::WakeAfter {
-                after: WATCH_PERIOD,
-                tag: TAG_WATCH_TIMER,
-            }]
-        } else {
-            self.watching = false;
-            Vec::new()
-        }
-    }
-
-    /// A watched variable's value came (`None`: it could not be read).
-    fn variable_reply(&mut self, line: &str, value: Option<i64>) {
-        if let Some(slot) = variable_of_line(line).and_then(|n| self.variables.get_mut(&n)) {
-            *slot = value;
-        }
-    }
-
-    /// The user variable the cursor's line names (GGP/SGP/STGP/RSGP/AGP
-    /// n, 2), read from the assembled program, or from the line alone
-    /// when the whole does not assemble.
-    fn variable_at_cursor(&self) -> Option<u8> {
-        let row = self.cursor().0;
-        let name = self.source_name();
-        if let Some(program) = &self.program {
-            return program
-                .lines
-                .iter()
-                .filter(|l| l.file == name && l.line == row + 1)
-                .filter_map(|l| program.words.get(usize::from(l.address)))
-                .find_map(variable_of_word);
-        }
-        let line = self.text.lines().get(row)?;
-        let alone = assemble(UNTITLED, line, &NoIncludes).ok()?;
-        alone.words.iter().find_map(variable_of_word)
-    }
-
-    /// Watch user variable `n` (A-Script: `V[n]`), or stop watching it;
-    /// the list is kept in the data directory, one per language.
-    fn toggle_variable(&mut self, n: u8, view: &View) -> Outcome {
-        let (name, read, reads) = match self.language {
-            Language::Tmcl => (
-                format!("user variable #{n}"),
-                variable_line(n),
-                view.session.is_some(),
-            ),
-            Language::AScript => (
-                format!("V{n}"),
-                script::variable_line(n),
-                view.session.is_some_and(|s| s.family.name == "cmd4cr"),
-            ),
-        };
-        let mut requests = Vec::new();
-        if self.variables.remove(&n).is_some() {
-            self.message = Some(Notice::info(format!("{name} no longer watched")));
-        } else if self.variables.len() >= MAX_WATCHED {
-            self.message = Some(Notice::warning(format!(
-                "{MAX_WATCHED} variables are watched already: stop watching one first ({} on its line)",
-                key_label(view.keymap, Context::Editor, Action::EditorWatch)
-            )));
-            return Outcome::redraw();
-        } else {
-            self.variables.insert(n, None);
-            self.message = Some(Notice::info(if read == name {
-                format!("watching {name}")
-            } else {
-                format!("watching {name} ({read})")
-            }));
-            if reads {
-                requests.push(Request::Send {
-                    lines: vec![read],
-                    tag: match self.language {
-                        Language::Tmcl => TAG_VARIABLE,
-                        Language::AScript => script_run::TAG_VARIABLE,
-                    },
-                });
-            }
-        }
-        if let Some(dir) = self.data_dir.as_deref() {
-            let list: Vec<u8> = self.variables.keys().copied().collect();
-            let saved = match self.language {
-                Language::Tmcl => save_watch_list(dir, &list),
-                Language::AScript => watch::save_script_watch_list(dir, &list),
-            };
-            if let Err(e) = saved {
-                self.message = Some(Notice::error(e));
-            }
-        }
-        Outcome::Handled(requests)
-    }
-
-    /// Whether the watch panel has room beside the text in `width`.
-    fn panel_shown(&self, width: u16) -> bool {
-        !self.variables.is_empty() && width >= PANEL_MIN_TEXT + PANEL_WIDTH
-    }
-
-    /// The watch panel: each variable watched and its value.
-    fn render_panel(&self, frame: &mut Frame, area: Rect, view: &View) {
-        let theme = view.theme;
-        let block = Block::default()
-            .borders(Borders::LEFT)
-            .border_style(theme.style(Role::Border));
-        let inner = block.inner(area);
-        frame.render_widget(block, area);
-        let width = usize::from(inner.width);
-        let heading = match self.language {
-            Language::Tmcl => " user variables",
-            Language::AScript if self.host_variables_shown() => " variables (host)",
-            Language::AScript => " variables",
-        };
-        let mut lines = vec![Line::styled(heading, theme.style(Role::Title))];
-        for (n, value) in self.shown_variables() {
-            let label = match self.language {
-                Language::Tmcl => format!(" #{n}"),
-                Language::AScript => format!(" V{n}"),
-            };
-            let shown = value.map_or_else(|| "—".to_string(), |v: i64| v.to_string());
-            let pad = width.saturating_sub(label.chars().count() + shown.chars().count() + 1);
-            lines.push(Line::from(vec![
-                Span::styled(label, theme.style(Role::Muted)),
-                Span::raw(" ".repeat(pad)),
-                Span::styled(shown, theme.style(Role::Accent)),
-            ]));
-        }
-        let note = if view.session.is_none() {
-            " not connected".to_string()
-        } else {
-            format!(
-                " {}: add/remove",
-                key_label(view.keymap, Context::Editor, Action::EditorWatch)
-            )
-        };
-        lines.push(Line::styled(note, theme.style(Role::Muted)));
-        frame.render_widget(Paragraph::new(lines), inner);
-    }
-
-    /// The name the text is assembled under: its file, or `untitled.tmc`
-    /// (`untitled.asc`).
+    /// The name the text is checked under: its file, or `untitled.EXT`
+    /// after the tool's first extension.
     pub fn source_name(&self) -> String {
-        self.file.as_ref().map_or_else(
-            || self.language.untitled().to_string(),
-            |f| f.display().to_string(),
-        )
+        self.file
+            .as_ref()
+            .map_or_else(|| untitled(self.tool), |f| f.display().to_string())
     }
 
     fn set_text(&mut self, text: &str) {
@@ -629,33 +404,22 @@ impl EditorPane {
         self.left = 0;
     }
 
+    /// Check the text again.
     fn assemble(&mut self) {
-        if self.language == Language::AScript {
-            self.program = None;
-            self.errors.clear();
-            self.script = script::check(&self.text());
-            return;
-        }
-        self.script = script::Checked::default();
-        match assemble(&self.source_name(), &self.text(), &SourceFiles) {
-            Ok(program) => {
-                self.program = Some(program);
-                self.errors.clear();
-            }
-            Err(errors) => {
-                self.program = None;
-                self.errors = errors;
-            }
-        }
+        self.checked = self
+            .tool
+            .check(&self.source_name(), &self.text(), &SourceFiles);
     }
 
-    /// After a change to the text: assemble again, and ask for a timer
-    /// for the safety copy.
+    /// After a change to the text: check again, and ask for a timer for
+    /// the safety copy. Recovered text that is edited is the user's now:
+    /// Esc no longer throws it away.
     fn changed(&mut self) -> Outcome {
         self.changes += 1;
         self.open_confirmed = false;
         self.upload_confirmed = false;
         self.failed_line = None;
+        self.recovered = None;
         self.assemble();
         if self.data_dir.is_none() {
             return Outcome::redraw();
@@ -672,7 +436,8 @@ impl EditorPane {
             return;
         };
         let result = if self.modified() {
-            write_autosave(&dir, &Autosave::now(self.file.clone(), self.text()))
+            let copy = Autosave::now(self.file.clone(), self.text()).in_language(self.tool.name());
+            write_autosave(&dir, &copy)
         } else {
             remove_autosave(&dir)
         };
@@ -690,7 +455,7 @@ impl EditorPane {
         self.set_text(&text);
         self.recovered = None;
         self.current = None;
-        self.language_of_file(path);
+        self.tool_of_file(path);
         self.assemble();
         self.write_safety_copy();
         self.message = Some(Notice::info(format!(
@@ -709,7 +474,7 @@ impl EditorPane {
         self.file = Some(path.to_path_buf());
         self.saved = text;
         self.recovered = None;
-        self.language_of_file(path);
+        self.tool_of_file(path);
         self.assemble();
         self.write_safety_copy();
         self.message = Some(Notice::info(format!(
@@ -721,7 +486,8 @@ impl EditorPane {
     }
 
     /// Forget the recovered text: back to the file as it is on disk (or
-    /// an empty buffer), and the safety copy removed.
+    /// an empty buffer), and the safety copy removed. Only the copy as it
+    /// was recovered: once edited, the text is the user's and stays.
     fn discard_recovered(&mut self) {
         let Some(recovered) = self.recovered.take() else {
             return;
@@ -733,13 +499,17 @@ impl EditorPane {
             .unwrap_or_default();
         self.saved = text.clone();
         self.set_text(&text);
+        self.tool_fixed = recovered
+            .file
+            .as_deref()
+            .is_some_and(|f| language::tool_of_file(&[self.tool], f).is_some());
         self.assemble();
         self.write_safety_copy();
         self.message = Some(Notice::info("recovered text discarded"));
     }
 
-    /// Move the cursor to the next line that does not assemble (or check),
-    /// after the cursor (round to the first); A-Script warnings count.
+    /// Move the cursor to the next line that does not check, after the
+    /// cursor (round to the first); warnings count.
     fn next_error(&mut self) {
         let here = self.cursor().0 + 1;
         let mine = self.problems();
@@ -762,10 +532,9 @@ impl EditorPane {
             None => {
                 self.message = Some(match self.first_error() {
                     Some(e) => Notice::error(e),
-                    None => Notice::info(match self.language {
-                        Language::Tmcl => "no errors: the program assembles",
-                        Language::AScript => "no errors: the program checks",
-                    }),
+                    None => {
+                        Notice::info(format!("no errors: the program {}", self.wording().passes))
+                    }
                 })
             }
         }
@@ -787,35 +556,11 @@ impl EditorPane {
                 if name.is_empty() {
                     return Outcome::redraw();
                 }
-                if kind == PromptKind::WatchScript {
-                    return match name.trim_start_matches(['V', 'v']).parse::<u8>() {
-                        Ok(n) if usize::from(n) < crate::protocol::cmd4cr::ascript::VARIABLES => {
-                            self.toggle_variable(n, view)
-                        }
-                        _ => {
-                            self.message = Some(Notice::error(format!(
-                                "A-Script variables are V0..V99, not `{name}`"
-                            )));
-                            Outcome::redraw()
-                        }
-                    };
-                }
-                if kind == PromptKind::Watch {
-                    return match name.parse::<u8>() {
-                        Ok(n) => self.toggle_variable(n, view),
-                        Err(_) => {
-                            self.message = Some(Notice::error(format!(
-                                "user variables are numbered 0..255, not `{name}`"
-                            )));
-                            Outcome::redraw()
-                        }
-                    };
-                }
-                let path = PathBuf::from(name);
+                let path = PathBuf::from(&name);
                 let result = match kind {
+                    PromptKind::Watch => return self.watch_typed(&name, view),
                     PromptKind::Open => self.open_file(&path),
                     PromptKind::SaveAs => self.save_to(&path),
-                    PromptKind::Watch | PromptKind::WatchScript => Ok(()),
                 };
                 if let Err(e) = result {
                     self.message = Some(Notice::error(e));
@@ -828,6 +573,15 @@ impl EditorPane {
             Outcome::redraw()
         } else {
             Outcome::Ignored
+        }
+    }
+
+    /// The prompt's label.
+    fn prompt_label(&self, kind: PromptKind) -> &'static str {
+        match kind {
+            PromptKind::Open => "open file: ",
+            PromptKind::SaveAs => "save as: ",
+            PromptKind::Watch => self.tool.variables().map_or("watch: ", |set| set.prompt),
         }
     }
 
@@ -844,13 +598,8 @@ impl EditorPane {
             self.locked(view);
             return Outcome::redraw();
         }
-        if action == Action::EditorLanguage {
-            return self.switch_language(view);
-        }
-        if let Some(outcome) = self.script_action(action, view) {
-            return outcome;
-        }
         match action {
+            Action::EditorLanguage => return self.switch_language(view),
             Action::EditorSave => match self.file.clone() {
                 Some(path) => {
                     if let Err(e) = self.save_to(&path) {
@@ -878,14 +627,8 @@ impl EditorPane {
             }
             Action::EditorAssemble => {
                 self.assemble();
-                match &self.program {
-                    Some(p) => {
-                        self.message = Some(Notice::info(format!(
-                            "assembled: {} words, {} labels",
-                            p.words.len(),
-                            p.symbols.len()
-                        )))
-                    }
+                match self.checked.program.as_ref().map(|p| p.built()) {
+                    Some(built) => self.message = Some(Notice::info(built)),
                     None => {
                         self.text.move_cursor(CursorMove::Jump(0, 0));
                         self.next_error_from_top();
@@ -893,13 +636,11 @@ impl EditorPane {
                 }
             }
             Action::EditorNextError => self.next_error(),
-            Action::EditorHostRun => {
-                self.message = Some(Notice::warning(format!(
-                    "running from the host is for A-Script (CMD-4CR); this text is TMCL: {} switches",
-                    key_label(view.keymap, Context::Editor, Action::EditorLanguage)
-                )));
-            }
+            Action::EditorHostRun => return self.start_host_run(view),
             Action::Cancel => {
+                if let Some(outcome) = self.cancel_host_run() {
+                    return outcome;
+                }
                 if let Some(outcome) = self.cancel_transfer() {
                     return outcome;
                 }
@@ -909,14 +650,11 @@ impl EditorPane {
                     return Outcome::Ignored;
                 }
             }
-            Action::EditorRun => return self.control("RUNAPP", true),
-            Action::EditorStop => return self.control("STOPAPP", false),
-            Action::EditorStep => return self.control("STEPAPP", false),
-            Action::EditorReset => return self.control("RESETAPP", false),
-            Action::EditorWatch => match self.variable_at_cursor() {
-                Some(n) => return self.toggle_variable(n, view),
-                None => self.prompt = Some((PromptKind::Watch, Field::default())),
-            },
+            Action::EditorRun => return self.control(ControlKey::Run, view),
+            Action::EditorStop => return self.control(ControlKey::Stop, view),
+            Action::EditorStep => return self.control(ControlKey::Step, view),
+            Action::EditorReset => return self.control(ControlKey::Reset, view),
+            Action::EditorWatch => return self.watch_key(view),
             Action::EditorDownload => return self.start_download(view),
             Action::EditorVerify => return self.start_verify(view),
             Action::EditorUpload => return self.start_upload(view),
@@ -999,17 +737,60 @@ impl EditorPane {
         }
     }
 
-    /// The bottom line: the prompt, a message, or what the assembler says
-    /// of the line under the cursor.
+    /// The next tick of the count that orders messages and state.
+    fn tick(&mut self) -> u64 {
+        self.clock += 1;
+        self.clock
+    }
+
+    /// The program's state as shown changed: it wins over older messages.
+    pub(super) fn state_changed(&mut self) {
+        self.state_at = self.tick();
+    }
+
+    /// After an input or an event: a new message gets its time and a
+    /// timer that puts it away.
+    fn after(&mut self, before: Option<Notice>, outcome: Outcome) -> Outcome {
+        if self.message == before || self.message.is_none() {
+            return outcome;
+        }
+        self.message_at = self.tick();
+        self.message_seq += 1;
+        let timer = Request::WakeAfter {
+            after: MESSAGE_LIFETIME,
+            tag: TAG_MESSAGE + self.message_seq,
+        };
+        match outcome {
+            Outcome::Ignored => Outcome::Handled(vec![timer]),
+            Outcome::Handled(mut requests) => {
+                requests.push(timer);
+                Outcome::Handled(requests)
+            }
+        }
+    }
+
+    /// The message, unless the program's state changed since it came.
+    fn shown_message(&self) -> Option<&Notice> {
+        let state_shown = self
+            .tool
+            .control()
+            .and_then(|control| self.state.describe(control))
+            .is_some();
+        let older = state_shown && self.state_at > self.message_at;
+        self.message.as_ref().filter(|_| !older)
+    }
+
+    /// The bottom line: the prompt, a message, or what the tool says of
+    /// the line under the cursor.
     fn bottom_line(&self, view: &View, width: u16) -> Line<'static> {
         let theme = view.theme;
         if let Some((kind, field)) = &self.prompt {
             return Line::from(vec![
-                Span::styled(kind.label(), theme.style(Role::Prompt)),
+                Span::styled(self.prompt_label(*kind), theme.style(Role::Prompt)),
                 Span::raw(field.text().to_string()),
             ]);
         }
-        if let Some(message) = &self.message {
+        if let Some(message) = self.shown_message() {
             let role = match message.level {
                 NoticeLevel::Info => Role::Ok,
                 NoticeLevel::Warning => Role::Warning,
@@ -1037,14 +818,16 @@ impl EditorPane {
             None => "untitled".to_string(),
         };
         let changed = if self.modified() { " [modified]" } else { "" };
-        let state = match (&self.program, &self.script.program, self.error_count()) {
-            (Some(p), _, _) => format!("assembles: {} words", p.words.len()),
-            (_, Some(p), _) => format!("A-Script {}", script::summary(p)),
-            (None, None, n) => format!(
-                "{n} error{} ({} next)",
-                if n == 1 { "" } else { "s" },
-                key_label(view.keymap, Context::Editor, Action::EditorNextError)
-            ),
+        let state = match &self.checked.program {
+            Some(program) => program.state(),
+            None => {
+                let n = self.error_count();
+                format!(
+                    "{n} error{} ({} next)",
+                    if n == 1 { "" } else { "s" },
+                    key_label(view.keymap, Context::Editor, Action::EditorNextError)
+                )
+            }
         };
         let role = if self.runs() {
             Role::Muted
@@ -1055,65 +838,64 @@ impl EditorPane {
             Span::styled(format!("{file}{changed} — "), theme.style(Role::Muted)),
             Span::styled(state, theme.style(role)),
         ];
-        if let Some(state) = self.script_state.describe() {
+        if let Some(state) = self
+            .tool
+            .control()
+            .and_then(|control| self.state.describe(control))
+        {
             spans.push(Span::styled(
                 format!(" │ {state}"),
                 theme.style(Role::Accent),
             ));
         }
-        if self.watch != Watch::default() {
-            let show = |v: Option<i64>| v.map_or_else(|| "-".to_string(), |v| v.to_string());
-            spans.push(Span::styled(
-                format!(
-                    " │ {} PC {} ACC {} X {}",
-                    self.watch.mode_name(),
-                    show(self.watch.pc),
-                    show(self.watch.accu),
-                    show(self.watch.x)
-                ),
-                theme.style(Role::Accent),
-            ));
-        }
         // No room for the watch panel: the variables here.
-        if !self.variables.is_empty() && !self.panel_shown(width) {
-            let mark = match self.language {
-                Language::Tmcl => "#",
-                Language::AScript => "V",
-            };
-            let values: Vec<String> = self
-                .shown_variables()
-                .into_iter()
-                .map(|(n, v)| {
-                    format!(
-                        "{mark}{n}={}",
-                        v.map_or_else(|| "—".to_string(), |v| v.to_string())
-                    )
-                })
-                .collect();
+        if !self.panel_shown(width)
+            && let Some(values) = self.variables_inline()
+        {
             spans.push(Span::styled(
-                format!(" │ {}", values.join(" ")),
+                format!(" │ {values}"),
                 theme.style(Role::Accent),
             ));
         }
         Line::from(spans)
     }
 
-    fn recovery_line(&self, recovered: &Recovered, view: &View) -> Line<'static> {
+    /// The banner of recovered text: its keys first, so that they are
+    /// seen at 80 columns whatever the file's name.
+    fn recovery_line(&self, recovered: &Recovered, view: &View, width: u16) -> Line<'static> {
         let file = Autosave {
             file: recovered.file.clone(),
             written: recovered.written,
             text: String::new(),
+            language: None,
         }
         .file_label();
         let save = key_label(view.keymap, Context::Editor, Action::EditorSave);
         let discard = key_label(view.keymap, Context::Editor, Action::Cancel);
+        let text = format!(
+            "{save} to save, or discard with {discard}: recovered unsaved text of {file} from {} ({})",
+            utc_time(recovered.written),
+            recovered.language
+        );
         Line::from(Span::styled(
-            format!(
-                "recovered unsaved text of {file} from {} — {save} to save, or discard with {discard}",
-                utc_time(recovered.written)
-            ),
+            fit(&text, usize::from(width)),
             view.theme.style(Role::Warning),
         ))
+    }
+
+    /// The pane's title: the file, and the language unless it is the
+    /// first family's.
+    fn title_text(&self) -> String {
+        let name = self.file.as_ref().and_then(|f| f.file_name()).map_or_else(
+            || "untitled".to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        let changed = if self.modified() { "*" } else { "" };
+        if default_tool().is_some_and(|d| same(d, self.tool)) {
+            format!("Program — {name}{changed}")
+        } else {
+            format!("Program ({}) — {name}{changed}", self.tool.name())
+        }
     }
 }
 
@@ -1134,8 +916,7 @@ fn number_read(
 /// at most `width` shown.
 fn styled_line(
     line: &str,
-    language: Language,
-    names: &Names,
+    pieces: &[(Range<usize>, SyntaxClass)],
     view: &View,
     base: Style,
     left: usize,
@@ -1145,29 +926,10 @@ fn styled_line(
     let mut spans: Vec<Span<'static>> = Vec::new();
     let mut skipped = 0;
     let mut shown = 0;
-    let pieces: Vec<(std::ops::Range<usize>, Option<Role>)> = match language {
-        Language::Tmcl => highlight(line, names)
-            .into_iter()
-            .map(|(range, token)| {
-                let role = match token {
-                    Token::Plain => None,
-                    Token::Mnemonic => Some(Role::CodeMnemonic),
-                    Token::Label => Some(Role::CodeLabel),
-                    Token::Number => Some(Role::CodeNumber),
-                    Token::Comment => Some(Role::CodeComment),
-                };
-                (range, role)
-            })
-            .collect(),
-        Language::AScript => crate::protocol::cmd4cr::ascript::tokens(line)
-            .into_iter()
-            .map(|(range, class)| (range, script::role_of(class)))
-            .collect(),
-    };
-    for (range, role) in pieces {
-        let style = role.map_or(base, |r| base.patch(theme.style(r)));
+    for (range, class) in pieces {
+        let style = role_of(*class).map_or(base, |r| base.patch(theme.style(r)));
         let mut piece = String::new();
-        for c in line.get(range).unwrap_or("").chars() {
+        for c in line.get(range.clone()).unwrap_or("").chars() {
             if skipped < left {
                 skipped += 1;
                 continue;
@@ -1195,15 +957,7 @@ impl Pane for EditorPane {
     }
 
     fn title(&self, _view: &View) -> String {
-        let name = self.file.as_ref().and_then(|f| f.file_name()).map_or_else(
-            || "untitled".to_string(),
-            |n| n.to_string_lossy().into_owned(),
-        );
-        let changed = if self.modified() { "*" } else { "" };
-        match self.language {
-            Language::Tmcl => format!("Program — {name}{changed}"),
-            Language::AScript => format!("Program (A-Script) — {name}{changed}"),
-        }
+        self.title_text()
     }
 
     fn region(&self) -> Region {
@@ -1220,7 +974,7 @@ impl Pane for EditorPane {
         if let Some(recovered) = &self.recovered
             && rows > 2
         {
-            let line = self.recovery_line(recovered, view);
+            let line = self.recovery_line(recovered, view, area.width);
             frame.render_widget(Paragraph::new(line), Rect::new(area.x, y, area.width, 1));
             y += 1;
             rows -= 1;
@@ -1239,13 +993,13 @@ impl Pane for EditorPane {
             self.render_transfer(frame, Rect::new(area.x, gauge_y, area.width, 1), view);
         }
         self.rows = rows.max(1);
-        let lines = self.text.lines();
         let (row, col) = self.cursor();
         if row < self.top {
             self.top = row;
         } else if rows > 0 && row >= self.top + rows {
             self.top = row + 1 - rows;
         }
+        let lines = self.text.lines();
         let digits = lines.len().to_string().len().max(3);
         let gutter = digits + 2;
         // The watch panel takes the right of the text rows.
@@ -1264,12 +1018,16 @@ impl Pane for EditorPane {
         let error_lines = self.error_lines();
         let warning_lines = self.warning_lines();
         let running = self.running_lines();
-        let names = match self.language {
-            Language::Tmcl => Names::declared(lines.iter().map(String::as_str)),
-            Language::AScript => Names::default(),
-        };
+        let end = (self.top + rows).min(lines.len());
+        let classes = self.tool.highlight(lines, self.top..end);
         let mut shown = Vec::with_capacity(rows);
-        for (index, line) in lines.iter().enumerate().skip(self.top).take(rows) {
+        for ((index, line), pieces) in lines
+            .iter()
+            .enumerate()
+            .skip(self.top)
+            .take(rows)
+            .zip(classes.iter())
+        {
             let is_error = error_lines.contains(&(index + 1));
             let is_current = self.current == Some(index) || running.contains(&index);
             let (marker, gutter_role) = if is_current {
@@ -1292,15 +1050,7 @@ impl Pane for EditorPane {
                 format!("{marker}{:>digits$} ", index + 1),
                 theme.style(gutter_role),
             )];
-            spans.extend(styled_line(
-                line,
-                self.language,
-                &names,
-                view,
-                base,
-                self.left,
-                text_width,
-            ));
+            spans.extend(styled_line(line, pieces, view, base, self.left, text_width));
             let mut styled = Line::from(spans);
             if is_current {
                 styled = styled.style(base);
@@ -1317,7 +1067,7 @@ impl Pane for EditorPane {
         if view.focused {
             match &self.prompt {
                 Some((kind, field)) => {
-                    let x = kind.label().chars().count() + field.cursor_column();
+                    let x = self.prompt_label(*kind).chars().count() + field.cursor_column();
                     let x = area.x + u16::try_from(x).unwrap_or(0).min(area.width - 1);
                     frame.set_cursor_position(Position::new(x, bottom_y));
                 }
@@ -1333,6 +1083,26 @@ impl Pane for EditorPane {
     }
 
     fn handle_input(&mut self, input: &Input, view: &View) -> Outcome {
+        let before = self.message.clone();
+        let outcome = self.input(input, view);
+        self.after(before, outcome)
+    }
+
+    fn activity(&self) -> Option<String> {
+        self.host
+            .as_ref()
+            .map(|h| format!("editor: {}", h.describe()))
+    }
+
+    fn on_event(&mut self, event: &PaneEvent, view: &View) -> Outcome {
+        let before = self.message.clone();
+        let outcome = self.event(event, view);
+        self.after(before, outcome)
+    }
+}
+
+impl EditorPane {
+    fn input(&mut self, input: &Input, view: &View) -> Outcome {
         match input {
             Input::Key(key) => {
                 if self.prompt.is_some() {
@@ -1369,20 +1139,43 @@ impl Pane for EditorPane {
         }
     }
 
-    fn activity(&self) -> Option<String> {
-        self.host
-            .as_ref()
-            .map(|h| format!("editor: {}", h.describe()))
-    }
-
-    fn on_event(&mut self, event: &PaneEvent, view: &View) -> Outcome {
-        if let Some(outcome) = self.transfer_event(event) {
+    fn event(&mut self, event: &PaneEvent, view: &View) -> Outcome {
+        if let PaneEvent::Wake { tag } = event
+            && *tag == TAG_MESSAGE + self.message_seq
+        {
+            // The message has been up long enough.
+            return match self.message.take() {
+                Some(_) => Outcome::redraw(),
+                None => Outcome::Ignored,
+            };
+        }
+        if let Some(outcome) = self.host_event(event) {
             return outcome;
         }
-        if let Some(outcome) = self.script_event(event, view) {
+        if let Some(outcome) = self.run_ended(event, view) {
+            return outcome;
+        }
+        if let PaneEvent::Stopping = event {
+            // The stop ends the program (TMCL 128) and any run from the
+            // host; the session cancels a transfer itself, and its end
+            // still comes.
+            self.state.watching = false;
+            let transfer = self.stopping_transfer();
+            let host = self.stopping_host_run();
+            return if transfer || host {
+                Outcome::redraw()
+            } else {
+                Outcome::Ignored
+            };
+        }
+        if let Some(outcome) = self.transfer_event(event, view) {
+            return outcome;
+        }
+        if let Some(outcome) = self.control_event(event, view) {
             return outcome;
         }
         match event {
+            PaneEvent::Snapshot if self.follow_family(view) => Outcome::redraw(),
             PaneEvent::Wake { tag } if *tag == self.changes => {
                 self.write_safety_copy();
                 // Nothing on screen changed unless writing failed.
@@ -1395,47 +1188,6 @@ impl Pane for EditorPane {
                 } else {
                     Outcome::Ignored
                 }
-            }
-            PaneEvent::Reply { tag, line, result } if *tag == TAG_WATCH => {
-                if result.is_err() {
-                    self.watching = false;
-                }
-                Outcome::Handled(self.register_reply(line, number_read(result)))
-            }
-            PaneEvent::Reply {
-                tag,
-                line,
-                result: Err(e),
-            } if *tag == TAG_CONTROL => {
-                self.watching = false;
-                self.message = Some(Notice::error(format!("{line}: {e}")));
-                Outcome::redraw()
-            }
-            PaneEvent::Wake { tag } if *tag == TAG_WATCH_TIMER && self.watching => {
-                Outcome::request(self.read_registers())
-            }
-            PaneEvent::Connected { .. } if !self.variables.is_empty() => {
-                // Another module: its own values, read once.
-                for value in self.variables.values_mut() {
-                    *value = None;
-                }
-                Outcome::Handled(vec![Request::Send {
-                    lines: self.variables.keys().map(|n| variable_line(*n)).collect(),
-                    tag: TAG_VARIABLE,
-                }])
-            }
-            PaneEvent::Reply { tag, line, result } if *tag == TAG_VARIABLE => {
-                if let Err(e) = result {
-                    self.message = Some(Notice::error(format!("{line}: {e}")));
-                }
-                self.variable_reply(line, number_read(result));
-                Outcome::redraw()
-            }
-            PaneEvent::Stopping | PaneEvent::EmergencyStop(_) => {
-                // The stop ends the program (TMCL 128): read where it
-                // stopped, once.
-                self.watching = false;
-                Outcome::Ignored
             }
             _ => Outcome::Ignored,
         }

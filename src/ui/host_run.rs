@@ -1,19 +1,20 @@
-//! An A-Script program run from the host inside the console (`:run-ascript
-//! FILE` in the command pane, the run-from-host key in the editor): the
-//! session's [`HostRun`] state machine driven through a pane's requests.
-//! Each line it sends is a [`Request::Send`], each wait a
-//! [`Request::WakeAfter`], under a tag of the pane's; what happens comes
-//! back as lines to show. Dropping it ends the run: the emergency stop
-//! (which drops every line still waiting) and Esc do just that, so nothing
-//! more of the program is sent after them.
+//! A program run from the host inside the console (`:run-ascript FILE` in
+//! the command pane, the run-from-host key in the editor): the family's
+//! [`HostRun`] state machine driven through a pane's requests. Each line it
+//! sends is a [`Request::Send`], each wait a [`Request::WakeAfter`], under
+//! a tag of the pane's; what happens comes back as lines to show. Dropping
+//! it ends the run: the emergency stop (which drops every line still
+//! waiting) and Esc do just that, so nothing more of the program is sent
+//! after them.
 
 use tokio::time::Instant;
 
 use super::pane::{PaneEvent, Request};
 use super::theme::Role;
-use crate::session::ascript_host::{
-    HostEnd, HostEvent, HostEventKind, HostProgram, HostRun, HostStep, ThreadState, ThreadView,
+use crate::protocol::program::{
+    HostEnd, HostRun, HostStart, HostStep, PlaceState, RunningPlace, Tone,
 };
+use crate::session::transfer::answer_of;
 
 /// What a step of the run came to, for the pane.
 #[derive(Debug, Default)]
@@ -28,22 +29,25 @@ pub struct HostUpdate {
 /// A host run under way in a pane.
 #[derive(Debug)]
 pub struct ConsoleHostRun {
-    run: HostRun,
+    run: Box<dyn HostRun>,
     name: String,
+    /// When it began: the run's clock.
+    began: Instant,
     /// The tag of the answer or wake-up it waits for.
     awaiting: Option<u64>,
 }
 
 impl ConsoleHostRun {
-    /// Start `program`. `last_tag` is the pane's tag counter: each
+    /// Start the run `start`. `last_tag` is the pane's tag counter: each
     /// request takes the next.
-    pub fn start(program: &HostProgram, last_tag: &mut u64) -> (ConsoleHostRun, HostUpdate) {
+    pub fn start(start: HostStart, last_tag: &mut u64) -> (ConsoleHostRun, HostUpdate) {
         let mut run = ConsoleHostRun {
-            run: HostRun::new(program),
-            name: program.name().to_string(),
+            run: start.run,
+            name: start.name,
+            began: Instant::now(),
             awaiting: None,
         };
-        let step = run.run.start(Instant::now());
+        let step = run.run.start(std::time::Duration::ZERO);
         let update = run.carry_out(step, last_tag);
         (run, update)
     }
@@ -54,11 +58,11 @@ impl ConsoleHostRun {
     }
 
     /// Where each program of the file is.
-    pub fn threads(&self) -> Vec<ThreadView> {
-        self.run.threads()
+    pub fn places(&self) -> Vec<RunningPlace> {
+        self.run.places()
     }
 
-    /// The variables as the host holds them (V0–V99).
+    /// The variables as the host holds them.
     pub fn variables(&self) -> &[i32] {
         self.run.variables()
     }
@@ -70,11 +74,14 @@ impl ConsoleHostRun {
 
     /// The answer or wake-up it waits for; `None` for any other event.
     pub fn on_event(&mut self, event: &PaneEvent, last_tag: &mut u64) -> Option<HostUpdate> {
+        let now = self.began.elapsed();
         let step = match event {
             PaneEvent::Reply {
-                tag: got, result, ..
-            } if self.awaits(*got) => self.run.on_reply(result, Instant::now()),
-            PaneEvent::Wake { tag: got } if self.awaits(*got) => self.run.on_wake(Instant::now()),
+                tag: got,
+                line,
+                result,
+            } if self.awaits(*got) => self.run.on_answer(&answer_of(line, result), now),
+            PaneEvent::Wake { tag: got } if self.awaits(*got) => self.run.on_wake(now),
             _ => return None,
         };
         self.awaiting = None;
@@ -86,16 +93,16 @@ impl ConsoleHostRun {
     pub fn describe(&self) -> String {
         let at: Vec<String> = self
             .run
-            .threads()
+            .places()
             .iter()
-            .filter(|t| t.state == ThreadState::Running || t.state == ThreadState::Paused)
+            .filter(|t| t.state == PlaceState::Running || t.state == PlaceState::Paused)
             .map(|t| {
-                let paused = if t.state == ThreadState::Paused {
+                let paused = if t.state == PlaceState::Paused {
                     " (paused)"
                 } else {
                     ""
                 };
-                format!("PRG {} line {}{paused}", t.program, t.line)
+                format!("{} line {}{paused}", self.run.place_name(t.program), t.line)
             })
             .collect();
         format!("running {} from the host: {}", self.name, at.join(", "))
@@ -103,7 +110,12 @@ impl ConsoleHostRun {
 
     fn carry_out(&mut self, step: HostStep, last_tag: &mut u64) -> HostUpdate {
         let mut update = HostUpdate {
-            said: self.run.take_events().iter().map(shown).collect(),
+            said: self
+                .run
+                .take_news()
+                .into_iter()
+                .map(|news| (role_of(news.tone), format!("host: {}", news.text)))
+                .collect(),
             ..HostUpdate::default()
         };
         match step {
@@ -123,7 +135,7 @@ impl ConsoleHostRun {
                 update.requests.push(Request::WakeAfter { after, tag });
             }
             HostStep::Finished(end) => {
-                let role = if end.ok() { Role::Ok } else { Role::Error };
+                let role = if end.ok { Role::Ok } else { Role::Error };
                 update
                     .said
                     .push((role, format!("host run of {}: {end}", self.name)));
@@ -134,23 +146,21 @@ impl ConsoleHostRun {
     }
 }
 
-/// An event as the console shows it.
-fn shown(event: &HostEvent) -> (Role, String) {
-    let role = match &event.kind {
-        HostEventKind::Started | HostEventKind::Finished | HostEventKind::Controlled { .. } => {
-            Role::Accent
-        }
-        HostEventKind::Sent { .. } => Role::Normal,
-        HostEventKind::Busy { .. } => Role::Muted,
-        HostEventKind::Handler { .. } | HostEventKind::Note(_) => Role::Warning,
-        HostEventKind::Failed { .. } => Role::Error,
-    };
-    (role, format!("host: {event}"))
+/// How news of a run is coloured.
+fn role_of(tone: Tone) -> Role {
+    match tone {
+        Tone::Headline => Role::Accent,
+        Tone::Plain => Role::Normal,
+        Tone::Minor => Role::Muted,
+        Tone::Warning => Role::Warning,
+        Tone::Error => Role::Error,
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::protocol::cmd4cr::host::start_host_run;
     use crate::protocol::console::ReplyValue;
     use crate::session::LineResult;
     use std::time::Duration;
@@ -181,9 +191,9 @@ mod tests {
     #[test]
     fn requests_carry_fresh_tags_and_only_their_answers_move_the_run_on() {
         let program =
-            HostProgram::check("p.asc", "PRG 0\n    DO1=1\n    DELAY=5\nEND\n", None).expect("ok");
+            start_host_run("p.asc", "PRG 0\n    DO1=1\n    DELAY=5\nEND\n", None).expect("ok");
         let mut tag = 10;
-        let (mut run, update) = ConsoleHostRun::start(&program, &mut tag);
+        let (mut run, update) = ConsoleHostRun::start(program, &mut tag);
         assert_eq!(
             update.requests,
             [Request::Send {

@@ -12,14 +12,15 @@ use tokio::sync::{broadcast, mpsc, watch};
 
 use super::app::{self, App, AppEvent, Connector, Controller, Pending};
 use super::keymap::choose_keymap;
-use super::pane::{Notice, TransferDone, TransferJob};
+use super::pane::Notice;
 use super::terminal::{TerminalGuard, spawn_reader};
 use super::theme::{choose_theme, no_color_in_env};
 use super::{PaneSetup, panes};
 use crate::device::{DeviceEvent, LinkState, TrafficRecord};
 use crate::link::SharedSim;
 use crate::protocol::Family;
-use crate::session::program::{Cancel, Progress, TransferError};
+use crate::protocol::program::{Progress, TransferFailure, TransferJob, TransferReport};
+use crate::session::Cancel;
 use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
 use crate::session::{
     AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, Session, SessionError, SessionOptions,
@@ -170,20 +171,9 @@ impl Controller for SessionController {
         job: TransferJob,
         cancel: Cancel,
         mut progress: Box<dyn FnMut(Progress) + Send>,
-    ) -> Pending<Result<TransferDone, TransferError>> {
+    ) -> Pending<Result<TransferReport, TransferFailure>> {
         let session = self.session.clone();
-        Box::pin(async move {
-            match job {
-                TransferJob::Download { words, options } => session
-                    .download_program(&words, options, &cancel, &mut *progress)
-                    .await
-                    .map(TransferDone::Downloaded),
-                TransferJob::Upload(extent) => session
-                    .upload_program(extent, &cancel, &mut *progress)
-                    .await
-                    .map(TransferDone::Uploaded),
-            }
-        })
+        Box::pin(async move { session.run_job(&job, &cancel, &mut *progress).await })
     }
 }
 

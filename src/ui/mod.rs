@@ -14,7 +14,9 @@
 //!   [`batch`] for `:run`), [`axes`] (axis status gauges and lamps),
 //!   [`params`] (the parameter table, export and import), [`traffic`]
 //!   (every frame), [`plot`] (position and speed over time), [`connect`]
-//!   (the connect screen), [`editor`] (TMCL programs); [`field`] is the one-line text field they share, [`text`] how they cut text to a width.
+//!   (the connect screen), [`editor`] (programs, in the language of the
+//!   family's program tool); [`field`] is the one-line text field they
+//!   share, [`text`] how they cut text to a width.
 //!
 //! # Adding a pane
 //!

@@ -19,10 +19,7 @@ use super::keymap::{Action, Context, Keymap};
 use super::theme::Theme;
 use crate::device::{DeviceEvent, LinkState, TrafficRecord};
 use crate::protocol::Family;
-use crate::protocol::tmcl::asm::ProgramWord;
-use crate::session::program::{
-    DownloadOptions, DownloadReport, Progress, TransferError, UploadExtent, UploadReport,
-};
+use crate::protocol::program::{Progress, TransferFailure, TransferJob, TransferReport};
 use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
 use crate::session::{AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
 
@@ -155,7 +152,7 @@ pub enum PaneEvent {
     /// The [`Request::Transfer`] under `tag` ended.
     Transferred {
         tag: u64,
-        result: Result<TransferDone, TransferError>,
+        result: Result<TransferReport, TransferFailure>,
     },
     /// The connect screen's choice now connects with this protocol family
     /// ([`Request::ChooseFamily`]).
@@ -166,25 +163,6 @@ pub enum PaneEvent {
         tag: u64,
         result: Result<String, String>,
     },
-}
-
-/// A program transfer a pane asks for ([`Request::Transfer`]).
-#[derive(Debug, Clone, PartialEq)]
-pub enum TransferJob {
-    /// Store these words from address 0 and verify them by reading back.
-    Download {
-        words: Vec<ProgramWord>,
-        options: DownloadOptions,
-    },
-    /// Read the program memory back.
-    Upload(UploadExtent),
-}
-
-/// What a finished transfer brought.
-#[derive(Debug, Clone, PartialEq)]
-pub enum TransferDone {
-    Downloaded(DownloadReport),
-    Uploaded(UploadReport),
 }
 
 /// A console message and how it should look.

@@ -267,45 +267,26 @@ pub fn choose_theme(
 /// the built-in of that name. A user file that cannot be used gives a
 /// [`ConfigProblem`] and the built-in of that name (else `dark`).
 pub fn load_theme(name: &str, config_dir: Option<&Path>) -> Loaded<Theme> {
-    load_config(
-        &ConfigKind {
-            folder: "themes",
-            noun: "theme",
-            default_name: DEFAULT_THEME,
-            builtin: Theme::builtin,
-            builtin_names: || Theme::builtin_names().collect(),
-            last_resort: Theme::fallback,
-            parse: parse_theme,
-        },
-        name,
-        config_dir,
-    )
+    load_config(&THEMES, name, config_dir)
 }
+
+/// Themes as the configuration loader knows them.
+const THEMES: ConfigKind<Theme> = ConfigKind {
+    folder: "themes",
+    noun: "theme",
+    default_name: DEFAULT_THEME,
+    builtin: Theme::builtin,
+    builtin_names: || Theme::builtin_names().collect(),
+    last_resort: Theme::fallback,
+    parse: parse_theme,
+};
 
 /// Parses a user's theme file named `name`: roles it leaves out come from
 /// its `base` (a built-in), by default the built-in of the same name, else
 /// `dark`. Every mistake found is returned, in file order.
 pub fn parse_theme(name: &str, text: &str) -> Result<Theme, Vec<ConfigError>> {
     let draft = read_theme(text)?;
-    let base_name = match &draft.base {
-        Some((base, span)) => {
-            if Theme::builtin(base).is_none() {
-                let names: Vec<&str> = Theme::builtin_names().collect();
-                return Err(vec![ConfigError::at(
-                    text,
-                    span.clone(),
-                    "base",
-                    format!(
-                        "no built-in theme named `{base}` (built-ins: {})",
-                        names.join(", ")
-                    ),
-                )]);
-            }
-            base.as_str()
-        }
-        None if Theme::builtin(name).is_some() => name,
-        None => DEFAULT_THEME,
-    };
+    let base_name = config::base_name(&THEMES, draft.base.as_ref(), name, text)?;
     let base = Theme::builtin(base_name).unwrap_or_else(Theme::fallback);
     let mut styles = base.styles;
     for (slot, style) in styles.iter_mut().zip(draft.styles) {

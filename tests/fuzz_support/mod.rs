@@ -5,7 +5,7 @@
 //! inserted, dropped, flipped, spliced, numbers at the edges of every
 //! range), and a runner that counts inputs and panics and times them.
 //!
-//! Everything is found through `protocol::FAMILIES` and `sim::SIM_KINDS`,
+//! Everything is found through `protocol::FAMILIES` and `sim::kinds()`,
 //! so a family registered there is fuzzed without a line here; its
 //! manual's vectors are used when `tests/data/FAMILY-vectors.json` exists.
 #![allow(dead_code)]
@@ -19,7 +19,7 @@ use axterm::protocol::Family;
 use axterm::protocol::console::{Answering, PreparedLine};
 use axterm::protocol::parameters::ParamOp;
 use axterm::protocol::wire::Frame;
-use axterm::sim::{SIM_KINDS, SimOptions};
+use axterm::sim::SimOptions;
 
 /// Inputs per target and family when `AXTERM_FUZZ_CASES` is not set: the
 /// smoke form that runs in `cargo test`.
@@ -595,7 +595,7 @@ fn simulator_answer(family: &Family, address: u8, line: &PreparedLine) -> Vec<Fr
     if matches!(line.answering, Answering::Nothing) {
         return Vec::new();
     }
-    let Some(kind) = SIM_KINDS.iter().find(|k| k.family == family.name) else {
+    let Some(kind) = family.simulators.first() else {
         return Vec::new();
     };
     let mut sim = (kind.build)(&SimOptions {

@@ -418,6 +418,10 @@ impl FamilyConsole for Cmd4crConsole {
         Some(&super::parameter_set::Cmd4crParameters)
     }
 
+    fn program(&self) -> Option<&'static dyn crate::protocol::program::ProgramTool> {
+        Some(&super::tool::AScriptTool)
+    }
+
     fn describe_request(&self, bytes: &[u8]) -> Option<String> {
         Some(super::traffic::describe_request(bytes))
     }

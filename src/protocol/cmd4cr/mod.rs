@@ -11,9 +11,11 @@ pub mod assist;
 pub mod catalog;
 pub mod command;
 pub mod console;
+pub mod host;
 pub mod parameter_set;
 pub mod program_control;
 pub mod reply;
+pub mod tool;
 pub mod traffic;
 pub mod wire;
 

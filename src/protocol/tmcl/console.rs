@@ -406,6 +406,10 @@ impl FamilyConsole for TmclConsole {
         Some(&super::parameter_set::TmclParameters)
     }
 
+    fn program(&self) -> Option<&'static dyn crate::protocol::program::ProgramTool> {
+        Some(&super::tool::TmclTool)
+    }
+
     fn describe_request(&self, bytes: &[u8]) -> Option<String> {
         Some(super::traffic::describe_request(bytes))
     }

@@ -11,6 +11,8 @@ pub mod hex;
 pub mod line;
 pub mod parameter_set;
 pub mod params;
+pub mod plan;
+pub mod tool;
 pub mod traffic;
 pub mod transfer;
 pub mod units;

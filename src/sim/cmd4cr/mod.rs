@@ -80,6 +80,22 @@ use motion::Motion;
 use motion::stage::Stage;
 use programs::Programs;
 
+/// The simulator as `--sim cmd4cr` names it.
+pub const KIND: super::SimKind = super::SimKind {
+    name: "cmd4cr",
+    description: "Nippon Pulse Commander core CMD-4CR (ASCII, 4 axes X/Y/Z/U)",
+    build: |options| {
+        Box::new(Cmd4cr::new(SimConfig {
+            id: options.address,
+            flash_file: options.eeprom_file.clone(),
+            ..SimConfig::default()
+        }))
+    },
+    input_names: || super::inputs::names(inputs::INPUTS),
+    input_help: || super::inputs::help_lines(inputs::INPUTS),
+    eeprom_refusal: None,
+};
+
 /// The firmware version `VER` answers (the manual's cover: V126BL).
 pub const FIRMWARE_VERSION: &str = "V126BL";
 

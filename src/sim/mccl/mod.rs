@@ -75,6 +75,29 @@ use program::{Origin, Program};
 use registers::{Registers, Scratch};
 use tasks::Tasks;
 
+/// The simulator as `--sim mccl` names it. MultiFlex PCI and ETH differ
+/// in one thing the host can see: the ETH keeps its macros (non-volatile,
+/// `--eeprom FILE`), the PCI loses them at a reset. Two kinds of one
+/// family, as the two products are.
+pub const KIND_PCI: super::SimKind = super::SimKind {
+    name: "mccl",
+    description: "PMC MultiFlex PCI (MCCL ASCII, axes 1-4 servo, 5 stepper; volatile macros)",
+    build: |_| Box::new(Mccl::new(SimConfig::pci())),
+    input_names: || super::inputs::names(inputs::INPUTS),
+    input_help: || super::inputs::help_lines(inputs::INPUTS),
+    eeprom_refusal: Some(PCI_KEEPS_NOTHING),
+};
+
+/// The simulator as `--sim mccl-eth` names it (see [`KIND_PCI`]).
+pub const KIND_ETH: super::SimKind = super::SimKind {
+    name: "mccl-eth",
+    description: "PMC MultiFlex ETH (MCCL ASCII, axes 1-4 servo, 5 stepper; macros kept in --eeprom FILE)",
+    build: |options| Box::new(Mccl::new(SimConfig::eth(options.eeprom_file.clone()))),
+    input_names: || super::inputs::names(inputs::INPUTS),
+    input_help: || super::inputs::help_lines(inputs::INPUTS),
+    eeprom_refusal: None,
+};
+
 pub use link::{Eol, ErrorText};
 
 /// Why `axterm sim mccl --eeprom FILE` is refused: the MultiFlex PCI keeps

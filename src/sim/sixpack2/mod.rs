@@ -70,6 +70,22 @@ use settings::{
 use stage::{Mechanics, Stage};
 use wire::{Outbox, Receiver, reply_bytes};
 
+/// The simulator as `--sim sixpack2` names it.
+pub const KIND: super::SimKind = super::SimKind {
+    name: "sixpack2",
+    description: "Trinamic SIXpack 2 (9-byte binary frames, 6 axes)",
+    build: |options| {
+        let mut config = SimConfig::default();
+        if let Some(address) = options.address {
+            config.rotary_address = address;
+        }
+        Box::new(Sixpack2::new(config))
+    },
+    input_names: || super::inputs::names(inputs::INPUTS),
+    input_help: || super::inputs::help_lines(inputs::INPUTS),
+    eeprom_refusal: Some(NOTHING_STORED),
+};
+
 /// Why `axterm sim sixpack2 --eeprom FILE` is refused.
 pub const NOTHING_STORED: &str = "the SIXpack 2 keeps nothing a host sets between power-ups: \
      every setting returns to its default at a reset (§6.2.1.8, §7.4 $CC), a $40 baud rate \

@@ -58,6 +58,27 @@ use io::{INPUT_PORTS, Io};
 use motion::{Axis, AxisEvent, SwitchLayout};
 use program::{Application, ApplicationStatus, Registers};
 
+/// The simulator as `--sim tmcm1110` names it.
+pub const KIND: super::SimKind = super::SimKind {
+    name: "tmcm1110",
+    description: "Trinamic TMCM-1110 StepRocker (TMCL, 1 axis)",
+    build: |options| {
+        let mut config = SimConfig::default();
+        if let Some(address) = options.address {
+            config.address = address;
+        }
+        config.eeprom_file = options.eeprom_file.clone();
+        let mut sim = Tmcm1110::new(config);
+        if let Some(address) = options.address {
+            sim.set_module_address(address);
+        }
+        Box::new(sim)
+    },
+    input_names: || super::inputs::names(inputs::INPUTS),
+    input_help: || super::inputs::help_lines(inputs::INPUTS),
+    eeprom_refusal: None,
+};
+
 /// The firmware version string of command 136 type 0: module number, 'V',
 /// version digits (digest D4, from sibling Trinamic manuals).
 pub const FIRMWARE_VERSION_STRING: &[u8; 8] = b"1110V112";

@@ -1,8 +1,9 @@
-//! The editor's safety copy: the text being edited, written to the data
-//! directory shortly after each change, so that a crash, a dropped SSH
-//! session or a killed process loses nothing. Written atomically (a
-//! temporary file beside it, then a rename), so the copy on disk is always
-//! a whole one: the old or the new, never half of each.
+//! The editor's safety copy: the text being edited, with its file and the
+//! language it is written in, written to the data directory shortly after
+//! each change, so that a crash, a dropped SSH session or a killed process
+//! loses nothing, and the text comes back in its own language. Written
+//! atomically (a temporary file beside it, then a rename), so the copy on
+//! disk is always a whole one: the old or the new, never half of each.
 
 use std::path::{Path, PathBuf};
 use std::time::{SystemTime, UNIX_EPOCH};
@@ -20,6 +21,10 @@ pub struct Autosave {
     /// When it was written, in seconds since 1970 (UTC).
     pub written: u64,
     pub text: String,
+    /// The program tool's name the text is written for ("TMCL"); copies
+    /// written before languages were kept have none.
+    #[serde(default)]
+    pub language: Option<String>,
 }
 
 impl Autosave {
@@ -31,7 +36,14 @@ impl Autosave {
             file,
             written,
             text,
+            language: None,
         }
+    }
+
+    /// The same copy, of text written in `language`.
+    pub fn in_language(mut self, language: &str) -> Autosave {
+        self.language = Some(language.to_string());
+        self
     }
 
     /// The file's name for the recovery message ("untitled" if none).
@@ -114,6 +126,7 @@ mod tests {
             file: Some(PathBuf::from("prog.tmc")),
             written: 5,
             text: "MVP ABS, 0, 1\n".into(),
+            language: Some("TMCL".into()),
         };
         write_autosave(dir.path(), &copy).expect("written");
         assert_eq!(read_autosave(dir.path()), Some(copy));

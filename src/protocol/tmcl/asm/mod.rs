@@ -30,6 +30,7 @@
 //! is collected, with its file, line and column.
 
 mod disasm;
+pub mod highlight;
 mod image;
 mod listing;
 mod source;

@@ -2,35 +2,7 @@
 //! [`SourceLoader`] for the text of a path; the command line reads files,
 //! tests hand over a map.
 
-use std::collections::BTreeMap;
-
-/// Supplies the text of included source files.
-pub trait SourceLoader {
-    /// The text of the file at `path`, built by [`include_path`] from the
-    /// including file's name and the name after `#include`; on failure, a
-    /// reason a technician understands ("no such file").
-    fn load(&self, path: &str) -> Result<String, String>;
-}
-
-/// Refuses every include: for sources that must stand alone.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct NoIncludes;
-
-impl SourceLoader for NoIncludes {
-    fn load(&self, _path: &str) -> Result<String, String> {
-        Err("this source cannot include files".to_string())
-    }
-}
-
-/// Files in memory, by path (`'/'`-separated, as [`include_path`] builds
-/// them).
-impl SourceLoader for BTreeMap<String, String> {
-    fn load(&self, path: &str) -> Result<String, String> {
-        self.get(path)
-            .cloned()
-            .ok_or_else(|| "no such file".to_string())
-    }
-}
+pub use crate::protocol::program::{NoIncludes, SourceLoader};
 
 /// The path of `name` included from the file `including`: relative to the
 /// including file's directory (digest D10: `#include File` names a file
@@ -80,6 +52,7 @@ fn normalize(path: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::collections::BTreeMap;
 
     #[test]
     fn includes_are_relative_to_the_including_file() {

@@ -2,36 +2,33 @@
 //! and how answers steer it. Time is a number here (`now` is handed in).
 
 use super::*;
-use crate::device::DeviceError;
 
-fn answer(line: &str, value: ReplyValue) -> Result<LineResult, SessionError> {
-    Ok(LineResult {
+fn answer(line: &str, value: ReplyValue) -> Answer {
+    Answer {
         line: line.to_string(),
-        request: Vec::new(),
-        reply: Vec::new(),
-        status: None,
-        value,
-        elapsed: Duration::ZERO,
-        attempts: 1,
-    })
+        frames: Vec::new(),
+        result: Ok(Reading {
+            status: None,
+            value,
+        }),
+    }
 }
 
-fn refused(line: &str, reply: &str) -> Result<LineResult, SessionError> {
-    Err(SessionError::Reply {
-        error: Box::new(ReplyError::Refused {
+fn refused(line: &str, reply: &str) -> Answer {
+    Answer {
+        line: line.to_string(),
+        frames: Vec::new(),
+        result: Err(AnswerError::Reply(ReplyError::Refused {
             module: "controller 01".into(),
             line: line.to_string(),
             reply: reply.to_string(),
             meaning: "scripted".into(),
-        }),
-        request: Vec::new(),
-        reply: Vec::new(),
-        elapsed: Duration::ZERO,
-    })
+        })),
+    }
 }
 
 /// What a scripted controller answers to `line`.
-type Script<'a> = dyn FnMut(&str) -> Result<LineResult, SessionError> + 'a;
+type Script<'a> = dyn FnMut(&str) -> Answer + 'a;
 
 /// Run `source` to its end (at most `limit` lines sent); every line sent,
 /// the waits in between as `wait N ms`, the end, the events.
@@ -42,8 +39,8 @@ fn run_with(
     script: &mut Script,
 ) -> (Vec<String>, HostEnd, Vec<String>) {
     let checked = HostProgram::check("p.asc", source, start).expect("checks");
-    let mut run = HostRun::new(&checked);
-    let mut now = Instant::now();
+    let mut run = AScriptRun::new(&checked);
+    let mut now = Duration::ZERO;
     let mut log = Vec::new();
     let mut events = Vec::new();
     let mut step = run.start(now);
@@ -74,9 +71,7 @@ fn run_with(
 
 /// Writes answer OK; reads answer from `reads` (line, value) in order of
 /// appearance, the last value of a line repeating.
-fn controller<'a>(
-    reads: &'a [(&'a str, i64)],
-) -> impl FnMut(&str) -> Result<LineResult, SessionError> + 'a {
+fn controller<'a>(reads: &'a [(&'a str, i64)]) -> impl FnMut(&str) -> Answer + 'a {
     let mut used = vec![false; reads.len()];
     move |line: &str| {
         let matching: Vec<usize> = (0..reads.len()).filter(|&i| reads[i].0 == line).collect();
@@ -376,16 +371,13 @@ fn arithmetic_errors_and_missing_subroutines_are_runtime_errors() {
 #[test]
 fn a_command_without_an_answer_ends_the_whole_run() {
     let source = "PRG 0\n X1000\n DO1=1\nEND\nPRG 1\n DO2=1\nEND\n";
-    let (log, end, _) = run_with(source, None, 5, &mut |line: &str| {
-        Err(SessionError::Device {
-            line: line.to_string(),
+    let (log, end, _) = run_with(source, None, 5, &mut |line: &str| Answer {
+        line: line.to_string(),
+        frames: Vec::new(),
+        result: Err(AnswerError::Lost {
             address: 1,
-            request: Vec::new(),
-            error: DeviceError::Timeout {
-                timeout: Duration::from_millis(100),
-                attempts: 1,
-            },
-        })
+            reason: "no reply within 100 ms".into(),
+        }),
     });
     assert_eq!(log, ["X1000"]);
     assert!(
@@ -400,8 +392,8 @@ fn a_command_without_an_answer_ends_the_whole_run() {
 fn a_loop_that_never_touches_the_wire_rests_between_turns() {
     let source = "PRG 0\n WHILE 1=1\n ENDWHILE\nEND\nPRG 1\n DO1=1\nEND\n";
     let checked = HostProgram::check("p.asc", source, None).expect("checks");
-    let mut run = HostRun::new(&checked);
-    let now = Instant::now();
+    let mut run = AScriptRun::new(&checked);
+    let now = Duration::ZERO;
     // PRG 0 spins its budget, then PRG 1 gets its turn.
     assert_eq!(run.start(now), HostStep::Send("DO1=1".into()));
     assert_eq!(
@@ -478,20 +470,20 @@ fn the_threads_show_where_each_program_is() {
         Some(&[3]),
     )
     .expect("checks");
-    let mut run = HostRun::new(&checked);
-    let now = Instant::now();
+    let mut run = AScriptRun::new(&checked);
+    let now = Duration::ZERO;
     assert_eq!(run.start(now), HostStep::Wake(Duration::from_millis(5)));
     assert_eq!(
         run.threads(),
         [
-            ThreadView {
+            RunningPlace {
                 program: 0,
-                state: ThreadState::Idle,
+                state: PlaceState::Idle,
                 line: 2
             },
-            ThreadView {
+            RunningPlace {
                 program: 3,
-                state: ThreadState::Running,
+                state: PlaceState::Running,
                 line: 5
             },
         ]
@@ -503,17 +495,18 @@ mod arbitrary_answers {
     use proptest::prelude::*;
 
     /// What a controller (or a broken link) may answer.
-    fn any_answer() -> impl Strategy<Value = Result<LineResult, SessionError>> {
+    fn any_answer() -> impl Strategy<Value = Answer> {
         prop_oneof![
             any::<i64>().prop_map(|n| answer("X", ReplyValue::Number(n))),
             Just(answer("X", ReplyValue::None)),
             "[ -~]{0,12}".prop_map(|t| answer("X", ReplyValue::Text(t))),
             "\\?[ -~]{0,12}".prop_map(|r| refused("X", &r)),
             Just(refused("X", "?Error Moving")),
-            Just(Err(SessionError::Refused {
+            Just(Answer {
                 line: "X".into(),
-                message: "out of range".into()
-            })),
+                frames: Vec::new(),
+                result: Err(AnswerError::Refused("out of range".into())),
+            }),
         ]
     }
 
@@ -531,8 +524,8 @@ mod arbitrary_answers {
             waits in proptest::collection::vec(0u64..500, 0..60),
         ) {
             let checked = HostProgram::check("p.asc", PROGRAMS[which], None).expect("checks");
-            let mut run = HostRun::new(&checked);
-            let mut now = Instant::now();
+            let mut run = AScriptRun::new(&checked);
+            let mut now = Duration::ZERO;
             let mut answers = answers.into_iter();
             let mut waits = waits.into_iter();
             let mut step = run.start(now);

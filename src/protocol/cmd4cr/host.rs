@@ -12,10 +12,10 @@
 //! [`HostProgram::check`] checks the whole source before anything is sent:
 //! the compile errors of Table 5-43 and the statements that have no ASCII
 //! equivalent ([`ascript::Program::host_problems`]), each as `FILE:LINE:`.
-//! [`HostRun`] is the run itself as a plain state machine (no I/O, no
+//! [`AScriptRun`] is the run itself as a plain state machine (no I/O, no
 //! clock of its own): it says what to send or how long to wait
 //! ([`HostStep`]) and is told the answers, so the console drives it
-//! through its panes' requests and [`Session::run_ascript`] drives it
+//! through its panes' requests and `Session::run_from_host` drives it
 //! directly. Dropping it ends the run: nothing more is sent.
 //!
 //! Choices where the manual is silent (the simulator's interpreter makes
@@ -50,14 +50,15 @@ use std::fmt;
 use std::sync::Arc;
 use std::time::Duration;
 
-use tokio::time::Instant;
-
-use super::{LineResult, ReplyError, ReplyValue, Session, SessionError};
 use crate::protocol::cmd4cr::ascript::{
     self, Action, Ascii, Op, Operand, PROGRAMS, Program, Statement, VARIABLES,
 };
 use crate::protocol::cmd4cr::{
     Action as AsciiAction, Axis, ErrorCode, Mst, ProgramControl, Register,
+};
+use crate::protocol::console::{Reading, ReplyError, ReplyValue};
+use crate::protocol::program::{
+    self, Answer, AnswerError, HostNews, HostStart, PlaceState, RunningPlace, Tone,
 };
 
 /// How often `WAIT[axis]` reads `MST[axis]` while the axis moves: quick
@@ -200,9 +201,9 @@ fn list_programs(numbers: &[u8]) -> String {
 /// What the run needs done next.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum HostStep {
-    /// Send this console line; call [`HostRun::on_reply`] with its answer.
+    /// Send this console line; call [`AScriptRun::on_reply`] with its answer.
     Send(String),
-    /// Call [`HostRun::on_wake`] after this long.
+    /// Call [`AScriptRun::on_wake`] after this long.
     Wake(Duration),
     /// The run is over.
     Finished(HostEnd),
@@ -325,40 +326,21 @@ impl fmt::Display for HostEvent {
     }
 }
 
-/// Where a program is, as the console shows it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ThreadState {
-    Idle,
-    Running,
-    Paused,
-    /// Stopped by a runtime error.
-    Error,
-}
-
-/// A program's place, for a console that marks its line.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct ThreadView {
-    pub program: u8,
-    pub state: ThreadState,
-    /// The source line of the statement it is at (or waits in).
-    pub line: usize,
-}
-
 /// What holds a program.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Hold {
     Delay {
-        until: Instant,
+        until: Duration,
     },
     /// `WAIT[axis]`: the latched errors seen at its first read.
     Axis {
         axis: Axis,
         errors_before: Option<u32>,
-        next_read: Instant,
+        next_read: Duration,
     },
     /// Refused as moving while nothing moves: send it again then.
     Again {
-        until: Instant,
+        until: Duration,
     },
 }
 
@@ -374,7 +356,7 @@ struct Handler {
 struct Thread {
     /// PRG n's first step; `None` when the file has no PRG n.
     entry: Option<usize>,
-    state: ThreadState,
+    state: PlaceState,
     pc: usize,
     stack: Vec<usize>,
     hold: Option<Hold>,
@@ -382,13 +364,13 @@ struct Thread {
     /// Values read for the statement at `pc`, in operand order.
     values: Vec<i32>,
     /// When it was paused: a DELAY does not run on while paused.
-    paused_at: Option<Instant>,
+    paused_at: Option<Duration>,
     /// Times the statement at `pc` was sent again (see `busy`).
     resent: u32,
 }
 
 impl Thread {
-    fn restart(&mut self, state: ThreadState) {
+    fn restart(&mut self, state: PlaceState) {
         self.state = state;
         self.pc = self.entry.unwrap_or(0);
         self.stack.clear();
@@ -447,16 +429,16 @@ enum Need {
 enum Turn {
     Send(String, Asked),
     /// Held until then.
-    Until(Instant),
+    Until(Duration),
     /// Used up its statements for this turn.
     Yielded,
     /// Not running.
     Out,
 }
 
-/// A host run under way. See the module documentation.
+/// An A-Script host run under way. See the module documentation.
 #[derive(Debug)]
-pub struct HostRun {
+pub struct AScriptRun {
     program: Arc<Program>,
     threads: Vec<Thread>,
     variables: [i32; VARIABLES],
@@ -475,8 +457,8 @@ pub struct HostRun {
     woken: bool,
 }
 
-impl HostRun {
-    pub fn new(checked: &HostProgram) -> HostRun {
+impl AScriptRun {
+    pub fn new(checked: &HostProgram) -> AScriptRun {
         let program = Arc::clone(&checked.program);
         let threads = (0..PROGRAMS)
             .map(|n| {
@@ -488,9 +470,9 @@ impl HostRun {
                 Thread {
                     entry,
                     state: if running && entry.is_some() {
-                        ThreadState::Running
+                        PlaceState::Running
                     } else {
-                        ThreadState::Idle
+                        PlaceState::Idle
                     },
                     pc: entry.unwrap_or(0),
                     stack: Vec::new(),
@@ -502,7 +484,7 @@ impl HostRun {
                 }
             })
             .collect();
-        HostRun {
+        AScriptRun {
             program,
             threads,
             variables: [0; VARIABLES],
@@ -520,10 +502,10 @@ impl HostRun {
 
     /// The first step. SUB 31's return needs the controller's `SAP`: it is
     /// read first when the program has a SUB 31.
-    pub fn start(&mut self, now: Instant) -> HostStep {
+    pub fn start(&mut self, now: Duration) -> HostStep {
         self.started = true;
         for n in 0..self.threads.len() {
-            if self.state(n) == ThreadState::Running {
+            if self.state(n) == PlaceState::Running {
                 let line = self.line_at(n);
                 self.event(n, line, HostEventKind::Started);
             }
@@ -536,16 +518,12 @@ impl HostRun {
     }
 
     /// The answer to the last [`HostStep::Send`].
-    pub fn on_reply(
-        &mut self,
-        result: &Result<LineResult, SessionError>,
-        now: Instant,
-    ) -> HostStep {
+    pub fn on_reply(&mut self, result: &Answer, now: Duration) -> HostStep {
         let Some(asked) = self.asked.take() else {
             return self.next(now);
         };
-        if let Err(SessionError::Device { error, line, .. }) = result {
-            return self.lose(format!("{line} got no answer: {error}"));
+        if let Err(AnswerError::Lost { reason, .. }) = &result.result {
+            return self.lose(format!("{} got no answer: {reason}", result.line));
         }
         match asked {
             Asked::Sap => match number(result) {
@@ -575,7 +553,7 @@ impl HostRun {
                 thread,
                 statement,
                 sent,
-            } => match result {
+            } => match &result.result {
                 Ok(answer) => {
                     let line = self.line_at(thread);
                     self.event(
@@ -595,12 +573,15 @@ impl HostRun {
                         axis: 0,
                         statement,
                         sent,
-                        refusal: error.to_string(),
+                        refusal: result.error_text().unwrap_or_default(),
                         moving: false,
                     });
                     return HostStep::Send("MSTX".to_string());
                 }
-                Err(error) => self.fail(thread, format!("`{statement}` was refused: {error}")),
+                Err(_) => {
+                    let error = result.error_text().unwrap_or_default();
+                    self.fail(thread, format!("`{statement}` was refused: {error}"))
+                }
             },
             Asked::Wait { thread } => match number(result) {
                 Ok(value) => self.waited(thread, Mst::from_value(value), now),
@@ -645,7 +626,7 @@ impl HostRun {
     }
 
     /// A [`HostStep::Wake`] came due.
-    pub fn on_wake(&mut self, now: Instant) -> HostStep {
+    pub fn on_wake(&mut self, now: Duration) -> HostStep {
         if self.asked.is_some() {
             // Still waiting for an answer: nothing else may go.
             return HostStep::Wake(WAIT_POLL);
@@ -664,11 +645,11 @@ impl HostRun {
     }
 
     /// Every program of the file, with its state and line.
-    pub fn threads(&self) -> Vec<ThreadView> {
+    pub fn threads(&self) -> Vec<RunningPlace> {
         (0..self.threads.len())
             .filter(|&n| self.threads.get(n).is_some_and(|t| t.entry.is_some()))
             .filter_map(|n| {
-                Some(ThreadView {
+                Some(RunningPlace {
                     program: u8::try_from(n).ok()?,
                     state: self.state(n),
                     line: self.line_at(n),
@@ -682,8 +663,8 @@ impl HostRun {
         self.finished
     }
 
-    fn state(&self, n: usize) -> ThreadState {
-        self.threads.get(n).map_or(ThreadState::Idle, |t| t.state)
+    fn state(&self, n: usize) -> PlaceState {
+        self.threads.get(n).map_or(PlaceState::Idle, |t| t.state)
     }
 
     fn line_at(&self, n: usize) -> usize {
@@ -735,7 +716,7 @@ impl HostRun {
                 self.event(thread, line, HostEventKind::Handler { reason });
             }
             _ => {
-                t.state = ThreadState::Error;
+                t.state = PlaceState::Error;
                 t.hold = None;
                 t.values.clear();
                 self.failures
@@ -746,7 +727,7 @@ impl HostRun {
     }
 
     /// The MST read by a `WAIT[axis]`.
-    fn waited(&mut self, thread: usize, mst: Mst, now: Instant) {
+    fn waited(&mut self, thread: usize, mst: Mst, now: Duration) {
         let Some(t) = self.threads.get_mut(thread) else {
             return;
         };
@@ -795,7 +776,7 @@ impl HostRun {
         sent: String,
         refusal: String,
         moving: bool,
-        now: Instant,
+        now: Duration,
     ) {
         let line = self.line_at(thread);
         if moving {
@@ -821,7 +802,7 @@ impl HostRun {
     }
 
     /// Take turns until something must be sent, or everything waits.
-    fn next(&mut self, now: Instant) -> HostStep {
+    fn next(&mut self, now: Duration) -> HostStep {
         if self.finished {
             return HostStep::Finished(HostEnd::default());
         }
@@ -829,7 +810,7 @@ impl HostRun {
             return self.start(now);
         }
         let count = self.threads.len();
-        let mut until: Option<Instant> = None;
+        let mut until: Option<Duration> = None;
         let mut yielded = false;
         // A program started (or continued) by another during a round may
         // have had its place in it already: it gets another round.
@@ -854,16 +835,16 @@ impl HostRun {
                 break;
             }
         }
-        let running = (0..count).any(|n| self.state(n) == ThreadState::Running);
+        let running = (0..count).any(|n| self.state(n) == PlaceState::Running);
         if running && yielded {
             return HostStep::Wake(YIELD);
         }
         if running && let Some(at) = until {
-            return HostStep::Wake(at.saturating_duration_since(now));
+            return HostStep::Wake(at.saturating_sub(now));
         }
         self.finished = true;
         let paused: Vec<u8> = (0..count)
-            .filter(|&n| self.state(n) == ThreadState::Paused)
+            .filter(|&n| self.state(n) == PlaceState::Paused)
             .filter_map(|n| u8::try_from(n).ok())
             .collect();
         HostStep::Finished(HostEnd {
@@ -874,12 +855,12 @@ impl HostRun {
     }
 
     /// Run program `n` until it must send, waits, or used its turn.
-    fn take_turn(&mut self, n: usize, now: Instant) -> Turn {
+    fn take_turn(&mut self, n: usize, now: Duration) -> Turn {
         for _ in 0..LOCAL_BUDGET {
             let Some(thread) = self.threads.get(n) else {
                 return Turn::Out;
             };
-            if thread.state != ThreadState::Running {
+            if thread.state != PlaceState::Running {
                 return Turn::Out;
             }
             match thread.hold {
@@ -966,7 +947,7 @@ impl HostRun {
     fn end(&mut self, n: usize) {
         let line = self.line_at(n);
         if let Some(t) = self.threads.get_mut(n) {
-            t.state = ThreadState::Idle;
+            t.state = PlaceState::Idle;
             t.hold = None;
         }
         self.event(n, line, HostEventKind::Finished);
@@ -1053,7 +1034,7 @@ impl HostRun {
 
     /// Carry out an action: `None` when done here (on with the next
     /// statement in the same turn), else what the turn came to.
-    fn act(&mut self, n: usize, action: &Action, now: Instant) -> Option<Turn> {
+    fn act(&mut self, n: usize, action: &Action, now: Duration) -> Option<Turn> {
         match action {
             Action::Let { variable, value } => {
                 match self.read_next(n, &value.operands()) {
@@ -1182,7 +1163,7 @@ impl HostRun {
         line: usize,
         target: u8,
         control: ProgramControl,
-        now: Instant,
+        now: Duration,
     ) {
         let index = usize::from(target);
         let Some(t) = self.threads.get_mut(index) else {
@@ -1194,19 +1175,19 @@ impl HostRun {
         }
         let before = t.state;
         match (control, before) {
-            (ProgramControl::Stop, _) => t.restart(ThreadState::Idle),
-            (ProgramControl::Start, ThreadState::Running) => {}
-            (ProgramControl::Start, _) => t.restart(ThreadState::Running),
-            (ProgramControl::Pause, ThreadState::Running) => {
-                t.state = ThreadState::Paused;
+            (ProgramControl::Stop, _) => t.restart(PlaceState::Idle),
+            (ProgramControl::Start, PlaceState::Running) => {}
+            (ProgramControl::Start, _) => t.restart(PlaceState::Running),
+            (ProgramControl::Pause, PlaceState::Running) => {
+                t.state = PlaceState::Paused;
                 t.paused_at = Some(now);
             }
-            (ProgramControl::Continue, ThreadState::Paused) => {
-                t.state = ThreadState::Running;
+            (ProgramControl::Continue, PlaceState::Paused) => {
+                t.state = PlaceState::Running;
                 // The time it was paused does not count to its DELAY.
                 if let (Some(paused_at), Some(Hold::Delay { until })) = (t.paused_at, t.hold) {
                     t.hold = Some(Hold::Delay {
-                        until: until + now.saturating_duration_since(paused_at),
+                        until: until + now.saturating_sub(paused_at),
                     });
                 }
                 t.paused_at = None;
@@ -1214,7 +1195,7 @@ impl HostRun {
             _ => {}
         }
         let after = t.state;
-        if after == ThreadState::Running && before != ThreadState::Running {
+        if after == PlaceState::Running && before != PlaceState::Running {
             self.woken = true;
         }
         if before != after || control == ProgramControl::Stop {
@@ -1224,59 +1205,111 @@ impl HostRun {
 }
 
 /// The number an answer carries.
-fn number(result: &Result<LineResult, SessionError>) -> Result<i64, String> {
-    match result {
-        Ok(LineResult {
+fn number(answer: &Answer) -> Result<i64, String> {
+    match &answer.result {
+        Ok(Reading {
             value: ReplyValue::Number(n),
             ..
         }) => Ok(*n),
         Ok(other) => Err(format!(
             "{} answered `{}`, not a number",
-            other.line, other.value
+            answer.line, other.value
         )),
-        Err(e) => Err(e.to_string()),
+        Err(_) => Err(answer.error_text().unwrap_or_default()),
     }
 }
 
 /// `?Error Moving` (§4.2): the command found its axis moving.
-fn is_error_moving(error: &SessionError) -> bool {
-    match error {
-        SessionError::Reply { error, .. } => matches!(
-            error.as_ref(),
-            ReplyError::Refused { reply, .. } if reply == ErrorCode::ErrorMoving.info().reply
-        ),
-        _ => false,
+fn is_error_moving(error: &AnswerError) -> bool {
+    matches!(
+        error,
+        AnswerError::Reply(ReplyError::Refused { reply, .. })
+            if reply == ErrorCode::ErrorMoving.info().reply
+    )
+}
+
+impl HostEvent {
+    /// How the console should show it.
+    pub fn tone(&self) -> Tone {
+        match &self.kind {
+            HostEventKind::Started | HostEventKind::Finished | HostEventKind::Controlled { .. } => {
+                Tone::Headline
+            }
+            HostEventKind::Sent { .. } => Tone::Plain,
+            HostEventKind::Busy { .. } => Tone::Minor,
+            HostEventKind::Handler { .. } | HostEventKind::Note(_) => Tone::Warning,
+            HostEventKind::Failed { .. } => Tone::Error,
+        }
     }
 }
 
-impl Session {
-    /// Run `program` from the host until every program has ended (or
-    /// failed), telling `on_event` what happens. Drop the future to stop
-    /// it: the line in flight is answered, nothing more is sent.
-    pub async fn run_ascript(
-        &self,
-        program: &HostProgram,
-        on_event: &mut (dyn FnMut(&HostEvent) + Send),
-    ) -> HostEnd {
-        let mut run = HostRun::new(program);
-        let mut step = run.start(Instant::now());
-        loop {
-            for event in run.take_events() {
-                on_event(&event);
-            }
-            step = match step {
-                HostStep::Send(line) => {
-                    let result = self.execute_line(&line).await;
-                    run.on_reply(&result, Instant::now())
-                }
-                HostStep::Wake(after) => {
-                    tokio::time::sleep(after).await;
-                    run.on_wake(Instant::now())
-                }
-                HostStep::Finished(end) => return end,
-            };
+impl From<HostEnd> for program::HostEnd {
+    fn from(end: HostEnd) -> program::HostEnd {
+        program::HostEnd {
+            ok: end.ok(),
+            summary: end.to_string(),
         }
     }
+}
+
+fn generic(step: HostStep) -> program::HostStep {
+    match step {
+        HostStep::Send(line) => program::HostStep::Send(line),
+        HostStep::Wake(after) => program::HostStep::Wake(after),
+        HostStep::Finished(end) => program::HostStep::Finished(end.into()),
+    }
+}
+
+impl program::HostRun for AScriptRun {
+    fn start(&mut self, now: Duration) -> program::HostStep {
+        generic(AScriptRun::start(self, now))
+    }
+
+    fn on_answer(&mut self, answer: &Answer, now: Duration) -> program::HostStep {
+        generic(self.on_reply(answer, now))
+    }
+
+    fn on_wake(&mut self, now: Duration) -> program::HostStep {
+        generic(AScriptRun::on_wake(self, now))
+    }
+
+    fn take_news(&mut self) -> Vec<HostNews> {
+        self.take_events()
+            .iter()
+            .map(|event| HostNews {
+                tone: event.tone(),
+                text: event.to_string(),
+            })
+            .collect()
+    }
+
+    fn places(&self) -> Vec<RunningPlace> {
+        self.threads()
+    }
+
+    fn variables(&self) -> &[i32] {
+        AScriptRun::variables(self)
+    }
+
+    fn place_name(&self, program: u8) -> String {
+        format!("PRG {program}")
+    }
+}
+
+/// `source` checked for a run from the host and started, as the A-Script
+/// tool offers it ([`program::ProgramTool::host_run`]).
+pub fn start_host_run(
+    name: &str,
+    source: &str,
+    start: Option<&[u8]>,
+) -> Result<HostStart, Vec<String>> {
+    let checked = HostProgram::check(name, source, start)?;
+    Ok(HostStart {
+        run: Box::new(AScriptRun::new(&checked)),
+        name: checked.name().to_string(),
+        warnings: checked.warnings().to_vec(),
+        started: checked.started(),
+    })
 }
 
 #[cfg(test)]

@@ -1,0 +1,117 @@
+//! The controller as the console drives it, and how `:connect` opens one.
+
+use std::future::Future;
+use std::pin::Pin;
+use std::sync::Arc;
+
+use tokio::sync::{broadcast, watch};
+
+use crate::device::{DeviceEvent, LinkState, TrafficRecord};
+use crate::protocol::Family;
+use crate::protocol::program::{Progress, TransferFailure, TransferJob, TransferReport};
+use crate::session::Cancel;
+use crate::session::run_end::{LinkAtStop, RunAftermath, RunEnding, RunStop, StopOnFailure};
+use crate::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
+
+/// A future the loop can spawn.
+pub type Pending<T> = Pin<Box<dyn Future<Output = T> + Send>>;
+
+/// The controller as the console drives it: a [`crate::session::Session`],
+/// or a fake in tests.
+pub trait Controller: Send + Sync {
+    fn family(&self) -> &'static Family;
+    fn address(&self) -> u8;
+    fn axes(&self) -> Vec<AxisInfo>;
+    /// The link as the user named it.
+    fn link_name(&self) -> String;
+    fn status(&self) -> watch::Receiver<Vec<AxisStatus>>;
+    fn link_state(&self) -> watch::Receiver<LinkState>;
+    fn identity(&self) -> watch::Receiver<Option<String>>;
+    fn traffic(&self) -> Option<broadcast::Receiver<TrafficRecord>>;
+    fn events(&self) -> Option<broadcast::Receiver<DeviceEvent>>;
+    /// Send one line at user priority.
+    fn execute(&self, line: String) -> Pending<Result<LineResult, SessionError>>;
+    /// Every stop line, ahead of everything queued; what came back for each.
+    fn emergency_stop(&self) -> Pending<Vec<Result<LineResult, SessionError>>>;
+    /// End a run that ended so under `policy`
+    /// ([`crate::session::Session::end_run`]). By default: the stop lines
+    /// of [`Controller::emergency_stop`] when the policy says so, without
+    /// waiting for a lost link.
+    fn end_run(&self, ending: RunEnding, policy: StopOnFailure) -> Pending<RunAftermath> {
+        let stop = policy.stops_after(ending).then(|| self.emergency_stop());
+        Box::pin(RunAftermath::of(ending, policy, move || async move {
+            RunStop {
+                ending,
+                lines: match stop {
+                    Some(stop) => stop.await,
+                    None => Vec::new(),
+                },
+                link: LinkAtStop::Up,
+            }
+        }))
+    }
+    fn set_polling(&self, cadence: Option<PollCadence>);
+    fn acknowledge_errors(&self, axis: usize, seen: &[AxisFlag]);
+    /// Clear the error flags of `axis` in the module where its family
+    /// needs a line for that (CMD-4CR `CLRX`), then forget those the user
+    /// has seen; what the clear line brought back, if one was sent. By
+    /// default only forgets them.
+    fn clear_errors(
+        &self,
+        axis: usize,
+        seen: Vec<AxisFlag>,
+    ) -> Pending<Result<Option<LineResult>, SessionError>> {
+        self.acknowledge_errors(axis, &seen);
+        Box::pin(async { Ok(None) })
+    }
+    /// The same link, sending to another module address.
+    fn with_address(&self, address: u8) -> Arc<dyn Controller>;
+    /// Run a program transfer, telling `progress` how far it came;
+    /// `cancel` stops it between two words (so does the emergency stop).
+    /// Controllers without program memory refuse.
+    fn transfer(
+        &self,
+        job: TransferJob,
+        cancel: Cancel,
+        progress: Box<dyn FnMut(Progress) + Send>,
+    ) -> Pending<Result<TransferReport, TransferFailure>> {
+        let _ = (job, cancel, progress);
+        let family = self.family().name;
+        Box::pin(async move {
+            Err(TransferFailure::refused(format!(
+                "{family} modules keep no program that axterm can transfer"
+            )))
+        })
+    }
+    /// Load program source into the simulator behind the link, as its
+    /// vendor's tool would write it into the controller: what it holds
+    /// now, or why not. Only a simulator in this process can; a real
+    /// controller (or a served simulator) refuses.
+    fn load_program(&self, source: &str) -> Result<String, String> {
+        let _ = source;
+        Err(format!(
+            "{} is no simulator in this process: there is no program memory to load into",
+            self.link_name()
+        ))
+    }
+    /// Drive an input of the simulator behind the link by a setting
+    /// (`IO5=1`, [`crate::sim::SimulatedController::drive_input`]): what
+    /// now holds, or why not. Only a simulator in this process can; a
+    /// real controller (or a served simulator) refuses.
+    fn drive_sim_input(&self, setting: &str) -> Result<String, String> {
+        let _ = setting;
+        Err(no_simulator_to_drive(&self.link_name()))
+    }
+}
+
+/// Why `:sim-input` does nothing on `link`.
+pub fn no_simulator_to_drive(link: &str) -> String {
+    format!(
+        "{link} is no simulator in this process: there is no input to drive \
+         (a real controller's inputs are wired; a served `axterm sim` reads settings on its standard input)"
+    )
+}
+
+/// Opens a connection for `:connect` (and the connect screen).
+pub type Connector =
+    Box<dyn Fn(Vec<String>) -> Pending<Result<Arc<dyn Controller>, String>> + Send>;
