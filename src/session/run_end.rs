@@ -257,6 +257,9 @@ impl fmt::Display for StopLine<'_> {
                     )
                 }
                 DeviceError::Timeout { .. } => write!(f, "{line}: sent, no answer ({error})"),
+                DeviceError::Garbled { .. } | DeviceError::Ambiguous { .. } => {
+                    write!(f, "{line}: sent, no readable answer ({error})")
+                }
             },
             Err(SessionError::Refused { line, message }) => {
                 write!(f, "{line}: NOT SENT ({message})")
