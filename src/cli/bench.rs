@@ -379,7 +379,7 @@ async fn measure(
     let (done_tx, mut done) = mpsc::unbounded_channel();
     let expect = match &line.answering {
         Answering::Reply(rule) | Answering::MaybeReply(rule) => Expect::Reply(Arc::clone(rule)),
-        Answering::Nothing => Expect::Nothing,
+        Answering::Nothing | Answering::Later { .. } => Expect::Nothing,
     };
     let item = PollItem {
         transaction: Transaction {
@@ -488,9 +488,9 @@ fn bare_loop(
 ) -> Result<(Bare, String), BareError> {
     let rule = match &line.answering {
         Answering::Reply(rule) | Answering::MaybeReply(rule) => Arc::clone(rule),
-        Answering::Nothing => {
+        Answering::Nothing | Answering::Later { .. } => {
             return Err(BareError::Exchange(
-                "the timed line expects no answer".into(),
+                "the timed line expects no answer of its own".into(),
             ));
         }
     };

@@ -24,6 +24,17 @@ pub enum Answering {
     MaybeReply(Arc<dyn ReplyRule>),
     /// The module never answers (TMCL 137 restore factory settings).
     Nothing,
+    /// The answer comes apart from the request, when the module is
+    /// ready, however long that takes (SIXpack 2 `$28` with a wait mask:
+    /// "as soon as all concerned motors are inactive", §7.2). Other
+    /// requests go on meanwhile (on RS-232 one such answer may be
+    /// outstanding, §6.2.1.7): the request is done once it is written,
+    /// and its answer comes as news ([`super::wire::WireFormat::unsolicited`])
+    /// that the rule recognises, waited for up to `within`.
+    Later {
+        rule: Arc<dyn ReplyRule>,
+        within: Duration,
+    },
 }
 
 /// Whether sending a line twice could hurt: only reads may be retried.

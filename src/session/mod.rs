@@ -10,6 +10,7 @@
 //! names the line and the module's status.
 
 mod host_run;
+mod later;
 pub mod run_end;
 mod status;
 pub mod transfer;
@@ -549,7 +550,8 @@ impl Session {
     ) -> Transaction {
         let expect = match &line.answering {
             Answering::Reply(rule) | Answering::MaybeReply(rule) => Expect::Reply(Arc::clone(rule)),
-            Answering::Nothing => Expect::Nothing,
+            // Its answer is picked out of the news ([`later`]).
+            Answering::Nothing | Answering::Later { .. } => Expect::Nothing,
         };
         Transaction {
             bytes: line.bytes.clone(),
@@ -573,7 +575,19 @@ impl Session {
         };
         let transaction = self.transaction(line, retry, timeout);
         let console = self.family.console;
-        let (frames, elapsed, attempts) = match self.device.transact(priority, transaction).await {
+        let later = later::LaterAnswer::for_line(&line.answering, || self.device.events());
+        let answered = match self.device.transact(priority, transaction).await {
+            Ok(answer) => match later {
+                Some(later) => later.wait().await.map(|(frames, elapsed)| device::Answer {
+                    frames,
+                    elapsed,
+                    attempts: answer.attempts,
+                }),
+                None => Ok(answer),
+            },
+            Err(error) => Err(error),
+        };
+        let (frames, elapsed, attempts) = match answered {
             Ok(answer) => (answer.frames, answer.elapsed, answer.attempts),
             // An answer that may be lost is not needed.
             Err(

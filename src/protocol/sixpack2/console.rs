@@ -5,6 +5,7 @@
 //! motors.
 
 use std::sync::{Arc, LazyLock};
+use std::time::Duration;
 
 use super::catalog::{ACTIONS, Class, MOTORS, activity};
 use super::caution::{self, Known};
@@ -12,7 +13,7 @@ use super::command::Command;
 use super::frame::{Reply, ReplyFraming, Request, to_hex};
 use super::line::{DEFAULT_ADDRESS, canonical, parse_line};
 use super::reply::{ReplyFields, check_answers};
-use super::wire::{Sixpack2ReplyRule, Sixpack2Wire};
+use super::wire::{IdleAnswerRule, Sixpack2ReplyRule, Sixpack2Wire};
 use crate::protocol::console::{
     Answering, AxisFlag, AxisInfo, AxisUpdate, Completions, Effect, FamilyConsole, PreparedLine,
     Reading, ReplyError, ReplyValue, StatusPoll, SwitchKind,
@@ -50,6 +51,16 @@ pub const AXES: &[AxisInfo] = &[
         name: "m5/Motor6",
     },
 ];
+
+/// How long a `$28` with a wait mask waits for its motors to be idle:
+/// a reference search that finds no switch retries without end
+/// (§6.4, digest D6.2), so there is no natural bound; ten minutes covers
+/// any search or move of a commissioning run, and the emergency stop,
+/// Esc or Ctrl-C end the wait sooner.
+pub const IDLE_WAIT: Duration = Duration::from_secs(600);
+
+/// `GetAllActivities`, whose wait mask delays its answer (§7.2).
+const ALL_ACTIVITIES: u8 = 0x28;
 
 /// What a setting or motion line reads as once sent: the unit
 /// acknowledges none (§7, digest D0), so "ok" would claim what nobody
@@ -103,15 +114,28 @@ impl Sixpack2Console {
         framing: ReplyFraming::Auto,
     };
 
-    /// A request, ready to send: answered only if its command answers.
+    /// A request, ready to send: answered only if its command answers; a
+    /// `$28` with a wait mask answers when its motors are idle, as news,
+    /// while other requests go on (§7.2, §6.2.1.7).
     pub fn prepare_request(&self, request: Request) -> PreparedLine {
         let command = Command::from_request(&request).ok().flatten();
         let answers = command.as_ref().is_some_and(|c| c.spec.answers());
+        let waits = command
+            .as_ref()
+            .is_some_and(|c| c.spec.code == ALL_ACTIVITIES && c.value("wait") != Some(0));
         PreparedLine {
             canonical: canonical(&request),
             address: request.address,
             bytes: request.to_bytes().to_vec(),
-            answering: if answers {
+            answering: if waits {
+                Answering::Later {
+                    rule: Arc::new(IdleAnswerRule {
+                        request,
+                        framing: self.framing,
+                    }),
+                    within: IDLE_WAIT,
+                }
+            } else if answers {
                 Answering::Reply(Arc::new(Sixpack2ReplyRule {
                     request,
                     framing: self.framing,
@@ -211,7 +235,9 @@ impl FamilyConsole for Sixpack2Console {
                     status: None,
                     value: ReplyValue::Text(SENT.into()),
                 }),
-                Answering::Reply(_) | Answering::MaybeReply(_) => Err(malformed(line, "no reply")),
+                Answering::Reply(_) | Answering::MaybeReply(_) | Answering::Later { .. } => {
+                    Err(malformed(line, "no reply"))
+                }
             };
         };
         let request =
@@ -474,7 +500,13 @@ mod tests {
             );
         }
         let waiting = prepare("GetAllActivities 0 0,1");
-        assert!(matches!(waiting.answering, Answering::Reply(_)));
+        assert!(matches!(
+            waiting.answering,
+            Answering::Later {
+                within: IDLE_WAIT,
+                ..
+            }
+        ));
         assert_eq!(
             waiting.effect,
             Effect::Acts,
