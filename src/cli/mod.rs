@@ -105,6 +105,12 @@ pub struct ConnectionArgs {
     /// LIM+1, LIM-1, HOME1, FAULT1, STALL1 (1..8) =0|1, AD1..AD8 =0..65535.
     #[arg(long = "input", global = true, value_name = "SETTING")]
     pub input: Vec<String>,
+    /// A choice about reading the link that the family's manual leaves
+    /// open (repeatable): sixpack2 framing=auto|cmd8|addr9, replies
+    /// without (cmd8, §6.2.2.3) or with (addr9) the response address in
+    /// front, or either (auto, the default).
+    #[arg(long = "link-option", global = true, value_name = "NAME=VALUE")]
+    pub link_option: Vec<String>,
 }
 
 #[derive(Debug, Subcommand)]

@@ -263,6 +263,39 @@ pub struct Completions {
     pub separator: &'static str,
 }
 
+/// A choice about reading a family's link that its manual leaves open
+/// (SIXpack 2: whether a reply carries the response address in front,
+/// digest D1.4), made on the command line (`--link-option framing=cmd8`)
+/// or the connect screen.
+#[derive(Debug)]
+pub struct LinkOption {
+    /// `framing`.
+    pub name: &'static str,
+    /// What it decides, for help.
+    pub help: &'static str,
+    /// What it may be; the first is the default.
+    pub choices: &'static [LinkChoice],
+}
+
+/// One value of a [`LinkOption`] and the family as it makes it.
+pub struct LinkChoice {
+    /// `cmd8`.
+    pub value: &'static str,
+    /// What it means, for help.
+    pub help: &'static str,
+    /// The family with this choice made (its console reads the link so).
+    pub family: &'static super::Family,
+}
+
+impl fmt::Debug for LinkChoice {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("LinkChoice")
+            .field("value", &self.value)
+            .field("help", &self.help)
+            .finish_non_exhaustive()
+    }
+}
+
 /// What the session layer needs of a controller family. One implementation
 /// per family, registered in [`super::FAMILIES`].
 pub trait FamilyConsole: Send + Sync {
@@ -282,6 +315,12 @@ pub trait FamilyConsole: Send + Sync {
     /// tries when told nothing else, and all it may try.
     fn addresses(&self) -> std::ops::RangeInclusive<u8> {
         0..=255
+    }
+
+    /// The choices about reading the link that the family's manual
+    /// leaves open ([`LinkOption`]); none by default.
+    fn link_options(&self) -> &'static [LinkOption] {
+        &[]
     }
 
     /// The axes of a module of this family.

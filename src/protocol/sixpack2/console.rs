@@ -15,8 +15,8 @@ use super::line::{DEFAULT_ADDRESS, canonical, parse_line};
 use super::reply::{ReplyFields, check_answers};
 use super::wire::{IdleAnswerRule, Sixpack2ReplyRule, Sixpack2Wire};
 use crate::protocol::console::{
-    Answering, AxisFlag, AxisInfo, AxisUpdate, Completions, Effect, FamilyConsole, PreparedLine,
-    Reading, ReplyError, ReplyValue, StatusPoll, SwitchKind,
+    Answering, AxisFlag, AxisInfo, AxisUpdate, Completions, Effect, FamilyConsole, LinkChoice,
+    LinkOption, PreparedLine, Reading, ReplyError, ReplyValue, StatusPoll, SwitchKind,
 };
 use crate::protocol::parameters::ParameterSet;
 use crate::protocol::wire::{Frame, WireFormat};
@@ -61,6 +61,32 @@ pub const IDLE_WAIT: Duration = Duration::from_secs(600);
 
 /// `GetAllActivities`, whose wait mask delays its answer (§7.2).
 const ALL_ACTIVITIES: u8 = 0x28;
+
+/// The reply framing as a link option (digest D1.4): the manual
+/// describes 8-byte replies, a 9-byte form mirroring the request is
+/// plausible and unconfirmed.
+pub static LINK_OPTIONS: [LinkOption; 1] = [LinkOption {
+    name: "framing",
+    help: "how replies are read: with or without the response address in front (digest D1.4)",
+    choices: &[
+        LinkChoice {
+            value: "auto",
+            help: "either form, told apart by its first byte ($00, the console's response \
+                   address, is no command that answers)",
+            family: &super::FAMILY_AUTO,
+        },
+        LinkChoice {
+            value: "cmd8",
+            help: "8 bytes CMD P0..P6, as §6.2.2.3 reads a reply",
+            family: &super::FAMILY_CMD8,
+        },
+        LinkChoice {
+            value: "addr9",
+            help: "9 bytes ADDR CMD P0..P6, the response address in front",
+            family: &super::FAMILY_ADDR9,
+        },
+    ],
+}];
 
 /// What a setting or motion line reads as once sent: the unit
 /// acknowledges none (§7, digest D0), so "ok" would claim what nobody
@@ -112,6 +138,16 @@ impl Sixpack2Console {
     /// Replies told apart as they come: the registered family.
     pub const AUTO: Sixpack2Console = Sixpack2Console {
         framing: ReplyFraming::Auto,
+    };
+
+    /// 8-byte replies `CMD P0..P6` only, as §6.2.2.3 reads them.
+    pub const CMD8: Sixpack2Console = Sixpack2Console {
+        framing: ReplyFraming::Cmd8,
+    };
+
+    /// 9-byte replies with the response address in front only.
+    pub const ADDR9: Sixpack2Console = Sixpack2Console {
+        framing: ReplyFraming::Addr9,
     };
 
     /// A request, ready to send: answered only if its command answers; a
@@ -209,6 +245,10 @@ impl FamilyConsole for Sixpack2Console {
 
     fn default_baud(&self) -> u32 {
         FACTORY_BAUD
+    }
+
+    fn link_options(&self) -> &'static [LinkOption] {
+        &LINK_OPTIONS
     }
 
     fn axes(&self) -> &'static [AxisInfo] {
