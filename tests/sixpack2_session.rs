@@ -134,3 +134,59 @@ async fn the_emergency_stop_does_not_wait_for_a_waited_28() {
         answer.value
     );
 }
+
+#[tokio::test(start_paused = true)]
+async fn settings_written_are_kept_until_the_unit_reports_a_reset() {
+    use axterm::protocol::parameters::Scope;
+    use axterm::protocol::settings::KnownSetting;
+    let session = connect().await;
+    // Power-on: the reset flag is set; reading it clears it (§7.4).
+    assert!(session.identify().await.expect("$43").contains("reset=1"));
+    let settings = session.settings();
+    session
+        .execute_line("SetAMaxVMax 0 100 300")
+        .await
+        .expect("written");
+    session
+        .execute_line("SetPeakCurrent 2 200")
+        .await
+        .expect("written");
+    {
+        let cache = settings.borrow();
+        assert_eq!(cache.value(Scope::Axis(0), 0x1401), Some(100));
+        assert_eq!(cache.value(Scope::Axis(0), 0x1402), Some(300));
+        assert_eq!(
+            cache.value(Scope::Axis(3), 0x1001),
+            Some(200),
+            "the pair's current (§7.1)"
+        );
+    }
+    assert!(session.identify().await.expect("$43").contains("reset=0"));
+    assert_eq!(settings.borrow().value(Scope::Axis(0), 0x1402), Some(300));
+    session
+        .execute_line("HardwareReset")
+        .await
+        .expect("written");
+    assert_eq!(
+        settings.borrow().get(Scope::Axis(0), 0x1402),
+        Some(&KnownSetting::Stale {
+            was: 300,
+            why: "HardwareReset was sent (§7.4)".into()
+        })
+    );
+    // The unit is deaf for a second, then comes back with its flag set.
+    tokio::time::sleep(Duration::from_millis(1500)).await;
+    session
+        .execute_line("SetAMaxVMax 1 50 200")
+        .await
+        .expect("written");
+    assert!(session.identify().await.expect("$43").contains("reset=1"));
+    assert_eq!(
+        settings.borrow().get(Scope::Axis(1), 0x1402),
+        Some(&KnownSetting::Stale {
+            was: 200,
+            why: "the unit reported a reset ($43 reset flag, §7.4)".into()
+        }),
+        "a reset flag says a reset came after the flag was last read"
+    );
+}

@@ -12,6 +12,7 @@ use std::time::Duration;
 
 use super::parameters::ParameterSet;
 use super::program::ProgramTool;
+use super::settings::{SettingWrite, SettingsCache};
 use super::wire::{Frame, ReplyRule, WireFormat};
 
 /// How a prepared line is answered.
@@ -332,11 +333,28 @@ pub trait FamilyConsole: Send + Sync {
 
     /// Cautions about a prepared line that do not stop it being sent (a
     /// value the manual advises against, a setting that clashes with one
-    /// written before): shown before sending, on stderr in batch use.
-    /// None by default.
-    fn warnings(&self, line: &PreparedLine) -> Vec<String> {
+    /// written before, as `known` has it): shown before sending, on
+    /// stderr in batch use. None by default.
+    fn warnings(&self, line: &PreparedLine, known: &SettingsCache) -> Vec<String> {
+        let _ = (line, known);
+        Vec::new()
+    }
+
+    /// The parameters (rows of [`FamilyConsole::parameters`]) that `line`
+    /// writes once sent, with their values: what the console knows of
+    /// settings a module cannot be asked for ([`SettingsCache`]). None by
+    /// default.
+    fn settings_written(&self, line: &PreparedLine) -> Vec<SettingWrite> {
         let _ = line;
         Vec::new()
+    }
+
+    /// Why no setting written before is known any more once `line` was
+    /// sent and `reading` came of it: the module was reset (SIXpack 2
+    /// `$CC`, or the reset flag of `$43`, §7.4). `None` by default.
+    fn settings_lost(&self, line: &PreparedLine, reading: &Reading) -> Option<String> {
+        let _ = (line, reading);
+        None
     }
 
     /// Why `line` must not be sent without the user's confirmation (it

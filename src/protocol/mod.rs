@@ -7,6 +7,7 @@ pub mod console;
 pub mod mccl;
 pub mod parameters;
 pub mod program;
+pub mod settings;
 pub mod sixpack2;
 pub mod tmcl;
 pub mod wire;

@@ -12,6 +12,7 @@
 mod host_run;
 mod later;
 pub mod run_end;
+pub mod settings;
 mod status;
 pub mod transfer;
 
@@ -251,6 +252,8 @@ pub struct Session {
     transfer: Arc<transfer::TransferState>,
     /// One byte's wire time on the link, when it has a known speed.
     byte_time: Option<Duration>,
+    /// The settings written this session ([`settings`]).
+    settings: settings::SharedSettings,
 }
 
 impl Session {
@@ -271,7 +274,6 @@ impl Session {
         let (board, _) = watch::channel(vec![AxisStatus::default(); axes]);
         let (identity, _) = watch::channel(None);
         Session {
-            device,
             family,
             address: options
                 .address
@@ -282,6 +284,8 @@ impl Session {
             polling: Arc::new(Mutex::new(None)),
             transfer: Arc::new(transfer::TransferState::default()),
             byte_time: None,
+            settings: settings::new_cache(device.state()),
+            device,
         }
     }
 
@@ -625,6 +629,7 @@ impl Session {
             for (axis, update) in console.status_update(line, &reading) {
                 status::post(&self.board, axis, update);
             }
+            settings::record(&self.settings, console, line, &reading);
         }
         Ok(LineResult {
             line: line.canonical.clone(),

@@ -650,6 +650,7 @@ fn same(a: &Snapshot, b: &Snapshot) -> bool {
         && a.link == b.link
         && a.identity == b.identity
         && a.poll == b.poll
+        && a.settings == b.settings
         && a.axis == b.axis
         && std::ptr::eq(a.family, b.family)
 }
@@ -807,6 +808,7 @@ mod tests {
             link: LinkState::Connected { link: "sim".into() },
             identity: None,
             poll: Some(PollCadence::default()),
+            settings: Default::default(),
             axis: 0,
         }
     }

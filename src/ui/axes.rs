@@ -1032,6 +1032,7 @@ mod tests {
             link: LinkState::Closed,
             identity: None,
             poll: None,
+            settings: Default::default(),
             axis: 0,
         };
         let mut step = |speed: i64, pane: &mut AxesPane| {

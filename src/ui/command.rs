@@ -1177,6 +1177,7 @@ mod tests {
             link: LinkState::Closed,
             identity: None,
             poll: None,
+            settings: Default::default(),
             axis: 0,
         }
     }

@@ -8,7 +8,7 @@ use std::sync::{Arc, LazyLock};
 use std::time::Duration;
 
 use super::catalog::{ACTIONS, Class, MOTORS, activity};
-use super::caution::{self, Known};
+use super::caution::{self, Known, MotorKnown};
 use super::command::Command;
 use super::frame::{Reply, ReplyFraming, Request, to_hex};
 use super::line::{DEFAULT_ADDRESS, canonical, parse_line};
@@ -18,7 +18,8 @@ use crate::protocol::console::{
     Answering, AxisFlag, AxisInfo, AxisUpdate, Completions, Effect, FamilyConsole, LinkChoice,
     LinkOption, PreparedLine, Reading, ReplyError, ReplyValue, StatusPoll, SwitchKind,
 };
-use crate::protocol::parameters::ParameterSet;
+use crate::protocol::parameters::{ParameterSet, Scope};
+use crate::protocol::settings::{SettingWrite, SettingsCache};
 use crate::protocol::wire::{Frame, WireFormat};
 
 /// The factory baud rate: no jumpers fitted (§5.2.3 Table 5.1, §6.1.1).
@@ -214,6 +215,26 @@ fn only_reads(command: &Command) -> bool {
     }
 }
 
+/// What the cautions know of earlier settings, from the session's cache
+/// (the rows of [`super::parameter_set`]: `$12` clkdiv, `$13` div and
+/// vstart, `$14` amax and vmax).
+fn known_of(cache: &SettingsCache) -> Known {
+    let mut known = Known {
+        clkdiv: cache.value(Scope::Bank(0), 0x1200),
+        ..Known::default()
+    };
+    for (m, motor) in known.motors.iter_mut().enumerate() {
+        let scope = Scope::Axis(u8::try_from(m).unwrap_or(0));
+        *motor = MotorKnown {
+            div: cache.value(scope, 0x1303),
+            vstart: cache.value(scope, 0x1302),
+            amax: cache.value(scope, 0x1401),
+            vmax: cache.value(scope, 0x1402),
+        };
+    }
+    known
+}
+
 /// The request a prepared line carries.
 fn request_of(line: &PreparedLine) -> Option<Request> {
     Request::from_bytes(&line.bytes)
@@ -260,8 +281,36 @@ impl FamilyConsole for Sixpack2Console {
         Ok(self.prepare_request(parsed.request))
     }
 
-    fn warnings(&self, line: &PreparedLine) -> Vec<String> {
-        request_of(line).map_or_else(Vec::new, |r| caution::warnings(&r, &Known::default()))
+    /// The D9 warnings, the cross-field ones against what was written
+    /// this session (else the factory values, said so).
+    fn warnings(&self, line: &PreparedLine, known: &SettingsCache) -> Vec<String> {
+        request_of(line).map_or_else(Vec::new, |r| caution::warnings(&r, &known_of(known)))
+    }
+
+    fn settings_written(&self, line: &PreparedLine) -> Vec<SettingWrite> {
+        request_of(line).map_or_else(Vec::new, |r| super::parameter_set::written_by(&r))
+    }
+
+    /// `$CC` resets every setting to its factory value (§7.4, §6.8); a
+    /// `$43` reading the reset flag set says a reset happened since the
+    /// flag was last read (a power cycle, a `$CC`, the reset button).
+    fn settings_lost(&self, line: &PreparedLine, reading: &Reading) -> Option<String> {
+        let request = request_of(line)?;
+        match request.command {
+            0xCC => Some("HardwareReset was sent (§7.4)".into()),
+            0x43 => {
+                let ReplyValue::Text(text) = &reading.value else {
+                    return None;
+                };
+                let spec = super::catalog::by_code(0x43)?;
+                let values = ReplyFields::parse_value(spec, text)?;
+                values
+                    .iter()
+                    .any(|(name, v)| *name == "reset" && *v == 1)
+                    .then(|| "the unit reported a reset ($43 reset flag, §7.4)".into())
+            }
+            _ => None,
+        }
     }
 
     fn confirmation(&self, line: &PreparedLine) -> Option<String> {
@@ -778,6 +827,12 @@ mod tests {
         assert_eq!(CONSOLE.axes().len(), 6);
         assert!(CONSOLE.confirmation(&prepare("HardwareReset")).is_some());
         assert!(CONSOLE.confirmation(&prepare("StartRamp 0 1")).is_none());
-        assert_eq!(CONSOLE.warnings(&prepare("SetPeakCurrent 1 10")).len(), 1);
+        let nothing = SettingsCache::default();
+        assert_eq!(
+            CONSOLE
+                .warnings(&prepare("SetPeakCurrent 1 10"), &nothing)
+                .len(),
+            1
+        );
     }
 }

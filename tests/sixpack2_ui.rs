@@ -1,0 +1,217 @@
+//! The SIXpack 2 in the console's panes, with hand-made snapshots and the
+//! family's own line preparation standing in for a session: the parameter
+//! table shows what was written this session and what is unknown since a
+//! reset, writes a setting together with the ones its frame carries,
+//! exports and imports through the settings cache.
+
+mod ui_support;
+
+use std::sync::Arc;
+
+use axterm::protocol::console::ReplyValue;
+use axterm::protocol::find_family;
+use axterm::protocol::settings::SettingsCache;
+use axterm::session::{LineResult, SessionError};
+use axterm::ui::app::{App, AppEvent, Effect};
+use axterm::ui::pane::Snapshot;
+use ratatui::crossterm::event::{KeyCode, KeyModifiers};
+use std::time::Duration;
+use ui_support::{console, key, key_with, screen, snapshot, type_text};
+
+fn sixpack2_snapshot(settings: SettingsCache) -> Snapshot {
+    let family = find_family("sixpack2").expect("sixpack2");
+    Snapshot {
+        family,
+        address: 0,
+        link_name: "sim sixpack2".into(),
+        settings: Arc::new(settings),
+        ..snapshot(family.console.axes().to_vec())
+    }
+}
+
+/// A console on a SIXpack 2 whose session knows `settings`.
+fn connected(settings: SettingsCache) -> App {
+    let mut app = console();
+    app.handle(AppEvent::Snapshot(sixpack2_snapshot(settings)));
+    app
+}
+
+/// What the session would record for `lines`, sent in order.
+fn written(lines: &[&str]) -> SettingsCache {
+    let console = find_family("sixpack2").expect("sixpack2").console;
+    let mut cache = SettingsCache::default();
+    for line in lines {
+        let prepared = console.prepare(line, 0).expect("valid");
+        cache.record(&console.settings_written(&prepared));
+    }
+    cache
+}
+
+/// Answer every line the console sends as a SIXpack 2 session does (a
+/// setting is `sent`), and return them.
+fn serve(app: &mut App, effects: Vec<Effect>) -> Vec<String> {
+    let console = find_family("sixpack2").expect("sixpack2").console;
+    let mut sent = Vec::new();
+    let mut queue = effects;
+    while !queue.is_empty() {
+        let mut next = Vec::new();
+        for effect in queue {
+            if let Effect::Send { pane, tag, lines } = effect {
+                for line in lines {
+                    let result = console
+                        .prepare(&line, 0)
+                        .map(|p| LineResult {
+                            line: p.canonical.clone(),
+                            request: p.bytes.clone(),
+                            reply: Vec::new(),
+                            status: None,
+                            value: ReplyValue::Text("sent".into()),
+                            elapsed: Duration::from_millis(5),
+                            attempts: 1,
+                        })
+                        .map_err(|message| SessionError::Refused {
+                            line: line.clone(),
+                            message,
+                        });
+                    sent.push(line.clone());
+                    next.extend(app.handle(AppEvent::Reply {
+                        pane,
+                        tag,
+                        line,
+                        result,
+                    }));
+                }
+            }
+        }
+        queue = next;
+    }
+    sent
+}
+
+fn params(app: &mut App) -> Vec<String> {
+    let effects = app.handle(key_with(KeyCode::Char('3'), KeyModifiers::ALT));
+    assert_eq!(app.focused(), Some("params"));
+    serve(app, effects)
+}
+
+fn filter(app: &mut App, text: &str) {
+    app.handle(key(KeyCode::Char('/')));
+    type_text(app, text);
+    app.handle(key(KeyCode::Enter));
+}
+
+fn row<'a>(lines: &'a [String], name: &str) -> &'a str {
+    lines
+        .iter()
+        .find(|l| l.contains(&format!(" {name} ")))
+        .unwrap_or_else(|| panic!("no row {name}:\n{}", lines.join("\n")))
+}
+
+#[test]
+fn the_table_shows_what_was_written_this_session_and_what_is_unknown() {
+    let mut app = connected(written(&["SetAMaxVMax 0 100 300"]));
+    assert!(params(&mut app).is_empty(), "nothing can be read back");
+    filter(&mut app, "max");
+    let lines = screen(&mut app, 80, 24);
+    assert!(row(&lines, "vmax").contains("300"), "{}", lines.join("\n"));
+    assert!(row(&lines, "amax").contains("100"));
+    assert!(
+        row(&lines, "vrefmax").contains("not written"),
+        "{}",
+        lines.join("\n")
+    );
+    // The selected row (amax, the first) says where its value comes from.
+    let all = lines.join("\n");
+    assert!(
+        all.contains("written this session, never read back"),
+        "{all}"
+    );
+
+    // A reset: what was written is no longer known.
+    let mut after = written(&["SetAMaxVMax 0 100 300"]);
+    after.forget("HardwareReset was sent (§7.4)");
+    app.handle(AppEvent::Snapshot(sixpack2_snapshot(after)));
+    let lines = screen(&mut app, 140, 30);
+    assert!(
+        row(&lines, "vmax").contains("since reset"),
+        "{}",
+        lines.join("\n")
+    );
+    let all = lines.join("\n");
+    assert!(
+        all.contains("unknown since HardwareReset was sent (§7.4); 100 was written before"),
+        "{all}"
+    );
+}
+
+#[test]
+fn a_setting_is_written_with_the_others_its_frame_carries_as_known() {
+    let mut app = connected(written(&["SetAMaxVMax 0 100 300"]));
+    params(&mut app);
+    filter(&mut app, "vmax");
+    // vmax: Enter edits, the field starts with the value known.
+    app.handle(key(KeyCode::Enter));
+    app.handle(key_with(KeyCode::Char('u'), KeyModifiers::CONTROL));
+    let effects = type_text(&mut app, "400");
+    assert!(serve(&mut app, effects).is_empty());
+    let effects = app.handle(key(KeyCode::Enter));
+    assert_eq!(serve(&mut app, effects), ["SetAMaxVMax 0 100 400"]);
+    let all = screen(&mut app, 100, 30).join("\n");
+    assert!(all.contains("SetAMaxVMax 0 100 400: sent"), "{all}");
+
+    // Without amax known, the table says what to type.
+    let mut app = connected(SettingsCache::default());
+    params(&mut app);
+    filter(&mut app, "vmax");
+    app.handle(key(KeyCode::Enter));
+    type_text(&mut app, "400");
+    let effects = app.handle(key(KeyCode::Enter));
+    assert!(serve(&mut app, effects).is_empty(), "nothing sent");
+    let all = screen(&mut app, 140, 30).join("\n");
+    assert!(
+        all.contains("vmax is written together with amax by SetAMaxVMax ($14)"),
+        "{all}"
+    );
+}
+
+#[test]
+fn export_and_import_work_on_the_settings_written() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("pack.toml");
+    let mut app = connected(written(&["SetAMaxVMax 0 100 300", "SetClockDivider 3"]));
+    params(&mut app);
+    app.handle(key(KeyCode::Char('e')));
+    app.handle(key_with(KeyCode::Char('u'), KeyModifiers::CONTROL));
+    type_text(&mut app, &path.display().to_string());
+    let effects = app.handle(key(KeyCode::Enter));
+    assert!(serve(&mut app, effects).is_empty(), "nothing to read");
+    let text = std::fs::read_to_string(&path).expect("exported");
+    assert!(text.contains("family = \"sixpack2\""), "{text}");
+    assert!(text.contains("[axis.0]\n"), "{text}");
+    assert!(text.contains("\n5121 = 100  # amax\n"), "{text}");
+    assert!(text.contains("\n5122 = 300  # vmax\n"), "{text}");
+    assert!(text.contains("\n4608 = 3  # clkdiv\n"), "{text}");
+    assert!(
+        text.contains("# 5122 not read: not written this session  # vmax"),
+        "other motors' vmax is not known: {text}"
+    );
+
+    // After a reset nothing is known: importing the file writes it all
+    // again, each frame once with the values of the file.
+    let mut after = written(&["SetAMaxVMax 0 100 300", "SetClockDivider 3"]);
+    after.forget("HardwareReset was sent (§7.4)");
+    app.handle(AppEvent::Snapshot(sixpack2_snapshot(after)));
+    app.handle(key(KeyCode::Char('i')));
+    app.handle(key_with(KeyCode::Char('u'), KeyModifiers::CONTROL));
+    type_text(&mut app, &path.display().to_string());
+    let effects = app.handle(key(KeyCode::Enter));
+    assert!(serve(&mut app, effects).is_empty());
+    let all = screen(&mut app, 120, 30).join("\n");
+    assert!(all.contains("3 differ"), "{all}");
+    assert!(all.contains("unknown → file"), "{all}");
+    let effects = app.handle(key(KeyCode::Char('w')));
+    let sent = serve(&mut app, effects);
+    assert_eq!(sent, ["SetAMaxVMax 0 100 300", "SetClockDivider 3"]);
+    let all = screen(&mut app, 120, 30).join("\n");
+    assert!(all.contains("wrote 2 value(s)"), "{all}");
+}
