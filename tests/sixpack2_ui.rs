@@ -215,3 +215,103 @@ fn export_and_import_work_on_the_settings_written() {
     let all = screen(&mut app, 120, 30).join("\n");
     assert!(all.contains("wrote 2 value(s)"), "{all}");
 }
+
+/// The lines of `effects` sent.
+fn sends(effects: &[Effect]) -> Vec<String> {
+    effects
+        .iter()
+        .filter_map(|e| match e {
+            Effect::Send { lines, .. } => Some(lines.clone()),
+            _ => None,
+        })
+        .flatten()
+        .collect()
+}
+
+fn typed_line(app: &mut App, line: &str) -> Vec<Effect> {
+    type_text(app, line);
+    app.handle(key(KeyCode::Enter))
+}
+
+#[test]
+fn a_line_to_confirm_asks_first_and_is_sent_only_on_yes() {
+    let mut app = connected(SettingsCache::default());
+    assert_eq!(app.focused(), Some("command"));
+    let effects = typed_line(&mut app, "HardwareReset");
+    assert!(sends(&effects).is_empty(), "nothing sent before the answer");
+    let all = screen(&mut app, 100, 30).join("\n");
+    assert!(all.contains("every setting is replaced"), "{all}");
+    assert!(
+        all.contains("send HardwareReset? y sends, n or Esc does not"),
+        "{all}"
+    );
+    // Other keys do not answer it.
+    assert!(sends(&type_text(&mut app, "x")).is_empty());
+    assert!(sends(&app.handle(key(KeyCode::Char('n')))).is_empty());
+    let all = screen(&mut app, 100, 30).join("\n");
+    assert!(all.contains("not sent: HardwareReset"), "{all}");
+    assert!(!all.contains("y sends"), "{all}");
+
+    typed_line(&mut app, "StartReferenceSearch 2");
+    assert_eq!(
+        sends(&app.handle(key(KeyCode::Char('y')))),
+        ["StartReferenceSearch 2"]
+    );
+    // A line that needs none goes at once.
+    assert_eq!(
+        sends(&typed_line(&mut app, "StartRamp 0 100")),
+        ["StartRamp 0 100"]
+    );
+}
+
+#[test]
+fn warnings_are_shown_with_the_line_and_know_what_was_written() {
+    let mut app = connected(SettingsCache::default());
+    let effects = typed_line(&mut app, "SetAMaxVMax 0 500 400");
+    assert_eq!(
+        sends(&effects),
+        ["SetAMaxVMax 0 500 400"],
+        "sent all the same"
+    );
+    let all = screen(&mut app, 150, 30).join("\n");
+    assert!(
+        all.contains(
+            "warning: amax 500 is over 64·vstart = 320 with vstart 5 (factory value, not known \
+             to be changed)"
+        ),
+        "{all}"
+    );
+    let mut app = connected(written(&["SetVMinVStart 0 4 8 2"]));
+    typed_line(&mut app, "SetAMaxVMax 0 500 400");
+    let all = screen(&mut app, 150, 30).join("\n");
+    assert!(!all.contains("warning"), "vstart 8 was written: {all}");
+}
+
+#[test]
+fn a_batch_with_lines_to_confirm_asks_once_before_it_starts() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("homing.txt");
+    std::fs::write(
+        &file,
+        "SetMotorParameters 0 10000 NullLeft,MechRef\nStartReferenceSearch 0\n",
+    )
+    .expect("write");
+    let mut app = connected(SettingsCache::default());
+    let effects = typed_line(&mut app, &format!(":run {}", file.display()));
+    assert!(sends(&effects).is_empty());
+    let all = screen(&mut app, 200, 30).join("\n");
+    assert!(
+        all.contains(&format!(
+            "{}:2: `StartReferenceSearch 0`: it stops the motor",
+            file.display()
+        )),
+        "{all}"
+    );
+    assert!(all.contains(&format!("run {}?", file.display())), "{all}");
+    let effects = app.handle(key(KeyCode::Char('y')));
+    assert_eq!(
+        sends(&effects),
+        ["SetMotorParameters 0 10000 NullLeft,MechRef"],
+        "the batch starts"
+    );
+}

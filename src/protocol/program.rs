@@ -788,6 +788,11 @@ pub struct HostStart {
     pub warnings: Vec<String>,
     /// Which programs start ("PRG 0 and PRG 2").
     pub started: String,
+    /// The lines the family wants confirmed before they are sent
+    /// ([`super::console::FamilyConsole::confirmation`]), as `NAME:LINE:
+    /// `line`: why`: the console asks before the run starts, the command
+    /// line needs `--yes`.
+    pub confirm: Vec<String>,
 }
 
 /// What a host run needs done next.

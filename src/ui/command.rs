@@ -26,7 +26,8 @@ use super::pane::{
 use super::text::fit;
 use super::theme::Role;
 use crate::device::{DeviceEvent, LinkState};
-use crate::protocol::console::{Candidate, Completions};
+use crate::protocol::console::{Candidate, Completions, PreparedLine};
+use crate::protocol::program::HostStart;
 use crate::protocol::{FAMILIES, Family, find_family};
 use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
 use crate::session::{LineResult, SessionError};
@@ -153,6 +154,34 @@ pub struct CommandPane {
     run_policy: Option<StopOnFailure>,
     /// The last output row is a state [`CommandPane::say_live`] replaces.
     live: bool,
+    /// What waits for the user's yes: a line, batch or host run with
+    /// lines the family wants confirmed.
+    confirming: Option<Confirming>,
+}
+
+/// What is sent once the user says yes.
+#[derive(Debug)]
+enum Deferred {
+    /// A typed line.
+    Line(String),
+    /// A checked batch, and what becomes of the axes if it fails.
+    Batch {
+        batch: Batch,
+        policy: Option<StopOnFailure>,
+    },
+    /// A checked host run.
+    Host {
+        program: HostStart,
+        file: String,
+        policy: Option<StopOnFailure>,
+    },
+}
+
+/// A question before sending: why each line needs the user's yes.
+#[derive(Debug)]
+struct Confirming {
+    then: Deferred,
+    reasons: Vec<String>,
 }
 
 impl Default for CommandPane {
@@ -183,6 +212,7 @@ impl CommandPane {
             host: None,
             run_policy: None,
             live: false,
+            confirming: None,
         }
     }
 
@@ -284,15 +314,82 @@ impl CommandPane {
         if trimmed.starts_with(':') {
             return self.console_command(&trimmed, view);
         }
-        if view.session.is_none() {
+        let Some(session) = view.session else {
             self.say(Role::Error, not_connected());
             return Outcome::redraw();
+        };
+        // A line that does not parse is sent all the same: the session
+        // refuses it with its message, as for any front end.
+        if let Ok(prepared) = session.family.console.prepare(&trimmed, session.address) {
+            self.say_warnings(session, &prepared);
+            if let Some(why) = session.family.console.confirmation(&prepared) {
+                return self.ask(Deferred::Line(trimmed), vec![why]);
+            }
         }
+        self.send_typed(trimmed)
+    }
+
+    fn send_typed(&mut self, line: String) -> Outcome {
         let tag = self.tag(Origin::Typed);
         Outcome::request(Request::Send {
-            lines: vec![trimmed],
+            lines: vec![line],
             tag,
         })
+    }
+
+    /// The family's warnings about a line about to be sent, with what the
+    /// session knows of the settings written before.
+    fn say_warnings(&mut self, session: &Snapshot, line: &PreparedLine) {
+        for warning in session.family.console.warnings(line, &session.settings) {
+            self.say(Role::Warning, format!("  warning: {warning}"));
+        }
+    }
+
+    /// Hold `then` until the user says yes (or no).
+    fn ask(&mut self, then: Deferred, reasons: Vec<String>) -> Outcome {
+        self.confirming = Some(Confirming { then, reasons });
+        Outcome::redraw()
+    }
+
+    /// A key while a question is open: y sends, n or the cancel key
+    /// drops it; other keys go to the app (the focus keys still work).
+    fn confirm_key(&mut self, key: &KeyEvent, view: &View) -> Outcome {
+        let yes = matches!(key.code, KeyCode::Char('y' | 'Y'));
+        let no = matches!(key.code, KeyCode::Char('n' | 'N'))
+            || view.keymap.action_for(Context::Command, key) == Some(Action::Cancel);
+        if !yes && !no {
+            return Outcome::Ignored;
+        }
+        let Some(Confirming { then, .. }) = self.confirming.take() else {
+            return Outcome::Ignored;
+        };
+        if no {
+            let what = match &then {
+                Deferred::Line(line) => format!("  not sent: {line}"),
+                Deferred::Batch { batch, .. } => format!("{}: not run, nothing sent", batch.name()),
+                Deferred::Host { file, .. } => format!("{file}: not run, nothing sent"),
+            };
+            self.say(Role::Warning, what);
+            return Outcome::redraw();
+        }
+        if view.session.is_none() {
+            return self.fail(not_connected());
+        }
+        match then {
+            Deferred::Line(line) => self.send_typed(line),
+            Deferred::Batch { batch, policy } => {
+                self.run_policy = policy;
+                self.run_batch(batch, view)
+            }
+            Deferred::Host {
+                program,
+                file,
+                policy,
+            } => {
+                self.run_policy = policy;
+                self.begin_host_run(program, &file, view)
+            }
+        }
     }
 
     fn console_command(&mut self, line: &str, view: &View) -> Outcome {
@@ -495,6 +592,23 @@ impl CommandPane {
         for warning in &program.warnings {
             self.say(Role::Warning, warning.clone());
         }
+        if !program.confirm.is_empty() {
+            let reasons = program.confirm.clone();
+            let policy = self.run_policy;
+            return self.ask(
+                Deferred::Host {
+                    program,
+                    file,
+                    policy,
+                },
+                reasons,
+            );
+        }
+        self.begin_host_run(program, &file, view)
+    }
+
+    /// Run a checked program from the host.
+    fn begin_host_run(&mut self, program: HostStart, file: &str, view: &View) -> Outcome {
         self.say(
             Role::Accent,
             format!(
@@ -545,22 +659,40 @@ impl CommandPane {
                 self.fail(format!("{name}: nothing was sent"))
             }
             Ok(batch) => {
-                if batch.len() > 1 {
-                    self.say(Role::Muted, format!("{name}: {} steps", batch.len()));
+                if !batch.confirmations().is_empty() {
+                    let reasons = batch.confirmations().to_vec();
+                    let policy = self.run_policy;
+                    return self.ask(Deferred::Batch { batch, policy }, reasons);
                 }
-                self.batch = Some(batch);
-                let steps = self.batch.as_mut().map(Batch::advance).unwrap_or_default();
-                self.batch_steps(steps)
+                self.run_batch(batch, view)
             }
         }
     }
 
+    /// Run a checked batch.
+    fn run_batch(&mut self, batch: Batch, view: &View) -> Outcome {
+        if batch.len() > 1 {
+            self.say(
+                Role::Muted,
+                format!("{}: {} steps", batch.name(), batch.len()),
+            );
+        }
+        self.batch = Some(batch);
+        let steps = self.batch.as_mut().map(Batch::advance).unwrap_or_default();
+        self.batch_steps(steps, view)
+    }
+
     /// Carry out what the batch asks for next.
-    fn batch_steps(&mut self, steps: Vec<BatchStep>) -> Outcome {
+    fn batch_steps(&mut self, steps: Vec<BatchStep>, view: &View) -> Outcome {
         let mut requests = Vec::new();
         for step in steps {
             match step {
                 BatchStep::Send(line) => {
+                    if let Some(session) = view.session
+                        && let Ok(prepared) = session.family.console.prepare(&line, session.address)
+                    {
+                        self.say_warnings(session, &prepared);
+                    }
                     let tag = self.tag(Origin::Batch);
                     requests.push(Request::Send {
                         lines: vec![line],
@@ -593,6 +725,9 @@ impl CommandPane {
     }
 
     fn edit_key(&mut self, key: &KeyEvent, view: &View) -> Outcome {
+        if self.confirming.is_some() {
+            return self.confirm_key(key, view);
+        }
         let action = view.keymap.action_for(Context::Command, key);
         if action != Some(Action::Complete) {
             self.completing = None;
@@ -771,6 +906,29 @@ impl CommandPane {
     /// The rows under the output: completion candidates, or a hint.
     fn hint_rows(&self, view: &View, width: usize) -> Vec<Line<'static>> {
         let theme = view.theme;
+        if let Some(confirming) = &self.confirming {
+            let mut rows: Vec<Line> = confirming
+                .reasons
+                .iter()
+                .map(|why| Line::styled(fit(why, width), theme.style(Role::Warning)))
+                .collect();
+            let what = match &confirming.then {
+                Deferred::Line(line) => format!("send {line}?"),
+                Deferred::Batch { batch, .. } => format!("run {}?", batch.name()),
+                Deferred::Host { file, .. } => format!("run {file}?"),
+            };
+            rows.push(Line::styled(
+                fit(
+                    &format!(
+                        "{what} y sends, n or {} does not",
+                        key_label(view.keymap, Context::Command, Action::Cancel)
+                    ),
+                    width,
+                ),
+                theme.style(Role::Accent),
+            ));
+            return rows;
+        }
         if let Some(c) = &self.completing {
             let mut rows: Vec<Line> = Vec::new();
             let mut row: Vec<Span> = Vec::new();
@@ -976,16 +1134,24 @@ impl Pane for CommandPane {
                         Some(batch) => batch.on_reply(result),
                         None => return Outcome::redraw(),
                     };
-                    return self.batch_steps(steps);
+                    return self.batch_steps(steps, view);
                 }
                 Outcome::redraw()
             }
             PaneEvent::Wake { tag } if self.batch_wake == Some(*tag) => {
                 self.batch_wake = None;
                 let steps = self.batch.as_mut().map(Batch::on_wake).unwrap_or_default();
-                self.batch_steps(steps)
+                self.batch_steps(steps, view)
             }
             PaneEvent::Stopping => {
+                if let Some(confirming) = self.confirming.take() {
+                    let what = match confirming.then {
+                        Deferred::Line(line) => line,
+                        Deferred::Batch { batch, .. } => batch.name().to_string(),
+                        Deferred::Host { file, .. } => file,
+                    };
+                    self.say(Role::Warning, format!("  not sent: {what}"));
+                }
                 let dropped = self.sent.len();
                 self.sent.clear();
                 self.batch_wake = None;
@@ -1027,8 +1193,23 @@ impl Pane for CommandPane {
                     self.show_reply(family, result);
                 }
                 let ok = results.iter().all(Result::is_ok);
-                if ok && !results.is_empty() {
+                // A line the module never answers (SIXpack 2, §7) went out,
+                // and that is all anyone can say of it.
+                let unanswered = results
+                    .iter()
+                    .filter(|r| r.as_ref().is_ok_and(|r| r.reply.is_empty()))
+                    .count();
+                if ok && !results.is_empty() && unanswered == 0 {
                     self.say(Role::Ok, "STOP confirmed: every stop line answered ok");
+                } else if ok && !results.is_empty() {
+                    self.say(
+                        Role::Warning,
+                        format!(
+                            "STOP sent: all {} stop lines went out, {unanswered} of them never \
+                             acknowledged by the module: watch the axes stop",
+                            results.len()
+                        ),
+                    );
                 } else if results.is_empty() {
                     self.say(Role::Error, "STOP: nothing was sent (not connected)");
                 } else {
