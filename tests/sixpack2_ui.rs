@@ -315,3 +315,127 @@ fn a_batch_with_lines_to_confirm_asks_once_before_it_starts() {
         "the batch starts"
     );
 }
+
+#[test]
+fn the_lines_sent_are_recorded_as_a_macro_file() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("session.sqm");
+    let mut app = connected(SettingsCache::default());
+    typed_line(&mut app, &format!(":record-macro {}", file.display()));
+    let effects = typed_line(&mut app, "StartRamp 0 10000");
+    serve(&mut app, effects);
+    let effects = typed_line(&mut app, "GetPositionAndActivity 0");
+    serve(&mut app, effects);
+    // A line refused is not sent and not recorded.
+    let effects = typed_line(&mut app, "StartRamp 7 1");
+    serve(&mut app, effects);
+    assert_eq!(
+        std::fs::read_to_string(&file).expect("recorded"),
+        "SendToPack($00, $23, $00, $10, $27, $00, $00, $00, $00)\n\
+         SendToPack($00, $20, $00, $00, $00, $00, $00, $00, $00)\n"
+    );
+    typed_line(&mut app, ":record-macro off");
+    let all = screen(&mut app, 100, 30).join("\n");
+    assert!(all.contains("recording ended: 2 line(s)"), "{all}");
+    let effects = typed_line(&mut app, "StartRamp 0 0");
+    serve(&mut app, effects);
+    assert_eq!(
+        std::fs::read_to_string(&file)
+            .expect("kept")
+            .lines()
+            .count(),
+        2,
+        "nothing after off"
+    );
+    // An existing file is never overwritten.
+    typed_line(&mut app, &format!(":record-macro {}", file.display()));
+    let all = screen(&mut app, 140, 30).join("\n");
+    assert!(all.contains("exists: give a new file name"), "{all}");
+}
+
+#[test]
+fn a_macro_is_played_from_the_console_after_its_frames_are_confirmed() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("home.sqm");
+    std::fs::write(
+        &file,
+        "SendToPack($00, $15, $00, $10, $27, $00, $00, $10, $04)\n\
+         SendToPack($00, $22, $00, $00, $00, $00, $00, $00, $00)\n",
+    )
+    .expect("write");
+    let mut app = connected(SettingsCache::default());
+    let effects = typed_line(&mut app, &format!(":run-macro {}", file.display()));
+    assert!(sends(&effects).is_empty());
+    let all = screen(&mut app, 150, 30).join("\n");
+    assert!(
+        all.contains(&format!(
+            "{}:2: `StartReferenceSearch 0`: it stops the motor",
+            file.display()
+        )),
+        "{all}"
+    );
+    let effects = app.handle(key(KeyCode::Char('y')));
+    assert_eq!(
+        sends(&effects),
+        ["SendToPack($00, $15, $00, $10, $27, $00, $00, $10, $04)"]
+    );
+    let all = screen(&mut app, 150, 30).join("\n");
+    assert!(
+        all.contains("from the host: a playback of 2 frames"),
+        "{all}"
+    );
+    // A-Script is another family's.
+    let mut app = connected(SettingsCache::default());
+    typed_line(&mut app, ":run-ascript p.asc");
+    let all = screen(&mut app, 150, 30).join("\n");
+    assert!(
+        all.contains(
+            ":run-ascript runs A-Script (cmd4cr) from the host; this module speaks sixpack2"
+        ),
+        "{all}"
+    );
+}
+
+#[test]
+fn the_editor_shows_a_macro_file_decoded_beside_its_lines_and_marks_its_errors() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("home.sqm");
+    std::fs::write(
+        &path,
+        "# §5.5.3.2\n\
+         SendToPack($00, $15, $00, $10, $27, $00, $00, $10, $04)\n\
+         SendToPack($00, $22, $00)\n",
+    )
+    .expect("write");
+    let mut app = console();
+    assert!(app.focus("editor"));
+    app.handle(key(KeyCode::F(3)));
+    app.handle(AppEvent::Terminal(ratatui::crossterm::event::Event::Paste(
+        path.display().to_string(),
+    )));
+    app.handle(key(KeyCode::Enter));
+    app.handle(key(KeyCode::Esc));
+    let lines = screen(&mut app, 140, 30);
+    let all = lines.join("\n");
+    assert!(all.contains("Program (SQPack macro) — home.sqm"), "{all}");
+    let frame = lines
+        .iter()
+        .find(|l| l.contains("SendToPack($00, $15"))
+        .expect("the frame's line");
+    assert!(
+        frame.contains("» SetMotorParameters 0 10000 NullLeft,MechRef (Motor 1)"),
+        "{frame}"
+    );
+    let bad = lines
+        .iter()
+        .find(|l| l.contains("SendToPack($00, $22, $00)"))
+        .expect("the bad line");
+    assert!(bad.contains("!  3"), "marked as an error: {bad}");
+    // F9 checks: the error with its place.
+    app.handle(key(KeyCode::F(9)));
+    let all = screen(&mut app, 140, 30).join("\n");
+    assert!(
+        all.contains("3:25: a frame has 9 values (adr, cmd, p0..p6), this one 3"),
+        "{all}"
+    );
+}

@@ -27,7 +27,7 @@ use super::text::fit;
 use super::theme::Role;
 use crate::device::{DeviceEvent, LinkState};
 use crate::protocol::console::{Candidate, Completions, PreparedLine};
-use crate::protocol::program::HostStart;
+use crate::protocol::program::{HostStart, ProgramTool};
 use crate::protocol::{FAMILIES, Family, find_family};
 use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
 use crate::session::{LineResult, SessionError};
@@ -75,6 +75,14 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
     (
         ":run-ascript [--no-stop-on-failure] FILE [N…]",
         "run a CMD-4CR A-Script program from the host (checked whole first; N: only these PRG blocks; stops every axis if it fails or is cancelled unless told not to)",
+    ),
+    (
+        ":run-macro [--no-stop-on-failure] FILE",
+        "play a SIXpack 2 SQPack macro file from the host (checked whole first; frames the family wants confirmed are asked about once; stops every axis if it fails or is cancelled unless told not to)",
+    ),
+    (
+        ":record-macro FILE | off",
+        "record every line sent from here as a macro file of the module's program language (SIXpack 2: SendToPack lines, §5.4.6), until off",
     ),
     (
         ":expect LINE == VALUE",
@@ -157,6 +165,17 @@ pub struct CommandPane {
     /// What waits for the user's yes: a line, batch or host run with
     /// lines the family wants confirmed.
     confirming: Option<Confirming>,
+    /// `:record-macro FILE`: the lines sent from here, as a program.
+    recording: Option<Recording>,
+}
+
+/// A recording of the lines sent (SQPack's "Record Macro", §5.4.6).
+#[derive(Debug)]
+struct Recording {
+    path: PathBuf,
+    /// The language's lines so far, written to the file after each.
+    lines: Vec<String>,
+    tool: &'static dyn ProgramTool,
 }
 
 /// What is sent once the user says yes.
@@ -213,6 +232,7 @@ impl CommandPane {
             run_policy: None,
             live: false,
             confirming: None,
+            recording: None,
         }
     }
 
@@ -480,9 +500,11 @@ impl CommandPane {
                     Err(e) => self.fail(format!("cannot read {rest}: {e}")),
                 };
             }
-            "run-ascript" => {
+            "record-macro" => return self.record_command(rest, view),
+            command if is_host_command(command) => {
                 let (policy, rest) = run_options(rest);
-                return self.with_run_policy(policy, |pane| pane.start_host_run(rest, view));
+                return self
+                    .with_run_policy(policy, |pane| pane.start_host_run(command, rest, view));
             }
             "sim-input" => {
                 if session.is_none() {
@@ -534,15 +556,114 @@ impl CommandPane {
         (ending != RunEnding::Completed).then_some(Request::EndRun { ending, policy })
     }
 
+    /// `:record-macro FILE | off`: record every line sent from here (typed
+    /// or from a batch, once sent) as the connected family's program tool
+    /// writes it, into FILE, rewritten after each line so that nothing
+    /// recorded is lost; `off` ends it. An existing file is not
+    /// overwritten.
+    fn record_command(&mut self, rest: &str, view: &View) -> Outcome {
+        if rest.eq_ignore_ascii_case("off") {
+            return match self.recording.take() {
+                Some(recording) => {
+                    self.say(
+                        Role::Ok,
+                        format!(
+                            "recording ended: {} line(s) in {}",
+                            recording.lines.len(),
+                            recording.path.display()
+                        ),
+                    );
+                    Outcome::redraw()
+                }
+                None => self.fail("nothing is being recorded"),
+            };
+        }
+        if rest.is_empty() {
+            return self.fail(":record-macro needs a file name (or off)");
+        }
+        let Some(session) = view.session else {
+            return self.fail(not_connected());
+        };
+        // The tool records if it can say the family's own identity query.
+        let probe = session.family.console.identify(session.address).bytes;
+        let Some(tool) = session
+            .family
+            .console
+            .program()
+            .filter(|t| t.record(&probe).is_some())
+        else {
+            return self.fail(format!(
+                "the {} family's program language cannot record the lines sent",
+                session.family.name
+            ));
+        };
+        let path = PathBuf::from(rest);
+        if path.exists() {
+            return self.fail(format!(
+                "{} exists: give a new file name (nothing is overwritten)",
+                path.display()
+            ));
+        }
+        if let Err(e) = crate::files::write_atomically(&path, b"") {
+            return self.fail(format!("cannot write {}: {e}", path.display()));
+        }
+        if let Some(before) = self.recording.take() {
+            self.say(
+                Role::Muted,
+                format!(
+                    "recording to {} ended: {} line(s)",
+                    before.path.display(),
+                    before.lines.len()
+                ),
+            );
+        }
+        self.say(
+            Role::Accent,
+            format!(
+                "recording every line sent from here to {} as {} ({} off ends it)",
+                path.display(),
+                tool.name(),
+                ":record-macro"
+            ),
+        );
+        self.recording = Some(Recording {
+            path,
+            lines: Vec::new(),
+            tool,
+        });
+        Outcome::redraw()
+    }
+
+    /// Add a line that was sent to the recording, if one goes.
+    fn record_sent(&mut self, request: &[u8]) {
+        let Some(recording) = self.recording.as_mut() else {
+            return;
+        };
+        let Some(line) = recording.tool.record(request) else {
+            return;
+        };
+        recording.lines.push(line);
+        let mut text = recording.lines.join("\n");
+        text.push('\n');
+        if let Err(e) = crate::files::write_atomically(&recording.path, text.as_bytes()) {
+            let path = recording.path.display().to_string();
+            self.recording = None;
+            self.say(
+                Role::Error,
+                format!("recording stopped: cannot write {path}: {e}"),
+            );
+        }
+    }
+
     fn fail(&mut self, message: impl Into<String>) -> Outcome {
         self.say(Role::Error, message);
         Outcome::redraw()
     }
 
-    /// `:run-ascript FILE [N…]`: check the whole file, then run it from the
-    /// host, as the connected family's program tool offers it (A-Script:
-    /// [`crate::protocol::program::HostRun`]).
-    fn start_host_run(&mut self, rest: &str, view: &View) -> Outcome {
+    /// `:run-ascript FILE [N…]`, `:run-macro FILE`: check the whole file,
+    /// then run it from the host, as the connected family's program tool
+    /// whose command it is offers it ([`crate::protocol::program::HostRun`]).
+    fn start_host_run(&mut self, command: &str, rest: &str, view: &View) -> Outcome {
         if self.batch.is_some() || self.host.is_some() {
             return self.fail("a batch or a host run is going: wait for it, or stop it (Esc)");
         }
@@ -553,9 +674,9 @@ impl CommandPane {
             .family
             .console
             .program()
-            .filter(|tool| tool.runs_from_host())
+            .filter(|tool| tool.runs_from_host() && tool.host_command() == Some(command))
         else {
-            return self.fail(no_host_run(session.family));
+            return self.fail(no_host_run(session.family, command));
         };
         // Trailing numbers are the PRG blocks to start.
         let mut words: Vec<&str> = rest.split_whitespace().collect();
@@ -571,8 +692,9 @@ impl CommandPane {
         }
         let file = words.join(" ");
         if file.is_empty() {
-            return self
-                .fail(":run-ascript needs a file name (and the PRG numbers to start, if not all)");
+            return self.fail(format!(
+                ":{command} needs a file name (and the programs to start, if not all)"
+            ));
         }
         let text = match crate::files::read_text(&file) {
             Ok(text) => text,
@@ -587,7 +709,7 @@ impl CommandPane {
                 }
                 return self.fail(format!("{file}: nothing was sent"));
             }
-            None => return self.fail(no_host_run(session.family)),
+            None => return self.fail(no_host_run(session.family, command)),
         };
         for warning in &program.warnings {
             self.say(Role::Warning, warning.clone());
@@ -1119,6 +1241,12 @@ impl Pane for CommandPane {
                     (Origin::Batch, Some(batch)) => batch.wait_progress(result),
                     _ => None,
                 };
+                // The reads of a `:wait-until` are not worth recording.
+                if progress.is_none()
+                    && let Ok(sent) = result
+                {
+                    self.record_sent(&sent.request);
+                }
                 if let Some(progress) = progress {
                     self.say_live(Role::Normal, format!("{PROMPT}{progress}"));
                 } else {
@@ -1282,18 +1410,30 @@ impl Pane for CommandPane {
     }
 }
 
-/// Why `:run-ascript` runs nothing on a module of `family`: which
-/// families' programs run from the host.
-fn no_host_run(family: &Family) -> String {
+/// Whether `command` runs some family's programs from the host
+/// ([`crate::protocol::program::ProgramTool::host_command`]).
+fn is_host_command(command: &str) -> bool {
+    FAMILIES
+        .iter()
+        .filter_map(|f| f.console.program())
+        .any(|t| t.runs_from_host() && t.host_command() == Some(command))
+}
+
+/// Why `:COMMAND` runs nothing on a module of `family`: whose programs it
+/// runs from the host.
+fn no_host_run(family: &Family, command: &str) -> String {
     let offered: Vec<String> = FAMILIES
         .iter()
         .filter_map(|f| {
-            let tool = f.console.program().filter(|t| t.runs_from_host())?;
+            let tool = f
+                .console
+                .program()
+                .filter(|t| t.runs_from_host() && t.host_command() == Some(command))?;
             Some(format!("{} ({})", tool.name(), f.name))
         })
         .collect();
     format!(
-        "running a program from the host is for {}; this module speaks {}",
+        ":{command} runs {} from the host; this module speaks {}",
         offered.join(", "),
         family.name
     )

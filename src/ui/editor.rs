@@ -133,6 +133,8 @@ const TAG_HOST_FIRST: u64 = 1 << 49;
 /// Columns of the watch panel, and the least the text keeps beside it;
 /// below that the variables go to the bottom line.
 const PANEL_WIDTH: u16 = 22;
+/// Columns a line's annotation needs beside it to be shown at all.
+const NOTE_MIN: usize = 12;
 const PANEL_MIN_TEXT: u16 = 40;
 
 /// How often the program's state is read while it runs.
@@ -1020,13 +1022,17 @@ impl Pane for EditorPane {
         let running = self.running_lines();
         let end = (self.top + rows).min(lines.len());
         let classes = self.tool.highlight(lines, self.top..end);
+        // What the tool says of a line in words, beside it where there is
+        // room (an SQPack frame's command).
+        let notes = self.tool.annotations(lines, self.top..end);
         let mut shown = Vec::with_capacity(rows);
-        for ((index, line), pieces) in lines
+        for (((index, line), pieces), note) in lines
             .iter()
             .enumerate()
             .skip(self.top)
             .take(rows)
             .zip(classes.iter())
+            .zip(notes.iter().chain(std::iter::repeat(&None)))
         {
             let is_error = error_lines.contains(&(index + 1));
             let is_current = self.current == Some(index) || running.contains(&index);
@@ -1051,6 +1057,14 @@ impl Pane for EditorPane {
                 theme.style(gutter_role),
             )];
             spans.extend(styled_line(line, pieces, view, base, self.left, text_width));
+            let used = line.chars().count().saturating_sub(self.left);
+            let room = text_width.saturating_sub(used + 4);
+            if let Some(note) = note.as_deref().filter(|_| room >= NOTE_MIN) {
+                spans.push(Span::styled(
+                    format!("  » {}", fit(note, room)),
+                    theme.style(Role::Muted),
+                ));
+            }
             let mut styled = Line::from(spans);
             if is_current {
                 styled = styled.style(base);

@@ -19,6 +19,7 @@ use crate::protocol::console::{
     LinkOption, PreparedLine, Reading, ReplyError, ReplyValue, StatusPoll, SwitchKind,
 };
 use crate::protocol::parameters::{ParameterSet, Scope};
+use crate::protocol::program::ProgramTool;
 use crate::protocol::settings::{SettingWrite, SettingsCache};
 use crate::protocol::wire::{Frame, WireFormat};
 
@@ -218,7 +219,7 @@ fn only_reads(command: &Command) -> bool {
 /// What the cautions know of earlier settings, from the session's cache
 /// (the rows of [`super::parameter_set`]: `$12` clkdiv, `$13` div and
 /// vstart, `$14` amax and vmax).
-fn known_of(cache: &SettingsCache) -> Known {
+pub(super) fn known_of(cache: &SettingsCache) -> Known {
     let mut known = Known {
         clkdiv: cache.value(Scope::Bank(0), 0x1200),
         ..Known::default()
@@ -502,6 +503,11 @@ impl FamilyConsole for Sixpack2Console {
 
     fn parameters(&self) -> Option<&'static dyn ParameterSet> {
         Some(&super::parameter_set::Sixpack2Parameters)
+    }
+
+    /// SQPack macro files, played from the host (§5.4.6, digest D8).
+    fn program(&self) -> Option<&'static dyn ProgramTool> {
+        Some(&super::tool::MacroTool)
     }
 
     fn describe_request(&self, bytes: &[u8]) -> Option<String> {

@@ -16,8 +16,10 @@ pub mod command;
 pub mod console;
 pub mod frame;
 pub mod line;
+pub mod macros;
 pub mod parameter_set;
 pub mod reply;
+pub mod tool;
 pub mod traffic;
 pub mod wire;
 
