@@ -439,3 +439,148 @@ fn the_editor_shows_a_macro_file_decoded_beside_its_lines_and_marks_its_errors()
         "{all}"
     );
 }
+
+/// The six motors as the family reads its status answers (the bytes of
+/// §7.2/§7.3 written out): motor 0 ramping towards 10000, motor 1
+/// rotating at -300, motor 2 searching its reference, motor 3 stopped by
+/// a switch (its stop flag), 4 and 5 at rest; the reference inputs of 2
+/// and 5 active.
+fn six_motors() -> Vec<axterm::session::AxisStatus> {
+    let console = find_family("sixpack2").expect("sixpack2").console;
+    let mut status = vec![axterm::session::AxisStatus::default(); 6];
+    let mut read = |line: &str, reply: &[u8]| {
+        let prepared = console.prepare(line, 0).expect("valid");
+        let frames: Vec<Vec<u8>> = if reply.is_empty() {
+            Vec::new()
+        } else {
+            vec![reply.to_vec()]
+        };
+        let reading = console.interpret(&prepared, &frames).expect("an answer");
+        for (axis, update) in console.status_update(&prepared, &reading) {
+            status[axis].apply(update);
+        }
+    };
+    let position = |m: u8, pos: i32, action: u8, stop: u8| {
+        let mut reply = vec![0x20, m];
+        reply.extend_from_slice(&pos.to_le_bytes());
+        reply.extend_from_slice(&[action, stop]);
+        reply
+    };
+    let velocity = |m: u8, v: i16, action: u8| {
+        let mut reply = vec![0x21, m];
+        reply.extend_from_slice(&v.to_le_bytes());
+        reply.extend_from_slice(&[action, 0, 0, 0]);
+        reply
+    };
+    for (m, pos, v, action, stop) in [
+        (0u8, 4200, 350, 5, 0),
+        (1, -123_456, -300, 15, 0),
+        (2, 77, -100, 21, 0),
+        (3, -241, 0, 0, 1),
+        (4, 0, 0, 0, 0),
+        (5, 999_999, 0, 0, 0),
+    ] {
+        read(
+            &format!("GetPositionAndActivity {m}"),
+            &position(m, pos, action, stop),
+        );
+        read(
+            &format!("GetVelocityAndActivity {m}"),
+            &velocity(m, v, action),
+        );
+    }
+    // $30 P4: reference inputs of motors 2 and 5.
+    read("GetInputValues 0", &[0x30, 0, 0, 0, 0, 0b0010_0100, 0, 0]);
+    read("SetAMaxVMax 0 100 400", &[]);
+    status
+}
+
+fn six_motor_console() -> App {
+    let mut snapshot = sixpack2_snapshot(SettingsCache::default());
+    snapshot.status = six_motors();
+    let mut app = console();
+    app.handle(AppEvent::Snapshot(snapshot));
+    app
+}
+
+#[test]
+fn six_axes_fit_80x24_one_row_each() {
+    let mut app = six_motor_console();
+    let lines = screen(&mut app, 80, 24);
+    let all = lines.join("\n");
+    let rows: Vec<&String> = lines
+        .iter()
+        .filter(|l| {
+            ["m0 ", "m1 ", "m2 ", "m3 ", "m4 ", "m5 "]
+                .iter()
+                .any(|m| l.contains(m))
+        })
+        .collect();
+    assert_eq!(rows.len(), 6, "{all}");
+    let row = |m: usize| rows[m].as_str();
+    assert!(row(0).starts_with("│▶m0"), "{}", row(0));
+    assert!(
+        row(0).contains("4200") && row(0).contains("350/400") && row(0).contains("ramp●"),
+        "{}",
+        row(0)
+    );
+    assert!(
+        row(1).contains("-123456") && row(1).contains("rotation●"),
+        "{}",
+        row(1)
+    );
+    assert!(
+        row(2).contains("ref search●") && row(2).contains("H●"),
+        "{}",
+        row(2)
+    );
+    assert!(row(3).contains("ERR stop flag"), "{}", row(3));
+    assert!(
+        row(4).contains("H○") && row(4).contains("no errors"),
+        "{}",
+        row(4)
+    );
+    assert!(
+        row(5).contains("999999") && row(5).contains("H●"),
+        "{}",
+        row(5)
+    );
+    // The command pane still has room below.
+    assert!(all.contains("1 Command"), "{all}");
+}
+
+#[test]
+fn six_axes_on_a_wide_screen_are_cards_with_every_lamp() {
+    let mut app = six_motor_console();
+    let lines = screen(&mut app, 200, 50);
+    let all = lines.join("\n");
+    for name in [
+        "m0/Motor1",
+        "m1/Motor2",
+        "m2/Motor3",
+        "m3/Motor4",
+        "m4/Motor5",
+        "m5/Motor6",
+    ] {
+        assert!(all.contains(name), "{name}: {all}");
+    }
+    let card = |name: &str| {
+        lines
+            .iter()
+            .position(|l| l.contains(name))
+            .unwrap_or_else(|| panic!("{name}: {all}"))
+    };
+    let m1 = card("m1/Motor2");
+    assert!(lines[m1].contains("-123456"), "{}", lines[m1]);
+    assert!(lines[m1 + 1].contains("spd") && lines[m1 + 1].contains("-300"));
+    // Every action as a lamp, the one in force lit.
+    assert!(
+        lines[m1 + 2].contains("ramp○ PI○ rotation● ref search○ mech ref○"),
+        "{}",
+        lines[m1 + 2]
+    );
+    let m3 = card("m3/Motor4");
+    assert!(lines[m3 + 2].contains("ERR stop flag"), "{}", lines[m3 + 2]);
+    let m0 = card("m0/Motor1");
+    assert!(lines[m0 + 1].contains("max") && lines[m0 + 1].contains("400"));
+}

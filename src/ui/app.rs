@@ -319,8 +319,16 @@ impl App {
             }
             AppEvent::Stopped(results) => {
                 let failed = results.iter().filter(|r| r.is_err()).count();
+                // Lines the module never answers went out, no more.
+                let unanswered = results
+                    .iter()
+                    .filter(|r| r.as_ref().is_ok_and(|r| r.reply.is_empty()))
+                    .count();
                 let text = match (failed, results.len()) {
                     (_, 0) => "STOP not sent".to_string(),
+                    (0, n) if unanswered > 0 => {
+                        format!("STOP: {n} sent, {unanswered} unacknowledged")
+                    }
                     (0, n) => format!("STOP: {n} sent, all ok"),
                     (failed, n) => format!("STOP: {failed} of {n} FAILED"),
                 };
@@ -875,7 +883,7 @@ mod tests {
             Ok(LineResult {
                 line: "MST 0".into(),
                 request: Vec::new(),
-                reply: Vec::new(),
+                reply: vec![2, 1, 100],
                 status: Some(100),
                 value: crate::session::ReplyValue::None,
                 elapsed: Duration::ZERO,
