@@ -19,6 +19,10 @@ pub const REPLY_LEN: usize = 1 + PARAMS;
 /// The `$28` command byte.
 const ALL_ACTIVITIES: u8 = 0x28;
 
+/// The transmitter switch-over delay before every reply, at the factory
+/// setting (§6.1.1: 6 ms; `$40` P2-3 in 2 ms units).
+pub const SWITCH_OVER: Duration = Duration::from_millis(6);
+
 /// Line silence after which a partial reply is dropped, in byte times: a
 /// unit sends each reply as one burst after its switch-over delay (§6.1.1).
 const SILENCE_BYTES: u32 = 4;
@@ -56,6 +60,11 @@ impl WireFormat for Sixpack2Wire {
             "the motors waited for ($28) are inactive: {}",
             fields.value_text()
         ))
+    }
+
+    /// The factory switch-over delay (§6.1.1; `$40` changes it).
+    fn turnaround(&self) -> Duration {
+        SWITCH_OVER
     }
 
     fn silence(&self, byte_time: Option<Duration>) -> Duration {
