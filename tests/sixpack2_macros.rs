@@ -140,3 +140,33 @@ fn the_macro_command_wants_a_sixpack2_connection() {
         stderr(&out)
     );
 }
+
+#[test]
+fn in_process_a_ramp_is_read_back_until_inactive_at_its_target() {
+    // `exec`: the ramp is sent (never answered), the $20 reads it ramping.
+    let out = axterm(&[
+        "exec",
+        "--sim",
+        "sixpack2",
+        "StartRamp 0 10000",
+        "GetPositionAndActivity 0",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = stdout(&out);
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines[0], "sent");
+    assert!(lines[1].contains("action=ramp"), "{text}");
+    // `run`: read until the motor is inactive at its target.
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("ramp.txt");
+    std::fs::write(
+        &file,
+        "StartRamp 0 10000\n\
+         :expect GetPositionAndActivity 0 == action=ramp\n\
+         :wait-until GetPositionAndActivity 0 == action=inactive timeout 30s\n\
+         :expect GetPositionAndActivity 0 == posact=10000 action=inactive stop=0\n",
+    )
+    .expect("write");
+    let out = axterm(&["run", "--sim", "sixpack2", &file.to_string_lossy()]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+}
