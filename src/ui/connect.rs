@@ -192,6 +192,10 @@ impl ConnectPane {
     /// The link option of the chosen family and the choice made, if it
     /// has one.
     fn link_option(&self) -> Option<(&'static LinkOption, &'static LinkChoice)> {
+        // A recent connection is opened with the options it had.
+        if let Some(Choice::Recent(_)) = self.choices().get(self.selected) {
+            return None;
+        }
         let option = self.chosen_family()?.console.link_options().first()?;
         let choice = option
             .choices
