@@ -584,3 +584,38 @@ fn six_axes_on_a_wide_screen_are_cards_with_every_lamp() {
     let m0 = card("m0/Motor1");
     assert!(lines[m0 + 1].contains("max") && lines[m0 + 1].contains("400"));
 }
+
+#[test]
+fn the_editor_plays_a_macro_only_once_its_frames_to_confirm_were_said() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("home.sqm");
+    std::fs::write(
+        &path,
+        "SendToPack($00, $15, $00, $10, $27, $00, $00, $10, $04)\n\
+         SendToPack($00, $22, $00, $00, $00, $00, $00, $00, $00)\n",
+    )
+    .expect("write");
+    let mut app = connected(SettingsCache::default());
+    assert!(app.focus("editor"));
+    app.handle(key(KeyCode::F(3)));
+    app.handle(AppEvent::Terminal(ratatui::crossterm::event::Event::Paste(
+        path.display().to_string(),
+    )));
+    app.handle(key(KeyCode::Enter));
+    let effects = app.handle(key_with(KeyCode::F(5), KeyModifiers::CONTROL));
+    assert!(
+        sends(&effects).is_empty(),
+        "nothing sent on the first press"
+    );
+    let all = screen(&mut app, 150, 40).join("\n");
+    assert!(
+        all.contains("Ctrl-F5 again sends it: ")
+            && all.contains("home.sqm:2: `StartReferenceSearch 0`: it stops"),
+        "{all}"
+    );
+    let effects = app.handle(key_with(KeyCode::F(5), KeyModifiers::CONTROL));
+    assert_eq!(
+        sends(&effects),
+        ["SendToPack($00, $15, $00, $10, $27, $00, $00, $10, $04)"]
+    );
+}

@@ -177,6 +177,9 @@ pub struct EditorPane {
     recovered: Option<Recovered>,
     /// F3 was pressed with unsaved changes: the next F3 opens anyway.
     open_confirmed: bool,
+    /// The host-run key was pressed on a text with lines the family wants
+    /// confirmed: the next press runs it.
+    host_confirmed: bool,
     /// Upload (Ctrl-F4) was pressed with unsaved changes: the next uploads anyway.
     upload_confirmed: bool,
     /// The program transfer under way.
@@ -226,6 +229,7 @@ impl EditorPane {
             clock: 0,
             recovered: None,
             open_confirmed: false,
+            host_confirmed: false,
             upload_confirmed: false,
             transfer: None,
             failed_line: None,
@@ -419,6 +423,7 @@ impl EditorPane {
     fn changed(&mut self) -> Outcome {
         self.changes += 1;
         self.open_confirmed = false;
+        self.host_confirmed = false;
         self.upload_confirmed = false;
         self.failed_line = None;
         self.recovered = None;
