@@ -283,15 +283,42 @@ pub fn parse_duration(text: &str) -> Result<Duration, String> {
 
 /// Whether a line's result (as printed: `ok`, a number, text) equals the
 /// value a file expects. Numbers compare by value, so `0x10` matches 16;
-/// `ok` matches in any case; anything else must match exactly.
+/// `ok` matches in any case; anything else must match exactly, but for a
+/// result of `name=value` fields (SIXpack 2 `posact=10000 action=ramp
+/// stop=0`), which an expected value of `name=value` fields matches when
+/// each of them is among the result's (`action=inactive`, or
+/// `posact=0x2710 stop=0`: values compare as above).
 pub fn result_matches(printed: &str, expected: &str) -> bool {
-    match (parse_integer(printed), parse_integer(expected)) {
+    let single = match (parse_integer(printed), parse_integer(expected)) {
         (Some(a), Some(b)) => a == b,
         _ => {
             printed == expected
                 || (printed.eq_ignore_ascii_case("ok") && expected.eq_ignore_ascii_case("ok"))
         }
-    }
+    };
+    single || fields_match(printed, expected)
+}
+
+/// `name=value` words, if the whole text is made of them.
+fn fields(text: &str) -> Option<Vec<(&str, &str)>> {
+    let words: Vec<(&str, &str)> = text
+        .split_whitespace()
+        .map(|word| word.split_once('=').filter(|(name, _)| !name.is_empty()))
+        .collect::<Option<_>>()?;
+    (!words.is_empty()).then_some(words)
+}
+
+/// Whether every field expected is among the printed ones, with a value
+/// that matches.
+fn fields_match(printed: &str, expected: &str) -> bool {
+    let (Some(printed), Some(expected)) = (fields(printed), fields(expected)) else {
+        return false;
+    };
+    expected.iter().all(|(name, value)| {
+        printed
+            .iter()
+            .any(|(n, v)| n == name && !v.contains('=') && result_matches(v, value))
+    })
 }
 
 /// A decimal or `0x`/`$` hex integer, optionally signed.
@@ -420,6 +447,21 @@ mod tests {
 
     #[test]
     fn results_compare_as_numbers_or_exactly() {
+        assert!(result_matches(
+            "posact=10000 action=inactive stop=0",
+            "action=inactive"
+        ));
+        assert!(result_matches(
+            "posact=10000 action=inactive stop=0",
+            "stop=0 posact=0x2710"
+        ));
+        assert!(!result_matches(
+            "posact=10000 action=ramp stop=0",
+            "action=inactive"
+        ));
+        assert!(!result_matches("posact=10000", "posact=10000 stop=0"));
+        assert!(!result_matches("posact=10000", "posact"));
+        assert!(!result_matches("10000", "posact=10000"));
         assert!(result_matches("16", "0x10"));
         assert!(result_matches("-5", "-5"));
         assert!(result_matches("255", "$FF"));
@@ -454,6 +496,22 @@ mod tests {
         #[test]
         fn comparisons_never_panic(a in "\\PC*", b in "\\PC*") {
             let _ = result_matches(&a, &b);
+        }
+
+        #[test]
+        fn a_result_of_fields_matches_any_of_its_fields(
+            fields in proptest::collection::vec(("[a-z][a-z0-9]{0,6}", "-?[0-9]{1,6}|[a-z]{1,8}"), 1..6),
+            pick in proptest::collection::vec(any::<bool>(), 6),
+        ) {
+            let printed: Vec<String> = fields.iter().map(|(n, v)| format!("{n}={v}")).collect();
+            let chosen: Vec<String> = printed
+                .iter()
+                .zip(&pick)
+                .filter(|(_, p)| **p)
+                .map(|(f, _)| f.clone())
+                .collect();
+            prop_assume!(!chosen.is_empty());
+            prop_assert!(result_matches(&printed.join(" "), &chosen.join(" ")));
         }
     }
 }

@@ -162,3 +162,29 @@ fn on_a_lossy_line_faults_are_counted_and_the_measuring_goes_on() {
     assert_eq!(report["faults"], faults, "{report}");
     assert!(report["polling"]["per_second"].is_number(), "{report}");
 }
+
+#[test]
+fn a_sixpack2_is_timed_with_its_status_read_and_its_switch_over_delay() {
+    // Settings are never answered (§7): the bench times the family's first
+    // status query, which is, and holds it against its bytes and the 6 ms
+    // the unit waits before it answers (§6.1.1).
+    let served = Served::start("sixpack2", &["--baud", "19200"]);
+    let out = axterm(&[
+        "bench",
+        "--port",
+        &served.pty,
+        "--protocol",
+        "sixpack2",
+        "--requests",
+        "5",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    assert_eq!(report["line"], "GetPositionAndActivity 0");
+    assert_eq!(report["wire"]["bytes"], 17, "{report}");
+    assert_eq!(report["wire"]["turnaround_us"], 6000.0, "{report}");
+    assert_eq!(report["device"]["count"], 5, "{report}");
+    assert_eq!(report["faults"], 0, "{report}");
+}

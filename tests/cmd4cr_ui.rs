@@ -33,6 +33,7 @@ fn snapshot(status: Vec<AxisStatus>) -> Snapshot {
         },
         identity: Some("V126BL".into()),
         poll: Some(PollCadence::default()),
+        settings: Default::default(),
         axis: 0,
     }
 }

@@ -189,7 +189,9 @@ fn reply_readers_never_panic() {
                     let mut read = false;
                     // As the device task matches an answer, frame by frame.
                     let rule = match &line.answering {
-                        Answering::Reply(rule) | Answering::MaybeReply(rule) => Some(rule),
+                        Answering::Reply(rule)
+                        | Answering::MaybeReply(rule)
+                        | Answering::Later { rule, .. } => Some(rule),
                         Answering::Nothing => None,
                     };
                     let mut accepted = Vec::new();

@@ -767,6 +767,7 @@ fn toy_snapshot() -> Snapshot {
         link: axterm::device::LinkState::Connected { link: "toy".into() },
         identity: None,
         poll: None,
+        settings: Default::default(),
         axis: 0,
     }
 }

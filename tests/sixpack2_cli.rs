@@ -295,3 +295,51 @@ fn run_refuses_a_file_with_a_line_to_confirm_unless_told_yes() {
         ["00 15 00 10 27 00 00 10 04", "00 22 00 00 00 00 00 00 00"]
     );
 }
+
+#[test]
+fn the_reply_framing_is_a_link_option() {
+    // The fake answers in the 8-byte form of §6.2.2.3 (digest D1.4, Cmd8).
+    let reply: &[u8] = &[0x20, 0x00, 0x10, 0x27, 0x00, 0x00, 0x00, 0x00];
+    let query = "GetPositionAndActivity 0";
+    let run = |fake: &Fake, option: &str| {
+        axterm(&[
+            "exec",
+            "--tcp",
+            &fake.address,
+            "--protocol",
+            "sixpack2",
+            "--timeout",
+            "300",
+            "--link-option",
+            option,
+            query,
+        ])
+    };
+    let fake = Fake::start(&[("00 20 00 00 00 00 00 00 00", reply)]);
+    let out = run(&fake, "framing=cmd8");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(stdout(&out), "posact=10000 action=inactive stop=0\n");
+    drop(fake.received());
+    let fake = Fake::start(&[("00 20 00 00 00 00 00 00 00", reply)]);
+    let out = run(&fake, "framing=addr9");
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "9-byte replies only: the 8-byte form is no answer"
+    );
+    drop(fake.received());
+    let out = axterm(&[
+        "exec",
+        "--sim",
+        "sixpack2",
+        "--link-option",
+        "framing=cmd9",
+        query,
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("framing=auto|cmd8|addr9"),
+        "{}",
+        stderr(&out)
+    );
+}

@@ -197,6 +197,74 @@ fn a_bad_address_or_baud_opens_nothing() {
 }
 
 #[test]
+fn the_baud_rate_follows_the_familys_factory_rate_unless_typed() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mut app = console(dir.path(), two_ports);
+    past_the_other_simulators(&mut app);
+    app.handle(key(KeyCode::Down));
+    app.handle(key(KeyCode::Tab));
+    // tmcl, cmd4cr, sixpack2.
+    app.handle(key(KeyCode::Right));
+    app.handle(key(KeyCode::Right));
+    assert!(
+        text(&mut app, 80, 24).contains("protocol [sixpack2]  baud [19200]"),
+        "SIXpack 2: 19200 Bd with no jumpers (§6.1.1)"
+    );
+    assert_eq!(
+        connects(&app.handle(key(KeyCode::Enter))),
+        Some(args("--port /dev/ttyACM0 --protocol sixpack2 --baud 19200"))
+    );
+    // From the protocol to the baud field.
+    app.handle(key(KeyCode::Tab));
+    app.handle(key_with(KeyCode::Char('u'), KeyModifiers::CONTROL));
+    type_text(&mut app, "57600");
+    app.handle(key(KeyCode::Esc));
+    app.handle(key(KeyCode::Tab));
+    app.handle(key(KeyCode::Left));
+    assert!(
+        text(&mut app, 80, 24).contains("protocol [cmd4cr]  baud [57600]"),
+        "a rate typed stays"
+    );
+}
+
+#[test]
+fn a_familys_link_option_is_chosen_on_the_form() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mut app = console(dir.path(), two_ports);
+    assert!(
+        !text(&mut app, 100, 24).contains("link ["),
+        "tmcm1110 has no link option"
+    );
+    let sixpack2 = axterm::sim::kinds()
+        .position(|k| k.name == "sixpack2")
+        .expect("a sixpack2 simulator");
+    for _ in 0..sixpack2 {
+        app.handle(key(KeyCode::Down));
+    }
+    let shown = text(&mut app, 100, 24);
+    assert!(shown.contains("link [framing=auto]"), "{shown}");
+    assert_eq!(
+        connects(&app.handle(key(KeyCode::Enter))),
+        Some(args("--sim sixpack2"))
+    );
+    // Protocol, baud, address, tcp, link.
+    for _ in 0..5 {
+        app.handle(key(KeyCode::Tab));
+    }
+    app.handle(key(KeyCode::Right));
+    let shown = text(&mut app, 100, 24);
+    assert!(
+        shown.contains("link [framing=cmd8]") && shown.contains("8 bytes CMD P0..P6"),
+        "{shown}"
+    );
+    app.handle(key(KeyCode::Tab));
+    assert_eq!(
+        connects(&app.handle(key(KeyCode::Enter))),
+        Some(args("--sim sixpack2 --link-option framing=cmd8"))
+    );
+}
+
+#[test]
 fn tcp_takes_the_host_typed() {
     let dir = tempfile::tempdir().expect("temp dir");
     let mut app = console(dir.path(), two_ports);

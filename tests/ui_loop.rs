@@ -66,7 +66,8 @@ fn ok(line: &str) -> Result<LineResult, SessionError> {
     Ok(LineResult {
         line: line.into(),
         request: Vec::new(),
-        reply: Vec::new(),
+        // A TMCL answer: status 100.
+        reply: vec![2, 1, 100, 3, 0, 0, 0, 0, 106],
         status: Some(100),
         value: ReplyValue::None,
         elapsed: Duration::ZERO,

@@ -85,13 +85,18 @@ pub struct WireTime {
     /// Request and answer bytes.
     pub bytes: usize,
     pub byte_time: Duration,
+    /// How long the module waits before it answers
+    /// ([`WireFormat::turnaround`]).
+    pub turnaround: Duration,
 }
 
 impl WireTime {
-    /// The bytes' time on the wire: no round trip can be shorter.
+    /// The bytes' time on the wire and the module's wait before it
+    /// answers: no round trip can be shorter.
     pub fn round_trip(&self) -> Duration {
         self.byte_time
             .saturating_mul(u32::try_from(self.bytes).unwrap_or(u32::MAX))
+            .saturating_add(self.turnaround)
     }
 
     /// Transactions per second the wire carries, back to back.
@@ -158,6 +163,7 @@ impl Report {
             "requests": self.requests,
             "wire": self.wire.map(|w| json!({
                 "bytes": w.bytes,
+                "turnaround_us": micros(Some(w.turnaround)),
                 "round_trip_us": micros(Some(w.round_trip())),
                 "per_second": w.per_second(),
             })),
@@ -201,7 +207,15 @@ impl Report {
             self.link, self.requests, self.line, "", "p50", "p99", "per second", "faults"
         );
         if let Some(wire) = self.wire {
-            let name = format!("wire time alone ({} bytes)", wire.bytes);
+            let name = if wire.turnaround.is_zero() {
+                format!("wire time alone ({} bytes)", wire.bytes)
+            } else {
+                format!(
+                    "wire time alone ({} bytes + {} ms)",
+                    wire.bytes,
+                    wire.turnaround.as_millis()
+                )
+            };
             let time = show(Some(wire.round_trip()));
             out.push_str(&format!(
                 "{name:<34}{time:>12}{time:>12}{:>12}{:>8}\n",
@@ -315,7 +329,9 @@ pub fn run(connection: &ConnectionArgs, args: &BenchArgs) -> i32 {
                 return EXIT_CONNECTION;
             }
         };
-        let report = match measure(&session, &line, requests, byte_time, wire_bytes).await {
+        let turnaround = target.family.console.wire().turnaround();
+        let measured = measure(&session, &line, requests, byte_time, wire_bytes, turnaround);
+        let report = match measured.await {
             Ok(mut report) => {
                 report.bare = bare;
                 report.bare_note = bare_note;
@@ -343,6 +359,7 @@ async fn measure(
     requests: usize,
     byte_time: Option<Duration>,
     wire_bytes: Option<usize>,
+    turnaround: Duration,
 ) -> Result<Report, String> {
     let mut device = Figures::default();
     let mut transaction_bytes = 0;
@@ -373,13 +390,14 @@ async fn measure(
     let wire = byte_time.map(|byte_time| WireTime {
         bytes: wire_bytes.unwrap_or(transaction_bytes),
         byte_time,
+        turnaround,
     });
 
     // Polling with every item due at once, as often as the link allows.
     let (done_tx, mut done) = mpsc::unbounded_channel();
     let expect = match &line.answering {
         Answering::Reply(rule) | Answering::MaybeReply(rule) => Expect::Reply(Arc::clone(rule)),
-        Answering::Nothing => Expect::Nothing,
+        Answering::Nothing | Answering::Later { .. } => Expect::Nothing,
     };
     let item = PollItem {
         transaction: Transaction {
@@ -488,9 +506,9 @@ fn bare_loop(
 ) -> Result<(Bare, String), BareError> {
     let rule = match &line.answering {
         Answering::Reply(rule) | Answering::MaybeReply(rule) => Arc::clone(rule),
-        Answering::Nothing => {
+        Answering::Nothing | Answering::Later { .. } => {
             return Err(BareError::Exchange(
-                "the timed line expects no answer".into(),
+                "the timed line expects no answer of its own".into(),
             ));
         }
     };
@@ -638,11 +656,43 @@ mod tests {
     }
 
     #[test]
+    fn a_modules_wait_before_it_answers_is_wire_time_too() {
+        // SIXpack 2 at 19200 Bd: 9 bytes out, 8 back, after the 6 ms
+        // switch-over delay (§6.1.1).
+        let wire = WireTime {
+            bytes: 17,
+            byte_time: crate::link::byte_time(19_200),
+            turnaround: Duration::from_millis(6),
+        };
+        assert_eq!(
+            wire.round_trip(),
+            Duration::from_nanos(17 * 520_833) + Duration::from_millis(6)
+        );
+        let report = Report {
+            wire: Some(wire),
+            ..Report::default()
+        };
+        assert!(
+            report
+                .to_table()
+                .contains("wire time alone (17 bytes + 6 ms)   14854.2 µs"),
+            "{}",
+            report.to_table()
+        );
+        let sixpack2 = crate::protocol::find_family("sixpack2").expect("registered");
+        assert_eq!(
+            sixpack2.console.wire().turnaround(),
+            Duration::from_millis(6)
+        );
+    }
+
+    #[test]
     fn figures_are_held_against_the_wire_time() {
         // TMCL at 115200 Bd: 9 bytes out, 9 back.
         let wire = WireTime {
             bytes: 18,
             byte_time: crate::link::byte_time(115_200),
+            turnaround: Duration::ZERO,
         };
         assert_eq!(wire.round_trip(), Duration::from_nanos(18 * 86_805));
         let per_second = wire.per_second().expect("a rate");

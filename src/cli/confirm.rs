@@ -5,7 +5,8 @@
 //! told `--yes`. A front end that finds one unconfirmed sends nothing at
 //! all.
 
-use crate::protocol::console::{FamilyConsole, PreparedLine};
+use crate::protocol::console::{FamilyConsole, PreparedLine, Reading, ReplyValue};
+use crate::protocol::settings::SettingsCache;
 
 /// What a front end must say about one line.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
@@ -17,20 +18,40 @@ pub struct Cautions {
     pub refusal: Option<String>,
 }
 
-/// The cautions about `line` for a batch given `--yes` or not.
-pub fn cautions(console: &dyn FamilyConsole, line: &PreparedLine, yes: bool) -> Cautions {
+/// The cautions about `line` for a batch given `--yes` or not, its
+/// cross-field warnings against `known` (what the lines before it wrote).
+pub fn cautions(
+    console: &dyn FamilyConsole,
+    line: &PreparedLine,
+    known: &SettingsCache,
+    yes: bool,
+) -> Cautions {
     let refusal = console
         .confirmation(line)
         .filter(|_| !yes)
         .map(|why| format!("not sent without --yes: {why}"));
     Cautions {
         warnings: console
-            .warnings(line)
+            .warnings(line, known)
             .into_iter()
             .map(|w| format!("warning: {w}"))
             .collect(),
         refusal,
     }
+}
+
+/// What `known` becomes once `line` is sent, judged before anything is
+/// sent (a batch's lines are checked together first): the settings it
+/// writes, or none known after a line that resets the module.
+pub fn after_line(console: &dyn FamilyConsole, line: &PreparedLine, known: &mut SettingsCache) {
+    let sent = Reading {
+        status: None,
+        value: ReplyValue::None,
+    };
+    if let Some(why) = console.settings_lost(line, &sent) {
+        known.forget(&why);
+    }
+    known.record(&console.settings_written(line));
 }
 
 #[cfg(test)]
@@ -43,7 +64,7 @@ mod tests {
         let prepared = console
             .prepare(line, console.default_address())
             .expect("a valid line");
-        cautions(console, &prepared, yes)
+        cautions(console, &prepared, &SettingsCache::default(), yes)
     }
 
     #[test]
@@ -67,6 +88,24 @@ mod tests {
         assert_eq!(said.warnings.len(), 1);
         assert!(said.warnings[0].starts_with("warning: the peak current of motors 0 and 1"));
         assert_eq!(said.refusal, None);
+    }
+
+    #[test]
+    fn cross_field_warnings_know_what_the_lines_before_wrote() {
+        let console = find_family("sixpack2").expect("a family").console;
+        let prepared = |line: &str| console.prepare(line, 0).expect("a valid line");
+        let amax = prepared("SetAMaxVMax 0 500 400");
+        let mut known = SettingsCache::default();
+        let said = cautions(console, &amax, &known, false);
+        assert!(
+            said.warnings[0].contains("vstart 5 (factory value"),
+            "{:?}",
+            said.warnings
+        );
+        after_line(console, &prepared("SetVMinVStart 0 4 8 2"), &mut known);
+        assert_eq!(cautions(console, &amax, &known, false), Cautions::default());
+        after_line(console, &prepared("HardwareReset"), &mut known);
+        assert_eq!(cautions(console, &amax, &known, false).warnings.len(), 1);
     }
 
     #[test]

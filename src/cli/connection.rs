@@ -156,7 +156,7 @@ pub fn family_of(args: &ConnectionArgs) -> Result<&'static Family, String> {
             family.name
         ));
     }
-    Ok(family)
+    protocol::with_link_options(family, &args.link_option)
 }
 
 /// Apply every `--input` setting to `sim`, in order: what each made hold,
@@ -372,5 +372,30 @@ mod tests {
     #[test]
     fn the_family_needs_no_connection() {
         assert_eq!(family_of(&args()).unwrap().name, "tmcl");
+    }
+
+    #[test]
+    fn a_link_option_gives_the_family_as_it_reads_the_link() {
+        let target = Target::resolve(&ConnectionArgs {
+            sim: Some("sixpack2".into()),
+            link_option: vec!["framing=cmd8".into()],
+            ..args()
+        })
+        .unwrap();
+        assert!(std::ptr::eq(
+            target.family,
+            &crate::protocol::sixpack2::FAMILY_CMD8
+        ));
+        let error = family_of(&ConnectionArgs {
+            sim: Some("tmcm1110".into()),
+            link_option: vec!["framing=cmd8".into()],
+            ..args()
+        })
+        .err()
+        .expect("refused");
+        assert!(
+            error.contains("the tmcl family has no link options"),
+            "{error}"
+        );
     }
 }

@@ -5,10 +5,11 @@
 
 use clap::Args;
 
-use super::confirm::cautions;
+use super::confirm::{after_line, cautions};
 use super::connection::{Target, run_to_exit};
 use super::output::{Format, print_outcome};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
+use crate::protocol::settings::SettingsCache;
 
 #[derive(Debug, Clone, Args)]
 pub struct ExecArgs {
@@ -36,11 +37,13 @@ pub fn run(connection: &ConnectionArgs, args: &ExecArgs) -> i32 {
     let console = target.family.console;
     let mut prepared = Vec::new();
     let mut refused = false;
+    let mut known = SettingsCache::default();
     for (index, line) in args.lines.iter().enumerate() {
         match console.prepare(line, target.address) {
             Ok(p) => {
                 let at = format!("axterm exec: line {} `{}`: ", index + 1, line.trim());
-                let said = cautions(console, &p, args.yes);
+                let said = cautions(console, &p, &known, args.yes);
+                after_line(console, &p, &mut known);
                 for warning in &said.warnings {
                     eprintln!("{at}{warning}");
                 }

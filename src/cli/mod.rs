@@ -10,6 +10,8 @@ pub mod output;
 pub mod run;
 pub mod run_ascript;
 pub mod run_end;
+pub mod run_host;
+pub mod run_macro;
 pub mod scan;
 /// The batch file syntax, shared with the console's `:run` (moved to
 /// [`crate::script`]; the old path stays for the front ends).
@@ -105,6 +107,12 @@ pub struct ConnectionArgs {
     /// LIM+1, LIM-1, HOME1, FAULT1, STALL1 (1..8) =0|1, AD1..AD8 =0..65535.
     #[arg(long = "input", global = true, value_name = "SETTING")]
     pub input: Vec<String>,
+    /// A choice about reading the link that the family's manual leaves
+    /// open (repeatable): sixpack2 framing=auto|cmd8|addr9, replies
+    /// without (cmd8, §6.2.2.3) or with (addr9) the response address in
+    /// front, or either (auto, the default).
+    #[arg(long = "link-option", global = true, value_name = "NAME=VALUE")]
+    pub link_option: Vec<String>,
 }
 
 #[derive(Debug, Subcommand)]
@@ -177,6 +185,18 @@ pub enum Command {
     /// a program failed at run time (or no answer, or Ctrl-C), 2 a bad file
     /// (nothing sent), 3 the connection could not be opened.
     RunAscript(run_ascript::RunAscriptArgs),
+    /// Play an SQPack macro file (SIXpack 2) from the host.
+    ///
+    /// The unit stores no program: a macro is sent frame by frame. The
+    /// whole file is checked first (nine hex values a SendToPack line,
+    /// values in range, as FILE:LINE:COLUMN); frames the family wants
+    /// confirmed need --yes. Each frame is printed with its answer;
+    /// unanswered frames are paced by their wire time, a query's answer
+    /// is waited for. Speaks sixpack2 unless told otherwise. A playback
+    /// that fails, is stopped with Ctrl-C or loses its link ends with the
+    /// emergency stop, unless --no-stop-on-failure. Exit codes as
+    /// run-ascript.
+    RunMacro(run_macro::RunMacroArgs),
     /// List serial ports.
     Ports,
     /// Look for modules on a bus (firmware version request at each address).
@@ -226,6 +246,7 @@ impl Command {
             Command::Exec(_) => "exec",
             Command::Run(_) => "run",
             Command::RunAscript(_) => "run-ascript",
+            Command::RunMacro(_) => "run-macro",
             Command::Ports => "ports",
             Command::Scan(_) => "scan",
             Command::Asm { .. } => "asm",
@@ -253,6 +274,7 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::Exec(args)) => exec::run(&cli.connection, &args),
         Some(Command::Run(args)) => run::run(&cli.connection, &args),
         Some(Command::RunAscript(args)) => run_ascript::run(&cli.connection, &args),
+        Some(Command::RunMacro(args)) => run_macro::run(&cli.connection, &args),
         Some(Command::Scan(args)) => scan::run(&cli.connection, &args),
         Some(Command::Bench(args)) => bench::run(&cli.connection, &args),
         Some(Command::Asm {

@@ -12,12 +12,13 @@ use std::time::Duration;
 use clap::Args;
 use serde_json::json;
 
-use super::confirm::cautions;
+use super::confirm::{after_line, cautions};
 use super::connection::{Target, family_of, names_a_connection, run_to_exit};
 use super::output::{Format, print_outcome};
 use super::run_end::{Interrupt, RunReport, run_then_end};
 use super::script::{Action, CheckedStep, WAIT_INTERVAL, check_script, result_matches};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
+use crate::protocol::settings::SettingsCache;
 
 use crate::protocol::Family;
 use crate::protocol::console::PreparedLine;
@@ -164,9 +165,11 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
 /// such a line.
 fn said_cautions(name: &str, family: &Family, checked: &[CheckedStep], yes: bool) -> bool {
     let mut ok = true;
+    let mut known = SettingsCache::default();
     for item in checked {
         let Some(line) = &item.line else { continue };
-        let said = cautions(family.console, line, yes);
+        let said = cautions(family.console, line, &known, yes);
+        after_line(family.console, line, &mut known);
         let at = format!("{name}:{}: `{}`: ", item.step.line_number, line.canonical);
         for warning in &said.warnings {
             eprintln!("{at}{warning}");

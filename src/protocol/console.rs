@@ -12,6 +12,7 @@ use std::time::Duration;
 
 use super::parameters::ParameterSet;
 use super::program::ProgramTool;
+use super::settings::{SettingWrite, SettingsCache};
 use super::wire::{Frame, ReplyRule, WireFormat};
 
 /// How a prepared line is answered.
@@ -24,6 +25,17 @@ pub enum Answering {
     MaybeReply(Arc<dyn ReplyRule>),
     /// The module never answers (TMCL 137 restore factory settings).
     Nothing,
+    /// The answer comes apart from the request, when the module is
+    /// ready, however long that takes (SIXpack 2 `$28` with a wait mask:
+    /// "as soon as all concerned motors are inactive", §7.2). Other
+    /// requests go on meanwhile (on RS-232 one such answer may be
+    /// outstanding, §6.2.1.7): the request is done once it is written,
+    /// and its answer comes as news ([`super::wire::WireFormat::unsolicited`])
+    /// that the rule recognises, waited for up to `within`.
+    Later {
+        rule: Arc<dyn ReplyRule>,
+        within: Duration,
+    },
 }
 
 /// Whether sending a line twice could hurt: only reads may be retried.
@@ -252,6 +264,39 @@ pub struct Completions {
     pub separator: &'static str,
 }
 
+/// A choice about reading a family's link that its manual leaves open
+/// (SIXpack 2: whether a reply carries the response address in front,
+/// digest D1.4), made on the command line (`--link-option framing=cmd8`)
+/// or the connect screen.
+#[derive(Debug)]
+pub struct LinkOption {
+    /// `framing`.
+    pub name: &'static str,
+    /// What it decides, for help.
+    pub help: &'static str,
+    /// What it may be; the first is the default.
+    pub choices: &'static [LinkChoice],
+}
+
+/// One value of a [`LinkOption`] and the family as it makes it.
+pub struct LinkChoice {
+    /// `cmd8`.
+    pub value: &'static str,
+    /// What it means, for help.
+    pub help: &'static str,
+    /// The family with this choice made (its console reads the link so).
+    pub family: &'static super::Family,
+}
+
+impl fmt::Debug for LinkChoice {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("LinkChoice")
+            .field("value", &self.value)
+            .field("help", &self.help)
+            .finish_non_exhaustive()
+    }
+}
+
 /// What the session layer needs of a controller family. One implementation
 /// per family, registered in [`super::FAMILIES`].
 pub trait FamilyConsole: Send + Sync {
@@ -273,6 +318,12 @@ pub trait FamilyConsole: Send + Sync {
         0..=255
     }
 
+    /// The choices about reading the link that the family's manual
+    /// leaves open ([`LinkOption`]); none by default.
+    fn link_options(&self) -> &'static [LinkOption] {
+        &[]
+    }
+
     /// The axes of a module of this family.
     fn axes(&self) -> &'static [AxisInfo];
 
@@ -282,11 +333,28 @@ pub trait FamilyConsole: Send + Sync {
 
     /// Cautions about a prepared line that do not stop it being sent (a
     /// value the manual advises against, a setting that clashes with one
-    /// written before): shown before sending, on stderr in batch use.
-    /// None by default.
-    fn warnings(&self, line: &PreparedLine) -> Vec<String> {
+    /// written before, as `known` has it): shown before sending, on
+    /// stderr in batch use. None by default.
+    fn warnings(&self, line: &PreparedLine, known: &SettingsCache) -> Vec<String> {
+        let _ = (line, known);
+        Vec::new()
+    }
+
+    /// The parameters (rows of [`FamilyConsole::parameters`]) that `line`
+    /// writes once sent, with their values: what the console knows of
+    /// settings a module cannot be asked for ([`SettingsCache`]). None by
+    /// default.
+    fn settings_written(&self, line: &PreparedLine) -> Vec<SettingWrite> {
         let _ = line;
         Vec::new()
+    }
+
+    /// Why no setting written before is known any more once `line` was
+    /// sent and `reading` came of it: the module was reset (SIXpack 2
+    /// `$CC`, or the reset flag of `$43`, §7.4). `None` by default.
+    fn settings_lost(&self, line: &PreparedLine, reading: &Reading) -> Option<String> {
+        let _ = (line, reading);
+        None
     }
 
     /// Why `line` must not be sent without the user's confirmation (it

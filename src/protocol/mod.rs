@@ -7,11 +7,13 @@ pub mod console;
 pub mod mccl;
 pub mod parameters;
 pub mod program;
+pub mod settings;
 pub mod sixpack2;
 pub mod tmcl;
 pub mod wire;
 
 use console::FamilyConsole;
+pub use console::{LinkChoice, LinkOption};
 
 /// One controller family as the command line knows it. A new family adds
 /// one entry to [`FAMILIES`], its simulators included.
@@ -56,14 +58,7 @@ pub const FAMILIES: &[Family] = &[
         console: &cmd4cr::Cmd4crConsole,
         simulators: &[crate::sim::cmd4cr::KIND],
     },
-    Family {
-        name: "sixpack2",
-        description: "Trinamic SIXpack 2 (6 axes), 9-byte binary frames without checksum",
-        encode_line: sixpack2::encode_line,
-        show_bytes: sixpack2::to_hex,
-        console: &sixpack2::Sixpack2Console::AUTO,
-        simulators: &[crate::sim::sixpack2::KIND],
-    },
+    sixpack2::family(&sixpack2::Sixpack2Console::AUTO),
     Family {
         name: "mccl",
         description: "PMC MultiFlex MCCL (up to 8 axes), ASCII lines with echo and prompt",
@@ -79,6 +74,61 @@ pub fn find_family(name: &str) -> Option<&'static Family> {
     FAMILIES.iter().find(|f| f.name.eq_ignore_ascii_case(name))
 }
 
+/// `family` with the link options `NAME=VALUE` given ([`LinkOption`]):
+/// the family as the last choice of each option makes it. An option or a
+/// value the family does not have is refused, naming what it has.
+pub fn with_link_options(
+    family: &'static Family,
+    options: &[String],
+) -> Result<&'static Family, String> {
+    let mut chosen = family;
+    for option in options {
+        let known = || {
+            let names: Vec<String> = chosen
+                .console
+                .link_options()
+                .iter()
+                .map(|o| {
+                    let values: Vec<&str> = o.choices.iter().map(|c| c.value).collect();
+                    format!("{}={}", o.name, values.join("|"))
+                })
+                .collect();
+            if names.is_empty() {
+                format!("the {} family has no link options", family.name)
+            } else {
+                format!("the {} family has {}", family.name, names.join(", "))
+            }
+        };
+        let Some((name, value)) = option.split_once('=') else {
+            return Err(format!(
+                "link option `{option}`: give NAME=VALUE; {}",
+                known()
+            ));
+        };
+        let (name, value) = (name.trim(), value.trim());
+        let Some(link_option) = chosen
+            .console
+            .link_options()
+            .iter()
+            .find(|o| o.name.eq_ignore_ascii_case(name))
+        else {
+            return Err(format!("link option `{name}`: unknown; {}", known()));
+        };
+        let Some(choice) = link_option
+            .choices
+            .iter()
+            .find(|c| c.value.eq_ignore_ascii_case(value))
+        else {
+            return Err(format!(
+                "link option {name}={value}: unknown value; {}",
+                known()
+            ));
+        };
+        chosen = choice.family;
+    }
+    Ok(chosen)
+}
+
 /// Names of every family, for error messages.
 pub fn family_names() -> String {
     FAMILIES
@@ -86,4 +136,81 @@ pub fn family_names() -> String {
         .map(|f| f.name)
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sixpack2() -> &'static Family {
+        find_family("sixpack2").expect("registered")
+    }
+
+    #[test]
+    fn a_link_option_picks_the_family_as_its_choice_makes_it() {
+        let strict = with_link_options(sixpack2(), &["framing=cmd8".into()]).expect("known");
+        assert_eq!(strict.name, "sixpack2");
+        let line = strict
+            .console
+            .prepare("GetPositionAndActivity 2", 0)
+            .expect("valid");
+        // Cmd8 does not read the address form.
+        assert!(
+            strict
+                .console
+                .interpret(&line, &[vec![0, 0x20, 2, 0, 0, 0, 0, 0, 0]])
+                .is_err()
+        );
+        let addressed = with_link_options(sixpack2(), &["FRAMING = Addr9".into()])
+            .expect("any case, blanks around");
+        assert!(
+            addressed
+                .console
+                .interpret(&line, &[vec![0, 0x20, 2, 0, 0, 0, 0, 0, 0]])
+                .is_ok()
+        );
+        assert!(
+            addressed
+                .console
+                .interpret(&line, &[vec![0x20, 2, 0, 0, 0, 0, 0, 0]])
+                .is_err()
+        );
+        let last_wins =
+            with_link_options(sixpack2(), &["framing=cmd8".into(), "framing=auto".into()])
+                .expect("known");
+        assert!(
+            last_wins
+                .console
+                .interpret(&line, &[vec![0, 0x20, 2, 0, 0, 0, 0, 0, 0]])
+                .is_ok()
+        );
+        assert!(std::ptr::eq(
+            with_link_options(sixpack2(), &[]).expect("none"),
+            sixpack2()
+        ));
+    }
+
+    #[test]
+    fn an_unknown_link_option_is_refused_naming_what_there_is() {
+        let error = with_link_options(sixpack2(), &["framing=cmd9".into()])
+            .err()
+            .expect("refused");
+        assert_eq!(
+            error,
+            "link option framing=cmd9: unknown value; the sixpack2 family has \
+             framing=auto|cmd8|addr9"
+        );
+        let error = with_link_options(sixpack2(), &["framing".into()])
+            .err()
+            .expect("refused");
+        assert!(error.contains("give NAME=VALUE"), "{error}");
+        let tmcl = find_family("tmcl").expect("registered");
+        let error = with_link_options(tmcl, &["framing=cmd8".into()])
+            .err()
+            .expect("refused");
+        assert_eq!(
+            error,
+            "link option `framing`: unknown; the tmcl family has no link options"
+        );
+    }
 }

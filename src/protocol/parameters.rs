@@ -197,6 +197,28 @@ pub trait ParameterSet: Send + Sync {
     /// parameter cannot be stored, the value is out of range).
     fn line(&self, row: &ParamRow, op: ParamOp) -> Result<String, String>;
 
+    /// [`ParameterSet::line`] for a family that writes several
+    /// parameters in one line (SIXpack 2 `$14`: amax and vmax): the others
+    /// take their values from `known` (what was written this session, an
+    /// imported file's values). By default the same as `line`.
+    fn line_with(
+        &self,
+        row: &ParamRow,
+        op: ParamOp,
+        known: &dyn Fn(Scope, u16) -> Option<i64>,
+    ) -> Result<String, String> {
+        let _ = known;
+        self.line(row, op)
+    }
+
+    /// Whether the rows the module cannot read back are known from what
+    /// the session wrote ([`crate::protocol::settings::SettingsCache`]):
+    /// then the table shows, exports and compares them from it. `false`
+    /// by default (such rows are actions, shown as write-only).
+    fn remembers_writes(&self) -> bool {
+        false
+    }
+
     /// `value` of `row` in real-world units, if the family converts it;
     /// `axis_value` gives other parameters of the same axis (divisors,
     /// resolution) as read from the module, `None` where not read yet.

@@ -302,6 +302,26 @@ pub trait ProgramTool: Send + Sync {
         lines: &[String],
         shown: Range<usize>,
     ) -> Vec<Vec<(Range<usize>, SyntaxClass)>>;
+    /// What each line in `shown` of `lines` says in words, for an editor
+    /// to show beside it (SQPack macros: the command a frame of nine hex
+    /// bytes is), `None` for a line with nothing to add. None by default.
+    fn annotations(&self, lines: &[String], shown: Range<usize>) -> Vec<Option<String>> {
+        lines
+            .get(shown)
+            .unwrap_or_default()
+            .iter()
+            .map(|_| None)
+            .collect()
+    }
+
+    /// The program line that sends the request `bytes` again, for a
+    /// console that records what it sends as a program (SQPack's "Record
+    /// Macro", §5.4.6); `None` when the language cannot say it.
+    fn record(&self, bytes: &[u8]) -> Option<String> {
+        let _ = bytes;
+        None
+    }
+
     /// The variable line `text` names at byte `column`, read from the line
     /// alone (when the whole does not check).
     fn variable_on_line(&self, text: &str, column: usize) -> Option<u8> {
@@ -351,6 +371,13 @@ pub trait ProgramTool: Send + Sync {
     /// ([`ProgramTool::host_run`]).
     fn runs_from_host(&self) -> bool {
         false
+    }
+
+    /// The command that runs programs of this language from the host
+    /// (`run-ascript`: `axterm run-ascript` and the console's
+    /// `:run-ascript`), if they run from the host.
+    fn host_command(&self) -> Option<&'static str> {
+        None
     }
     /// Check `source` for a run from the host and start it, the programs
     /// `start` (all when `None`); `None` when the language has no host
@@ -788,6 +815,11 @@ pub struct HostStart {
     pub warnings: Vec<String>,
     /// Which programs start ("PRG 0 and PRG 2").
     pub started: String,
+    /// The lines the family wants confirmed before they are sent
+    /// ([`super::console::FamilyConsole::confirmation`]), as `NAME:LINE:
+    /// `line`: why`: the console asks before the run starts, the command
+    /// line needs `--yes`.
+    pub confirm: Vec<String>,
 }
 
 /// What a host run needs done next.

@@ -84,6 +84,15 @@ pub trait WireFormat: Send + Sync {
     /// its only way back into step after garbage.
     fn silence(&self, byte_time: Option<Duration>) -> Duration;
 
+    /// How long a module waits after a request before it answers (the
+    /// SIXpack 2's transmitter switch-over delay, 6 ms at the factory
+    /// setting, §6.1.1): part of every exchange's time on the line beside
+    /// its bytes, for measurements held against the wire's rate. Zero by
+    /// default.
+    fn turnaround(&self) -> Duration {
+        Duration::ZERO
+    }
+
     /// Whether no answer to `earlier` can ever be taken for an answer to
     /// `next`, nor the other way round, judged from the two requests as
     /// sent (TMCL: they go to different modules or are different commands,

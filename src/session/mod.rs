@@ -10,7 +10,9 @@
 //! names the line and the module's status.
 
 mod host_run;
+mod later;
 pub mod run_end;
+pub mod settings;
 mod status;
 pub mod transfer;
 
@@ -250,6 +252,8 @@ pub struct Session {
     transfer: Arc<transfer::TransferState>,
     /// One byte's wire time on the link, when it has a known speed.
     byte_time: Option<Duration>,
+    /// The settings written this session ([`settings`]).
+    settings: settings::SharedSettings,
 }
 
 impl Session {
@@ -270,7 +274,6 @@ impl Session {
         let (board, _) = watch::channel(vec![AxisStatus::default(); axes]);
         let (identity, _) = watch::channel(None);
         Session {
-            device,
             family,
             address: options
                 .address
@@ -281,6 +284,8 @@ impl Session {
             polling: Arc::new(Mutex::new(None)),
             transfer: Arc::new(transfer::TransferState::default()),
             byte_time: None,
+            settings: settings::new_cache(device.state()),
+            device,
         }
     }
 
@@ -549,7 +554,8 @@ impl Session {
     ) -> Transaction {
         let expect = match &line.answering {
             Answering::Reply(rule) | Answering::MaybeReply(rule) => Expect::Reply(Arc::clone(rule)),
-            Answering::Nothing => Expect::Nothing,
+            // Its answer is picked out of the news ([`later`]).
+            Answering::Nothing | Answering::Later { .. } => Expect::Nothing,
         };
         Transaction {
             bytes: line.bytes.clone(),
@@ -573,7 +579,19 @@ impl Session {
         };
         let transaction = self.transaction(line, retry, timeout);
         let console = self.family.console;
-        let (frames, elapsed, attempts) = match self.device.transact(priority, transaction).await {
+        let later = later::LaterAnswer::for_line(&line.answering, || self.device.events());
+        let answered = match self.device.transact(priority, transaction).await {
+            Ok(answer) => match later {
+                Some(later) => later.wait().await.map(|(frames, elapsed)| device::Answer {
+                    frames,
+                    elapsed,
+                    attempts: answer.attempts,
+                }),
+                None => Ok(answer),
+            },
+            Err(error) => Err(error),
+        };
+        let (frames, elapsed, attempts) = match answered {
             Ok(answer) => (answer.frames, answer.elapsed, answer.attempts),
             // An answer that may be lost is not needed.
             Err(
@@ -611,6 +629,7 @@ impl Session {
             for (axis, update) in console.status_update(line, &reading) {
                 status::post(&self.board, axis, update);
             }
+            settings::record(&self.settings, console, line, &reading);
         }
         Ok(LineResult {
             line: line.canonical.clone(),

@@ -121,7 +121,20 @@ pub struct RunStop {
 impl RunStop {
     /// Every stop line answered with success.
     pub fn confirmed(&self) -> bool {
-        !self.lines.is_empty() && self.lines.iter().all(Result::is_ok)
+        !self.lines.is_empty()
+            && self
+                .lines
+                .iter()
+                .all(|l| l.as_ref().is_ok_and(|r| !r.reply.is_empty()))
+    }
+
+    /// Stop lines that went out but that the module never answers (a
+    /// SIXpack 2 acknowledges no command, §7): sent, and no more is known.
+    pub fn unacknowledged(&self) -> usize {
+        self.lines
+            .iter()
+            .filter(|l| l.as_ref().is_ok_and(|r| r.reply.is_empty()))
+            .count()
     }
 }
 
@@ -196,8 +209,14 @@ impl RunAftermath {
                 }];
                 lines.extend(stop.lines.iter().map(|l| format!("  {}", StopLine(l))));
                 let failed = stop.lines.iter().filter(|l| l.is_err()).count();
+                let unacknowledged = stop.unacknowledged();
                 lines.push(if stop.confirmed() {
                     "stop confirmed: every stop line answered ok".to_string()
+                } else if failed == 0 && unacknowledged > 0 {
+                    format!(
+                        "stop sent: every stop line went out, {unacknowledged} of them never \
+                         acknowledged by the module: check the axes"
+                    )
                 } else if stop.lines.is_empty() {
                     "STOP NOT SENT: the family has no stop lines; check the axes".to_string()
                 } else {
@@ -225,6 +244,13 @@ impl RunAftermath {
                         "{}: STOP sent, {} lines ok",
                         stop.ending.says(),
                         stop.lines.len()
+                    )
+                } else if failed == 0 && !stop.lines.is_empty() {
+                    format!(
+                        "{}: STOP sent, {} lines out, {} unacknowledged",
+                        stop.ending.says(),
+                        stop.lines.len(),
+                        stop.unacknowledged()
                     )
                 } else {
                     format!(
@@ -381,12 +407,46 @@ mod tests {
         Ok(LineResult {
             line: line.into(),
             request: Vec::new(),
-            reply: Vec::new(),
+            reply: vec![2, 1, 100],
             status: Some(100),
             value: ReplyValue::None,
             elapsed: Duration::ZERO,
             attempts: 1,
         })
+    }
+
+    /// A line the module never answers, sent.
+    fn sent(line: &str) -> Result<LineResult, SessionError> {
+        Ok(LineResult {
+            line: line.into(),
+            request: vec![0, 0x25],
+            reply: Vec::new(),
+            status: None,
+            value: ReplyValue::Text("sent".into()),
+            elapsed: Duration::ZERO,
+            attempts: 1,
+        })
+    }
+
+    #[test]
+    fn a_stop_the_module_never_answers_is_sent_not_confirmed() {
+        let stop = RunAftermath::Stopped(RunStop {
+            ending: RunEnding::Failed,
+            lines: vec![sent("ConstantRotation 0 0"), sent("AbortReferenceSearch 0")],
+            link: LinkAtStop::Up,
+        });
+        assert!(!stop.settled(), "nobody saw the axes stop");
+        let report = stop.report();
+        assert_eq!(report[1], "  ConstantRotation 0 0 → sent");
+        assert_eq!(
+            report[3],
+            "stop sent: every stop line went out, 2 of them never acknowledged by the module: \
+             check the axes"
+        );
+        assert!(
+            stop.summary()
+                .ends_with("STOP sent, 2 lines out, 2 unacknowledged")
+        );
     }
 
     fn device(line: &str, error: DeviceError) -> Result<LineResult, SessionError> {

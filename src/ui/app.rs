@@ -319,8 +319,16 @@ impl App {
             }
             AppEvent::Stopped(results) => {
                 let failed = results.iter().filter(|r| r.is_err()).count();
+                // Lines the module never answers went out, no more.
+                let unanswered = results
+                    .iter()
+                    .filter(|r| r.as_ref().is_ok_and(|r| r.reply.is_empty()))
+                    .count();
                 let text = match (failed, results.len()) {
                     (_, 0) => "STOP not sent".to_string(),
+                    (0, n) if unanswered > 0 => {
+                        format!("STOP: {n} sent, {unanswered} unacknowledged")
+                    }
                     (0, n) => format!("STOP: {n} sent, all ok"),
                     (failed, n) => format!("STOP: {failed} of {n} FAILED"),
                 };
@@ -650,6 +658,7 @@ fn same(a: &Snapshot, b: &Snapshot) -> bool {
         && a.link == b.link
         && a.identity == b.identity
         && a.poll == b.poll
+        && a.settings == b.settings
         && a.axis == b.axis
         && std::ptr::eq(a.family, b.family)
 }
@@ -807,6 +816,7 @@ mod tests {
             link: LinkState::Connected { link: "sim".into() },
             identity: None,
             poll: Some(PollCadence::default()),
+            settings: Default::default(),
             axis: 0,
         }
     }
@@ -873,7 +883,7 @@ mod tests {
             Ok(LineResult {
                 line: "MST 0".into(),
                 request: Vec::new(),
-                reply: Vec::new(),
+                reply: vec![2, 1, 100],
                 status: Some(100),
                 value: crate::session::ReplyValue::None,
                 elapsed: Duration::ZERO,

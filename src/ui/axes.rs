@@ -386,7 +386,7 @@ impl AxesPane {
         let name = format!(
             "{}{:<w$}",
             if selected { "▶" } else { " " },
-            truncate(axis.name, label_width - 1),
+            short_name(axis.name, label_width - 1),
             w = label_width - 1
         );
         let name_style = if selected {
@@ -523,7 +523,7 @@ impl AxesPane {
                 format!(
                     "{}{:<4}",
                     if selected { "▶" } else { " " },
-                    truncate(axis.name, 4)
+                    short_name(axis.name, 4)
                 ),
                 if selected {
                     theme.style(Role::Accent)
@@ -649,6 +649,16 @@ fn number(value: Option<i64>) -> String {
 
 fn truncate(text: &str, max: usize) -> String {
     text.chars().take(max).collect()
+}
+
+/// An axis name in at most `max` characters: a name of two forms
+/// (`m0/Motor1`: the protocol's number, the manual's name) gives its first
+/// when the whole does not fit, rather than a piece of both.
+fn short_name(name: &str, max: usize) -> String {
+    match name.split_once('/') {
+        Some((first, _)) if name.chars().count() > max => truncate(first, max),
+        _ => truncate(name, max),
+    }
 }
 
 /// Where `value` lies between `low` and `high`, 0..1.
@@ -953,6 +963,14 @@ mod tests {
     use super::*;
 
     #[test]
+    fn a_name_of_two_forms_gives_its_first_when_short_of_room() {
+        assert_eq!(short_name("m0/Motor1", 4), "m0");
+        assert_eq!(short_name("m0/Motor1", 9), "m0/Motor1");
+        assert_eq!(short_name("motor 0", 4), "moto");
+        assert_eq!(short_name("X", 4), "X");
+    }
+
+    #[test]
     fn the_ramp_follows_the_speed() {
         assert_eq!(Ramp::from_speeds(None, None, None), Ramp::Unknown);
         assert_eq!(
@@ -1032,6 +1050,7 @@ mod tests {
             link: LinkState::Closed,
             identity: None,
             poll: None,
+            settings: Default::default(),
             axis: 0,
         };
         let mut step = |speed: i64, pane: &mut AxesPane| {

@@ -51,6 +51,8 @@ pub struct Batch {
     deadline: Option<Instant>,
     /// Reads the `:wait-until` in progress has made.
     reads: u32,
+    /// The lines the family wants confirmed, as `NAME:LINE: `line`: why`.
+    confirm: Vec<String>,
 }
 
 impl Batch {
@@ -63,17 +65,38 @@ impl Batch {
         family: &Family,
         address: u8,
     ) -> Result<Batch, Vec<String>> {
-        let steps = check_script(name, text, family, address)?
-            .into_iter()
-            .map(|checked| checked.step)
+        let checked = check_script(name, text, family, address)?;
+        let confirm = checked
+            .iter()
+            .filter_map(|c| {
+                let line = c.line.as_ref()?;
+                let why = family.console.confirmation(line)?;
+                Some(format!(
+                    "{name}:{}: `{}`: {why}",
+                    c.step.line_number, line.canonical
+                ))
+            })
             .collect();
+        let steps = checked.into_iter().map(|checked| checked.step).collect();
         Ok(Batch {
             name: name.to_string(),
             steps,
             next: 0,
             deadline: None,
             reads: 0,
+            confirm,
         })
+    }
+
+    /// The file's name, or the directive typed.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The lines the family wants confirmed before they are sent, as
+    /// `NAME:LINE: `line`: why`.
+    pub fn confirmations(&self) -> &[String] {
+        &self.confirm
     }
 
     /// How many steps the batch has.

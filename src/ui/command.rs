@@ -26,7 +26,8 @@ use super::pane::{
 use super::text::fit;
 use super::theme::Role;
 use crate::device::{DeviceEvent, LinkState};
-use crate::protocol::console::{Candidate, Completions};
+use crate::protocol::console::{Candidate, Completions, PreparedLine};
+use crate::protocol::program::{HostStart, ProgramTool};
 use crate::protocol::{FAMILIES, Family, find_family};
 use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
 use crate::session::{LineResult, SessionError};
@@ -74,6 +75,14 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
     (
         ":run-ascript [--no-stop-on-failure] FILE [N…]",
         "run a CMD-4CR A-Script program from the host (checked whole first; N: only these PRG blocks; stops every axis if it fails or is cancelled unless told not to)",
+    ),
+    (
+        ":run-macro [--no-stop-on-failure] FILE",
+        "play a SIXpack 2 SQPack macro file from the host (checked whole first; frames the family wants confirmed are asked about once; stops every axis if it fails or is cancelled unless told not to)",
+    ),
+    (
+        ":record-macro FILE | off",
+        "record every line sent from here as a macro file of the module's program language (SIXpack 2: SendToPack lines, §5.4.6), until off",
     ),
     (
         ":expect LINE == VALUE",
@@ -153,6 +162,45 @@ pub struct CommandPane {
     run_policy: Option<StopOnFailure>,
     /// The last output row is a state [`CommandPane::say_live`] replaces.
     live: bool,
+    /// What waits for the user's yes: a line, batch or host run with
+    /// lines the family wants confirmed.
+    confirming: Option<Confirming>,
+    /// `:record-macro FILE`: the lines sent from here, as a program.
+    recording: Option<Recording>,
+}
+
+/// A recording of the lines sent (SQPack's "Record Macro", §5.4.6).
+#[derive(Debug)]
+struct Recording {
+    path: PathBuf,
+    /// The language's lines so far, written to the file after each.
+    lines: Vec<String>,
+    tool: &'static dyn ProgramTool,
+}
+
+/// What is sent once the user says yes.
+#[derive(Debug)]
+enum Deferred {
+    /// A typed line.
+    Line(String),
+    /// A checked batch, and what becomes of the axes if it fails.
+    Batch {
+        batch: Batch,
+        policy: Option<StopOnFailure>,
+    },
+    /// A checked host run.
+    Host {
+        program: HostStart,
+        file: String,
+        policy: Option<StopOnFailure>,
+    },
+}
+
+/// A question before sending: why each line needs the user's yes.
+#[derive(Debug)]
+struct Confirming {
+    then: Deferred,
+    reasons: Vec<String>,
 }
 
 impl Default for CommandPane {
@@ -183,6 +231,8 @@ impl CommandPane {
             host: None,
             run_policy: None,
             live: false,
+            confirming: None,
+            recording: None,
         }
     }
 
@@ -284,15 +334,82 @@ impl CommandPane {
         if trimmed.starts_with(':') {
             return self.console_command(&trimmed, view);
         }
-        if view.session.is_none() {
+        let Some(session) = view.session else {
             self.say(Role::Error, not_connected());
             return Outcome::redraw();
+        };
+        // A line that does not parse is sent all the same: the session
+        // refuses it with its message, as for any front end.
+        if let Ok(prepared) = session.family.console.prepare(&trimmed, session.address) {
+            self.say_warnings(session, &prepared);
+            if let Some(why) = session.family.console.confirmation(&prepared) {
+                return self.ask(Deferred::Line(trimmed), vec![why]);
+            }
         }
+        self.send_typed(trimmed)
+    }
+
+    fn send_typed(&mut self, line: String) -> Outcome {
         let tag = self.tag(Origin::Typed);
         Outcome::request(Request::Send {
-            lines: vec![trimmed],
+            lines: vec![line],
             tag,
         })
+    }
+
+    /// The family's warnings about a line about to be sent, with what the
+    /// session knows of the settings written before.
+    fn say_warnings(&mut self, session: &Snapshot, line: &PreparedLine) {
+        for warning in session.family.console.warnings(line, &session.settings) {
+            self.say(Role::Warning, format!("  warning: {warning}"));
+        }
+    }
+
+    /// Hold `then` until the user says yes (or no).
+    fn ask(&mut self, then: Deferred, reasons: Vec<String>) -> Outcome {
+        self.confirming = Some(Confirming { then, reasons });
+        Outcome::redraw()
+    }
+
+    /// A key while a question is open: y sends, n or the cancel key
+    /// drops it; other keys go to the app (the focus keys still work).
+    fn confirm_key(&mut self, key: &KeyEvent, view: &View) -> Outcome {
+        let yes = matches!(key.code, KeyCode::Char('y' | 'Y'));
+        let no = matches!(key.code, KeyCode::Char('n' | 'N'))
+            || view.keymap.action_for(Context::Command, key) == Some(Action::Cancel);
+        if !yes && !no {
+            return Outcome::Ignored;
+        }
+        let Some(Confirming { then, .. }) = self.confirming.take() else {
+            return Outcome::Ignored;
+        };
+        if no {
+            let what = match &then {
+                Deferred::Line(line) => format!("  not sent: {line}"),
+                Deferred::Batch { batch, .. } => format!("{}: not run, nothing sent", batch.name()),
+                Deferred::Host { file, .. } => format!("{file}: not run, nothing sent"),
+            };
+            self.say(Role::Warning, what);
+            return Outcome::redraw();
+        }
+        if view.session.is_none() {
+            return self.fail(not_connected());
+        }
+        match then {
+            Deferred::Line(line) => self.send_typed(line),
+            Deferred::Batch { batch, policy } => {
+                self.run_policy = policy;
+                self.run_batch(batch, view)
+            }
+            Deferred::Host {
+                program,
+                file,
+                policy,
+            } => {
+                self.run_policy = policy;
+                self.begin_host_run(program, &file, view)
+            }
+        }
     }
 
     fn console_command(&mut self, line: &str, view: &View) -> Outcome {
@@ -383,9 +500,11 @@ impl CommandPane {
                     Err(e) => self.fail(format!("cannot read {rest}: {e}")),
                 };
             }
-            "run-ascript" => {
+            "record-macro" => return self.record_command(rest, view),
+            command if is_host_command(command) => {
                 let (policy, rest) = run_options(rest);
-                return self.with_run_policy(policy, |pane| pane.start_host_run(rest, view));
+                return self
+                    .with_run_policy(policy, |pane| pane.start_host_run(command, rest, view));
             }
             "sim-input" => {
                 if session.is_none() {
@@ -437,15 +556,114 @@ impl CommandPane {
         (ending != RunEnding::Completed).then_some(Request::EndRun { ending, policy })
     }
 
+    /// `:record-macro FILE | off`: record every line sent from here (typed
+    /// or from a batch, once sent) as the connected family's program tool
+    /// writes it, into FILE, rewritten after each line so that nothing
+    /// recorded is lost; `off` ends it. An existing file is not
+    /// overwritten.
+    fn record_command(&mut self, rest: &str, view: &View) -> Outcome {
+        if rest.eq_ignore_ascii_case("off") {
+            return match self.recording.take() {
+                Some(recording) => {
+                    self.say(
+                        Role::Ok,
+                        format!(
+                            "recording ended: {} line(s) in {}",
+                            recording.lines.len(),
+                            recording.path.display()
+                        ),
+                    );
+                    Outcome::redraw()
+                }
+                None => self.fail("nothing is being recorded"),
+            };
+        }
+        if rest.is_empty() {
+            return self.fail(":record-macro needs a file name (or off)");
+        }
+        let Some(session) = view.session else {
+            return self.fail(not_connected());
+        };
+        // The tool records if it can say the family's own identity query.
+        let probe = session.family.console.identify(session.address).bytes;
+        let Some(tool) = session
+            .family
+            .console
+            .program()
+            .filter(|t| t.record(&probe).is_some())
+        else {
+            return self.fail(format!(
+                "the {} family's program language cannot record the lines sent",
+                session.family.name
+            ));
+        };
+        let path = PathBuf::from(rest);
+        if path.exists() {
+            return self.fail(format!(
+                "{} exists: give a new file name (nothing is overwritten)",
+                path.display()
+            ));
+        }
+        if let Err(e) = crate::files::write_atomically(&path, b"") {
+            return self.fail(format!("cannot write {}: {e}", path.display()));
+        }
+        if let Some(before) = self.recording.take() {
+            self.say(
+                Role::Muted,
+                format!(
+                    "recording to {} ended: {} line(s)",
+                    before.path.display(),
+                    before.lines.len()
+                ),
+            );
+        }
+        self.say(
+            Role::Accent,
+            format!(
+                "recording every line sent from here to {} as {} ({} off ends it)",
+                path.display(),
+                tool.name(),
+                ":record-macro"
+            ),
+        );
+        self.recording = Some(Recording {
+            path,
+            lines: Vec::new(),
+            tool,
+        });
+        Outcome::redraw()
+    }
+
+    /// Add a line that was sent to the recording, if one goes.
+    fn record_sent(&mut self, request: &[u8]) {
+        let Some(recording) = self.recording.as_mut() else {
+            return;
+        };
+        let Some(line) = recording.tool.record(request) else {
+            return;
+        };
+        recording.lines.push(line);
+        let mut text = recording.lines.join("\n");
+        text.push('\n');
+        if let Err(e) = crate::files::write_atomically(&recording.path, text.as_bytes()) {
+            let path = recording.path.display().to_string();
+            self.recording = None;
+            self.say(
+                Role::Error,
+                format!("recording stopped: cannot write {path}: {e}"),
+            );
+        }
+    }
+
     fn fail(&mut self, message: impl Into<String>) -> Outcome {
         self.say(Role::Error, message);
         Outcome::redraw()
     }
 
-    /// `:run-ascript FILE [N…]`: check the whole file, then run it from the
-    /// host, as the connected family's program tool offers it (A-Script:
-    /// [`crate::protocol::program::HostRun`]).
-    fn start_host_run(&mut self, rest: &str, view: &View) -> Outcome {
+    /// `:run-ascript FILE [N…]`, `:run-macro FILE`: check the whole file,
+    /// then run it from the host, as the connected family's program tool
+    /// whose command it is offers it ([`crate::protocol::program::HostRun`]).
+    fn start_host_run(&mut self, command: &str, rest: &str, view: &View) -> Outcome {
         if self.batch.is_some() || self.host.is_some() {
             return self.fail("a batch or a host run is going: wait for it, or stop it (Esc)");
         }
@@ -456,9 +674,9 @@ impl CommandPane {
             .family
             .console
             .program()
-            .filter(|tool| tool.runs_from_host())
+            .filter(|tool| tool.runs_from_host() && tool.host_command() == Some(command))
         else {
-            return self.fail(no_host_run(session.family));
+            return self.fail(no_host_run(session.family, command));
         };
         // Trailing numbers are the PRG blocks to start.
         let mut words: Vec<&str> = rest.split_whitespace().collect();
@@ -474,8 +692,9 @@ impl CommandPane {
         }
         let file = words.join(" ");
         if file.is_empty() {
-            return self
-                .fail(":run-ascript needs a file name (and the PRG numbers to start, if not all)");
+            return self.fail(format!(
+                ":{command} needs a file name (and the programs to start, if not all)"
+            ));
         }
         let text = match crate::files::read_text(&file) {
             Ok(text) => text,
@@ -490,11 +709,28 @@ impl CommandPane {
                 }
                 return self.fail(format!("{file}: nothing was sent"));
             }
-            None => return self.fail(no_host_run(session.family)),
+            None => return self.fail(no_host_run(session.family, command)),
         };
         for warning in &program.warnings {
             self.say(Role::Warning, warning.clone());
         }
+        if !program.confirm.is_empty() {
+            let reasons = program.confirm.clone();
+            let policy = self.run_policy;
+            return self.ask(
+                Deferred::Host {
+                    program,
+                    file,
+                    policy,
+                },
+                reasons,
+            );
+        }
+        self.begin_host_run(program, &file, view)
+    }
+
+    /// Run a checked program from the host.
+    fn begin_host_run(&mut self, program: HostStart, file: &str, view: &View) -> Outcome {
         self.say(
             Role::Accent,
             format!(
@@ -545,22 +781,40 @@ impl CommandPane {
                 self.fail(format!("{name}: nothing was sent"))
             }
             Ok(batch) => {
-                if batch.len() > 1 {
-                    self.say(Role::Muted, format!("{name}: {} steps", batch.len()));
+                if !batch.confirmations().is_empty() {
+                    let reasons = batch.confirmations().to_vec();
+                    let policy = self.run_policy;
+                    return self.ask(Deferred::Batch { batch, policy }, reasons);
                 }
-                self.batch = Some(batch);
-                let steps = self.batch.as_mut().map(Batch::advance).unwrap_or_default();
-                self.batch_steps(steps)
+                self.run_batch(batch, view)
             }
         }
     }
 
+    /// Run a checked batch.
+    fn run_batch(&mut self, batch: Batch, view: &View) -> Outcome {
+        if batch.len() > 1 {
+            self.say(
+                Role::Muted,
+                format!("{}: {} steps", batch.name(), batch.len()),
+            );
+        }
+        self.batch = Some(batch);
+        let steps = self.batch.as_mut().map(Batch::advance).unwrap_or_default();
+        self.batch_steps(steps, view)
+    }
+
     /// Carry out what the batch asks for next.
-    fn batch_steps(&mut self, steps: Vec<BatchStep>) -> Outcome {
+    fn batch_steps(&mut self, steps: Vec<BatchStep>, view: &View) -> Outcome {
         let mut requests = Vec::new();
         for step in steps {
             match step {
                 BatchStep::Send(line) => {
+                    if let Some(session) = view.session
+                        && let Ok(prepared) = session.family.console.prepare(&line, session.address)
+                    {
+                        self.say_warnings(session, &prepared);
+                    }
                     let tag = self.tag(Origin::Batch);
                     requests.push(Request::Send {
                         lines: vec![line],
@@ -593,6 +847,9 @@ impl CommandPane {
     }
 
     fn edit_key(&mut self, key: &KeyEvent, view: &View) -> Outcome {
+        if self.confirming.is_some() {
+            return self.confirm_key(key, view);
+        }
         let action = view.keymap.action_for(Context::Command, key);
         if action != Some(Action::Complete) {
             self.completing = None;
@@ -771,6 +1028,29 @@ impl CommandPane {
     /// The rows under the output: completion candidates, or a hint.
     fn hint_rows(&self, view: &View, width: usize) -> Vec<Line<'static>> {
         let theme = view.theme;
+        if let Some(confirming) = &self.confirming {
+            let mut rows: Vec<Line> = confirming
+                .reasons
+                .iter()
+                .map(|why| Line::styled(fit(why, width), theme.style(Role::Warning)))
+                .collect();
+            let what = match &confirming.then {
+                Deferred::Line(line) => format!("send {line}?"),
+                Deferred::Batch { batch, .. } => format!("run {}?", batch.name()),
+                Deferred::Host { file, .. } => format!("run {file}?"),
+            };
+            rows.push(Line::styled(
+                fit(
+                    &format!(
+                        "{what} y sends, n or {} does not",
+                        key_label(view.keymap, Context::Command, Action::Cancel)
+                    ),
+                    width,
+                ),
+                theme.style(Role::Accent),
+            ));
+            return rows;
+        }
         if let Some(c) = &self.completing {
             let mut rows: Vec<Line> = Vec::new();
             let mut row: Vec<Span> = Vec::new();
@@ -961,6 +1241,12 @@ impl Pane for CommandPane {
                     (Origin::Batch, Some(batch)) => batch.wait_progress(result),
                     _ => None,
                 };
+                // The reads of a `:wait-until` are not worth recording.
+                if progress.is_none()
+                    && let Ok(sent) = result
+                {
+                    self.record_sent(&sent.request);
+                }
                 if let Some(progress) = progress {
                     self.say_live(Role::Normal, format!("{PROMPT}{progress}"));
                 } else {
@@ -976,16 +1262,24 @@ impl Pane for CommandPane {
                         Some(batch) => batch.on_reply(result),
                         None => return Outcome::redraw(),
                     };
-                    return self.batch_steps(steps);
+                    return self.batch_steps(steps, view);
                 }
                 Outcome::redraw()
             }
             PaneEvent::Wake { tag } if self.batch_wake == Some(*tag) => {
                 self.batch_wake = None;
                 let steps = self.batch.as_mut().map(Batch::on_wake).unwrap_or_default();
-                self.batch_steps(steps)
+                self.batch_steps(steps, view)
             }
             PaneEvent::Stopping => {
+                if let Some(confirming) = self.confirming.take() {
+                    let what = match confirming.then {
+                        Deferred::Line(line) => line,
+                        Deferred::Batch { batch, .. } => batch.name().to_string(),
+                        Deferred::Host { file, .. } => file,
+                    };
+                    self.say(Role::Warning, format!("  not sent: {what}"));
+                }
                 let dropped = self.sent.len();
                 self.sent.clear();
                 self.batch_wake = None;
@@ -1027,8 +1321,23 @@ impl Pane for CommandPane {
                     self.show_reply(family, result);
                 }
                 let ok = results.iter().all(Result::is_ok);
-                if ok && !results.is_empty() {
+                // A line the module never answers (SIXpack 2, §7) went out,
+                // and that is all anyone can say of it.
+                let unanswered = results
+                    .iter()
+                    .filter(|r| r.as_ref().is_ok_and(|r| r.reply.is_empty()))
+                    .count();
+                if ok && !results.is_empty() && unanswered == 0 {
                     self.say(Role::Ok, "STOP confirmed: every stop line answered ok");
+                } else if ok && !results.is_empty() {
+                    self.say(
+                        Role::Warning,
+                        format!(
+                            "STOP sent: all {} stop lines went out, {unanswered} of them never \
+                             acknowledged by the module: watch the axes stop",
+                            results.len()
+                        ),
+                    );
                 } else if results.is_empty() {
                     self.say(Role::Error, "STOP: nothing was sent (not connected)");
                 } else {
@@ -1101,18 +1410,30 @@ impl Pane for CommandPane {
     }
 }
 
-/// Why `:run-ascript` runs nothing on a module of `family`: which
-/// families' programs run from the host.
-fn no_host_run(family: &Family) -> String {
+/// Whether `command` runs some family's programs from the host
+/// ([`crate::protocol::program::ProgramTool::host_command`]).
+fn is_host_command(command: &str) -> bool {
+    FAMILIES
+        .iter()
+        .filter_map(|f| f.console.program())
+        .any(|t| t.runs_from_host() && t.host_command() == Some(command))
+}
+
+/// Why `:COMMAND` runs nothing on a module of `family`: whose programs it
+/// runs from the host.
+fn no_host_run(family: &Family, command: &str) -> String {
     let offered: Vec<String> = FAMILIES
         .iter()
         .filter_map(|f| {
-            let tool = f.console.program().filter(|t| t.runs_from_host())?;
+            let tool = f
+                .console
+                .program()
+                .filter(|t| t.runs_from_host() && t.host_command() == Some(command))?;
             Some(format!("{} ({})", tool.name(), f.name))
         })
         .collect();
     format!(
-        "running a program from the host is for {}; this module speaks {}",
+        ":{command} runs {} from the host; this module speaks {}",
         offered.join(", "),
         family.name
     )
@@ -1177,6 +1498,7 @@ mod tests {
             link: LinkState::Closed,
             identity: None,
             poll: None,
+            settings: Default::default(),
             axis: 0,
         }
     }

@@ -27,7 +27,7 @@ use super::pane::{Input, NoticeLevel, Outcome, Pane, PaneEvent, Region, Request,
 use super::text::fit;
 use super::theme::Role;
 use crate::link::ports::PortInfo;
-use crate::protocol::{FAMILIES, Family, find_family};
+use crate::protocol::{FAMILIES, Family, LinkChoice, LinkOption, find_family};
 use crate::sim::{find_kind, kinds};
 use recent::Recents;
 
@@ -63,16 +63,20 @@ enum Focus {
     Baud,
     Address,
     Tcp,
+    /// The chosen family's link option, if it has one.
+    Link,
 }
 
 impl Focus {
-    fn next(self) -> Focus {
+    /// The next field; the link option's only when there is one.
+    fn next(self, has_link_option: bool) -> Focus {
         match self {
             Focus::List => Focus::Protocol,
             Focus::Protocol => Focus::Baud,
             Focus::Baud => Focus::Address,
             Focus::Address => Focus::Tcp,
-            Focus::Tcp => Focus::List,
+            Focus::Tcp if has_link_option => Focus::Link,
+            Focus::Tcp | Focus::Link => Focus::List,
         }
     }
 }
@@ -91,6 +95,9 @@ pub struct ConnectPane {
     baud: Field,
     address: Field,
     tcp: Field,
+    /// The choice of the chosen family's link option (the first it has:
+    /// no family has more), index into its choices; 0 is its default.
+    link: usize,
     /// The options of the connection being opened.
     connecting: Option<Vec<String>>,
     message: Option<(Role, String)>,
@@ -116,6 +123,7 @@ impl ConnectPane {
             baud: Field::new(DEFAULT_BAUD),
             address: Field::new(""),
             tcp: Field::new(DEFAULT_TCP),
+            link: 0,
             connecting: None,
             message,
             announced: None,
@@ -181,6 +189,38 @@ impl ConnectPane {
         choices
     }
 
+    /// The link option of the chosen family and the choice made, if it
+    /// has one.
+    fn link_option(&self) -> Option<(&'static LinkOption, &'static LinkChoice)> {
+        // A recent connection is opened with the options it had.
+        if let Some(Choice::Recent(_)) = self.choices().get(self.selected) {
+            return None;
+        }
+        let option = self.chosen_family()?.console.link_options().first()?;
+        let choice = option
+            .choices
+            .get(self.link % option.choices.len().max(1))?;
+        Some((option, choice))
+    }
+
+    /// `--link-option NAME=VALUE` for a choice other than the default.
+    fn link_args(&self) -> Vec<String> {
+        match self.link_option() {
+            Some((option, choice))
+                if option
+                    .choices
+                    .first()
+                    .is_some_and(|c| c.value != choice.value) =>
+            {
+                vec![
+                    "--link-option".into(),
+                    format!("{}={}", option.name, choice.value),
+                ]
+            }
+            _ => Vec::new(),
+        }
+    }
+
     fn protocol_name(&self) -> &'static str {
         FAMILIES
             .get(self.protocol)
@@ -243,6 +283,7 @@ impl ConnectPane {
             args.push("--address".into());
             args.push(address);
         }
+        args.extend(self.link_args());
         Ok(args)
     }
 
@@ -284,7 +325,9 @@ impl ConnectPane {
                 self.selected = (self.selected + 1).min(count.saturating_sub(1));
             }
             Some(Action::Submit) => return self.connect(),
-            Some(Action::Complete) => self.focus = self.focus.next(),
+            Some(Action::Complete) => {
+                self.focus = self.focus.next(self.link_option().is_some());
+            }
             Some(Action::Cancel) => {
                 self.focus = Focus::List;
                 self.message = None;
@@ -304,7 +347,33 @@ impl ConnectPane {
                     KeyCode::Right | KeyCode::Char(' ') => 1,
                     _ => return Outcome::Ignored,
                 };
+                let before = FAMILIES
+                    .get(self.protocol)
+                    .map(|f| f.console.default_baud());
                 self.protocol = (self.protocol + step) % FAMILIES.len().max(1);
+                // The baud rate follows the family's factory rate unless
+                // the user typed another (SIXpack 2: 19200 Bd, §6.1.1).
+                let after = FAMILIES
+                    .get(self.protocol)
+                    .map(|f| f.console.default_baud());
+                if let (Some(before), Some(after)) = (before, after)
+                    && self.baud.text().trim() == before.to_string()
+                {
+                    self.baud = Field::new(after.to_string());
+                }
+                self.link = 0;
+                return Outcome::redraw();
+            }
+            Focus::Link => {
+                let count = self
+                    .link_option()
+                    .map_or(1, |(option, _)| option.choices.len().max(1));
+                let step = match key.code {
+                    KeyCode::Left => count - 1,
+                    KeyCode::Right | KeyCode::Char(' ') => 1,
+                    _ => return Outcome::Ignored,
+                };
+                self.link = (self.link % count + step) % count;
                 return Outcome::redraw();
             }
             Focus::Baud => &mut self.baud,
@@ -494,21 +563,42 @@ impl Pane for ConnectPane {
             theme.style(Role::Title),
         )];
         let (form, form_cursor) = self.form_line(view);
-        let mut footer = vec![
-            form,
-            Line::styled(
-                fit(
-                    &format!(
-                        "↑↓ choose · {} connect · {} next field · ←→ protocol · {} back to the list",
-                        key(Action::Submit),
-                        key(Action::Complete),
-                        key(Action::Cancel)
-                    ),
-                    width,
+        let mut footer = vec![form];
+        if let Some((option, choice)) = self.link_option() {
+            let active = self.focus == Focus::Link && view.focused;
+            footer.push(Line::from(vec![
+                Span::styled("link ", theme.style(Role::Muted)),
+                Span::styled("[", theme.style(Role::Muted)),
+                Span::styled(
+                    format!("{}={}", option.name, choice.value),
+                    theme.style(if active {
+                        Role::Selection
+                    } else {
+                        Role::Normal
+                    }),
                 ),
-                theme.style(Role::Muted),
+                Span::styled("]  ", theme.style(Role::Muted)),
+                Span::styled(
+                    fit(
+                        choice.help,
+                        width.saturating_sub(option.name.len() + choice.value.len() + 10),
+                    ),
+                    theme.style(Role::Muted),
+                ),
+            ]));
+        }
+        footer.extend([Line::styled(
+            fit(
+                &format!(
+                    "↑↓ choose · {} connect · {} next field · ←→ protocol · {} back to the list",
+                    key(Action::Submit),
+                    key(Action::Complete),
+                    key(Action::Cancel)
+                ),
+                width,
             ),
-        ];
+            theme.style(Role::Muted),
+        )]);
         if let Some((role, text)) = &self.message {
             footer.push(Line::styled(fit(text, width), theme.style(*role)));
         }
@@ -578,7 +668,7 @@ impl Pane for ConnectPane {
                     Focus::Baud => self.baud.insert_str(line),
                     Focus::Address => self.address.insert_str(line),
                     Focus::Tcp => self.tcp.insert_str(line),
-                    Focus::List | Focus::Protocol => return Outcome::Ignored,
+                    Focus::List | Focus::Protocol | Focus::Link => return Outcome::Ignored,
                 }
                 Outcome::redraw()
             }

@@ -133,6 +133,8 @@ const TAG_HOST_FIRST: u64 = 1 << 49;
 /// Columns of the watch panel, and the least the text keeps beside it;
 /// below that the variables go to the bottom line.
 const PANEL_WIDTH: u16 = 22;
+/// Columns a line's annotation needs beside it to be shown at all.
+const NOTE_MIN: usize = 12;
 const PANEL_MIN_TEXT: u16 = 40;
 
 /// How often the program's state is read while it runs.
@@ -175,6 +177,9 @@ pub struct EditorPane {
     recovered: Option<Recovered>,
     /// F3 was pressed with unsaved changes: the next F3 opens anyway.
     open_confirmed: bool,
+    /// The host-run key was pressed on a text with lines the family wants
+    /// confirmed: the next press runs it.
+    host_confirmed: bool,
     /// Upload (Ctrl-F4) was pressed with unsaved changes: the next uploads anyway.
     upload_confirmed: bool,
     /// The program transfer under way.
@@ -224,6 +229,7 @@ impl EditorPane {
             clock: 0,
             recovered: None,
             open_confirmed: false,
+            host_confirmed: false,
             upload_confirmed: false,
             transfer: None,
             failed_line: None,
@@ -417,6 +423,7 @@ impl EditorPane {
     fn changed(&mut self) -> Outcome {
         self.changes += 1;
         self.open_confirmed = false;
+        self.host_confirmed = false;
         self.upload_confirmed = false;
         self.failed_line = None;
         self.recovered = None;
@@ -1020,13 +1027,17 @@ impl Pane for EditorPane {
         let running = self.running_lines();
         let end = (self.top + rows).min(lines.len());
         let classes = self.tool.highlight(lines, self.top..end);
+        // What the tool says of a line in words, beside it where there is
+        // room (an SQPack frame's command).
+        let notes = self.tool.annotations(lines, self.top..end);
         let mut shown = Vec::with_capacity(rows);
-        for ((index, line), pieces) in lines
+        for (((index, line), pieces), note) in lines
             .iter()
             .enumerate()
             .skip(self.top)
             .take(rows)
             .zip(classes.iter())
+            .zip(notes.iter().chain(std::iter::repeat(&None)))
         {
             let is_error = error_lines.contains(&(index + 1));
             let is_current = self.current == Some(index) || running.contains(&index);
@@ -1051,6 +1062,14 @@ impl Pane for EditorPane {
                 theme.style(gutter_role),
             )];
             spans.extend(styled_line(line, pieces, view, base, self.left, text_width));
+            let used = line.chars().count().saturating_sub(self.left);
+            let room = text_width.saturating_sub(used + 4);
+            if let Some(note) = note.as_deref().filter(|_| room >= NOTE_MIN) {
+                spans.push(Span::styled(
+                    format!("  » {}", fit(note, room)),
+                    theme.style(Role::Muted),
+                ));
+            }
             let mut styled = Line::from(spans);
             if is_current {
                 styled = styled.style(base);

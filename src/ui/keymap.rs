@@ -268,7 +268,7 @@ pub const ACTIONS: &[ActionInfo] = &[
     info(Action::EditorUpload, "editor_upload", "Upload", "read the program from the controller into a new buffer", EDITOR),
     info(Action::EditorReset, "editor_reset", "Reset", "reset the program on the controller to its start", EDITOR),
     info(Action::EditorWatch, "editor_watch", "Watch", "watch the user variable of the line (GGP/SGP n, 2; A-Script: V[n]), or one typed, beside the program; again stops", EDITOR),
-    info(Action::EditorHostRun, "editor_host_run", "Run from host", "run the A-Script text from the host, statement by statement (the CMD-4CR takes no program download over the wire)", EDITOR),
+    info(Action::EditorHostRun, "editor_host_run", "Run from host", "run the text from the host, statement by statement (A-Script: the CMD-4CR takes no program download over the wire; SQPack macros: the SIXpack 2 stores no program)", EDITOR),
     info(Action::EditorLanguage, "editor_language", "Language", "switch the text between TMCL and A-Script (CMD-4CR)", EDITOR),
 ];
 

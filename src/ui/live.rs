@@ -20,6 +20,7 @@ use crate::device::{DeviceEvent, LinkState, TrafficRecord};
 use crate::link::SharedSim;
 use crate::protocol::Family;
 use crate::protocol::program::{Progress, TransferFailure, TransferJob, TransferReport};
+use crate::protocol::settings::SettingsCache;
 use crate::session::Cancel;
 use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
 use crate::session::{
@@ -81,6 +82,10 @@ impl Controller for SessionController {
 
     fn identity(&self) -> watch::Receiver<Option<String>> {
         self.session.identity()
+    }
+
+    fn settings(&self) -> Option<watch::Receiver<SettingsCache>> {
+        Some(self.session.settings())
     }
 
     fn traffic(&self) -> Option<broadcast::Receiver<TrafficRecord>> {

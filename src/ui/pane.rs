@@ -9,6 +9,7 @@
 //! tested without a terminal or a device.
 
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::time::Duration;
 
 use ratatui::Frame;
@@ -20,6 +21,7 @@ use super::theme::Theme;
 use crate::device::{DeviceEvent, LinkState, TrafficRecord};
 use crate::protocol::Family;
 use crate::protocol::program::{Progress, TransferFailure, TransferJob, TransferReport};
+use crate::protocol::settings::SettingsCache;
 use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
 use crate::session::{AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
 
@@ -55,6 +57,9 @@ pub struct Snapshot {
     pub identity: Option<String>,
     /// How often status is polled; `None` when polling is off.
     pub poll: Option<PollCadence>,
+    /// The settings written this session, for a module that cannot be
+    /// asked for them (empty when it keeps none).
+    pub settings: Arc<SettingsCache>,
     /// The axis the user works with (`:axis N`): index into `axes`.
     pub axis: usize,
 }
@@ -70,6 +75,7 @@ impl std::fmt::Debug for Snapshot {
             .field("link", &self.link)
             .field("identity", &self.identity)
             .field("poll", &self.poll)
+            .field("settings", &self.settings)
             .field("axis", &self.axis)
             .finish()
     }

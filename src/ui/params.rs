@@ -18,6 +18,7 @@ pub mod file;
 
 use std::collections::{HashMap, VecDeque};
 use std::path::PathBuf;
+use std::sync::Arc;
 
 use ratatui::Frame;
 use ratatui::crossterm::event::{KeyEvent, MouseEventKind};
@@ -35,6 +36,7 @@ use crate::protocol::console::ReplyValue;
 use crate::protocol::parameters::{
     ParamOp, ParamRole, ParamRow, ParamTable, ParameterSet, Scope, SpeedUnit,
 };
+use crate::protocol::settings::{KnownSetting, SettingsCache};
 use crate::session::{LineResult, SessionError};
 use file::{Entry, Exported, ParamFile};
 
@@ -55,6 +57,9 @@ enum Cell {
     Unreadable(String),
     /// No answer came (timeout, link lost).
     NoAnswer(String),
+    /// The module cannot be asked and the session wrote no value known
+    /// now (never written, or reset since).
+    Unknown(String),
 }
 
 /// Why a line is sent.
@@ -115,6 +120,9 @@ struct Diff {
     differences: Vec<Difference>,
     /// Entries found equal.
     same: usize,
+    /// Their values, for lines that write them together with a
+    /// difference.
+    same_values: Vec<(Key, i64)>,
     /// What was not taken from the file, and why.
     problems: Vec<String>,
     scroll: usize,
@@ -186,6 +194,12 @@ pub struct ParamsPane {
     /// The path last used, offered next time.
     last_file: String,
     importing: Option<Importing>,
+    /// The settings written this session, from the snapshot: the values
+    /// of rows the module cannot read back.
+    known: Arc<SettingsCache>,
+    /// Whether the connected family knows write-only rows from what was
+    /// written ([`ParameterSet::remembers_writes`]).
+    remembers_writes: bool,
 }
 
 /// An import being written, for the message when it is done.
@@ -194,6 +208,8 @@ struct Importing {
     path: PathBuf,
     written: usize,
     failed: usize,
+    /// Why values could not be written (the first is said).
+    problems: Vec<String>,
     /// Link settings that differ, left to the user.
     skipped: usize,
 }
@@ -227,15 +243,38 @@ impl ParamsPane {
             comparing: None,
             last_file: DEFAULT_FILE.to_string(),
             importing: None,
+            known: Arc::default(),
+            remembers_writes: false,
         }
     }
 
-    /// The value read for a parameter, if one was.
+    /// The value read for a parameter, if one was, or for one the module
+    /// cannot read back, the value written this session, while known.
     pub fn value(&self, scope: Scope, number: u16) -> Option<i64> {
         match self.values.get(&(scope, number)) {
             Some(Cell::Value(v)) => Some(*v),
-            _ => None,
+            _ => self.known.value(scope, number),
         }
+    }
+
+    /// What the table knows of a row: read from the module, or for a row
+    /// it cannot read back (where the family remembers writes), what was
+    /// written this session.
+    fn cell(&self, row: &ParamRow) -> Option<Cell> {
+        let key = (row.scope, row.number);
+        if row.access.read || !self.remembers_writes {
+            return self.values.get(&key).cloned();
+        }
+        Some(match self.known.get(row.scope, row.number) {
+            Some(KnownSetting::Written(v)) => Cell::Value(*v),
+            Some(KnownSetting::Stale { was, why }) => {
+                Cell::Unknown(format!("unknown since {why}; {was} was written before"))
+            }
+            None => Cell::Unknown(match self.known.forgotten() {
+                Some(why) => format!("not written since {why}"),
+                None => "not written this session".to_string(),
+            }),
+        })
     }
 
     /// Lines waiting to be sent (the one in flight included).
@@ -259,6 +298,8 @@ impl ParamsPane {
             self.drop_work();
             return;
         };
+        self.known = Arc::clone(&session.settings);
+        self.remembers_writes = Self::parameters(view).is_some_and(|p| p.remembers_writes());
         let connection = Connection {
             family: session.family.name,
             link: session.link_name.clone(),
@@ -330,10 +371,25 @@ impl ParamsPane {
 
     /// The value of another parameter of the same axis, for conversions.
     fn axis_value(&self, scope: Scope) -> impl Fn(u16) -> Option<i64> + '_ {
-        move |number| match self.values.get(&(scope, number)) {
-            Some(Cell::Value(v)) => Some(*v),
-            _ => None,
-        }
+        move |number| self.value(scope, number)
+    }
+
+    /// The line writing `value` to `row`: with the values of the
+    /// parameters written together with it (a family that writes several
+    /// in one line) from `file` (an import's values), else as known.
+    fn write_line(
+        &self,
+        parameters: &dyn ParameterSet,
+        row: &ParamRow,
+        value: i64,
+        file: &HashMap<Key, i64>,
+    ) -> Result<String, String> {
+        let known = |scope: Scope, number: u16| {
+            file.get(&(scope, number))
+                .copied()
+                .or_else(|| self.value(scope, number))
+        };
+        parameters.line_with(row, ParamOp::Write(value), &known)
     }
 
     /// Queue `op` on `row`; says why not if the family has no line for it.
@@ -344,7 +400,10 @@ impl ParamsPane {
         op: ParamOp,
         purpose: Purpose,
     ) -> Result<(), String> {
-        let line = parameters.line(row, op)?;
+        let line = match op {
+            ParamOp::Write(value) => self.write_line(parameters, row, value, &HashMap::new())?,
+            _ => parameters.line(row, op)?,
+        };
         let job = Job {
             row: row.clone(),
             op,
@@ -411,6 +470,9 @@ impl ParamsPane {
             let mut text = format!("wrote {} value(s) from {}", run.written, run.path.display());
             if run.failed > 0 {
                 text.push_str(&format!(", {} failed", run.failed));
+                if let Some(first) = run.problems.first() {
+                    text.push_str(&format!(" ({first})"));
+                }
             }
             if run.skipped > 0 {
                 text.push_str(&format!(
@@ -482,7 +544,8 @@ impl ParamsPane {
                 let done = match op {
                     ParamOp::Store => format!("stored in {place}"),
                     ParamOp::Restore => format!("restored from {place}"),
-                    _ => "ok".into(),
+                    // `sent` for a module that acknowledges no write.
+                    _ => r.value.to_string(),
                 };
                 if job.purpose == Purpose::User {
                     self.set_message(Role::Ok, format!("{}: {done}", r.line));
@@ -535,8 +598,11 @@ impl ParamsPane {
         Outcome::redraw()
     }
 
-    /// Every setting of every axis and bank, for export and comparison.
+    /// Every setting of every axis and bank, for export and comparison:
+    /// those read from the module, and those it cannot read back where
+    /// the family knows them from what was written.
     fn setting_rows(session: &Snapshot, parameters: &dyn ParameterSet) -> Vec<ParamRow> {
+        let known = parameters.remembers_writes();
         let mut rows = Vec::new();
         let mut banks_done = false;
         for axis in &session.axes {
@@ -545,12 +611,9 @@ impl ParamsPane {
                 if bank && banks_done {
                     continue;
                 }
-                rows.extend(
-                    table
-                        .rows
-                        .into_iter()
-                        .filter(|r| r.access.read && r.access.write && r.role != ParamRole::State),
-                );
+                rows.extend(table.rows.into_iter().filter(|r| {
+                    (r.access.read || known) && r.access.write && r.role != ParamRole::State
+                }));
             }
             banks_done = true;
         }
@@ -582,9 +645,11 @@ impl ParamsPane {
             .iter()
             .map(|row| Exported {
                 row,
-                value: match self.values.get(&(row.scope, row.number)) {
-                    Some(Cell::Value(v)) => Ok(*v),
-                    Some(Cell::Unreadable(why) | Cell::NoAnswer(why)) => Err(why.clone()),
+                value: match self.cell(row) {
+                    Some(Cell::Value(v)) => Ok(v),
+                    Some(Cell::Unreadable(why) | Cell::NoAnswer(why) | Cell::Unknown(why)) => {
+                        Err(why)
+                    }
                     None => Err("not read".into()),
                 },
             })
@@ -606,7 +671,8 @@ impl ParamsPane {
             Ok(()) => self.set_message(
                 Role::Warning,
                 format!(
-                    "exported {} settings to {}; {failed} could not be read (commented out)",
+                    "exported {} settings to {}; {failed} could not be read or are not known \
+                     (commented out)",
                     exported.len() - failed,
                     path.display()
                 ),
@@ -702,14 +768,14 @@ impl ParamsPane {
     fn show_diff(&mut self, comparing: Comparing) {
         let mut differences = Vec::new();
         let mut same = 0;
+        let mut same_values = Vec::new();
         for (row, file) in comparing.entries {
             let device = self
-                .values
-                .get(&(row.scope, row.number))
-                .cloned()
+                .cell(&row)
                 .unwrap_or_else(|| Cell::NoAnswer("not read".into()));
             if device == Cell::Value(file) {
                 same += 1;
+                same_values.push(((row.scope, row.number), file));
             } else {
                 differences.push(Difference { row, device, file });
             }
@@ -720,6 +786,7 @@ impl ParamsPane {
             import: comparing.import,
             differences,
             same,
+            same_values,
             problems: comparing.problems,
             scroll: 0,
         });
@@ -735,18 +802,44 @@ impl ParamsPane {
             path: diff.path.clone(),
             written: 0,
             failed: 0,
+            problems: Vec::new(),
             skipped: 0,
         };
         let mut queued = 0;
+        // A parameter written together with others in one line takes
+        // their values from the file first: one line for them all.
+        let file: HashMap<Key, i64> = diff
+            .differences
+            .iter()
+            .map(|d| ((d.row.scope, d.row.number), d.file))
+            .chain(diff.same_values.iter().copied())
+            .collect();
+        let mut lines: Vec<String> = Vec::new();
         for d in &diff.differences {
             if d.row.role != ParamRole::Setting {
                 run.skipped += 1;
                 continue;
             }
-            match self.queue_job(parameters, &d.row, ParamOp::Write(d.file), Purpose::Import) {
-                Ok(()) => queued += 1,
-                Err(_) => run.failed += 1,
+            let line = match self.write_line(parameters, &d.row, d.file, &file) {
+                Ok(line) => line,
+                Err(why) => {
+                    run.failed += 1;
+                    run.problems.push(why);
+                    continue;
+                }
+            };
+            if lines.contains(&line) {
+                continue;
             }
+            lines.push(line.clone());
+            self.queue.push_back(Job {
+                row: d.row.clone(),
+                op: ParamOp::Write(d.file),
+                line,
+                purpose: Purpose::Import,
+            });
+            self.progress.total += 1;
+            queued += 1;
         }
         self.set_message(
             Role::Accent,
@@ -767,7 +860,10 @@ impl ParamsPane {
                 if !row.range.contains(value) {
                     return Err(format!("{} takes {}, not {value}", row.name, row.range));
                 }
-                Ok((value, parameters.line(&row, ParamOp::Write(value))?))
+                Ok((
+                    value,
+                    self.write_line(parameters, &row, value, &HashMap::new())?,
+                ))
             });
         match checked {
             Err(why) => {
@@ -820,7 +916,7 @@ impl ParamsPane {
         if view.session.is_none() {
             return self.no_parameters(view);
         }
-        let current = match self.values.get(&(row.scope, row.number)) {
+        let current = match self.cell(&row) {
             Some(Cell::Value(v)) => v.to_string(),
             _ => String::new(),
         };
@@ -1055,8 +1151,9 @@ impl Pane for ParamsPane {
         match event {
             PaneEvent::Snapshot => {
                 let before = (self.connection.clone(), self.tables_for);
+                let known = Arc::clone(&self.known);
                 self.follow(view);
-                if before != (self.connection.clone(), self.tables_for) {
+                if before != (self.connection.clone(), self.tables_for) || known != self.known {
                     Outcome::redraw()
                 } else {
                     Outcome::Ignored

@@ -54,6 +54,7 @@ pub fn snapshot(axes: Vec<AxisInfo>) -> Snapshot {
         },
         identity: None,
         poll: Some(PollCadence::default()),
+        settings: Default::default(),
         axis: 0,
     }
 }

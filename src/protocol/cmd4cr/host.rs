@@ -1309,6 +1309,7 @@ pub fn start_host_run(
         name: checked.name().to_string(),
         warnings: checked.warnings().to_vec(),
         started: checked.started(),
+        confirm: Vec::new(),
     })
 }
 

@@ -245,6 +245,10 @@ impl ProgramTool for AScriptTool {
         true
     }
 
+    fn host_command(&self) -> Option<&'static str> {
+        Some("run-ascript")
+    }
+
     fn host_run(
         &self,
         name: &str,

@@ -264,9 +264,9 @@ pub fn warnings(request: &Request, known: &Known) -> Vec<String> {
         }
         0x28 if value("wait") != 0 => {
             found.push(format!(
-                "the answer comes only once motors {} are inactive: later than the reply timeout \
-                 it arrives as news; on RS-485 with several units keep the bus idle until it \
-                 does (§7.2)",
+                "the answer comes only once motors {} are inactive: it is waited for while other \
+                 requests go on; on RS-485 with several units keep the bus idle until it comes \
+                 (§7.2)",
                 super::command::format_mask(value("wait"))
             ));
         }

@@ -407,20 +407,26 @@ fn frame_bytes(values: &[&str]) -> Result<[u8; REQUEST_LEN], String> {
     }
     let mut bytes = [0; REQUEST_LEN];
     for (slot, value) in bytes.iter_mut().zip(values) {
-        let digits = value
-            .strip_prefix('$')
-            .or_else(|| value.strip_prefix("0x"))
-            .or_else(|| value.strip_prefix("0X"))
-            .unwrap_or(value);
-        let ok = (1..=2).contains(&digits.len()) && digits.bytes().all(|b| b.is_ascii_hexdigit());
-        *slot = ok
-            .then(|| u8::from_str_radix(digits, 16).ok())
-            .flatten()
-            .ok_or_else(|| {
-                format!("`{value}` is not a hex byte ($00..$FF; frame values are always hex)")
-            })?;
+        *slot = hex_byte(value)?;
     }
     Ok(bytes)
+}
+
+/// One value of a frame: a hex byte, `$`/`0x` optional, one or two
+/// digits, any case; bare numbers are hex too (§5.4.6: "The parameters
+/// are hexadecimal").
+pub fn hex_byte(value: &str) -> Result<u8, String> {
+    let digits = value
+        .strip_prefix('$')
+        .or_else(|| value.strip_prefix("0x"))
+        .or_else(|| value.strip_prefix("0X"))
+        .unwrap_or(value);
+    let ok = (1..=2).contains(&digits.len()) && digits.bytes().all(|b| b.is_ascii_hexdigit());
+    ok.then(|| u8::from_str_radix(digits, 16).ok())
+        .flatten()
+        .ok_or_else(|| {
+            format!("`{value}` is not a hex byte ($00..$FF; frame values are always hex)")
+        })
 }
 
 fn frame_line(bytes: [u8; REQUEST_LEN], address: Option<u8>) -> Result<ParsedLine, LineError> {

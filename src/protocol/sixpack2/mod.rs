@@ -16,8 +16,10 @@ pub mod command;
 pub mod console;
 pub mod frame;
 pub mod line;
+pub mod macros;
 pub mod parameter_set;
 pub mod reply;
+pub mod tool;
 pub mod traffic;
 pub mod wire;
 
@@ -28,6 +30,25 @@ pub use frame::{REQUEST_LEN, Reply, ReplyFraming, Request, to_hex};
 pub use line::{DEFAULT_ADDRESS, LineError, ParsedLine, canonical, parse_line, send_to_pack};
 pub use reply::ReplyFields;
 pub use wire::{Sixpack2Framer, Sixpack2ReplyRule, Sixpack2Wire};
+
+/// The family entry for a console with its reply framing.
+pub const fn family(console: &'static Sixpack2Console) -> crate::protocol::Family {
+    crate::protocol::Family {
+        name: "sixpack2",
+        description: "Trinamic SIXpack 2 (6 axes), 9-byte binary frames without checksum",
+        encode_line,
+        show_bytes: to_hex,
+        console,
+        simulators: &[crate::sim::sixpack2::KIND],
+    }
+}
+
+/// The family reading replies in either form (the default).
+pub static FAMILY_AUTO: crate::protocol::Family = family(&Sixpack2Console::AUTO);
+/// The family reading 8-byte replies only (§6.2.2.3 taken literally).
+pub static FAMILY_CMD8: crate::protocol::Family = family(&Sixpack2Console::CMD8);
+/// The family reading replies with the response address in front.
+pub static FAMILY_ADDR9: crate::protocol::Family = family(&Sixpack2Console::ADDR9);
 
 /// `axterm encode sixpack2 LINE`: the 9 bytes of a line for the unit at
 /// `address` (a mnemonic line: the factory address 0 when `None`; a

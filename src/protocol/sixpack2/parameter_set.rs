@@ -17,11 +17,13 @@ use super::catalog::{
     COMMANDS, CURRENT_STEPS, CommandSpec, Field, FieldKind, MOTORS, by_code, motor_name,
 };
 use super::command::{Command, format_value};
+use super::frame::Request;
 use super::line::parse_value;
 use crate::protocol::parameters::{
     ParamAccess, ParamOp, ParamRange, ParamRole, ParamRow, ParamTable, ParameterSet, Physical,
     Scope,
 };
+use crate::protocol::settings::SettingWrite;
 
 /// A row's number: the command and the field's index in it.
 fn number_of(code: u8, index: usize) -> u16 {
@@ -197,6 +199,89 @@ fn selector(row: &ParamRow) -> i64 {
     }
 }
 
+/// The scope of the table rows a setting command writes, for the motor
+/// or channel it carries; `None` when the command writes no row.
+fn scope_of(spec: &CommandSpec, selector: Option<i64>) -> Option<Scope> {
+    if let Some(bank) = BANKS
+        .iter()
+        .find(|b| b.codes.contains(&spec.code) && spec.code != LIMITS)
+    {
+        return Some(Scope::Bank(bank.number));
+    }
+    if spec.class != super::catalog::Class::Setting {
+        return None;
+    }
+    let n = u8::try_from(selector?).ok()?;
+    match spec.code {
+        LIMITS if n >= MOTORS => Some(Scope::Bank(n)),
+        _ if n < MOTORS => Some(Scope::Axis(n)),
+        _ => None,
+    }
+}
+
+/// The rows a request writes, with their values: what the unit holds
+/// once it took the frame (it answers none, §7). A `$10` for an odd
+/// motor is ignored by the unit (§7.1) and writes nothing; one for an
+/// even motor sets the peak current of the pair.
+pub fn written_by(request: &Request) -> Vec<SettingWrite> {
+    let Ok(Some(command)) = Command::from_request(request) else {
+        return Vec::new();
+    };
+    let spec = command.spec;
+    let selector = spec
+        .fields
+        .iter()
+        .zip(&command.values)
+        .find(|(f, _)| matches!(f.kind, FieldKind::Motor | FieldKind::Channel))
+        .map(|(_, v)| *v);
+    let Some(scope) = scope_of(spec, selector) else {
+        return Vec::new();
+    };
+    let value = |name: &str| command.value(name).unwrap_or(0);
+    if spec.code == TABLE {
+        let start = value("index");
+        return (0..4)
+            .filter_map(|i| {
+                let number = u16::from(TABLE) << 8 | u16::try_from(start + i).ok()?;
+                Some(SettingWrite {
+                    scope,
+                    number,
+                    value: value(&format!("e{i}")),
+                })
+            })
+            .collect();
+    }
+    let mut writes: Vec<SettingWrite> = spec
+        .fields
+        .iter()
+        .zip(&command.values)
+        .enumerate()
+        .filter(|(_, (f, _))| !matches!(f.kind, FieldKind::Motor | FieldKind::Channel))
+        .map(|(i, (_, v))| SettingWrite {
+            scope,
+            number: number_of(spec.code, i),
+            value: *v,
+        })
+        .collect();
+    if spec.code == 0x10 {
+        match scope {
+            Scope::Axis(m) if m % 2 == 1 => return Vec::new(),
+            Scope::Axis(m) => {
+                let pair: Vec<SettingWrite> = writes
+                    .iter()
+                    .map(|w| SettingWrite {
+                        scope: Scope::Axis(m + 1),
+                        ..*w
+                    })
+                    .collect();
+                writes.extend(pair);
+            }
+            Scope::Bank(_) => {}
+        }
+    }
+    writes
+}
+
 /// The SIXpack 2's write-only settings for the console.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Sixpack2Parameters;
@@ -244,6 +329,25 @@ impl ParameterSet for Sixpack2Parameters {
     }
 
     fn line(&self, row: &ParamRow, op: ParamOp) -> Result<String, String> {
+        self.line_with(row, op, &|_, _| None)
+    }
+
+    /// Every row is write-only: what is known of it is what the session
+    /// wrote ([`written_by`]).
+    fn remembers_writes(&self) -> bool {
+        true
+    }
+
+    /// A row written together with others in one frame takes their
+    /// values from `known` (what was written this session, or an
+    /// imported file's); without all of them the table says which
+    /// command to type.
+    fn line_with(
+        &self,
+        row: &ParamRow,
+        op: ParamOp,
+        known: &dyn Fn(Scope, u16) -> Option<i64>,
+    ) -> Result<String, String> {
         let (spec, index) =
             field_of(row).ok_or_else(|| format!("{} is not a SIXpack 2 setting", row.name))?;
         let field = &spec.fields[index];
@@ -277,12 +381,38 @@ impl ParameterSet for Sixpack2Parameters {
             .filter(|(_, f)| matches!(f.kind, FieldKind::Motor | FieldKind::Channel))
             .map(|(i, _)| i)
             .collect();
+        // The other values the frame carries: a field's default, else
+        // what is known of its row.
+        let mut values: Vec<Option<i64>> = spec.fields.iter().map(|f| f.default).collect();
+        for &i in &selected {
+            values[i] = Some(selector(row));
+        }
+        if spec.code == TABLE {
+            let entry = i64::from(row.number & 0xFF);
+            let start = entry - entry % 4;
+            values[0] = Some(start);
+            for i in 0..4 {
+                let number = u16::from(TABLE) << 8 | u16::try_from(start + i).unwrap_or(0);
+                values[1 + usize::try_from(i).unwrap_or(0)] = if start + i == entry {
+                    Some(value)
+                } else {
+                    known(row.scope, number)
+                };
+            }
+        } else {
+            values[index] = Some(value);
+            for (i, slot) in values.iter_mut().enumerate() {
+                if slot.is_none() {
+                    *slot = known(row.scope, number_of(spec.code, i));
+                }
+            }
+        }
         let others: Vec<&str> = spec
             .fields
             .iter()
-            .enumerate()
-            .filter(|(i, f)| *i != index && !selected.contains(i) && f.default.is_none())
-            .map(|(_, f)| f.name)
+            .zip(&values)
+            .filter(|(_, v)| v.is_none())
+            .map(|(f, _)| f.name)
             .collect();
         if spec.code == 0x10 && selector(row) % 2 == 1 {
             let even = selector(row) - 1;
@@ -291,19 +421,16 @@ impl ParameterSet for Sixpack2Parameters {
                 even + 1
             ));
         }
-        if spec.code == TABLE || !others.is_empty() {
+        if !others.is_empty() {
             let mut example = spec.mnemonic.to_string();
-            for (i, f) in spec.fields.iter().enumerate() {
-                if selected.contains(&i) {
-                    example.push_str(&format!(" {}", selector(row)));
-                } else if i == index && spec.code != TABLE {
-                    example.push_str(&format!(" {}", format_value(f, value)));
-                } else {
-                    example.push_str(&format!(" {}", f.name.to_ascii_uppercase()));
+            for (f, v) in spec.fields.iter().zip(&values) {
+                match v {
+                    Some(v) => example.push_str(&format!(" {}", format_value(f, *v))),
+                    None => example.push_str(&format!(" {}", f.name.to_ascii_uppercase())),
                 }
             }
             let together = if spec.code == TABLE {
-                "the other three entries of its group of four".to_string()
+                "the other entries of its group of four".to_string()
             } else {
                 others.join(", ")
             };
@@ -313,11 +440,7 @@ impl ParameterSet for Sixpack2Parameters {
                 row.name, spec.mnemonic, spec.code
             ));
         }
-        let mut values: Vec<i64> = spec.fields.iter().map(|f| f.default.unwrap_or(0)).collect();
-        for &i in &selected {
-            values[i] = selector(row);
-        }
-        values[index] = value;
+        let values: Vec<i64> = values.into_iter().map(|v| v.unwrap_or(0)).collect();
         let command = Command::new(spec, values).map_err(|e| e.to_string())?;
         Ok(command.to_string())
     }
@@ -512,10 +635,7 @@ mod tests {
         let error = Sixpack2Parameters
             .line(&entry, ParamOp::Write(9))
             .unwrap_err();
-        assert!(
-            error.contains("WriteMotorTable INDEX E0 E1 E2 E3"),
-            "{error}"
-        );
+        assert!(error.contains("`WriteMotorTable 4 E0 9 E2 E3`"), "{error}");
         let limit = find(0, Scope::Bank(7), "maxright");
         let error = Sixpack2Parameters
             .line(&limit, ParamOp::Write(900))
@@ -523,6 +643,113 @@ mod tests {
         assert!(
             error.contains("`SetStopSwitchLimits 7 MINLEFT 900`"),
             "{error}"
+        );
+    }
+
+    fn writes(line: &str) -> Vec<(Scope, u16, i64)> {
+        let parsed = super::super::line::parse_line(line, None).expect("valid");
+        written_by(&parsed.request)
+            .into_iter()
+            .map(|w| (w.scope, w.number, w.value))
+            .collect()
+    }
+
+    #[test]
+    fn a_setting_line_writes_the_rows_of_its_fields() {
+        assert_eq!(
+            writes("SetAMaxVMax 2 100 300"),
+            [(Scope::Axis(2), 0x1401, 100), (Scope::Axis(2), 0x1402, 300)]
+        );
+        assert_eq!(writes("SetClockDivider 3"), [(Scope::Bank(0), 0x1200, 3)]);
+        assert_eq!(
+            writes("SetPacketTimeout 25"),
+            [(Scope::Bank(1), 0x4100, 25)]
+        );
+        assert_eq!(
+            writes("WriteMotorTable 4 1 2 3 4"),
+            [
+                (Scope::Bank(0), 0x1704, 1),
+                (Scope::Bank(0), 0x1705, 2),
+                (Scope::Bank(0), 0x1706, 3),
+                (Scope::Bank(0), 0x1707, 4)
+            ]
+        );
+        assert_eq!(
+            writes("SetStopSwitchLimits 7 10 900"),
+            [(Scope::Bank(7), 0x3101, 10), (Scope::Bank(7), 0x3102, 900)]
+        );
+        assert_eq!(
+            writes("SetStopSwitchLimits 1 10 900"),
+            [(Scope::Axis(1), 0x3101, 10), (Scope::Axis(1), 0x3102, 900)]
+        );
+        // §7.1: the pair's peak current is set on the even motor only.
+        assert_eq!(
+            writes("SetPeakCurrent 2 200"),
+            [(Scope::Axis(2), 0x1001, 200), (Scope::Axis(3), 0x1001, 200)]
+        );
+        assert!(writes("SetPeakCurrent 3 200").is_empty());
+        assert!(writes("StartRamp 0 100").is_empty(), "a motion");
+        assert!(writes("GetPositionAndActivity 0").is_empty());
+        // Every row written is a row of the tables.
+        for line in [
+            "SetCurrentControl 0 0% 50% 75% 100% 500",
+            "SetVMinVStart 5 4 5 2",
+            "SetMotorParameters 1 10000 NullLeft,MechRef",
+            "SetRefSearchParameters 0 100 $0FFF 0",
+            "SetNullPointOffset 0 -5 240",
+            "SetPIParameters 0 8 129 129 1",
+            "SetOutputs 1 0 0 0",
+            "SetReadyMask all all",
+            "SetBaudRate 65 3",
+            "SetUnitAddress 4",
+        ] {
+            let rows = writes(line);
+            assert!(!rows.is_empty(), "{line}");
+            for (scope, number, _) in rows {
+                let axis = match scope {
+                    Scope::Axis(n) => n,
+                    Scope::Bank(_) => 0,
+                };
+                assert!(
+                    Sixpack2Parameters
+                        .tables(axis)
+                        .iter()
+                        .any(|t| t.scope == scope && t.rows.iter().any(|r| r.number == number)),
+                    "{line}: {scope:?} {number:04X}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_row_written_with_others_takes_their_known_values() {
+        let vmax = find(0, Scope::Axis(0), "vmax");
+        let amax_known = |scope: Scope, number: u16| {
+            (scope == Scope::Axis(0) && number == 0x1401).then_some(100)
+        };
+        assert_eq!(
+            Sixpack2Parameters
+                .line_with(&vmax, ParamOp::Write(400), &amax_known)
+                .as_deref(),
+            Ok("SetAMaxVMax 0 100 400")
+        );
+        let entry = find(0, Scope::Bank(0), "table[5]");
+        let error = Sixpack2Parameters
+            .line_with(&entry, ParamOp::Write(9), &|_, n| {
+                (n == 0x1704).then_some(1)
+            })
+            .unwrap_err();
+        assert!(
+            error.contains("with the other entries of its group of four")
+                && error.contains("`WriteMotorTable 4 1 9 E2 E3`"),
+            "{error}"
+        );
+        let all = |_: Scope, n: u16| Some(i64::from(n & 0xFF));
+        assert_eq!(
+            Sixpack2Parameters
+                .line_with(&entry, ParamOp::Write(9), &all)
+                .as_deref(),
+            Ok("WriteMotorTable 4 4 9 6 7")
         );
     }
 

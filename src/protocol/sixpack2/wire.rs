@@ -19,6 +19,10 @@ pub const REPLY_LEN: usize = 1 + PARAMS;
 /// The `$28` command byte.
 const ALL_ACTIVITIES: u8 = 0x28;
 
+/// The transmitter switch-over delay before every reply, at the factory
+/// setting (§6.1.1: 6 ms; `$40` P2-3 in 2 ms units).
+pub const SWITCH_OVER: Duration = Duration::from_millis(6);
+
 /// Line silence after which a partial reply is dropped, in byte times: a
 /// unit sends each reply as one burst after its switch-over delay (§6.1.1).
 const SILENCE_BYTES: u32 = 4;
@@ -56,6 +60,11 @@ impl WireFormat for Sixpack2Wire {
             "the motors waited for ($28) are inactive: {}",
             fields.value_text()
         ))
+    }
+
+    /// The factory switch-over delay (§6.1.1; `$40` changes it).
+    fn turnaround(&self) -> Duration {
+        SWITCH_OVER
     }
 
     fn silence(&self, byte_time: Option<Duration>) -> Duration {
@@ -188,6 +197,46 @@ impl ReplyRule for Sixpack2ReplyRule {
     }
 }
 
+/// The delayed answer to a `$28` with a wait mask: the `$28` reply for
+/// this request whose masked motors are all inactive (§7.2: it is sent
+/// "as soon as all concerned motors are inactive"). An immediate `$28`
+/// answer to another request, with a masked motor still active, is not
+/// taken for it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct IdleAnswerRule {
+    pub request: Request,
+    pub framing: ReplyFraming,
+}
+
+impl IdleAnswerRule {
+    /// The motors the request waits for (P1, bit n = motor n).
+    fn mask(&self) -> u8 {
+        self.request.params[1]
+    }
+}
+
+impl ReplyRule for IdleAnswerRule {
+    fn examine(&self, accepted: &[Frame], frame: &[u8]) -> Verdict {
+        let answer = Sixpack2ReplyRule {
+            request: self.request,
+            framing: self.framing,
+        };
+        if answer.examine(accepted, frame) != Verdict::Complete {
+            return Verdict::NotMine;
+        }
+        let Ok(reply) = Reply::parse(frame, self.framing) else {
+            return Verdict::NotMine;
+        };
+        // P0..P5: the action of motors 0..5.
+        let idle = (0..6).all(|m| self.mask() & (1 << m) == 0 || reply.params[m] == 0);
+        if idle {
+            Verdict::Complete
+        } else {
+            Verdict::NotMine
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -309,6 +358,28 @@ mod tests {
             "a stale $20 is noise"
         );
         assert_eq!(wire.unsolicited(&[0x28, 0, 0]), None);
+    }
+
+    #[test]
+    fn a_waited_28_is_taken_only_once_its_motors_are_idle() {
+        let request = Request {
+            address: 0,
+            command: 0x28,
+            params: [0, 0b0000_0011, 0, 0, 0, 0, 0],
+        };
+        let rule = IdleAnswerRule {
+            request,
+            framing: ReplyFraming::Auto,
+        };
+        // Motor 1 still ramps: an immediate answer to another $28.
+        assert_eq!(rule.examine(&[], &activities()), Verdict::NotMine);
+        let idle = vec![0x28, 0, 0, 15, 0, 0, 0, 0];
+        assert_eq!(
+            rule.examine(&[], &idle),
+            Verdict::Complete,
+            "motor 2 rotates, but it is not waited for"
+        );
+        assert_eq!(rule.examine(&[], &position(0, 0)), Verdict::NotMine);
     }
 
     #[test]

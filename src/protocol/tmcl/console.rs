@@ -443,7 +443,7 @@ impl FamilyConsole for TmclConsole {
         };
         let Some(last) = frames.last() else {
             return match line.answering {
-                Answering::Reply(_) => Err(malformed(line, "no reply")),
+                Answering::Reply(_) | Answering::Later { .. } => Err(malformed(line, "no reply")),
                 Answering::MaybeReply(_) | Answering::Nothing => Ok(no_answer),
             };
         };

@@ -9,6 +9,7 @@ use tokio::sync::{broadcast, watch};
 use crate::device::{DeviceEvent, LinkState, TrafficRecord};
 use crate::protocol::Family;
 use crate::protocol::program::{Progress, TransferFailure, TransferJob, TransferReport};
+use crate::protocol::settings::SettingsCache;
 use crate::session::Cancel;
 use crate::session::run_end::{LinkAtStop, RunAftermath, RunEnding, RunStop, StopOnFailure};
 use crate::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
@@ -27,6 +28,12 @@ pub trait Controller: Send + Sync {
     fn status(&self) -> watch::Receiver<Vec<AxisStatus>>;
     fn link_state(&self) -> watch::Receiver<LinkState>;
     fn identity(&self) -> watch::Receiver<Option<String>>;
+    /// The settings written this session, for a module that cannot be
+    /// asked for them ([`crate::session::Session::settings`]); `None`
+    /// (the default) when the controller keeps none.
+    fn settings(&self) -> Option<watch::Receiver<SettingsCache>> {
+        None
+    }
     fn traffic(&self) -> Option<broadcast::Receiver<TrafficRecord>>;
     fn events(&self) -> Option<broadcast::Receiver<DeviceEvent>>;
     /// Send one line at user priority.

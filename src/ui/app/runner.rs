@@ -12,6 +12,7 @@ use super::traffic_log::TrafficLog;
 use super::{App, AppEvent, Connector, Controller, Effect, Pending};
 use crate::device::{DeviceEvent, LinkState, TrafficRecord};
 use crate::protocol::program::{Progress, TransferFailure};
+use crate::protocol::settings::SettingsCache;
 use crate::session::Cancel;
 use crate::session::{AxisStatus, PollCadence};
 use crate::ui::pane::{Notice, Snapshot};
@@ -71,6 +72,7 @@ pub(super) struct Connection {
     status: watch::Receiver<Vec<AxisStatus>>,
     link: watch::Receiver<LinkState>,
     identity: watch::Receiver<Option<String>>,
+    settings: Option<watch::Receiver<SettingsCache>>,
     traffic: Option<broadcast::Receiver<TrafficRecord>>,
     /// Traffic is taken in batches: after a batch, none is taken before
     /// this (see [`TRAFFIC_BATCH`]); `None`: the next record wakes the
@@ -90,6 +92,7 @@ impl Connection {
             status: controller.status(),
             link: controller.link_state(),
             identity: controller.identity(),
+            settings: controller.settings(),
             traffic: controller.traffic(),
             traffic_after: None,
             traffic_pause: TRAFFIC_BATCH,
@@ -113,6 +116,12 @@ impl Connection {
             link: self.link.borrow_and_update().clone(),
             identity: self.identity.borrow_and_update().clone(),
             poll: self.poll,
+            settings: Arc::new(
+                self.settings
+                    .as_mut()
+                    .map(|s| s.borrow_and_update().clone())
+                    .unwrap_or_default(),
+            ),
         }
     }
 }
@@ -264,6 +273,12 @@ impl Runner {
                 None => std::future::pending().await,
             }
         };
+        let settings = async {
+            match c.settings.as_mut() {
+                Some(rx) => rx.changed().await,
+                None => std::future::pending().await,
+            }
+        };
         let gone = |changed: Result<(), watch::error::RecvError>| match changed {
             Ok(()) => Wakeup::Changed,
             Err(_) => Wakeup::ChannelGone,
@@ -275,6 +290,7 @@ impl Runner {
             changed = c.status.changed() => gone(changed),
             changed = c.link.changed() => gone(changed),
             changed = c.identity.changed() => gone(changed),
+            changed = settings => gone(changed),
             wakeup = traffic => wakeup,
             event = events => Wakeup::Device(event),
         }

@@ -69,6 +69,24 @@ impl EditorPane {
             }
             None => return Outcome::Ignored,
         };
+        // Lines the family wants confirmed (an SQPack frame that homes or
+        // resets): said first, sent on the key's second press.
+        if let Some(first) = start.confirm.first().filter(|_| !self.host_confirmed) {
+            self.host_confirmed = true;
+            let more = start.confirm.len() - 1;
+            // The key first, so that it shows however long the rest.
+            self.message = Some(Notice::warning(format!(
+                "{} again sends it: {first}{}",
+                key_label(view.keymap, Context::Editor, Action::EditorHostRun),
+                if more > 0 {
+                    format!(" (and {more} more line(s) to confirm)")
+                } else {
+                    String::new()
+                }
+            )));
+            return Outcome::redraw();
+        }
+        self.host_confirmed = false;
         let (run, update) = ConsoleHostRun::start(start, &mut self.host_tag);
         self.host = Some(run);
         self.host_update(update)

@@ -10,15 +10,19 @@ impl ParamsPane {
             .in_flight
             .as_ref()
             .is_some_and(|(_, j)| (j.row.scope, j.row.number) == key && j.op == ParamOp::Read);
-        match self.values.get(&key) {
-            _ if !row.access.read => ("write-only".into(), Role::Muted),
+        match self.cell(row) {
+            _ if !row.access.read && !self.remembers_writes => ("write-only".into(), Role::Muted),
             Some(Cell::Value(v)) => {
-                let changed = self.first.get(&key).is_some_and(|first| first != v);
+                let changed = self.first.get(&key).is_some_and(|first| *first != v);
                 (
                     v.to_string(),
                     if changed { Role::Changed } else { Role::Normal },
                 )
             }
+            Some(Cell::Unknown(_)) => match self.known.get(row.scope, row.number) {
+                Some(_) => ("since reset".into(), Role::Warning),
+                None => ("not written".into(), Role::Muted),
+            },
             Some(Cell::Unreadable(_)) => ("unreadable".into(), Role::Warning),
             Some(Cell::NoAnswer(_)) => ("no answer".into(), Role::Error),
             None if reading => ("reading".into(), Role::Muted),
@@ -29,13 +33,11 @@ impl ParamsPane {
     /// The real-world value of a row, else its note if that fits `width`
     /// (a longer one shows under the table for the selected row).
     fn physical_text(&self, row: &ParamRow, view: &View, width: usize) -> String {
-        let (Some(parameters), Some(Cell::Value(v))) = (
-            Self::parameters(view),
-            self.values.get(&(row.scope, row.number)),
-        ) else {
+        let (Some(parameters), Some(Cell::Value(v))) = (Self::parameters(view), self.cell(row))
+        else {
             return String::new();
         };
-        if let Some(p) = parameters.physical(row, *v, self.unit, &self.axis_value(row.scope)) {
+        if let Some(p) = parameters.physical(row, v, self.unit, &self.axis_value(row.scope)) {
             return p.to_string();
         }
         self.note(row, view)
@@ -46,14 +48,11 @@ impl ParamsPane {
     /// What the family says a row's value means beyond its number (a
     /// per-axis speed of 0: the global one; a bit word: its fields).
     fn note(&self, row: &ParamRow, view: &View) -> Option<String> {
-        let Some(Cell::Value(v)) = self.values.get(&(row.scope, row.number)) else {
+        let Some(Cell::Value(v)) = self.cell(row) else {
             return None;
         };
-        let value_of = |scope: Scope, number: u16| match self.values.get(&(scope, number)) {
-            Some(Cell::Value(v)) => Some(*v),
-            _ => None,
-        };
-        Self::parameters(view)?.value_note(row, *v, &value_of)
+        let value_of = |scope: Scope, number: u16| self.value(scope, number);
+        Self::parameters(view)?.value_note(row, v, &value_of)
     }
 
     fn row_line(
@@ -225,9 +224,19 @@ impl ParamsPane {
             if let Some(default) = row.default {
                 detail.push_str(&format!(", default {default}"));
             }
-            match self.values.get(&(row.scope, row.number)) {
+            match self.cell(row) {
                 Some(Cell::Unreadable(why) | Cell::NoAnswer(why)) => {
                     detail.push_str(&format!(" · {why}"));
+                }
+                // What is known of a value the module cannot be asked for.
+                Some(Cell::Unknown(why)) => {
+                    detail.push_str(&format!(" · {why} · {}", row.description));
+                }
+                Some(Cell::Value(_)) if !row.access.read => {
+                    detail.push_str(&format!(
+                        " · written this session, never read back · {}",
+                        row.description
+                    ));
                 }
                 _ => detail.push_str(&format!(" · {}", row.description)),
             }
@@ -304,6 +313,7 @@ impl ParamsPane {
                 Cell::Value(v) => v.to_string(),
                 Cell::Unreadable(_) => "unreadable".into(),
                 Cell::NoAnswer(_) => "no answer".into(),
+                Cell::Unknown(_) => "unknown".into(),
             };
             let label = match d.row.scope {
                 Scope::Axis(n) => format!("axis {n} #{}", d.row.number),
