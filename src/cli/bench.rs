@@ -387,6 +387,7 @@ async fn measure(
             expect,
             retry: Retry::Never,
             timeout: None,
+            hold: None,
         },
         every: Duration::ZERO,
     };
@@ -556,7 +557,8 @@ fn blocking_loop<S: Read + Write>(
             received += n;
             for frame in framer.push(buffer.get(..n).unwrap_or_default()) {
                 match rule.examine(&accepted, &frame) {
-                    Verdict::Complete => break 'answer true,
+                    // The bare loop does not wait for a quiet guard.
+                    Verdict::Complete | Verdict::CompleteIfQuiet => break 'answer true,
                     Verdict::Continue => accepted.push(frame),
                     Verdict::NotMine => {}
                 }

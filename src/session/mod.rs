@@ -556,6 +556,7 @@ impl Session {
             expect,
             retry,
             timeout,
+            hold: None,
         }
     }
 

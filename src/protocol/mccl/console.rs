@@ -292,6 +292,7 @@ impl FamilyConsole for MclConsole {
             max_line: self.profile.max_reply_line,
             prompt: self.profile.prompt,
             min_silence: ASCII_MIN_SILENCE,
+            silence_ends_line: true,
         })
     }
 
