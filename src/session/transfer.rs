@@ -41,7 +41,7 @@ use tokio::time::Instant;
 
 use super::{PreparedLine, Session, SessionError};
 use crate::device::{DeviceError, Priority, Retry};
-use crate::protocol::console::{Answering, Effect};
+use crate::protocol::console::{Answering, Effect, adapt_line, interpret_line};
 use crate::protocol::program::{
     Answer, AnswerError, ModuleHold, PlanLine, PlanStep, Progress, TransferFailure, TransferJob,
     TransferPlan, TransferReport,
@@ -351,9 +351,13 @@ impl Session {
     }
 
     /// Send one line of a plan and read what came back; with the bytes
-    /// that crossed the wire both ways.
+    /// that crossed the wire both ways. The line is adapted to the
+    /// family's per-link state and held if it may run for long, as a
+    /// user's line is.
     async fn exchange(&self, step: &PlanLine) -> (Answer, u64) {
-        let line = &step.line;
+        let console = self.family.console;
+        let context = self.current_context();
+        let line = &adapt_line(console, &step.line, context.as_deref());
         let priority = if step.after_polls {
             Priority::Poll
         } else {
@@ -387,11 +391,14 @@ impl Session {
             }
         };
         let received: u64 = frames.iter().map(|f| f.len() as u64).sum();
-        let result = self
-            .family
-            .console
-            .interpret(line, &frames)
-            .map_err(AnswerError::Reply);
+        let result =
+            interpret_line(console, line, &frames, context.as_deref()).map_err(AnswerError::Reply);
+        if result.is_ok()
+            && let (Some(contexts), Some(context)) = (console.link_contexts(), &context)
+            && let Some(changed) = contexts.after(line, context.as_ref())
+        {
+            self.context.send_replace(Some(changed));
+        }
         let answer = Answer {
             line: line.canonical.clone(),
             frames,

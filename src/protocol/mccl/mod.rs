@@ -21,10 +21,11 @@ pub mod profile;
 pub mod reply;
 pub mod status;
 pub mod traffic;
+pub mod wire;
 
 pub use catalog::{COMMANDS, CommandSpec};
 pub use check::{CheckContext, Diagnostic, Severity, check_file, check_line, check_text};
-pub use console::{MclConsole, StopMotion};
+pub use console::{MclConsole, MclContext, StopMotion};
 pub use line::{Command, Line, NumberBase, ParseError, ParseErrors, Value, parse_line};
 pub use machine::{AxisKind, DEFAULT_MACHINE, Machine};
 pub use profile::{Echo, LinkProfile, LinkState, PromptPer};
