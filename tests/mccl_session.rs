@@ -272,7 +272,7 @@ async fn polling_reads_position_velocity_status_target_and_following_error() {
         .iter()
         .map(|f| f.name)
         .collect();
-    assert_eq!(lamps, ["motor on"]);
+    assert_eq!(lamps, ["motor"]);
     assert_eq!(
         axes[4].following_error, None,
         "an open-loop stepper has none"

@@ -6,6 +6,7 @@
 //! bytes on the wire.
 
 mod assist;
+mod busy;
 mod history;
 
 use std::collections::HashMap;
@@ -25,7 +26,7 @@ use super::pane::{
 };
 use super::text::fit;
 use super::theme::Role;
-use crate::device::{DeviceEvent, LinkState};
+use crate::device::{Busy, DeviceEvent, LinkState};
 use crate::protocol::console::{Candidate, Completions};
 use crate::protocol::{FAMILIES, Family, find_family};
 use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
@@ -153,6 +154,10 @@ pub struct CommandPane {
     run_policy: Option<StopOnFailure>,
     /// The last output row is a state [`CommandPane::say_live`] replaces.
     live: bool,
+    /// The line the controller is busy with, if any (see [`busy`]).
+    busy: Option<Busy>,
+    /// The family the busy line is shown for (its name).
+    busy_family: Option<&'static str>,
 }
 
 impl Default for CommandPane {
@@ -183,6 +188,8 @@ impl CommandPane {
             host: None,
             run_policy: None,
             live: false,
+            busy: None,
+            busy_family: None,
         }
     }
 
@@ -594,6 +601,16 @@ impl CommandPane {
 
     fn edit_key(&mut self, key: &KeyEvent, view: &View) -> Outcome {
         let action = view.keymap.action_for(Context::Command, key);
+        // While the controller runs a line: the cancel key aborts it, Space
+        // on an empty line pauses or resumes it (the bytes it takes, Ch2).
+        if let Some(busy) = &self.busy {
+            if action == Some(Action::Cancel) {
+                return Outcome::request(Request::AbortLine);
+            }
+            if key.code == KeyCode::Char(' ') && self.input.is_empty() && busy.pausable {
+                return Outcome::request(Request::PauseLine);
+            }
+        }
         if action != Some(Action::Complete) {
             self.completing = None;
             self.hint = None;
@@ -810,6 +827,12 @@ impl CommandPane {
         if let Some(hint) = &self.hint {
             return vec![Line::styled(hint.text.clone(), theme.style(hint.role))];
         }
+        if let Some(busy) = &self.busy {
+            let abort = key_label(view.keymap, Context::Command, Action::Cancel);
+            let family = self.busy_family.and_then(find_family);
+            let text = busy::hint(busy, family, &abort);
+            return vec![Line::styled(fit(&text, width), theme.style(Role::Warning))];
+        }
         // The syntax of the command being typed.
         if let Some(family) = self.family(view)
             && !self.input.trim().is_empty()
@@ -942,7 +965,14 @@ impl Pane for CommandPane {
     }
 
     fn activity(&self) -> Option<String> {
-        self.host.as_ref().map(ConsoleHostRun::describe)
+        self.host
+            .as_ref()
+            .map(ConsoleHostRun::describe)
+            .or_else(|| {
+                self.busy
+                    .as_ref()
+                    .map(|busy| busy::activity(busy, self.busy_family.and_then(find_family)))
+            })
     }
 
     fn on_event(&mut self, event: &PaneEvent, view: &View) -> Outcome {
@@ -984,6 +1014,11 @@ impl Pane for CommandPane {
                 self.batch_wake = None;
                 let steps = self.batch.as_mut().map(Batch::on_wake).unwrap_or_default();
                 self.batch_steps(steps)
+            }
+            PaneEvent::Busy(busy) => {
+                self.busy = busy.clone();
+                self.busy_family = family.map(|f| f.name);
+                Outcome::redraw()
             }
             PaneEvent::Stopping => {
                 let dropped = self.sent.len();

@@ -399,9 +399,20 @@ fn value_of(line: &Line, reply: &Reply) -> ReplyValue {
     }
 }
 
-/// Primary status bits shown as lamps: the states and inputs that are not
-/// a switch lamp, the reached lamp or an error flag of their own.
-const LAMP_BITS: &[u8] = &[1, 5, 6, 17, 18, 19, 20, 21, 24, 25, 26, 27];
+/// Primary status bits shown as lamps, with names short enough for an
+/// axis card (Ch8 TS): the states that are not a switch lamp (the limit
+/// inputs; the home input: a servo's coarse home, a stepper's home), the
+/// reached lamp or an error flag of their own. The auxiliary encoder bits
+/// (19, 20, 26) are left to `TS`.
+const LAMP_BITS: &[(u8, &str)] = &[
+    (1, "motor"),
+    (21, "homed"),
+    (17, "seek"),
+    (18, "found"),
+    (5, "capt"),
+    (6, "brkpt"),
+    (27, "fault"),
+];
 
 fn flag(bit: &'static StatusBit) -> AxisFlag {
     AxisFlag {
@@ -410,11 +421,22 @@ fn flag(bit: &'static StatusBit) -> AxisFlag {
     }
 }
 
-static LAMPS: LazyLock<Vec<AxisFlag>> = LazyLock::new(|| {
-    PRIMARY
+/// The lamp of primary bit `bit`.
+fn lamp_of(bit: &'static StatusBit) -> Option<AxisFlag> {
+    LAMP_BITS
         .iter()
-        .filter(|b| LAMP_BITS.contains(&b.bit))
-        .map(flag)
+        .find(|(b, _)| *b == bit.bit)
+        .map(|(_, name)| AxisFlag {
+            name,
+            description: bit.meaning,
+        })
+}
+
+static LAMPS: LazyLock<Vec<AxisFlag>> = LazyLock::new(|| {
+    LAMP_BITS
+        .iter()
+        .filter_map(|(bit, _)| PRIMARY.iter().find(|b| b.bit == *bit))
+        .filter_map(lamp_of)
         .collect()
 });
 
@@ -433,11 +455,7 @@ fn primary_updates(axis: usize, kind: Option<AxisKind>, value: u32) -> Vec<(usiz
         .filter(|b| b.class == BitClass::Error)
         .map(flag)
         .collect();
-    let lamps: Vec<AxisFlag> = word
-        .set_bits()
-        .filter(|b| LAMP_BITS.contains(&b.bit))
-        .map(flag)
-        .collect();
+    let lamps: Vec<AxisFlag> = word.set_bits().filter_map(lamp_of).collect();
     vec![
         (axis, AxisUpdate::Switch(SwitchKind::Right, word.is_set(28))),
         (axis, AxisUpdate::Switch(SwitchKind::Left, word.is_set(29))),
@@ -1006,8 +1024,12 @@ mod tests {
     #[test]
     fn lamps_stop_keys_and_identity() {
         let names: Vec<&str> = CONSOLE.lamps().iter().map(|f| f.name).collect();
-        assert_eq!(names[0], "motor on");
-        assert!(names.contains(&"homed") && !names.contains(&"limit + in"));
+        assert_eq!(
+            names,
+            ["motor", "homed", "seek", "found", "capt", "brkpt", "fault"]
+        );
+        let homed = CONSOLE.lamps()[1];
+        assert!(homed.description.contains("homed"), "{}", homed.description);
         assert_eq!(CONSOLE.stop_axis_line(2).as_deref(), Some("2ST"));
         assert_eq!(CONSOLE.stop_axis_line(6), None);
         assert_eq!(CONSOLE.clear_errors_line(1), None);
