@@ -652,6 +652,10 @@ impl FamilyConsole for MclConsole {
         Some(self.parameters)
     }
 
+    fn program(&self) -> Option<&'static dyn crate::protocol::program::ProgramTool> {
+        Some(&super::tool::MclTool)
+    }
+
     fn describe_request(&self, bytes: &[u8]) -> Option<String> {
         Some(super::traffic::describe_request(bytes))
     }

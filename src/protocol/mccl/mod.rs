@@ -17,9 +17,11 @@ pub mod console;
 pub mod line;
 pub mod machine;
 pub mod parameter_set;
+pub mod plan;
 pub mod profile;
 pub mod reply;
 pub mod status;
+pub mod tool;
 pub mod traffic;
 pub mod wire;
 
@@ -30,6 +32,7 @@ pub use line::{Command, Line, NumberBase, ParseError, ParseErrors, Value, parse_
 pub use machine::{AxisKind, DEFAULT_MACHINE, Machine};
 pub use profile::{Echo, LinkProfile, LinkState, PromptPer};
 pub use reply::{AnswerRule, ErrorReply, Reply, ReplyProblem, read_reply};
+pub use tool::{MacroStore, MclTool};
 
 use crate::protocol::console::FamilyConsole;
 
