@@ -367,3 +367,51 @@ fn the_parameter_table_reads_the_motor_table_and_sets_with_the_set_command() {
         "read back after the write: {sv}\n{text}"
     );
 }
+
+#[test]
+fn the_macro_manager_lists_deletes_and_stops_tasks() {
+    let mut sim = Mccl::new(SimConfig::pci());
+    for line in [
+        "MD1,1LM2,1LN3",
+        "MD10,2MR500,WS.1",
+        "MD11,AL5,AR100",
+        "GT0,WA100",
+    ] {
+        simulated(&mut sim, line).expect("stored");
+    }
+    let mut app = connected(five_axes());
+    let typed = |app: &mut App, sim: &mut Mccl, text: &str| {
+        let mut effects = type_text(app, text);
+        effects.extend(app.handle(key(KeyCode::Enter)));
+        serve(app, sim, effects)
+    };
+    assert_eq!(typed(&mut app, &mut sim, ":programs"), ["TM-1"]);
+    let text = screen(&mut app, 120, 40).join("\n");
+    assert!(text.contains("3 macro(s) stored"), "{text}");
+    assert!(text.contains("macro 10: 2MR500,WS.1"), "{text}");
+    // Deleting one: RM, the others defined again, the listing compared.
+    let sent = typed(&mut app, &mut sim, ":programs delete 10");
+    assert_eq!(
+        sent,
+        ["TM-1", "RM", "MD1,1LM2,1LN3", "MD11,AL5,AR100", "TM-1"]
+    );
+    let text = screen(&mut app, 120, 40).join("\n");
+    assert!(text.contains("RM erases every macro"), "{text}");
+    assert!(
+        text.contains("macro 10 deleted; the listing holds the others as they were (1, 11)"),
+        "{text}"
+    );
+    assert!(
+        simulated(&mut sim, "MC10").is_err(),
+        "gone from the controller"
+    );
+    let text_of = |app: &mut App| screen(app, 120, 40).join("\n");
+    assert!(typed(&mut app, &mut sim, ":programs delete 7").contains(&"TM-1".to_string()));
+    assert!(text_of(&mut app).contains("no macro 7 (TM-1 lists 1, 11)"));
+    // Background tasks: listed, one stopped.
+    assert_eq!(typed(&mut app, &mut sim, ":tasks"), ["ID7"]);
+    assert!(text_of(&mut app).contains("background task IDs: 1"));
+    assert_eq!(typed(&mut app, &mut sim, ":tasks stop 1"), ["ET1"]);
+    assert_eq!(typed(&mut app, &mut sim, ":tasks"), ["ID7"]);
+    assert!(text_of(&mut app).contains("no background task running"));
+}

@@ -8,6 +8,7 @@
 mod assist;
 mod busy;
 mod history;
+mod store;
 
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -59,6 +60,14 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
     ),
     (":stop", "emergency stop, like its key"),
     (
+        ":programs [delete N]",
+        "list what the controller stores besides the editor's program (MCCL: its macros, by TM-1), or delete one (MCCL: RM erases them all, the others are defined again and compared)",
+    ),
+    (
+        ":tasks [stop ID]",
+        "list the programs the controller runs in the background (MCCL: ID7), or stop one (ET)",
+    ),
+    (
         ":log FILE | off",
         "log every frame sent and received to FILE",
     ),
@@ -105,6 +114,8 @@ struct Output {
 enum Origin {
     Typed,
     Batch,
+    /// A line of `:programs` or `:tasks` ([`store`]).
+    Store,
 }
 
 /// A list of completions being offered.
@@ -158,6 +169,8 @@ pub struct CommandPane {
     busy: Option<Busy>,
     /// The family the busy line is shown for (its name).
     busy_family: Option<&'static str>,
+    /// The `:programs` or `:tasks` job under way.
+    store_job: Option<store::StoreJob>,
 }
 
 impl Default for CommandPane {
@@ -190,6 +203,7 @@ impl CommandPane {
             live: false,
             busy: None,
             busy_family: None,
+            store_job: None,
         }
     }
 
@@ -408,6 +422,18 @@ impl CommandPane {
             "expect" | "wait-until" | "sleep" | "echo" => {
                 return self.start_batch(&format!(":{name}"), line, view);
             }
+            "programs" | "tasks" => {
+                let started = store::store_of(session.map(|s| s.family))
+                    .and_then(|store| store::start(store, &name, rest));
+                return match started {
+                    Ok((job, lines)) => {
+                        self.store_job = Some(job);
+                        let tag = self.tag(Origin::Store);
+                        Outcome::request(Request::Send { lines, tag })
+                    }
+                    Err(message) => self.fail(message),
+                };
+            }
             _ => {
                 return self.fail(format!(
                     "unknown console command `:{name}` (`:help` lists them)"
@@ -442,6 +468,44 @@ impl CommandPane {
     fn end_run(&mut self, ending: RunEnding) -> Option<Request> {
         let policy = self.run_policy.take()?;
         (ending != RunEnding::Completed).then_some(Request::EndRun { ending, policy })
+    }
+
+    /// An answer to a line of `:programs` or `:tasks`.
+    fn store_reply(
+        &mut self,
+        tag: u64,
+        result: &Result<LineResult, SessionError>,
+        family: Option<&'static Family>,
+    ) -> Outcome {
+        let (Ok(store), Some(job)) = (store::store_of(family), self.store_job.take()) else {
+            self.sent.remove(&tag);
+            return Outcome::Ignored;
+        };
+        // The lines that change the controller are shown with their answers.
+        if matches!(job, store::StoreJob::Deleting { .. }) {
+            if let Ok(r) = result {
+                self.say(Role::Normal, format!("{PROMPT}{}", r.line));
+            }
+            self.show_reply(family, result);
+        }
+        let (steps, next) = store::on_reply(store, job, result);
+        let goes_on = matches!(next, Some(store::StoreJob::Deleting { .. }));
+        self.store_job = next;
+        if !goes_on {
+            // Its lines are all answered (or the rest were not sent).
+            self.sent.remove(&tag);
+        }
+        let mut requests = Vec::new();
+        for step in steps {
+            match step {
+                store::StoreStep::Say(role, text) => self.say(role, text),
+                store::StoreStep::Send(lines) => {
+                    let tag = self.tag(Origin::Store);
+                    requests.push(Request::Send { lines, tag });
+                }
+            }
+        }
+        Outcome::Handled(requests)
     }
 
     fn fail(&mut self, message: impl Into<String>) -> Outcome {
@@ -983,6 +1047,9 @@ impl Pane for CommandPane {
             return self.host_update(update);
         }
         match event {
+            PaneEvent::Reply { tag, result, .. } if self.sent.get(tag) == Some(&Origin::Store) => {
+                self.store_reply(*tag, result, family)
+            }
             PaneEvent::Reply { tag, result, .. } => {
                 let Some(origin) = self.sent.remove(tag) else {
                     return Outcome::Ignored;
@@ -1021,6 +1088,7 @@ impl Pane for CommandPane {
                 Outcome::redraw()
             }
             PaneEvent::Stopping => {
+                self.store_job = None;
                 let dropped = self.sent.len();
                 self.sent.clear();
                 self.batch_wake = None;
