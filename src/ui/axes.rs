@@ -652,6 +652,9 @@ fn error_spans(view: &View, status: &AxisStatus) -> Vec<Span<'static>> {
     spans
 }
 
+/// The most of a module's identity the title shows.
+const IDENTITY_WIDTH: usize = 36;
+
 /// What the title and the status bar say of polling while the controller
 /// runs a line that holds it busy (MCCL `RP`, `WS`, `MC`: it takes nothing
 /// else until the line's answer).
@@ -800,10 +803,11 @@ impl Pane for AxesPane {
         } else {
             poll_text(s)
         };
+        // A long identity (MCCL's VE text) leaves room for the state.
         let identity = s
             .identity
             .as_ref()
-            .map(|i| format!(" ({i})"))
+            .map(|i| format!(" ({})", super::text::fit(i, IDENTITY_WIDTH)))
             .unwrap_or_default();
         let units = self.note.clone().unwrap_or_else(|| {
             format!(
