@@ -162,3 +162,31 @@ fn on_a_lossy_line_faults_are_counted_and_the_measuring_goes_on() {
     assert_eq!(report["faults"], faults, "{report}");
     assert!(report["polling"]["per_second"].is_number(), "{report}");
 }
+
+#[test]
+fn an_mccl_answer_overlaps_its_request_on_the_wire() {
+    // `1TP,TV,TS` and its answer: the echo comes back as the line is sent
+    // (full duplex), then CR LF, three `01 0` lines and the prompt: 30
+    // bytes back and the one the echo trails the request by.
+    let out = axterm(&[
+        "bench",
+        "--sim",
+        "mccl",
+        "--baud",
+        "115200",
+        "--requests",
+        "3",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    assert_eq!(report["line"], "1TP,TV,TS", "{report}");
+    assert_eq!(report["wire"]["bytes"], 31, "{report}");
+    assert!(report["polling"]["share_of_wire"].is_number(), "{report}");
+}
