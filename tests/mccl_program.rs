@@ -426,3 +426,33 @@ async fn the_editor_checks_downloads_and_uploads_mccl() {
     .await;
     assert_eq!(value(&session, "MC11").await, "R100 now 5; ok");
 }
+
+#[tokio::test(start_paused = true)]
+async fn cancelling_a_download_aborts_a_line_that_holds_the_controller() {
+    let session = session_with(FaultPlan::none()).await;
+    // The second line repeats for ever: it holds the controller until
+    // Escape.
+    let job = download_job("2MN\n2MR1000,WS.1,MR-1000,WS.1,RP\nAL5,AR100\n");
+    let cancel = Cancel::new();
+    let download = tokio::spawn({
+        let session = session.clone();
+        let cancel = cancel.clone();
+        async move { session.run_job(&job, &cancel, &mut |_| {}).await }
+    });
+    let mut busy = session.busy();
+    busy.wait_for(|b| b.is_some()).await.expect("held");
+    tokio::time::sleep(Duration::from_secs(5)).await;
+    cancel.cancel();
+    let failure = tokio::time::timeout(Duration::from_secs(600), download)
+        .await
+        .expect("the held line was aborted")
+        .expect("joined")
+        .expect_err("cancelled or aborted");
+    assert!(
+        failure.message.contains("?-7") || failure.cancelled().is_some(),
+        "{}",
+        failure.message
+    );
+    assert!(busy.borrow().is_none(), "the controller is free again");
+    assert_eq!(value(&session, "TR100").await, "0", "AL5,AR100 never sent");
+}

@@ -192,7 +192,11 @@ fn text_files_download_line_by_line_as_the_program_tool_checks_them() {
         let expected: Vec<Vec<u8>> = v
             .send
             .lines()
-            .filter(|raw| !raw[..comment_start(raw).unwrap_or(raw.len())].trim().is_empty())
+            .filter(|raw| {
+                !raw[..comment_start(raw).unwrap_or(raw.len())]
+                    .trim()
+                    .is_empty()
+            })
             .map(|raw| encode_line(raw, None).expect("encodes"))
             .collect();
         assert_eq!(program.size(), expected.len(), "#{}", v.index);
