@@ -415,3 +415,42 @@ fn the_macro_manager_lists_deletes_and_stops_tasks() {
     assert_eq!(typed(&mut app, &mut sim, ":tasks"), ["ID7"]);
     assert!(text_of(&mut app).contains("no background task running"));
 }
+
+#[test]
+fn the_editor_marks_mccl_errors_and_warnings_where_they_are() {
+    let mut app = console();
+    app.handle(AppEvent::Connected(snapshot(five_axes())));
+    assert!(app.focus("editor"));
+    app.handle(AppEvent::Terminal(ratatui::crossterm::event::Event::Paste(
+        "; homing\n1MR1000,N0\nMD5,5LM2\nMD5,5LM1\n".into(),
+    )));
+    let text = screen(&mut app, 120, 40).join("\n");
+    assert!(
+        text.contains("Program (MCCL)"),
+        "the connected family's: {text}"
+    );
+    let row = |needle: &str| {
+        text.lines()
+            .find(|l| l.contains(needle))
+            .unwrap_or_else(|| panic!("no {needle}:\n{text}"))
+            .to_string()
+    };
+    assert!(
+        row("1MR1000,N0").contains('!'),
+        "an error: {}",
+        row("1MR1000,N0")
+    );
+    assert!(
+        row("MD5,5LM1").contains('?'),
+        "a warning: {}",
+        row("MD5,5LM1")
+    );
+    assert!(!row("MD5,5LM2").contains('!'), "{}", row("MD5,5LM2"));
+    // Ctrl-G goes to the error, and says what it is.
+    app.handle(ui_support::key_with(
+        KeyCode::Char('g'),
+        KeyModifiers::CONTROL,
+    ));
+    let text = screen(&mut app, 120, 40).join("\n");
+    assert!(text.contains("did you mean `NO`"), "{text}");
+}

@@ -8,7 +8,12 @@
 //! command set is data ([`catalog::COMMANDS`], Ch3–Ch13); [`parse_line`]
 //! is the one parser of command text; [`check`] holds the rules a line must
 //! keep; [`reply`] reads answers; [`profile`] describes the interface where
-//! the manual leaves it open (digest §3.2).
+//! the manual leaves it open (digest §3.2); [`console`] keeps it per link
+//! ([`MclContext`]: the connect probe, `DM`/`HM`, `PC`, `EN`/`EF`);
+//! [`wire`] is what the device task needs (the prompt, the quiet guard,
+//! answers told apart by their echo); [`tool`] and [`plan`] are text files
+//! and macros as a program tool (check, colours, download verified by
+//! `TM`, upload by `TM-1`, the macro manager).
 
 pub mod assist;
 pub mod catalog;
