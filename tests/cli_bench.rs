@@ -188,3 +188,31 @@ fn a_sixpack2_is_timed_with_its_status_read_and_its_switch_over_delay() {
     assert_eq!(report["device"]["count"], 5, "{report}");
     assert_eq!(report["faults"], 0, "{report}");
 }
+
+#[test]
+fn an_mccl_answer_overlaps_its_request_on_the_wire() {
+    // `1TP,TV,TS` and its answer: the echo comes back as the line is sent
+    // (full duplex), then CR LF, three `01 0` lines and the prompt: 30
+    // bytes back and the one the echo trails the request by.
+    let out = axterm(&[
+        "bench",
+        "--sim",
+        "mccl",
+        "--baud",
+        "115200",
+        "--requests",
+        "3",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    assert_eq!(report["line"], "1TP,TV,TS", "{report}");
+    assert_eq!(report["wire"]["bytes"], 31, "{report}");
+    assert!(report["polling"]["share_of_wire"].is_number(), "{report}");
+}

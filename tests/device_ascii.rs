@@ -22,6 +22,7 @@ fn cmd4cr_line(line: &str) -> Transaction {
         expect: Expect::Reply(Arc::new(NextLine)),
         retry: Retry::Read(1),
         timeout: None,
+        hold: None,
     }
 }
 
@@ -32,6 +33,7 @@ fn mccl_line(line: &str) -> Transaction {
         bytes,
         retry: Retry::Never,
         timeout: None,
+        hold: None,
     }
 }
 
@@ -188,6 +190,7 @@ fn cmd4cr_prepared(line: &str) -> Transaction {
         expect: Expect::Reply(rule),
         retry: Retry::Never,
         timeout: None,
+        hold: None,
     }
 }
 

@@ -650,6 +650,7 @@ async fn a_command_without_reply_is_done_once_written() {
         expect: Expect::Nothing,
         retry: Retry::Never,
         timeout: None,
+        hold: None,
     };
     let started = Instant::now();
     let answer = device

@@ -39,7 +39,7 @@ fn encode_refuses_what_does_not_parse_or_check() {
         ("1FR0.00025", "FR takes an integer"),
         ("1EI9", "malfunction"),
         ("", "repeat the controller's last line"),
-        ("HM", "hexadecimal"),
+        ("BK\"wait\"", "single-steps"),
     ] {
         let out = axterm(&["encode", "mccl", line]);
         assert_eq!(out.status.code(), Some(2), "{line}");
@@ -53,8 +53,9 @@ fn encode_refuses_what_does_not_parse_or_check() {
 
 /// A controller on a TCP port: for each line received it echoes the line,
 /// sends the reply lines scripted for it and the prompt, each line ended
-/// by CR LF [? the terminator is not stated; the console takes any]. It
-/// hands back every line received.
+/// by CR LF [? the terminator is not stated; the console takes any]; `NO`
+/// does nothing. It hands back every line received after the console's
+/// connect probe (`NO`, `NO,NO,NO`, checked here).
 struct Fake {
     address: String,
     thread: JoinHandle<Vec<String>>,
@@ -88,6 +89,7 @@ impl Fake {
                 bytes.clear();
                 let mut answer = format!("{line}\r\n");
                 match script.iter().find(|(l, _)| *l == line) {
+                    _ if line == "NO" || line == "NO,NO,NO" => {}
                     Some((_, replies)) => {
                         for reply in replies {
                             answer.push_str(&format!("{reply}\r\n"));
@@ -107,7 +109,12 @@ impl Fake {
     }
 
     fn received(self) -> Vec<String> {
-        self.thread.join().expect("the fake")
+        let mut lines = self.thread.join().expect("the fake");
+        if !lines.is_empty() {
+            let probe: Vec<String> = lines.drain(..2.min(lines.len())).collect();
+            assert_eq!(probe, ["NO", "NO,NO,NO"], "the connect probe first");
+        }
+        lines
     }
 }
 
@@ -132,6 +139,24 @@ fn exec_moves_and_reads_back_the_position() {
     assert_eq!(
         fake.received(),
         ["1MN", "1MA1000", "1WS", "1TP", "1TP.3,TT.3"]
+    );
+}
+
+#[test]
+fn after_hm_lines_go_in_hex_and_replies_read_in_hex() {
+    let fake = Fake::start(&[
+        ("HM", &[]),
+        ("1MA3E8,MR-0FF", &[]),
+        ("1TP,TS", &["01 fffffc18", "01 0000000a"]),
+        ("DM", &[]),
+        ("1TP", &["01 -1000"]),
+    ]);
+    let out = exec(&fake, &["HM", "1MA1000,MR-255", "1TP,TS", "DM", "1TP"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(stdout(&out), "ok\nok\n-1000 10\nok\n-1000\n");
+    assert_eq!(
+        fake.received(),
+        ["HM", "1MA3E8,MR-0FF", "1TP,TS", "DM", "1TP"]
     );
 }
 
@@ -222,4 +247,13 @@ fn run_checks_the_whole_file_first() {
     assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
     drop(std::net::TcpStream::connect(&fake.address));
     assert!(fake.received().is_empty(), "1MN was not sent either");
+}
+
+#[test]
+fn exec_on_the_simulator_prints_the_position_moved_to_last() {
+    // Issue 14's acceptance line: motor on, move, wait for the trajectory,
+    // tell the position (a servo within a count of its target).
+    let out = axterm(&["exec", "--sim", "mccl", "1MN", "1MA1000", "1WS", "1TP"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(stdout(&out), "ok\nok\nok\n1000\n");
 }

@@ -1,8 +1,10 @@
 //! An MCCL session over the device task, the test playing the controller on
 //! a scripted 9600 Bd link with bytes written out by hand (echo, `01 value`
 //! lines, `>`), on tokio's paused clock: a line that waits for motion is
-//! waited for as long as it runs, polling reads every axis's status, and the
-//! emergency stop aborts every axis and ends every task.
+//! held busy for as long as it runs, Escape aborts it and Space pauses it,
+//! the emergency stop aborts it first; polling reads every axis's status;
+//! the emergency stop aborts every axis and ends every task; the connect
+//! probe learns the interface and `HM`, `PC` change how lines go.
 
 mod device_support;
 mod session_support;
@@ -40,21 +42,31 @@ fn text(bytes: &[u8]) -> String {
         .to_string()
 }
 
+const CYCLE: &str = "2MR1000,WS0.5,MR-1000,WS0.5,RP6";
+
+fn start(
+    session: &Session,
+    line: &'static str,
+) -> tokio::task::JoinHandle<Result<axterm::session::LineResult, SessionError>> {
+    let session = session.clone();
+    tokio::spawn(async move { session.execute_line(line).await })
+}
+
 #[tokio::test(start_paused = true)]
-async fn a_line_that_waits_for_motion_is_waited_for_while_it_runs() {
+async fn a_line_that_waits_for_motion_is_held_busy_while_it_runs() {
     let (session, mut script) = session();
-    let cycle = "2MR1000,WS0.5,MR-1000,WS0.5,RP6";
-    let run = tokio::spawn({
-        let session = session.clone();
-        async move { session.execute_line(cycle).await }
-    });
-    assert_eq!(text(&script.request().await), cycle);
-    // Seven cycles of a second each: far beyond a plain line's timeout.
-    script.send(format!("{cycle}\r\n").as_bytes());
-    sleep(Duration::from_secs(7)).await;
+    let busy = session.busy();
+    let run = start(&session, CYCLE);
+    assert_eq!(text(&script.request().await), CYCLE);
+    // Seven cycles of a second each, and then some: no timeout at all.
+    script.send(format!("{CYCLE}\r\n").as_bytes());
+    sleep(Duration::from_secs(700)).await;
+    let shown = busy.borrow().clone().expect("busy");
+    assert_eq!(shown.bytes, format!("{CYCLE}\r").into_bytes());
     script.send(b">");
     let result = run.await.expect("joined").expect("the line completed");
     assert_eq!(result.value.to_string(), "ok");
+    assert_eq!(*busy.borrow(), None);
 
     // A plain line gets the link's usual timeout.
     let tell = tokio::spawn({
@@ -74,6 +86,138 @@ async fn a_line_that_waits_for_motion_is_waited_for_while_it_runs() {
         ),
         "{error}"
     );
+}
+
+#[tokio::test(start_paused = true)]
+async fn escape_aborts_the_busy_line_with_its_error_and_space_pauses_it() {
+    let (session, mut script) = session();
+    let run = start(&session, CYCLE);
+    script.request().await;
+    script.send(format!("{CYCLE}\r\n").as_bytes());
+    assert_eq!(session.pause_line().await, Some(true));
+    assert_eq!(script.request().await, b" ");
+    assert_eq!(session.pause_line().await, Some(false));
+    assert_eq!(script.request().await, b" ");
+    assert!(session.abort_line().await);
+    assert_eq!(script.request().await, [0x1B]);
+    // The controller's answer to Escape: -7 and the command it was on.
+    script.send(b"?-7 WS0.5\r\n>");
+    let error = run.await.expect("joined").expect_err("aborted");
+    assert_eq!(
+        error.to_string(),
+        "the controller refused 2MR1000,WS0.5,MR-1000,WS0.5,RP6: ?-7 WS0.5 (Command Canceled \
+         by User, Ch14)"
+    );
+    assert!(!session.abort_line().await, "nothing held any more");
+}
+
+#[tokio::test(start_paused = true)]
+async fn the_emergency_stop_aborts_a_busy_line_first() {
+    let (session, mut script) = session();
+    let run = start(&session, CYCLE);
+    script.request().await;
+    script.send(format!("{CYCLE}\r\n").as_bytes());
+    sleep(Duration::from_secs(3)).await;
+    let stop = tokio::spawn({
+        let session = session.clone();
+        async move { session.emergency_stop_lines().await }
+    });
+    assert_eq!(script.request().await, [0x1B], "Escape first");
+    script.send(b"?-7 WS0.5\r\n>");
+    assert!(run.await.expect("joined").is_err());
+    assert_eq!(text(&script.request().await), "0AB");
+    script.send(&answer("0AB", &[]));
+    for n in 1..=21 {
+        let request = text(&script.request().await);
+        assert_eq!(request, format!("ET{n}"));
+        script.send(&answer(&request, &["?-20"]));
+    }
+    let results = stop.await.expect("joined");
+    assert!(results.iter().all(Result::is_ok));
+}
+
+#[tokio::test(start_paused = true)]
+async fn the_connect_probe_learns_the_interface() {
+    let (session, mut script) = session();
+    let learn = tokio::spawn({
+        let session = session.clone();
+        async move { session.learn_link().await }
+    });
+    assert_eq!(script.request().await, b"NO\r");
+    script.send(b"NO\r\n#");
+    assert_eq!(script.request().await, b"NO,NO,NO\r");
+    script.send(b"NO,NO,NO\r\n#");
+    assert_eq!(learn.await.expect("joined"), Some(Ok(())));
+    let summary = session
+        .link_context()
+        .borrow()
+        .as_ref()
+        .and_then(|c| c.summary());
+    assert_eq!(summary.as_deref(), Some("prompt `#`"));
+    // The prompt learned ends the next answer.
+    let tell = start(&session, "1TP");
+    script.request().await;
+    script.send(b"1TP\r\n01 5\r\n#");
+    assert_eq!(
+        tell.await.expect("joined").expect("read").value.to_string(),
+        "5"
+    );
+}
+
+#[tokio::test(start_paused = true)]
+async fn hm_pauses_polling_and_it_resumes_written_in_hex() {
+    let (session, mut script) = session();
+    session.start_polling(PollCadence::default());
+    // Answer the first round of polls in decimal.
+    for _ in 0..10 {
+        let request = text(&script.request().await);
+        let axis = request[..1].to_string();
+        let replies = match &request[1..] {
+            "TP,TV,TS" => vec![
+                format!("0{axis} 5"),
+                format!("0{axis} 0"),
+                format!("0{axis} 14"),
+            ],
+            "TT,TF" => vec![format!("0{axis} 5"), format!("0{axis} 0")],
+            _ => vec![format!("0{axis} 5")],
+        };
+        let replies: Vec<&str> = replies.iter().map(String::as_str).collect();
+        script.send(&answer(&request, &replies));
+    }
+    let hm = start(&session, "HM");
+    // Whatever poll was on the wire is answered; then HM, and no poll
+    // until its answer.
+    let mut request = text(&script.request().await);
+    while request != "HM" {
+        let axis = request[..1].to_string();
+        let replies: Vec<String> = request[1..]
+            .split(',')
+            .map(|_| format!("0{axis} 0"))
+            .collect();
+        let replies: Vec<&str> = replies.iter().map(String::as_str).collect();
+        script.send(&answer(&request, &replies));
+        request = text(&script.request().await);
+    }
+    // Within HM's reply timeout (about 190 ms at 9600 Bd).
+    sleep(Duration::from_millis(150)).await;
+    assert!(script.nothing_written(), "no poll while HM is on its way");
+    script.send(&answer("HM", &[]));
+    hm.await.expect("joined").expect("HM");
+    // The very first poll after it is read in hex: -1000 is fffffc18.
+    let request = text(&script.request().await);
+    assert_eq!(&request[1..], "TP,TV,TS", "{request}");
+    let axis: usize = request[..1].parse().expect("an axis");
+    let field = format!("{axis:02}");
+    script.send(&answer(
+        &request,
+        &[
+            &format!("{field} fffffc18"),
+            &format!("{field} 00000064"),
+            &format!("{field} 0000000e"),
+        ],
+    ));
+    let axes = wait_for(&session, |axes| axes[axis - 1].position == Some(-1000)).await;
+    assert_eq!(axes[axis - 1].speed, Some(100));
 }
 
 #[tokio::test(start_paused = true)]
@@ -128,7 +272,7 @@ async fn polling_reads_position_velocity_status_target_and_following_error() {
         .iter()
         .map(|f| f.name)
         .collect();
-    assert_eq!(lamps, ["motor on"]);
+    assert_eq!(lamps, ["motor"]);
     assert_eq!(
         axes[4].following_error, None,
         "an open-loop stepper has none"

@@ -177,6 +177,52 @@ fn text_files_send_their_lines_without_comments() {
 }
 
 #[test]
+fn text_files_download_line_by_line_as_the_program_tool_checks_them() {
+    use axterm::protocol::console::{Reading, ReplyValue};
+    use axterm::protocol::mccl::MclTool;
+    use axterm::protocol::program::{Answer, NoIncludes, PlanStep, ProgramTool};
+    for v in vectors()
+        .into_iter()
+        .filter(|v| is_file(v) && !as_printed(v))
+    {
+        let checked = MclTool.check("manual.mccl", &v.send, &NoIncludes);
+        let program = checked
+            .program
+            .unwrap_or_else(|| panic!("#{}: {:?}", v.index, checked.problems));
+        let expected: Vec<Vec<u8>> = v
+            .send
+            .lines()
+            .filter(|raw| {
+                !raw[..comment_start(raw).unwrap_or(raw.len())]
+                    .trim()
+                    .is_empty()
+            })
+            .map(|raw| encode_line(raw, None).expect("encodes"))
+            .collect();
+        assert_eq!(program.size(), expected.len(), "#{}", v.index);
+        let mut plan = program
+            .download(0, Default::default())
+            .expect("a download plan");
+        let mut sent = Vec::new();
+        while sent.len() < expected.len() {
+            let PlanStep::Send(line) = plan.next() else {
+                panic!("#{}: stopped after {sent:?}", v.index);
+            };
+            sent.push(line.line.bytes);
+            plan.answer(Answer {
+                line: String::new(),
+                frames: Vec::new(),
+                result: Ok(Reading {
+                    status: None,
+                    value: ReplyValue::None,
+                }),
+            });
+        }
+        assert_eq!(sent, expected, "#{}: one line at a time, in order", v.index);
+    }
+}
+
+#[test]
 fn files_printed_with_ocr_glyphs_are_refused_with_the_fix() {
     let printed: Vec<Vector> = vectors().into_iter().filter(as_printed).collect();
     assert_eq!(printed.len(), 2, "the FE and FI homing files (Ch7)");

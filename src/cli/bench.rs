@@ -370,7 +370,7 @@ async fn measure(
         match session.execute(line).await {
             Ok(result) => {
                 device.samples.push(sent.elapsed());
-                transaction_bytes = result.request.len() + result.reply.len();
+                transaction_bytes = wire_bytes_of(&result.request, &result.reply);
             }
             Err(error) => {
                 device.faults += 1;
@@ -405,6 +405,7 @@ async fn measure(
             expect,
             retry: Retry::Never,
             timeout: None,
+            hold: None,
         },
         every: Duration::ZERO,
     };
@@ -484,8 +485,25 @@ impl PollSink for TimingSink {
 /// What the bare loop measured.
 struct Bare {
     figures: Figures,
-    /// One transaction's bytes as they crossed the link, request and answer.
+    /// One transaction's bytes as they crossed the link, request and
+    /// answer; where the answer starts with the echo of the request (MCCL:
+    /// every character echoed as it arrives, on a full-duplex line), the
+    /// request travels under its echo, and only the answer and one byte
+    /// more are counted.
     bytes: usize,
+}
+
+/// A transaction's bytes on the wire: `request` and `answer` one after the
+/// other, or, when `answer` starts with the echo of `request` (without
+/// its line end), the answer and the one byte the echo trails the request
+/// by (full duplex).
+fn wire_bytes_of(request: &[u8], answer: &[u8]) -> usize {
+    let line = request.trim_ascii_end();
+    if !line.is_empty() && answer.starts_with(line) {
+        answer.len() + 1
+    } else {
+        request.len() + answer.len()
+    }
 }
 
 enum BareError {
@@ -559,7 +577,7 @@ fn blocking_loop<S: Read + Write>(
         stream
             .write_all(request)
             .map_err(|e| format!("write failed: {e}"))?;
-        let mut received = request.len();
+        let mut answer = Vec::new();
         let mut accepted = Vec::new();
         let answered = 'answer: loop {
             let n = match stream.read(&mut buffer) {
@@ -571,10 +589,12 @@ fn blocking_loop<S: Read + Write>(
                 }
                 Err(e) => return Err(format!("reading failed: {e}")),
             };
-            received += n;
-            for frame in framer.push(buffer.get(..n).unwrap_or_default()) {
+            let read = buffer.get(..n).unwrap_or_default();
+            answer.extend_from_slice(read);
+            for frame in framer.push(read) {
                 match rule.examine(&accepted, &frame) {
-                    Verdict::Complete => break 'answer true,
+                    // The bare loop does not wait for a quiet guard.
+                    Verdict::Complete | Verdict::CompleteIfQuiet => break 'answer true,
                     Verdict::Continue => accepted.push(frame),
                     Verdict::NotMine => {}
                 }
@@ -582,7 +602,7 @@ fn blocking_loop<S: Read + Write>(
         };
         if answered {
             figures.samples.push(sent.elapsed());
-            bytes = received;
+            bytes = wire_bytes_of(request, &answer);
         } else {
             figures.faults += 1;
             framer.discard_pending();
@@ -594,6 +614,10 @@ fn blocking_loop<S: Read + Write>(
     }
     Ok(Bare { figures, bytes })
 }
+
+/// Milliseconds of its own clock a simulator gets to answer in the bare
+/// loop.
+const SIM_ANSWER_TICKS: usize = 1000;
 
 /// The simulator fed and read directly, no link, no clock.
 fn sim_loop(
@@ -613,12 +637,27 @@ fn sim_loop(
     for _ in 0..requests {
         let sent = Instant::now();
         sim.feed(request);
-        let output = sim.take_output();
-        bytes = request.len() + output.len();
-        let complete = framer
-            .push(&output)
-            .iter()
-            .any(|frame| rule.examine(&[], frame) == Verdict::Complete);
+        let mut output = Vec::new();
+        let mut accepted = Vec::new();
+        // A controller that works on a clock of its own (MCCL's 1 kHz
+        // tick) may answer only once it has run a moment.
+        let mut complete = false;
+        for _ in 0..SIM_ANSWER_TICKS {
+            let came = sim.take_output();
+            output.extend_from_slice(&came);
+            for frame in framer.push(&came) {
+                match rule.examine(&accepted, &frame) {
+                    Verdict::Complete | Verdict::CompleteIfQuiet => complete = true,
+                    Verdict::Continue => accepted.push(frame),
+                    Verdict::NotMine => {}
+                }
+            }
+            if complete {
+                break;
+            }
+            sim.advance(Duration::from_millis(1));
+        }
+        bytes = wire_bytes_of(request, &output);
         if !complete {
             return Err("the simulator did not answer".into());
         }
@@ -638,6 +677,14 @@ mod tests {
             total: Duration::from_secs(1),
             faults: 0,
         }
+    }
+
+    #[test]
+    fn an_echo_sent_back_as_the_request_arrives_overlaps_it() {
+        // TMCL: the reply comes after the request.
+        assert_eq!(wire_bytes_of(&[1; 9], &[2; 9]), 18);
+        // MCCL: the echo of `1TP\r` comes back while it is sent.
+        assert_eq!(wire_bytes_of(b"1TP\r", b"1TP\r\n01 5\r\n>"), 13);
     }
 
     #[test]

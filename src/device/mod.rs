@@ -80,6 +80,33 @@
 //! time, and so does an emergency stop, which sends a sentinel first only
 //! when the family has one, and never waits for the quiet time.
 //!
+//! # Held lines
+//!
+//! Some controllers run a line for as long as it takes (a wait for motion,
+//! a repeat, a macro call) and take nothing meanwhile but an abort or a
+//! pause byte. Such a transaction comes with a [`Hold`]: it has no reply
+//! timeout of its own and ends on its answer. While it is on the wire the
+//! task publishes it as [`Busy`] ([`DeviceHandle::busy`]); polling waits
+//! (the plan is kept); [`DeviceHandle::abort_line`] and
+//! [`DeviceHandle::pause_line`] write the hold's abort or pause bytes at
+//! once, outside the one-request-in-flight rule. After an abort the line
+//! gets its ordinary reply timeout as a grace for the answer to the abort
+//! (the controller's error and prompt); without one it fails with
+//! [`DeviceError::AbortUnanswered`]. An emergency stop that arrives while a
+//! line is held aborts it first, waits for it to end (its answer or the
+//! grace), then goes before everything queued; so does a shutdown.
+//!
+//! # Answers that end in quiet
+//!
+//! A family's rule may say a frame completes the answer *unless more comes*
+//! ([`Verdict::CompleteIfQuiet`](crate::protocol::wire::Verdict)): an error
+//! that may or may not be followed by a prompt, prompts whose number is not
+//! known. The answer is then complete once the line has been quiet for
+//! [`WireFormat::quiet_guard`]; a frame that comes before is put to the rule
+//! with the rest. [`Expect::UntilQuiet`] takes every byte that comes, raw,
+//! until the line has been quiet that long: a connect probe that learns how
+//! the controller answers.
+//!
 //! When the link is lost (a [`LinkInput::Lost`](crate::link::LinkInput),
 //! its channel closing, a failed write) the request on the wire fails with
 //! [`DeviceError::LinkLost`] (it may or may not have been carried out), every
@@ -125,6 +152,12 @@ pub enum Expect {
     Nothing,
     /// An answer recognised by this rule.
     Reply(Arc<dyn ReplyRule>),
+    /// Every byte that comes until the line has been quiet for the
+    /// family's [`WireFormat::quiet_guard`], raw and unframed, as the one
+    /// frame of the answer (a connect probe learning the controller's echo,
+    /// prompt and line ends). No byte at all before the timeout is a
+    /// [`DeviceError::Timeout`].
+    UntilQuiet,
 }
 
 /// Whether a request may be sent again after a timeout or a bad reply.
@@ -143,8 +176,52 @@ pub struct Transaction {
     pub bytes: Vec<u8>,
     pub expect: Expect,
     pub retry: Retry,
-    /// Overrides the device's default timeout for this request.
+    /// Overrides the device's default timeout for this request. A held
+    /// request ([`Transaction::hold`]) has none unless given here; after an
+    /// abort it is the grace for the abort's answer.
     pub timeout: Option<Duration>,
+    /// The request may keep the controller busy for as long as it runs,
+    /// taking nothing meanwhile but these bytes (MCCL `RP`, `WS`, `MC`:
+    /// Escape aborts, Space pauses, Ch2). See the module documentation.
+    pub hold: Option<Hold>,
+}
+
+impl Transaction {
+    /// A request with the device's usual timeout, not held.
+    pub fn new(bytes: Vec<u8>, expect: Expect, retry: Retry) -> Transaction {
+        Transaction {
+            bytes,
+            expect,
+            retry,
+            timeout: None,
+            hold: None,
+        }
+    }
+}
+
+/// What a held request takes while it runs.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Hold {
+    /// Ends it at once (MCCL: Escape).
+    pub abort: Vec<u8>,
+    /// Pauses it; sent again, resumes it (MCCL: Space).
+    pub pause: Option<Vec<u8>>,
+}
+
+/// A held request on the wire, as [`DeviceHandle::busy`] publishes it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Busy {
+    /// When it was written.
+    pub since: Instant,
+    /// The request as sent.
+    pub bytes: Vec<u8>,
+    pub priority: Priority,
+    /// Its pause bytes were sent (an odd number of times).
+    pub paused: bool,
+    /// Its abort bytes were sent: the answer to the abort is awaited.
+    pub aborting: bool,
+    /// Whether it can be paused.
+    pub pausable: bool,
 }
 
 /// A completed transaction.
@@ -179,6 +256,10 @@ pub enum DeviceError {
     /// transaction ids cannot tell which, so it is not taken for this one's.
     #[error("a reply came ({}), but it may be the late reply to an earlier request, so it is not taken for this one's (after {})", hex(answer), attempts_text(*attempts))]
     Ambiguous { attempts: u32, answer: Vec<u8> },
+    /// A held line was aborted (its abort bytes were written) and no answer
+    /// came within the grace: the controller may still be running it.
+    #[error("aborted ({} sent), but no answer came within {} ms: the controller may still be busy", hex(abort), grace.as_millis())]
+    AbortUnanswered { grace: Duration, abort: Vec<u8> },
     #[error("not connected: {0}")]
     Disconnected(String),
     #[error("the link was lost while waiting for the reply: {0}")]
@@ -345,6 +426,8 @@ pub struct DeviceCounters {
     pub reconnects: u64,
     /// Unsolicited frames with news (TMCL 138's second reply).
     pub unsolicited: u64,
+    /// Held requests aborted (their abort bytes written).
+    pub aborts: u64,
 }
 
 /// A request handed to the device task.
@@ -359,6 +442,11 @@ struct Submission {
 #[derive(Debug)]
 enum Order {
     Submit(Submission),
+    /// Write the held request's abort bytes; true if there was one.
+    Abort(oneshot::Sender<bool>),
+    /// Write the held request's pause bytes; whether it is paused now, or
+    /// `None` if no pausable request is held.
+    Pause(oneshot::Sender<Option<bool>>),
     /// Finish the attempt on the wire, fail everything else, close the link.
     Shutdown,
 }
@@ -373,6 +461,7 @@ pub struct DeviceHandle {
     events: broadcast::Sender<DeviceEvent>,
     state: watch::Receiver<LinkState>,
     counters: watch::Receiver<DeviceCounters>,
+    busy: watch::Receiver<Option<Busy>>,
 }
 
 impl DeviceHandle {
@@ -434,6 +523,33 @@ impl DeviceHandle {
 
     pub fn counters(&self) -> watch::Receiver<DeviceCounters> {
         self.counters.clone()
+    }
+
+    /// The held request on the wire, if any (see the module documentation).
+    pub fn busy(&self) -> watch::Receiver<Option<Busy>> {
+        self.busy.clone()
+    }
+
+    /// Abort the held request on the wire: its abort bytes are written at
+    /// once. Resolves to whether one was held (nothing is written if not).
+    pub fn abort_line(&self) -> impl Future<Output = bool> + Send + 'static {
+        let (reply, done) = oneshot::channel();
+        let sent = self.orders.send(Order::Abort(reply)).is_ok();
+        async move { sent && done.await.unwrap_or(false) }
+    }
+
+    /// Pause the held request on the wire, or resume it if paused: its
+    /// pause bytes are written at once. Resolves to whether it is paused
+    /// now; `None` if no request that can be paused is held.
+    pub fn pause_line(&self) -> impl Future<Output = Option<bool>> + Send + 'static {
+        let (reply, done) = oneshot::channel();
+        let sent = self.orders.send(Order::Pause(reply)).is_ok();
+        async move {
+            if !sent {
+                return None;
+            }
+            done.await.ok().flatten()
+        }
     }
 
     /// Let the attempt on the wire finish, fail every other request with
@@ -501,11 +617,13 @@ pub fn spawn(
         link: link.name.clone(),
     });
     let (counters_tx, counters) = watch::channel(DeviceCounters::default());
+    let (busy_tx, busy) = watch::channel(None);
     let outlets = task::Outlets {
         traffic: traffic.clone(),
         events: events.clone(),
         state: state_tx,
         counters: counters_tx,
+        busy: busy_tx,
     };
     let task = task::Task::new(wire, options, reopen, orders, plans, outlets);
     tokio::spawn(task.run(link));
@@ -516,6 +634,7 @@ pub fn spawn(
         events,
         state,
         counters,
+        busy,
     }
 }
 

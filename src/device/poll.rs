@@ -150,6 +150,7 @@ mod tests {
                 expect: Expect::Nothing,
                 retry: Retry::Read(0),
                 timeout: None,
+                hold: None,
             },
             every: Duration::from_millis(every_ms),
         }

@@ -11,7 +11,7 @@ use tokio::time::{Instant, sleep, sleep_until};
 
 use super::poll::PollSchedule;
 use super::{
-    Answer, DeviceCounters, DeviceError, DeviceEvent, DeviceOptions, Direction, Expect,
+    Answer, Busy, DeviceCounters, DeviceError, DeviceEvent, DeviceOptions, Direction, Expect, Hold,
     LATE_ANSWER_TIMEOUTS, LinkState, Order, PollPlan, Priority, Reopen, Retry, Submission,
     TrafficKind, TrafficRecord, Transaction, default_timeout,
 };
@@ -24,6 +24,7 @@ pub(super) struct Outlets {
     pub events: broadcast::Sender<DeviceEvent>,
     pub state: watch::Sender<LinkState>,
     pub counters: watch::Sender<DeviceCounters>,
+    pub busy: watch::Sender<Option<Busy>>,
 }
 
 /// Who gets a job's result.
@@ -195,7 +196,7 @@ impl Line {
         bytes: &[u8],
         expect: &Expect,
     ) -> Settle {
-        if matches!(expect, Expect::Nothing) {
+        if matches!(expect, Expect::Nothing | Expect::UntilQuiet) {
             return Settle::Go;
         }
         // Earlier attempts of the same read answer it just as well.
@@ -255,7 +256,30 @@ enum Attempt {
     /// Only bytes that made no answer came, then silence (ends a read's
     /// attempt early, so that it is asked again at once).
     Garbled,
+    /// A held request was aborted and no answer came within the grace.
+    AbortUnanswered,
     Lost(String),
+}
+
+/// A held request on the wire: what it takes meanwhile and what was sent.
+struct Holding {
+    hold: Hold,
+    /// How long the answer to an abort is waited for.
+    grace: Duration,
+    aborted: bool,
+    paused: bool,
+    busy: Busy,
+}
+
+/// How far the answer of the attempt on the wire has come.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Progress {
+    /// More is to come.
+    Open,
+    /// Complete unless more comes before the line has been quiet for the
+    /// quiet guard.
+    UnlessMore,
+    Complete,
 }
 
 /// What one attempt received.
@@ -271,6 +295,8 @@ struct Received {
     /// Frames this request's rule accepted but taken for an earlier
     /// request's late answer.
     ambiguous: Vec<u8>,
+    /// The rule said the answer is complete unless more comes.
+    unless_more: bool,
 }
 
 /// Why serving a link ended.
@@ -380,7 +406,9 @@ impl Task {
                 return Ended::Lost(reason);
             }
             let now = Instant::now();
-            self.expire_partial(&mut line, now);
+            if let (_, Some(frame)) = self.expire_partial(&mut line, now) {
+                self.unrelated(&mut line, frame);
+            }
             self.drop_abandoned();
             line.forget_expired(now);
 
@@ -518,6 +546,11 @@ impl Task {
         let bytes = job.transaction.bytes.clone();
         let timeout = self.timeout_for(line, job.transaction.timeout, bytes.len());
         let priority = job.priority;
+        if matches!(job.transaction.expect, Expect::UntilQuiet) {
+            // Everything that comes is its answer, raw: nothing of before.
+            let dropped = line.framer.discard_pending();
+            self.log_garbage(line, &dropped);
+        }
         if let Err(reason) = self.write_request(line, &bytes, priority) {
             self.finish(job, Err(DeviceError::LinkLost(reason.clone())));
             return Err(reason);
@@ -534,13 +567,46 @@ impl Task {
                 self.finish(job, Ok(answer));
                 return Ok(());
             }
+            Expect::UntilQuiet => return self.execute_raw(line, job, started, timeout).await,
             Expect::Reply(rule) => Arc::clone(rule),
         };
-        let deadline = started + timeout;
-        let may_retry = job.may_retry();
+        let mut holding = job.transaction.hold.clone().map(|hold| Holding {
+            busy: Busy {
+                since: started.into_std(),
+                bytes: bytes.clone(),
+                priority,
+                paused: false,
+                aborting: false,
+                pausable: hold.pause.is_some(),
+            },
+            hold,
+            grace: timeout,
+            aborted: false,
+            paused: false,
+        });
+        // A held request ends on its answer, unless it was given a timeout.
+        let deadline = match (&holding, job.transaction.timeout) {
+            (Some(_), None) => None,
+            _ => Some(started + timeout),
+        };
+        if let Some(holding) = &holding {
+            self.out.busy.send_replace(Some(holding.busy.clone()));
+        }
+        let may_retry = job.may_retry() && holding.is_none();
         let (outcome, received) = self
-            .attempt(line, job.id, &rule, priority, deadline, may_retry)
+            .attempt(
+                line,
+                job.id,
+                &rule,
+                priority,
+                deadline,
+                may_retry,
+                holding.as_mut(),
+            )
             .await;
+        if holding.is_some() {
+            self.out.busy.send_replace(None);
+        }
         let now = Instant::now();
         // The last attempt's bytes: a reply garbled once, read whole.
         if !received.garbled.is_empty() {
@@ -553,7 +619,7 @@ impl Task {
             job: job.id,
             request: bytes,
             rule,
-            deadline,
+            deadline: deadline.unwrap_or(now).min(now),
             timeout,
         };
         match outcome {
@@ -570,7 +636,7 @@ impl Task {
                 };
                 self.finish(job, Ok(answer));
             }
-            Attempt::TimedOut | Attempt::Garbled => {
+            Attempt::TimedOut | Attempt::Garbled | Attempt::AbortUnanswered => {
                 self.count_failure(&outcome);
                 line.unanswered.push_back(unanswered);
                 // A garbled answer was followed by silence already.
@@ -584,7 +650,13 @@ impl Task {
                     self.queues[queue_index(priority)].push_front(job);
                 } else {
                     self.publish_counters();
-                    let error = job.failure(timeout);
+                    let error = match (&outcome, &holding) {
+                        (Attempt::AbortUnanswered, Some(holding)) => DeviceError::AbortUnanswered {
+                            grace: holding.grace,
+                            abort: holding.hold.abort.clone(),
+                        },
+                        _ => job.failure(timeout),
+                    };
                     self.finish(job, Err(error));
                 }
             }
@@ -594,6 +666,167 @@ impl Task {
                 return Err(reason);
             }
         }
+        Ok(())
+    }
+
+    /// See an [`Expect::UntilQuiet`] request through: every byte that
+    /// comes, unframed, until the line has been quiet for the quiet guard.
+    async fn execute_raw(
+        &mut self,
+        line: &mut Line,
+        job: Job,
+        started: Instant,
+        timeout: Duration,
+    ) -> Result<(), String> {
+        let deadline = started + timeout;
+        let guard = self.wire.quiet_guard(line.byte_time);
+        let priority = job.priority;
+        let mut came = Vec::new();
+        let outcome = loop {
+            let quiet = (!came.is_empty()).then(|| line.last_rx + guard);
+            tokio::select! {
+                biased;
+                input = line.incoming.recv() => match input {
+                    Some(LinkInput::Bytes(bytes)) => {
+                        line.last_rx = Instant::now();
+                        self.publish(
+                            Direction::Received,
+                            TrafficKind::Answer,
+                            bytes.clone(),
+                            Some(priority),
+                        );
+                        came.extend_from_slice(&bytes);
+                    }
+                    Some(LinkInput::Lost(reason)) => break Attempt::Lost(reason),
+                    None => break Attempt::Lost("the link closed".into()),
+                },
+                order = self.orders.recv(), if self.orders_open => self.order(order),
+                () = sleep_until(quiet.unwrap_or(deadline)), if quiet.is_some() => {
+                    break Attempt::Answered;
+                }
+                // A line that never falls quiet answers with what came.
+                () = sleep_until(deadline) => break if came.is_empty() {
+                    Attempt::TimedOut
+                } else {
+                    Attempt::Answered
+                },
+            }
+        };
+        let now = Instant::now();
+        match outcome {
+            Attempt::Answered => {
+                let answer = Answer {
+                    frames: vec![came],
+                    elapsed: now.saturating_duration_since(started),
+                    attempts: job.attempts,
+                };
+                self.finish(job, Ok(answer));
+            }
+            Attempt::Lost(reason) => {
+                let reason = format!("{}: {reason}", line.name);
+                self.finish(job, Err(DeviceError::LinkLost(reason.clone())));
+                return Err(reason);
+            }
+            Attempt::TimedOut | Attempt::Garbled | Attempt::AbortUnanswered => {
+                self.count_failure(&Attempt::TimedOut);
+                line.failed_at = Some(now);
+                if job.may_retry() {
+                    self.counters.retries += 1;
+                    self.publish_counters();
+                    self.queues[queue_index(priority)].push_front(job);
+                } else {
+                    self.publish_counters();
+                    let error = job.failure(timeout);
+                    self.finish(job, Err(error));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// An order while a request is on the wire. While it is held, an abort
+    /// or a pause is written at once, and an emergency stop or a shutdown
+    /// aborts it first. `Err` carries the reason the link was lost.
+    fn order_on_wire(
+        &mut self,
+        line: &mut Line,
+        order: Option<Order>,
+        holding: Option<&mut Holding>,
+        deadline: &mut Option<Instant>,
+    ) -> Result<(), String> {
+        let Some(holding) = holding else {
+            self.order(order);
+            return Ok(());
+        };
+        match order {
+            Some(Order::Abort(reply)) => {
+                self.abort_held(line, holding, deadline)?;
+                let _ = reply.send(true);
+            }
+            Some(Order::Pause(reply)) => {
+                let paused = match holding.hold.pause.clone() {
+                    Some(bytes) if !holding.aborted => {
+                        self.write_held(line, &bytes, holding.busy.priority)?;
+                        holding.paused = !holding.paused;
+                        holding.busy.paused = holding.paused;
+                        self.out.busy.send_replace(Some(holding.busy.clone()));
+                        Some(holding.paused)
+                    }
+                    _ => None,
+                };
+                let _ = reply.send(paused);
+            }
+            Some(Order::Submit(submission)) if submission.priority == Priority::EmergencyStop => {
+                self.order(Some(Order::Submit(submission)));
+                self.abort_held(line, holding, deadline)?;
+            }
+            Some(Order::Shutdown) | None => {
+                self.order(order);
+                self.abort_held(line, holding, deadline)?;
+            }
+            other => self.order(other),
+        }
+        Ok(())
+    }
+
+    /// Write the held request's abort bytes (once) and give its answer the
+    /// grace from now.
+    fn abort_held(
+        &mut self,
+        line: &mut Line,
+        holding: &mut Holding,
+        deadline: &mut Option<Instant>,
+    ) -> Result<(), String> {
+        if holding.aborted {
+            return Ok(());
+        }
+        let bytes = holding.hold.abort.clone();
+        self.write_held(line, &bytes, holding.busy.priority)?;
+        holding.aborted = true;
+        holding.busy.aborting = true;
+        self.out.busy.send_replace(Some(holding.busy.clone()));
+        self.counters.aborts += 1;
+        self.publish_counters();
+        *deadline = Some(Instant::now() + holding.grace);
+        Ok(())
+    }
+
+    /// Write bytes a held request takes while it runs.
+    fn write_held(
+        &mut self,
+        line: &mut Line,
+        bytes: &[u8],
+        priority: Priority,
+    ) -> Result<(), String> {
+        if let Err(error) = line.outgoing.send(bytes) {
+            return Err(format!("{}: writing failed: {error}", line.name));
+        }
+        self.publish(
+            Direction::Sent,
+            TrafficKind::Request,
+            bytes.to_vec(),
+            Some(priority),
+        );
         Ok(())
     }
 
@@ -615,11 +848,19 @@ impl Task {
         self.publish_counters();
         let deadline = Instant::now() + timeout;
         let (outcome, _) = self
-            .attempt(line, id, &sentinel.rule, priority, deadline, true)
+            .attempt(
+                line,
+                id,
+                &sentinel.rule,
+                priority,
+                Some(deadline),
+                true,
+                None,
+            )
             .await;
         match outcome {
             Attempt::Answered => line.unanswered.clear(),
-            Attempt::TimedOut | Attempt::Garbled => {
+            Attempt::TimedOut | Attempt::Garbled | Attempt::AbortUnanswered => {
                 self.count_failure(&outcome);
                 self.publish_counters();
                 line.failed_at = Some(Instant::now());
@@ -639,7 +880,7 @@ impl Task {
     /// Count an attempt that ended without an answer.
     fn count_failure(&mut self, outcome: &Attempt) {
         match outcome {
-            Attempt::TimedOut => self.counters.timeouts += 1,
+            Attempt::TimedOut | Attempt::AbortUnanswered => self.counters.timeouts += 1,
             Attempt::Garbled => self.counters.garbled_answers += 1,
             Attempt::Answered | Attempt::Lost(_) => {}
         }
@@ -648,26 +889,34 @@ impl Task {
     /// Wait for the answer to the attempt of job `id` on the wire: each
     /// frame received is either the late answer to an unanswered attempt
     /// (the oldest that could have it), or put to `rule`, or news or stale.
-    /// The attempt ends when the rule says the answer is complete, at
-    /// `deadline`, when the link is lost, or (`end_early`, for reads) when
+    /// The attempt ends when the rule says the answer is complete (or
+    /// complete unless more comes, and the line stays quiet for the quiet
+    /// guard), at `deadline` (none for a held request until it is
+    /// aborted), when the link is lost, or (`end_early`, for reads) when
     /// only bytes that made no answer came and the line fell silent.
+    #[allow(clippy::too_many_arguments)]
     async fn attempt(
         &mut self,
         line: &mut Line,
         id: u64,
         rule: &Arc<dyn ReplyRule>,
         priority: Priority,
-        deadline: Instant,
+        mut deadline: Option<Instant>,
         end_early: bool,
+        mut holding: Option<&mut Holding>,
     ) -> (Attempt, Received) {
         let mut received = Received::default();
+        let guard = self.wire.quiet_guard(line.byte_time);
         let outcome = loop {
+            let now = Instant::now();
             let partial = line.partial_deadline();
             let garbled = (end_early
                 && received.accepted.is_empty()
                 && !received.garbled.is_empty()
                 && partial.is_none())
             .then(|| line.last_rx + line.silence);
+            let quiet = received.unless_more.then(|| line.last_rx + guard);
+            let aborted = holding.as_ref().is_some_and(|h| h.aborted);
             tokio::select! {
                 biased;
                 input = line.incoming.recv() => match input {
@@ -675,20 +924,44 @@ impl Task {
                         let frames = line.take_bytes(&bytes);
                         let skipped = self.log_skipped(line);
                         received.garbled.extend(skipped);
-                        if self.take_frames(line, id, rule, priority, frames, &mut received) {
+                        let progress =
+                            self.take_frames(line, id, rule, priority, frames, &mut received);
+                        if progress == Progress::Complete {
                             break Attempt::Answered;
                         }
                     }
                     Some(LinkInput::Lost(reason)) => break Attempt::Lost(reason),
                     None => break Attempt::Lost("the link closed".into()),
                 },
-                order = self.orders.recv(), if self.orders_open => self.order(order),
-                () = sleep_until(deadline) => break Attempt::TimedOut,
-                () = sleep_until(partial.unwrap_or(deadline)), if partial.is_some() => {
-                    let dropped = self.expire_partial(line, Instant::now());
-                    received.garbled.extend(dropped);
+                order = self.orders.recv(), if self.orders_open => {
+                    if let Err(reason) =
+                        self.order_on_wire(line, order, holding.as_deref_mut(), &mut deadline)
+                    {
+                        break Attempt::Lost(reason);
+                    }
                 }
-                () = sleep_until(garbled.unwrap_or(deadline)), if garbled.is_some() => {
+                () = sleep_until(quiet.unwrap_or(now)), if quiet.is_some() => {
+                    break Attempt::Answered;
+                }
+                () = sleep_until(deadline.unwrap_or(now)), if deadline.is_some() => {
+                    break if aborted {
+                        Attempt::AbortUnanswered
+                    } else {
+                        Attempt::TimedOut
+                    };
+                }
+                () = sleep_until(partial.unwrap_or(now)), if partial.is_some() => {
+                    let (dropped, frame) = self.expire_partial(line, Instant::now());
+                    received.garbled.extend(dropped);
+                    if let Some(frame) = frame {
+                        let progress =
+                            self.take_frames(line, id, rule, priority, vec![frame], &mut received);
+                        if progress == Progress::Complete {
+                            break Attempt::Answered;
+                        }
+                    }
+                }
+                () = sleep_until(garbled.unwrap_or(now)), if garbled.is_some() => {
                     break Attempt::Garbled;
                 }
             }
@@ -696,8 +969,8 @@ impl Task {
         (outcome, received)
     }
 
-    /// Frames received while job `id`'s attempt is on the wire; true once
-    /// its answer is complete.
+    /// Frames received while job `id`'s attempt is on the wire: how far
+    /// its answer has come.
     fn take_frames(
         &mut self,
         line: &mut Line,
@@ -706,10 +979,14 @@ impl Task {
         priority: Priority,
         frames: Vec<Frame>,
         received: &mut Received,
-    ) -> bool {
-        let mut complete = false;
+    ) -> Progress {
+        let mut progress = if received.unless_more {
+            Progress::UnlessMore
+        } else {
+            Progress::Open
+        };
         for frame in frames {
-            if complete {
+            if progress == Progress::Complete {
                 self.unrelated(line, frame);
                 continue;
             }
@@ -730,14 +1007,23 @@ impl Task {
                 }
             }
             match rule.examine(&received.accepted, &frame) {
+                Verdict::NotMine if progress == Progress::UnlessMore => {
+                    // The answer ended before it: it is not this answer's.
+                    progress = Progress::Complete;
+                    self.unrelated(line, frame);
+                }
                 Verdict::NotMine => {
                     if !self.news(&frame) {
                         received.garbled.extend_from_slice(&frame);
                         self.stale(frame);
                     }
                 }
-                verdict @ (Verdict::Continue | Verdict::Complete) => {
-                    complete = verdict == Verdict::Complete;
+                verdict => {
+                    progress = match verdict {
+                        Verdict::Complete => Progress::Complete,
+                        Verdict::CompleteIfQuiet => Progress::UnlessMore,
+                        _ => Progress::Open,
+                    };
                     self.publish(
                         Direction::Received,
                         TrafficKind::Answer,
@@ -748,7 +1034,8 @@ impl Task {
                 }
             }
         }
-        complete
+        received.unless_more = progress == Progress::UnlessMore;
+        progress
     }
 
     /// What goes next, given the queues and the poll plan.
@@ -825,6 +1112,13 @@ impl Task {
                 ));
             }
             Some(Order::Shutdown) => self.closing = true,
+            // Nothing is held.
+            Some(Order::Abort(reply)) => {
+                let _ = reply.send(false);
+            }
+            Some(Order::Pause(reply)) => {
+                let _ = reply.send(None);
+            }
             None => {
                 self.orders_open = false;
                 self.closing = true;
@@ -920,15 +1214,19 @@ impl Task {
         self.publish_counters();
     }
 
-    /// Drop a partial frame once the line has been quiet long enough; the
-    /// bytes dropped.
-    fn expire_partial(&mut self, line: &mut Line, now: Instant) -> Vec<u8> {
+    /// Once the line has been quiet long enough, a partial frame is
+    /// either complete (the framer says silence ends it) or dropped: the
+    /// bytes dropped, and the frame.
+    fn expire_partial(&mut self, line: &mut Line, now: Instant) -> (Vec<u8>, Option<Frame>) {
         if line.partial_deadline().is_some_and(|at| at <= now) {
+            if let Some(frame) = line.framer.complete_on_silence() {
+                return (Vec::new(), Some(frame));
+            }
             let bytes = line.framer.discard_pending();
             self.log_garbage(line, &bytes);
-            return bytes;
+            return (bytes, None);
         }
-        Vec::new()
+        (Vec::new(), None)
     }
 
     /// Log the bytes the framer stepped over; the bytes.

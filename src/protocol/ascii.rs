@@ -36,6 +36,11 @@ pub struct AsciiWire {
     /// The shortest line silence that drops a partial line, whatever the
     /// baud rate.
     pub min_silence: Duration,
+    /// A line still unterminated when the line falls silent is a frame,
+    /// not garbage: the controller ends its answers with a character that
+    /// ends no line and that it may be told to change (MCCL `PCn`, Ch13),
+    /// so that only silence tells it from the start of a line.
+    pub silence_ends_line: bool,
 }
 
 /// Line silence floor of the ASCII formats: controllers print long
@@ -58,6 +63,7 @@ impl AsciiWire {
             max_line: CMD4CR_MAX_LINE,
             prompt: None,
             min_silence: ASCII_MIN_SILENCE,
+            silence_ends_line: false,
         }
     }
 
@@ -70,6 +76,7 @@ impl AsciiWire {
             max_line: 256,
             prompt: Some(MCCL_PROMPT),
             min_silence: ASCII_MIN_SILENCE,
+            silence_ends_line: true,
         }
     }
 }
@@ -80,7 +87,12 @@ impl WireFormat for AsciiWire {
     }
 
     fn framer(&self) -> Box<dyn Framer> {
-        Box::new(LineFramer::new(self.max_line, self.prompt))
+        let framer = LineFramer::new(self.max_line, self.prompt);
+        Box::new(if self.silence_ends_line {
+            framer.ending_lines_on_silence()
+        } else {
+            framer
+        })
     }
 
     /// Neither family sends anything unasked in direct mode.
@@ -109,6 +121,8 @@ pub struct LineFramer {
     /// The line outgrew `max_line`: skip to its terminator.
     overlong: bool,
     skipped: Vec<u8>,
+    /// A partial line that the line's silence ends is a frame.
+    silence_ends_line: bool,
 }
 
 impl LineFramer {
@@ -120,7 +134,15 @@ impl LineFramer {
             after_cr: false,
             overlong: false,
             skipped: Vec::new(),
+            silence_ends_line: false,
         }
+    }
+
+    /// The same framer, taking a line still unterminated when the line
+    /// falls silent as a frame ([`Framer::complete_on_silence`]).
+    pub fn ending_lines_on_silence(mut self) -> Self {
+        self.silence_ends_line = true;
+        self
     }
 }
 
@@ -170,6 +192,14 @@ impl Framer for LineFramer {
 
     fn take_skipped(&mut self) -> Vec<u8> {
         std::mem::take(&mut self.skipped)
+    }
+
+    fn complete_on_silence(&mut self) -> Option<Frame> {
+        if !self.silence_ends_line || self.overlong || self.line.is_empty() {
+            return None;
+        }
+        self.after_cr = false;
+        Some(std::mem::take(&mut self.line))
     }
 }
 
@@ -274,6 +304,23 @@ mod tests {
             .iter()
             .map(|f| String::from_utf8_lossy(f).into_owned())
             .collect()
+    }
+
+    #[test]
+    fn silence_ends_an_unterminated_line_only_where_asked() {
+        let mut plain = LineFramer::new(64, Some(b'>'));
+        assert!(plain.push(b"#").is_empty());
+        assert_eq!(plain.complete_on_silence(), None, "garbage by default");
+        let mut mccl = LineFramer::new(64, Some(b'>')).ending_lines_on_silence();
+        assert!(mccl.push(b"1TP\r\n01 5\r\n#").len() == 2);
+        assert_eq!(mccl.complete_on_silence(), Some(b"#".to_vec()));
+        assert_eq!(mccl.pending(), 0);
+        assert_eq!(mccl.complete_on_silence(), None, "nothing held back");
+        // The tail of an overlong line is not a frame.
+        let mut short = LineFramer::new(2, None).ending_lines_on_silence();
+        short.push(b"abcd");
+        assert_eq!(short.complete_on_silence(), None);
+        assert!(AsciiWire::mccl().silence_ends_line && !AsciiWire::cmd4cr().silence_ends_line);
     }
 
     #[test]

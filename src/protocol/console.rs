@@ -6,6 +6,7 @@
 //! Pure code, no I/O: the session builds device transactions from these
 //! descriptions, so that this module needs nothing from `device/`.
 
+use std::any::Any;
 use std::fmt;
 use std::sync::Arc;
 use std::time::Duration;
@@ -206,7 +207,9 @@ pub enum AxisUpdate {
 
 /// How a line that may keep the module busy for long is dealt with while it
 /// runs (MCCL `RP`, `WS`, `MC`, `FI`: the controller takes nothing but an
-/// abort and a pause byte until the line's prompt, Ch2).
+/// abort and a pause byte until the line's prompt, Ch2). The session sends
+/// it held: no reply timeout, the module shown busy, the abort and pause
+/// bytes sent when the user asks (and the abort before an emergency stop).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct LongRunning {
     /// Sent while the line runs, aborts it (MCCL: Escape).
@@ -214,11 +217,91 @@ pub struct LongRunning {
     /// Sent while the line runs, pauses it; sent again, resumes it (MCCL:
     /// Space).
     pub pause: Option<Vec<u8>>,
-    /// How long its answer is waited for. A device layer that can hold
-    /// such a line busy until its answer, abort it and pause it does not
-    /// need one; until then it keeps a slow line from being reported as
-    /// unanswered.
-    pub timeout: Duration,
+}
+
+/// What a family keeps of one link between lines where its lines change
+/// how later lines are written or read (MCCL: `DM`/`HM` the number base
+/// both ways, `PC` the prompt, `EN`/`EF` the echo, Ch13; the interface as
+/// the connect probe found it). An immutable snapshot: a line that changes
+/// it makes a new one ([`LinkContexts::after`]). The session keeps the
+/// current one; only the family looks inside.
+pub trait LinkContext: Send + Sync + fmt::Debug {
+    /// For the family to look inside.
+    fn as_any(&self) -> &dyn Any;
+    /// What differs from the module's power-up state, for the console to
+    /// show ("hex numbers, prompt `#`"); `None` when nothing does.
+    fn summary(&self) -> Option<String> {
+        None
+    }
+}
+
+/// A family whose lines read and change a state kept per link
+/// ([`LinkContext`]). Lines are prepared as if the module were in its
+/// power-up state ([`FamilyConsole::prepare`]: a line means the same
+/// whatever the state); the session makes each one fit the current state
+/// when it sends it ([`LinkContexts::adapt`]), reads its answer in that
+/// state, and takes the state the line leaves behind.
+pub trait LinkContexts: Send + Sync {
+    /// The state before the connect probe: the module's power-up state as
+    /// the family's defaults describe it.
+    fn initial(&self) -> Arc<dyn LinkContext>;
+    /// Requests sent raw at connect, each answered by every byte that comes
+    /// until the line is quiet (MCCL `NO` and `NO,NO,NO`, digest §3.3: the
+    /// echo, the prompt and whether it comes per line or per command).
+    /// None by default.
+    fn probe(&self) -> Vec<Vec<u8>> {
+        Vec::new()
+    }
+    /// The state the probe's answers (in order) show, from `context`; an
+    /// error says what did not fit, and the session keeps `context`.
+    fn learn(
+        &self,
+        context: &dyn LinkContext,
+        answers: &[Vec<u8>],
+    ) -> Result<Arc<dyn LinkContext>, String> {
+        let _ = answers;
+        Err(format!("nothing to learn ({context:?})"))
+    }
+    /// `line` (prepared for the power-up state, or adapted before: the
+    /// result is the same) as it must be sent in `context`: its bytes and
+    /// the answer it waits for.
+    fn adapt(&self, line: &PreparedLine, context: &dyn LinkContext) -> PreparedLine;
+    /// What the answer to `line`, sent adapted to `context`, means.
+    fn interpret_in(
+        &self,
+        line: &PreparedLine,
+        frames: &[Frame],
+        context: &dyn LinkContext,
+    ) -> Result<Reading, ReplyError>;
+    /// The state after `line` ran without error in `context`; `None` when
+    /// it changes nothing.
+    fn after(&self, line: &PreparedLine, context: &dyn LinkContext)
+    -> Option<Arc<dyn LinkContext>>;
+}
+
+/// `line` as it must be sent in `context`, where the family keeps one.
+pub fn adapt_line(
+    console: &dyn FamilyConsole,
+    line: &PreparedLine,
+    context: Option<&dyn LinkContext>,
+) -> PreparedLine {
+    match (console.link_contexts(), context) {
+        (Some(contexts), Some(context)) => contexts.adapt(line, context),
+        _ => line.clone(),
+    }
+}
+
+/// The answer to `line` read in `context`, where the family keeps one.
+pub fn interpret_line(
+    console: &dyn FamilyConsole,
+    line: &PreparedLine,
+    frames: &[Frame],
+    context: Option<&dyn LinkContext>,
+) -> Result<Reading, ReplyError> {
+    match (console.link_contexts(), context) {
+        (Some(contexts), Some(context)) => contexts.interpret_in(line, frames, context),
+        _ => console.interpret(line, frames),
+    }
 }
 
 /// A line that reads part of an axis's status.
@@ -371,6 +454,13 @@ pub trait FamilyConsole: Send + Sync {
     /// the link's usual timeout.
     fn long_running(&self, line: &PreparedLine) -> Option<LongRunning> {
         let _ = line;
+        None
+    }
+
+    /// The family's per-link state, if its lines change how later lines
+    /// are written or read (see [`LinkContexts`]); `None` (the default):
+    /// every line is sent and read the same way.
+    fn link_contexts(&self) -> Option<&dyn LinkContexts> {
         None
     }
 

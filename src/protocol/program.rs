@@ -18,7 +18,7 @@ use std::ops::Range;
 use std::sync::Arc;
 use std::time::Duration;
 
-use super::console::{PreparedLine, Reading, ReplyError};
+use super::console::{PreparedLine, Reading, ReplyError, ReplyValue};
 use super::wire::Frame;
 
 /// Supplies the text of files a source includes (TMCL `#include`). The
@@ -367,6 +367,12 @@ pub trait ProgramTool: Send + Sync {
         let _ = (name, image);
         None
     }
+    /// What the controller keeps besides the program in the editor and
+    /// runs in the background, for a console to list, delete and stop
+    /// (MCCL macros and tasks); `None` if nothing.
+    fn store(&self) -> Option<&'static dyn ProgramStore> {
+        None
+    }
     /// Whether programs of this language run from the host
     /// ([`ProgramTool::host_run`]).
     fn runs_from_host(&self) -> bool {
@@ -398,6 +404,54 @@ impl fmt::Debug for dyn ProgramTool {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "ProgramTool({})", self.name())
     }
+}
+
+/// A program stored in the controller, as it lists it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct StoredProgram {
+    pub number: i64,
+    /// Its text as the controller lists it.
+    pub text: String,
+}
+
+/// How a stored program is deleted where the controller cannot delete
+/// one alone (MCCL: `RM` erases every macro, Ch10).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Deletion {
+    /// What the user must know before it is done.
+    pub warning: String,
+    /// The console lines that do it, in order.
+    pub lines: Vec<String>,
+    /// What the listing must show afterwards.
+    pub kept: Vec<StoredProgram>,
+}
+
+/// The programs a controller keeps besides the one in the editor (MCCL
+/// macros, Ch10) and those it runs in the background (MCCL tasks): the
+/// console lines that list, delete and stop them and how their answers
+/// read. Pure: a console sends the lines and hands the answers back.
+pub trait ProgramStore: Send + Sync {
+    /// What one stored program is called ("macro").
+    fn stored_noun(&self) -> &'static str;
+    /// The line that lists every stored program (MCCL `TM-1`).
+    fn list_line(&self) -> String;
+    /// The stored programs in the answer to [`ProgramStore::list_line`].
+    fn stored(&self, listing: &ReplyValue) -> Vec<StoredProgram>;
+    /// How to delete stored program `number` out of `listing` and keep
+    /// the others; why not, if it cannot be.
+    fn delete(&self, listing: &[StoredProgram], number: i64) -> Result<Deletion, String>;
+    /// Whether `listing` (read after a [`Deletion`]) holds exactly what it
+    /// kept; what differs if not.
+    fn compare(&self, kept: &[StoredProgram], listing: &[StoredProgram]) -> Result<(), String>;
+    /// What one running program is called ("background task").
+    fn running_noun(&self) -> &'static str;
+    /// The line that lists the programs running in the background (MCCL
+    /// `ID7`), if the controller has one.
+    fn running_line(&self) -> Option<String>;
+    /// Their IDs in its answer.
+    fn running(&self, answer: &ReplyValue) -> Vec<i64>;
+    /// The line that stops running program `id` (MCCL `ETn`).
+    fn stop_line(&self, id: i64) -> String;
 }
 
 /// The name a buffer of `tool` without a file goes by (`untitled.tmc`).

@@ -42,6 +42,14 @@ pub trait Framer: Send {
     fn take_skipped(&mut self) -> Vec<u8> {
         Vec::new()
     }
+    /// The partial frame held back, taken as a frame of its own because
+    /// the line has fallen silent after it: a line the controller leaves
+    /// unterminated (a prompt character it was told to change, MCCL
+    /// `PCn`). `None` (the default): a partial frame is garbage, dropped
+    /// with [`Framer::discard_pending`].
+    fn complete_on_silence(&mut self) -> Option<Frame> {
+        None
+    }
 }
 
 /// How a request's answer is recognised, judged one frame at a time.
@@ -64,6 +72,13 @@ pub enum Verdict {
     /// It belongs to the answer, and more is to come (an echo before the
     /// reply, one line of a multi-line reply…).
     Continue,
+    /// It completes the answer unless more belongs to it: the answer is
+    /// complete once the line has been quiet for
+    /// [`WireFormat::quiet_guard`] (an error that a prompt may or may not
+    /// follow; prompts whose number is not known; a controller told to
+    /// send no prompt). A frame that comes before is put to the rule with
+    /// the others; one it says is not its own ends the answer before it.
+    CompleteIfQuiet,
     /// Not an answer to this request: unsolicited or stale.
     NotMine,
 }
@@ -91,6 +106,14 @@ pub trait WireFormat: Send + Sync {
     /// default.
     fn turnaround(&self) -> Duration {
         Duration::ZERO
+    }
+
+    /// How long the line must stay quiet after a frame that completes an
+    /// answer only if nothing more comes ([`Verdict::CompleteIfQuiet`]), and
+    /// after the last byte of an [`Expect::UntilQuiet`](crate::device::Expect)
+    /// answer. The line silence by default.
+    fn quiet_guard(&self, byte_time: Option<Duration>) -> Duration {
+        self.silence(byte_time)
     }
 
     /// Whether no answer to `earlier` can ever be taken for an answer to

@@ -8,6 +8,19 @@
 //! fails), sent at user priority (reads may be retried, anything that moves
 //! or writes never), and the answer read back as a value or an error that
 //! names the line and the module's status.
+//!
+//! A line the family says may run for long ([`FamilyConsole::long_running`])
+//! is sent held: no reply timeout, the module busy ([`Session::busy`]) until
+//! its answer, its abort and pause bytes sent on request
+//! ([`Session::abort_line`], [`Session::pause_line`]) and before an
+//! emergency stop.
+//!
+//! Where the family keeps a per-link state ([`LinkContexts`]: MCCL's number
+//! base, prompt and echo), the session holds the current one: learned from
+//! the family's probe at connect, every line (typed, polled, stopping,
+//! transferring) adapted to it when sent and its answer read in it, and
+//! replaced by what a successful line leaves behind. Polling pauses while a
+//! line that changes it is on its way, and resumes adapted to the new one.
 
 mod host_run;
 mod later;
@@ -26,12 +39,15 @@ pub use status::{AxisMotion, AxisStatus, RefreshRate};
 pub use transfer::Cancel;
 
 use crate::device::{
-    self, DeviceError, DeviceHandle, DeviceOptions, Expect, LinkState, PollItem, PollPlan,
-    Priority, Retry, Transaction,
+    self, Busy, DeviceError, DeviceHandle, DeviceOptions, Expect, Hold, LinkState, PollItem,
+    PollPlan, Priority, Retry, Transaction,
 };
 use crate::link::{LinkError, LinkSpec};
 use crate::protocol::Family;
-use crate::protocol::console::{Answering, Effect, StatusPoll};
+use crate::protocol::console::{
+    Answering, Effect, FamilyConsole, LinkContext, LinkContexts, StatusPoll, adapt_line,
+    interpret_line,
+};
 use status::{StatusBoard, StatusSink};
 
 /// Further attempts for a read whose reply was lost or garbled.
@@ -214,12 +230,13 @@ impl SessionError {
 /// to a write or action"; TMCL: a wrong checksum), with those bytes as the
 /// reply. Never a success, whatever the bytes say.
 fn garbled(
-    console: &dyn crate::protocol::console::FamilyConsole,
+    console: &dyn FamilyConsole,
     line: &PreparedLine,
     received: Vec<u8>,
     timeout: Duration,
+    context: Option<&dyn LinkContext>,
 ) -> SessionError {
-    let why = match console.interpret(line, std::slice::from_ref(&received)) {
+    let why = match interpret_line(console, line, std::slice::from_ref(&received), context) {
         Err(ReplyError::Malformed { reason, .. }) => reason,
         _ => "it is not an answer to this line".to_string(),
     };
@@ -254,6 +271,16 @@ pub struct Session {
     byte_time: Option<Duration>,
     /// The settings written this session ([`settings`]).
     settings: settings::SharedSettings,
+    /// The family's per-link state, where it keeps one.
+    context: Arc<watch::Sender<Option<Arc<dyn LinkContext>>>>,
+}
+
+/// The device's hold for a line the family says may run for long.
+fn hold_of(console: &dyn FamilyConsole, line: &PreparedLine) -> Option<Hold> {
+    console.long_running(line).map(|long| Hold {
+        abort: long.abort,
+        pause: long.pause,
+    })
 }
 
 impl Session {
@@ -265,7 +292,11 @@ impl Session {
     ) -> Result<Session, LinkError> {
         let byte_time = spec.byte_time();
         let device = device::connect(spec, family.console.wire(), options.device.clone()).await?;
-        Ok(Session::new(device, family, &options).with_byte_time(byte_time))
+        let session = Session::new(device, family, &options).with_byte_time(byte_time);
+        // A probe that fails leaves the family's defaults: the lines after
+        // it show what does not fit.
+        let _ = session.learn_link().await;
+        Ok(session)
     }
 
     /// A session over a device task already running.
@@ -273,6 +304,7 @@ impl Session {
         let axes = family.console.axes().len();
         let (board, _) = watch::channel(vec![AxisStatus::default(); axes]);
         let (identity, _) = watch::channel(None);
+        let (context, _) = watch::channel(family.console.link_contexts().map(|c| c.initial()));
         Session {
             family,
             address: options
@@ -285,6 +317,7 @@ impl Session {
             transfer: Arc::new(transfer::TransferState::default()),
             byte_time: None,
             settings: settings::new_cache(device.state()),
+            context: Arc::new(context),
             device,
         }
     }
@@ -304,7 +337,11 @@ impl Session {
             read_retries: self.read_retries,
             device: DeviceOptions::default(),
         };
-        Session::new(self.device.clone(), self.family, &options).with_byte_time(self.byte_time)
+        Session {
+            context: Arc::clone(&self.context),
+            ..Session::new(self.device.clone(), self.family, &options)
+                .with_byte_time(self.byte_time)
+        }
     }
 
     pub fn family(&self) -> &'static Family {
@@ -335,6 +372,82 @@ impl Session {
     /// to the user's own status reads.
     pub fn status(&self) -> watch::Receiver<Vec<AxisStatus>> {
         self.board.subscribe()
+    }
+
+    /// The held line on the wire, if any: a line that runs until its answer
+    /// (the console shows it busy, with its abort and pause keys).
+    pub fn busy(&self) -> watch::Receiver<Option<Busy>> {
+        self.device.busy()
+    }
+
+    /// Abort the held line on the wire (MCCL: Escape): its answer (the
+    /// controller's error) ends it. Whether one was held.
+    pub async fn abort_line(&self) -> bool {
+        self.device.abort_line().await
+    }
+
+    /// Pause the held line on the wire, or resume it (MCCL: Space): whether
+    /// it is paused now; `None` when no line that can pause is held.
+    pub async fn pause_line(&self) -> Option<bool> {
+        self.device.pause_line().await
+    }
+
+    /// The family's per-link state, where it keeps one (see
+    /// [`LinkContexts`]).
+    pub fn link_context(&self) -> watch::Receiver<Option<Arc<dyn LinkContext>>> {
+        self.context.subscribe()
+    }
+
+    fn current_context(&self) -> Option<Arc<dyn LinkContext>> {
+        self.context.borrow().clone()
+    }
+
+    fn contexts(&self) -> Option<&'static dyn LinkContexts> {
+        self.family.console.link_contexts()
+    }
+
+    /// Send the family's connect probe and keep what it shows (MCCL: the
+    /// echo, the prompt and its granularity, from `NO` and `NO,NO,NO`).
+    /// `None` when the family has no probe; an error says why nothing was
+    /// learned (the defaults stay).
+    pub async fn learn_link(&self) -> Option<Result<(), String>> {
+        let contexts = self.contexts()?;
+        let probe = contexts.probe();
+        if probe.is_empty() {
+            return None;
+        }
+        let mut answers = Vec::new();
+        for bytes in probe {
+            let transaction = Transaction::new(bytes, Expect::UntilQuiet, Retry::Never);
+            match self.device.transact(Priority::User, transaction).await {
+                Ok(answer) => answers.push(answer.frames.concat()),
+                Err(error) => {
+                    return Some(Err(format!("the connect probe got no answer: {error}")));
+                }
+            }
+        }
+        let context = self.current_context()?;
+        Some(
+            contexts
+                .learn(context.as_ref(), &answers)
+                .map(|learned| self.set_context(learned)),
+        )
+    }
+
+    /// Take the per-link state a line left behind; the poll plan follows.
+    fn set_context(&self, context: Arc<dyn LinkContext>) {
+        self.context.send_replace(Some(context));
+        self.resume_polling();
+    }
+
+    /// Apply the poll plan again if polling is on and no transfer holds
+    /// the module.
+    fn resume_polling(&self) {
+        if let Some(cadence) = self.poll_cadence()
+            && !self.transfer.held()
+        {
+            self.apply_poll_plan(cadence);
+        }
     }
 
     /// The module's identity (firmware string), once [`Session::identify`]
@@ -407,10 +520,7 @@ impl Session {
             Effect::Reads => Retry::Read(self.read_retries),
             Effect::Acts => Retry::Never,
         };
-        // A line that runs for long (MCCL `RP`, `WS`) is waited for as long
-        // as its family says.
-        let timeout = self.family.console.long_running(line).map(|l| l.timeout);
-        let result = self.send(Priority::User, line, retry, timeout).await?;
+        let result = self.send(Priority::User, line, retry, None).await?;
         transfer::after_user_line(self, line);
         Ok(result)
     }
@@ -530,7 +640,16 @@ impl Session {
     }
 
     fn apply_poll_plan(&self, cadence: PollCadence) {
-        let polls = self.family.console.status_queries(self.address);
+        let console = self.family.console;
+        let context = self.current_context();
+        let polls: Vec<StatusPoll> = console
+            .status_queries(self.address)
+            .into_iter()
+            .map(|poll| StatusPoll {
+                line: adapt_line(console, &poll.line, context.as_deref()),
+                ..poll
+            })
+            .collect();
         let slow = slow_period(cadence, self.byte_time, &polls);
         let items = polls
             .iter()
@@ -539,7 +658,7 @@ impl Session {
                 every: if poll.fast { cadence.fast } else { slow },
             })
             .collect();
-        let sink = StatusSink::new(self.family, polls, Arc::clone(&self.board));
+        let sink = StatusSink::new(self.family, polls, Arc::clone(&self.board), context);
         self.device.set_poll_plan(Some(PollPlan {
             items,
             sink: Box::new(sink),
@@ -562,6 +681,7 @@ impl Session {
             expect,
             retry,
             timeout,
+            hold: hold_of(self.family.console, line),
         }
     }
 
@@ -577,7 +697,39 @@ impl Session {
             Answering::MaybeReply(_) => Retry::Never,
             _ => retry,
         };
+        let console = self.family.console;
+        let context = self.current_context();
+        let line = &adapt_line(console, line, context.as_deref());
+        // A line that changes the per-link state: no poll goes between it
+        // and the plan adapted to what it leaves behind.
+        let changes = match (self.contexts(), &context) {
+            (Some(contexts), Some(context)) => contexts.after(line, context.as_ref()),
+            _ => None,
+        };
+        let paused = changes.is_some() && priority != Priority::EmergencyStop;
+        if paused {
+            self.device.set_poll_plan(None);
+        }
         let transaction = self.transaction(line, retry, timeout);
+        let result = self
+            .send_adapted(priority, line, transaction, context.as_deref())
+            .await;
+        match (&result, changes) {
+            (Ok(_), Some(changed)) => self.set_context(changed),
+            _ if paused => self.resume_polling(),
+            _ => {}
+        }
+        result
+    }
+
+    /// Send a line already adapted to `context` and read its answer there.
+    async fn send_adapted(
+        &self,
+        priority: Priority,
+        line: &PreparedLine,
+        transaction: Transaction,
+        context: Option<&dyn LinkContext>,
+    ) -> Result<LineResult, SessionError> {
         let console = self.family.console;
         let later = later::LaterAnswer::for_line(&line.answering, || self.device.events());
         let answered = match self.device.transact(priority, transaction).await {
@@ -605,7 +757,7 @@ impl Session {
             Err(DeviceError::Garbled {
                 timeout, received, ..
             }) => {
-                return Err(garbled(console, line, received, timeout));
+                return Err(garbled(console, line, received, timeout, context));
             }
             Err(error) => {
                 return Err(SessionError::Device {
@@ -617,14 +769,14 @@ impl Session {
             }
         };
         let reply: Vec<u8> = frames.concat();
-        let reading = console
-            .interpret(line, &frames)
-            .map_err(|error| SessionError::Reply {
+        let reading = interpret_line(console, line, &frames, context).map_err(|error| {
+            SessionError::Reply {
                 error: Box::new(error),
                 request: line.bytes.clone(),
                 reply: reply.clone(),
                 elapsed,
-            })?;
+            }
+        })?;
         if line.address == self.address {
             for (axis, update) in console.status_update(line, &reading) {
                 status::post(&self.board, axis, update);

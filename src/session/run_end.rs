@@ -282,7 +282,9 @@ impl fmt::Display for StopLine<'_> {
                         "{line}: sent, the link was lost before the answer ({error})"
                     )
                 }
-                DeviceError::Timeout { .. } => write!(f, "{line}: sent, no answer ({error})"),
+                DeviceError::Timeout { .. } | DeviceError::AbortUnanswered { .. } => {
+                    write!(f, "{line}: sent, no answer ({error})")
+                }
                 DeviceError::Garbled { .. } | DeviceError::Ambiguous { .. } => {
                     write!(f, "{line}: sent, no readable answer ({error})")
                 }

@@ -20,7 +20,9 @@ use tokio::time::Instant;
 
 use crate::device::{Answer, DeviceError, PollSink};
 use crate::protocol::Family;
-use crate::protocol::console::{AxisFlag, AxisUpdate, MotionPhase, StatusPoll, SwitchKind};
+use crate::protocol::console::{
+    AxisFlag, AxisUpdate, LinkContext, MotionPhase, StatusPoll, SwitchKind, interpret_line,
+};
 
 /// What the console knows of one axis. `None` until first read.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -323,15 +325,23 @@ pub(crate) struct StatusSink {
     pub polls: Vec<StatusPoll>,
     pub board: StatusBoard,
     pub meter: RefreshMeter,
+    /// The family's per-link state the polls were adapted to.
+    pub context: Option<Arc<dyn LinkContext>>,
 }
 
 impl StatusSink {
-    pub(crate) fn new(family: &'static Family, polls: Vec<StatusPoll>, board: StatusBoard) -> Self {
+    pub(crate) fn new(
+        family: &'static Family,
+        polls: Vec<StatusPoll>,
+        board: StatusBoard,
+        context: Option<Arc<dyn LinkContext>>,
+    ) -> Self {
         StatusSink {
             meter: RefreshMeter::new(&polls),
             family,
             polls,
             board,
+            context,
         }
     }
 
@@ -343,7 +353,8 @@ impl StatusSink {
             return false;
         };
         let console = self.family.console;
-        let Ok(reading) = console.interpret(&poll.line, &answer.frames) else {
+        let context = self.context.as_deref();
+        let Ok(reading) = interpret_line(console, &poll.line, &answer.frames, context) else {
             return false;
         };
         for (axis, update) in console.status_update(&poll.line, &reading) {
@@ -442,7 +453,10 @@ mod tests {
         let family = find_family("tmcl").expect("tmcl");
         let polls = family.console.status_queries(1);
         let (board, status) = watch::channel(vec![AxisStatus::default()]);
-        (StatusSink::new(family, polls, Arc::new(board)), status)
+        (
+            StatusSink::new(family, polls, Arc::new(board), None),
+            status,
+        )
     }
 
     fn index_of(sink: &StatusSink, canonical: &str) -> usize {

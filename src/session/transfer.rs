@@ -41,17 +41,25 @@ use tokio::time::Instant;
 
 use super::{PreparedLine, Session, SessionError};
 use crate::device::{DeviceError, Priority, Retry};
-use crate::protocol::console::{Answering, Effect};
+use crate::protocol::console::{Answering, Effect, adapt_line, interpret_line};
 use crate::protocol::program::{
     Answer, AnswerError, ModuleHold, PlanLine, PlanStep, Progress, TransferFailure, TransferJob,
     TransferPlan, TransferReport,
 };
 
-/// Stops a transfer between two lines. Cheap to clone; clones share. One
-/// serves one transfer: once cancelled (by its owner or an emergency
-/// stop) it stays cancelled.
+/// Stops a transfer between two lines, and aborts a line on the wire that
+/// holds the module busy (an MCCL text file's `MC` or `WS`: its abort byte
+/// goes at once, see [`crate::device::Hold`]). Cheap to clone; clones
+/// share. One serves one transfer: once cancelled (by its owner or an
+/// emergency stop) it stays cancelled.
 #[derive(Debug, Clone, Default)]
-pub struct Cancel(Arc<AtomicBool>);
+pub struct Cancel(Arc<CancelState>);
+
+#[derive(Debug, Default)]
+struct CancelState {
+    cancelled: AtomicBool,
+    woken: tokio::sync::Notify,
+}
 
 impl Cancel {
     pub fn new() -> Cancel {
@@ -59,11 +67,23 @@ impl Cancel {
     }
 
     pub fn cancel(&self) {
-        self.0.store(true, Ordering::SeqCst);
+        self.0.cancelled.store(true, Ordering::SeqCst);
+        self.0.woken.notify_waiters();
     }
 
     pub fn is_cancelled(&self) -> bool {
-        self.0.load(Ordering::SeqCst)
+        self.0.cancelled.load(Ordering::SeqCst)
+    }
+
+    /// Resolves once it is cancelled.
+    async fn cancelled(&self) {
+        loop {
+            let woken = self.0.woken.notified();
+            if self.is_cancelled() {
+                return;
+            }
+            woken.await;
+        }
     }
 }
 
@@ -301,7 +321,7 @@ impl Session {
             }
             let end = match step {
                 PlanStep::Send(line) => {
-                    let (answer, bytes) = self.exchange(&line).await;
+                    let (answer, bytes) = self.exchange_until_cancelled(&line, cancel).await;
                     transactions += 1;
                     wire_bytes += bytes;
                     plan.answer(answer);
@@ -350,10 +370,41 @@ impl Session {
         }
     }
 
+    /// [`Session::exchange`], aborting the line if the transfer is
+    /// cancelled while it holds the module busy (its answer, the abort's
+    /// error, then ends it).
+    async fn exchange_until_cancelled(&self, step: &PlanLine, cancel: &Cancel) -> (Answer, u64) {
+        let context = self.current_context();
+        let bytes = adapt_line(self.family.console, &step.line, context.as_deref()).bytes;
+        let device = self.device.clone();
+        // Once cancelled and this very line is held on the wire, its abort
+        // goes; a line answered at once is never held, and nothing is sent.
+        let abort = async move {
+            cancel.cancelled().await;
+            let mut busy = device.busy();
+            if busy
+                .wait_for(|b| b.as_ref().is_some_and(|b| b.bytes == bytes))
+                .await
+                .is_ok()
+            {
+                device.abort_line().await;
+            }
+            std::future::pending::<std::convert::Infallible>().await
+        };
+        tokio::select! {
+            done = self.exchange(step) => done,
+            never = abort => match never {},
+        }
+    }
+
     /// Send one line of a plan and read what came back; with the bytes
-    /// that crossed the wire both ways.
+    /// that crossed the wire both ways. The line is adapted to the
+    /// family's per-link state and held if it may run for long, as a
+    /// user's line is.
     async fn exchange(&self, step: &PlanLine) -> (Answer, u64) {
-        let line = &step.line;
+        let console = self.family.console;
+        let context = self.current_context();
+        let line = &adapt_line(console, &step.line, context.as_deref());
         let priority = if step.after_polls {
             Priority::Poll
         } else {
@@ -387,11 +438,14 @@ impl Session {
             }
         };
         let received: u64 = frames.iter().map(|f| f.len() as u64).sum();
-        let result = self
-            .family
-            .console
-            .interpret(line, &frames)
-            .map_err(AnswerError::Reply);
+        let result =
+            interpret_line(console, line, &frames, context.as_deref()).map_err(AnswerError::Reply);
+        if result.is_ok()
+            && let (Some(contexts), Some(context)) = (console.link_contexts(), &context)
+            && let Some(changed) = contexts.after(line, context.as_ref())
+        {
+            self.context.send_replace(Some(changed));
+        }
         let answer = Answer {
             line: line.canonical.clone(),
             frames,

@@ -30,7 +30,7 @@ use ratatui::layout::Rect;
 use super::keymap::{Action, Context, Keymap, load_keymap};
 use super::pane::{Input, Notice, Outcome, Pane, PaneEvent, Request, Snapshot, View};
 use super::theme::{Theme, load_theme};
-use crate::device::{DeviceEvent, TrafficRecord};
+use crate::device::{Busy, DeviceEvent, TrafficRecord};
 use crate::protocol::program::{Progress, TransferFailure, TransferJob, TransferReport};
 use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
 use crate::session::{AxisFlag, LineResult, PollCadence, SessionError};
@@ -52,6 +52,9 @@ pub enum AppEvent {
     Disconnected,
     Traffic(TrafficRecord),
     Device(DeviceEvent),
+    /// The controller is busy with a line that runs until its answer, or
+    /// no longer.
+    Busy(Option<Busy>),
     /// The answer to one line a pane sent.
     Reply {
         pane: usize,
@@ -109,6 +112,10 @@ pub enum Effect {
     /// Stop everything: abort the lines still waiting to be sent, then the
     /// session's emergency stop, ahead of anything queued.
     EmergencyStop,
+    /// Abort the line the controller is busy with.
+    AbortLine,
+    /// Pause or resume the line the controller is busy with.
+    PauseLine,
     /// End a pane's run ([`Controller::end_run`]); what was done back as
     /// [`AppEvent::RunEnded`].
     EndRun {
@@ -182,6 +189,8 @@ pub struct App {
     /// The options of the last `Request::Connect`, told to the panes
     /// when that connection opens.
     connect_args: Option<Vec<String>>,
+    /// The line the controller is busy with, if any.
+    busy: Option<Busy>,
 }
 
 impl App {
@@ -207,6 +216,7 @@ impl App {
             drawn: Vec::new(),
             config_dir: None,
             connect_args: None,
+            busy: None,
         }
     }
 
@@ -226,6 +236,11 @@ impl App {
 
     pub fn snapshot(&self) -> Option<&Snapshot> {
         self.snapshot.as_ref()
+    }
+
+    /// The line the controller is busy with, if any.
+    pub fn busy(&self) -> Option<&Busy> {
+        self.busy.as_ref()
     }
 
     pub fn theme(&self) -> &Theme {
@@ -298,9 +313,19 @@ impl App {
                 self.broadcast(&PaneEvent::Connected { args }, &mut effects);
             }
             AppEvent::Disconnected => {
+                if self.busy.take().is_some() {
+                    self.broadcast(&PaneEvent::Busy(None), &mut effects);
+                }
                 if self.snapshot.take().is_some() {
                     self.dirty = true;
                     self.broadcast(&PaneEvent::Snapshot, &mut effects);
+                }
+            }
+            AppEvent::Busy(busy) => {
+                if self.busy != busy {
+                    self.busy = busy.clone();
+                    self.dirty = true;
+                    self.broadcast(&PaneEvent::Busy(busy), &mut effects);
                 }
             }
             AppEvent::Traffic(record) => self.broadcast(&PaneEvent::Traffic(record), &mut effects),
@@ -577,6 +602,8 @@ impl App {
         match request {
             Request::Send { lines, tag } => effects.push(Effect::Send { pane, tag, lines }),
             Request::EmergencyStop => self.emergency_stop(effects),
+            Request::AbortLine => effects.push(Effect::AbortLine),
+            Request::PauseLine => effects.push(Effect::PauseLine),
             Request::EndRun { ending, policy } => effects.push(Effect::EndRun {
                 pane,
                 ending,

@@ -209,6 +209,8 @@ pub struct AxesPane {
     /// Said in the title instead of the units key's hint: a family with
     /// no conversions, a read that failed. Until the next key.
     note: Option<String>,
+    /// The controller runs a line that holds it busy: nothing is polled.
+    busy: bool,
 }
 
 impl AxesPane {
@@ -419,6 +421,11 @@ impl AxesPane {
         // " max ", number, then the longest lamp (`○ stopped short`) or
         // ramp label (`constant speed`).
         let fixed = label_width + 4 + (w + 1) + 5 + (w + 1) + 15;
+        // A closed loop's following error after the ramp: ` ferr -12345`.
+        let fixed = fixed
+            + status
+                .following_error
+                .map_or(0, |e| 6 + e.to_string().len());
         let gauge_width = width.saturating_sub(fixed).max(4);
         let (low, high) = self.span(index, status);
         let position_gauge = gauge(
@@ -459,10 +466,19 @@ impl AxesPane {
             format!("{max:>w$} "),
             theme.style(Role::Normal),
         ));
-        row2.push(Span::styled(
-            self.ramp(index, status).label(),
-            theme.style(Role::Normal),
-        ));
+        let ramp = self.ramp(index, status).label();
+        match status.following_error {
+            // A closed loop's following error (MCCL TF) after the ramp.
+            Some(error) => {
+                row2.push(Span::styled(
+                    format!("{ramp:<15}"),
+                    theme.style(Role::Normal),
+                ));
+                row2.push(Span::styled(" ferr ", theme.style(Role::Muted)));
+                row2.push(Span::styled(error.to_string(), theme.style(Role::Normal)));
+            }
+            None => row2.push(Span::styled(ramp, theme.style(Role::Normal))),
+        }
 
         // Row 3: switches, load (or the family's lamps), errors.
         let mut row3 = vec![Span::raw(" ".repeat(label_width))];
@@ -518,12 +534,19 @@ impl AxesPane {
         let theme = view.theme;
         let [wp, wt, ws, wm] = widths;
         let shown = self.shown_values(index, status, view);
+        // Names as long as the module's longest, 4 to 8 characters: `X`,
+        // `servo 1` and `step 5` all read.
+        let name_width = view
+            .session
+            .and_then(|s| s.axes.iter().map(|a| a.name.chars().count()).max())
+            .unwrap_or(4)
+            .clamp(4, 8);
         let mut spans = vec![
             Span::styled(
                 format!(
-                    "{}{:<4}",
+                    "{}{:<name_width$} ",
                     if selected { "▶" } else { " " },
-                    short_name(axis.name, 4)
+                    short_name(axis.name, name_width)
                 ),
                 if selected {
                     theme.style(Role::Accent)
@@ -551,6 +574,12 @@ impl AxesPane {
             ),
             theme.style(Role::Normal),
         ));
+        if let Some(error) = status.following_error {
+            spans.push(Span::styled(
+                format!("fe{error} "),
+                theme.style(Role::Normal),
+            ));
+        }
         for (on, name) in [
             (status.left_switch, "L"),
             (status.right_switch, "R"),
@@ -622,6 +651,14 @@ fn error_spans(view: &View, status: &AxisStatus) -> Vec<Span<'static>> {
     }
     spans
 }
+
+/// The most of a module's identity the title shows.
+const IDENTITY_WIDTH: usize = 36;
+
+/// What the title and the status bar say of polling while the controller
+/// runs a line that holds it busy (MCCL `RP`, `WS`, `MC`: it takes nothing
+/// else until the line's answer).
+pub const SUSPENDED: &str = "poll suspended: controller busy";
 
 /// The poll rate asked for and, once measured, the full status
 /// refreshes a second the link really gives (`poll 20 Hz → 7.3/s`): on a
@@ -771,11 +808,16 @@ impl Pane for AxesPane {
             LinkState::Disconnected { reason, .. } => format!("link lost: {reason}"),
             LinkState::Closed => "closed".into(),
         };
-        let poll = poll_text(s);
+        let poll = if self.busy && s.poll.is_some() {
+            SUSPENDED.to_string()
+        } else {
+            poll_text(s)
+        };
+        // A long identity (MCCL's VE text) leaves room for the state.
         let identity = s
             .identity
             .as_ref()
-            .map(|i| format!(" ({i})"))
+            .map(|i| format!(" ({})", super::text::fit(i, IDENTITY_WIDTH)))
             .unwrap_or_default();
         let units = self.note.clone().unwrap_or_else(|| {
             format!(
@@ -951,6 +993,10 @@ impl Pane for AxesPane {
             }
             (PaneEvent::Snapshot, None) => {
                 self.memory.clear();
+                Outcome::redraw()
+            }
+            (PaneEvent::Busy(busy), _) => {
+                self.busy = busy.is_some();
                 Outcome::redraw()
             }
             _ => Outcome::Ignored,

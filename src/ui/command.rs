@@ -6,7 +6,9 @@
 //! bytes on the wire.
 
 mod assist;
+mod busy;
 mod history;
+mod store;
 
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -25,7 +27,7 @@ use super::pane::{
 };
 use super::text::fit;
 use super::theme::Role;
-use crate::device::{DeviceEvent, LinkState};
+use crate::device::{Busy, DeviceEvent, LinkState};
 use crate::protocol::console::{Candidate, Completions, PreparedLine};
 use crate::protocol::program::{HostStart, ProgramTool};
 use crate::protocol::{FAMILIES, Family, find_family};
@@ -58,6 +60,14 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
         "forget the latched error flags of axis N (default: the selected axis)",
     ),
     (":stop", "emergency stop, like its key"),
+    (
+        ":programs [delete N]",
+        "list what the controller stores besides the editor's program (MCCL: its macros, by TM-1), or delete one (MCCL: RM erases them all, the others are defined again and compared)",
+    ),
+    (
+        ":tasks [stop ID]",
+        "list the programs the controller runs in the background (MCCL: ID7), or stop one (ET)",
+    ),
     (
         ":log FILE | off",
         "log every frame sent and received to FILE",
@@ -113,6 +123,8 @@ struct Output {
 enum Origin {
     Typed,
     Batch,
+    /// A line of `:programs` or `:tasks` ([`store`]).
+    Store,
 }
 
 /// A list of completions being offered.
@@ -167,6 +179,12 @@ pub struct CommandPane {
     confirming: Option<Confirming>,
     /// `:record-macro FILE`: the lines sent from here, as a program.
     recording: Option<Recording>,
+    /// The line the controller is busy with, if any (see [`busy`]).
+    busy: Option<Busy>,
+    /// The family the busy line is shown for (its name).
+    busy_family: Option<&'static str>,
+    /// The `:programs` or `:tasks` job under way.
+    store_job: Option<store::StoreJob>,
 }
 
 /// A recording of the lines sent (SQPack's "Record Macro", §5.4.6).
@@ -233,6 +251,9 @@ impl CommandPane {
             live: false,
             confirming: None,
             recording: None,
+            busy: None,
+            busy_family: None,
+            store_job: None,
         }
     }
 
@@ -520,6 +541,18 @@ impl CommandPane {
             "expect" | "wait-until" | "sleep" | "echo" => {
                 return self.start_batch(&format!(":{name}"), line, view);
             }
+            "programs" | "tasks" => {
+                let started = store::store_of(session.map(|s| s.family))
+                    .and_then(|store| store::start(store, &name, rest));
+                return match started {
+                    Ok((job, lines)) => {
+                        self.store_job = Some(job);
+                        let tag = self.tag(Origin::Store);
+                        Outcome::request(Request::Send { lines, tag })
+                    }
+                    Err(message) => self.fail(message),
+                };
+            }
             _ => {
                 return self.fail(format!(
                     "unknown console command `:{name}` (`:help` lists them)"
@@ -653,6 +686,44 @@ impl CommandPane {
                 format!("recording stopped: cannot write {path}: {e}"),
             );
         }
+    }
+
+    /// An answer to a line of `:programs` or `:tasks`.
+    fn store_reply(
+        &mut self,
+        tag: u64,
+        result: &Result<LineResult, SessionError>,
+        family: Option<&'static Family>,
+    ) -> Outcome {
+        let (Ok(store), Some(job)) = (store::store_of(family), self.store_job.take()) else {
+            self.sent.remove(&tag);
+            return Outcome::Ignored;
+        };
+        // The lines that change the controller are shown with their answers.
+        if matches!(job, store::StoreJob::Deleting { .. }) {
+            if let Ok(r) = result {
+                self.say(Role::Normal, format!("{PROMPT}{}", r.line));
+            }
+            self.show_reply(family, result);
+        }
+        let (steps, next) = store::on_reply(store, job, result);
+        let goes_on = matches!(next, Some(store::StoreJob::Deleting { .. }));
+        self.store_job = next;
+        if !goes_on {
+            // Its lines are all answered (or the rest were not sent).
+            self.sent.remove(&tag);
+        }
+        let mut requests = Vec::new();
+        for step in steps {
+            match step {
+                store::StoreStep::Say(role, text) => self.say(role, text),
+                store::StoreStep::Send(lines) => {
+                    let tag = self.tag(Origin::Store);
+                    requests.push(Request::Send { lines, tag });
+                }
+            }
+        }
+        Outcome::Handled(requests)
     }
 
     fn fail(&mut self, message: impl Into<String>) -> Outcome {
@@ -851,6 +922,16 @@ impl CommandPane {
             return self.confirm_key(key, view);
         }
         let action = view.keymap.action_for(Context::Command, key);
+        // While the controller runs a line: the cancel key aborts it, Space
+        // on an empty line pauses or resumes it (the bytes it takes, Ch2).
+        if let Some(busy) = &self.busy {
+            if action == Some(Action::Cancel) {
+                return Outcome::request(Request::AbortLine);
+            }
+            if key.code == KeyCode::Char(' ') && self.input.is_empty() && busy.pausable {
+                return Outcome::request(Request::PauseLine);
+            }
+        }
         if action != Some(Action::Complete) {
             self.completing = None;
             self.hint = None;
@@ -1090,6 +1171,12 @@ impl CommandPane {
         if let Some(hint) = &self.hint {
             return vec![Line::styled(hint.text.clone(), theme.style(hint.role))];
         }
+        if let Some(busy) = &self.busy {
+            let abort = key_label(view.keymap, Context::Command, Action::Cancel);
+            let family = self.busy_family.and_then(find_family);
+            let text = busy::hint(busy, family, &abort);
+            return vec![Line::styled(fit(&text, width), theme.style(Role::Warning))];
+        }
         // The syntax of the command being typed.
         if let Some(family) = self.family(view)
             && !self.input.trim().is_empty()
@@ -1222,7 +1309,14 @@ impl Pane for CommandPane {
     }
 
     fn activity(&self) -> Option<String> {
-        self.host.as_ref().map(ConsoleHostRun::describe)
+        self.host
+            .as_ref()
+            .map(ConsoleHostRun::describe)
+            .or_else(|| {
+                self.busy
+                    .as_ref()
+                    .map(|busy| busy::activity(busy, self.busy_family.and_then(find_family)))
+            })
     }
 
     fn on_event(&mut self, event: &PaneEvent, view: &View) -> Outcome {
@@ -1233,6 +1327,9 @@ impl Pane for CommandPane {
             return self.host_update(update);
         }
         match event {
+            PaneEvent::Reply { tag, result, .. } if self.sent.get(tag) == Some(&Origin::Store) => {
+                self.store_reply(*tag, result, family)
+            }
             PaneEvent::Reply { tag, result, .. } => {
                 let Some(origin) = self.sent.remove(tag) else {
                     return Outcome::Ignored;
@@ -1271,6 +1368,11 @@ impl Pane for CommandPane {
                 let steps = self.batch.as_mut().map(Batch::on_wake).unwrap_or_default();
                 self.batch_steps(steps, view)
             }
+            PaneEvent::Busy(busy) => {
+                self.busy = busy.clone();
+                self.busy_family = family.map(|f| f.name);
+                Outcome::redraw()
+            }
             PaneEvent::Stopping => {
                 if let Some(confirming) = self.confirming.take() {
                     let what = match confirming.then {
@@ -1280,6 +1382,7 @@ impl Pane for CommandPane {
                     };
                     self.say(Role::Warning, format!("  not sent: {what}"));
                 }
+                self.store_job = None;
                 let dropped = self.sent.len();
                 self.sent.clear();
                 self.batch_wake = None;

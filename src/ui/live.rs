@@ -16,7 +16,7 @@ use super::pane::Notice;
 use super::terminal::{TerminalGuard, spawn_reader};
 use super::theme::{choose_theme, no_color_in_env};
 use super::{PaneSetup, panes};
-use crate::device::{DeviceEvent, LinkState, TrafficRecord};
+use crate::device::{Busy, DeviceEvent, LinkState, TrafficRecord};
 use crate::link::SharedSim;
 use crate::protocol::Family;
 use crate::protocol::program::{Progress, TransferFailure, TransferJob, TransferReport};
@@ -116,6 +116,20 @@ impl Controller for SessionController {
             Some(cadence) => self.session.start_polling(cadence),
             None => self.session.stop_polling(),
         }
+    }
+
+    fn busy(&self) -> Option<watch::Receiver<Option<Busy>>> {
+        Some(self.session.busy())
+    }
+
+    fn abort_line(&self) -> Pending<bool> {
+        let session = self.session.clone();
+        Box::pin(async move { session.abort_line().await })
+    }
+
+    fn pause_line(&self) -> Pending<Option<bool>> {
+        let session = self.session.clone();
+        Box::pin(async move { session.pause_line().await })
     }
 
     fn acknowledge_errors(&self, axis: usize, seen: &[AxisFlag]) {

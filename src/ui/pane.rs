@@ -18,7 +18,7 @@ use ratatui::layout::Rect;
 
 use super::keymap::{Action, Context, Keymap};
 use super::theme::Theme;
-use crate::device::{DeviceEvent, LinkState, TrafficRecord};
+use crate::device::{Busy, DeviceEvent, LinkState, TrafficRecord};
 use crate::protocol::Family;
 use crate::protocol::program::{Progress, TransferFailure, TransferJob, TransferReport};
 use crate::protocol::settings::SettingsCache;
@@ -145,6 +145,10 @@ pub enum PaneEvent {
     Stopping,
     /// The emergency stop was sent: each stop line and what came back.
     EmergencyStop(Vec<Result<LineResult, SessionError>>),
+    /// The controller is busy with a line that runs until its answer (a
+    /// wait, a repeat, a macro: Escape aborts it, Space pauses it), or no
+    /// longer (`None`). Polling waits meanwhile.
+    Busy(Option<Busy>),
     /// What the session did about the axes after this pane's
     /// [`Request::EndRun`].
     RunEnded(RunAftermath),
@@ -217,6 +221,10 @@ pub enum Request {
     Send { lines: Vec<String>, tag: u64 },
     /// Stop every axis and any standalone program, ahead of everything.
     EmergencyStop,
+    /// Abort the line the controller is busy with ([`PaneEvent::Busy`]).
+    AbortLine,
+    /// Pause the line the controller is busy with, or resume it.
+    PauseLine,
     /// A run of this pane (`:run`, a host run) ended so: the session
     /// decides what becomes of the axes under `policy`
     /// ([`crate::session::Session::end_run`]); what it did comes back to

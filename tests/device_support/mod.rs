@@ -154,6 +154,7 @@ pub fn transaction(request: &Request, retry: Retry) -> Transaction {
         expect: Expect::Reply(Arc::new(TmclReplyRule::for_request(request))),
         retry,
         timeout: None,
+        hold: None,
     }
 }
 

@@ -3,12 +3,16 @@
 //! the echo and the prompt and read against the line; the emergency stop;
 //! the status of each axis from `TP`, `TV`, `TS`, `TT` and `TF`.
 //!
-//! The console is stateless between lines: it reads every line and every
-//! answer in decimal with the profile's prompt and echo, so it refuses the
-//! commands that would change those for later lines (`HM`, `PC`, `EN`,
-//! `EF`) until the session keeps a per-link state for it. Lines that may
-//! run for long are marked [`LongRunning`] (Escape aborts, Space pauses).
+//! Lines are written and checked as the manual writes them, in decimal;
+//! what the interface is set to ([`MclContext`]: the profile the connect
+//! probe learned, `DM`/`HM`, `PC`, `EN`/`EF`) is the session's per-link
+//! state ([`LinkContexts`]): each line is encoded for it when sent (after
+//! `HM` its integers in hexadecimal, so that a line, a file and the
+//! parameter table mean the same in either mode) and its answer read in
+//! it. Lines that may run for long are marked [`LongRunning`] (Escape
+//! aborts, Space pauses).
 
+use std::any::Any;
 use std::sync::{Arc, LazyLock};
 
 use super::catalog::{Blocks, Output};
@@ -16,13 +20,14 @@ use super::check::{CheckContext, Severity, check_line};
 use super::line::{Line, NumberBase, parse_line};
 use super::machine::{AxisKind, DEFAULT_MACHINE, Machine};
 use super::parameter_set::MclParameters;
-use super::profile::{LinkProfile, LinkState};
+use super::profile::{Echo, LinkProfile, LinkState, PromptPer};
 use super::reply::{AnswerRule, Printed, Reply, Report, read_reply, runs_straight};
 use super::status::{BitClass, PRIMARY, StatusBit, StatusSelector, StatusWord, StatusWordKind};
-use crate::protocol::ascii::{ASCII_MIN_SILENCE, AsciiWire};
+use super::wire::MclWire;
 use crate::protocol::console::{
-    Answering, AxisFlag, AxisInfo, AxisUpdate, Completions, Effect, FamilyConsole, LongRunning,
-    PreparedLine, Reading, ReplyError, ReplyValue, StatusPoll, SwitchKind,
+    Answering, AxisFlag, AxisInfo, AxisUpdate, Completions, Effect, FamilyConsole, LinkContext,
+    LinkContexts, LongRunning, PreparedLine, Reading, ReplyError, ReplyValue, StatusPoll,
+    SwitchKind,
 };
 use crate::protocol::parameters::ParameterSet;
 use crate::protocol::wire::{Frame, WireFormat};
@@ -85,17 +90,39 @@ impl MclConsole {
         }
     }
 
-    /// The interface at the start of every line (the console keeps it so).
-    fn state(&self) -> LinkState {
-        LinkState::new(&self.profile)
+    /// The interface after power-up, as this console's profile says.
+    pub fn power_up(&self) -> MclContext {
+        MclContext {
+            profile: self.profile,
+            state: LinkState::new(&self.profile),
+        }
     }
 
-    /// A parsed line, ready to send.
+    /// The MCCL state in `context` (the power-up one if it is another
+    /// family's, which a session never hands over).
+    fn mccl_context(&self, context: &dyn LinkContext) -> MclContext {
+        context
+            .as_any()
+            .downcast_ref::<MclContext>()
+            .copied()
+            .unwrap_or_else(|| self.power_up())
+    }
+
+    /// A parsed line, ready to send to an interface after power-up.
     pub fn prepare_line(&self, line: &Line) -> PreparedLine {
+        self.prepare_line_in(line, &self.power_up())
+    }
+
+    /// A parsed line, ready to send to an interface in `context`: its
+    /// canonical text stays decimal (what it means), its bytes are written
+    /// in the interface's number base, and its answer is waited for with
+    /// the interface's echo and prompt.
+    pub fn prepare_line_in(&self, line: &Line, context: &MclContext) -> PreparedLine {
         let canonical = line.to_string();
-        let mut bytes = canonical.clone().into_bytes();
-        bytes.push(self.profile.send_end);
-        let rule = AnswerRule::new(line, &canonical, &self.profile, &self.state());
+        let sent = line.written_in(context.state.base);
+        let mut bytes = sent.clone().into_bytes();
+        bytes.push(context.profile.send_end);
+        let rule = AnswerRule::new(line, &sent, &context.profile, &context.state);
         PreparedLine {
             canonical,
             address: ADDRESS,
@@ -129,56 +156,195 @@ impl MclConsole {
         self.refusal(&line).map_or(Ok(line), Err)
     }
 
-    /// Commands that would change how later lines are written or read,
-    /// which a stateless console must not send.
+    /// Commands the console cannot follow.
     fn refusal(&self, line: &Line) -> Option<String> {
         // A macro or a task holds them without running them here.
         if line.defines_macro() || line.is_task() {
             return None;
         }
-        for command in &line.commands {
-            let name = command.to_string();
-            let refused = match command.mnemonic() {
-                "HM" => Some(
-                    "HM switches the controller to hexadecimal for every later line both ways \
-                     (Ch13); this console reads lines and replies in decimal"
-                        .to_string(),
-                ),
-                "PC" if command.number().map(|n| n as i64)
-                    != self.profile.prompt.map(i64::from) =>
-                {
-                    Some(format!(
-                        "PC changes the prompt this console waits for ({})",
-                        self.profile
-                            .prompt
-                            .map_or("none".into(), |p| format!("`{}`", char::from(p)))
-                    ))
-                }
-                "EN" | "EF" => {
-                    Some("EN/EF change the echo this console reads (factory use only, Ch13)".into())
-                }
-                "BK" if command.text().is_some() => Some(
-                    "BK\"text\" single-steps, which waits for keys this console does not send \
-                     (Space, Enter)"
-                        .into(),
-                ),
-                _ => None,
-            };
-            if let Some(reason) = refused {
-                return Some(format!("`{name}`: {reason}"));
-            }
-        }
-        None
-    }
-
-    /// The line sent, parsed again (it parsed when it was prepared).
-    fn line_of(&self, prepared: &PreparedLine) -> Option<Line> {
-        parse_line(&prepared.canonical, NumberBase::Decimal).ok()
+        line.commands
+            .iter()
+            .find(|c| c.mnemonic() == "BK" && c.text().is_some())
+            .map(|command| {
+                format!(
+                    "`{command}`: BK\"text\" single-steps, which waits for keys this console does \
+                     not send (Space, Enter)"
+                )
+            })
     }
 
     /// The index into [`MclConsole::axes`] of axis `number`.
     fn axis_index(&self, number: u8) -> Option<usize> {
         self.machine.axes.iter().position(|a| a.number == number)
+    }
+
+    /// The line sent, parsed again from its canonical (decimal) text (it
+    /// parsed when it was prepared).
+    fn line_of(&self, prepared: &PreparedLine) -> Option<Line> {
+        parse_line(&prepared.canonical, NumberBase::Decimal).ok()
+    }
+
+    /// What the answer to `prepared` means on an interface in `context`.
+    fn read_answer(
+        &self,
+        prepared: &PreparedLine,
+        frames: &[Frame],
+        context: &MclContext,
+    ) -> Result<Reading, ReplyError> {
+        let parsed = self
+            .line_of(prepared)
+            .ok_or_else(|| malformed(prepared, "the line sent does not parse"))?;
+        let sent = String::from_utf8_lossy(&prepared.bytes);
+        let sent = sent.trim_end_matches(char::from(context.profile.send_end));
+        let reply = read_reply(&parsed, sent, &context.state, &context.profile, frames)
+            .map_err(|problem| malformed(prepared, problem.to_string()))?;
+        if let Some(error) = &reply.error {
+            // Ending a task that is not running leaves it not running: the
+            // emergency stop ends every task ID it may have (ET, Ch10).
+            if let [command] = parsed.commands.as_slice()
+                && command.mnemonic() == "ET"
+                && error.code == -20
+            {
+                return Ok(Reading {
+                    status: None,
+                    value: ReplyValue::Text(format!(
+                        "no background task {}: nothing to end ({})",
+                        command
+                            .value
+                            .as_ref()
+                            .map_or("0".into(), ToString::to_string),
+                        error.text()
+                    )),
+                });
+            }
+            return Err(ReplyError::Refused {
+                module: "the controller".into(),
+                line: prepared.canonical.clone(),
+                reply: error.text(),
+                meaning: format!("{}, Ch14", error.meaning()),
+            });
+        }
+        Ok(Reading {
+            status: None,
+            value: value_of(&parsed, &reply),
+        })
+    }
+}
+
+/// What the console knows of one MCCL interface: the profile the connect
+/// probe learned (echo, prompt, prompts per line or per command, line
+/// ends) and what lines have set since (`DM`/`HM`, `PC`, `EN`/`EF`, reset
+/// by `RT`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MclContext {
+    pub profile: LinkProfile,
+    pub state: LinkState,
+}
+
+impl LinkContext for MclContext {
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+
+    fn summary(&self) -> Option<String> {
+        let mut said = Vec::new();
+        if self.state.base == NumberBase::Hex {
+            said.push("hex (HM)".to_string());
+        }
+        match self.state.prompt {
+            Some(b'>') => {}
+            Some(p) => said.push(format!("prompt `{}`", char::from(p))),
+            None => said.push("no prompt (PC0)".into()),
+        }
+        if self.state.echo == Echo::Off {
+            said.push("echo off".into());
+        }
+        if self.profile.prompt_per == PromptPer::Command {
+            said.push("prompt per command".into());
+        }
+        (!said.is_empty()).then(|| said.join(", "))
+    }
+}
+
+impl LinkContexts for MclConsole {
+    fn initial(&self) -> Arc<dyn LinkContext> {
+        Arc::new(self.power_up())
+    }
+
+    /// `NO`, then `NO,NO,NO` (digest §3.3 step 5): the echo, the prompt,
+    /// whether it comes once per line or after every command, the line
+    /// ends.
+    fn probe(&self) -> Vec<Vec<u8>> {
+        [&b"NO"[..], b"NO,NO,NO"]
+            .iter()
+            .map(|line| {
+                let mut bytes = line.to_vec();
+                bytes.push(self.profile.send_end);
+                bytes
+            })
+            .collect()
+    }
+
+    fn learn(
+        &self,
+        context: &dyn LinkContext,
+        answers: &[Vec<u8>],
+    ) -> Result<Arc<dyn LinkContext>, String> {
+        let before = self.mccl_context(context);
+        let [single, triple] = answers else {
+            return Err(format!(
+                "the probe brought {} answers, not 2",
+                answers.len()
+            ));
+        };
+        let learned = LinkProfile::learn(single, triple)?;
+        let profile = LinkProfile {
+            echo: learned.echo,
+            reply_end: learned.reply_end,
+            prompt: learned.prompt,
+            prompt_per: learned.prompt_per,
+            ..before.profile
+        };
+        Ok(Arc::new(MclContext {
+            profile,
+            state: LinkState {
+                prompt: profile.prompt,
+                echo: profile.echo,
+                ..before.state
+            },
+        }))
+    }
+
+    fn adapt(&self, line: &PreparedLine, context: &dyn LinkContext) -> PreparedLine {
+        match self.line_of(line) {
+            Some(parsed) => PreparedLine {
+                address: line.address,
+                ..self.prepare_line_in(&parsed, &self.mccl_context(context))
+            },
+            None => line.clone(),
+        }
+    }
+
+    fn interpret_in(
+        &self,
+        line: &PreparedLine,
+        frames: &[Frame],
+        context: &dyn LinkContext,
+    ) -> Result<Reading, ReplyError> {
+        self.read_answer(line, frames, &self.mccl_context(context))
+    }
+
+    fn after(
+        &self,
+        line: &PreparedLine,
+        context: &dyn LinkContext,
+    ) -> Option<Arc<dyn LinkContext>> {
+        let before = self.mccl_context(context);
+        let parsed = self.line_of(line)?;
+        let mut state = before.state;
+        state.after(&parsed, &before.profile);
+        (state != before.state)
+            .then(|| Arc::new(MclContext { state, ..before }) as Arc<dyn LinkContext>)
     }
 }
 
@@ -233,9 +399,20 @@ fn value_of(line: &Line, reply: &Reply) -> ReplyValue {
     }
 }
 
-/// Primary status bits shown as lamps: the states and inputs that are not
-/// a switch lamp, the reached lamp or an error flag of their own.
-const LAMP_BITS: &[u8] = &[1, 5, 6, 17, 18, 19, 20, 21, 24, 25, 26, 27];
+/// Primary status bits shown as lamps, with names short enough for an
+/// axis card (Ch8 TS): the states that are not a switch lamp (the limit
+/// inputs; the home input: a servo's coarse home, a stepper's home), the
+/// reached lamp or an error flag of their own. The auxiliary encoder bits
+/// (19, 20, 26) are left to `TS`.
+const LAMP_BITS: &[(u8, &str)] = &[
+    (1, "motor"),
+    (21, "homed"),
+    (17, "seek"),
+    (18, "found"),
+    (5, "capt"),
+    (6, "brkpt"),
+    (27, "fault"),
+];
 
 fn flag(bit: &'static StatusBit) -> AxisFlag {
     AxisFlag {
@@ -244,11 +421,22 @@ fn flag(bit: &'static StatusBit) -> AxisFlag {
     }
 }
 
-static LAMPS: LazyLock<Vec<AxisFlag>> = LazyLock::new(|| {
-    PRIMARY
+/// The lamp of primary bit `bit`.
+fn lamp_of(bit: &'static StatusBit) -> Option<AxisFlag> {
+    LAMP_BITS
         .iter()
-        .filter(|b| LAMP_BITS.contains(&b.bit))
-        .map(flag)
+        .find(|(b, _)| *b == bit.bit)
+        .map(|(_, name)| AxisFlag {
+            name,
+            description: bit.meaning,
+        })
+}
+
+static LAMPS: LazyLock<Vec<AxisFlag>> = LazyLock::new(|| {
+    LAMP_BITS
+        .iter()
+        .filter_map(|(bit, _)| PRIMARY.iter().find(|b| b.bit == *bit))
+        .filter_map(lamp_of)
         .collect()
 });
 
@@ -267,11 +455,7 @@ fn primary_updates(axis: usize, kind: Option<AxisKind>, value: u32) -> Vec<(usiz
         .filter(|b| b.class == BitClass::Error)
         .map(flag)
         .collect();
-    let lamps: Vec<AxisFlag> = word
-        .set_bits()
-        .filter(|b| LAMP_BITS.contains(&b.bit))
-        .map(flag)
-        .collect();
+    let lamps: Vec<AxisFlag> = word.set_bits().filter_map(lamp_of).collect();
     vec![
         (axis, AxisUpdate::Switch(SwitchKind::Right, word.is_set(28))),
         (axis, AxisUpdate::Switch(SwitchKind::Left, word.is_set(29))),
@@ -287,12 +471,7 @@ fn primary_updates(axis: usize, kind: Option<AxisKind>, value: u32) -> Vec<(usiz
 
 impl FamilyConsole for MclConsole {
     fn wire(&self) -> Arc<dyn WireFormat> {
-        Arc::new(AsciiWire {
-            name: "mccl",
-            max_line: self.profile.max_reply_line,
-            prompt: self.profile.prompt,
-            min_silence: ASCII_MIN_SILENCE,
-        })
+        Arc::new(MclWire::new(&self.profile))
     }
 
     fn default_address(&self) -> u8 {
@@ -325,52 +504,15 @@ impl FamilyConsole for MclConsole {
         blocks.then(|| LongRunning {
             abort: vec![self.profile.abort],
             pause: Some(vec![self.profile.pause]),
-            timeout: self.profile.busy_timeout,
         })
     }
 
+    fn link_contexts(&self) -> Option<&dyn LinkContexts> {
+        Some(self)
+    }
+
     fn interpret(&self, line: &PreparedLine, frames: &[Frame]) -> Result<Reading, ReplyError> {
-        let parsed = self
-            .line_of(line)
-            .ok_or_else(|| malformed(line, "the line sent does not parse"))?;
-        let reply = read_reply(
-            &parsed,
-            &line.canonical,
-            &self.state(),
-            &self.profile,
-            frames,
-        )
-        .map_err(|problem| malformed(line, problem.to_string()))?;
-        if let Some(error) = &reply.error {
-            // Ending a task that is not running leaves it not running: the
-            // emergency stop ends every task ID it may have (ET, Ch10).
-            if let [command] = parsed.commands.as_slice()
-                && command.mnemonic() == "ET"
-                && error.code == -20
-            {
-                return Ok(Reading {
-                    status: None,
-                    value: ReplyValue::Text(format!(
-                        "no background task {}: nothing to end ({})",
-                        command
-                            .value
-                            .as_ref()
-                            .map_or("0".into(), ToString::to_string),
-                        error.text()
-                    )),
-                });
-            }
-            return Err(ReplyError::Refused {
-                module: "the controller".into(),
-                line: line.canonical.clone(),
-                reply: error.text(),
-                meaning: format!("{}, Ch14", error.meaning()),
-            });
-        }
-        Ok(Reading {
-            status: None,
-            value: value_of(&parsed, &reply),
-        })
+        self.read_answer(line, frames, &self.power_up())
     }
 
     fn emergency_stop(&self, _address: u8) -> Vec<PreparedLine> {
@@ -510,6 +652,10 @@ impl FamilyConsole for MclConsole {
         Some(self.parameters)
     }
 
+    fn program(&self) -> Option<&'static dyn crate::protocol::program::ProgramTool> {
+        Some(&super::tool::MclTool)
+    }
+
     fn describe_request(&self, bytes: &[u8]) -> Option<String> {
         Some(super::traffic::describe_request(bytes))
     }
@@ -584,14 +730,11 @@ mod tests {
         assert_eq!(e, "`1DS0`: DS must be > 0, not 0");
         let e = CONSOLE.prepare("1EI9", 0).unwrap_err();
         assert!(e.contains("malfunction"), "{e}");
-        for (line, why) in [
-            ("HM", "hexadecimal"),
-            ("PC35", "prompt"),
-            ("EF1", "echo"),
-            ("BK\"wait\"", "single-steps"),
-        ] {
-            let e = CONSOLE.prepare(line, 0).unwrap_err();
-            assert!(e.contains(why), "{line}: {e}");
+        let e = CONSOLE.prepare("BK\"wait\"", 0).unwrap_err();
+        assert!(e.contains("single-steps"), "{e}");
+        // What changes the interface is followed, not refused.
+        for line in ["HM", "PC35", "EF1", "EN1", "PC0"] {
+            assert!(CONSOLE.prepare(line, 0).is_ok(), "{line}");
         }
         // Stored in a macro they are not run now.
         assert!(CONSOLE.prepare("MD10,1TP,BK\"wait\",RP1", 0).is_ok());
@@ -599,6 +742,110 @@ mod tests {
         assert!(CONSOLE.prepare("TP,RP999", 0).is_ok());
         assert!(CONSOLE.prepare("PC62", 0).is_ok(), "the prompt it has");
         assert!(CONSOLE.prepare("DM", 0).is_ok());
+    }
+
+    fn context(console: &MclConsole, line: &str, before: &dyn LinkContext) -> Arc<dyn LinkContext> {
+        let contexts = console.link_contexts().expect("MCCL keeps a link state");
+        contexts
+            .after(&prepare(line), before)
+            .unwrap_or_else(|| panic!("{line} changes the interface"))
+    }
+
+    #[test]
+    fn after_hm_lines_are_written_and_read_in_hex() {
+        let contexts = CONSOLE.link_contexts().expect("contexts");
+        let power_up = contexts.initial();
+        assert!(
+            contexts
+                .after(&prepare("1MA1000"), power_up.as_ref())
+                .is_none(),
+            "a move changes nothing of the interface"
+        );
+        let hex = context(&CONSOLE, "HM", power_up.as_ref());
+        assert_eq!(hex.summary().as_deref(), Some("hex (HM)"));
+        let line = contexts.adapt(&prepare("MD10,1MA1000,MR-255,WS0.5"), hex.as_ref());
+        assert_eq!(line.canonical, "MD10,1MA1000,MR-255,WS0.5", "what it means");
+        assert_eq!(line.bytes, b"MD0A,1MA3E8,MR-0FF,WS0.5\r".to_vec());
+        // Adapting again changes nothing.
+        let again = contexts.adapt(&line, hex.as_ref());
+        assert_eq!(again.bytes, line.bytes);
+        let tp = contexts.adapt(&prepare("1TP,TS"), hex.as_ref());
+        let frames = frames(&["1TP,TS", "01 fffffc18", "01 0000000a", ">"]);
+        let reading = contexts
+            .interpret_in(&tp, &frames, hex.as_ref())
+            .expect("hex replies");
+        assert_eq!(reading.value, ReplyValue::Text("-1000 10".into()));
+        assert_eq!(
+            CONSOLE.status_update(&tp, &reading)[0],
+            (0, AxisUpdate::Position(-1000))
+        );
+        // The emergency stop's task IDs in hex too.
+        let stops = CONSOLE.emergency_stop(0);
+        assert_eq!(
+            contexts.adapt(&stops[21], hex.as_ref()).bytes,
+            b"ET15\r".to_vec()
+        );
+        // DM, or a reset of the whole controller, go back to decimal.
+        let decimal = context(&CONSOLE, "DM", hex.as_ref());
+        assert_eq!(decimal.summary(), None);
+        let reset = context(&CONSOLE, "RT", hex.as_ref());
+        assert_eq!(reset.summary(), None);
+        assert!(contexts.after(&prepare("1RT"), hex.as_ref()).is_none());
+    }
+
+    #[test]
+    fn a_changed_prompt_or_echo_is_waited_for() {
+        let contexts = CONSOLE.link_contexts().expect("contexts");
+        let power_up = contexts.initial();
+        let hash = context(&CONSOLE, "PC35", power_up.as_ref());
+        assert_eq!(hash.summary().as_deref(), Some("prompt `#`"));
+        let Answering::Reply(rule) = contexts.adapt(&prepare("1TP"), hash.as_ref()).answering
+        else {
+            panic!("a reply")
+        };
+        let so_far = frames(&["1TP", "01 5"]);
+        assert_eq!(rule.examine(&so_far, b">"), Verdict::Continue);
+        assert_eq!(rule.examine(&so_far, b"#"), Verdict::Complete);
+        let none = context(&CONSOLE, "PC0", hash.as_ref());
+        assert_eq!(none.summary().as_deref(), Some("no prompt (PC0)"));
+        let silent = context(&CONSOLE, "EF1", power_up.as_ref());
+        let line = contexts.adapt(&prepare("1TP"), silent.as_ref());
+        let reading = contexts
+            .interpret_in(&line, &frames(&["01 5", ">"]), silent.as_ref())
+            .expect("no echo to strip");
+        assert_eq!(reading.value, ReplyValue::Number(5));
+        assert_eq!(silent.summary().as_deref(), Some("echo off"));
+    }
+
+    #[test]
+    fn the_probe_learns_echo_prompt_and_granularity() {
+        let contexts = CONSOLE.link_contexts().expect("contexts");
+        assert_eq!(contexts.probe(), [b"NO\r".to_vec(), b"NO,NO,NO\r".to_vec()]);
+        let power_up = contexts.initial();
+        let learned = contexts
+            .learn(
+                power_up.as_ref(),
+                &[b"NO\r\n#".to_vec(), b"NO,NO,NO\r\n###".to_vec()],
+            )
+            .expect("learned");
+        assert_eq!(
+            learned.summary().as_deref(),
+            Some("prompt `#`, prompt per command")
+        );
+        let Answering::Reply(rule) = contexts
+            .adapt(&prepare("1MN,2MN"), learned.as_ref())
+            .answering
+        else {
+            panic!("a reply")
+        };
+        let so_far = frames(&["1MN,2MN", "#"]);
+        assert_eq!(rule.examine(&so_far[..1], b"#"), Verdict::Continue);
+        assert_eq!(rule.examine(&so_far, b"#"), Verdict::Complete);
+        let e = contexts
+            .learn(power_up.as_ref(), &[b"".to_vec(), b"".to_vec()])
+            .unwrap_err();
+        assert!(e.contains("no prompt"), "{e}");
+        assert!(contexts.learn(power_up.as_ref(), &[]).is_err());
     }
 
     #[test]
@@ -706,7 +953,6 @@ mod tests {
             let long = CONSOLE.long_running(&prepare(line)).expect(line);
             assert_eq!(long.abort, [0x1B]);
             assert_eq!(long.pause, Some(vec![b' ']));
-            assert_eq!(long.timeout, LinkProfile::MANUAL.busy_timeout);
         }
         for line in ["1MR1000", "1TP", "MD10,1MR1000,1WS,RP", "GT0,1MR5,1WS"] {
             assert_eq!(CONSOLE.long_running(&prepare(line)), None, "{line}");
@@ -782,8 +1028,12 @@ mod tests {
     #[test]
     fn lamps_stop_keys_and_identity() {
         let names: Vec<&str> = CONSOLE.lamps().iter().map(|f| f.name).collect();
-        assert_eq!(names[0], "motor on");
-        assert!(names.contains(&"homed") && !names.contains(&"limit + in"));
+        assert_eq!(
+            names,
+            ["motor", "homed", "seek", "found", "capt", "brkpt", "fault"]
+        );
+        let homed = CONSOLE.lamps()[1];
+        assert!(homed.description.contains("homed"), "{}", homed.description);
         assert_eq!(CONSOLE.stop_axis_line(2).as_deref(), Some("2ST"));
         assert_eq!(CONSOLE.stop_axis_line(6), None);
         assert_eq!(CONSOLE.clear_errors_line(1), None);

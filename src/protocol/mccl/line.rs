@@ -58,6 +58,25 @@ impl Number {
         self.integer.then_some(self.value as i64)
     }
 
+    /// The literal as it is written for an interface in `base`: an
+    /// integer in hexadecimal after `HM` (a leading 0 before A–F, a sign
+    /// kept: Ch13 HM), anything else as it is (reals stay decimal).
+    pub fn written_in(&self, base: NumberBase) -> String {
+        match base {
+            NumberBase::Hex if self.integer => {
+                let magnitude = format!("{:X}", (self.value as i64).unsigned_abs());
+                let sign = if self.value < 0.0 { "-" } else { "" };
+                let lead = if magnitude.starts_with(|c: char| c.is_ascii_alphabetic()) {
+                    "0"
+                } else {
+                    ""
+                };
+                format!("{sign}{lead}{magnitude}")
+            }
+            NumberBase::Hex | NumberBase::Decimal => self.text.clone(),
+        }
+    }
+
     /// A decimal integer literal.
     pub fn integer(value: i64) -> Number {
         Number {
@@ -240,6 +259,30 @@ impl Line {
         self.commands
             .first()
             .is_some_and(|c| c.mnemonic() == "GT" && c.number() == Some(0.0))
+    }
+}
+
+impl Line {
+    /// The canonical text as it is written for an interface in `base`:
+    /// the same as [`Line`]'s `Display` in decimal, integers in
+    /// hexadecimal after `HM` (axes and registers stay as they are).
+    pub fn written_in(&self, base: NumberBase) -> String {
+        let mut text = String::new();
+        for (index, command) in self.commands.iter().enumerate() {
+            if index > 0 {
+                text.push(',');
+            }
+            if let Some(axis) = command.axis {
+                text.push_str(&axis.to_string());
+            }
+            text.push_str(command.spec.mnemonic);
+            match &command.value {
+                Some(Value::Number(n)) => text.push_str(&n.written_in(base)),
+                Some(other) => text.push_str(&other.to_string()),
+                None => {}
+            }
+        }
+        text
     }
 }
 
@@ -705,6 +748,9 @@ pub fn parse_number(text: &str, base: NumberBase) -> Option<Number> {
                 integer,
             })
         }
+        // Reals stay decimal in hex mode (hex reals are not described,
+        // Ch13 HM; the simulator reads them so).
+        NumberBase::Hex if digits.contains('.') => parse_number(text, NumberBase::Decimal),
         NumberBase::Hex => {
             let first = digits.chars().next()?;
             if !first.is_ascii_digit() || !digits.chars().all(|c| c.is_ascii_hexdigit()) {
@@ -887,8 +933,11 @@ mod tests {
         assert_eq!(line.commands[1].number(), Some(-16.0));
         assert_eq!(line.commands[2].number(), Some(f64::from(u32::MAX)));
         assert_eq!(line.to_string(), "1MR0FF,AL-10,AN0FFFFFFFF");
-        // A–F first needs a leading 0; no reals; at most 32 bits.
-        for bad in ["1MRFF", "1MR1.5", "AL123456789"] {
+        // Reals stay decimal.
+        let real = parse_line("1WS1.5", NumberBase::Hex).expect("a real");
+        assert_eq!(real.commands[0].number(), Some(1.5));
+        // A–F first needs a leading 0; at most 32 bits.
+        for bad in ["1MRFF", "AL123456789"] {
             assert!(
                 matches!(
                     parse_line(bad, NumberBase::Hex).expect_err(bad).0[0].kind,
@@ -902,6 +951,20 @@ mod tests {
         }
         // The same text is decimal outside hex mode.
         assert!(parse_line("1MR0FF", NumberBase::Decimal).is_err());
+    }
+
+    #[test]
+    fn a_line_is_written_in_the_base_of_the_interface() {
+        let line = parse("MD10,1MA1000,MR-255,WS0.5,AL@100,OT\"%d\",TM-1,AL171");
+        assert_eq!(line.written_in(NumberBase::Decimal), line.to_string());
+        assert_eq!(
+            line.written_in(NumberBase::Hex),
+            "MD0A,1MA3E8,MR-0FF,WS0.5,AL@100,OT\"%d\",TM-1,AL0AB"
+        );
+        // What is written in hex reads back as the same line there.
+        let again = parse_line(&line.written_in(NumberBase::Hex), NumberBase::Hex).expect("hex");
+        let values = |l: &Line| l.commands.iter().map(Command::number).collect::<Vec<_>>();
+        assert_eq!(values(&again), values(&line));
     }
 
     #[test]

@@ -95,7 +95,7 @@ pub const DEFAULT_MACHINE: Machine = Machine {
         },
         AxisInfo {
             number: 5,
-            name: "stepper 5",
+            name: "step 5",
         },
     ],
 };

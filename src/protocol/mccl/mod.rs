@@ -8,7 +8,12 @@
 //! command set is data ([`catalog::COMMANDS`], Ch3–Ch13); [`parse_line`]
 //! is the one parser of command text; [`check`] holds the rules a line must
 //! keep; [`reply`] reads answers; [`profile`] describes the interface where
-//! the manual leaves it open (digest §3.2).
+//! the manual leaves it open (digest §3.2); [`console`] keeps it per link
+//! ([`MclContext`]: the connect probe, `DM`/`HM`, `PC`, `EN`/`EF`);
+//! [`wire`] is what the device task needs (the prompt, the quiet guard,
+//! answers told apart by their echo); [`tool`] and [`plan`] are text files
+//! and macros as a program tool (check, colours, download verified by
+//! `TM`, upload by `TM-1`, the macro manager).
 
 pub mod assist;
 pub mod catalog;
@@ -17,18 +22,22 @@ pub mod console;
 pub mod line;
 pub mod machine;
 pub mod parameter_set;
+pub mod plan;
 pub mod profile;
 pub mod reply;
 pub mod status;
+pub mod tool;
 pub mod traffic;
+pub mod wire;
 
 pub use catalog::{COMMANDS, CommandSpec};
 pub use check::{CheckContext, Diagnostic, Severity, check_file, check_line, check_text};
-pub use console::{MclConsole, StopMotion};
+pub use console::{MclConsole, MclContext, StopMotion};
 pub use line::{Command, Line, NumberBase, ParseError, ParseErrors, Value, parse_line};
 pub use machine::{AxisKind, DEFAULT_MACHINE, Machine};
 pub use profile::{Echo, LinkProfile, LinkState, PromptPer};
 pub use reply::{AnswerRule, ErrorReply, Reply, ReplyProblem, read_reply};
+pub use tool::{MacroStore, MclTool};
 
 use crate::protocol::console::FamilyConsole;
 

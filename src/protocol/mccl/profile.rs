@@ -71,10 +71,6 @@ pub struct LinkProfile {
     /// Pauses the line running, and resumes it when sent again (Ch2
     /// "Space bar").
     pub pause: u8,
-    /// How long a line that may run for long (`RP`, `WS`, `MC`, `FI`…) is
-    /// waited for until the device layer waits for its prompt with no
-    /// timeout of its own.
-    pub busy_timeout: Duration,
 }
 
 /// The prompt after power-up and reset (Ch13 PC: "The default prompt
@@ -98,7 +94,6 @@ impl LinkProfile {
         max_command_line: 255,
         abort: ESCAPE,
         pause: SPACE,
-        busy_timeout: Duration::from_secs(600),
     };
 
     pub const fn with_echo(mut self, echo: Echo) -> Self {
@@ -116,8 +111,8 @@ impl LinkProfile {
         self
     }
 
-    pub const fn with_busy_timeout(mut self, timeout: Duration) -> Self {
-        self.busy_timeout = timeout;
+    pub const fn with_quiet_guard(mut self, guard: Duration) -> Self {
+        self.quiet_guard = guard;
         self
     }
 
@@ -195,14 +190,16 @@ impl Default for LinkProfile {
 pub struct LinkState {
     pub base: NumberBase,
     pub prompt: Option<u8>,
+    pub echo: Echo,
 }
 
 impl LinkState {
-    /// After power-up or reset: decimal, the profile's prompt.
+    /// After power-up or reset: decimal, the profile's prompt and echo.
     pub fn new(profile: &LinkProfile) -> LinkState {
         LinkState {
             base: NumberBase::Decimal,
             prompt: profile.prompt,
+            echo: profile.echo,
         }
     }
 
@@ -210,9 +207,11 @@ impl LinkState {
     /// for the lines after (the parameters of the line itself are read in
     /// the base it started in: "must be executed by the controller before
     /// commands can be issued with … formatted parameters", Ch13); `PCn`
-    /// sets the prompt; a whole-controller `RT` restores the defaults [I:
-    /// "default conditions … will be restored"]. A macro definition runs
-    /// nothing.
+    /// sets the prompt; `EN`/`EF` turn the echo on and off (their
+    /// parameter is not documented, Ch13); a whole-controller `RT`
+    /// restores the base and the prompt [I: "default conditions … will be
+    /// restored"; the echo is the port's, as the simulator keeps it]. A
+    /// macro definition runs nothing.
     pub fn after(&mut self, line: &Line, profile: &LinkProfile) {
         if line.defines_macro() || line.is_task() {
             return;
@@ -226,12 +225,25 @@ impl LinkState {
                         self.prompt = u8::try_from(n as i64).ok().filter(|&c| c != 0);
                     }
                 }
+                "EN" => self.echo = Echo::Line,
+                "EF" => self.echo = Echo::Off,
                 "RT" if line.axis_of(index).number().is_none_or(|a| a == 0) => {
-                    *self = LinkState::new(profile);
+                    *self = LinkState {
+                        echo: self.echo,
+                        ..LinkState::new(profile)
+                    };
                 }
                 _ => {}
             }
         }
+    }
+
+    /// The prompt that ends `line`'s answer: the one in force once it has
+    /// run (`PC35` is answered with `#`, `PC0` with none).
+    pub fn prompt_after(&self, line: &Line, profile: &LinkProfile) -> Option<u8> {
+        let mut after = *self;
+        after.after(line, profile);
+        after.prompt
     }
 
     /// The base the replies of command `index` of `line` come in: the
@@ -303,10 +315,21 @@ mod tests {
         assert_eq!(state.prompt, Some(b'#'));
         state.after(&line("PC0"), &profile);
         assert_eq!(state.prompt, None);
+        state.after(&line("EF1"), &profile);
+        assert_eq!(state.echo, Echo::Off);
         // An axis reset keeps the interface; a controller reset does not.
         state.after(&line("1RT"), &profile);
         assert_eq!(state.base, NumberBase::Hex);
         state.after(&line("RT"), &profile);
+        assert_eq!(
+            state,
+            LinkState {
+                echo: Echo::Off,
+                ..LinkState::new(&profile)
+            },
+            "the echo is the port's"
+        );
+        state.after(&line("EN1"), &profile);
         assert_eq!(state, LinkState::new(&profile));
         // A macro definition stores HM, it does not run it.
         state.after(&line("MD5,HM"), &profile);

@@ -212,6 +212,9 @@ fn parse_quantity(text: &str, base: NumberBase) -> Option<Quantity> {
                 _ => None,
             }
         }
+        // A value printed with decimals stays decimal in hex mode (hex
+        // reals are not described, Ch13 HM).
+        NumberBase::Hex if digits.contains('.') => parse_quantity(text, NumberBase::Decimal),
         NumberBase::Hex => {
             if digits.is_empty()
                 || digits.len() > 8
@@ -219,12 +222,10 @@ fn parse_quantity(text: &str, base: NumberBase) -> Option<Quantity> {
             {
                 return None;
             }
-            let magnitude = i64::from(u32::from_str_radix(digits, 16).ok()?);
-            Some(Quantity::Integer(if negative {
-                -magnitude
-            } else {
-                magnitude
-            }))
+            // The 32-bit word as the controller holds it: a negative
+            // position comes back as `fffffc18`.
+            let word = i64::from(u32::from_str_radix(digits, 16).ok()? as i32);
+            Some(Quantity::Integer(if negative { -word } else { word }))
         }
     }
 }
@@ -359,7 +360,7 @@ pub fn read_reply(
         .map(|f| String::from_utf8_lossy(f).into_owned());
     let mut lines = Vec::new();
     let mut prompts = 0;
-    if profile.echo == Echo::Line {
+    if state.echo == Echo::Line {
         let first = texts.next().unwrap_or_default();
         let Some(rest) = first.trim().strip_prefix(sent) else {
             return Err(ReplyProblem::NoEcho { got: first });
@@ -369,11 +370,23 @@ pub fn read_reply(
             lines.push(rest.trim().to_string());
         }
     }
-    let prompt = state.prompt.map(|p| vec![p]);
+    let prompt_char = state.prompt_after(line, profile);
+    let prompt = prompt_char.map(|p| vec![p]);
     for text in texts {
         if prompt.as_deref() == Some(text.as_bytes()) {
             prompts += 1;
-        } else if !text.trim().is_empty() {
+            continue;
+        }
+        // A line left without its end runs into the prompt (`OT"x"`
+        // prints `x>`).
+        let text = match prompt_char.map(char::from) {
+            Some(p) if text.ends_with(p) => {
+                prompts += 1;
+                text[..text.len() - p.len_utf8()].to_string()
+            }
+            _ => text,
+        };
+        if !text.trim().is_empty() {
             lines.push(text.trim().to_string());
         }
     }
@@ -394,7 +407,7 @@ pub fn read_reply(
         Some(error)
     });
     let output = &lines[..error_at.unwrap_or(lines.len())];
-    if error.is_none() && state.prompt.is_some() && prompts == 0 {
+    if error.is_none() && prompt_char.is_some() && prompts == 0 {
         return Err(ReplyProblem::NoPrompt);
     }
     let reports = if runs_straight(line) {
@@ -490,35 +503,51 @@ fn assign(
 /// How the device layer tells the answer to a line from what comes before
 /// and after it: the echo of the line first (anything before it is late
 /// output of something earlier), then reply lines, complete at the prompt
-/// (the last one expected where prompts come per command) or at an error
-/// (whose prompt may or may not follow, digest §3.3 step 4: a prompt that
-/// follows is stale for the next line, which waits for its own echo).
+/// (the last one expected where prompts come per command). After an error
+/// the line has stopped, and a prompt may or may not follow (digest §3.3
+/// step 4): the error completes it unless more comes before the line is
+/// quiet. Without a prompt (`PC0`), or where prompts come per command and
+/// the line repeats or jumps so that their number is not known, quiet
+/// ends it too.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct AnswerRule {
     /// The line as sent, without its CR; `None` when echo is off.
     pub echo: Option<Vec<u8>>,
-    /// `None` after `PC0`: only an error or the device's quiet guard ends
-    /// the answer then.
+    /// `None` after `PC0`: the device's quiet guard ends the answer then.
     pub prompt: Option<u8>,
-    /// Prompts that complete the answer.
-    pub prompts: usize,
+    /// Prompts that complete the answer; `None` when their number is not
+    /// known.
+    pub prompts: Option<usize>,
 }
 
 impl AnswerRule {
     /// The rule for `line`, sent as `sent`, on an interface with `profile`
-    /// and `state`.
+    /// in `state`.
     pub fn new(line: &Line, sent: &str, profile: &LinkProfile, state: &LinkState) -> AnswerRule {
         let prompts = match profile.prompt_per {
-            PromptPer::Command if runs_straight(line) => line.commands.len().max(1),
-            // Per command and repeating: how many is not known; the first
-            // completes it until the device layer can wait for quiet.
-            _ => 1,
+            PromptPer::Line => Some(1),
+            PromptPer::Command if runs_straight(line) => Some(line.commands.len().max(1)),
+            PromptPer::Command => None,
         };
         AnswerRule {
-            echo: (profile.echo == Echo::Line).then(|| sent.as_bytes().to_vec()),
-            prompt: state.prompt,
+            echo: (state.echo == Echo::Line).then(|| sent.as_bytes().to_vec()),
+            prompt: state.prompt_after(line, profile),
             prompts,
         }
+    }
+
+    fn is_prompt(&self, frame: &[u8]) -> bool {
+        self.prompt.is_some_and(|p| frame == [p])
+    }
+
+    /// The echo with an error after it on its line (`1XX?1`).
+    fn echo_with_error(&self, frame: &[u8]) -> bool {
+        self.echo.as_ref().is_some_and(|echo| {
+            frame
+                .trim_ascii()
+                .strip_prefix(echo.as_slice())
+                .is_some_and(is_error)
+        })
     }
 }
 
@@ -532,24 +561,32 @@ impl ReplyRule for AnswerRule {
             && let Some(echo) = &self.echo
         {
             return match frame.trim_ascii().strip_prefix(echo.as_slice()) {
-                Some(rest) if is_error(rest) => Verdict::Complete,
-                Some(_) => Verdict::Continue,
-                None => Verdict::NotMine,
+                Some([]) => Verdict::Continue,
+                Some(rest) if is_error(rest) => Verdict::CompleteIfQuiet,
+                // Another line's echo that starts like this one.
+                _ => Verdict::NotMine,
             };
         }
-        let is_prompt = self.prompt.is_some_and(|p| frame == [p]);
-        if is_prompt {
-            let seen = accepted
-                .iter()
-                .filter(|f| self.prompt.is_some_and(|p| f.as_slice() == [p]))
-                .count();
-            if seen + 1 >= self.prompts {
-                Verdict::Complete
-            } else {
-                Verdict::Continue
+        let errored = accepted
+            .iter()
+            .enumerate()
+            .any(|(i, f)| is_error(f) || (i == 0 && self.echo_with_error(f)));
+        if self.is_prompt(frame) {
+            if errored {
+                return Verdict::Complete;
             }
-        } else if is_error(frame) {
-            Verdict::Complete
+            let seen = accepted.iter().filter(|f| self.is_prompt(f)).count();
+            return match self.prompts {
+                Some(n) if seen + 1 >= n => Verdict::Complete,
+                Some(_) => Verdict::Continue,
+                None => Verdict::CompleteIfQuiet,
+            };
+        }
+        let prompt_glued = self
+            .prompt
+            .is_some_and(|p| frame.len() > 1 && frame.last() == Some(&p));
+        if errored || is_error(frame) || self.prompt.is_none() || prompt_glued {
+            Verdict::CompleteIfQuiet
         } else {
             Verdict::Continue
         }
@@ -628,6 +665,16 @@ mod tests {
         assert!(
             parse_told("01 100000409", NumberBase::Hex).is_err(),
             "9 hex digits"
+        );
+        assert_eq!(
+            parse_told("01 fffffc18", NumberBase::Hex).map(|t| t.value),
+            Ok(Quantity::Integer(-1000)),
+            "the 32-bit word"
+        );
+        assert_eq!(
+            parse_told("01 121.025", NumberBase::Hex).map(|t| t.value.to_string()),
+            Ok("121.025".into()),
+            "reals stay decimal"
         );
         assert!(parse_told("01 0000000a", NumberBase::Decimal).is_err());
         assert!(parse_told("1 5", NumberBase::Decimal).is_err());
@@ -755,11 +802,23 @@ mod tests {
         assert_eq!(rule.examine(&[], b">"), Verdict::NotMine, "stale prompt");
         assert_eq!(rule.examine(&[], b"01 5"), Verdict::NotMine, "stale output");
         assert_eq!(rule.examine(&[], b"1TP"), Verdict::Continue);
-        assert_eq!(rule.examine(&[], b"1TP?-1"), Verdict::Complete);
+        assert_eq!(
+            rule.examine(&[], b"1TP,TV"),
+            Verdict::NotMine,
+            "another line"
+        );
+        assert_eq!(rule.examine(&[], b"1TP?-1"), Verdict::CompleteIfQuiet);
         let echo = frames(&["1TP"]);
         assert_eq!(rule.examine(&echo, b"01 5"), Verdict::Continue);
-        assert_eq!(rule.examine(&echo, b"?-13"), Verdict::Complete);
         assert_eq!(rule.examine(&echo, b">"), Verdict::Complete);
+        // An error: its prompt may follow, or not.
+        assert_eq!(rule.examine(&echo, b"?-13"), Verdict::CompleteIfQuiet);
+        let errored = frames(&["1TP", "?-13"]);
+        assert_eq!(rule.examine(&errored, b"1TP"), Verdict::CompleteIfQuiet);
+        assert_eq!(rule.examine(&errored, b">"), Verdict::Complete);
+        assert_eq!(rule.examine(&frames(&["1TP?-1"]), b">"), Verdict::Complete);
+        // Text run into the prompt.
+        assert_eq!(rule.examine(&echo, b"x>"), Verdict::CompleteIfQuiet);
         // Per command: the third prompt of a three-command line.
         let per = profile.with_prompt_per(PromptPer::Command);
         let l = line("1MN,1MR5,1TP");
@@ -767,11 +826,32 @@ mod tests {
         let so_far = frames(&["1MN,1MR5,1TP", ">", ">", "01 5"]);
         assert_eq!(rule.examine(&so_far[..2], b">"), Verdict::Continue);
         assert_eq!(rule.examine(&so_far, b">"), Verdict::Complete);
+        // Per command, repeating: how many is not known, quiet tells.
+        let l = line("1TP,RP2");
+        let rule = AnswerRule::new(&l, "1TP,RP2", &per, &state);
+        assert_eq!(
+            rule.examine(&frames(&["1TP,RP2", "01 5"]), b">"),
+            Verdict::CompleteIfQuiet
+        );
         // Without echo, the prompt ends it.
-        let quiet = profile.with_echo(Echo::Off);
-        let rule = AnswerRule::new(&line("1TP"), "1TP", &quiet, &state);
+        let silent = LinkState {
+            echo: Echo::Off,
+            ..state
+        };
+        let rule = AnswerRule::new(&line("1TP"), "1TP", &profile, &silent);
         assert_eq!(rule.examine(&[], b"01 5"), Verdict::Continue);
         assert_eq!(rule.examine(&frames(&["01 5"]), b">"), Verdict::Complete);
+        // Without a prompt (PC0), quiet does.
+        let no_prompt = LinkState {
+            prompt: None,
+            ..state
+        };
+        let rule = AnswerRule::new(&line("1TP"), "1TP", &profile, &no_prompt);
+        assert_eq!(rule.examine(&[], b"1TP"), Verdict::Continue);
+        assert_eq!(
+            rule.examine(&frames(&["1TP"]), b"01 5"),
+            Verdict::CompleteIfQuiet
+        );
     }
 
     mod properties {
@@ -801,6 +881,7 @@ mod tests {
                 let sent = line.to_string();
                 let profile = LinkProfile::MANUAL.with_echo(if echo { Echo::Line } else { Echo::Off });
                 let mut state = LinkState::new(&profile);
+                state.echo = profile.echo;
                 if hex {
                     state.base = NumberBase::Hex;
                 }

@@ -47,7 +47,7 @@ pub const CHOICES: &[Choice] = &[
     choice("limit defaults", "LN off, LM 0, HL/LL at the 32-bit range; LN adds to the enabled limits, LF removes (LF0 all)"),
     choice("machine", "axes 1-4 servo, 5 stepper; axes n and n+4 share their opto inputs (Ch9 Table 1)"),
     // ---- motion ----
-    choice("servo model", "the shaft follows the optimal position with a 4 ms lag at SG 0.04 (shorter as SG grows); the encoder reads it rounded to a count"),
+    choice("servo model", "the shaft follows the optimal position with a 1 ms lag at SG 0.04 (shorter as SG grows), within a count of its target when the trajectory completes; the encoder reads it rounded to a count"),
     choice("command output", "SG x following error + VG x speed, plus OB and OO, limited to SQ (DQ, ID4); the integral and derivative terms are not modelled"),
     choice("stepper model", "the shaft turns with every step unless stalled (STALLn); closed loop (IM1) reads it with an encoder of ES steps a count"),
     choice("profiles", "trapezoid re-planned each tick; S-curve a = SA sin(pi t/T) and parabolic a = SA (1 - t/T) planned at the start with peak SA, a new target mid-move goes on as a trapezoid"),

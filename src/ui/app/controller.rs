@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use tokio::sync::{broadcast, watch};
 
-use crate::device::{DeviceEvent, LinkState, TrafficRecord};
+use crate::device::{Busy, DeviceEvent, LinkState, TrafficRecord};
 use crate::protocol::Family;
 use crate::protocol::program::{Progress, TransferFailure, TransferJob, TransferReport};
 use crate::protocol::settings::SettingsCache;
@@ -58,6 +58,21 @@ pub trait Controller: Send + Sync {
         }))
     }
     fn set_polling(&self, cadence: Option<PollCadence>);
+    /// The line the controller is busy with, if any: a line that runs until
+    /// its answer ([`crate::session::Session::busy`]). `None` when the
+    /// controller never is.
+    fn busy(&self) -> Option<watch::Receiver<Option<Busy>>> {
+        None
+    }
+    /// Abort the line the controller is busy with: whether there was one.
+    fn abort_line(&self) -> Pending<bool> {
+        Box::pin(async { false })
+    }
+    /// Pause or resume the line the controller is busy with: whether it is
+    /// paused now; `None` when no line that can pause is running.
+    fn pause_line(&self) -> Pending<Option<bool>> {
+        Box::pin(async { None })
+    }
     fn acknowledge_errors(&self, axis: usize, seen: &[AxisFlag]);
     /// Clear the error flags of `axis` in the module where its family
     /// needs a line for that (CMD-4CR `CLRX`), then forget those the user

@@ -199,10 +199,12 @@ impl App {
                     format!("{} #{} {state} │ ", s.link_name, s.address),
                     bar,
                 ));
-                spans.push(Span::styled(
-                    format!("{} │ ", crate::ui::axes::poll_text(s)),
-                    bar,
-                ));
+                let poll = match &self.busy {
+                    // Nothing is polled while the controller runs a line.
+                    Some(_) if s.poll.is_some() => crate::ui::axes::SUSPENDED.to_string(),
+                    _ => crate::ui::axes::poll_text(s),
+                };
+                spans.push(Span::styled(format!("{poll} │ "), bar));
                 if let Some(axis) = s.selected_axis().filter(|_| s.axes.len() > 1) {
                     spans.push(Span::styled(format!("axis {} │ ", axis.name), bar));
                 }

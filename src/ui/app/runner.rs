@@ -10,7 +10,7 @@ use tokio::task::JoinHandle;
 
 use super::traffic_log::TrafficLog;
 use super::{App, AppEvent, Connector, Controller, Effect, Pending};
-use crate::device::{DeviceEvent, LinkState, TrafficRecord};
+use crate::device::{Busy, DeviceEvent, LinkState, TrafficRecord};
 use crate::protocol::program::{Progress, TransferFailure};
 use crate::protocol::settings::SettingsCache;
 use crate::session::Cancel;
@@ -83,6 +83,8 @@ pub(super) struct Connection {
     traffic_taken: tokio::time::Instant,
     events: Option<broadcast::Receiver<DeviceEvent>>,
     poll: Option<PollCadence>,
+    /// The line the controller is busy with, where it can be.
+    busy: Option<watch::Receiver<Option<Busy>>>,
 }
 
 impl Connection {
@@ -98,6 +100,7 @@ impl Connection {
             traffic_pause: TRAFFIC_BATCH,
             traffic_taken: tokio::time::Instant::now(),
             events: controller.events(),
+            busy: controller.busy(),
             controller,
             poll,
         }
@@ -132,6 +135,8 @@ enum Wakeup {
     Changed,
     ChannelGone,
     Traffic(Result<TrafficRecord, broadcast::error::RecvError>),
+    /// The busy line changed.
+    Busy,
     /// The pause after a batch of traffic is over.
     TrafficDue,
     Device(Result<DeviceEvent, broadcast::error::RecvError>),
@@ -283,6 +288,15 @@ impl Runner {
             Ok(()) => Wakeup::Changed,
             Err(_) => Wakeup::ChannelGone,
         };
+        let busy = async {
+            match c.busy.as_mut() {
+                Some(rx) => match rx.changed().await {
+                    Ok(()) => Wakeup::Busy,
+                    Err(_) => std::future::pending().await,
+                },
+                None => std::future::pending().await,
+            }
+        };
         tokio::select! {
             event = input.recv() => Wakeup::Input(event),
             event = internal.recv() => Wakeup::Internal(event),
@@ -293,6 +307,7 @@ impl Runner {
             changed = settings => gone(changed),
             wakeup = traffic => wakeup,
             event = events => Wakeup::Device(event),
+            wakeup = busy => wakeup,
         }
     }
 
@@ -308,6 +323,10 @@ impl Runner {
             Wakeup::ChannelGone => {
                 self.disconnect();
                 AppEvent::Disconnected
+            }
+            Wakeup::Busy => {
+                let busy = self.connection.as_mut()?.busy.as_mut()?;
+                AppEvent::Busy(busy.borrow_and_update().clone())
             }
             Wakeup::Traffic(Ok(record)) => AppEvent::Traffic(record),
             Wakeup::TrafficDue => return None,
@@ -462,6 +481,20 @@ impl Runner {
                 tokio::spawn(async move {
                     let results = stop.await;
                     let _ = tx.send(AppEvent::Stopped(results));
+                });
+            }
+            Effect::AbortLine | Effect::PauseLine => {
+                let Some(c) = self.connection.as_ref() else {
+                    queue.push(not_connected());
+                    return;
+                };
+                let controller = Arc::clone(&c.controller);
+                // What it did shows as the busy line changing (or ending).
+                tokio::spawn(async move {
+                    match effect {
+                        Effect::AbortLine => drop(controller.abort_line().await),
+                        _ => drop(controller.pause_line().await),
+                    }
                 });
             }
             Effect::EndRun {

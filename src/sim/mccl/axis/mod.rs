@@ -10,7 +10,7 @@
 //! The motor models (the manual gives no PID or motor equations; the
 //! choices are listed in [`crate::sim::mccl::choices`]):
 //! - a servo's shaft follows the optimal position with a first-order lag
-//!   whose time constant is 4 ms at SG 0.04 and shrinks as SG grows, so it
+//!   whose time constant is 1 ms at SG 0.04 and shrinks as SG grows, so it
 //!   trails a move (TF, SE trips) and settles into DB after it (WT, DT);
 //!   the encoder reads the shaft rounded to a count;
 //! - a stepper's shaft turns with every step unless it is stalled (an
@@ -30,7 +30,7 @@ use settings::{AxisKind, Settings, Units};
 pub use capture::{Compare, Record};
 
 /// The servo lag's time constant at the default gain, seconds.
-pub const SERVO_LAG: f64 = 0.004;
+pub const SERVO_LAG: f64 = 0.001;
 
 /// Torque mode: the unloaded servo runs at this many counts per second per
 /// volt of SQ (the manual gives no load model).

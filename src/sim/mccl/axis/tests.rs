@@ -30,8 +30,8 @@ fn the_servo_shaft_closes_on_a_step_with_its_time_constant() {
     axis.settings.following_limit = 0.0;
     axis.mode = Mode::Gain;
     axis.move_to(1000.0);
-    tick(&mut axis, 4);
-    // After one time constant (4 ms) a first-order lag has covered 1 − 1/e.
+    tick(&mut axis, 1);
+    // After one time constant (1 ms) a first-order lag has covered 1 − 1/e.
     let covered = axis.shaft / 1000.0;
     assert!(
         (covered - (1.0 - (-1.0f64).exp())).abs() < 0.01,

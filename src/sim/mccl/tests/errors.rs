@@ -62,7 +62,7 @@ fn every_code_of_chapter_14_has_its_input() {
     assert_eq!(s.typed("\x1b"), "?-7 WA5\r\n>");
     // -13: a move on an axis that tripped.
     s.quiet(&["3SE10,3SV100000,3MR100000"]);
-    s.advance_ms(20);
+    s.advance_ms(100);
     assert_eq!(s.error("3MR100"), -13);
     // -18: a macro over 255 bytes.
     let long = vec!["1WS.5"; 26].join(",");

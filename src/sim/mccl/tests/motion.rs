@@ -32,20 +32,30 @@ fn the_manuals_half_second_ramps_on_a_servo() {
 }
 
 #[test]
-fn the_servo_lags_its_trajectory_by_speed_times_4_ms() {
+fn the_servo_lags_its_trajectory_by_its_time_constant() {
     let mut s = Session::new();
-    s.quiet(&["1SV10000,1SA1000000,1DS1000000,1MN", "1MR100000"]);
+    s.quiet(&["1SV100000,1SA10000000,1DS10000000,1MN", "1MR1000000"]);
     s.advance_ms(300);
-    // At 10000 c/s a 4 ms lag, sampled each 1 ms tick, trails by
-    // v·dt / (e^(dt/τ) − 1) ≈ 35 counts.
-    let lag = |tau: f64| 10.0 / ((0.001f64 / tau).exp() - 1.0);
+    // At 100000 c/s a 1 ms lag, sampled each 1 ms tick, trails by
+    // v·dt / (e^(dt/τ) − 1) ≈ 58 counts.
+    let lag = |tau: f64| 100.0 / ((0.001f64 / tau).exp() - 1.0);
     let error = s.tell("1TF");
-    assert!((error - lag(0.004)).abs() <= 1.0, "TF {error}");
-    // A stiffer gain shortens the lag (SG 0.08: 2 ms).
+    assert!((error - lag(0.001)).abs() <= 1.0, "TF {error}");
+    // A stiffer gain shortens the lag (SG 0.08: 0.5 ms).
     s.quiet(&["1SG.08"]);
     s.advance_ms(50);
     let error = s.tell("1TF");
-    assert!((error - lag(0.002)).abs() <= 1.0, "TF {error}");
+    assert!((error - lag(0.0005)).abs() <= 1.0, "TF {error}");
+}
+
+#[test]
+fn a_servo_lands_within_a_count_when_its_trajectory_completes() {
+    // The acceptance's `1MN`, `1MA1000`, `1WS`, `1TP`: a lag of 1 ms at the
+    // default deceleration leaves a·τ² = 0.2 counts when the trajectory
+    // completes.
+    let mut s = Session::new();
+    s.quiet(&["1MN", "1MA1000", "1WS"]);
+    assert_eq!(s.tell("1TP"), 1000.0);
 }
 
 #[test]
@@ -53,7 +63,7 @@ fn a_following_error_beyond_se_turns_the_motor_off_and_ws_fails() {
     // Ch5 SE: "if the position error exceeds the specified value the motor
     // error status flag will be set, and the axis will be turned off".
     let mut s = Session::new();
-    s.quiet(&["1SE100,1SV100000,1SA10000000,1DS10000000,1MN"]);
+    s.quiet(&["1SE50,1SV100000,1SA10000000,1DS10000000,1MN"]);
     assert_eq!(s.line("1MR100000,1WS"), ["?-13 1WS"]);
     let ts = s.status(1);
     assert_eq!(ts & status::MOTOR_ERROR, status::MOTOR_ERROR);
