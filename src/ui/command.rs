@@ -7,7 +7,10 @@
 
 mod assist;
 mod busy;
+mod confirm;
 mod history;
+mod record;
+mod runs;
 mod store;
 
 use std::collections::HashMap;
@@ -33,7 +36,10 @@ use crate::protocol::program::{HostStart, ProgramTool};
 use crate::protocol::{FAMILIES, Family, find_family};
 use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
 use crate::session::{LineResult, SessionError};
+use confirm::{Confirming, Deferred};
 use history::History;
+use record::Recording;
+use runs::is_host_command;
 
 /// Lines of output kept; older ones scroll away for good.
 const OUTPUT_LIMIT: usize = 5000;
@@ -185,40 +191,6 @@ pub struct CommandPane {
     busy_family: Option<&'static str>,
     /// The `:programs` or `:tasks` job under way.
     store_job: Option<store::StoreJob>,
-}
-
-/// A recording of the lines sent (SQPack's "Record Macro", §5.4.6).
-#[derive(Debug)]
-struct Recording {
-    path: PathBuf,
-    /// The language's lines so far, written to the file after each.
-    lines: Vec<String>,
-    tool: &'static dyn ProgramTool,
-}
-
-/// What is sent once the user says yes.
-#[derive(Debug)]
-enum Deferred {
-    /// A typed line.
-    Line(String),
-    /// A checked batch, and what becomes of the axes if it fails.
-    Batch {
-        batch: Batch,
-        policy: Option<StopOnFailure>,
-    },
-    /// A checked host run.
-    Host {
-        program: HostStart,
-        file: String,
-        policy: Option<StopOnFailure>,
-    },
-}
-
-/// A question before sending: why each line needs the user's yes.
-#[derive(Debug)]
-struct Confirming {
-    then: Deferred,
-    reasons: Vec<String>,
 }
 
 impl Default for CommandPane {
@@ -378,61 +350,6 @@ impl CommandPane {
         })
     }
 
-    /// The family's warnings about a line about to be sent, with what the
-    /// session knows of the settings written before.
-    fn say_warnings(&mut self, session: &Snapshot, line: &PreparedLine) {
-        for warning in session.family.console.warnings(line, &session.settings) {
-            self.say(Role::Warning, format!("  warning: {warning}"));
-        }
-    }
-
-    /// Hold `then` until the user says yes (or no).
-    fn ask(&mut self, then: Deferred, reasons: Vec<String>) -> Outcome {
-        self.confirming = Some(Confirming { then, reasons });
-        Outcome::redraw()
-    }
-
-    /// A key while a question is open: y sends, n or the cancel key
-    /// drops it; other keys go to the app (the focus keys still work).
-    fn confirm_key(&mut self, key: &KeyEvent, view: &View) -> Outcome {
-        let yes = matches!(key.code, KeyCode::Char('y' | 'Y'));
-        let no = matches!(key.code, KeyCode::Char('n' | 'N'))
-            || view.keymap.action_for(Context::Command, key) == Some(Action::Cancel);
-        if !yes && !no {
-            return Outcome::Ignored;
-        }
-        let Some(Confirming { then, .. }) = self.confirming.take() else {
-            return Outcome::Ignored;
-        };
-        if no {
-            let what = match &then {
-                Deferred::Line(line) => format!("  not sent: {line}"),
-                Deferred::Batch { batch, .. } => format!("{}: not run, nothing sent", batch.name()),
-                Deferred::Host { file, .. } => format!("{file}: not run, nothing sent"),
-            };
-            self.say(Role::Warning, what);
-            return Outcome::redraw();
-        }
-        if view.session.is_none() {
-            return self.fail(not_connected());
-        }
-        match then {
-            Deferred::Line(line) => self.send_typed(line),
-            Deferred::Batch { batch, policy } => {
-                self.run_policy = policy;
-                self.run_batch(batch, view)
-            }
-            Deferred::Host {
-                program,
-                file,
-                policy,
-            } => {
-                self.run_policy = policy;
-                self.begin_host_run(program, &file, view)
-            }
-        }
-    }
-
     fn console_command(&mut self, line: &str, view: &View) -> Outcome {
         let body = line.trim_start_matches(':');
         let (name, rest) = match body.split_once(char::is_whitespace) {
@@ -562,132 +479,6 @@ impl CommandPane {
         Outcome::request(request)
     }
 
-    /// Start a run (`:run`, `:run-ascript`) whose end, if it fails or is
-    /// cancelled, goes to the session under `policy`. Typed directives
-    /// (`:expect` alone) have none: a check typed by hand stops nothing.
-    fn with_run_policy(
-        &mut self,
-        policy: StopOnFailure,
-        start: impl FnOnce(&mut CommandPane) -> Outcome,
-    ) -> Outcome {
-        if self.batch.is_some() || self.host.is_some() {
-            // Refused, with its message: the run going keeps its policy.
-            return start(self);
-        }
-        self.run_policy = Some(policy);
-        let outcome = start(self);
-        if self.batch.is_none() && self.host.is_none() {
-            // Not started, or over already (its end was asked for).
-            self.run_policy = None;
-        }
-        outcome
-    }
-
-    /// The request that ends the run going, if it has a policy.
-    fn end_run(&mut self, ending: RunEnding) -> Option<Request> {
-        let policy = self.run_policy.take()?;
-        (ending != RunEnding::Completed).then_some(Request::EndRun { ending, policy })
-    }
-
-    /// `:record-macro FILE | off`: record every line sent from here (typed
-    /// or from a batch, once sent) as the connected family's program tool
-    /// writes it, into FILE, rewritten after each line so that nothing
-    /// recorded is lost; `off` ends it. An existing file is not
-    /// overwritten.
-    fn record_command(&mut self, rest: &str, view: &View) -> Outcome {
-        if rest.eq_ignore_ascii_case("off") {
-            return match self.recording.take() {
-                Some(recording) => {
-                    self.say(
-                        Role::Ok,
-                        format!(
-                            "recording ended: {} line(s) in {}",
-                            recording.lines.len(),
-                            recording.path.display()
-                        ),
-                    );
-                    Outcome::redraw()
-                }
-                None => self.fail("nothing is being recorded"),
-            };
-        }
-        if rest.is_empty() {
-            return self.fail(":record-macro needs a file name (or off)");
-        }
-        let Some(session) = view.session else {
-            return self.fail(not_connected());
-        };
-        // The tool records if it can say the family's own identity query.
-        let probe = session.family.console.identify(session.address).bytes;
-        let Some(tool) = session
-            .family
-            .console
-            .program()
-            .filter(|t| t.record(&probe).is_some())
-        else {
-            return self.fail(format!(
-                "the {} family's program language cannot record the lines sent",
-                session.family.name
-            ));
-        };
-        let path = PathBuf::from(rest);
-        if path.exists() {
-            return self.fail(format!(
-                "{} exists: give a new file name (nothing is overwritten)",
-                path.display()
-            ));
-        }
-        if let Err(e) = crate::files::write_atomically(&path, b"") {
-            return self.fail(format!("cannot write {}: {e}", path.display()));
-        }
-        if let Some(before) = self.recording.take() {
-            self.say(
-                Role::Muted,
-                format!(
-                    "recording to {} ended: {} line(s)",
-                    before.path.display(),
-                    before.lines.len()
-                ),
-            );
-        }
-        self.say(
-            Role::Accent,
-            format!(
-                "recording every line sent from here to {} as {} ({} off ends it)",
-                path.display(),
-                tool.name(),
-                ":record-macro"
-            ),
-        );
-        self.recording = Some(Recording {
-            path,
-            lines: Vec::new(),
-            tool,
-        });
-        Outcome::redraw()
-    }
-
-    /// Add a line that was sent to the recording, if one goes.
-    fn record_sent(&mut self, request: &[u8]) {
-        let Some(recording) = self.recording.as_mut() else {
-            return;
-        };
-        let Some(line) = recording.tool.record(request) else {
-            return;
-        };
-        recording.lines.push(line);
-        let mut text = recording.lines.join("\n");
-        text.push('\n');
-        if let Err(e) = crate::files::write_atomically(&recording.path, text.as_bytes()) {
-            let path = recording.path.display().to_string();
-            self.recording = None;
-            self.say(
-                Role::Error,
-                format!("recording stopped: cannot write {path}: {e}"),
-            );
-        }
-    }
-
     /// An answer to a line of `:programs` or `:tasks`.
     fn store_reply(
         &mut self,
@@ -729,192 +520,6 @@ impl CommandPane {
     fn fail(&mut self, message: impl Into<String>) -> Outcome {
         self.say(Role::Error, message);
         Outcome::redraw()
-    }
-
-    /// `:run-ascript FILE [N…]`, `:run-macro FILE`: check the whole file,
-    /// then run it from the host, as the connected family's program tool
-    /// whose command it is offers it ([`crate::protocol::program::HostRun`]).
-    fn start_host_run(&mut self, command: &str, rest: &str, view: &View) -> Outcome {
-        if self.batch.is_some() || self.host.is_some() {
-            return self.fail("a batch or a host run is going: wait for it, or stop it (Esc)");
-        }
-        let Some(session) = view.session else {
-            return self.fail(not_connected());
-        };
-        let Some(tool) = session
-            .family
-            .console
-            .program()
-            .filter(|tool| tool.runs_from_host() && tool.host_command() == Some(command))
-        else {
-            return self.fail(no_host_run(session.family, command));
-        };
-        // Trailing numbers are the PRG blocks to start.
-        let mut words: Vec<&str> = rest.split_whitespace().collect();
-        let mut start = Vec::new();
-        while words.len() > 1 {
-            match words.last().and_then(|w| w.parse::<u8>().ok()) {
-                Some(n) => {
-                    start.insert(0, n);
-                    words.pop();
-                }
-                None => break,
-            }
-        }
-        let file = words.join(" ");
-        if file.is_empty() {
-            return self.fail(format!(
-                ":{command} needs a file name (and the programs to start, if not all)"
-            ));
-        }
-        let text = match crate::files::read_text(&file) {
-            Ok(text) => text,
-            Err(e) => return self.fail(format!("cannot read {file}: {e}")),
-        };
-        let chosen = (!start.is_empty()).then_some(start.as_slice());
-        let program = match tool.host_run(&file, &text, chosen) {
-            Some(Ok(program)) => program,
-            Some(Err(problems)) => {
-                for problem in problems {
-                    self.say(Role::Error, problem);
-                }
-                return self.fail(format!("{file}: nothing was sent"));
-            }
-            None => return self.fail(no_host_run(session.family, command)),
-        };
-        for warning in &program.warnings {
-            self.say(Role::Warning, warning.clone());
-        }
-        if !program.confirm.is_empty() {
-            let reasons = program.confirm.clone();
-            let policy = self.run_policy;
-            return self.ask(
-                Deferred::Host {
-                    program,
-                    file,
-                    policy,
-                },
-                reasons,
-            );
-        }
-        self.begin_host_run(program, &file, view)
-    }
-
-    /// Run a checked program from the host.
-    fn begin_host_run(&mut self, program: HostStart, file: &str, view: &View) -> Outcome {
-        self.say(
-            Role::Accent,
-            format!(
-                "running {file} from the host: {} ({} stops it, {} stops everything)",
-                program.started,
-                key_label(view.keymap, Context::Command, Action::Cancel),
-                key_label(view.keymap, Context::Global, Action::EmergencyStop),
-            ),
-        );
-        let (run, update) = ConsoleHostRun::start(program, &mut self.next_tag);
-        self.host = Some(run);
-        self.host_update(update)
-    }
-
-    /// Show what the host run said, pass on its requests.
-    fn host_update(&mut self, update: HostUpdate) -> Outcome {
-        for (role, text) in update.said {
-            self.say(role, text);
-        }
-        let mut requests = update.requests;
-        if let Some(end) = update.ended {
-            self.host = None;
-            requests.extend(self.end_run(RunEnding::from_success(end.ok)));
-        }
-        Outcome::Handled(requests)
-    }
-
-    /// Stop the host run, if one goes: nothing more of it is sent.
-    fn stop_host_run(&mut self) -> Option<String> {
-        self.host.take().map(|run| run.name().to_string())
-    }
-
-    fn start_batch(&mut self, name: &str, text: &str, view: &View) -> Outcome {
-        if self.host.is_some() {
-            return self.fail("a host run is going: wait for it, or stop it (Esc)");
-        }
-        if self.batch.is_some() {
-            return self.fail("a batch is running: wait for it, or cancel it (Esc)");
-        }
-        let Some(session) = view.session else {
-            return self.fail(not_connected());
-        };
-        match Batch::check(name, text, session.family, session.address) {
-            Err(problems) => {
-                for problem in problems {
-                    self.say(Role::Error, problem);
-                }
-                self.fail(format!("{name}: nothing was sent"))
-            }
-            Ok(batch) => {
-                if !batch.confirmations().is_empty() {
-                    let reasons = batch.confirmations().to_vec();
-                    let policy = self.run_policy;
-                    return self.ask(Deferred::Batch { batch, policy }, reasons);
-                }
-                self.run_batch(batch, view)
-            }
-        }
-    }
-
-    /// Run a checked batch.
-    fn run_batch(&mut self, batch: Batch, view: &View) -> Outcome {
-        if batch.len() > 1 {
-            self.say(
-                Role::Muted,
-                format!("{}: {} steps", batch.name(), batch.len()),
-            );
-        }
-        self.batch = Some(batch);
-        let steps = self.batch.as_mut().map(Batch::advance).unwrap_or_default();
-        self.batch_steps(steps, view)
-    }
-
-    /// Carry out what the batch asks for next.
-    fn batch_steps(&mut self, steps: Vec<BatchStep>, view: &View) -> Outcome {
-        let mut requests = Vec::new();
-        for step in steps {
-            match step {
-                BatchStep::Send(line) => {
-                    if let Some(session) = view.session
-                        && let Ok(prepared) = session.family.console.prepare(&line, session.address)
-                    {
-                        self.say_warnings(session, &prepared);
-                    }
-                    let tag = self.tag(Origin::Batch);
-                    requests.push(Request::Send {
-                        lines: vec![line],
-                        tag,
-                    });
-                }
-                BatchStep::Wake(after) => {
-                    self.next_tag += 1;
-                    self.batch_wake = Some(self.next_tag);
-                    requests.push(Request::WakeAfter {
-                        after,
-                        tag: self.next_tag,
-                    });
-                }
-                BatchStep::Echo(text) => self.say(Role::Normal, text),
-                BatchStep::Failed(message) => {
-                    self.batch = None;
-                    self.say(Role::Error, message);
-                    requests.extend(self.end_run(RunEnding::Failed));
-                }
-                BatchStep::Done => {
-                    if self.batch.take().is_some_and(|b| b.len() > 1) {
-                        self.say(Role::Ok, "batch done");
-                    }
-                    self.run_policy = None;
-                }
-            }
-        }
-        Outcome::Handled(requests)
     }
 
     fn edit_key(&mut self, key: &KeyEvent, view: &View) -> Outcome {
@@ -1511,35 +1116,6 @@ impl Pane for CommandPane {
             _ => Outcome::Ignored,
         }
     }
-}
-
-/// Whether `command` runs some family's programs from the host
-/// ([`crate::protocol::program::ProgramTool::host_command`]).
-fn is_host_command(command: &str) -> bool {
-    FAMILIES
-        .iter()
-        .filter_map(|f| f.console.program())
-        .any(|t| t.runs_from_host() && t.host_command() == Some(command))
-}
-
-/// Why `:COMMAND` runs nothing on a module of `family`: whose programs it
-/// runs from the host.
-fn no_host_run(family: &Family, command: &str) -> String {
-    let offered: Vec<String> = FAMILIES
-        .iter()
-        .filter_map(|f| {
-            let tool = f
-                .console
-                .program()
-                .filter(|t| t.runs_from_host() && t.host_command() == Some(command))?;
-            Some(format!("{} ({})", tool.name(), f.name))
-        })
-        .collect();
-    format!(
-        ":{command} runs {} from the host; this module speaks {}",
-        offered.join(", "),
-        family.name
-    )
 }
 
 fn not_connected() -> String {
