@@ -25,7 +25,7 @@ use crate::protocol::console::ReplyValue;
 use crate::protocol::program::{
     Checked, CheckedProgram, Deletion, DownloadOptions, Problem, ProgramStore, ProgramTool,
     SourceLoader, StoredProgram, SyntaxClass, TransferFailure, TransferPlan, UploadExtent,
-    VariableSet, Wording,
+    VariableSet,
 };
 
 /// The console the tool prepares its lines with.
@@ -189,13 +189,6 @@ impl ProgramTool for MclTool {
     /// `init.mfx1` is the manual's own text file (Ch4 Figure 7).
     fn extensions(&self) -> &'static [&'static str] {
         &["mccl", "mfx", "mfx1"]
-    }
-
-    fn wording(&self) -> Wording {
-        Wording {
-            passes: "checks",
-            pass: "check",
-        }
     }
 
     fn unit(&self) -> &'static str {

@@ -22,7 +22,7 @@ use super::macros::{self, EXTENSIONS, MacroCheck, MacroFrame, MacroLine};
 use crate::protocol::program::{
     Answer, Checked, CheckedProgram, DownloadOptions, HostEnd, HostNews, HostRun, HostStart,
     HostStep, PlaceState, Problem, ProgramTool, RunningPlace, SourceLoader, SyntaxClass, Tone,
-    TransferFailure, TransferPlan, Wording,
+    TransferFailure, TransferPlan,
 };
 
 /// The wait after a frame the unit does not answer: 9 bytes at 9600 Bd
@@ -102,13 +102,6 @@ impl ProgramTool for MacroTool {
 
     fn extensions(&self) -> &'static [&'static str] {
         EXTENSIONS
-    }
-
-    fn wording(&self) -> Wording {
-        Wording {
-            passes: "checks",
-            pass: "check",
-        }
     }
 
     fn unit(&self) -> &'static str {
