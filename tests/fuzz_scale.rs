@@ -22,6 +22,7 @@ use std::time::Duration;
 use axterm::protocol::FAMILIES;
 use axterm::protocol::cmd4cr::ascript;
 use axterm::protocol::console::Answering;
+use axterm::protocol::program::NoIncludes;
 use axterm::protocol::tmcl::asm::{self, ProgramWord};
 use axterm::protocol::wire::Verdict;
 use axterm::script::check_script;
@@ -558,6 +559,75 @@ fn the_ascript_compiler_never_panics() {
         },
     );
     assert_no_panics(&[report]);
+}
+
+/// Every family's program tool (TMCL programs, A-Script, SQPack macro
+/// files, MCCL text files…) checks, colours and annotates any text without
+/// a panic: documents of the family's own lines, of what the tool records
+/// for the frames it is sent, and the manual's texts, bent.
+#[test]
+fn program_tools_never_panic() {
+    let mut reports = Vec::new();
+    for corpus in corpora() {
+        let Some(tool) = corpus.family.console.program() else {
+            continue;
+        };
+        let mut lines: Vec<String> = corpus.lines.iter().map(|(l, _)| l.clone()).collect();
+        lines.extend(
+            corpus
+                .lines
+                .iter()
+                .filter_map(|(_, prepared)| tool.record(&prepared.bytes)),
+        );
+        lines.extend(
+            corpus
+                .texts
+                .iter()
+                .flat_map(|t| t.lines().map(str::to_string)),
+        );
+        let words: Vec<String> = corpus
+            .words
+            .iter()
+            .cloned()
+            .chain(fuzz_support::EDGE_NUMBERS.iter().map(|s| (*s).to_string()))
+            .collect();
+        let texts: Vec<&str> = corpus.texts.iter().map(String::as_str).collect();
+        reports.push(run(
+            "program-tool",
+            corpus.family.name,
+            cases(),
+            seed(),
+            |rng| {
+                if rng.chance(10) {
+                    return noise_text(rng, 200);
+                }
+                if rng.chance(30)
+                    && let Some(text) = rng.pick(&texts)
+                {
+                    return bend_document(rng, text, &lines, &words);
+                }
+                text_of_lines(rng, 30, |rng| {
+                    let line = rng.pick(&lines).cloned().unwrap_or_default();
+                    if rng.chance(35) {
+                        bend_text(rng, &line, &words)
+                    } else {
+                        line
+                    }
+                })
+            },
+            |source| {
+                let checked = tool.check("fuzz", source, &NoIncludes);
+                let shown: Vec<String> = source.lines().map(str::to_string).collect();
+                let _ = tool.highlight(&shown, 0..shown.len());
+                let _ = tool.annotations(&shown, 0..shown.len());
+                for (row, line) in shown.iter().enumerate().take(4) {
+                    let _ = tool.variable_on_line(line, row % (line.len() + 1));
+                }
+                checked.program.is_some()
+            },
+        ));
+    }
+    assert_no_panics(&reports);
 }
 
 #[test]
