@@ -190,3 +190,40 @@ async fn settings_written_are_kept_until_the_unit_reports_a_reset() {
         "a reset flag says a reset came after the flag was last read"
     );
 }
+
+#[tokio::test(start_paused = true)]
+async fn the_reference_lamp_follows_the_null_positive_flag_written() {
+    let session = connect().await;
+    let home = |session: &Session| session.status().borrow()[0].home_switch;
+    // Power-on: the carriage stands off its opener switch, whose closed
+    // contact pulls the input low; "the reference inputs are inverted"
+    // (§7.3), so the bit reads 1: active for the factory NullPositive = 0
+    // (§6.4.2).
+    session
+        .execute_line("GetInputValues 0")
+        .await
+        .expect("read");
+    assert_eq!(home(&session), Some(true));
+    // With NullPositive set the switch is active high (§5.5.2.3): the same
+    // level is the inactive state, on the gauge as in the unit.
+    session
+        .execute_line("SetMotorParameters 0 10000 NullLeft,NullPositive")
+        .await
+        .expect("written");
+    session
+        .execute_line("GetInputValues 0")
+        .await
+        .expect("read");
+    assert_eq!(home(&session), Some(false));
+    // Forgotten at a reset: the factory reading again.
+    session
+        .execute_line("HardwareReset")
+        .await
+        .expect("written");
+    tokio::time::sleep(Duration::from_millis(1500)).await;
+    session
+        .execute_line("GetInputValues 0")
+        .await
+        .expect("read");
+    assert_eq!(home(&session), Some(true));
+}

@@ -486,6 +486,22 @@ pub trait FamilyConsole: Send + Sync {
     /// positions, §2.6.1.1).
     fn status_update(&self, line: &PreparedLine, reading: &Reading) -> Vec<(usize, AxisUpdate)>;
 
+    /// [`FamilyConsole::status_update`] in the light of the settings the
+    /// session knows were written (`known`): a family whose readings mean
+    /// different things under different settings overrides this (SIXpack
+    /// 2: whether a reference input is active high or low follows its
+    /// motor's NullPositive flag, §6.4.2). By default settings change
+    /// nothing.
+    fn status_update_known(
+        &self,
+        line: &PreparedLine,
+        reading: &Reading,
+        known: &SettingsCache,
+    ) -> Vec<(usize, AxisUpdate)> {
+        let _ = known;
+        self.status_update(line, reading)
+    }
+
     /// Candidates for the word of `line` at byte offset `cursor`: command
     /// names, symbolic operands, parameter numbers (found by number or by
     /// name), from the family's catalogue. None by default.

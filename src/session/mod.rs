@@ -658,7 +658,13 @@ impl Session {
                 every: if poll.fast { cadence.fast } else { slow },
             })
             .collect();
-        let sink = StatusSink::new(self.family, polls, Arc::clone(&self.board), context);
+        let sink = StatusSink::new(
+            self.family,
+            polls,
+            Arc::clone(&self.board),
+            context,
+            Some(self.settings.subscribe()),
+        );
         self.device.set_poll_plan(Some(PollPlan {
             items,
             sink: Box::new(sink),
@@ -778,7 +784,8 @@ impl Session {
             }
         })?;
         if line.address == self.address {
-            for (axis, update) in console.status_update(line, &reading) {
+            let updates = console.status_update_known(line, &reading, &self.settings.borrow());
+            for (axis, update) in updates {
                 status::post(&self.board, axis, update);
             }
             settings::record(&self.settings, console, line, &reading);

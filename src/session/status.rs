@@ -23,6 +23,7 @@ use crate::protocol::Family;
 use crate::protocol::console::{
     AxisFlag, AxisUpdate, LinkContext, MotionPhase, StatusPoll, SwitchKind, interpret_line,
 };
+use crate::protocol::settings::SettingsCache;
 
 /// What the console knows of one axis. `None` until first read.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -327,6 +328,9 @@ pub(crate) struct StatusSink {
     pub meter: RefreshMeter,
     /// The family's per-link state the polls were adapted to.
     pub context: Option<Arc<dyn LinkContext>>,
+    /// The settings the session knows were written, which some readings
+    /// are read in the light of.
+    pub settings: Option<watch::Receiver<SettingsCache>>,
 }
 
 impl StatusSink {
@@ -335,6 +339,7 @@ impl StatusSink {
         polls: Vec<StatusPoll>,
         board: StatusBoard,
         context: Option<Arc<dyn LinkContext>>,
+        settings: Option<watch::Receiver<SettingsCache>>,
     ) -> Self {
         StatusSink {
             meter: RefreshMeter::new(&polls),
@@ -342,6 +347,7 @@ impl StatusSink {
             polls,
             board,
             context,
+            settings,
         }
     }
 
@@ -357,7 +363,11 @@ impl StatusSink {
         let Ok(reading) = interpret_line(console, &poll.line, &answer.frames, context) else {
             return false;
         };
-        for (axis, update) in console.status_update(&poll.line, &reading) {
+        let updates = match &self.settings {
+            Some(settings) => console.status_update_known(&poll.line, &reading, &settings.borrow()),
+            None => console.status_update(&poll.line, &reading),
+        };
+        for (axis, update) in updates {
             post(&self.board, axis, update);
         }
         true
@@ -454,7 +464,7 @@ mod tests {
         let polls = family.console.status_queries(1);
         let (board, status) = watch::channel(vec![AxisStatus::default()]);
         (
-            StatusSink::new(family, polls, Arc::new(board), None),
+            StatusSink::new(family, polls, Arc::new(board), None, None),
             status,
         )
     }

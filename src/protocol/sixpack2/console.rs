@@ -236,6 +236,24 @@ pub(super) fn known_of(cache: &SettingsCache) -> Known {
     known
 }
 
+/// Whether motor `axis`'s NullPositive flag (`$15` flags bit 14) is known
+/// to be set by what the session wrote.
+fn null_positive(known: &SettingsCache, axis: usize) -> bool {
+    let Some(flags) = super::catalog::by_code(0x15)
+        .and_then(|spec| spec.fields.iter().position(|f| f.name == "flags"))
+        .and_then(|index| u16::try_from(index).ok())
+    else {
+        return false;
+    };
+    let scope = Scope::Axis(u8::try_from(axis).unwrap_or(u8::MAX));
+    known
+        .value(scope, 0x1500 | flags)
+        .is_some_and(|value| value & (1 << NULL_POSITIVE_BIT) != 0)
+}
+
+/// NullPositive's bit in the motor flags (§7.1 `$15` P6 bit 6).
+const NULL_POSITIVE_BIT: u32 = 14;
+
 /// The request a prepared line carries.
 fn request_of(line: &PreparedLine) -> Option<Request> {
     Request::from_bytes(&line.bytes)
@@ -479,6 +497,27 @@ impl FamilyConsole for Sixpack2Console {
                 }
             }
             _ => {}
+        }
+        updates
+    }
+
+    /// The `$30` bits are the reference inputs' levels inverted (§7.3);
+    /// which level is the active one is the motor's NullPositive flag
+    /// (§6.4.2, factory 0: low). Where the session wrote the flags this
+    /// session, a set NullPositive makes a 0 bit the active state.
+    fn status_update_known(
+        &self,
+        line: &PreparedLine,
+        reading: &Reading,
+        known: &SettingsCache,
+    ) -> Vec<(usize, AxisUpdate)> {
+        let mut updates = self.status_update(line, reading);
+        for (axis, update) in &mut updates {
+            if let AxisUpdate::Switch(SwitchKind::Home, active) = update
+                && null_positive(known, *axis)
+            {
+                *active = !*active;
+            }
         }
         updates
     }
