@@ -1,6 +1,4 @@
-use clap::Parser;
-
 fn main() {
-    let cli = axterm::cli::Cli::parse();
+    let cli = axterm::cli::links::parse();
     std::process::exit(axterm::cli::run(cli));
 }

@@ -512,6 +512,8 @@ fn the_family_of_the_choice_is_told_when_it_changes() {
         theme: &theme,
         keymap: &keymap,
         session: None,
+        modules: &[],
+        module: 0,
         focused: true,
         shown: true,
     };

@@ -227,6 +227,8 @@ fn memory_is_a_ring_of_the_last_frames() {
         theme: &theme,
         keymap: &keymap,
         session: Some(&session),
+        modules: &[],
+        module: 0,
         focused: true,
         shown: true,
     };

@@ -4,10 +4,9 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use clap::Parser;
-
 use super::connection::{Target, runtime};
-use super::{Cli, ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
+use super::links::{all_links, parse_from};
+use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::link::LinkSpec;
 use crate::ui::PaneSetup;
 use crate::ui::app::{Connector, Controller};
@@ -69,13 +68,19 @@ fn connector() -> Connector {
         }
         Box::pin(async move {
             let argv = std::iter::once("axterm".to_string()).chain(args.iter().cloned());
-            let cli = Cli::try_parse_from(argv).map_err(|e| {
+            let cli = parse_from(argv).map_err(|e| {
                 let text = e.to_string();
                 let first = text.lines().next().unwrap_or("bad connection options");
                 format!(":connect: {}", first.trim_start_matches("error: "))
             })?;
             if !has_connection(&cli.connection) {
                 return Err(":connect needs --sim KIND, --port PATH or --tcp HOST:PORT".into());
+            }
+            if !cli.connection.more_links.is_empty() {
+                return Err(format!(
+                    ":connect opens one link ({} given): add the others with :link-add",
+                    super::links::describe_links(&cli.connection)
+                ));
             }
             open(&cli.connection)
                 .await
@@ -86,11 +91,13 @@ fn connector() -> Connector {
 
 pub fn run(args: &ConnectionArgs, appearance: Appearance) -> i32 {
     // Usage errors are reported before the terminal is touched.
-    if has_connection(args)
-        && let Err(message) = Target::resolve(args)
-    {
-        eprintln!("axterm: {message}");
-        return EXIT_USAGE;
+    if has_connection(args) {
+        for link in all_links(args) {
+            if let Err(message) = Target::resolve(link) {
+                eprintln!("axterm: {message}");
+                return EXIT_USAGE;
+            }
+        }
     }
     let runtime = match runtime() {
         Ok(runtime) => runtime,
@@ -103,18 +110,19 @@ pub fn run(args: &ConnectionArgs, appearance: Appearance) -> i32 {
         history_dir: data_dir(),
     };
     runtime.block_on(async {
-        let controller = if has_connection(args) {
-            match open(args).await {
-                Ok(controller) => Some(controller),
-                Err((code, message)) => {
-                    eprintln!("axterm: {message}");
-                    return code;
+        let mut links = Vec::new();
+        if has_connection(args) {
+            for link in all_links(args) {
+                match open(link).await {
+                    Ok(controller) => links.push(vec![controller]),
+                    Err((code, message)) => {
+                        eprintln!("axterm: {message}");
+                        return code;
+                    }
                 }
             }
-        } else {
-            None
-        };
-        match run_terminal(controller, connector(), &setup, &appearance).await {
+        }
+        match run_terminal(links, connector(), &setup, &appearance).await {
             Ok(()) => EXIT_OK,
             Err(e) => {
                 eprintln!("axterm: the terminal failed: {e}");

@@ -6,6 +6,7 @@ pub mod confirm;
 pub mod connection;
 pub mod console;
 pub mod exec;
+pub mod links;
 pub mod output;
 pub mod run;
 pub mod run_ascript;
@@ -24,7 +25,7 @@ use std::io::Write;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use clap::{Args, Parser, Subcommand};
+use clap::{ArgAction, Args, Parser, Subcommand};
 
 use crate::link::ports;
 use crate::protocol;
@@ -66,38 +67,45 @@ pub struct Cli {
 }
 
 /// Where the controller is: a serial port, a TCP bridge or a built-in simulator.
+///
+/// The console takes several links: each `--sim`, `--port` or `--tcp`
+/// starts one, and the link options after it (up to the next link flag)
+/// are its own; options before the first link flag are every link's
+/// ([`links`]). The other subcommands take one link.
 #[derive(Debug, Clone, Default, Args)]
 pub struct ConnectionArgs {
-    /// Serial port (e.g. /dev/ttyUSB0, COM3).
-    #[arg(long, global = true, conflicts_with_all = ["tcp", "sim"])]
+    /// Serial port (e.g. /dev/ttyUSB0, COM3). Starts a link: the console
+    /// takes several (--port A --port B, mixed with --sim and --tcp).
+    #[arg(long, global = true, action = ArgAction::Append)]
     pub port: Option<String>,
-    /// Serial-over-TCP bridge, HOST:PORT.
-    #[arg(long, global = true, conflicts_with = "sim")]
+    /// Serial-over-TCP bridge, HOST:PORT. Starts a link, as --port.
+    #[arg(long, global = true, action = ArgAction::Append)]
     pub tcp: Option<String>,
     /// Built-in simulator: tmcm1110, cmd4cr, sixpack2, mccl or mccl-eth.
-    #[arg(long, global = true)]
+    /// Starts a link, as --port: `axterm --sim tmcm1110 --sim cmd4cr`.
+    #[arg(long, global = true, action = ArgAction::Append)]
     pub sim: Option<String>,
     /// Protocol family: tmcl, cmd4cr, sixpack2 or mccl (default: the
     /// simulator's, else tmcl).
-    #[arg(long, global = true)]
+    #[arg(long, global = true, action = ArgAction::Append)]
     pub protocol: Option<String>,
     /// Serial baud rate (default: the family's factory rate, 9600; sixpack2
     /// 19200); with --sim, emulate that wire time;
     /// with --tcp, the rate of the serial line behind the bridge (the slow
     /// status polls keep to a share of it).
-    #[arg(long, global = true)]
+    #[arg(long, global = true, action = ArgAction::Append)]
     pub baud: Option<u32>,
     /// Module address on the bus (default: the family's, 1; sixpack2 0);
     /// with --sim, also the simulator's.
-    #[arg(long, global = true)]
+    #[arg(long, global = true, action = ArgAction::Append)]
     pub address: Option<u8>,
     /// Reply timeout in milliseconds (default: from the baud rate).
-    #[arg(long, global = true)]
+    #[arg(long, global = true, action = ArgAction::Append)]
     pub timeout: Option<u64>,
     /// With --sim cmd4cr (and `axterm sim cmd4cr`): A-Script source loaded
     /// into the simulator's program memory, checked first; its PRG blocks
     /// are programs 0-3, started with SACTRLn=1 (or SLOAD at power-on).
-    #[arg(long, global = true, value_name = "FILE")]
+    #[arg(long, global = true, value_name = "FILE", action = ArgAction::Append)]
     pub program: Option<std::path::PathBuf>,
     /// With --sim (and `axterm sim`): drive a simulated input before
     /// anything is sent, e.g. --input IO5=1 (repeatable). cmd4cr:
@@ -113,6 +121,10 @@ pub struct ConnectionArgs {
     /// front, or either (auto, the default).
     #[arg(long = "link-option", global = true, value_name = "NAME=VALUE")]
     pub link_option: Vec<String>,
+    /// The links after the first (the console's `--sim A --sim B`), each
+    /// with its own options; empty for one link.
+    #[arg(skip)]
+    pub more_links: Vec<ConnectionArgs>,
 }
 
 #[derive(Debug, Subcommand)]
@@ -260,6 +272,17 @@ impl Command {
 
 /// Run a parsed command line; returns the process exit code.
 pub fn run(cli: Cli) -> i32 {
+    if let Some(command) = &cli.command
+        && !cli.connection.more_links.is_empty()
+    {
+        eprintln!(
+            "axterm {}: one link at a time ({} given); only the console (axterm with no \
+             subcommand) takes several",
+            command.name(),
+            links::describe_links(&cli.connection)
+        );
+        return EXIT_USAGE;
+    }
     match cli.command {
         Some(Command::Sim {
             kind,

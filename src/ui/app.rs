@@ -18,7 +18,8 @@ mod traffic_log;
 pub use controller::{Connector, Controller, Pending, no_simulator_to_drive};
 pub use layout::{SIDE_MIN_WIDTH, TILE_MIN_HEIGHT, TILE_MIN_WIDTH};
 pub use runner::{
-    TRAFFIC_BATCH, TRAFFIC_BATCH_HIDDEN, TRAFFIC_HEADROOM, run, traffic_pause, worth_showing,
+    TRAFFIC_BATCH, TRAFFIC_BATCH_HIDDEN, TRAFFIC_HEADROOM, join_all, run, run_links, traffic_pause,
+    worth_showing,
 };
 pub use traffic_log::log_line;
 
@@ -28,7 +29,7 @@ use ratatui::crossterm::event::{Event as TermEvent, KeyEvent, KeyEventKind};
 use ratatui::layout::Rect;
 
 use super::keymap::{Action, Context, Keymap, load_keymap};
-use super::pane::{Input, Notice, Outcome, Pane, PaneEvent, Request, Snapshot, View};
+use super::pane::{Input, ModuleEntry, Notice, Outcome, Pane, PaneEvent, Request, Snapshot, View};
 use super::theme::{Theme, load_theme};
 use crate::device::{Busy, DeviceEvent, TrafficRecord};
 use crate::protocol::program::{Progress, TransferFailure, TransferJob, TransferReport};
@@ -46,8 +47,16 @@ pub enum AppEvent {
     /// A watch channel of the session changed: take this copy.
     Snapshot(Snapshot),
     /// A connection was just opened (at start or by `:connect`): its
-    /// first snapshot.
+    /// first snapshot. It replaces every module the console had.
     Connected(Snapshot),
+    /// Module `index` of the list (on link `link`) changed, or joined the
+    /// list (`index` one past its end): take this copy. For the selected
+    /// module this is [`AppEvent::Snapshot`].
+    Module {
+        index: usize,
+        link: usize,
+        snapshot: Snapshot,
+    },
     /// No controller any more (or not yet).
     Disconnected,
     Traffic(TrafficRecord),
@@ -132,6 +141,8 @@ pub enum Effect {
     },
     Log(Option<std::path::PathBuf>),
     Connect(Vec<String>),
+    /// Open one more link beside those open ([`Request::AddLink`]).
+    AddLink(Vec<String>),
     Wake {
         pane: usize,
         tag: u64,
@@ -176,6 +187,11 @@ pub struct App {
     theme: Theme,
     keymap: Keymap,
     snapshot: Option<Snapshot>,
+    /// Every module of every link, grouped by link (the selected one's
+    /// newest copy is `snapshot`).
+    modules: Vec<ModuleEntry>,
+    /// The selected module: index into `modules`, where lines go.
+    module: usize,
     /// What the last emergency stop did, for the status bar, and its
     /// number (it ages out, see [`STATUS_MESSAGE_LIFETIME`]).
     last_stop: Option<(u64, String)>,
@@ -209,6 +225,8 @@ impl App {
             theme,
             keymap,
             snapshot: None,
+            modules: Vec::new(),
+            module: 0,
             last_stop: None,
             status_messages: 0,
             dirty: true,
@@ -236,6 +254,16 @@ impl App {
 
     pub fn snapshot(&self) -> Option<&Snapshot> {
         self.snapshot.as_ref()
+    }
+
+    /// Every module of every link, grouped by link.
+    pub fn modules(&self) -> &[ModuleEntry] {
+        &self.modules
+    }
+
+    /// The selected module (index into [`App::modules`]): where lines go.
+    pub fn selected_module(&self) -> usize {
+        self.module
     }
 
     /// The line the controller is busy with, if any.
@@ -300,12 +328,29 @@ impl App {
                     .as_ref()
                     .is_none_or(|old| !same(old, &snapshot));
                 if changed {
+                    match self.modules.get_mut(self.module) {
+                        Some(entry) => entry.snapshot = snapshot.clone(),
+                        None => self.modules.push(ModuleEntry {
+                            link: 0,
+                            snapshot: snapshot.clone(),
+                        }),
+                    }
                     self.snapshot = Some(snapshot);
                     self.dirty = true;
                     self.broadcast(&PaneEvent::Snapshot, &mut effects);
                 }
             }
+            AppEvent::Module {
+                index,
+                link,
+                snapshot,
+            } => self.module_changed(index, link, snapshot, &mut effects),
             AppEvent::Connected(snapshot) => {
+                self.modules = vec![ModuleEntry {
+                    link: 0,
+                    snapshot: snapshot.clone(),
+                }];
+                self.module = 0;
                 self.snapshot = Some(snapshot);
                 self.dirty = true;
                 self.broadcast(&PaneEvent::Snapshot, &mut effects);
@@ -316,6 +361,8 @@ impl App {
                 if self.busy.take().is_some() {
                     self.broadcast(&PaneEvent::Busy(None), &mut effects);
                 }
+                self.modules.clear();
+                self.module = 0;
                 if self.snapshot.take().is_some() {
                     self.dirty = true;
                     self.broadcast(&PaneEvent::Snapshot, &mut effects);
@@ -517,6 +564,91 @@ impl App {
         self.broadcast(&PaneEvent::Stopping, effects);
     }
 
+    /// Module `index` changed or joined the list.
+    fn module_changed(
+        &mut self,
+        index: usize,
+        link: usize,
+        snapshot: Snapshot,
+        effects: &mut Vec<Effect>,
+    ) {
+        if index == self.module && self.snapshot.is_some() {
+            if let Some(entry) = self.modules.get_mut(index) {
+                entry.link = link;
+            }
+            let axis = self.snapshot.as_ref().map_or(0, |s| s.axis);
+            let snapshot = Snapshot {
+                axis: axis.min(snapshot.axes.len().saturating_sub(1)),
+                ..snapshot
+            };
+            let changed = self
+                .snapshot
+                .as_ref()
+                .is_none_or(|old| !same(old, &snapshot));
+            if changed {
+                if let Some(entry) = self.modules.get_mut(index) {
+                    entry.snapshot = snapshot.clone();
+                }
+                self.snapshot = Some(snapshot);
+                self.dirty = true;
+                self.broadcast(&PaneEvent::Snapshot, effects);
+            }
+            return;
+        }
+        let entry = ModuleEntry { link, snapshot };
+        let count = self.modules.len();
+        match self.modules.get_mut(index) {
+            Some(old) if old.link == entry.link && same(&old.snapshot, &entry.snapshot) => return,
+            Some(old) => *old = entry,
+            None if index == count => self.modules.push(entry),
+            None => return,
+        }
+        if self.snapshot.is_none() {
+            // The first module of a console that had none.
+            self.select_module(index, effects);
+        }
+        self.dirty = true;
+    }
+
+    /// Lines go to module `index` from now on; the panes follow it.
+    fn select_module(&mut self, index: usize, effects: &mut Vec<Effect>) {
+        let Some(entry) = self.modules.get(index) else {
+            let notice = Notice::error(format!(
+                "no module {}: the console has {} ({})",
+                index + 1,
+                self.modules.len(),
+                ":module N picks one of them"
+            ));
+            self.broadcast(&PaneEvent::Notice(notice), effects);
+            return;
+        };
+        let snapshot = entry.snapshot.clone();
+        // The axis chosen on the module left is kept for coming back.
+        if let (Some(left), Some(current)) = (self.modules.get_mut(self.module), &self.snapshot) {
+            left.snapshot = current.clone();
+        }
+        self.module = index;
+        self.snapshot = Some(snapshot);
+        self.dirty = true;
+        self.broadcast(&PaneEvent::Snapshot, effects);
+    }
+
+    /// The selected module as the status bar and the prompt name it:
+    /// `module 2/3 sim cmd4cr #1`; `None` with one module or none.
+    pub fn module_label(&self) -> Option<String> {
+        if self.modules.len() < 2 {
+            return None;
+        }
+        let s = &self.modules.get(self.module)?.snapshot;
+        Some(format!(
+            "module {}/{} {} #{}",
+            self.module + 1,
+            self.modules.len(),
+            s.link_name,
+            s.address
+        ))
+    }
+
     /// Show `text` in the status bar as its newest message; its number.
     fn status_message(&mut self, text: String) -> u64 {
         self.status_messages += 1;
@@ -537,6 +669,8 @@ impl App {
             theme: &self.theme,
             keymap: &self.keymap,
             session: self.snapshot.as_ref(),
+            modules: &self.modules,
+            module: self.module,
             focused: true,
             shown: true,
         };
@@ -558,6 +692,8 @@ impl App {
             theme: &self.theme,
             keymap: &self.keymap,
             session: self.snapshot.as_ref(),
+            modules: &self.modules,
+            module: self.module,
             focused: index == self.focus,
             shown: self.is_shown(index),
         };
@@ -602,6 +738,8 @@ impl App {
         match request {
             Request::Send { lines, tag } => effects.push(Effect::Send { pane, tag, lines }),
             Request::EmergencyStop => self.emergency_stop(effects),
+            Request::SelectModule(index) => self.select_module(index, effects),
+            Request::AddLink(args) => effects.push(Effect::AddLink(args)),
             Request::AbortLine => effects.push(Effect::AbortLine),
             Request::PauseLine => effects.push(Effect::PauseLine),
             Request::EndRun { ending, policy } => effects.push(Effect::EndRun {

@@ -27,7 +27,9 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 
 use super::keymap::{Action, Context};
-use super::pane::{Input, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View, key_label};
+use super::pane::{
+    Input, ModuleEntry, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View, key_label,
+};
 use super::theme::{Role, Theme};
 use crate::device::LinkState;
 use crate::protocol::console::{AxisFlag, LoadScale, MotionPhase, ReplyValue};
@@ -614,6 +616,121 @@ impl AxesPane {
     }
 }
 
+/// Rows the grouped list of several modules takes: a heading per link, a
+/// line per module, a row per axis.
+fn module_list_rows(modules: &[ModuleEntry]) -> usize {
+    let links = modules
+        .iter()
+        .enumerate()
+        .filter(|(i, m)| *i == 0 || modules.get(i - 1).is_none_or(|p| p.link != m.link))
+        .count();
+    links
+        + modules
+            .iter()
+            .map(|m| 1 + m.snapshot.axes.len())
+            .sum::<usize>()
+}
+
+impl AxesPane {
+    /// Every module of every link, grouped by link, one row per axis
+    /// (the rows of a low pane), scrolled to keep the selected module's
+    /// selected axis in view. The selected module's rows are this pane's
+    /// (units, speed trends); the others' are raw, as polled.
+    fn render_modules(&mut self, frame: &mut Frame, area: Rect, view: &View) {
+        if let Some(session) = view.session
+            && self.memory.len() != session.status.len()
+        {
+            self.remember(session);
+        }
+        let theme = view.theme;
+        let plain = AxesPane::default();
+        let mut lines: Vec<Line> = Vec::new();
+        let mut selected_row = 0;
+        let mut last_link = None;
+        for (index, entry) in view.modules.iter().enumerate() {
+            let chosen = index == view.module;
+            // The selected module as the panes see it (its axis choice).
+            let module = match view.session {
+                Some(session) if chosen => session,
+                _ => &entry.snapshot,
+            };
+            if last_link != Some(entry.link) {
+                last_link = Some(entry.link);
+                let state = match &module.link {
+                    LinkState::Connected { .. } => "connected".to_string(),
+                    LinkState::Disconnected { reason, .. } => format!("link lost: {reason}"),
+                    LinkState::Closed => "closed".into(),
+                };
+                lines.push(Line::from(vec![
+                    Span::styled(
+                        format!("link {} {}", entry.link + 1, module.link_name),
+                        theme.style(Role::Title),
+                    ),
+                    Span::styled(
+                        format!(" · {state} · {}", poll_text(module)),
+                        theme.style(Role::Muted),
+                    ),
+                ]));
+            }
+            let identity = module
+                .identity
+                .as_ref()
+                .map(|i| format!(" {}", super::text::fit(i, IDENTITY_WIDTH)))
+                .unwrap_or_default();
+            lines.push(Line::from(vec![
+                Span::styled(
+                    format!("{}module {} ", if chosen { "▶" } else { " " }, index + 1),
+                    theme.style(if chosen { Role::Accent } else { Role::Title }),
+                ),
+                Span::styled(
+                    format!("{} #{}{identity}", module.family.name, module.address),
+                    theme.style(Role::Muted),
+                ),
+            ]));
+            let module_view = View {
+                session: Some(module),
+                ..*view
+            };
+            let pane = if chosen { &*self } else { &plain };
+            let shown: Vec<ShownValues> = module
+                .axes
+                .iter()
+                .enumerate()
+                .map(|(i, _)| {
+                    let status = module.status.get(i).cloned().unwrap_or_default();
+                    pane.shown_values(i, &status, &module_view)
+                })
+                .collect();
+            let width_of = |field: fn(&ShownValues) -> &String| {
+                shown
+                    .iter()
+                    .map(|v| field(v).chars().count())
+                    .max()
+                    .unwrap_or(1)
+            };
+            let widths = [
+                width_of(|v| &v.position),
+                width_of(|v| &v.target),
+                width_of(|v| &v.speed),
+                width_of(|v| &v.max_speed),
+            ];
+            for (i, axis) in module.axes.iter().enumerate() {
+                let status = module.status.get(i).cloned().unwrap_or_default();
+                let here = chosen && i == module.axis;
+                if here {
+                    selected_row = lines.len();
+                }
+                let mut row = pane.row(i, axis, &status, here, widths, &module_view);
+                row.spans.insert(0, Span::raw(" "));
+                lines.push(row);
+            }
+        }
+        let skip = (selected_row + 1).saturating_sub(usize::from(area.height));
+        let skip = u16::try_from(skip).unwrap_or(u16::MAX);
+        frame.render_widget(Paragraph::new(lines).scroll((skip, 0)), area);
+    }
+}
+
 /// The lamps of the connected family (none for TMCL, whose driver flags
 /// are listed as text).
 fn family_lamps(view: &View) -> &'static [AxisFlag] {
@@ -803,6 +920,26 @@ impl Pane for AxesPane {
         let Some(s) = view.session else {
             return "Axes — not connected".into();
         };
+        if view.modules.len() > 1 {
+            let links = view
+                .modules
+                .iter()
+                .map(|m| m.link)
+                .collect::<std::collections::BTreeSet<_>>()
+                .len();
+            let units = self.note.clone().unwrap_or_else(|| {
+                format!(
+                    "{} units: {}",
+                    key_label(view.keymap, Context::Axis, Action::ToggleUnits),
+                    self.units.label()
+                )
+            });
+            return format!(
+                "Axes — {} modules on {links} links, module {} selected · {units}",
+                view.modules.len(),
+                view.module + 1
+            );
+        }
         let state = match &s.link {
             LinkState::Connected { .. } => "connected".to_string(),
             LinkState::Disconnected { reason, .. } => format!("link lost: {reason}"),
@@ -837,6 +974,9 @@ impl Pane for AxesPane {
     }
 
     fn height_hint(&self, view: &View, width: u16, room: u16) -> Option<u16> {
+        if view.modules.len() > 1 {
+            return Some(u16::try_from(module_list_rows(view.modules)).unwrap_or(u16::MAX));
+        }
         let axes = view.session.map_or(1, |s| s.axes.len().max(1));
         let cards = u16::try_from(axes.div_ceil(columns(width, axes)))
             .unwrap_or(u16::MAX)
@@ -846,6 +986,10 @@ impl Pane for AxesPane {
     }
 
     fn render(&mut self, frame: &mut Frame, area: Rect, view: &View) {
+        if view.modules.len() > 1 {
+            self.render_modules(frame, area, view);
+            return;
+        }
         let Some(session) = view.session else {
             frame.render_widget(
                 Paragraph::new("not connected: :connect --sim tmcm1110 in the command pane")
@@ -926,6 +1070,14 @@ impl Pane for AxesPane {
             }
             Some(Action::SelectNext) if session.axis + 1 < count => {
                 Outcome::request(Request::SelectAxis(session.axis + 1))
+            }
+            // Past the first or last axis: the module before or after in
+            // the list (the picker of several modules).
+            Some(Action::SelectPrevious) if view.module > 0 => {
+                Outcome::request(Request::SelectModule(view.module - 1))
+            }
+            Some(Action::SelectNext) if view.module + 1 < view.modules.len() => {
+                Outcome::request(Request::SelectModule(view.module + 1))
             }
             Some(Action::AxisStop) => {
                 let line = session

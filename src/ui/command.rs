@@ -62,6 +62,14 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
     (":axis N", "work with axis N (its number or name)"),
     (":address N", "send to the module at address N"),
     (
+        ":module [N]",
+        "send to module N of the axes pane's list (several links or a bus); alone: list them",
+    ),
+    (
+        ":link-add CONNECTION",
+        "open one more link beside those open (as :connect); its module joins the list",
+    ),
+    (
         ":clear [N]",
         "forget the latched error flags of axis N (default: the selected axis)",
     ),
@@ -342,6 +350,47 @@ impl CommandPane {
         self.send_typed(trimmed)
     }
 
+    /// `:module N` picks where lines go; `:module` alone lists the modules.
+    fn module_command(&mut self, rest: &str, view: &View) -> Outcome {
+        if view.modules.is_empty() {
+            return self.fail(not_connected());
+        }
+        if rest.is_empty() {
+            for (index, entry) in view.modules.iter().enumerate() {
+                let s = &entry.snapshot;
+                let mark = if index == view.module { "▶" } else { " " };
+                self.say(
+                    Role::Normal,
+                    format!(
+                        "{mark}{} link {} {} #{} {}",
+                        index + 1,
+                        entry.link + 1,
+                        s.link_name,
+                        s.address,
+                        s.family.name
+                    ),
+                );
+            }
+            return Outcome::redraw();
+        }
+        match rest.parse::<usize>() {
+            Ok(n) if (1..=view.modules.len()).contains(&n) => {
+                let s = view.modules.get(n - 1).map(|e| &e.snapshot);
+                if let Some(s) = s {
+                    self.say(
+                        Role::Muted,
+                        format!("lines go to module {n}: {} #{}", s.link_name, s.address),
+                    );
+                }
+                Outcome::request(Request::SelectModule(n - 1))
+            }
+            _ => self.fail(format!(
+                ":module needs a module number 1..{} (`:module` lists them), not `{rest}`",
+                view.modules.len()
+            )),
+        }
+    }
+
     fn send_typed(&mut self, line: String) -> Outcome {
         let tag = self.tag(Origin::Typed);
         Outcome::request(Request::Send {
@@ -418,6 +467,15 @@ impl CommandPane {
             "theme" if !rest.is_empty() => Request::Theme(rest.to_string()),
             "keymap" if !rest.is_empty() => Request::Keymap(rest.to_string()),
             "theme" | "keymap" => return self.fail(format!(":{name} needs a name")),
+            "module" => return self.module_command(rest, view),
+            "link-add" => {
+                if rest.is_empty() {
+                    return self.fail(
+                        ":link-add needs a connection: --sim cmd4cr, --port PATH or --tcp HOST:PORT",
+                    );
+                }
+                Request::AddLink(rest.split_whitespace().map(str::to_string).collect())
+            }
             "connect" => {
                 if rest.is_empty() {
                     return self.fail(
@@ -823,8 +881,17 @@ impl Pane for CommandPane {
         Context::Command
     }
 
-    fn title(&self, _view: &View) -> String {
-        "Command".into()
+    fn title(&self, view: &View) -> String {
+        // With several modules, the one lines go to.
+        match (view.modules.len() > 1, view.session) {
+            (true, Some(s)) => format!(
+                "Command → module {} ({} #{})",
+                view.module + 1,
+                s.link_name,
+                s.address
+            ),
+            _ => "Command".into(),
+        }
     }
 
     fn region(&self) -> Region {
@@ -1200,6 +1267,8 @@ mod tests {
             theme: &theme,
             keymap: &keymap,
             session,
+            modules: &[],
+            module: 0,
             focused: false,
             shown: true,
         };
@@ -1230,6 +1299,8 @@ mod tests {
             theme: &theme,
             keymap: &keymap,
             session,
+            modules: &[],
+            module: 0,
             focused: true,
             shown: true,
         };
@@ -1291,6 +1362,8 @@ mod tests {
             theme: &theme,
             keymap: &keymap,
             session,
+            modules: &[],
+            module: 0,
             focused: true,
             shown: true,
         };

@@ -222,7 +222,7 @@ pub struct Appearance {
 /// SIGTERM/SIGHUP comes. Must be called inside a tokio runtime. The
 /// terminal is restored whatever happens.
 pub async fn run_terminal(
-    controller: Option<Arc<dyn Controller>>,
+    links: Vec<Vec<Arc<dyn Controller>>>,
     connector: Connector,
     setup: &PaneSetup,
     appearance: &Appearance,
@@ -256,7 +256,7 @@ pub async fn run_terminal(
     let mut terminal = Terminal::new(CrosstermBackend::new(io::stdout()))?;
     let mut app = App::new(panes(setup), theme.value, keymap.value);
     app.set_config_dir(appearance.config_dir.clone());
-    if controller.is_none() {
+    if links.is_empty() {
         // `axterm` alone: choose a connection first.
         app.focus("connect");
     }
@@ -265,9 +265,9 @@ pub async fn run_terminal(
     // runtime's wake-up file descriptor (a write and another epoll round)
     // every time, where waking a task costs no system call at all.
     let looping = tokio::spawn(async move {
-        app::run(
+        app::run_links(
             &mut app,
-            controller,
+            links,
             connector,
             input,
             Some(signals),

@@ -88,13 +88,27 @@ impl Snapshot {
     }
 }
 
+/// One module of the console's list: the link it is on (numbered from 0
+/// in the order the links were opened) and what it shows.
+#[derive(Debug, Clone)]
+pub struct ModuleEntry {
+    pub link: usize,
+    pub snapshot: Snapshot,
+}
+
 /// Everything a pane may read while drawing or reacting.
 #[derive(Clone, Copy)]
 pub struct View<'a> {
     pub theme: &'a Theme,
     pub keymap: &'a Keymap,
     /// `None` when no controller is connected (the connect screen shows).
+    /// With several modules: the selected one, which lines go to.
     pub session: Option<&'a Snapshot>,
+    /// Every module of every link, grouped by link; empty or one entry
+    /// for a console on one module.
+    pub modules: &'a [ModuleEntry],
+    /// The selected module: index into `modules`.
+    pub module: usize,
     /// Whether this pane has the keyboard.
     pub focused: bool,
     /// Whether this pane was on the screen at the last draw (not behind a
@@ -221,6 +235,12 @@ pub enum Request {
     Send { lines: Vec<String>, tag: u64 },
     /// Stop every axis and any standalone program, ahead of everything.
     EmergencyStop,
+    /// Send lines to the module at this index of [`View::modules`] from
+    /// now on (`:module N`, the picker key).
+    SelectModule(usize),
+    /// Open one more link beside those open, with these options (the
+    /// options of `:connect`): its modules join the list.
+    AddLink(Vec<String>),
     /// Abort the line the controller is busy with ([`PaneEvent::Busy`]).
     AbortLine,
     /// Pause the line the controller is busy with, or resume it.

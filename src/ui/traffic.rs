@@ -578,6 +578,8 @@ mod tests {
             theme: &theme,
             keymap: &keymap,
             session: None,
+            modules: &[],
+            module: 0,
             focused: false,
             shown: false,
         };

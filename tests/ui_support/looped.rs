@@ -68,9 +68,22 @@ pub async fn run_console(
 /// `app` at `size` (columns, rows) on `controller` until `driver` ends
 /// it (F10, or [`AppEvent::Terminate`] through `extra`).
 pub async fn run_console_on(
+    app: App,
+    size: (u16, u16),
+    controller: Option<Arc<dyn Controller>>,
+    connector: Connector,
+    driver: impl AsyncFnOnce(Rig),
+) {
+    let links = controller.map(|c| vec![vec![c]]).unwrap_or_default();
+    run_links_on(app, size, links, connector, driver).await;
+}
+
+/// `app` at `size` on several links, each with its modules
+/// ([`app::run_links`]), until `driver` ends it.
+pub async fn run_links_on(
     mut app: App,
     (width, height): (u16, u16),
-    controller: Option<Arc<dyn Controller>>,
+    links: Vec<Vec<Arc<dyn Controller>>>,
     connector: Connector,
     driver: impl AsyncFnOnce(Rig),
 ) {
@@ -102,14 +115,7 @@ pub async fn run_console_on(
         extra,
         screens: Screens { frames, drawn },
     };
-    let looping = app::run(
-        &mut app,
-        controller,
-        connector,
-        input,
-        Some(extra_rx),
-        &mut draw,
-    );
+    let looping = app::run_links(&mut app, links, connector, input, Some(extra_rx), &mut draw);
     let (result, ()) = tokio::join!(looping, driver(rig));
     result.expect("the loop ends cleanly");
 }

@@ -115,6 +115,8 @@ impl App {
             theme: &self.theme,
             keymap: &self.keymap,
             session: self.snapshot.as_ref(),
+            modules: &self.modules,
+            module: self.module,
             focused,
             shown: true,
         }
@@ -134,6 +136,8 @@ impl App {
             theme,
             keymap: &self.keymap,
             session: self.snapshot.as_ref(),
+            modules: &self.modules,
+            module: self.module,
             focused,
             shown: true,
         };
@@ -195,8 +199,14 @@ impl App {
                     LinkState::Disconnected { reason, .. } => format!("LOST: {reason}"),
                     LinkState::Closed => "closed".to_string(),
                 };
+                // With several modules, which one lines go to.
+                let module = if self.modules.len() > 1 {
+                    format!("module {}/{} ", self.module + 1, self.modules.len())
+                } else {
+                    String::new()
+                };
                 spans.push(Span::styled(
-                    format!("{} #{} {state} │ ", s.link_name, s.address),
+                    format!("{module}{} #{} {state} │ ", s.link_name, s.address),
                     bar,
                 ));
                 let poll = match &self.busy {

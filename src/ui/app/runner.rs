@@ -66,11 +66,17 @@ pub fn traffic_pause(
     pause.min(safe).max(Duration::from_millis(1))
 }
 
-/// One connected controller as the loop watches it.
+/// One module of one link as the loop watches it.
 pub(super) struct Connection {
     pub(super) controller: Arc<dyn Controller>,
+    /// The link it is on (numbered from 0 in the order links were opened):
+    /// the modules of one link share its traffic, events and busy line,
+    /// which only the link's first module watches.
+    link: usize,
+    /// Its channels are closed: nothing more comes of it.
+    gone: bool,
     status: watch::Receiver<Vec<AxisStatus>>,
-    link: watch::Receiver<LinkState>,
+    link_state: watch::Receiver<LinkState>,
     identity: watch::Receiver<Option<String>>,
     settings: Option<watch::Receiver<SettingsCache>>,
     traffic: Option<broadcast::Receiver<TrafficRecord>>,
@@ -88,21 +94,94 @@ pub(super) struct Connection {
 }
 
 impl Connection {
+    /// The first (or only) module of link `link`: it watches the link's
+    /// traffic, events and busy line too.
     fn new(controller: Arc<dyn Controller>, poll: Option<PollCadence>) -> Connection {
+        Connection::on_link(controller, poll, 0, true)
+    }
+
+    fn on_link(
+        controller: Arc<dyn Controller>,
+        poll: Option<PollCadence>,
+        link: usize,
+        watches_link: bool,
+    ) -> Connection {
         controller.set_polling(poll);
         Connection {
             status: controller.status(),
-            link: controller.link_state(),
+            link_state: controller.link_state(),
             identity: controller.identity(),
             settings: controller.settings(),
-            traffic: controller.traffic(),
+            traffic: controller.traffic().filter(|_| watches_link),
             traffic_after: None,
             traffic_pause: TRAFFIC_BATCH,
             traffic_taken: tokio::time::Instant::now(),
-            events: controller.events(),
-            busy: controller.busy(),
+            events: controller.events().filter(|_| watches_link),
+            busy: controller.busy().filter(|_| watches_link),
             controller,
+            link,
+            gone: false,
             poll,
+        }
+    }
+
+    /// The next thing that happens on this module.
+    async fn wait(&mut self, traffic_shown: bool) -> ModuleWakeup {
+        if self.gone {
+            return std::future::pending().await;
+        }
+        // The traffic monitor brought to the front waits no longer than
+        // its refresh for the frames that gathered behind its tab.
+        let traffic_after = self.traffic_after.map(|at| {
+            if traffic_shown {
+                at.min(self.traffic_taken + TRAFFIC_BATCH)
+            } else {
+                at
+            }
+        });
+        let traffic = async {
+            match (self.traffic.as_mut(), traffic_after) {
+                (Some(_), Some(at)) => {
+                    tokio::time::sleep_until(at).await;
+                    ModuleWakeup::TrafficDue
+                }
+                (Some(rx), None) => ModuleWakeup::Traffic(rx.recv().await),
+                (None, _) => std::future::pending().await,
+            }
+        };
+        let events = async {
+            match self.events.as_mut() {
+                Some(rx) => rx.recv().await,
+                None => std::future::pending().await,
+            }
+        };
+        let settings = async {
+            match self.settings.as_mut() {
+                Some(rx) => rx.changed().await,
+                None => std::future::pending().await,
+            }
+        };
+        let gone = |changed: Result<(), watch::error::RecvError>| match changed {
+            Ok(()) => ModuleWakeup::Changed,
+            Err(_) => ModuleWakeup::ChannelGone,
+        };
+        let busy = async {
+            match self.busy.as_mut() {
+                Some(rx) => match rx.changed().await {
+                    Ok(()) => ModuleWakeup::Busy,
+                    Err(_) => std::future::pending().await,
+                },
+                None => std::future::pending().await,
+            }
+        };
+        tokio::select! {
+            changed = self.status.changed() => gone(changed),
+            changed = self.link_state.changed() => gone(changed),
+            changed = self.identity.changed() => gone(changed),
+            changed = settings => gone(changed),
+            wakeup = traffic => wakeup,
+            event = events => ModuleWakeup::Device(event),
+            wakeup = busy => wakeup,
         }
     }
 
@@ -116,7 +195,7 @@ impl Connection {
             axis: axis.min(axes.len().saturating_sub(1)),
             axes,
             status: self.status.borrow_and_update().clone(),
-            link: self.link.borrow_and_update().clone(),
+            link: self.link_state.borrow_and_update().clone(),
             identity: self.identity.borrow_and_update().clone(),
             poll: self.poll,
             settings: Arc::new(
@@ -132,6 +211,16 @@ impl Connection {
 /// Something the loop waits for, besides the app's own messages.
 enum Wakeup {
     Input(Option<TermEvent>),
+    /// Something happened on module `.0` of the list.
+    Module(usize, ModuleWakeup),
+    Internal(Option<AppEvent>),
+    Connected(Result<Arc<dyn Controller>, String>),
+    /// A link added beside the others opened (or not).
+    Added(Result<Arc<dyn Controller>, String>),
+}
+
+/// Something that happened on one module (or its link).
+enum ModuleWakeup {
     Changed,
     ChannelGone,
     Traffic(Result<TrafficRecord, broadcast::error::RecvError>),
@@ -140,18 +229,64 @@ enum Wakeup {
     /// The pause after a batch of traffic is over.
     TrafficDue,
     Device(Result<DeviceEvent, broadcast::error::RecvError>),
-    Internal(Option<AppEvent>),
-    Connected(Result<Arc<dyn Controller>, String>),
+}
+
+/// A future that may borrow.
+type Borrowing<'a, T> = std::pin::Pin<Box<dyn Future<Output = T> + Send + 'a>>;
+
+/// The first of `futures` to finish; pending while there are none.
+async fn first_of<T>(mut futures: Vec<Borrowing<'_, T>>) -> T {
+    std::future::poll_fn(|cx| {
+        for future in futures.iter_mut() {
+            if let std::task::Poll::Ready(value) = future.as_mut().poll(cx) {
+                return std::task::Poll::Ready(value);
+            }
+        }
+        std::task::Poll::Pending
+    })
+    .await
+}
+
+/// Every one of `futures`, polled together (each one's first poll comes
+/// before any of them is waited for), their outputs in order.
+pub async fn join_all<T>(futures: Vec<Pending<T>>) -> Vec<T> {
+    let mut futures: Vec<(Pending<T>, Option<T>)> =
+        futures.into_iter().map(|f| (f, None)).collect();
+    std::future::poll_fn(|cx| {
+        let mut waiting = false;
+        for (future, output) in futures.iter_mut() {
+            if output.is_none() {
+                match future.as_mut().poll(cx) {
+                    std::task::Poll::Ready(value) => *output = Some(value),
+                    std::task::Poll::Pending => waiting = true,
+                }
+            }
+        }
+        if waiting {
+            std::task::Poll::Pending
+        } else {
+            std::task::Poll::Ready(())
+        }
+    })
+    .await;
+    futures
+        .into_iter()
+        .filter_map(|(_, output)| output)
+        .collect()
 }
 
 /// The loop's side of the console: the connection and everything in
 /// flight for the app.
 struct Runner {
-    connection: Option<Connection>,
+    /// Every module of every link, in the app's order
+    /// ([`App::modules`]); lines go to the selected one.
+    connections: Vec<Connection>,
     internal: mpsc::UnboundedSender<AppEvent>,
     /// Tasks sending lines, which the emergency stop aborts.
     sending: Vec<JoinHandle<()>>,
     connecting: Option<Pending<Result<Arc<dyn Controller>, String>>>,
+    /// A link being added beside the others.
+    adding: Option<Pending<Result<Arc<dyn Controller>, String>>>,
     connector: Connector,
     log: Option<TrafficLog>,
     /// The cancel handle of the last transfer started (one at a time:
@@ -169,6 +304,21 @@ pub async fn run(
     app: &mut App,
     controller: Option<Arc<dyn Controller>>,
     connector: Connector,
+    input: mpsc::UnboundedReceiver<TermEvent>,
+    extra: Option<mpsc::UnboundedReceiver<AppEvent>>,
+    draw: &mut (dyn FnMut(&mut App) -> std::io::Result<()> + Send),
+) -> std::io::Result<()> {
+    let links = controller.map(|c| vec![vec![c]]).unwrap_or_default();
+    run_links(app, links, connector, input, extra, draw).await
+}
+
+/// [`run`] on several links at once, each with its modules (the first of
+/// each watched for the link's traffic): the console's module list, the
+/// first module selected.
+pub async fn run_links(
+    app: &mut App,
+    links: Vec<Vec<Arc<dyn Controller>>>,
+    connector: Connector,
     mut input: mpsc::UnboundedReceiver<TermEvent>,
     extra: Option<mpsc::UnboundedReceiver<AppEvent>>,
     draw: &mut (dyn FnMut(&mut App) -> std::io::Result<()> + Send),
@@ -184,18 +334,41 @@ pub async fn run(
             }
         });
     }
+    let poll = Some(PollCadence::default());
+    let connections = links
+        .into_iter()
+        .enumerate()
+        .flat_map(|(link, modules)| {
+            modules
+                .into_iter()
+                .enumerate()
+                .map(move |(n, c)| Connection::on_link(c, poll, link, n == 0))
+        })
+        .collect();
     let mut runner = Runner {
-        connection: controller.map(|c| Connection::new(c, Some(PollCadence::default()))),
+        connections,
         internal,
         sending: Vec::new(),
         connecting: None,
+        adding: None,
         connector,
         log: None,
         transfer: None,
     };
-    if let Some(c) = runner.connection.as_mut() {
-        let snapshot = c.snapshot(0);
-        runner.handle(app, AppEvent::Connected(snapshot));
+    for index in 0..runner.connections.len() {
+        let Some(c) = runner.connections.get_mut(index) else {
+            break;
+        };
+        let (link, snapshot) = (c.link, c.snapshot(0));
+        let event = match index {
+            0 => AppEvent::Connected(snapshot),
+            _ => AppEvent::Module {
+                index,
+                link,
+                snapshot,
+            },
+        };
+        runner.handle(app, event);
     }
     loop {
         if app.should_quit() {
@@ -208,18 +381,23 @@ pub async fn run(
         let wakeup = runner
             .wait(&mut input, &mut internal_rx, traffic_shown)
             .await;
-        let traffic = matches!(wakeup, Wakeup::Traffic(Ok(_)) | Wakeup::TrafficDue);
+        let traffic = match wakeup {
+            Wakeup::Module(index, ModuleWakeup::Traffic(Ok(_)) | ModuleWakeup::TrafficDue) => {
+                Some(index)
+            }
+            _ => None,
+        };
         if let Some(event) = runner.event(app, wakeup) {
             runner.handle(app, event);
         }
-        if traffic {
-            runner.take_traffic(app, traffic_shown);
+        if let Some(index) = traffic {
+            runner.take_traffic(app, index, traffic_shown);
         }
     }
     if let Some(log) = runner.log.take() {
         log.stop();
     }
-    if let Some(c) = runner.connection {
+    for c in runner.connections {
         c.controller.set_polling(None);
     }
     for job in runner.sending {
@@ -246,68 +424,27 @@ impl Runner {
                 None => std::future::pending().await,
             }
         };
-        let Some(c) = self.connection.as_mut() else {
-            return tokio::select! {
-                event = input.recv() => Wakeup::Input(event),
-                event = internal.recv() => Wakeup::Internal(event),
-                result = connect => Wakeup::Connected(result),
-            };
-        };
-        // The traffic monitor brought to the front waits no longer than
-        // its refresh for the frames that gathered behind its tab.
-        let traffic_after = c.traffic_after.map(|at| {
-            if traffic_shown {
-                at.min(c.traffic_taken + TRAFFIC_BATCH)
-            } else {
-                at
-            }
-        });
-        let traffic = async {
-            match (c.traffic.as_mut(), traffic_after) {
-                (Some(_), Some(at)) => {
-                    tokio::time::sleep_until(at).await;
-                    Wakeup::TrafficDue
-                }
-                (Some(rx), None) => Wakeup::Traffic(rx.recv().await),
-                (None, _) => std::future::pending().await,
-            }
-        };
-        let events = async {
-            match c.events.as_mut() {
-                Some(rx) => rx.recv().await,
+        let adding = &mut self.adding;
+        let add = async {
+            match adding.as_mut() {
+                Some(pending) => pending.await,
                 None => std::future::pending().await,
             }
         };
-        let settings = async {
-            match c.settings.as_mut() {
-                Some(rx) => rx.changed().await,
-                None => std::future::pending().await,
-            }
-        };
-        let gone = |changed: Result<(), watch::error::RecvError>| match changed {
-            Ok(()) => Wakeup::Changed,
-            Err(_) => Wakeup::ChannelGone,
-        };
-        let busy = async {
-            match c.busy.as_mut() {
-                Some(rx) => match rx.changed().await {
-                    Ok(()) => Wakeup::Busy,
-                    Err(_) => std::future::pending().await,
-                },
-                None => std::future::pending().await,
-            }
-        };
+        let modules: Vec<Borrowing<'_, (usize, ModuleWakeup)>> = self
+            .connections
+            .iter_mut()
+            .enumerate()
+            .map(|(index, c)| -> Borrowing<'_, (usize, ModuleWakeup)> {
+                Box::pin(async move { (index, c.wait(traffic_shown).await) })
+            })
+            .collect();
         tokio::select! {
             event = input.recv() => Wakeup::Input(event),
             event = internal.recv() => Wakeup::Internal(event),
             result = connect => Wakeup::Connected(result),
-            changed = c.status.changed() => gone(changed),
-            changed = c.link.changed() => gone(changed),
-            changed = c.identity.changed() => gone(changed),
-            changed = settings => gone(changed),
-            wakeup = traffic => wakeup,
-            event = events => Wakeup::Device(event),
-            wakeup = busy => wakeup,
+            result = add => Wakeup::Added(result),
+            (index, wakeup) = first_of(modules) => Wakeup::Module(index, wakeup),
         }
     }
 
@@ -316,46 +453,48 @@ impl Runner {
         Some(match wakeup {
             Wakeup::Input(Some(event)) => AppEvent::Terminal(event),
             Wakeup::Input(None) => AppEvent::Terminate,
-            Wakeup::Changed => {
-                let axis = app.snapshot().map_or(0, |s| s.axis);
-                AppEvent::Snapshot(self.connection.as_mut()?.snapshot(axis))
-            }
-            Wakeup::ChannelGone => {
-                self.disconnect();
-                AppEvent::Disconnected
-            }
-            Wakeup::Busy => {
-                let busy = self.connection.as_mut()?.busy.as_mut()?;
-                AppEvent::Busy(busy.borrow_and_update().clone())
-            }
-            Wakeup::Traffic(Ok(record)) => AppEvent::Traffic(record),
-            Wakeup::TrafficDue => return None,
-            Wakeup::Device(Ok(event)) => AppEvent::Device(event),
-            Wakeup::Traffic(Err(broadcast::error::RecvError::Closed))
-            | Wakeup::Device(Err(broadcast::error::RecvError::Closed)) => {
-                if let Some(c) = self.connection.as_mut() {
-                    c.traffic = None;
-                    c.events = None;
-                }
-                return None;
-            }
-            // A pane that could not keep up misses some traffic; the next
-            // record comes.
-            Wakeup::Traffic(Err(_)) | Wakeup::Device(Err(_)) => return None,
+            Wakeup::Module(index, wakeup) => return self.module_event(app, index, wakeup),
             Wakeup::Internal(event) => event?,
             Wakeup::Connected(result) => {
                 self.connecting = None;
                 match result {
                     Ok(controller) => {
                         let poll = self
-                            .connection
-                            .as_ref()
+                            .connections
+                            .first()
                             .map_or(Some(PollCadence::default()), |c| c.poll);
                         self.disconnect();
                         let mut c = Connection::new(controller, poll);
                         let snapshot = c.snapshot(0);
-                        self.connection = Some(c);
+                        self.connections = vec![c];
                         AppEvent::Connected(snapshot)
+                    }
+                    Err(message) => AppEvent::Notice(Notice::error(message)),
+                }
+            }
+            Wakeup::Added(result) => {
+                self.adding = None;
+                match result {
+                    Ok(controller) => {
+                        let poll = self
+                            .connections
+                            .first()
+                            .map_or(Some(PollCadence::default()), |c| c.poll);
+                        let link = self.connections.iter().map(|c| c.link + 1).max();
+                        let link = link.unwrap_or(0);
+                        let mut c = Connection::on_link(controller, poll, link, true);
+                        let snapshot = c.snapshot(0);
+                        let index = self.connections.len();
+                        self.connections.push(c);
+                        if index == 0 {
+                            AppEvent::Connected(snapshot)
+                        } else {
+                            AppEvent::Module {
+                                index,
+                                link,
+                                snapshot,
+                            }
+                        }
                     }
                     Err(message) => AppEvent::Notice(Notice::error(message)),
                 }
@@ -363,11 +502,67 @@ impl Runner {
         })
     }
 
+    /// What happened on module `index` means for the app, if anything.
+    fn module_event(&mut self, app: &App, index: usize, wakeup: ModuleWakeup) -> Option<AppEvent> {
+        let selected = index == app.selected_module();
+        let alone = self.connections.len() == 1;
+        let c = self.connections.get_mut(index)?;
+        Some(match wakeup {
+            ModuleWakeup::Changed => {
+                let axis = match app.modules().get(index) {
+                    Some(entry) => entry.snapshot.axis,
+                    None => 0,
+                };
+                let axis = if selected {
+                    app.snapshot().map_or(axis, |s| s.axis)
+                } else {
+                    axis
+                };
+                let snapshot = c.snapshot(axis);
+                if selected && alone {
+                    AppEvent::Snapshot(snapshot)
+                } else {
+                    AppEvent::Module {
+                        index,
+                        link: c.link,
+                        snapshot,
+                    }
+                }
+            }
+            ModuleWakeup::ChannelGone => {
+                if alone {
+                    self.disconnect();
+                    return Some(AppEvent::Disconnected);
+                }
+                // One of several: it stays listed as it was last seen.
+                c.gone = true;
+                c.controller.set_polling(None);
+                return None;
+            }
+            ModuleWakeup::Busy => {
+                let busy = c.busy.as_mut()?;
+                AppEvent::Busy(busy.borrow_and_update().clone())
+            }
+            ModuleWakeup::Traffic(Ok(record)) => AppEvent::Traffic(record),
+            ModuleWakeup::TrafficDue => return None,
+            ModuleWakeup::Device(Ok(event)) => AppEvent::Device(event),
+            ModuleWakeup::Traffic(Err(broadcast::error::RecvError::Closed))
+            | ModuleWakeup::Device(Err(broadcast::error::RecvError::Closed)) => {
+                c.traffic = None;
+                c.events = None;
+                return None;
+            }
+            // A pane that could not keep up misses some traffic; the next
+            // record comes.
+            ModuleWakeup::Traffic(Err(_)) | ModuleWakeup::Device(Err(_)) => return None,
+        })
+    }
+
     /// Hand the panes every traffic record waiting, and pause before
     /// taking more if there were any ([`traffic_pause`]; otherwise the
     /// next record wakes the loop at once).
-    fn take_traffic(&mut self, app: &mut App, traffic_shown: bool) {
-        let Some(c) = self.connection.as_mut() else {
+    fn take_traffic(&mut self, app: &mut App, index: usize, traffic_shown: bool) {
+        let Some(c) = self.connections.get_mut(index) else {
             return;
         };
         let woken_by_a_record = c.traffic_after.is_none();
@@ -415,14 +610,19 @@ impl Runner {
         }
     }
 
-    /// Let go of the connection: no polling, no log.
+    /// Let go of every connection: no polling, no log.
     fn disconnect(&mut self) {
         if let Some(log) = self.log.take() {
             log.stop();
         }
-        if let Some(old) = self.connection.take() {
+        for old in self.connections.drain(..) {
             old.controller.set_polling(None);
         }
+    }
+
+    /// The selected module, where lines go.
+    fn selected(&self, app: &App) -> Option<&Connection> {
+        self.connections.get(app.selected_module())
     }
 
     /// Hand an event to the app and carry out what it asks for; events
@@ -445,7 +645,7 @@ impl Runner {
         };
         match effect {
             Effect::Send { pane, tag, lines } => {
-                let Some(c) = self.connection.as_ref() else {
+                let Some(c) = self.selected(app) else {
                     queue.push(not_connected());
                     return;
                 };
@@ -472,19 +672,27 @@ impl Runner {
                 for job in self.sending.drain(..) {
                     job.abort();
                 }
-                let Some(c) = self.connection.as_ref() else {
+                // Every module of every link, at once: each stop is
+                // queued on its link at emergency-stop priority before
+                // any of them is waited for.
+                let stops: Vec<_> = self
+                    .connections
+                    .iter()
+                    .filter(|c| !c.gone)
+                    .map(|c| c.controller.emergency_stop())
+                    .collect();
+                if stops.is_empty() {
                     queue.push(AppEvent::Stopped(Vec::new()));
                     return;
-                };
-                let stop = c.controller.emergency_stop();
+                }
                 let tx = self.internal.clone();
                 tokio::spawn(async move {
-                    let results = stop.await;
-                    let _ = tx.send(AppEvent::Stopped(results));
+                    let results = join_all(stops).await;
+                    let _ = tx.send(AppEvent::Stopped(results.concat()));
                 });
             }
             Effect::AbortLine | Effect::PauseLine => {
-                let Some(c) = self.connection.as_ref() else {
+                let Some(c) = self.selected(app) else {
                     queue.push(not_connected());
                     return;
                 };
@@ -505,7 +713,7 @@ impl Runner {
                 // Unlike the stop key, lines already queued are kept: they
                 // are other panes' and answered after the stop, which goes
                 // first at emergency-stop priority.
-                let Some(c) = self.connection.as_ref() else {
+                let Some(c) = self.selected(app) else {
                     queue.push(not_connected());
                     return;
                 };
@@ -517,30 +725,65 @@ impl Runner {
                 });
             }
             Effect::Poll(cadence) => {
-                if let Some(c) = self.connection.as_mut() {
+                // The rate is the console's: every module polls at it.
+                if self.connections.is_empty() {
+                    queue.push(not_connected());
+                }
+                let selected = app.selected_module();
+                let several = self.connections.len() > 1;
+                for (index, c) in self.connections.iter_mut().enumerate() {
                     c.poll = cadence;
                     c.controller.set_polling(cadence);
-                    let axis = app.snapshot().map_or(0, |s| s.axis);
-                    queue.push(AppEvent::Snapshot(c.snapshot(axis)));
-                } else {
-                    queue.push(not_connected());
+                    if index == selected {
+                        let axis = app.snapshot().map_or(0, |s| s.axis);
+                        let snapshot = c.snapshot(axis);
+                        queue.push(if several {
+                            AppEvent::Module {
+                                index,
+                                link: c.link,
+                                snapshot,
+                            }
+                        } else {
+                            AppEvent::Snapshot(snapshot)
+                        });
+                    }
                 }
             }
             Effect::SetAddress(address) => {
-                let Some(c) = self.connection.as_ref() else {
+                let Some(c) = self.selected(app) else {
                     queue.push(not_connected());
                     return;
                 };
-                let poll = c.poll;
+                let (poll, link) = (c.poll, c.link);
                 let controller = c.controller.with_address(address);
-                self.disconnect();
-                let mut fresh = Connection::new(controller, poll);
-                let axis = app.snapshot().map_or(0, |s| s.axis);
-                queue.push(AppEvent::Snapshot(fresh.snapshot(axis)));
-                self.connection = Some(fresh);
+                let index = app.selected_module();
+                if self.connections.len() == 1 {
+                    self.disconnect();
+                    let mut fresh = Connection::new(controller, poll);
+                    let axis = app.snapshot().map_or(0, |s| s.axis);
+                    queue.push(AppEvent::Snapshot(fresh.snapshot(axis)));
+                    self.connections.push(fresh);
+                    return;
+                }
+                // One module of several: only it changes address.
+                let watches_link = self
+                    .connections
+                    .get(index)
+                    .is_some_and(|c| c.traffic.is_some());
+                if let Some(old) = self.connections.get_mut(index) {
+                    old.controller.set_polling(None);
+                    let mut fresh = Connection::on_link(controller, poll, link, watches_link);
+                    let axis = app.snapshot().map_or(0, |s| s.axis);
+                    queue.push(AppEvent::Module {
+                        index,
+                        link,
+                        snapshot: fresh.snapshot(axis),
+                    });
+                    *old = fresh;
+                }
             }
             Effect::ClearErrors { axis, seen } => {
-                let Some(c) = self.connection.as_ref() else {
+                let Some(c) = self.selected(app) else {
                     return;
                 };
                 let name = app
@@ -571,7 +814,7 @@ impl Runner {
                 let Some(path) = path else {
                     return;
                 };
-                let Some(c) = self.connection.as_ref() else {
+                let Some(c) = self.selected(app) else {
                     queue.push(not_connected());
                     return;
                 };
@@ -589,6 +832,9 @@ impl Runner {
             Effect::Connect(args) => {
                 self.connecting = Some((self.connector)(args));
             }
+            Effect::AddLink(args) => {
+                self.adding = Some((self.connector)(args));
+            }
             Effect::Wake { pane, tag, after } => {
                 let tx = self.internal.clone();
                 tokio::spawn(async move {
@@ -597,7 +843,7 @@ impl Runner {
                 });
             }
             Effect::Transfer { pane, tag, job } => {
-                let Some(c) = self.connection.as_ref() else {
+                let Some(c) = self.connections.get(app.selected_module()) else {
                     queue.push(AppEvent::Transferred {
                         pane,
                         tag,
@@ -632,14 +878,14 @@ impl Runner {
                 }
             }
             Effect::LoadProgram { pane, tag, source } => {
-                let result = match self.connection.as_ref() {
+                let result = match self.selected(app) {
                     Some(c) => c.controller.load_program(&source),
                     None => Err("not connected: nothing to load into".to_string()),
                 };
                 queue.push(AppEvent::ProgramLoaded { pane, tag, result });
             }
             Effect::DriveSimInput(setting) => {
-                let Some(c) = self.connection.as_ref() else {
+                let Some(c) = self.selected(app) else {
                     queue.push(not_connected());
                     return;
                 };
