@@ -10,8 +10,9 @@ use std::time::Duration;
 use tokio::time::{Instant, sleep, sleep_until, timeout_at};
 
 use axterm::device::{
-    DeviceError, DeviceEvent, DeviceOptions, Direction, Expect, LinkState, PollItem, PollPlan,
-    Priority, Retry, TrafficKind, Transaction, UNTIMED_LINK_TIMEOUT, default_timeout, spawn,
+    DeviceError, DeviceEvent, DeviceOptions, Direction, Expect, LinkState, PollItem, PollOwner,
+    PollPlan, Priority, Retry, TrafficKind, Transaction, UNTIMED_LINK_TIMEOUT, default_timeout,
+    spawn,
 };
 use axterm::link::{LinkError, LinkWriter};
 use axterm::protocol::tmcl::{Status, TmclWire};
@@ -1000,4 +1001,73 @@ async fn an_answer_that_never_came_is_forgotten_after_the_horizon() {
     assert_eq!(script.request().await, ggp(2).to_bytes().to_vec());
     script.send(&ok(&ggp(2), 222));
     assert_eq!(value_of(&later.await.expect("answered")), 222);
+}
+
+#[tokio::test(start_paused = true)]
+async fn modules_on_one_link_poll_by_plans_of_their_own_in_turn() {
+    let (device, mut script) = tmcl_device(DeviceOptions::default());
+    // Module A polls three items, module B one; both as often as the
+    // link allows. Each gets every other poll: B's one item is not
+    // crowded out by A's three.
+    let (a_sink, b_sink) = (RecordingSink::default(), RecordingSink::default());
+    let a_polls: Vec<_> = (0..3).map(ggp).collect();
+    let b_polls = vec![ggp(9)];
+    let (a, b) = (PollOwner::new(), PollOwner::new());
+    device.set_poll_plan_of(a, Some(plan(&a_polls, Duration::ZERO, &a_sink)));
+    device.set_poll_plan_of(b, Some(plan(&b_polls, Duration::ZERO, &b_sink)));
+    let mut sent = Vec::new();
+    for n in 0..6 {
+        let bytes = script.request().await;
+        let polled = a_polls
+            .iter()
+            .chain(&b_polls)
+            .find(|p| p.to_bytes().to_vec() == bytes)
+            .expect("one of the polls");
+        sent.push(polled.kind);
+        script.send(&ok(polled, n));
+    }
+    assert_eq!(sent, [0, 9, 1, 9, 2, 9]);
+
+    // A user line goes ahead of both plans, behind at most the poll
+    // already on its way.
+    let user = request(GAP, 1, 0, 0);
+    let pending = device.submit(Priority::User, transaction(&user, Retry::Never));
+    let mut next = script.request().await;
+    if let Some(polled) = a_polls
+        .iter()
+        .chain(&b_polls)
+        .find(|p| p.to_bytes().to_vec() == next)
+    {
+        sent.push(polled.kind);
+        script.send(&ok(polled, 6));
+        next = script.request().await;
+    }
+    assert_eq!(next, user.to_bytes().to_vec());
+    script.send(&ok(&user, 7));
+    assert_eq!(value_of(&pending.await.expect("user")), 7);
+
+    // Each result went to the sink of the plan that polled it.
+    let indices = |sink: &RecordingSink| -> Vec<usize> {
+        sink.results().iter().map(|(index, _)| *index).collect()
+    };
+    let of_b = sent.iter().filter(|&&kind| kind == 9).count();
+    assert_eq!(indices(&b_sink), vec![0; of_b]);
+    assert_eq!(&indices(&a_sink)[..3], [0, 1, 2]);
+    assert_eq!(a_sink.results().len(), sent.len() - of_b);
+
+    // B stops: only A polls from now on.
+    device.set_poll_plan_of(b, None);
+    let mut after = Vec::new();
+    for n in 0..4 {
+        let bytes = script.request().await;
+        let polled = a_polls
+            .iter()
+            .chain(&b_polls)
+            .find(|p| p.to_bytes().to_vec() == bytes)
+            .expect("one of the polls");
+        after.push(polled.kind);
+        script.send(&ok(polled, 10 + n));
+    }
+    // At most the one poll of B already chosen before the plan went.
+    assert!(after.iter().skip(1).all(|&kind| kind != 9), "{after:?}");
 }

@@ -363,6 +363,29 @@ pub trait PollSink: Send {
     fn record(&mut self, index: usize, result: Result<&Answer, &DeviceError>);
 }
 
+/// Whose poll plan: each module on a link (a [`crate::session::Session`]
+/// and its clones) has its own, [`DeviceHandle::set_poll_plan_of`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct PollOwner(u64);
+
+impl PollOwner {
+    /// The owner of [`DeviceHandle::set_poll_plan`]: the link's one plan
+    /// for callers that poll one module.
+    pub const LINK: PollOwner = PollOwner(0);
+
+    /// An owner no other has been given.
+    pub fn new() -> PollOwner {
+        static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+        PollOwner(NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed))
+    }
+}
+
+impl Default for PollOwner {
+    fn default() -> Self {
+        PollOwner::new()
+    }
+}
+
 /// What to poll. The most overdue item goes next whenever nothing of
 /// higher priority waits, so on a slow link every item is polled as often
 /// as the link allows, in turn.
@@ -456,7 +479,7 @@ enum Order {
 #[derive(Clone)]
 pub struct DeviceHandle {
     orders: mpsc::UnboundedSender<Order>,
-    plans: mpsc::UnboundedSender<Option<PollPlan>>,
+    plans: mpsc::UnboundedSender<(PollOwner, Option<PollPlan>)>,
     traffic: broadcast::Sender<TrafficRecord>,
     events: broadcast::Sender<DeviceEvent>,
     state: watch::Receiver<LinkState>,
@@ -504,7 +527,15 @@ impl DeviceHandle {
     /// no poll of the current plan is on the wire or waiting for a retry,
     /// so that every poll's result reaches the sink of the plan that made it.
     pub fn set_poll_plan(&self, plan: Option<PollPlan>) {
-        let _ = self.plans.send(plan);
+        self.set_poll_plan_of(PollOwner::LINK, plan);
+    }
+
+    /// Replace `owner`'s poll plan (`None`: it polls no more), beside the
+    /// plans of other owners: each module of a bus polls by a plan of its
+    /// own, and the task takes the owners in turn (see `poll.rs`). As
+    /// [`DeviceHandle::set_poll_plan`], it takes effect between polls.
+    pub fn set_poll_plan_of(&self, owner: PollOwner, plan: Option<PollPlan>) {
+        let _ = self.plans.send((owner, plan));
     }
 
     /// Every frame in and out, from now on.

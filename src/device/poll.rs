@@ -14,12 +14,118 @@
 //! link too slow for the plan every item is due all the time, and going
 //! by the grid there would favour the items of long periods, whose grid
 //! points lag furthest behind.
+//!
+//! Several modules on one link (a multi-drop bus) each poll by a plan of
+//! their own ([`PollOwner`]): [`PollPlans`] takes them in turn, the owner
+//! after the one served last that has an item due, so that on a link too
+//! slow for them all each module gets an equal share of the polls, and
+//! one module's short periods cannot starve another's. Within a plan the
+//! rule above picks the item.
 
 use std::time::Duration;
 
 use tokio::time::Instant;
 
-use super::{Answer, DeviceError, PollItem, PollPlan};
+use super::{Answer, DeviceError, PollItem, PollOwner, PollPlan};
+
+/// An item of one owner's plan.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct PollKey {
+    pub owner: PollOwner,
+    pub index: usize,
+}
+
+/// Every owner's plan on one link, served in turn.
+#[derive(Default)]
+pub(super) struct PollPlans {
+    /// In the order the owners first set a plan.
+    schedules: Vec<(PollOwner, PollSchedule)>,
+    /// The owner of the last poll sent.
+    last_served: Option<PollOwner>,
+}
+
+impl PollPlans {
+    /// Replace `owner`'s plan (`None`: it polls no more).
+    pub(super) fn set(&mut self, owner: PollOwner, plan: Option<PollPlan>) {
+        let at = self.schedules.iter().position(|(o, _)| *o == owner);
+        match (at, plan) {
+            (Some(at), Some(plan)) => {
+                if let Some(entry) = self.schedules.get_mut(at) {
+                    entry.1 = PollSchedule::new(plan);
+                }
+            }
+            (None, Some(plan)) => self.schedules.push((owner, PollSchedule::new(plan))),
+            (Some(at), None) => {
+                self.schedules.remove(at);
+            }
+            (None, None) => {}
+        }
+    }
+
+    /// The item to poll next and when it is due: of the owners with an
+    /// item due at `now`, the first after the one served last (each
+    /// owner's own choice of item); when none is due, the item that comes
+    /// due first.
+    pub(super) fn next(&self, now: Instant) -> Option<(PollKey, Option<Instant>)> {
+        let count = self.schedules.len();
+        let start = self
+            .last_served
+            .and_then(|owner| self.schedules.iter().position(|(o, _)| *o == owner))
+            .map_or(0, |at| at + 1);
+        let mut earliest: Option<(Instant, PollKey)> = None;
+        for turn in 0..count {
+            let Some((owner, schedule)) = self.schedules.get((start + turn) % count) else {
+                continue;
+            };
+            let Some((index, due)) = schedule.next(now) else {
+                continue;
+            };
+            let key = PollKey {
+                owner: *owner,
+                index,
+            };
+            match due {
+                Some(at) if at > now => {
+                    if earliest.is_none_or(|(first, _)| at < first) {
+                        earliest = Some((at, key));
+                    }
+                }
+                _ => return Some((key, due)),
+            }
+        }
+        earliest.map(|(at, key)| (key, Some(at)))
+    }
+
+    fn schedule(&self, owner: PollOwner) -> Option<&PollSchedule> {
+        self.schedules
+            .iter()
+            .find_map(|(o, s)| (*o == owner).then_some(s))
+    }
+
+    fn schedule_mut(&mut self, owner: PollOwner) -> Option<&mut PollSchedule> {
+        self.schedules
+            .iter_mut()
+            .find_map(|(o, s)| (*o == owner).then_some(s))
+    }
+
+    pub(super) fn item(&self, key: PollKey) -> Option<&PollItem> {
+        self.schedule(key.owner)?.item(key.index)
+    }
+
+    /// Item `key` is being sent now.
+    pub(super) fn sent(&mut self, key: PollKey, now: Instant) -> Option<&PollItem> {
+        self.last_served = Some(key.owner);
+        self.schedule_mut(key.owner)?.sent(key.index, now)
+    }
+
+    /// Hand a poll's result to its owner's sink (if the owner still has
+    /// the plan: plans change only between polls, see the device task).
+    pub(super) fn record(&mut self, key: PollKey, result: Result<&Answer, &DeviceError>) {
+        if let Some(schedule) = self.schedule_mut(key.owner) {
+            schedule.record(key.index, result);
+        }
+    }
+}
 
 /// An item's last send.
 #[derive(Debug, Clone, Copy)]

@@ -9,11 +9,11 @@ use std::time::Duration;
 use tokio::sync::{broadcast, mpsc, oneshot, watch};
 use tokio::time::{Instant, sleep, sleep_until};
 
-use super::poll::PollSchedule;
+use super::poll::{PollKey, PollPlans};
 use super::{
     Answer, Busy, DeviceCounters, DeviceError, DeviceEvent, DeviceOptions, Direction, Expect, Hold,
-    LATE_ANSWER_TIMEOUTS, LinkState, Order, PollPlan, Priority, Reopen, Retry, Submission,
-    TrafficKind, TrafficRecord, Transaction, default_timeout,
+    LATE_ANSWER_TIMEOUTS, LinkState, Order, PollOwner, PollPlan, Priority, Reopen, Retry,
+    Submission, TrafficKind, TrafficRecord, Transaction, default_timeout,
 };
 use crate::link::{Link, LinkInput, LinkWriter};
 use crate::protocol::wire::{Frame, Framer, ReplyRule, Sentinel, Settling, Verdict, WireFormat};
@@ -30,8 +30,8 @@ pub(super) struct Outlets {
 /// Who gets a job's result.
 enum Origin {
     Caller(oneshot::Sender<Result<Answer, DeviceError>>),
-    /// Item `index` of the current poll plan.
-    Plan(usize),
+    /// An item of a poll plan.
+    Plan(PollKey),
 }
 
 /// A transaction on its way through the task.
@@ -339,12 +339,13 @@ pub(super) struct Task {
     reopen: Reopen,
     orders: mpsc::UnboundedReceiver<Order>,
     orders_open: bool,
-    plans: mpsc::UnboundedReceiver<Option<PollPlan>>,
+    plans: mpsc::UnboundedReceiver<(PollOwner, Option<PollPlan>)>,
     plans_open: bool,
     out: Outlets,
     counters: DeviceCounters,
     queues: [VecDeque<Job>; 4],
-    schedule: Option<PollSchedule>,
+    /// Every module's poll plan, served in turn.
+    polling: PollPlans,
     next_id: u64,
     /// Shut down once the attempt on the wire is done.
     closing: bool,
@@ -356,7 +357,7 @@ impl Task {
         options: DeviceOptions,
         reopen: Reopen,
         orders: mpsc::UnboundedReceiver<Order>,
-        plans: mpsc::UnboundedReceiver<Option<PollPlan>>,
+        plans: mpsc::UnboundedReceiver<(PollOwner, Option<PollPlan>)>,
         out: Outlets,
     ) -> Task {
         Task {
@@ -370,7 +371,7 @@ impl Task {
             out,
             counters: DeviceCounters::default(),
             queues: Default::default(),
-            schedule: None,
+            polling: PollPlans::default(),
             next_id: 0,
             closing: false,
         }
@@ -482,9 +483,9 @@ impl Task {
             }
             Next::Poll => {
                 let Some(item) = self
-                    .schedule
-                    .as_ref()
-                    .and_then(|s| s.next(now).and_then(|(index, _)| s.item(index)))
+                    .polling
+                    .next(now)
+                    .and_then(|(key, _)| self.polling.item(key))
                 else {
                     return Settle::Go;
                 };
@@ -1046,7 +1047,7 @@ impl Task {
                 id: job.id,
             };
         }
-        match self.schedule.as_ref().and_then(|s| s.next(now)) {
+        match self.polling.next(now) {
             Some((_, Some(due))) if due > now => Next::PollAt(due),
             Some(_) => Next::Poll,
             None => Next::Idle,
@@ -1057,19 +1058,13 @@ impl Task {
         if let Some(job) = self.queues.iter_mut().find_map(VecDeque::pop_front) {
             return Some(job);
         }
-        let schedule = self.schedule.as_mut()?;
-        let (index, due) = schedule.next(now)?;
+        let (key, due) = self.polling.next(now)?;
         if due.is_some_and(|due| due > now) {
             return None;
         }
-        let transaction = schedule.sent(index, now)?.transaction.clone();
+        let transaction = self.polling.sent(key, now)?.transaction.clone();
         let id = self.new_id();
-        Some(Job::new(
-            id,
-            Priority::Poll,
-            transaction,
-            Origin::Plan(index),
-        ))
+        Some(Job::new(id, Priority::Poll, transaction, Origin::Plan(key)))
     }
 
     fn new_id(&mut self) -> u64 {
@@ -1139,9 +1134,9 @@ impl Task {
         }
     }
 
-    fn plan(&mut self, plan: Option<Option<PollPlan>>) {
+    fn plan(&mut self, plan: Option<(PollOwner, Option<PollPlan>)>) {
         match plan {
-            Some(plan) => self.schedule = plan.map(PollSchedule::new),
+            Some((owner, plan)) => self.polling.set(owner, plan),
             None => self.plans_open = false,
         }
     }
@@ -1268,11 +1263,7 @@ impl Task {
                 // The caller may have given up waiting; nothing to do then.
                 let _ = reply.send(result);
             }
-            Origin::Plan(index) => {
-                if let Some(schedule) = self.schedule.as_mut() {
-                    schedule.record(index, result.as_ref());
-                }
-            }
+            Origin::Plan(key) => self.polling.record(key, result.as_ref()),
         }
     }
 

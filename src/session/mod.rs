@@ -40,7 +40,7 @@ pub use transfer::Cancel;
 
 use crate::device::{
     self, Busy, DeviceError, DeviceHandle, DeviceOptions, Expect, Hold, LinkState, PollItem,
-    PollPlan, Priority, Retry, Transaction,
+    PollOwner, PollPlan, Priority, Retry, Transaction,
 };
 use crate::link::{LinkError, LinkSpec};
 use crate::protocol::Family;
@@ -273,6 +273,9 @@ pub struct Session {
     settings: settings::SharedSettings,
     /// The family's per-link state, where it keeps one.
     context: Arc<watch::Sender<Option<Arc<dyn LinkContext>>>>,
+    /// Whose poll plan this module's is: modules on one link (a bus,
+    /// [`Session::at_address`]) each poll by their own, in turn.
+    poll_owner: PollOwner,
 }
 
 /// The device's hold for a line the family says may run for long.
@@ -318,6 +321,7 @@ impl Session {
             byte_time: None,
             settings: settings::new_cache(device.state()),
             context: Arc::new(context),
+            poll_owner: PollOwner::new(),
             device,
         }
     }
@@ -629,7 +633,7 @@ impl Session {
     /// No polls until a plan is applied again; the cadence asked for is
     /// kept.
     fn pause_polling(&self) {
-        self.device.set_poll_plan(None);
+        self.device.set_poll_plan_of(self.poll_owner, None);
         // Nothing is refreshed any more.
         status::post_refresh(&self.board, None);
     }
@@ -665,10 +669,13 @@ impl Session {
             context,
             Some(self.settings.subscribe()),
         );
-        self.device.set_poll_plan(Some(PollPlan {
-            items,
-            sink: Box::new(sink),
-        }));
+        self.device.set_poll_plan_of(
+            self.poll_owner,
+            Some(PollPlan {
+                items,
+                sink: Box::new(sink),
+            }),
+        );
     }
 
     fn transaction(
@@ -714,7 +721,7 @@ impl Session {
         };
         let paused = changes.is_some() && priority != Priority::EmergencyStop;
         if paused {
-            self.device.set_poll_plan(None);
+            self.device.set_poll_plan_of(self.poll_owner, None);
         }
         let transaction = self.transaction(line, retry, timeout);
         let result = self
