@@ -261,3 +261,66 @@ async fn the_stop_key_queues_every_links_stop_before_any_link_answers_one() {
     };
     assert_eq!((sent(&tmcl_stop), sent(&cmd4cr_stop)), (3, 6));
 }
+
+#[tokio::test(start_paused = true)]
+async fn the_traffic_monitor_names_each_frames_link_and_filters_by_link() {
+    let (tmcl, cmd4cr) = two_links().await;
+    run_links_on(
+        console(),
+        (100, 30),
+        vec![vec![tmcl], vec![cmd4cr]],
+        no_connector(),
+        async |mut rig: Rig| {
+            rig.screens.until("module 2 cmd4cr #1").await;
+            // Every link's polls, each row with its link, each put into
+            // words by its own family.
+            ui_support::looped::press_with(
+                &rig,
+                KeyCode::Char('4'),
+                ratatui::crossterm::event::KeyModifiers::ALT,
+            );
+            let both = rig
+                .screens
+                .until_frame("both links' frames", |f| {
+                    f.contains(" L1 → ") && f.contains(" L2 → ") && f.contains("f link")
+                })
+                .await;
+            assert!(both.contains("GAP"), "TMCL words on link 1:\n{both}");
+            assert!(both.contains("@01"), "CMD-4CR bytes on link 2:\n{both}");
+            // The filter key: link 1 only, then link 2 only, then all.
+            press(&rig, KeyCode::Char('f'));
+            let first = rig.screens.until("link 1 only").await;
+            assert!(!first.contains(" L2 "), "{first}");
+            press(&rig, KeyCode::Char('f'));
+            let second = rig
+                .screens
+                .until_frame("link 2 only", |f| {
+                    f.contains("link 2 only") && f.contains(" L2 ")
+                })
+                .await;
+            assert!(!second.contains(" L1 "), "{second}");
+            press(&rig, KeyCode::Char('f'));
+            rig.screens
+                .until_frame("every link again", |f| {
+                    !f.contains(" only ·") && f.contains(" L1 ") && f.contains(" L2 ")
+                })
+                .await;
+            // And from the command pane.
+            ui_support::looped::press_with(
+                &rig,
+                KeyCode::Char('1'),
+                ratatui::crossterm::event::KeyModifiers::ALT,
+            );
+            type_line(&rig, ":traffic 2");
+            ui_support::looped::press_with(
+                &rig,
+                KeyCode::Char('4'),
+                ratatui::crossterm::event::KeyModifiers::ALT,
+            );
+            let chosen = rig.screens.until("link 2 only").await;
+            assert!(!chosen.contains(" L1 "), "{chosen}");
+            press(&rig, KeyCode::F(10));
+        },
+    )
+    .await;
+}

@@ -186,7 +186,9 @@ fn f1_explains_the_word_under_the_cursor_and_help_takes_topics() {
     let screen = help_on_sap_4_and_mvp(&mut app);
     assert!(!screen.contains("not connected"), "{screen}");
     enter(&mut app, ":help");
-    let screen = text(&mut app, 120, 40);
+    // Tall enough for the whole list (:module, :link-add and :traffic
+    // joined it with several links).
+    let screen = text(&mut app, 120, 44);
     assert!(screen.contains(":poll RATE"), "{screen}");
     assert!(screen.contains("F12 stops every axis"), "{screen}");
 }

@@ -60,6 +60,11 @@ pub enum AppEvent {
     /// No controller any more (or not yet).
     Disconnected,
     Traffic(TrafficRecord),
+    /// A frame on link `link` ([`ModuleEntry::link`]).
+    LinkTraffic {
+        link: usize,
+        record: TrafficRecord,
+    },
     Device(DeviceEvent),
     /// The controller is busy with a line that runs until its answer, or
     /// no longer.
@@ -376,6 +381,9 @@ impl App {
                 }
             }
             AppEvent::Traffic(record) => self.broadcast(&PaneEvent::Traffic(record), &mut effects),
+            AppEvent::LinkTraffic { link, record } => {
+                self.broadcast(&PaneEvent::LinkTraffic { link, record }, &mut effects)
+            }
             AppEvent::Device(event) => self.broadcast(&PaneEvent::Device(event), &mut effects),
             AppEvent::Reply {
                 pane,
@@ -740,6 +748,7 @@ impl App {
             Request::EmergencyStop => self.emergency_stop(effects),
             Request::SelectModule(index) => self.select_module(index, effects),
             Request::AddLink(args) => effects.push(Effect::AddLink(args)),
+            Request::TrafficLink(link) => self.broadcast(&PaneEvent::TrafficLink(link), effects),
             Request::AbortLine => effects.push(Effect::AbortLine),
             Request::PauseLine => effects.push(Effect::PauseLine),
             Request::EndRun { ending, policy } => effects.push(Effect::EndRun {

@@ -63,11 +63,15 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
     (":address N", "send to the module at address N"),
     (
         ":module [N]",
-        "send to module N of the axes pane's list (several links or a bus); alone: list them",
+        "send to module N of the axes pane's list; alone: list the modules",
     ),
     (
         ":link-add CONNECTION",
-        "open one more link beside those open (as :connect); its module joins the list",
+        "open one more link beside those open (as :connect)",
+    ),
+    (
+        ":traffic LINK | all",
+        "show only link LINK's frames in the traffic monitor, or all",
     ),
     (
         ":clear [N]",
@@ -468,6 +472,17 @@ impl CommandPane {
             "keymap" if !rest.is_empty() => Request::Keymap(rest.to_string()),
             "theme" | "keymap" => return self.fail(format!(":{name} needs a name")),
             "module" => return self.module_command(rest, view),
+            "traffic" => match rest {
+                "" | "all" => Request::TrafficLink(None),
+                n => match n.parse::<usize>() {
+                    Ok(n) if n >= 1 => Request::TrafficLink(Some(n - 1)),
+                    _ => {
+                        return self.fail(format!(
+                            ":traffic needs a link number (1 is the first link opened) or `all`, not `{n}`"
+                        ));
+                    }
+                },
+            },
             "link-add" => {
                 if rest.is_empty() {
                     return self.fail(

@@ -133,6 +133,11 @@ pub enum PaneEvent {
     Snapshot,
     /// A frame went out or came in.
     Traffic(TrafficRecord),
+    /// A frame on link `link` (numbered as [`ModuleEntry::link`]), of a
+    /// console on several links; [`PaneEvent::Traffic`] is link 0's.
+    LinkTraffic { link: usize, record: TrafficRecord },
+    /// Show only this link's traffic (`None`: every link's).
+    TrafficLink(Option<usize>),
     /// Unsolicited news from the device task.
     Device(DeviceEvent),
     /// The answer to one line of a [`Request::Send`].
@@ -238,6 +243,9 @@ pub enum Request {
     /// Send lines to the module at this index of [`View::modules`] from
     /// now on (`:module N`, the picker key).
     SelectModule(usize),
+    /// The traffic monitor shows only this link's frames (`None`: every
+    /// link's; `:traffic LINK`).
+    TrafficLink(Option<usize>),
     /// Open one more link beside those open, with these options (the
     /// options of `:connect`): its modules join the list.
     AddLink(Vec<String>),

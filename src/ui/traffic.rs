@@ -12,6 +12,9 @@
 //! freezes the view while frames go on being kept; the console's own
 //! status polls (and their answers) can be hidden; what is shown can be
 //! saved to a text file.
+//!
+//! On a console with several links each frame carries its link (`L2`),
+//! and the monitor shows one link's frames or every link's.
 
 use std::cell::OnceCell;
 use std::collections::VecDeque;
@@ -50,6 +53,8 @@ pub const REFRESH: Duration = Duration::from_millis(100);
 struct Entry {
     /// Numbers frames in arrival order, across evictions.
     seq: u64,
+    /// The link it passed on ([`crate::ui::pane::ModuleEntry::link`]).
+    link: usize,
     at: Instant,
     direction: Direction,
     kind: TrafficKind,
@@ -118,9 +123,13 @@ pub struct TrafficPane {
     next_seq: u64,
     /// Times are shown from the first frame seen.
     start: Option<Instant>,
-    /// The last request sent: replies are read in its light, and timed
-    /// from it.
-    last_request: Option<(Instant, Arc<[u8]>)>,
+    /// The last request sent on each link: replies are read in its
+    /// light, and timed from it.
+    last_request: Vec<(usize, Instant, Arc<[u8]>)>,
+    /// Show only this link's frames.
+    link_filter: Option<usize>,
+    /// The highest link number seen: with more than one, rows name theirs.
+    last_link: usize,
     /// Frames numbered from this one on are not shown while paused.
     paused: Option<u64>,
     hide_polls: bool,
@@ -157,7 +166,9 @@ impl TrafficPane {
             limit: limit.max(1),
             next_seq: 0,
             start: None,
-            last_request: None,
+            last_request: Vec::new(),
+            link_filter: None,
+            last_link: 0,
             paused: None,
             hide_polls: false,
             scroll: 0,
@@ -186,17 +197,28 @@ impl TrafficPane {
 
     /// Take in one frame; true if it shows (not paused, not a hidden poll).
     /// It is put into words only when shown (see the module docs).
-    fn record(&mut self, record: &TrafficRecord, family: Option<&'static Family>) -> bool {
+    fn record(
+        &mut self,
+        link: usize,
+        record: &TrafficRecord,
+        family: Option<&'static Family>,
+    ) -> bool {
         self.start.get_or_insert(record.at);
+        self.last_link = self.last_link.max(link);
         let poll = record.priority == Some(Priority::Poll);
         let mut rtt = None;
         let mut request = None;
+        let last = self.last_request.iter().position(|(l, _, _)| *l == link);
         match record.direction {
             Direction::Sent => {
-                self.last_request = Some((record.at, Arc::from(record.bytes.as_slice())));
+                let sent = (link, record.at, Arc::from(record.bytes.as_slice()));
+                match last.and_then(|at| self.last_request.get_mut(at)) {
+                    Some(slot) => *slot = sent,
+                    None => self.last_request.push(sent),
+                }
             }
             Direction::Received => {
-                if let Some((at, bytes)) = &self.last_request {
+                if let Some((_, at, bytes)) = last.and_then(|at| self.last_request.get(at)) {
                     if record.kind == TrafficKind::Answer {
                         rtt = Some(record.at.saturating_duration_since(*at));
                     }
@@ -206,6 +228,7 @@ impl TrafficPane {
         }
         let entry = Entry {
             seq: self.next_seq,
+            link,
             at: record.at,
             direction: record.direction,
             kind: record.kind,
@@ -217,7 +240,9 @@ impl TrafficPane {
             words: OnceCell::new(),
         };
         self.next_seq += 1;
-        let shows = self.paused.is_none() && !(poll && self.hide_polls);
+        let shows = self.paused.is_none()
+            && !(poll && self.hide_polls)
+            && self.link_filter.is_none_or(|only| only == link);
         if shows && self.scroll > 0 {
             // Keep the rows being read where they are.
             self.scroll += 1;
@@ -233,9 +258,11 @@ impl TrafficPane {
     /// The frames the view shows, oldest first.
     fn shown(&self) -> impl Iterator<Item = &Entry> {
         let until = self.paused.unwrap_or(u64::MAX);
-        self.entries
-            .iter()
-            .filter(move |e| e.seq < until && !(self.hide_polls && e.poll))
+        self.entries.iter().filter(move |e| {
+            e.seq < until
+                && !(self.hide_polls && e.poll)
+                && self.link_filter.is_none_or(|only| only == e.link)
+        })
     }
 
     fn line_text(&self, entry: &Entry) -> String {
@@ -249,8 +276,13 @@ impl TrafficPane {
             format!("{:.1}ms", d.as_secs_f64() * 1000.0)
         });
         let words = entry.words();
+        let link = if self.last_link > 0 {
+            format!("L{} ", entry.link + 1)
+        } else {
+            String::new()
+        };
         format!(
-            "{at:>9.3} {direction} {rtt:>7} {} {}",
+            "{at:>9.3} {link}{direction} {rtt:>7} {} {}",
             words.hex, words.meaning
         )
     }
@@ -333,6 +365,15 @@ impl TrafficPane {
                 self.hide_polls = !self.hide_polls;
                 self.scroll = 0;
             }
+            // Every link, link 1, link 2, … every link again.
+            Action::TrafficLink => {
+                self.link_filter = match self.link_filter {
+                    None if self.last_link > 0 => Some(0),
+                    Some(link) if link < self.last_link => Some(link + 1),
+                    _ => None,
+                };
+                self.scroll = 0;
+            }
             Action::ClearTraffic => {
                 self.entries.clear();
                 self.scroll = 0;
@@ -375,6 +416,9 @@ impl TrafficPane {
         if self.hide_polls {
             parts.push("polls hidden".into());
         }
+        if let Some(link) = self.link_filter {
+            parts.push(format!("link {} only", link + 1));
+        }
         if let Some(at) = self.paused {
             let newer = self.next_seq.saturating_sub(at);
             parts.push(format!("PAUSED (+{newer} new)"));
@@ -388,6 +432,9 @@ impl TrafficPane {
             key(Action::ToggleHidePolls),
             key(Action::SaveTraffic)
         ));
+        if self.last_link > 0 {
+            parts.push(format!("{} link", key(Action::TrafficLink)));
+        }
         parts.join(" · ")
     }
 }
@@ -509,9 +556,25 @@ impl Pane for TrafficPane {
 
     fn on_event(&mut self, event: &PaneEvent, view: &View) -> Outcome {
         match event {
-            PaneEvent::Traffic(record) => {
-                let family = view.session.map(|s| s.family);
-                if !self.record(record, family) {
+            PaneEvent::TrafficLink(link) => {
+                self.link_filter = *link;
+                self.scroll = 0;
+                Outcome::redraw()
+            }
+            PaneEvent::Traffic(_) | PaneEvent::LinkTraffic { .. } => {
+                let (link, record) = match event {
+                    PaneEvent::LinkTraffic { link, record } => (*link, record),
+                    PaneEvent::Traffic(record) => (0, record),
+                    _ => return Outcome::Ignored,
+                };
+                // Put into words by the family of its own link.
+                let family = view
+                    .modules
+                    .iter()
+                    .find(|m| m.link == link)
+                    .map(|m| m.snapshot.family)
+                    .or(view.session.map(|s| s.family));
+                if !self.record(link, record, family) {
                     Outcome::Ignored
                 } else if !view.shown {
                     // Behind a tab: kept, drawn when it comes to the front,

@@ -543,7 +543,10 @@ impl Runner {
                 let busy = c.busy.as_mut()?;
                 AppEvent::Busy(busy.borrow_and_update().clone())
             }
-            ModuleWakeup::Traffic(Ok(record)) => AppEvent::Traffic(record),
+            ModuleWakeup::Traffic(Ok(record)) => AppEvent::LinkTraffic {
+                link: c.link,
+                record,
+            },
             ModuleWakeup::TrafficDue => return None,
             ModuleWakeup::Device(Ok(event)) => AppEvent::Device(event),
             ModuleWakeup::Traffic(Err(broadcast::error::RecvError::Closed))
@@ -605,8 +608,9 @@ impl Runner {
             c.traffic = None;
             c.traffic_after = None;
         }
+        let link = c.link;
         for record in records {
-            self.handle(app, AppEvent::Traffic(record));
+            self.handle(app, AppEvent::LinkTraffic { link, record });
         }
     }
 
