@@ -324,3 +324,59 @@ async fn the_traffic_monitor_names_each_frames_link_and_filters_by_link() {
     )
     .await;
 }
+
+#[tokio::test(start_paused = true)]
+async fn the_connect_screen_adds_a_link_beside_the_one_open() {
+    let tmcl = sim_controller("tmcm1110", 9600).await;
+    // Opens the simulator the connect screen asks for (`--sim KIND ...`).
+    let connector: axterm::ui::app::Connector = Box::new(|args: Vec<String>| {
+        Box::pin(async move {
+            let kind = args
+                .iter()
+                .position(|a| a == "--sim")
+                .and_then(|at| args.get(at + 1))
+                .cloned()
+                .ok_or_else(|| format!("no --sim in {args:?}"))?;
+            Ok(sim_controller(&kind, 9600).await)
+        })
+    });
+    run_links_on(
+        console(),
+        (100, 30),
+        vec![vec![tmcl]],
+        connector,
+        async |mut rig: Rig| {
+            rig.screens.until("poll 20 Hz → ").await;
+            ui_support::looped::press_with(
+                &rig,
+                KeyCode::Char('6'),
+                ratatui::crossterm::event::KeyModifiers::ALT,
+            );
+            rig.screens.until("Enter connect · + add a link").await;
+            // Down to the CMD-4CR simulator, then +.
+            for _ in 0..10 {
+                press(&rig, KeyCode::Down);
+            }
+            for _ in 0..10 {
+                press(&rig, KeyCode::Up);
+            }
+            press(&rig, KeyCode::Down);
+            let chosen = rig.screens.until("▶ sim cmd4cr").await;
+            assert!(chosen.contains("▶ sim cmd4cr"), "{chosen}");
+            press(&rig, KeyCode::Char('+'));
+            let added = rig
+                .screens
+                .until_frame("the second link listed", |f| {
+                    f.contains("link 2 sim cmd4cr at 9600 Bd") && f.contains("link added")
+                })
+                .await;
+            assert!(added.contains("link 1 sim tmcm1110 at 9600 Bd"), "{added}");
+            assert!(
+                added.contains("module 1/2 sim tmcm1110"),
+                "still module 1:\n{added}"
+            );
+            press(&rig, KeyCode::F(10));
+        },
+    )
+    .await;
+}

@@ -614,6 +614,9 @@ impl App {
         if self.snapshot.is_none() {
             // The first module of a console that had none.
             self.select_module(index, effects);
+        } else if index + 1 == self.modules.len() && index == count {
+            // A module joined the list: the panes hear of it.
+            self.broadcast(&PaneEvent::Snapshot, effects);
         }
         self.dirty = true;
     }

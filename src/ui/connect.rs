@@ -4,7 +4,9 @@
 //! with the protocol, baud rate and module address to use; choosing one
 //! connects ([`Request::Connect`] with the same options as the command
 //! line) and, once it is open, hands the keyboard to the command line.
-//! Connections that open are remembered ([`recent`]).
+//! Connections that open are remembered ([`recent`]). While connected,
+//! `+` adds the chosen connection as one more link beside those open
+//! ([`Request::AddLink`]): its module joins the axes pane's list.
 //!
 //! The form takes typed text (baud, address, host), so its keys are the
 //! command line's ([`Context::Command`]): Up/Down choose, Enter connects,
@@ -100,6 +102,8 @@ pub struct ConnectPane {
     link: usize,
     /// The options of the connection being opened.
     connecting: Option<Vec<String>>,
+    /// A link asked to be added from here, not opened yet.
+    adding: bool,
     message: Option<(Role, String)>,
     /// The family of the choice last told to the other panes
     /// ([`Request::ChooseFamily`]).
@@ -125,6 +129,7 @@ impl ConnectPane {
             tcp: Field::new(DEFAULT_TCP),
             link: 0,
             connecting: None,
+            adding: false,
             message,
             announced: None,
         }
@@ -287,7 +292,13 @@ impl ConnectPane {
         Ok(args)
     }
 
+    /// Connect to the chosen one, instead of what is open or (`add`)
+    /// beside it.
     fn connect(&mut self) -> Outcome {
+        self.open_choice(false)
+    }
+
+    fn open_choice(&mut self, add: bool) -> Outcome {
         let choices = self.choices();
         let Some(choice) = choices.get(self.selected) else {
             return Outcome::redraw();
@@ -301,6 +312,17 @@ impl ConnectPane {
             return Outcome::redraw();
         }
         match self.args(choice) {
+            Ok(args) if add => {
+                self.message = Some((
+                    Role::Accent,
+                    format!(
+                        "adding a link: {}… (it joins the axes pane's list)",
+                        args.join(" ")
+                    ),
+                ));
+                self.adding = true;
+                Outcome::request(Request::AddLink(args))
+            }
             Ok(args) => {
                 self.message = Some((Role::Accent, format!("connecting: {}…", args.join(" "))));
                 self.connecting = Some(args.clone());
@@ -333,13 +355,17 @@ impl ConnectPane {
                 self.message = None;
             }
             Some(_) => return Outcome::Ignored,
-            None => return self.type_key(key),
+            None => return self.type_key(key, view),
         }
         Outcome::redraw()
     }
 
-    fn type_key(&mut self, key: &KeyEvent) -> Outcome {
+    fn type_key(&mut self, key: &KeyEvent, view: &View) -> Outcome {
         let field = match self.focus {
+            // `+`: one more link beside those open.
+            Focus::List if key.code == KeyCode::Char('+') => {
+                return self.open_choice(view.session.is_some());
+            }
             Focus::List => return Outcome::Ignored,
             Focus::Protocol => {
                 let step = match key.code {
@@ -590,8 +616,13 @@ impl Pane for ConnectPane {
         footer.extend([Line::styled(
             fit(
                 &format!(
-                    "↑↓ choose · {} connect · {} next field · ←→ protocol · {} back to the list",
+                    "↑↓ choose · {} connect{} · {} next field · ←→ protocol · {} back to the list",
                     key(Action::Submit),
+                    if view.session.is_some() {
+                        " · + add a link"
+                    } else {
+                        ""
+                    },
                     key(Action::Complete),
                     key(Action::Cancel)
                 ),
@@ -676,10 +707,21 @@ impl Pane for ConnectPane {
         }
     }
 
-    fn on_event(&mut self, event: &PaneEvent, _view: &View) -> Outcome {
+    fn on_event(&mut self, event: &PaneEvent, view: &View) -> Outcome {
         match event {
             PaneEvent::Focused => {
                 self.scan();
+                Outcome::redraw()
+            }
+            PaneEvent::Snapshot if self.adding && view.modules.len() > 1 => {
+                self.adding = false;
+                self.message = Some((
+                    Role::Accent,
+                    format!(
+                        "link added: {} modules in the axes pane's list (:module N picks one)",
+                        view.modules.len()
+                    ),
+                ));
                 Outcome::redraw()
             }
             PaneEvent::Connected { args } => {
@@ -698,9 +740,11 @@ impl Pane for ConnectPane {
                 Outcome::redraw()
             }
             PaneEvent::Notice(notice)
-                if notice.level == NoticeLevel::Error && self.connecting.is_some() =>
+                if notice.level == NoticeLevel::Error
+                    && (self.connecting.is_some() || self.adding) =>
             {
                 self.connecting = None;
+                self.adding = false;
                 self.message = Some((Role::Error, notice.text.clone()));
                 Outcome::redraw()
             }
