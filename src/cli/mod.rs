@@ -68,7 +68,9 @@ pub struct Cli {
 /// Where the controller is: a serial port, a TCP bridge or a built-in simulator.
 #[derive(Debug, Clone, Default, Args)]
 pub struct ConnectionArgs {
-    /// Serial port (e.g. /dev/ttyUSB0, COM3).
+    /// Serial port (e.g. /dev/ttyUSB0, COM3), or its stable name in
+    /// /dev/serial/by-id as a full path or the file name alone (`axterm
+    /// ports` lists them).
     #[arg(long, global = true, conflicts_with_all = ["tcp", "sim"])]
     pub port: Option<String>,
     /// Serial-over-TCP bridge, HOST:PORT.
@@ -197,7 +199,13 @@ pub enum Command {
     /// emergency stop, unless --no-stop-on-failure. Exit codes as
     /// run-ascript.
     RunMacro(run_macro::RunMacroArgs),
-    /// List serial ports.
+    /// List serial ports, each with its stable names.
+    ///
+    /// One line a port (its path and what the system knows of the
+    /// adapter), then each name udev gave it in /dev/serial/by-id,
+    /// indented: --port takes such a name, as the full path or the file
+    /// name alone, and it stays the same whatever order adapters are
+    /// plugged in.
     Ports,
     /// Look for modules on a bus (firmware version request at each address).
     Scan(scan::ScanArgs),
@@ -507,14 +515,15 @@ fn run_encode(family: &str, line: &str, address: Option<u8>) -> i32 {
 }
 
 /// `axterm ports`: one line per serial port found, with what the system
-/// knows of the adapter. Pseudo-terminals are not serial ports here.
+/// knows of the adapter, and below it, indented, each of its stable names
+/// in /dev/serial/by-id. Pseudo-terminals are not serial ports here.
 fn run_ports() -> i32 {
-    let found = ports::available_ports();
+    let found = ports::listed_ports();
     report_ports(found, &mut std::io::stdout().lock(), &mut std::io::stderr())
 }
 
 fn report_ports(
-    found: std::io::Result<Vec<ports::PortInfo>>,
+    found: std::io::Result<Vec<ports::ListedPort>>,
     out: &mut dyn Write,
     err: &mut dyn Write,
 ) -> i32 {
@@ -559,10 +568,15 @@ mod tests {
                 ..ports::UsbIdentity::default()
             }),
         };
-        assert_eq!(report_ports(Ok(vec![port]), &mut out, &mut err), EXIT_OK);
+        let listed = ports::ListedPort {
+            port,
+            by_id: vec!["/dev/serial/by-id/usb-Trinamic_StepRocker-if00".into()],
+        };
+        assert_eq!(report_ports(Ok(vec![listed]), &mut out, &mut err), EXIT_OK);
         assert_eq!(
             String::from_utf8_lossy(&out),
-            "/dev/ttyACM0  usb 2a3c:0100  Trinamic  StepRocker\n"
+            "/dev/ttyACM0  usb 2a3c:0100  Trinamic  StepRocker\n    \
+             /dev/serial/by-id/usb-Trinamic_StepRocker-if00\n"
         );
         assert!(err.is_empty());
     }
