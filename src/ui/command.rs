@@ -75,8 +75,8 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
         "list the programs the controller runs in the background (MCCL: ID7), or stop one (ET)",
     ),
     (
-        ":log FILE | off",
-        "log every frame sent and received to FILE",
+        ":log [FILE | off]",
+        "log every frame with its UTC time to FILE (none: axterm-YYYYMMDD-HHMMSS.log here)",
     ),
     (":theme NAME", "switch colours"),
     (":keymap NAME", "switch key bindings"),
@@ -421,7 +421,10 @@ impl CommandPane {
                 }
             }
             "log" => match rest {
-                "" => return self.fail(":log needs a file name (or `off`)"),
+                // tio's habit: a name of the time, in the current directory.
+                "" => Request::Log(Some(PathBuf::from(
+                    crate::wall_clock::CivilTime::of(std::time::SystemTime::now()).log_file_name(),
+                ))),
                 "off" => Request::Log(None),
                 file => Request::Log(Some(PathBuf::from(file))),
             },
