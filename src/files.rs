@@ -16,7 +16,10 @@
 //! Writing: [`write_atomically`] replaces a file in one step (a temporary
 //! file with a name no other writer uses, in the same directory, synced,
 //! renamed over the old one, the directory synced), so a crash or a
-//! second writer never leaves half a file behind.
+//! second writer never leaves half a file behind. A record that grows
+//! line by line (a session recording) is started with [`create_new`] and
+//! grown with [`append_synced`]: each piece is on the disk when the call
+//! returns, so a crash loses nothing already recorded.
 
 use std::fs::{File, Metadata, OpenOptions};
 use std::io::{self, Read, Write};
@@ -236,6 +239,30 @@ pub fn write_atomically(path: impl AsRef<Path>, bytes: &[u8]) -> io::Result<()> 
     sync_directory(&dir)
 }
 
+/// Create `path` with `bytes` in it, synced, refusing a file that already
+/// exists (nothing is overwritten).
+pub fn create_new(path: impl AsRef<Path>, bytes: &[u8]) -> io::Result<()> {
+    let path = path.as_ref();
+    let mut file = OpenOptions::new().write(true).create_new(true).open(path)?;
+    file.write_all(bytes)?;
+    file.sync_all()?;
+    let dir = match path.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => dir.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    sync_directory(&dir)
+}
+
+/// Add `bytes` at the end of the existing file `path` in one write
+/// (`O_APPEND`: another writer's pieces never land inside this one) and
+/// sync it, so that what the call wrote survives a crash of axterm or of
+/// the machine.
+pub fn append_synced(path: impl AsRef<Path>, bytes: &[u8]) -> io::Result<()> {
+    let mut file = OpenOptions::new().append(true).open(path)?;
+    file.write_all(bytes)?;
+    file.sync_data()
+}
+
 /// Distinguishes the temporary files of one process; the process id
 /// distinguishes processes.
 static TEMPORARY_COUNT: AtomicU64 = AtomicU64::new(0);
@@ -279,6 +306,25 @@ fn sync_directory(dir: &Path) -> io::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_record_is_created_once_and_grows_by_appending() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let path = dir.path().join("session.txt");
+        create_new(&path, b"# header\n").expect("created");
+        append_synced(&path, b"SAP 4, 0, 1000\n").expect("appended");
+        append_synced(&path, b":expect GAP 4, 0 == 1000\n").expect("appended");
+        assert_eq!(
+            std::fs::read_to_string(&path).expect("read"),
+            "# header\nSAP 4, 0, 1000\n:expect GAP 4, 0 == 1000\n"
+        );
+        let again = create_new(&path, b"other").expect_err("exists");
+        assert_eq!(again.kind(), io::ErrorKind::AlreadyExists);
+        assert!(
+            append_synced(dir.path().join("gone.txt"), b"x").is_err(),
+            "no file to grow"
+        );
+    }
 
     #[test]
     fn a_text_file_is_read_whole() {

@@ -244,6 +244,24 @@ fn console_commands_become_requests() {
         enter(&mut app, ":log traffic.log"),
         [Effect::Log(Some("traffic.log".into()))]
     );
+    // No name: one of the time, `axterm-YYYYMMDD-HHMMSS.log`, here.
+    let logged = enter(&mut app, ":log");
+    let [Effect::Log(Some(auto))] = logged.as_slice() else {
+        panic!(":log alone logs");
+    };
+    let auto = auto.to_string_lossy().into_owned();
+    let digits = |s: &str| s.bytes().all(|b| b.is_ascii_digit());
+    let stamp = auto
+        .strip_prefix("axterm-")
+        .and_then(|s| s.strip_suffix(".log"))
+        .and_then(|s| s.split_once('-'));
+    assert!(
+        stamp.is_some_and(|(day, time)| day.len() == 8
+            && time.len() == 6
+            && digits(day)
+            && digits(time)),
+        "{auto}"
+    );
     assert_eq!(enter(&mut app, ":stop"), [Effect::EmergencyStop]);
     // Nothing is asked for a command that is wrong; it says why.
     assert!(enter(&mut app, ":axis W").is_empty());

@@ -280,7 +280,20 @@ async fn log_writes_every_frame_to_a_file_until_it_is_turned_off() {
     })
     .await;
     let log = std::fs::read_to_string(&file).expect("log file");
-    let lines: Vec<&str> = log.lines().collect();
+    // Each line starts with its wall-clock time, `2025-03-07T14:05:09.123Z `.
+    let lines: Vec<&str> = log
+        .lines()
+        .map(|line| {
+            let (stamp, rest) = line.split_at_checked(25).unwrap_or_default();
+            assert!(
+                stamp.len() == 25
+                    && stamp.as_bytes().get(10) == Some(&b'T')
+                    && stamp.ends_with("Z "),
+                "{line}"
+            );
+            rest
+        })
+        .collect();
     assert_eq!(
         lines,
         [

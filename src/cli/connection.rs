@@ -7,7 +7,7 @@ use std::time::Duration;
 
 use super::{ConnectionArgs, EXIT_DEVICE};
 use crate::device::DeviceOptions;
-use crate::link::{LinkError, LinkSpec};
+use crate::link::{LinkError, LinkSpec, ports};
 use crate::protocol::{self, Family};
 use crate::session::{Session, SessionOptions};
 use crate::sim::faults::FaultPlan;
@@ -83,7 +83,8 @@ impl Target {
             // The family's factory rate when none is given (TMCL 9600 Bd,
             // SIXpack 2 19200 Bd).
             (None, Some(path), None) => LinkSpec::Serial {
-                path: path.clone(),
+                // A by-id file name alone is looked up where udev puts them.
+                path: ports::resolve_port(path, std::path::Path::new(ports::BY_ID_DIR)),
                 baud: args.baud.unwrap_or(family.console.default_baud()),
             },
             (None, None, Some(address)) => LinkSpec::Tcp {

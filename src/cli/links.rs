@@ -57,12 +57,6 @@ where
     Ok(cli)
 }
 
-/// The command line of this process, as [`parse_from`]; exits with clap's
-/// message (and code 2) when it does not parse.
-pub fn parse() -> Cli {
-    parse_from(std::env::args_os()).unwrap_or_else(|e| e.exit())
-}
-
 /// One value of a link flag or option, where it stood on the line.
 struct Given {
     at: usize,

@@ -8,6 +8,7 @@ pub mod console;
 pub mod exec;
 pub mod links;
 pub mod output;
+pub mod profiles;
 pub mod run;
 pub mod run_ascript;
 pub mod run_end;
@@ -62,8 +63,43 @@ pub struct Cli {
     /// scroll (the terminal's own text selection then needs Shift).
     #[arg(long)]
     pub mouse: bool,
+    /// The file of named connections that `@NAME` arguments are looked up
+    /// in (default: profiles.toml in the config directory, or the file
+    /// AXTERM_PROFILES names). `axterm @line3` opens what is saved under
+    /// line3; `axterm profiles` lists them.
+    #[arg(long, global = true, value_name = "FILE")]
+    pub profiles: Option<std::path::PathBuf>,
     #[command(subcommand)]
     pub command: Option<Command>,
+}
+
+/// The process's command line with its `@NAME` profile references
+/// expanded ([`profiles`]); an error says what is wrong (exit code 2).
+pub fn expanded_command_line() -> Result<Vec<std::ffi::OsString>, String> {
+    let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    if !profiles::has_references(&args) {
+        return Ok(args);
+    }
+    let file = profiles::locate(
+        &args,
+        std::env::var_os(profiles::PROFILES_ENV),
+        crate::ui::config::platform_config_dir(),
+    );
+    let Some(file) = file else {
+        return Err(format!(
+            "no profile file: give --profiles FILE or {}=FILE",
+            profiles::PROFILES_ENV
+        ));
+    };
+    let name = file.display().to_string();
+    let book = read_profiles(&file);
+    profiles::expand_command_line(args, book.as_ref().map_err(String::clone), &name)
+}
+
+fn read_profiles(file: &std::path::Path) -> Result<profiles::ProfileBook, String> {
+    let name = file.display();
+    let text = crate::files::read_text(file).map_err(|e| format!("cannot read {name}: {e}"))?;
+    profiles::ProfileBook::parse(&text).map_err(|e| format!("{name}: {e}"))
 }
 
 /// Where the controller is: a serial port, a TCP bridge or a built-in simulator.
@@ -74,8 +110,10 @@ pub struct Cli {
 /// ([`links`]). The other subcommands take one link.
 #[derive(Debug, Clone, Default, Args)]
 pub struct ConnectionArgs {
-    /// Serial port (e.g. /dev/ttyUSB0, COM3). Starts a link: the console
-    /// takes several (--port A --port B, mixed with --sim and --tcp).
+    /// Serial port (e.g. /dev/ttyUSB0, COM3), or its stable name in
+    /// /dev/serial/by-id as a full path or the file name alone (`axterm
+    /// ports` lists them). Starts a link: the console takes several
+    /// (--port A --port B, mixed with --sim and --tcp).
     #[arg(long, global = true, action = ArgAction::Append)]
     pub port: Option<String>,
     /// Serial-over-TCP bridge, HOST:PORT. Starts a link, as --port.
@@ -209,7 +247,19 @@ pub enum Command {
     /// emergency stop, unless --no-stop-on-failure. Exit codes as
     /// run-ascript.
     RunMacro(run_macro::RunMacroArgs),
-    /// List serial ports.
+    /// List the named connections of the profile file (`axterm @NAME`).
+    ///
+    /// Each name with the options it stands for. The file is
+    /// profiles.toml in the config directory, or the one --profiles or
+    /// AXTERM_PROFILES names.
+    Profiles,
+    /// List serial ports, each with its stable names.
+    ///
+    /// One line a port (its path and what the system knows of the
+    /// adapter), then each name udev gave it in /dev/serial/by-id,
+    /// indented: --port takes such a name, as the full path or the file
+    /// name alone, and it stays the same whatever order adapters are
+    /// plugged in.
     Ports,
     /// Look for modules on a bus (firmware version request at each address).
     Scan(scan::ScanArgs),
@@ -260,6 +310,7 @@ impl Command {
             Command::RunAscript(_) => "run-ascript",
             Command::RunMacro(_) => "run-macro",
             Command::Ports => "ports",
+            Command::Profiles => "profiles",
             Command::Scan(_) => "scan",
             Command::Asm { .. } => "asm",
             Command::Disasm { .. } => "disasm",
@@ -291,6 +342,7 @@ pub fn run(cli: Cli) -> i32 {
             fault,
         }) => run_sim(&cli.connection, &kind, pty, eeprom, fault.as_deref()),
         Some(Command::Ports) => run_ports(),
+        Some(Command::Profiles) => run_profiles(cli.profiles.as_deref()),
         Some(Command::Encode { family, line }) => {
             run_encode(&family, &line, cli.connection.address)
         }
@@ -529,15 +581,47 @@ fn run_encode(family: &str, line: &str, address: Option<u8>) -> i32 {
     }
 }
 
+/// `axterm profiles`: each named connection and its options.
+fn run_profiles(given: Option<&std::path::Path>) -> i32 {
+    let file = given.map(std::path::Path::to_path_buf).or_else(|| {
+        profiles::locate(
+            &[],
+            std::env::var_os(profiles::PROFILES_ENV),
+            crate::ui::config::platform_config_dir(),
+        )
+    });
+    let Some(file) = file else {
+        eprintln!("axterm profiles: no config directory: give --profiles FILE");
+        return EXIT_USAGE;
+    };
+    match read_profiles(&file) {
+        Ok(book) if book.profiles.is_empty() => {
+            eprintln!("axterm profiles: {}: no profiles", file.display());
+            EXIT_OK
+        }
+        Ok(book) => {
+            for profile in &book.profiles {
+                println!("@{}  {}", profile.name, profile.arguments().join(" "));
+            }
+            EXIT_OK
+        }
+        Err(message) => {
+            eprintln!("axterm profiles: {message}");
+            EXIT_USAGE
+        }
+    }
+}
+
 /// `axterm ports`: one line per serial port found, with what the system
-/// knows of the adapter. Pseudo-terminals are not serial ports here.
+/// knows of the adapter, and below it, indented, each of its stable names
+/// in /dev/serial/by-id. Pseudo-terminals are not serial ports here.
 fn run_ports() -> i32 {
-    let found = ports::available_ports();
+    let found = ports::listed_ports();
     report_ports(found, &mut std::io::stdout().lock(), &mut std::io::stderr())
 }
 
 fn report_ports(
-    found: std::io::Result<Vec<ports::PortInfo>>,
+    found: std::io::Result<Vec<ports::ListedPort>>,
     out: &mut dyn Write,
     err: &mut dyn Write,
 ) -> i32 {
@@ -582,10 +666,15 @@ mod tests {
                 ..ports::UsbIdentity::default()
             }),
         };
-        assert_eq!(report_ports(Ok(vec![port]), &mut out, &mut err), EXIT_OK);
+        let listed = ports::ListedPort {
+            port,
+            by_id: vec!["/dev/serial/by-id/usb-Trinamic_StepRocker-if00".into()],
+        };
+        assert_eq!(report_ports(Ok(vec![listed]), &mut out, &mut err), EXIT_OK);
         assert_eq!(
             String::from_utf8_lossy(&out),
-            "/dev/ttyACM0  usb 2a3c:0100  Trinamic  StepRocker\n"
+            "/dev/ttyACM0  usb 2a3c:0100  Trinamic  StepRocker\n    \
+             /dev/serial/by-id/usb-Trinamic_StepRocker-if00\n"
         );
         assert!(err.is_empty());
     }

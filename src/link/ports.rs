@@ -9,11 +9,20 @@
 //! does not give the USB interface's name (which tells the ports of a
 //! dual adapter apart). Pseudo-terminals never appear: they have no entry
 //! under `/sys/class/tty` with a device behind it.
+//!
+//! Each port is listed with its stable names from `/dev/serial/by-id`
+//! (udev's symbolic links, named after the adapter's vendor, product and
+//! serial number: they stay the same whatever order adapters are plugged
+//! in), and `--port` takes such a name, as a full path or the file name
+//! alone ([`resolve_port`]).
 
 use std::fmt;
 use std::fs;
 use std::io;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// Where udev puts the stable names of serial devices (Linux).
+pub const BY_ID_DIR: &str = "/dev/serial/by-id";
 
 /// One serial port.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -21,6 +30,27 @@ pub struct PortInfo {
     /// What to give `--port`: `/dev/ttyUSB0`, `COM3`.
     pub path: String,
     pub kind: PortKind,
+}
+
+/// A port as `axterm ports` lists it: with its stable names.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ListedPort {
+    pub port: PortInfo,
+    /// Its by-id names (`/dev/serial/by-id/usb-FTDI_…-if00-port0`), any
+    /// of which `--port` takes.
+    pub by_id: Vec<String>,
+}
+
+/// The port's line, and each stable name on a line of its own below it,
+/// indented (the first line stays what scripts read).
+impl fmt::Display for ListedPort {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.port)?;
+        for name in &self.by_id {
+            write!(f, "\n    {name}")?;
+        }
+        Ok(())
+    }
 }
 
 /// What is behind a port.
@@ -71,6 +101,65 @@ impl fmt::Display for PortInfo {
             PortKind::Other => Ok(()),
         }
     }
+}
+
+/// The symbolic links in `dir` (a by-id directory), each with the path
+/// it resolves to, sorted by name. Anything unreadable (no such
+/// directory, a dangling link) is skipped.
+pub fn by_id_links(dir: &Path) -> Vec<(PathBuf, PathBuf)> {
+    let Ok(entries) = fs::read_dir(dir) else {
+        return Vec::new();
+    };
+    let mut links: Vec<(PathBuf, PathBuf)> = entries
+        .flatten()
+        .filter(|e| e.file_type().is_ok_and(|t| t.is_symlink()))
+        .filter_map(|e| {
+            let link = e.path();
+            let target = link.canonicalize().ok()?;
+            Some((link, target))
+        })
+        .collect();
+    links.sort();
+    links
+}
+
+/// Each port with the by-id names in `dir` that lead to it.
+pub fn with_by_id_names(ports: Vec<PortInfo>, dir: &Path) -> Vec<ListedPort> {
+    let links = by_id_links(dir);
+    ports
+        .into_iter()
+        .map(|port| {
+            let node = Path::new(&port.path).canonicalize().ok();
+            let by_id = links
+                .iter()
+                .filter(|(_, target)| Some(target) == node.as_ref())
+                .map(|(link, _)| link.to_string_lossy().into_owned())
+                .collect();
+            ListedPort { port, by_id }
+        })
+        .collect()
+}
+
+/// Every serial port found ([`available_ports`]) with its names in
+/// [`BY_ID_DIR`].
+pub fn listed_ports() -> io::Result<Vec<ListedPort>> {
+    Ok(with_by_id_names(available_ports()?, Path::new(BY_ID_DIR)))
+}
+
+/// What `--port GIVEN` opens: `given` itself when something is there (a
+/// device, or a by-id link given as a full path), else the by-id link of
+/// that file name in `dir` (`--port usb-FTDI_FT232R_USB_UART_A50285BI-if00-port0`);
+/// else `given` as it is, for the open to say what is wrong.
+pub fn resolve_port(given: &str, dir: &Path) -> String {
+    let as_given = Path::new(given);
+    if fs::symlink_metadata(as_given).is_ok() || given.contains(['/', '\\']) || given.is_empty() {
+        return given.to_string();
+    }
+    let by_id = dir.join(given);
+    if fs::symlink_metadata(&by_id).is_ok() {
+        return by_id.to_string_lossy().into_owned();
+    }
+    given.to_string()
 }
 
 /// Every serial port found, sorted by path.
@@ -286,6 +375,69 @@ mod tests {
                 "/ttyS4  pci",
                 "/ttyUSB0  usb 0403:6001  FTDI  FT232R USB UART  serial A50285BI",
             ]
+        );
+    }
+
+    #[test]
+    fn ports_are_listed_with_their_by_id_names_and_taken_by_them() {
+        let sys = FakeSys::new();
+        sys.tty("ttyUSB0", Some("devices/usb1/1-1/1-1:1.0/ttyUSB0"));
+        sys.tty("ttyUSB1", Some("devices/usb1/1-3/1-3:1.0/ttyUSB1"));
+        sys.tty("ttyACM0", Some("devices/usb1/1-2/1-2:1.0"));
+        // udev's links, relative as udev writes them; one adapter has
+        // two (by serial and by interface), one port none, one is dangling.
+        let by_id = sys.root.join("dev/serial/by-id");
+        fs::create_dir_all(&by_id).expect("mkdir");
+        let ftdi = "usb-FTDI_FT232R_USB_UART_A50285BI-if00-port0";
+        symlink("../../ttyUSB0", by_id.join(ftdi)).expect("symlink");
+        symlink("../../ttyUSB0", by_id.join("usb-FTDI-alias")).expect("symlink");
+        symlink("../../ttyACM0", by_id.join("usb-Trinamic_StepRocker-if00")).expect("symlink");
+        symlink("../../ttyUSB9", by_id.join("usb-gone-if00")).expect("symlink");
+        fs::write(by_id.join("not-a-link"), "").expect("write");
+
+        let ports = with_by_id_names(
+            scan_sysfs(&sys.root.join("class/tty"), &sys.root.join("dev")),
+            &by_id,
+        );
+        let names = |path: &str| -> Vec<String> {
+            let port = ports
+                .iter()
+                .find(|p| p.port.path.ends_with(path))
+                .expect("listed");
+            port.by_id
+                .iter()
+                .map(|n| n.rsplit('/').next().unwrap_or_default().to_string())
+                .collect()
+        };
+        assert_eq!(names("/ttyUSB0"), ["usb-FTDI-alias", ftdi], "by name");
+        assert_eq!(names("/ttyACM0"), ["usb-Trinamic_StepRocker-if00"]);
+        assert!(names("/ttyUSB1").is_empty());
+        // Each name on a line of its own under the port.
+        let acm = ports
+            .iter()
+            .find(|p| p.port.path.ends_with("/ttyACM0"))
+            .expect("listed")
+            .to_string();
+        let lines: Vec<&str> = acm.lines().collect();
+        assert_eq!(lines.len(), 2, "{acm}");
+        assert!(
+            lines[1].starts_with("    ")
+                && lines[1].ends_with("/dev/serial/by-id/usb-Trinamic_StepRocker-if00"),
+            "{acm}"
+        );
+
+        // --port: the file name alone, the full path, a device path, and a
+        // name that is nowhere (left for the open to refuse).
+        let full = by_id.join(ftdi).to_string_lossy().into_owned();
+        assert_eq!(resolve_port(ftdi, &by_id), full);
+        assert_eq!(resolve_port(&full, &by_id), full);
+        let device = sys.root.join("dev/ttyUSB1").to_string_lossy().into_owned();
+        assert_eq!(resolve_port(&device, &by_id), device);
+        assert_eq!(resolve_port("usb-nothing-if00", &by_id), "usb-nothing-if00");
+        assert_eq!(resolve_port("COM3", &by_id), "COM3");
+        assert_eq!(
+            Path::new(&resolve_port(ftdi, &by_id)).canonicalize().ok(),
+            sys.root.join("dev/ttyUSB0").canonicalize().ok()
         );
     }
 

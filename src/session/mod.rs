@@ -35,7 +35,7 @@ use std::time::Duration;
 use tokio::sync::watch;
 
 pub use crate::protocol::console::{AxisFlag, AxisInfo, PreparedLine, ReplyError, ReplyValue};
-pub use status::{AxisMotion, AxisStatus, RefreshRate};
+pub use status::{AxisMotion, AxisStatus, RefreshRate, RestRead, RestSign};
 pub use transfer::Cancel;
 
 use crate::device::{

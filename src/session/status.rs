@@ -61,6 +61,54 @@ pub struct AxisStatus {
     /// has lately been read in full; `None` until measured or while
     /// polling is off.
     pub refresh: Option<RefreshRate>,
+    /// The status polls that say whether the axis is at rest, each with
+    /// what its latest reading said: the evidence a session recording
+    /// turns into `:wait-until LINE == VALUE` (see [`RestRead`]).
+    pub rest_reads: Vec<RestRead>,
+}
+
+/// What a status poll says of an axis being at rest, from the weakest
+/// evidence to the strongest.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum RestSign {
+    /// Its speed ([`AxisUpdate::Speed`] 0): weak, since a module may still
+    /// read 0 just after a move was started.
+    Speed,
+    /// Where it is ([`AxisUpdate::Position`]): the value read last, at
+    /// rest or not; it says the axis is at rest only when the status as a
+    /// whole does ([`AxisStatus::motion`]).
+    Position,
+    /// The motion phase the module reports ([`MotionPhase::Standing`]).
+    Phase,
+    /// The module's own "at the target" flag ([`AxisUpdate::Reached`]).
+    Reached,
+}
+
+/// One status poll line that says whether an axis is at rest, and what
+/// its latest reading said. Changes only when the axis starts or stops
+/// (or moves: a position), so it wakes no one while a motor stands.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RestRead {
+    /// The poll line in the family's canonical form (`GAP 8, 0`).
+    pub line: String,
+    pub sign: RestSign,
+    /// The reading as printed (`1`), when it showed the axis at rest
+    /// (always, for [`RestSign::Position`]); `None` when it showed it
+    /// moving (or short of its target, for [`RestSign::Reached`]).
+    pub at_rest: Option<String>,
+}
+
+impl RestRead {
+    /// What one update says of the axis being at rest, if anything.
+    pub fn sign_of(update: &AxisUpdate) -> Option<(RestSign, bool)> {
+        match update {
+            AxisUpdate::Reached(reached) => Some((RestSign::Reached, *reached)),
+            AxisUpdate::Phase(phase) => Some((RestSign::Phase, *phase == MotionPhase::Standing)),
+            AxisUpdate::Speed(speed) => Some((RestSign::Speed, *speed == 0)),
+            AxisUpdate::Position(_) => Some((RestSign::Position, true)),
+            _ => None,
+        }
+    }
 }
 
 /// Full status refreshes a second, to a hundredth.
@@ -237,6 +285,31 @@ impl AxisStatus {
         }
     }
 
+    /// Keep what the latest reading of a rest read's line said.
+    pub fn note_rest(&mut self, read: RestRead) {
+        match self.rest_reads.iter_mut().find(|r| r.line == read.line) {
+            Some(known) => *known = read,
+            None => self.rest_reads.push(read),
+        }
+    }
+
+    /// The strongest evidence that the axis is at rest now, if it is
+    /// ([`AxisStatus::motion`]): the poll line and the value it read —
+    /// the module's reached flag or standing phase where a poll says so,
+    /// else where the axis stands, else its speed 0.
+    pub fn rest_evidence(&self) -> Option<&RestRead> {
+        if !matches!(
+            self.motion(),
+            AxisMotion::AtTarget | AxisMotion::StoppedShort
+        ) {
+            return None;
+        }
+        self.rest_reads
+            .iter()
+            .filter(|r| r.at_rest.is_some())
+            .max_by_key(|r| r.sign)
+    }
+
     /// Forget the error flags the user has seen; any that arrived since
     /// stay.
     pub fn acknowledge(&mut self, seen: &[AxisFlag]) {
@@ -308,6 +381,21 @@ pub(crate) fn post(board: &StatusBoard, axis: usize, update: AxisUpdate) {
     });
 }
 
+/// Notes what a status poll said of an axis being at rest, waking
+/// subscribers only when that changed.
+pub(crate) fn post_rest(board: &StatusBoard, axis: usize, read: RestRead) {
+    board.send_if_modified(|axes| {
+        let Some(status) = axes.get_mut(axis) else {
+            return false;
+        };
+        if status.rest_reads.contains(&read) {
+            return false;
+        }
+        status.note_rest(read);
+        true
+    });
+}
+
 /// Sets every axis's refresh rate.
 pub(crate) fn post_refresh(board: &StatusBoard, rate: Option<RefreshRate>) {
     board.send_if_modified(|axes| {
@@ -367,8 +455,28 @@ impl StatusSink {
             Some(settings) => console.status_update_known(&poll.line, &reading, &settings.borrow()),
             None => console.status_update(&poll.line, &reading),
         };
+        // The strongest sign of rest this reading gives of each axis.
+        let mut rests: Vec<(usize, RestSign, bool)> = Vec::new();
+        for (axis, update) in &updates {
+            let Some((sign, at_rest)) = RestRead::sign_of(update) else {
+                continue;
+            };
+            match rests.iter_mut().find(|(a, _, _)| a == axis) {
+                Some(known) if known.1 < sign => *known = (*axis, sign, at_rest),
+                Some(_) => {}
+                None => rests.push((*axis, sign, at_rest)),
+            }
+        }
         for (axis, update) in updates {
             post(&self.board, axis, update);
+        }
+        for (axis, sign, at_rest) in rests {
+            let read = RestRead {
+                line: poll.line.canonical.clone(),
+                sign,
+                at_rest: at_rest.then(|| reading.value.to_string()),
+            };
+            post_rest(&self.board, axis, read);
         }
         true
     }
@@ -526,6 +634,53 @@ mod tests {
         assert_eq!(axis.reached, Some(true));
         assert_eq!(axis.left_switch, Some(true));
         assert_eq!(axis.right_switch, None);
+    }
+
+    #[test]
+    fn the_polls_that_show_an_axis_at_rest_are_kept_with_the_value_they_read() {
+        let (mut sink, mut status) = sink();
+        let reached = index_of(&sink, "GAP 8, 0");
+        let speed = index_of(&sink, "GAP 3, 0");
+        let evidence = |status: &watch::Receiver<Vec<AxisStatus>>| {
+            status.borrow()[0]
+                .rest_evidence()
+                .map(|r| (r.line.clone(), r.at_rest.clone()))
+        };
+        // Moving: neither poll shows it at rest.
+        sink.record(reached, Ok(&answer(0)));
+        sink.record(speed, Ok(&answer(1500)));
+        assert_eq!(evidence(&status), None);
+        // The speed falls to 0 short of the target: at rest by its speed.
+        sink.record(speed, Ok(&answer(0)));
+        assert_eq!(
+            evidence(&status),
+            Some(("GAP 3, 0".into(), Some("0".into())))
+        );
+        // Where it stands says more than a speed of 0.
+        let position = index_of(&sink, "GAP 1, 0");
+        sink.record(position, Ok(&answer(700)));
+        assert_eq!(
+            evidence(&status),
+            Some(("GAP 1, 0".into(), Some("700".into())))
+        );
+        // The module's own flag wins over the speed.
+        sink.record(reached, Ok(&answer(1)));
+        assert_eq!(
+            evidence(&status),
+            Some(("GAP 8, 0".into(), Some("1".into())))
+        );
+        // A reading saying the same again wakes no one.
+        status.borrow_and_update();
+        sink.record(reached, Ok(&answer(1)));
+        assert!(!status.has_changed().unwrap_or(true));
+        // Off again: the flag clears, where it stands is all there is.
+        sink.record(reached, Ok(&answer(0)));
+        assert_eq!(
+            evidence(&status),
+            Some(("GAP 1, 0".into(), Some("700".into())))
+        );
+        sink.record(speed, Ok(&answer(-20)));
+        assert_eq!(evidence(&status), None, "moving again");
     }
 
     #[test]

@@ -38,7 +38,7 @@ use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
 use crate::session::{LineResult, SessionError};
 use confirm::{Confirming, Deferred};
 use history::History;
-use record::Recording;
+use record::{Recording, SessionRecording};
 use runs::is_host_command;
 
 /// Lines of output kept; older ones scroll away for good.
@@ -87,8 +87,8 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
         "list the programs the controller runs in the background (MCCL: ID7), or stop one (ET)",
     ),
     (
-        ":log FILE | off",
-        "log every frame sent and received to FILE",
+        ":log [FILE | off]",
+        "log every frame with its UTC time to FILE (none: axterm-YYYYMMDD-HHMMSS.log here)",
     ),
     (":theme NAME", "switch colours"),
     (":keymap NAME", "switch key bindings"),
@@ -107,6 +107,10 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
     (
         ":run-macro [--no-stop-on-failure] FILE",
         "play a SIXpack 2 SQPack macro file from the host (checked whole first; frames the family wants confirmed are asked about once; stops every axis if it fails or is cancelled unless told not to)",
+    ),
+    (
+        ":record [FILE | off]",
+        "record each line sent and its answer as an `axterm run` file (reads as :expect, waits as :wait-until)",
     ),
     (
         ":record-macro FILE | off",
@@ -197,6 +201,8 @@ pub struct CommandPane {
     confirming: Option<Confirming>,
     /// `:record-macro FILE`: the lines sent from here, as a program.
     recording: Option<Recording>,
+    /// `:record FILE`: the session as an `axterm run` file.
+    session_recording: Option<SessionRecording>,
     /// The line the controller is busy with, if any (see [`busy`]).
     busy: Option<Busy>,
     /// The family the busy line is shown for (its name).
@@ -235,6 +241,7 @@ impl CommandPane {
             live: false,
             confirming: None,
             recording: None,
+            session_recording: None,
             busy: None,
             busy_family: None,
             store_job: None,
@@ -282,6 +289,9 @@ impl CommandPane {
     fn tag(&mut self, origin: Origin) -> u64 {
         self.next_tag += 1;
         self.sent.insert(self.next_tag, origin);
+        if matches!(origin, Origin::Typed | Origin::Batch) {
+            self.session_record_before_line(self.next_tag);
+        }
         self.next_tag
     }
 
@@ -464,7 +474,10 @@ impl CommandPane {
                 }
             }
             "log" => match rest {
-                "" => return self.fail(":log needs a file name (or `off`)"),
+                // tio's habit: a name of the time, in the current directory.
+                "" => Request::Log(Some(PathBuf::from(
+                    crate::wall_clock::CivilTime::of(std::time::SystemTime::now()).log_file_name(),
+                ))),
                 "off" => Request::Log(None),
                 file => Request::Log(Some(PathBuf::from(file))),
             },
@@ -512,6 +525,7 @@ impl CommandPane {
                 };
             }
             "record-macro" => return self.record_command(rest, view),
+            "record" => return self.session_record_command(rest, view),
             command if is_host_command(command) => {
                 let (policy, rest) = run_options(rest);
                 return self
@@ -1017,7 +1031,7 @@ impl Pane for CommandPane {
             PaneEvent::Reply { tag, result, .. } if self.sent.get(tag) == Some(&Origin::Store) => {
                 self.store_reply(*tag, result, family)
             }
-            PaneEvent::Reply { tag, result, .. } => {
+            PaneEvent::Reply { tag, line, result } => {
                 let Some(origin) = self.sent.remove(tag) else {
                     return Outcome::Ignored;
                 };
@@ -1030,6 +1044,9 @@ impl Pane for CommandPane {
                     && let Ok(sent) = result
                 {
                     self.record_sent(&sent.request);
+                }
+                if progress.is_none() {
+                    self.session_record_answer(*tag, line, result, view);
                 }
                 if let Some(progress) = progress {
                     self.say_live(Role::Normal, format!("{PROMPT}{progress}"));
@@ -1070,6 +1087,7 @@ impl Pane for CommandPane {
                     self.say(Role::Warning, format!("  not sent: {what}"));
                 }
                 self.store_job = None;
+                self.session_record_stopping();
                 let dropped = self.sent.len();
                 self.sent.clear();
                 self.batch_wake = None;
@@ -1162,6 +1180,7 @@ impl Pane for CommandPane {
                 Outcome::redraw()
             }
             PaneEvent::Snapshot => {
+                self.session_record_status(view);
                 if let Some(session) = view.session {
                     self.load_history(session.family);
                     self.offline_family = Some(session.family.name);

@@ -34,15 +34,18 @@ impl Fifo {
 
 impl Drop for Fifo {
     fn drop(&mut self) {
-        // Had axterm opened it, the writer is done; if not, opening it
-        // here (without waiting) lets the writer finish, and this end is
-        // closed at once.
-        let _ = std::fs::OpenOptions::new()
+        // Had axterm opened it, the writer is done; if not, a reader
+        // opened here (without waiting) lets the writer's open return. The
+        // reader stays open until the writer has finished: the writer
+        // thread may not have reached its open yet, and a reader closed
+        // before that would leave it waiting for a partner forever.
+        let reader = std::fs::OpenOptions::new()
             .read(true)
             .custom_flags(libc::O_NONBLOCK)
             .open(&self.path);
         if let Some(writer) = self.writer.take() {
             let _ = writer.join();
         }
+        drop(reader);
     }
 }

@@ -1,8 +1,9 @@
-//! `:log FILE`: every frame to a file.
+//! `:log FILE`: every frame to a file, each line with its wall-clock time
+//! (UTC) and the milliseconds since the log began.
 
 use std::io::Write;
 use std::path::Path;
-use std::time::Instant;
+use std::time::{Instant, SystemTime};
 
 use tokio::sync::{broadcast, mpsc, oneshot};
 
@@ -11,6 +12,7 @@ use super::runner::Connection;
 use crate::device::{Direction, Priority, TrafficKind, TrafficRecord};
 use crate::protocol::Family;
 use crate::ui::pane::Notice;
+use crate::wall_clock::CivilTime;
 
 /// A log of every frame to a file (`:log FILE`), written by a task of its
 /// own from the device's traffic stream.
@@ -84,7 +86,8 @@ impl TrafficLog {
 struct LogWriter {
     out: std::io::LineWriter<std::fs::File>,
     family: &'static Family,
-    start: Option<Instant>,
+    /// The first frame's instant and the wall-clock time then.
+    start: Option<(Instant, SystemTime)>,
     frames: u64,
     /// The first write that failed; later frames are counted, not written.
     failure: Option<String>,
@@ -92,20 +95,30 @@ struct LogWriter {
 
 impl LogWriter {
     fn write(&mut self, record: &TrafficRecord) {
-        let start = *self.start.get_or_insert(record.at);
+        let (start, wall) = *self
+            .start
+            .get_or_insert_with(|| (record.at, SystemTime::now()));
         self.frames += 1;
         if self.failure.is_none()
-            && let Err(e) = writeln!(self.out, "{}", log_line(self.family, start, record))
+            && let Err(e) = writeln!(self.out, "{}", log_line(self.family, start, wall, record))
         {
             self.failure = Some(e.to_string());
         }
     }
 }
 
-/// One logged frame: milliseconds since the log began, direction, what it
-/// was, who asked, the bytes as the family shows them.
-pub fn log_line(family: &Family, start: Instant, record: &TrafficRecord) -> String {
-    let at = record.at.saturating_duration_since(start).as_secs_f64() * 1000.0;
+/// One logged frame: its wall-clock time (UTC, from `wall`, the time at
+/// `start`), milliseconds since the log began, direction, what it was,
+/// who asked, the bytes as the family shows them.
+pub fn log_line(
+    family: &Family,
+    start: Instant,
+    wall: SystemTime,
+    record: &TrafficRecord,
+) -> String {
+    let since = record.at.saturating_duration_since(start);
+    let stamp = CivilTime::of(wall + since).stamp();
+    let at = since.as_secs_f64() * 1000.0;
     let direction = match record.direction {
         Direction::Sent => "->",
         Direction::Received => "<-",
@@ -125,7 +138,32 @@ pub fn log_line(family: &Family, start: Instant, record: &TrafficRecord) -> Stri
         None => "-",
     };
     format!(
-        "{at:>12.3} ms {direction} {kind:<11} {by:<8} {}",
+        "{stamp} {at:>12.3} ms {direction} {kind:<11} {by:<8} {}",
         (family.show_bytes)(&record.bytes)
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::{Duration, UNIX_EPOCH};
+
+    #[test]
+    fn a_line_carries_its_wall_clock_time_and_the_milliseconds_since_the_start() {
+        let family = crate::protocol::find_family("tmcl").expect("tmcl");
+        let start = Instant::now();
+        // 2024-12-31 23:59:59.999 UTC at the start.
+        let wall = UNIX_EPOCH + Duration::from_millis(1_735_689_599_999);
+        let record = TrafficRecord {
+            at: start + Duration::from_millis(2),
+            direction: Direction::Received,
+            kind: TrafficKind::Answer,
+            bytes: vec![2, 1, 100, 6, 0, 0, 0, 0, 109],
+            priority: None,
+        };
+        assert_eq!(
+            log_line(family, start, wall, &record),
+            "2025-01-01T00:00:00.001Z        2.000 ms <- answer      -        02 01 64 06 00 00 00 00 6D"
+        );
+    }
 }

@@ -1,7 +1,14 @@
 //! `:record-macro FILE | off`: the lines sent from the command pane kept
-//! as a program of the connected family's language.
+//! as a program of the connected family's language; `:record FILE | off`:
+//! the whole session kept as an `axterm run` file.
+
+use std::time::Duration;
+
+use tokio::time::Instant;
 
 use super::*;
+use crate::run_recording::{LineOutcome, RecordingHeader, RunRecorder};
+use crate::wall_clock::CivilTime;
 
 /// A recording of the lines sent (SQPack's "Record Macro", §5.4.6).
 #[derive(Debug)]
@@ -108,6 +115,191 @@ impl CommandPane {
             self.say(
                 Role::Error,
                 format!("recording stopped: cannot write {path}: {e}"),
+            );
+        }
+    }
+}
+
+/// `:record FILE`: the session written down as an `axterm run` file
+/// ([`crate::run_recording`]), appended to the file piece by piece.
+#[derive(Debug)]
+pub(super) struct SessionRecording {
+    pub(super) path: PathBuf,
+    recorder: RunRecorder,
+    /// When it began, on the console's clock (virtual in tests).
+    began: Instant,
+}
+
+impl SessionRecording {
+    fn now(&self) -> Duration {
+        Instant::now().saturating_duration_since(self.began)
+    }
+}
+
+impl CommandPane {
+    /// `:record [FILE | off]`: write every line sent from here (typed, or
+    /// of a `:run` batch) with its answer to FILE as an `axterm run` file:
+    /// reads as `:expect`, the waits the technician made for a move as
+    /// `:wait-until` on the status poll that showed the axis at rest,
+    /// failed lines as comments. Each piece is appended and synced as it
+    /// comes, so a crash loses nothing recorded. Alone: what is recorded.
+    pub(super) fn session_record_command(&mut self, rest: &str, view: &View) -> Outcome {
+        if rest.is_empty() {
+            let said = match &self.session_recording {
+                Some(r) => {
+                    let (lines, waits) = r.recorder.counts();
+                    format!(
+                        "recording the session to {}: {lines} line(s), {waits} wait(s) so far (:record off ends it)",
+                        r.path.display()
+                    )
+                }
+                None => "nothing is being recorded (:record FILE starts)".to_string(),
+            };
+            self.say(Role::Accent, said);
+            return Outcome::redraw();
+        }
+        if rest.eq_ignore_ascii_case("off") {
+            return match self.session_recording.take() {
+                Some(r) => {
+                    let (lines, waits) = r.recorder.counts();
+                    self.say(
+                        Role::Ok,
+                        format!(
+                            "session recording ended: {lines} line(s), {waits} wait(s) in {} (replay: axterm run CONNECTION {})",
+                            r.path.display(),
+                            r.path.display()
+                        ),
+                    );
+                    Outcome::redraw()
+                }
+                None => self.fail("nothing is being recorded"),
+            };
+        }
+        let Some(session) = view.session else {
+            return self.fail(not_connected());
+        };
+        let path = PathBuf::from(rest);
+        let header = RecordingHeader {
+            family: session.family.name.to_string(),
+            family_description: session.family.description.to_string(),
+            link: session.link_name.clone(),
+            address: session.address,
+            firmware: session.identity.clone(),
+            started: CivilTime::of(std::time::SystemTime::now()).date_time(),
+        };
+        if let Err(e) = crate::files::create_new(&path, header.text().as_bytes()) {
+            return self.fail(if e.kind() == std::io::ErrorKind::AlreadyExists {
+                format!(
+                    "{} exists: give a new file name (nothing is overwritten)",
+                    path.display()
+                )
+            } else {
+                format!("cannot write {}: {e}", path.display())
+            });
+        }
+        if let Some(before) = self.session_recording.take() {
+            self.say(
+                Role::Muted,
+                format!("session recording to {} ended", before.path.display()),
+            );
+        }
+        self.say(
+            Role::Accent,
+            format!(
+                "recording the session to {} as an axterm run file (:record off ends it)",
+                path.display()
+            ),
+        );
+        let mut recording = SessionRecording {
+            path,
+            recorder: RunRecorder::new(),
+            began: Instant::now(),
+        };
+        recording.recorder.observe(&session.status, Duration::ZERO);
+        self.session_recording = Some(recording);
+        Outcome::redraw()
+    }
+
+    /// A status snapshot came: the recording watches the axes.
+    pub(super) fn session_record_status(&mut self, view: &View) {
+        if let (Some(r), Some(session)) = (self.session_recording.as_mut(), view.session) {
+            let now = r.now();
+            r.recorder.observe(&session.status, now);
+        }
+    }
+
+    /// A line is about to be sent: the waits made before it.
+    pub(super) fn session_record_before_line(&mut self, tag: u64) {
+        let Some(r) = self.session_recording.as_mut() else {
+            return;
+        };
+        let now = r.now();
+        let text = r.recorder.before_line(tag, now);
+        self.session_record_write(&text);
+    }
+
+    /// The answer to a line sent from here (`line` as sent).
+    pub(super) fn session_record_answer(
+        &mut self,
+        tag: u64,
+        line: &str,
+        result: &Result<LineResult, SessionError>,
+        view: &View,
+    ) {
+        let Some(r) = self.session_recording.as_mut() else {
+            return;
+        };
+        let effect = view.session.and_then(|s| {
+            s.family
+                .console
+                .prepare(line, s.address)
+                .ok()
+                .map(|p| p.effect)
+        });
+        let (value, error);
+        let outcome = match result {
+            Ok(answer) => {
+                value = answer.value.to_string();
+                LineOutcome::Answered(&value)
+            }
+            Err(e) => {
+                error = e.to_string();
+                if e.nothing_sent() {
+                    LineOutcome::NotSent(&error)
+                } else {
+                    LineOutcome::Failed(&error)
+                }
+            }
+        };
+        let now = r.now();
+        let text = r.recorder.answered(tag, line, effect, outcome, now);
+        self.session_record_write(&text);
+    }
+
+    /// The emergency stop: lines waiting were dropped; the stop itself is
+    /// noted, not replayed.
+    pub(super) fn session_record_stopping(&mut self) {
+        let Some(r) = self.session_recording.as_mut() else {
+            return;
+        };
+        let mut text = r.recorder.forget_unanswered();
+        text.push_str("# emergency stop pressed here (not replayed)\n");
+        self.session_record_write(&text);
+    }
+
+    fn session_record_write(&mut self, text: &str) {
+        let Some(r) = self.session_recording.as_ref() else {
+            return;
+        };
+        if text.is_empty() {
+            return;
+        }
+        if let Err(e) = crate::files::append_synced(&r.path, text.as_bytes()) {
+            let path = r.path.display().to_string();
+            self.session_recording = None;
+            self.say(
+                Role::Error,
+                format!("session recording stopped: cannot write {path}: {e}"),
             );
         }
     }

@@ -1,0 +1,187 @@
+//! `:record FILE`: a console session on an in-process simulator, driven
+//! by keys through the real loop on tokio's paused clock, written down as
+//! an `axterm run` file; the file then replays with the real binary
+//! against a fresh simulator (exit 0) and fails on an `:expect` against
+//! one whose state differs (exit 1). For TMCL and CMD-4CR.
+
+mod cli_support;
+mod ui_support;
+
+use std::path::Path;
+
+use cli_support::{axterm, stderr, stdout};
+use std::sync::Arc;
+
+use axterm::cli::ConnectionArgs;
+use axterm::cli::connection::Target;
+use axterm::ui::app::Controller;
+use axterm::ui::live::{SessionController, identify_later};
+use ui_support::looped::{Rig, enter, run_command_console};
+
+/// The console's controller on the in-process simulator `kind`, as
+/// `axterm --sim KIND` builds it (the identity read in the background).
+async fn sim_controller(kind: &str) -> Arc<dyn Controller> {
+    let target = Target::resolve(&ConnectionArgs {
+        sim: Some(kind.into()),
+        baud: Some(115_200),
+        ..ConnectionArgs::default()
+    })
+    .expect("a simulator connection");
+    let session = target.open().await.expect("the simulator opens");
+    identify_later(&session);
+    Arc::new(SessionController::new(
+        session,
+        target.spec.describe(),
+        target.options.clone(),
+    ))
+}
+
+/// The first axis row of the axes pane.
+fn first_axis_row(frame: &str) -> &str {
+    frame.lines().nth(1).unwrap_or_default()
+}
+
+fn read(path: &Path) -> String {
+    std::fs::read_to_string(path).expect("the recording")
+}
+
+/// Replay `file` with `axterm run --sim KIND [extra…]`: its exit code and
+/// what it said.
+fn replay(kind: &str, extra: &[&str], file: &Path) -> (Option<i32>, String) {
+    let mut args = vec!["run", "--sim", kind];
+    args.extend_from_slice(extra);
+    let file = file.to_string_lossy().into_owned();
+    args.push(&file);
+    let out = axterm(&args);
+    (
+        out.status.code(),
+        format!("{}{}", stdout(&out), stderr(&out)),
+    )
+}
+
+#[tokio::test(start_paused = true)]
+async fn a_tmcl_session_recorded_in_the_console_replays_with_axterm_run() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("commissioning.txt");
+    let path = file.display().to_string();
+    let controller = sim_controller("tmcm1110").await;
+    run_command_console(controller, (120, 40), async |rig: &mut Rig| {
+        rig.screens.until("(1110V112)").await;
+        // What is recorded, before and after.
+        enter(rig, ":record");
+        rig.screens.until("nothing is being recorded").await;
+        enter(rig, &format!(":record {path}"));
+        rig.screens.until("recording the session to").await;
+        enter(rig, "SAP 4, 0, 1500");
+        enter(rig, "SAP 6, 0, 999");
+        enter(rig, "MVP ABS, 0, 2000");
+        // The technician waits until the axis is there.
+        rig.screens
+            .until_frame("the axis at 2000", |f| {
+                let row = first_axis_row(f);
+                row.contains(" 2000 ") && row.contains("● reached")
+            })
+            .await;
+        enter(rig, "GAP 1, 0");
+        enter(rig, "GIO 3, 0");
+        enter(rig, "GAP 4, 0");
+        rig.screens.until("  1500  (status 100").await;
+        enter(rig, ":record");
+        rig.screens
+            .until("5 line(s), 1 wait(s) so far (:record off ends it)")
+            .await;
+        enter(rig, ":record off");
+        rig.screens.until("session recording ended").await;
+    })
+    .await;
+
+    let text = read(&file);
+    let mut body: Vec<&str> = text
+        .lines()
+        .filter(|l| !l.starts_with("# axterm") && !l.starts_with("# recorded: 20"))
+        .collect();
+    // The wait is on the reached flag, or on the position where the axis
+    // was seen at rest if the flag's poll had not come round yet.
+    let wait = body.get(7).copied().unwrap_or_default();
+    assert!(
+        [
+            ":wait-until GAP 8, 0 == 1 timeout 10s",
+            ":wait-until GAP 1, 0 == 2000 timeout 10s"
+        ]
+        .contains(&wait),
+        "{text}"
+    );
+    body.remove(7);
+    assert_eq!(
+        body,
+        [
+            "# family: tmcl (Trinamic TMCL (TMCM-1110 StepRocker), 9-byte binary frames)",
+            "# link: sim tmcm1110 at 115200 Bd, address 1",
+            "# firmware: 1110V112",
+            "",
+            "SAP 4, 0, 1500",
+            "# not sent: SAP 6, 0, 999  (SAP 6: value 999 outside 0..255 (Maximum current))",
+            "MVP ABS, 0, 2000",
+            ":expect GAP 1, 0 == 2000",
+            ":expect GIO 3, 0 == 1",
+            ":expect GAP 4, 0 == 1500",
+        ],
+        "{text}"
+    );
+
+    let (code, said) = replay("tmcm1110", &[], &file);
+    assert_eq!(code, Some(0), "{said}");
+    // IN3 pulled low: the read recorded as 1 reads 0.
+    let (code, said) = replay("tmcm1110", &["--input", "IN3=0"], &file);
+    assert_eq!(code, Some(1), "{said}");
+    assert!(said.contains("expected GIO 3, 0 == 1, got 0"), "{said}");
+}
+
+#[tokio::test(start_paused = true)]
+async fn a_cmd4cr_session_recorded_in_the_console_replays_with_axterm_run() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("commissioning.txt");
+    let path = file.display().to_string();
+    let controller = sim_controller("cmd4cr").await;
+    run_command_console(controller, (120, 40), async |rig: &mut Rig| {
+        rig.screens.until("#1 (").await;
+        enter(rig, &format!(":record {path}"));
+        rig.screens.until("recording the session to").await;
+        enter(rig, "EO=15");
+        enter(rig, "X1000");
+        rig.screens
+            .until_frame("axis X at 1000", |f| {
+                let row = first_axis_row(f);
+                row.contains(" 1000 ") && row.contains("● reached")
+            })
+            .await;
+        enter(rig, "PX");
+        enter(rig, "DI");
+        rig.screens.until("sent @01DI\\r  got 0").await;
+        enter(rig, ":record off");
+        rig.screens.until("session recording ended").await;
+    })
+    .await;
+
+    let text = read(&file);
+    assert!(text.contains("# family: cmd4cr ("), "{text}");
+    assert!(!text.contains("# firmware: not read"), "{text}");
+    let steps: Vec<&str> = text
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.is_empty())
+        .collect();
+    assert_eq!(steps.len(), 5, "{text}");
+    assert_eq!(&steps[..2], ["EO=15", "X1000"], "{text}");
+    assert!(steps[2].starts_with(":wait-until MSTX == "), "{text}");
+    assert_eq!(
+        &steps[3..],
+        [":expect PX == 1000", ":expect DI == 0"],
+        "{text}"
+    );
+
+    let (code, said) = replay("cmd4cr", &[], &file);
+    assert_eq!(code, Some(0), "{said}");
+    let (code, said) = replay("cmd4cr", &["--input", "DI4=1"], &file);
+    assert_eq!(code, Some(1), "{said}");
+    assert!(said.contains("expected DI == 0, got 8"), "{said}");
+}
