@@ -648,6 +648,28 @@ mod tests {
         assert!(!file.exists(), "the name given is only the pattern");
     }
 
+    proptest::proptest! {
+        #[test]
+        fn any_fault_value_parses_or_is_refused_by_name(spec in ".{0,30}") {
+            match BusFaults::parse(std::slice::from_ref(&spec)) {
+                Ok(faults) => proptest::prop_assert!(faults.modules.len() <= 1),
+                Err(e) => {
+                    let prefix = format!("--fault {spec}: ");
+                    proptest::prop_assert!(e.starts_with(&prefix), "{}", e);
+                }
+            }
+        }
+
+        #[test]
+        fn a_module_prefix_names_its_module(address in proptest::prelude::any::<u8>(), p in 0.0f64..=1.0) {
+            let spec = format!("{address}:drop={p}");
+            let faults = BusFaults::parse(&[spec]).expect("parses");
+            proptest::prop_assert_eq!(faults.modules[0].address, address);
+            proptest::prop_assert_eq!(faults.modules[0].plan.drop, p);
+            proptest::prop_assert!(faults.line.is_none());
+        }
+    }
+
     #[test]
     fn module_prefixes() {
         assert_eq!(split_module_prefix("3:drop=1"), Ok(Some((3, "drop=1"))));
