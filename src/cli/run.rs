@@ -73,7 +73,7 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
     let resolved = if args.dry_run && !names_a_connection(connection) {
         family_of(connection).map(|family| {
             let address = connection
-                .address
+                .first_address()
                 .unwrap_or_else(|| family.console.default_address());
             (family, address, None)
         })

@@ -1,6 +1,7 @@
 //! Protocol knowledge of every controller family: frames, typed commands,
 //! console line syntax, parameter tables. No I/O here.
 
+pub mod addresses;
 pub mod ascii;
 pub mod cmd4cr;
 pub mod console;
