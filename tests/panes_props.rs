@@ -8,7 +8,7 @@ use axterm::protocol::parameters::{
 };
 use axterm::protocol::tmcl::parameter_set::TmclParameters;
 use axterm::ui::field::Field;
-use axterm::ui::params::file::{Exported, parse, render};
+use axterm::protocol::parameter_file::{Exported, parse, render};
 use proptest::prelude::*;
 use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 
