@@ -465,6 +465,12 @@ fn fill_apply_row(row: &mut ModuleRow, report: &ApplyReport, dry_run: bool) {
     if unverifiable > 0 {
         notes.push(format!("{unverifiable} written, cannot be read back"));
     }
+    if let Some((_, why)) = report.not_storable.first() {
+        notes.push(format!(
+            "{} not kept by a store (e.g. {why})",
+            report.not_storable.len()
+        ));
+    }
     if !report.link_left.is_empty() {
         notes.push(format!(
             "{} link setting(s) differ, not written",

@@ -230,7 +230,8 @@ pub fn plan_writes(
 
 /// The lines storing `rows` to the module's EEPROM or flash, each once (a
 /// CMD-4CR `STORE` keeps every setting at once), and the rows that have
-/// none with why (no EEPROM copy, written through by every write).
+/// none with why (no EEPROM copy); rows every write stores (TMCL access
+/// `A`) need none.
 pub fn plan_store(
     parameters: &dyn ParameterSet,
     rows: &[ParamRow],
@@ -238,6 +239,10 @@ pub fn plan_store(
     let mut lines: Vec<String> = Vec::new();
     let mut without = Vec::new();
     for row in rows {
+        if row.access.auto_stored {
+            // Every write went to EEPROM already.
+            continue;
+        }
         match parameters.line(row, ParamOp::Store) {
             Ok(line) if !lines.contains(&line) => lines.push(line),
             Ok(_) => {}
