@@ -6,7 +6,9 @@ pub mod confirm;
 pub mod connection;
 pub mod console;
 pub mod exec;
+pub mod fleet;
 pub mod output;
+pub mod params;
 pub mod profiles;
 pub mod run;
 pub mod run_ascript;
@@ -317,6 +319,15 @@ pub enum Command {
     Upload(transfer::UploadArgs),
     /// Measure the link and the device task.
     Bench(bench::BenchArgs),
+    /// A module's settings as a parameter file: export, diff, apply.
+    ///
+    /// The same TOML file as the console's parameter pane exports,
+    /// compares and imports. `diff` and `apply` work on several modules of
+    /// a bus with --addresses LIST or --all, a table at the end.
+    Params {
+        #[command(subcommand)]
+        command: params::ParamsCommand,
+    },
 }
 
 impl Command {
@@ -337,6 +348,7 @@ impl Command {
             Command::Download(_) => "download",
             Command::Upload(_) => "upload",
             Command::Bench(_) => "bench",
+            Command::Params { .. } => "params",
         }
     }
 }
@@ -356,6 +368,7 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::RunMacro(args)) => run_macro::run(&cli.connection, &args),
         Some(Command::Scan(args)) => scan::run(&cli.connection, &args),
         Some(Command::Bench(args)) => bench::run(&cli.connection, &args),
+        Some(Command::Params { command }) => params::run(&cli.connection, &command),
         Some(Command::Asm {
             file,
             listing,

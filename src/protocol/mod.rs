@@ -6,6 +6,7 @@ pub mod ascii;
 pub mod cmd4cr;
 pub mod console;
 pub mod mccl;
+pub mod parameter_file;
 pub mod parameters;
 pub mod program;
 pub mod settings;
