@@ -632,7 +632,7 @@ fn program_tools_never_panic() {
 
 #[test]
 fn parameter_files_never_panic() {
-    use axterm::ui::params::file::{Exported, parse, render};
+    use axterm::protocol::parameter_file::{Exported, parse, render};
     // Files as the console writes them, for every family with parameters.
     let mut lines: Vec<String> = Vec::new();
     let mut files: Vec<String> = Vec::new();

@@ -380,3 +380,92 @@ async fn the_connect_screen_adds_a_link_beside_the_one_open() {
     )
     .await;
 }
+
+/// The four modules of a simulated TMCM-1110 bus (`--sim tmcm1110
+/// --address 1-4`, 9600 Bd), as the console opens them: the first
+/// module's controller and the others on its link.
+async fn tmcl_bus() -> Vec<Arc<dyn Controller>> {
+    use axterm::cli::ConnectionArgs;
+    use axterm::cli::connection::Target;
+    let target = Target::resolve_modules(&ConnectionArgs {
+        sim: Some("tmcm1110".into()),
+        baud: Some(9600),
+        address: Some("1-4".parse().expect("a list")),
+        ..ConnectionArgs::default()
+    })
+    .expect("a simulated bus");
+    let session = target.open().await.expect("the bus opens");
+    let first: Arc<dyn Controller> = Arc::new(
+        axterm::ui::live::SessionController::new(
+            session,
+            target.spec.describe(),
+            target.options.clone(),
+        )
+        .with_other_modules(target.addresses[1..].to_vec()),
+    );
+    std::iter::once(Arc::clone(&first))
+        .chain(first.other_modules())
+        .collect()
+}
+
+/// The position shown in module `module`'s motor row.
+fn bus_position(frame: &str, module: usize) -> Option<i64> {
+    let mut lines = frame.lines();
+    lines.find(|l| l.contains(&format!("module {module} tmcl #{module}")))?;
+    let row = lines.next()?;
+    let words: Vec<&str> = row.split_whitespace().collect();
+    let at = words.iter().position(|w| *w == "0")?;
+    words.get(at + 1)?.split('→').next()?.parse().ok()
+}
+
+#[tokio::test(start_paused = true)]
+async fn four_modules_of_one_simulated_bus_are_each_polled_listed_and_stopped() {
+    let bus = tmcl_bus().await;
+    assert_eq!(bus.len(), 4);
+    let mut traffic = bus[0].traffic().expect("traffic");
+    run_links_on(
+        console(),
+        (100, 30),
+        vec![bus],
+        no_connector(),
+        async |mut rig: Rig| {
+            let first = rig
+                .screens
+                .until_frame("every module polled", |f| {
+                    (1..=4).all(|m| bus_position(f, m) == Some(0))
+                })
+                .await;
+            assert!(first.contains("link 1 sim tmcm1110 at 9600 Bd"), "{first}");
+            assert!(
+                first.contains("Axes — 4 modules on one link, module 1 selected"),
+                "{first}"
+            );
+            // Module 3 alone turns, and its polls go on showing it.
+            type_line(&rig, ":module 3");
+            type_line(&rig, "ROR 0, 500");
+            let moving = rig
+                .screens
+                .until_frame("module 3 turning", |f| {
+                    bus_position(f, 3).is_some_and(|p| p > 1000)
+                })
+                .await;
+            for module in [1, 2, 4] {
+                assert_eq!(bus_position(&moving, module), Some(0), "{moving}");
+            }
+            // The lines went to address 3: the TMCL frame starts with it.
+            assert!(moving.contains("sent 03 01 00 00 00 00 01 F4"), "{moving}");
+            press(&rig, KeyCode::F(12));
+            // MST 0, STOPAPP, MST 0 to each of the four modules.
+            rig.screens.until("STOP: 12 sent, all ok").await;
+            press(&rig, KeyCode::F(10));
+        },
+    )
+    .await;
+    // Every module was polled on the one link, at its own address.
+    let polled: std::collections::BTreeSet<u8> = drain(&mut traffic)
+        .iter()
+        .filter(|r| r.direction == Direction::Sent && r.priority == Some(Priority::Poll))
+        .filter_map(|r| r.bytes.first().copied())
+        .collect();
+    assert_eq!(polled, [1, 2, 3, 4].into_iter().collect());
+}

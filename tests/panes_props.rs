@@ -3,12 +3,12 @@
 //! files read back what was written, typed values read back as numbers.
 
 use axterm::protocol::find_family;
+use axterm::protocol::parameter_file::{Exported, parse, render};
 use axterm::protocol::parameters::{
     ParamAccess, ParamRange, ParamRole, ParamRow, ParameterSet, Scope, parse_integer,
 };
 use axterm::protocol::tmcl::parameter_set::TmclParameters;
 use axterm::ui::field::Field;
-use axterm::ui::params::file::{Exported, parse, render};
 use proptest::prelude::*;
 use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 

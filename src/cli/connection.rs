@@ -5,19 +5,24 @@
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use super::{ConnectionArgs, EXIT_DEVICE};
+use super::{AddressList, ConnectionArgs, EXIT_DEVICE};
 use crate::device::DeviceOptions;
 use crate::link::{LinkError, LinkSpec, ports};
 use crate::protocol::{self, Family};
 use crate::session::{Session, SessionOptions};
-use crate::sim::faults::FaultPlan;
+use crate::sim::bus::{BusFaults, SimBus};
 use crate::sim::{self, SimOptions};
 
 /// A connection as the options describe it, not opened yet.
 pub struct Target {
     pub spec: LinkSpec,
     pub family: &'static Family,
+    /// The module single-module work goes to: the first of `addresses`.
     pub address: u8,
+    /// Every module `--address` names, in order (with --sim, the modules
+    /// of the simulated bus); the family's default address alone without
+    /// `--address`.
+    pub addresses: Vec<u8>,
     pub options: SessionOptions,
 }
 
@@ -28,30 +33,123 @@ pub fn names_a_connection(args: &ConnectionArgs) -> bool {
     args.sim.is_some() || args.port.is_some() || args.tcp.is_some()
 }
 
+/// The modules `list` names for `family`, checked: each an address the
+/// family has, and several only where the family's link carries a module
+/// address (MCCL's does not: one MultiFlex board per link).
+pub fn family_modules(family: &Family, list: Option<&AddressList>) -> Result<Vec<u8>, String> {
+    let Some(list) = list else {
+        return Ok(vec![family.console.default_address()]);
+    };
+    let range = family.console.addresses();
+    if list.is_several() && range.start() == range.end() {
+        let board = family
+            .description
+            .split(['(', ','])
+            .next()
+            .unwrap_or(family.name)
+            .trim();
+        return Err(format!(
+            "--address {list}: a {board} board has no module address on its link (the {} \
+             family: one board per link), so several boards are several links, not one bus",
+            family.name
+        ));
+    }
+    if let Some(outside) = list.as_slice().iter().find(|a| !range.contains(a)) {
+        let at = if list.is_several() {
+            format!("{outside} (in --address {list})")
+        } else {
+            outside.to_string()
+        };
+        return Err(format!(
+            "--address {at} is outside {}..{}, the addresses of the {} family",
+            range.start(),
+            range.end(),
+            family.name
+        ));
+    }
+    Ok(list.as_slice().to_vec())
+}
+
+/// The simulated controller behind a `--sim` line or `axterm sim`: one
+/// module, or a bus of one `kind` simulator at each address of `list`
+/// ([`SimBus`]) with the faults of each module; `memory_file` keeps the
+/// non-volatile memory (one file per module on a bus,
+/// [`crate::sim::bus::module_file`]).
+pub fn simulated_line(
+    kind: &sim::SimKind,
+    list: Option<&AddressList>,
+    memory_file: Option<&std::path::Path>,
+    faults: &BusFaults,
+) -> Result<Box<dyn sim::SimulatedController>, String> {
+    let family = kind
+        .family()
+        .ok_or_else(|| format!("the {} simulator speaks no known family", kind.name))?;
+    let addresses = family_modules(family, list)?;
+    let several = list.is_some_and(AddressList::is_several);
+    if !several && faults.no_module_faults() {
+        return Ok((kind.build)(&SimOptions {
+            address: list.map(AddressList::first),
+            eeprom_file: memory_file.map(std::path::Path::to_path_buf),
+        }));
+    }
+    let mut bus = if several {
+        SimBus::of_kind(kind, &addresses, memory_file)?
+    } else {
+        // One module with faults of its own: a bus of one, its file as given.
+        let address = addresses.first().copied().unwrap_or_default();
+        let controller = (kind.build)(&SimOptions {
+            address: Some(address),
+            eeprom_file: memory_file.map(std::path::Path::to_path_buf),
+        });
+        SimBus::new(vec![(address, controller)])?
+    };
+    faults.apply(&mut bus)?;
+    Ok(Box::new(bus))
+}
+
 impl Target {
-    /// Resolve the options. An error is a usage error (exit 2): no or
-    /// conflicting connection, unknown simulator or protocol.
+    /// Resolve the options for a command that works on one module. An
+    /// error is a usage error (exit 2): no or conflicting connection,
+    /// unknown simulator or protocol, an address list on a real line.
     pub fn resolve(args: &ConnectionArgs) -> Result<Target, String> {
+        Target::resolve_with(args, false)
+    }
+
+    /// Resolve the options for a command that works on several modules
+    /// ([`Target::addresses`]): an address list is taken on any line.
+    pub fn resolve_modules(args: &ConnectionArgs) -> Result<Target, String> {
+        Target::resolve_with(args, true)
+    }
+
+    fn resolve_with(args: &ConnectionArgs, several_modules: bool) -> Result<Target, String> {
         let family = family_of(args)?;
-        let address = args
-            .address
+        let addresses = family_modules(family, args.address.as_ref())?;
+        let address = addresses
+            .first()
+            .copied()
             .unwrap_or_else(|| family.console.default_address());
-        let addresses = family.console.addresses();
-        if !addresses.contains(&address) {
+        if let Some(list) = &args.address
+            && list.is_several()
+            && args.sim.is_none()
+            && !several_modules
+        {
             return Err(format!(
-                "--address {address} is outside {}..{}, the addresses of the {} family",
-                addresses.start(),
-                addresses.end(),
-                family.name
+                "--address {list} names several modules; on a real line this command works on \
+                 one: give one address (a list builds a simulated bus with --sim KIND)"
+            ));
+        }
+        if args.sim.is_none() && !args.fault.is_empty() {
+            return Err(format!(
+                "--fault {} injects faults into a simulated line (with --sim KIND, or \
+                 `axterm sim`); a real line brings its own",
+                args.fault.first().map_or("", String::as_str)
             ));
         }
         let spec = match (&args.sim, &args.port, &args.tcp) {
             (Some(kind), None, None) => {
                 let kind = sim::find_kind(kind).ok_or_else(|| unknown_sim(kind))?;
-                let mut controller = (kind.build)(&SimOptions {
-                    address: args.address,
-                    eeprom_file: None,
-                });
+                let faults = BusFaults::parse(&args.fault)?;
+                let mut controller = simulated_line(kind, args.address.as_ref(), None, &faults)?;
                 if let Some(path) = args.program.as_deref() {
                     super::sim_program::load_program_file(controller.as_mut(), kind.family(), path)
                         .map_err(|problems| problems.join("\n"))?;
@@ -62,7 +160,7 @@ impl Target {
                     sim: Arc::new(Mutex::new(controller)),
                     // Wire time is only emulated when asked for.
                     baud: args.baud,
-                    faults: FaultPlan::none(),
+                    faults: faults.line,
                 }
             }
             (None, Some(_), None) | (None, None, Some(_)) if args.program.is_some() => {
@@ -112,6 +210,7 @@ impl Target {
             spec,
             family,
             address,
+            addresses,
             options: SessionOptions {
                 address: Some(address),
                 device: DeviceOptions {
@@ -225,7 +324,7 @@ mod tests {
     fn a_simulator_brings_its_family_and_the_address() {
         let target = Target::resolve(&ConnectionArgs {
             sim: Some("TMCM1110".into()),
-            address: Some(7),
+            address: Some(7.into()),
             ..args()
         })
         .unwrap();

@@ -28,16 +28,20 @@ fn has_connection(args: &ConnectionArgs) -> bool {
     args.sim.is_some() || args.port.is_some() || args.tcp.is_some()
 }
 
-/// Open the connection the options describe and start polling its status.
+/// Open the connection the options describe and start polling its status:
+/// its first module's controller, which brings the others of an address
+/// list (`--address 1-4`, [`Controller::other_modules`]).
 async fn open(args: &ConnectionArgs) -> Result<Arc<dyn Controller>, (i32, String)> {
-    let target = Target::resolve(args).map_err(|m| (EXIT_USAGE, m))?;
+    let target = Target::resolve_modules(args).map_err(|m| (EXIT_USAGE, m))?;
     let session = target
         .open()
         .await
         .map_err(|e| (EXIT_CONNECTION, e.to_string()))?;
     identify_later(&session);
+    let others = target.addresses.iter().skip(1).copied().collect();
     let controller =
-        SessionController::new(session, target.spec.describe(), target.options.clone());
+        SessionController::new(session, target.spec.describe(), target.options.clone())
+            .with_other_modules(others);
     Ok(Arc::new(match &target.spec {
         LinkSpec::Sim { sim, .. } => controller.with_simulator(Arc::clone(sim)),
         _ => controller,
@@ -93,7 +97,7 @@ pub fn run(args: &ConnectionArgs, appearance: Appearance) -> i32 {
     // Usage errors are reported before the terminal is touched.
     if has_connection(args) {
         for link in all_links(args) {
-            if let Err(message) = Target::resolve(link) {
+            if let Err(message) = Target::resolve_modules(link) {
                 eprintln!("axterm: {message}");
                 return EXIT_USAGE;
             }
@@ -114,7 +118,10 @@ pub fn run(args: &ConnectionArgs, appearance: Appearance) -> i32 {
         if has_connection(args) {
             for link in all_links(args) {
                 match open(link).await {
-                    Ok(controller) => links.push(vec![controller]),
+                    Ok(controller) => {
+                        let others = controller.other_modules();
+                        links.push(std::iter::once(controller).chain(others).collect());
+                    }
                     Err((code, message)) => {
                         eprintln!("axterm: {message}");
                         return code;

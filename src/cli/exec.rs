@@ -7,9 +7,12 @@ use clap::Args;
 
 use super::confirm::{after_line, cautions};
 use super::connection::{Target, run_to_exit};
-use super::output::{Format, print_outcome};
+use super::fleet::{self, FleetArgs, Identity, ModuleRow, Modules};
+use super::output::{Format, json_outcome, print_outcome};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
+use crate::protocol::Family;
 use crate::protocol::settings::SettingsCache;
+use crate::session::Session;
 
 #[derive(Debug, Clone, Args)]
 pub struct ExecArgs {
@@ -24,11 +27,20 @@ pub struct ExecArgs {
     /// and nothing is sent.
     #[arg(long)]
     pub yes: bool,
+    #[command(flatten)]
+    pub fleet: FleetArgs,
 }
 
 pub fn run(connection: &ConnectionArgs, args: &ExecArgs) -> i32 {
     let target = match Target::resolve(connection) {
         Ok(target) => target,
+        Err(message) => {
+            eprintln!("axterm exec: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    let modules = match Modules::from_args(&args.fleet, target.family) {
+        Ok(modules) => modules,
         Err(message) => {
             eprintln!("axterm exec: {message}");
             return EXIT_USAGE;
@@ -63,11 +75,48 @@ pub fn run(connection: &ConnectionArgs, args: &ExecArgs) -> i32 {
             }
         }
     }
+    if let Modules::List(addresses) = &modules {
+        for &address in addresses {
+            for (index, line) in args.lines.iter().enumerate() {
+                if let (Ok(_), Err(message)) = (
+                    console.prepare(line, target.address),
+                    console.prepare(line, address),
+                ) {
+                    eprintln!(
+                        "axterm exec: module {address}: line {} `{}`: {message}",
+                        index + 1,
+                        line.trim()
+                    );
+                    refused = true;
+                }
+            }
+        }
+    }
     if refused {
         eprintln!("axterm exec: nothing was sent");
         return EXIT_USAGE;
     }
     let format = args.format;
+    if modules.several() {
+        let lines = args.lines.clone();
+        let stop_on_failure = args.fleet.stop_on_failure;
+        return run_to_exit("exec", async move {
+            let session = match target.open().await {
+                Ok(session) => session,
+                Err(e) => {
+                    eprintln!("axterm exec: {e}");
+                    return EXIT_CONNECTION;
+                }
+            };
+            let sessions = fleet::sessions(&session, &modules, &target.spec, "exec").await;
+            let lines = &lines;
+            let rows = fleet::each_module(&sessions, stop_on_failure, move |module| async move {
+                exec_on_module(&module, target.family, lines, format).await
+            })
+            .await;
+            fleet::finish(&rows, &["lines", "failed"], format)
+        });
+    }
     run_to_exit("exec", async move {
         let session = match target.open().await {
             Ok(session) => session,
@@ -86,4 +135,61 @@ pub fn run(connection: &ConnectionArgs, args: &ExecArgs) -> i32 {
         }
         EXIT_OK
     })
+}
+
+/// The lines on one module of several: each result prefixed with the
+/// module (text) or carrying it (JSON); the first line that fails ends
+/// this module's lines, not the others'.
+async fn exec_on_module(
+    session: &Session,
+    family: &'static Family,
+    lines: &[String],
+    format: Format,
+) -> ModuleRow {
+    let address = session.address();
+    let identity = Identity::ask(session).await;
+    let mut row = ModuleRow {
+        address,
+        firmware: identity.shown(),
+        ..ModuleRow::default()
+    };
+    if let Identity::Silent(why) = identity {
+        eprintln!("axterm exec: {why}");
+        row.failed = 1;
+        row.note = why;
+        return row;
+    }
+    for (index, line) in lines.iter().enumerate() {
+        // Checked for every address before anything was sent.
+        let outcome = match family.console.prepare(line, address) {
+            Ok(prepared) => session.execute(&prepared).await,
+            Err(message) => Err(crate::session::SessionError::Refused {
+                line: line.clone(),
+                message,
+            }),
+        };
+        match format {
+            Format::Text => {
+                if let Ok(result) = &outcome {
+                    println!("module {address}: {}", result.value);
+                }
+            }
+            Format::Json => {
+                let mut object = json_outcome(family, line, &outcome);
+                object["module"] = serde_json::json!(address);
+                println!("{object}");
+            }
+        }
+        match outcome {
+            Ok(_) => row.written += 1,
+            Err(error) => {
+                eprintln!("axterm exec: module {address}: line {}: {error}", index + 1);
+                row.failed = 1;
+                row.note = format!("line {} failed", index + 1);
+                return row;
+            }
+        }
+    }
+    row.ok = true;
+    row
 }

@@ -148,7 +148,7 @@ mod tests {
             let cli = parse(line);
             assert_eq!(cli.connection.sim.as_deref(), Some("tmcm1110"), "{line}");
             assert_eq!(cli.connection.baud, Some(9600), "{line}");
-            assert_eq!(cli.connection.address, Some(3), "{line}");
+            assert_eq!(cli.connection.first_address(), Some(3), "{line}");
             assert!(cli.connection.more_links.is_empty(), "{line}");
         }
     }
@@ -162,11 +162,11 @@ mod tests {
         let links = all_links(&cli.connection);
         assert_eq!(links.len(), 4);
         assert_eq!(links[0].sim.as_deref(), Some("tmcm1110"));
-        assert_eq!(links[0].address, Some(2));
+        assert_eq!(links[0].addresses(), Some(&[2][..]));
         assert_eq!(links[0].timeout, Some(300), "the shared timeout");
         assert_eq!(links[1].sim.as_deref(), Some("cmd4cr"));
-        assert_eq!(
-            links[1].address, None,
+        assert!(
+            links[1].address.is_none(),
             "the first link's address stays its own"
         );
         assert_eq!(links[2].port.as_deref(), Some("/dev/ttyUSB0"));

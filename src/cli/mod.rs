@@ -6,8 +6,10 @@ pub mod confirm;
 pub mod connection;
 pub mod console;
 pub mod exec;
+pub mod fleet;
 pub mod links;
 pub mod output;
+pub mod params;
 pub mod profiles;
 pub mod run;
 pub mod run_ascript;
@@ -30,8 +32,9 @@ use clap::{ArgAction, Args, Parser, Subcommand};
 
 use crate::link::ports;
 use crate::protocol;
-use crate::sim::faults::FaultPlan;
-use crate::sim::{self, SimOptions};
+pub use crate::protocol::addresses::AddressList;
+use crate::sim;
+use crate::sim::bus::BusFaults;
 use crate::ui::live::Appearance;
 
 /// Exit code when everything went well.
@@ -134,9 +137,14 @@ pub struct ConnectionArgs {
     #[arg(long, global = true, action = ArgAction::Append)]
     pub baud: Option<u32>,
     /// Module address on the bus (default: the family's, 1; sixpack2 0);
-    /// with --sim, also the simulator's.
-    #[arg(long, global = true, action = ArgAction::Append)]
-    pub address: Option<u8>,
+    /// with --sim, also the simulator's. With --sim (and `axterm sim`) a
+    /// list such as 1-4 or 1,3,7 puts that many modules on one simulated
+    /// bus, each its own simulator; the work of a single-module command
+    /// (exec, run, download…) goes to the first address of the list, the
+    /// console lists every module of it. Not for mccl: a MultiFlex board
+    /// has no module address on its link (one board per link).
+    #[arg(long, global = true, value_name = "ADDRESS|LIST", action = ArgAction::Append)]
+    pub address: Option<AddressList>,
     /// Reply timeout in milliseconds (default: from the baud rate).
     #[arg(long, global = true, action = ArgAction::Append)]
     pub timeout: Option<u64>,
@@ -153,6 +161,13 @@ pub struct ConnectionArgs {
     /// LIM+1, LIM-1, HOME1, FAULT1, STALL1 (1..8) =0|1, AD1..AD8 =0..65535.
     #[arg(long = "input", global = true, value_name = "SETTING")]
     pub input: Vec<String>,
+    /// With --sim (and `axterm sim`): faults to inject (repeatable). SPEC
+    /// for the whole line, ADDRESS:SPEC for one module of a simulated bus
+    /// (its answers only; disconnect-after=N takes it off the bus after N
+    /// answers), e.g. --fault 3:drop=1. SPEC:
+    /// drop=P,corrupt=P,garbage=P,delay=P:MS,disconnect-after=N,corrupt-store=N,seed=N.
+    #[arg(long = "fault", global = true, value_name = "[ADDRESS:]SPEC")]
+    pub fault: Vec<String>,
     /// A choice about reading the link that the family's manual leaves
     /// open (repeatable): sixpack2 framing=auto|cmd8|addr9, replies
     /// without (cmd8, §6.2.2.3) or with (addr9) the response address in
@@ -163,6 +178,21 @@ pub struct ConnectionArgs {
     /// with its own options; empty for one link.
     #[arg(skip)]
     pub more_links: Vec<ConnectionArgs>,
+}
+
+impl ConnectionArgs {
+    /// The modules `--address` names, in the order written, each once;
+    /// `None` without `--address` (then the family's default address is
+    /// the one module). For commands that work on several modules.
+    pub fn addresses(&self) -> Option<&[u8]> {
+        self.address.as_ref().map(AddressList::as_slice)
+    }
+
+    /// The first module `--address` names: the one single-module work
+    /// goes to.
+    pub fn first_address(&self) -> Option<u8> {
+        self.address.as_ref().map(AddressList::first)
+    }
 }
 
 #[derive(Debug, Subcommand)]
@@ -178,7 +208,12 @@ pub enum Command {
     ///
     /// On a new pseudo-terminal (--pty: its path is the first line printed)
     /// or a TCP socket (--tcp ADDR: loopback when only a port is given);
-    /// --address sets the module address, --baud N makes every byte take
+    /// --address sets the module address, or with a list (1-4, 1,3,7)
+    /// serves a bus of that many modules on the one line, each its own
+    /// simulator answering only its own address (an absent address gets
+    /// no answer; --fault 3:drop=1 faults one module; an input setting
+    /// 3:IO5=1 drives one module's input, IO5=1 every module's);
+    /// --baud N makes every byte take
     /// its wire time at N baud (10 bits a byte, both ways). --input SETTING
     /// drives an input from the start (IO5=1); while it serves, each line
     /// on standard input is such a setting too, applied at once and
@@ -193,12 +228,11 @@ pub enum Command {
         pty: bool,
         /// File keeping the simulated EEPROM (CMD-4CR: flash) between runs:
         /// a new name, an empty file, or one this simulator wrote (any
-        /// other file is refused and left as it is).
+        /// other file is refused and left as it is). On a bus (--address
+        /// 1-4) each module keeps its own, named after it: line.json
+        /// becomes line-1.json … line-4.json.
         #[arg(long)]
         eeprom: Option<std::path::PathBuf>,
-        /// Faults to inject: drop=P,corrupt=P,garbage=P,delay=P:MS,disconnect-after=N,corrupt-store=N,seed=N.
-        #[arg(long, value_name = "SPEC")]
-        fault: Option<String>,
     },
     /// Run console lines one by one and print one result line each.
     ///
@@ -297,6 +331,15 @@ pub enum Command {
     Upload(transfer::UploadArgs),
     /// Measure the link and the device task.
     Bench(bench::BenchArgs),
+    /// A module's settings as a parameter file: export, diff, apply.
+    ///
+    /// The same TOML file as the console's parameter pane exports,
+    /// compares and imports. `diff` and `apply` work on several modules of
+    /// a bus with --addresses LIST or --all, a table at the end.
+    Params {
+        #[command(subcommand)]
+        command: params::ParamsCommand,
+    },
 }
 
 impl Command {
@@ -317,6 +360,7 @@ impl Command {
             Command::Download(_) => "download",
             Command::Upload(_) => "upload",
             Command::Bench(_) => "bench",
+            Command::Params { .. } => "params",
         }
     }
 }
@@ -335,16 +379,11 @@ pub fn run(cli: Cli) -> i32 {
         return EXIT_USAGE;
     }
     match cli.command {
-        Some(Command::Sim {
-            kind,
-            pty,
-            eeprom,
-            fault,
-        }) => run_sim(&cli.connection, &kind, pty, eeprom, fault.as_deref()),
+        Some(Command::Sim { kind, pty, eeprom }) => run_sim(&cli.connection, &kind, pty, eeprom),
         Some(Command::Ports) => run_ports(),
         Some(Command::Profiles) => run_profiles(cli.profiles.as_deref()),
         Some(Command::Encode { family, line }) => {
-            run_encode(&family, &line, cli.connection.address)
+            run_encode(&family, &line, cli.connection.address.as_ref())
         }
         Some(Command::Exec(args)) => exec::run(&cli.connection, &args),
         Some(Command::Run(args)) => run::run(&cli.connection, &args),
@@ -352,6 +391,7 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::RunMacro(args)) => run_macro::run(&cli.connection, &args),
         Some(Command::Scan(args)) => scan::run(&cli.connection, &args),
         Some(Command::Bench(args)) => bench::run(&cli.connection, &args),
+        Some(Command::Params { command }) => params::run(&cli.connection, &command),
         Some(Command::Asm {
             file,
             listing,
@@ -379,7 +419,6 @@ fn run_sim(
     kind: &str,
     pty: bool,
     eeprom_file: Option<std::path::PathBuf>,
-    fault: Option<&str>,
 ) -> i32 {
     let Some(sim_kind) = sim::find_kind(kind) else {
         eprintln!(
@@ -402,8 +441,8 @@ fn run_sim(
             return EXIT_USAGE;
         }
     };
-    let faults = match fault.map(FaultPlan::parse).transpose() {
-        Ok(plan) => plan.unwrap_or_default(),
+    let faults = match BusFaults::parse(&connection.fault) {
+        Ok(faults) => faults,
         Err(e) => {
             eprintln!("axterm sim: {e}");
             return EXIT_USAGE;
@@ -415,7 +454,7 @@ fn run_sim(
     }
     let line = sim_serve::LineOptions {
         baud: connection.baud,
-        faults: faults.clone(),
+        faults: faults.line.clone(),
     };
     if let (Some(file), Some(why)) = (&eeprom_file, sim_kind.eeprom_refusal) {
         eprintln!(
@@ -425,11 +464,18 @@ fn run_sim(
         );
         return EXIT_USAGE;
     }
-    let options = SimOptions {
-        address: connection.address,
-        eeprom_file,
+    let mut sim = match connection::simulated_line(
+        sim_kind,
+        connection.address.as_ref(),
+        eeprom_file.as_deref(),
+        &faults,
+    ) {
+        Ok(sim) => sim,
+        Err(message) => {
+            eprintln!("axterm sim: {message}");
+            return EXIT_USAGE;
+        }
     };
-    let mut sim = (sim_kind.build)(&options);
     if let Some(problem) = sim.refused_memory_file() {
         eprintln!("axterm sim: {problem}");
         eprintln!(
@@ -437,6 +483,16 @@ fn run_sim(
              name; that file is left as it is and nothing is served"
         );
         return EXIT_USAGE;
+    }
+    if let (Some(file), Some(list)) = (&eeprom_file, &connection.address)
+        && list.is_several()
+    {
+        for &address in list.as_slice() {
+            eprintln!(
+                "axterm sim: module {address} keeps its memory in {}",
+                sim::bus::module_file(file, address).display()
+            );
+        }
     }
     eprintln!("{}", sim.help());
     if let Some(path) = connection.program.as_deref() {
@@ -501,8 +557,15 @@ fn run_sim(
     runtime.block_on(stop_signals.wait(done_rx));
     stop.store(true, Ordering::Relaxed);
     let joined = server.join();
-    if !faults.is_none() {
-        eprintln!("axterm sim: faults injected: {}", faults.counts());
+    if !faults.line.is_none() {
+        eprintln!("axterm sim: faults injected: {}", faults.line.counts());
+    }
+    for module in &faults.modules {
+        eprintln!(
+            "axterm sim: faults injected at module {}: {}",
+            module.address,
+            module.plan.counts()
+        );
     }
     match joined {
         Ok(Ok(())) => EXIT_OK,
@@ -561,7 +624,7 @@ impl StopSignals {
 
 /// `axterm encode FAMILY LINE`: the bytes a console line becomes. A line
 /// that does not parse or validate prints nothing on stdout and exits 2.
-fn run_encode(family: &str, line: &str, address: Option<u8>) -> i32 {
+fn run_encode(family: &str, line: &str, address: Option<&AddressList>) -> i32 {
     let Some(family) = protocol::find_family(family) else {
         eprintln!(
             "axterm encode: unknown protocol family '{family}' (known: {})",
@@ -569,7 +632,14 @@ fn run_encode(family: &str, line: &str, address: Option<u8>) -> i32 {
         );
         return EXIT_USAGE;
     };
-    match (family.encode_line)(line, address) {
+    if let Some(list) = address.filter(|list| list.is_several()) {
+        eprintln!(
+            "axterm encode: --address {list} names several modules; encode makes one frame: \
+             give one address"
+        );
+        return EXIT_USAGE;
+    }
+    match (family.encode_line)(line, address.map(AddressList::first)) {
         Ok(bytes) => {
             println!("{}", (family.show_bytes)(&bytes));
             EXIT_OK
@@ -682,27 +752,36 @@ mod tests {
     #[test]
     fn sim_refuses_unknown_kinds_and_missing_endpoints() {
         let none = ConnectionArgs::default();
-        assert_eq!(run_sim(&none, "nosuch", true, None, None), EXIT_USAGE);
-        assert_eq!(run_sim(&none, "tmcm1110", false, None, None), EXIT_USAGE);
-        assert_eq!(
-            run_sim(&none, "tmcm1110", true, None, Some("drop=2")),
-            EXIT_USAGE
-        );
+        assert_eq!(run_sim(&none, "nosuch", true, None), EXIT_USAGE);
+        assert_eq!(run_sim(&none, "tmcm1110", false, None), EXIT_USAGE);
+        let bad_fault = ConnectionArgs {
+            fault: vec!["drop=2".into()],
+            ..ConnectionArgs::default()
+        };
+        assert_eq!(run_sim(&bad_fault, "tmcm1110", true, None), EXIT_USAGE);
         let zero_baud = ConnectionArgs {
             baud: Some(0),
             ..ConnectionArgs::default()
         };
-        assert_eq!(
-            run_sim(&zero_baud, "tmcm1110", true, None, None),
-            EXIT_USAGE
-        );
+        assert_eq!(run_sim(&zero_baud, "tmcm1110", true, None), EXIT_USAGE);
         let bad_input = ConnectionArgs {
             input: vec!["IN1=1".into(), "IN9=1".into()],
             ..ConnectionArgs::default()
         };
-        assert_eq!(
-            run_sim(&bad_input, "tmcm1110", true, None, None),
-            EXIT_USAGE
+        assert_eq!(run_sim(&bad_input, "tmcm1110", true, None), EXIT_USAGE);
+    }
+
+    #[test]
+    fn the_address_list_and_its_first_module() {
+        let cli = Cli::try_parse_from(["axterm", "--sim", "cmd4cr", "--address", "3,1-2"])
+            .expect("parses");
+        assert_eq!(cli.connection.addresses(), Some(&[3, 1, 2][..]));
+        assert_eq!(cli.connection.first_address(), Some(3));
+        let error = Cli::try_parse_from(["axterm", "--address", "4-1"]).expect_err("refused");
+        assert!(
+            error.to_string().contains("range 4-1 runs backwards"),
+            "{error}"
         );
+        assert_eq!(ConnectionArgs::default().addresses(), None);
     }
 }

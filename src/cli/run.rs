@@ -7,6 +7,7 @@
 //! `--no-stop-on-failure` (see [`super::run_end`]). A line the family
 //! wants confirmed is refused when `--yes` is not given.
 
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
 
 use clap::Args;
@@ -14,8 +15,9 @@ use serde_json::json;
 
 use super::confirm::{after_line, cautions};
 use super::connection::{Target, family_of, names_a_connection, run_to_exit};
+use super::fleet::{self, FleetArgs, Identity, ModuleRow, Modules};
 use super::output::{Format, print_outcome};
-use super::run_end::{Interrupt, RunReport, run_then_end};
+use super::run_end::{Interrupt, RunReport, run_then_end, run_then_end_on};
 use super::script::{Action, CheckedStep, WAIT_INTERVAL, check_script, result_matches};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::protocol::settings::SettingsCache;
@@ -23,7 +25,7 @@ use crate::protocol::settings::SettingsCache;
 use crate::protocol::Family;
 use crate::protocol::console::PreparedLine;
 use crate::session::Session;
-use crate::session::run_end::StopOnFailure;
+use crate::session::run_end::{RunEnding, StopOnFailure};
 
 #[derive(Debug, Clone, Args)]
 pub struct RunArgs {
@@ -52,6 +54,12 @@ pub struct RunArgs {
     /// refused and nothing is sent.
     #[arg(long)]
     pub yes: bool,
+    /// With --addresses or --all the file runs on each module in turn,
+    /// each run ending as a single one does (the stop sequence at that
+    /// module after a failure, unless --no-stop-on-failure); the next
+    /// module is tried all the same unless --stop-on-failure.
+    #[command(flatten)]
+    pub fleet: FleetArgs,
 }
 
 /// The file's name as messages give it (`<stdin>` for `-`) and its text.
@@ -73,7 +81,7 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
     let resolved = if args.dry_run && !names_a_connection(connection) {
         family_of(connection).map(|family| {
             let address = connection
-                .address
+                .first_address()
                 .unwrap_or_else(|| family.console.default_address());
             (family, address, None)
         })
@@ -94,6 +102,28 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
             return EXIT_USAGE;
         }
     };
+    let modules = match Modules::from_args(&args.fleet, family) {
+        Ok(modules) => modules,
+        Err(message) => {
+            eprintln!("axterm run: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    // Every module's lines are checked before anything is sent.
+    if let Modules::List(addresses) = &modules {
+        let problems: Vec<String> = addresses
+            .iter()
+            .filter_map(|&a| check_script(&name, &text, family, a).err())
+            .flatten()
+            .collect();
+        if !problems.is_empty() {
+            for problem in problems {
+                eprintln!("{problem}");
+            }
+            eprintln!("axterm run: {name}: nothing was sent");
+            return EXIT_USAGE;
+        }
+    }
     let checked = match check_script(&name, &text, family, address) {
         Ok(checked) => checked,
         Err(problems) => {
@@ -115,6 +145,27 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
     };
     let (format, keep_going) = (args.format, args.keep_going);
     let policy = StopOnFailure::from_flag(args.no_stop_on_failure);
+    if modules.several() {
+        let fleet_run = FleetRun {
+            name,
+            text,
+            format,
+            keep_going,
+            policy,
+            stop_on_failure: args.fleet.stop_on_failure,
+        };
+        return run_to_exit("run", async move {
+            let session = match target.open().await {
+                Ok(session) => session,
+                Err(e) => {
+                    eprintln!("axterm run: {e}");
+                    return EXIT_CONNECTION;
+                }
+            };
+            let sessions = fleet::sessions(&session, &modules, &target.spec, "run").await;
+            fleet_run.run(&sessions).await
+        });
+    }
     run_to_exit("run", async move {
         let session = match target.open().await {
             Ok(session) => session,
@@ -136,6 +187,7 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
             session: &session,
             name: &name,
             format,
+            module: None,
         };
         // With --keep-going a failed step does not end the run; the run
         // still failed, and ends as one that did.
@@ -182,21 +234,142 @@ fn said_cautions(name: &str, family: &Family, checked: &[CheckedStep], yes: bool
     ok
 }
 
+/// The file on several modules of a bus, one after another.
+struct FleetRun {
+    name: String,
+    text: String,
+    format: Format,
+    keep_going: bool,
+    policy: StopOnFailure,
+    stop_on_failure: bool,
+}
+
+impl FleetRun {
+    async fn run(&self, sessions: &[Session]) -> i32 {
+        let mut interrupt = match Interrupt::watch() {
+            Ok(interrupt) => interrupt,
+            Err(e) => {
+                eprintln!("axterm run: cannot watch for Ctrl-C: {e}");
+                return EXIT_DEVICE;
+            }
+        };
+        let mut rows: Vec<ModuleRow> = Vec::new();
+        let mut ended: Option<String> = None;
+        for session in sessions {
+            let address = session.address();
+            if let Some(why) = &ended {
+                rows.push(ModuleRow {
+                    address,
+                    firmware: "-".into(),
+                    note: format!("not tried: {why}"),
+                    ..ModuleRow::default()
+                });
+                continue;
+            }
+            let (row, ending) = self.on_module(session, &mut interrupt).await;
+            if ending == RunEnding::Cancelled {
+                ended = Some("the run was cancelled (Ctrl-C)".into());
+            } else if !row.ok && self.stop_on_failure {
+                ended = Some(format!("--stop-on-failure after module {address} failed"));
+            }
+            rows.push(row);
+        }
+        fleet::finish(&rows, &["lines", "failed"], self.format)
+    }
+
+    /// The whole file on one module, ended as a single run is.
+    async fn on_module(
+        &self,
+        session: &Session,
+        interrupt: &mut Interrupt,
+    ) -> (ModuleRow, RunEnding) {
+        let address = session.address();
+        let identity = Identity::ask(session).await;
+        let mut row = ModuleRow {
+            address,
+            firmware: identity.shown(),
+            ..ModuleRow::default()
+        };
+        if let Identity::Silent(why) = identity {
+            eprintln!("axterm run: {}: {why}", self.name);
+            row.failed = 1;
+            row.note = why;
+            return (row, RunEnding::Failed);
+        }
+        let checked = match check_script(&self.name, &self.text, session.family(), address) {
+            Ok(checked) => checked,
+            Err(problems) => {
+                for problem in &problems {
+                    eprintln!("module {address}: {problem}");
+                }
+                row.failed = problems.len();
+                row.note = "the file does not check for this address: nothing sent".into();
+                return (row, RunEnding::Failed);
+            }
+        };
+        let runner = Runner {
+            session,
+            name: &self.name,
+            format: self.format,
+            module: Some(address),
+        };
+        // Counted by the work, read after it ended (or was dropped).
+        let (done, failed) = (AtomicUsize::new(0), AtomicUsize::new(0));
+        let work = async {
+            for item in &checked {
+                let ok = runner.step(item).await;
+                let count = if ok { &done } else { &failed };
+                count.fetch_add(1, Ordering::Relaxed);
+                if !ok && !self.keep_going {
+                    return false;
+                }
+            }
+            failed.load(Ordering::Relaxed) == 0
+        };
+        let prefix = format!("axterm run: module {address}: {}: ", self.name);
+        let report = RunReport {
+            prefix: &prefix,
+            format: self.format,
+        };
+        let ending = run_then_end_on(session, interrupt, self.policy, &report, work).await;
+        row.written = done.load(Ordering::Relaxed);
+        row.failed = failed.load(Ordering::Relaxed);
+        row.ok = ending == RunEnding::Completed;
+        if ending == RunEnding::Cancelled {
+            row.note = "cancelled (Ctrl-C)".into();
+        }
+        (row, ending)
+    }
+}
+
 struct Runner<'a> {
     session: &'a Session,
     name: &'a str,
     format: Format,
+    /// The module, when the file runs on several: its results say which.
+    module: Option<u8>,
 }
 
 impl Runner<'_> {
     /// Run one step; false if it failed (the failure is reported).
     async fn step(&self, item: &CheckedStep) -> bool {
-        let at = format!("{}:{}: ", self.name, item.step.line_number);
+        let at = match self.module {
+            Some(address) => format!(
+                "module {address}: {}:{}: ",
+                self.name, item.step.line_number
+            ),
+            None => format!("{}:{}: ", self.name, item.step.line_number),
+        };
         let family = self.session.family();
         match (&item.step.action, &item.line) {
             (Action::Line(text), Some(line)) => {
                 let outcome = self.session.execute(line).await;
-                print_outcome(self.format, family, text, &at, &outcome);
+                match self.module {
+                    None => print_outcome(self.format, family, text, &at, &outcome),
+                    Some(address) => {
+                        print_module_outcome(self.format, family, address, text, &at, &outcome)
+                    }
+                }
                 outcome.is_ok()
             }
             (Action::Expect { value, .. }, Some(line)) => match self.session.execute(line).await {
@@ -221,9 +394,13 @@ impl Runner<'_> {
                 true
             }
             (Action::Echo(text), _) => {
-                match self.format {
-                    Format::Text => println!("{text}"),
-                    Format::Json => println!("{}", json!({ "echo": text })),
+                match (self.format, self.module) {
+                    (Format::Text, None) => println!("{text}"),
+                    (Format::Text, Some(address)) => println!("module {address}: {text}"),
+                    (Format::Json, None) => println!("{}", json!({ "echo": text })),
+                    (Format::Json, Some(address)) => {
+                        println!("{}", json!({ "echo": text, "module": address }))
+                    }
                 }
                 true
             }
@@ -264,6 +441,33 @@ impl Runner<'_> {
             }
             tokio::time::sleep(WAIT_INTERVAL).await;
         }
+    }
+}
+
+/// A line's outcome on one module of several: the value after `module N:
+/// ` (text), or the JSON object with the module.
+fn print_module_outcome(
+    format: Format,
+    family: &Family,
+    address: u8,
+    line: &str,
+    context: &str,
+    outcome: &Result<crate::session::LineResult, crate::session::SessionError>,
+) {
+    match format {
+        Format::Text => {
+            if let Ok(result) = outcome {
+                println!("module {address}: {}", result.value);
+            }
+        }
+        Format::Json => {
+            let mut object = super::output::json_outcome(family, line, outcome);
+            object["module"] = json!(address);
+            println!("{object}");
+        }
+    }
+    if let Err(error) = outcome {
+        eprintln!("{context}{error}");
     }
 }
 

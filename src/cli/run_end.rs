@@ -70,6 +70,22 @@ pub async fn run_then_end(
     report: &RunReport<'_>,
     work: impl Future<Output = bool>,
 ) -> i32 {
+    match run_then_end_on(session, &mut interrupt, policy, report, work).await {
+        RunEnding::Completed => EXIT_OK,
+        RunEnding::Failed | RunEnding::Cancelled => EXIT_DEVICE,
+    }
+}
+
+/// [`run_then_end`] with an interrupt watched across several runs (one
+/// module of a bus after another: a Ctrl-C ends the one running, which
+/// ends as cancelled, and the caller stops there); how the run ended.
+pub async fn run_then_end_on(
+    session: &Session,
+    interrupt: &mut Interrupt,
+    policy: StopOnFailure,
+    report: &RunReport<'_>,
+    work: impl Future<Output = bool>,
+) -> RunEnding {
     let ending = tokio::select! {
         ok = work => RunEnding::from_success(ok),
         () = interrupt.received() => {
@@ -80,7 +96,7 @@ pub async fn run_then_end(
         }
     };
     if ending == RunEnding::Completed {
-        return EXIT_OK;
+        return ending;
     }
     let aftermath = tokio::select! {
         aftermath = session.end_run(ending, policy) => aftermath,
@@ -89,11 +105,11 @@ pub async fn run_then_end(
                 "{}Ctrl-C again: gave up sending the stop; the axes may still move",
                 report.prefix
             );
-            return EXIT_DEVICE;
+            return RunEnding::Cancelled;
         }
     };
     print_aftermath(session, report, &aftermath);
-    EXIT_DEVICE
+    ending
 }
 
 fn print_aftermath(session: &Session, report: &RunReport<'_>, aftermath: &RunAftermath) {

@@ -1,10 +1,12 @@
 //! Protocol knowledge of every controller family: frames, typed commands,
 //! console line syntax, parameter tables. No I/O here.
 
+pub mod addresses;
 pub mod ascii;
 pub mod cmd4cr;
 pub mod console;
 pub mod mccl;
+pub mod parameter_file;
 pub mod parameters;
 pub mod program;
 pub mod settings;

@@ -24,6 +24,7 @@
 
 mod host_run;
 mod later;
+pub mod params;
 pub mod run_end;
 pub mod settings;
 mod status;

@@ -7,6 +7,7 @@ use std::time::Duration;
 
 use crate::protocol::{FAMILIES, Family};
 
+pub mod bus;
 pub mod cmd4cr;
 pub mod faults;
 pub mod inputs;

@@ -934,8 +934,12 @@ impl Pane for AxesPane {
                     self.units.label()
                 )
             });
+            let links = match links {
+                1 => "one link".to_string(),
+                n => format!("{n} links"),
+            };
             return format!(
-                "Axes — {} modules on {links} links, module {} selected · {units}",
+                "Axes — {} modules on {links}, module {} selected · {units}",
                 view.modules.len(),
                 view.module + 1
             );

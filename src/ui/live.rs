@@ -35,6 +35,9 @@ pub struct SessionController {
     options: SessionOptions,
     /// The simulator behind the link, when it runs in this process.
     simulator: Option<SharedSim>,
+    /// The other module addresses on the link opened with this one
+    /// ([`Controller::other_modules`]).
+    others: Vec<u8>,
 }
 
 impl SessionController {
@@ -44,7 +47,15 @@ impl SessionController {
             link_name,
             options,
             simulator: None,
+            others: Vec::new(),
         }
+    }
+
+    /// The same, with more modules on its link at `addresses` (a bus):
+    /// the console lists each ([`Controller::other_modules`]).
+    pub fn with_other_modules(mut self, addresses: Vec<u8>) -> SessionController {
+        self.others = addresses;
+        self
     }
 
     /// The same, with the in-process simulator the link reaches: programs
@@ -157,7 +168,15 @@ impl Controller for SessionController {
             link_name: self.link_name.clone(),
             options,
             simulator: self.simulator.clone(),
+            others: Vec::new(),
         })
+    }
+
+    fn other_modules(&self) -> Vec<Arc<dyn Controller>> {
+        self.others
+            .iter()
+            .map(|&address| self.with_address(address))
+            .collect()
     }
 
     fn load_program(&self, source: &str) -> Result<String, String> {

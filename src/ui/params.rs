@@ -10,11 +10,12 @@
 //! A value is edited in place and checked (range, access) before it is
 //! sent; a write is read back. Values that differ from what was first
 //! read this session are highlighted. The whole configuration exports to
-//! a TOML file ([`file`](mod@file)); importing one shows the differences before
-//! anything is written.
+//! a TOML file ([`parameter_file`]); importing one shows the differences before
+//! anything is written. What is read, compared and written is decided in
+//! [`crate::session::params`], shared with `axterm params`; the pane only
+//! sends its lines one at a time so that the screen never waits.
 
 mod draw;
-pub mod file;
 
 use std::collections::{HashMap, VecDeque};
 use std::path::PathBuf;
@@ -32,13 +33,11 @@ use super::keymap::{Action, Context};
 use super::pane::{Input, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View, key_label};
 use super::text::fit;
 use super::theme::Role;
-use crate::protocol::console::ReplyValue;
-use crate::protocol::parameters::{
-    ParamOp, ParamRole, ParamRow, ParamTable, ParameterSet, Scope, SpeedUnit,
-};
-use crate::protocol::settings::{KnownSetting, SettingsCache};
+use crate::protocol::parameter_file::{self, Exported, ParamFile};
+use crate::protocol::parameters::{ParamOp, ParamRow, ParamTable, ParameterSet, Scope, SpeedUnit};
+use crate::protocol::settings::SettingsCache;
+use crate::session::params::{self as shared, Comparison, ModuleValue as Cell, plan_writes};
 use crate::session::{LineResult, SessionError};
-use file::{Entry, Exported, ParamFile};
 
 /// The file name offered for exports and imports.
 pub const DEFAULT_FILE: &str = "axterm-params.toml";
@@ -48,19 +47,6 @@ const DEFAULT_PAGE: usize = 10;
 
 /// A parameter: its table and number.
 type Key = (Scope, u16);
-
-/// What the pane knows of one parameter's value.
-#[derive(Debug, Clone, PartialEq, Eq)]
-enum Cell {
-    Value(i64),
-    /// The module refused to read it, or the answer made no sense.
-    Unreadable(String),
-    /// No answer came (timeout, link lost).
-    NoAnswer(String),
-    /// The module cannot be asked and the session wrote no value known
-    /// now (never written, or reset since).
-    Unknown(String),
-}
 
 /// Why a line is sent.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -116,23 +102,12 @@ struct Diff {
     /// Whether `w` writes the file's values (import) or this only shows
     /// the differences.
     import: bool,
-    /// Parameters whose value in the module is not the file's.
-    differences: Vec<Difference>,
-    /// Entries found equal.
-    same: usize,
-    /// Their values, for lines that write them together with a
-    /// difference.
-    same_values: Vec<(Key, i64)>,
+    /// The differences, and the entries found equal (their values go
+    /// into lines that write them together with a difference).
+    comparison: Comparison,
     /// What was not taken from the file, and why.
     problems: Vec<String>,
     scroll: usize,
-}
-
-#[derive(Debug, Clone)]
-struct Difference {
-    row: ParamRow,
-    device: Cell,
-    file: i64,
 }
 
 /// A comparison waiting for its reads.
@@ -265,16 +240,7 @@ impl ParamsPane {
         if row.access.read || !self.remembers_writes {
             return self.values.get(&key).cloned();
         }
-        Some(match self.known.get(row.scope, row.number) {
-            Some(KnownSetting::Written(v)) => Cell::Value(*v),
-            Some(KnownSetting::Stale { was, why }) => {
-                Cell::Unknown(format!("unknown since {why}; {was} was written before"))
-            }
-            None => Cell::Unknown(match self.known.forgotten() {
-                Some(why) => format!("not written since {why}"),
-                None => "not written this session".to_string(),
-            }),
-        })
+        Some(shared::remembered(&self.known, row))
     }
 
     /// Lines waiting to be sent (the one in flight included).
@@ -506,32 +472,16 @@ impl ParamsPane {
         self.progress.done += 1;
         let key = (job.row.scope, job.row.number);
         match (job.op, result) {
-            (ParamOp::Read, Ok(r)) => {
-                // A value the family prints with decimals (CMD-4CR SLR,
-                // 1.5) comes as text: its own parser makes it the raw
-                // number the table holds.
-                let number = match &r.value {
-                    ReplyValue::Number(v) => Some(*v),
-                    ReplyValue::Text(text) => Self::parameters(view).and_then(|p| {
-                        p.parse_value(&job.row, text, &self.axis_value(job.row.scope))
-                            .ok()
-                    }),
-                    ReplyValue::None => None,
-                };
-                let cell = match number {
-                    Some(v) => {
-                        self.first.entry(key).or_insert(v);
-                        Cell::Value(v)
+            (ParamOp::Read, _) => {
+                let cell = match Self::parameters(view) {
+                    Some(p) => {
+                        shared::reading(p, &job.row, result, &self.axis_value(job.row.scope))
                     }
-                    None => Cell::Unreadable(format!("answer {} is not a number", r.value)),
+                    None => Cell::Unreadable("no parameter tables".into()),
                 };
-                self.values.insert(key, cell);
-            }
-            (ParamOp::Read, Err(e)) => {
-                let cell = match e {
-                    SessionError::Device { error, .. } => Cell::NoAnswer(error.to_string()),
-                    other => Cell::Unreadable(other.to_string()),
-                };
+                if let Cell::Value(v) = cell {
+                    self.first.entry(key).or_insert(v);
+                }
                 self.values.insert(key, cell);
             }
             (op, Ok(r)) => {
@@ -598,26 +548,10 @@ impl ParamsPane {
         Outcome::redraw()
     }
 
-    /// Every setting of every axis and bank, for export and comparison:
-    /// those read from the module, and those it cannot read back where
-    /// the family knows them from what was written.
+    /// Every setting of every axis and bank, for export and comparison.
     fn setting_rows(session: &Snapshot, parameters: &dyn ParameterSet) -> Vec<ParamRow> {
-        let known = parameters.remembers_writes();
-        let mut rows = Vec::new();
-        let mut banks_done = false;
-        for axis in &session.axes {
-            for table in parameters.tables(axis.number) {
-                let bank = matches!(table.scope, Scope::Bank(_));
-                if bank && banks_done {
-                    continue;
-                }
-                rows.extend(table.rows.into_iter().filter(|r| {
-                    (r.access.read || known) && r.access.write && r.role != ParamRole::State
-                }));
-            }
-            banks_done = true;
-        }
-        rows
+        let axes: Vec<u8> = session.axes.iter().map(|a| a.number).collect();
+        parameter_file::setting_rows(parameters, &axes)
     }
 
     fn start_export(&mut self, path: PathBuf, view: &View) -> Outcome {
@@ -662,7 +596,7 @@ impl ParamsPane {
         if let Some(identity) = &session.identity {
             header.push(format!("firmware {identity}"));
         }
-        let text = file::render(session.family.name, &header, &exported);
+        let text = parameter_file::render(session.family.name, &header, &exported);
         match crate::files::write_atomically(path, text.as_bytes()) {
             Ok(()) if failed == 0 => self.set_message(
                 Role::Ok,
@@ -693,7 +627,7 @@ impl ParamsPane {
         let parsed = crate::files::read_text(&path)
             .map_err(|e| format!("cannot read {}: {e}", path.display()))
             .and_then(|text| {
-                file::parse(&text)
+                parameter_file::parse(&text)
                     .map_err(|e| format!("{} is not a parameter file: {e}", path.display()))
             });
         let parsed: ParamFile = match parsed {
@@ -703,53 +637,13 @@ impl ParamsPane {
                 return Outcome::redraw();
             }
         };
-        if let Some(family) = &parsed.family
-            && !family.eq_ignore_ascii_case(session.family.name)
-        {
-            self.set_message(
-                Role::Error,
-                format!(
-                    "{} holds {family} parameters; this module speaks {}",
-                    path.display(),
-                    session.family.name
-                ),
-            );
+        if let Some(why) = parameter_file::family_mismatch(&parsed, session.family.name) {
+            self.set_message(Role::Error, format!("{}: {why}", path.display()));
             return Outcome::redraw();
         }
-        let mut problems = parsed.problems;
-        let mut entries = Vec::new();
-        let mut tables: HashMap<Scope, Vec<ParamRow>> = HashMap::new();
-        for axis in &session.axes {
-            for table in parameters.tables(axis.number) {
-                tables.entry(table.scope).or_insert(table.rows);
-            }
-        }
-        for Entry {
-            scope,
-            number,
-            value,
-        } in parsed.entries
-        {
-            let label = format!("[{}] {number}", scope.key());
-            let Some(row) = tables
-                .get(&scope)
-                .and_then(|rows| rows.iter().find(|r| r.number == number))
-            else {
-                problems.push(format!("{label}: no such parameter on this module"));
-                continue;
-            };
-            let name = &row.name;
-            if !row.access.write || row.role == ParamRole::State {
-                problems.push(format!("{label} {name}: not a setting, left alone"));
-            } else if !row.range.contains(value) {
-                problems.push(format!(
-                    "{label} {name}: {value} is outside {}, left alone",
-                    row.range
-                ));
-            } else {
-                entries.push((row.clone(), value));
-            }
-        }
+        let axes: Vec<u8> = session.axes.iter().map(|a| a.number).collect();
+        let checked = parameter_file::check(parsed, parameters, &axes);
+        let (entries, problems) = (checked.entries, checked.problems);
         let rows: Vec<ParamRow> = entries.iter().map(|(row, _)| row.clone()).collect();
         self.queue_reads(parameters, &rows);
         self.comparing = Some(Comparing {
@@ -766,27 +660,16 @@ impl ParamsPane {
     }
 
     fn show_diff(&mut self, comparing: Comparing) {
-        let mut differences = Vec::new();
-        let mut same = 0;
-        let mut same_values = Vec::new();
-        for (row, file) in comparing.entries {
-            let device = self
-                .cell(&row)
-                .unwrap_or_else(|| Cell::NoAnswer("not read".into()));
-            if device == Cell::Value(file) {
-                same += 1;
-                same_values.push(((row.scope, row.number), file));
-            } else {
-                differences.push(Difference { row, device, file });
-            }
-        }
+        let module = |row: &ParamRow| {
+            self.cell(row)
+                .unwrap_or_else(|| Cell::NoAnswer("not read".into()))
+        };
+        let comparison = shared::compare(&comparing.entries, &module);
         self.message = None;
         self.mode = Mode::Diff(Diff {
             path: comparing.path,
             import: comparing.import,
-            differences,
-            same,
-            same_values,
+            comparison,
             problems: comparing.problems,
             scroll: 0,
         });
@@ -805,41 +688,27 @@ impl ParamsPane {
             problems: Vec::new(),
             skipped: 0,
         };
-        let mut queued = 0;
         // A parameter written together with others in one line takes
         // their values from the file first: one line for them all.
-        let file: HashMap<Key, i64> = diff
-            .differences
-            .iter()
-            .map(|d| ((d.row.scope, d.row.number), d.file))
-            .chain(diff.same_values.iter().copied())
-            .collect();
-        let mut lines: Vec<String> = Vec::new();
-        for d in &diff.differences {
-            if d.row.role != ParamRole::Setting {
-                run.skipped += 1;
+        let known = |scope: Scope, number: u16| self.value(scope, number);
+        let plan = plan_writes(parameters, &diff.comparison, &known);
+        run.skipped = plan.link_left.len();
+        for (_, why) in plan.refused {
+            run.failed += 1;
+            run.problems.push(why);
+        }
+        let queued = plan.writes.len();
+        for write in plan.writes {
+            let Some(first) = write.values.first() else {
                 continue;
-            }
-            let line = match self.write_line(parameters, &d.row, d.file, &file) {
-                Ok(line) => line,
-                Err(why) => {
-                    run.failed += 1;
-                    run.problems.push(why);
-                    continue;
-                }
             };
-            if lines.contains(&line) {
-                continue;
-            }
-            lines.push(line.clone());
             self.queue.push_back(Job {
-                row: d.row.clone(),
-                op: ParamOp::Write(d.file),
-                line,
+                row: first.row.clone(),
+                op: ParamOp::Write(first.file),
+                line: write.line,
                 purpose: Purpose::Import,
             });
             self.progress.total += 1;
-            queued += 1;
         }
         self.set_message(
             Role::Accent,
@@ -991,7 +860,7 @@ impl ParamsPane {
 
     fn diff_key(&mut self, mut diff: Diff, key: &KeyEvent, view: &View) -> Outcome {
         let action = view.keymap.action_for(Context::Parameters, key);
-        let lines = diff.differences.len() + diff.problems.len();
+        let lines = diff.comparison.differences.len() + diff.problems.len();
         match action {
             Some(Action::ParameterWrite) if diff.import => return self.write_diff(diff, view),
             Some(Action::Cancel) => {

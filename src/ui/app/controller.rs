@@ -88,6 +88,12 @@ pub trait Controller: Send + Sync {
     }
     /// The same link, sending to another module address.
     fn with_address(&self, address: u8) -> Arc<dyn Controller>;
+    /// The other modules on the same link that were opened with this one
+    /// (`--address 1-4`: modules 2, 3 and 4), each its own controller,
+    /// for the console's module list. None by default.
+    fn other_modules(&self) -> Vec<Arc<dyn Controller>> {
+        Vec::new()
+    }
     /// Run a program transfer, telling `progress` how far it came;
     /// `cancel` stops it between two words (so does the emergency stop).
     /// Controllers without program memory refuse.

@@ -464,9 +464,11 @@ impl Runner {
                             .first()
                             .map_or(Some(PollCadence::default()), |c| c.poll);
                         self.disconnect();
+                        let others = controller.other_modules();
                         let mut c = Connection::new(controller, poll);
                         let snapshot = c.snapshot(0);
                         self.connections = vec![c];
+                        self.join_link(others, 0, poll);
                         AppEvent::Connected(snapshot)
                     }
                     Err(message) => AppEvent::Notice(Notice::error(message)),
@@ -482,10 +484,12 @@ impl Runner {
                             .map_or(Some(PollCadence::default()), |c| c.poll);
                         let link = self.connections.iter().map(|c| c.link + 1).max();
                         let link = link.unwrap_or(0);
+                        let others = controller.other_modules();
                         let mut c = Connection::on_link(controller, poll, link, true);
                         let snapshot = c.snapshot(0);
                         let index = self.connections.len();
                         self.connections.push(c);
+                        self.join_link(others, link, poll);
                         if index == 0 {
                             AppEvent::Connected(snapshot)
                         } else {
@@ -621,6 +625,27 @@ impl Runner {
         }
         for old in self.connections.drain(..) {
             old.controller.set_polling(None);
+        }
+    }
+
+    /// More modules of link `link` join the list (a bus opened with an
+    /// address list): each told to the app after the link's first.
+    fn join_link(
+        &mut self,
+        modules: Vec<Arc<dyn Controller>>,
+        link: usize,
+        poll: Option<PollCadence>,
+    ) {
+        for controller in modules {
+            let mut c = Connection::on_link(controller, poll, link, false);
+            let snapshot = c.snapshot(0);
+            let index = self.connections.len();
+            self.connections.push(c);
+            let _ = self.internal.send(AppEvent::Module {
+                index,
+                link,
+                snapshot,
+            });
         }
     }
 

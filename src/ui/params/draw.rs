@@ -2,6 +2,7 @@
 //! the footer, the differences before an import.
 
 use super::*;
+use crate::protocol::parameters::ParamRole;
 
 impl ParamsPane {
     fn value_text(&self, row: &ParamRow) -> (String, Role) {
@@ -285,14 +286,15 @@ impl ParamsPane {
                 &format!(
                     "{verb} {}: {} differ, {} the same",
                     diff.path.display(),
-                    diff.differences.len(),
-                    diff.same
+                    diff.comparison.differences.len(),
+                    diff.comparison.same.len()
                 ),
                 width,
             ),
             theme.style(Role::Title),
         )];
         let writable = diff
+            .comparison
             .differences
             .iter()
             .filter(|d| d.row.role == ParamRole::Setting)
@@ -308,8 +310,8 @@ impl ParamsPane {
         };
         lines.push(Line::styled(fit(&hint, width), theme.style(Role::Accent)));
         let mut body: Vec<Line> = Vec::new();
-        for d in &diff.differences {
-            let device = match &d.device {
+        for d in &diff.comparison.differences {
+            let device = match &d.module {
                 Cell::Value(v) => v.to_string(),
                 Cell::Unreadable(_) => "unreadable".into(),
                 Cell::NoAnswer(_) => "no answer".into(),

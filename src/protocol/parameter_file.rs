@@ -9,11 +9,15 @@
 //! 4 = 1000  # Maximum positioning speed
 //! ```
 //!
-//! Pure text in and out: the pane reads and writes the file.
+//! Pure text in and out: the console's parameter pane and `axterm params`
+//! read and write the file; what a file's entries mean to a family's
+//! tables ([`check`]) and which settings an export holds
+//! ([`setting_rows`]) are decided here, once for both.
 
+use std::collections::HashMap;
 use std::fmt::Write as _;
 
-use crate::protocol::parameters::{ParamRole, ParamRow, Scope};
+use crate::protocol::parameters::{ParamRole, ParamRow, ParameterSet, Scope};
 
 /// One value of a file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -148,6 +152,89 @@ fn read_section(scope: Scope, params: &toml::Table, file: &mut ParamFile) {
     }
 }
 
+/// Every setting of every axis and bank, for export and comparison: the
+/// rows the module reads back, and where the family knows them from what
+/// was written ([`ParameterSet::remembers_writes`]), the write-only ones;
+/// never motion state or read-only rows. `axes` are the module's axis
+/// numbers; the banks are taken once.
+pub fn setting_rows(parameters: &dyn ParameterSet, axes: &[u8]) -> Vec<ParamRow> {
+    let known = parameters.remembers_writes();
+    let mut rows = Vec::new();
+    let mut banks_done = false;
+    for &axis in axes {
+        for table in parameters.tables(axis) {
+            let bank = matches!(table.scope, Scope::Bank(_));
+            if bank && banks_done {
+                continue;
+            }
+            rows.extend(table.rows.into_iter().filter(|r| {
+                (r.access.read || known) && r.access.write && r.role != ParamRole::State
+            }));
+        }
+        banks_done = true;
+    }
+    rows
+}
+
+/// A file's entries as the family's tables take them.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct CheckedFile {
+    /// The settings it gives, with their rows, in table order.
+    pub entries: Vec<(ParamRow, i64)>,
+    /// What was not taken from it, and why (the file's own problems
+    /// first): each names the parameter.
+    pub problems: Vec<String>,
+}
+
+/// Why a file is not for this module: it names another family.
+pub fn family_mismatch(file: &ParamFile, family: &str) -> Option<String> {
+    let named = file.family.as_deref()?;
+    (!named.eq_ignore_ascii_case(family))
+        .then(|| format!("it holds {named} parameters; this module speaks {family}"))
+}
+
+/// Take a parsed file's entries against the tables of a module with
+/// `axes`: an entry that is no parameter here, not a setting (read-only,
+/// motion state) or outside its range is a problem naming it, and left
+/// out.
+pub fn check(file: ParamFile, parameters: &dyn ParameterSet, axes: &[u8]) -> CheckedFile {
+    let mut problems = file.problems;
+    let mut entries = Vec::new();
+    let mut tables: HashMap<Scope, Vec<ParamRow>> = HashMap::new();
+    for &axis in axes {
+        for table in parameters.tables(axis) {
+            tables.entry(table.scope).or_insert(table.rows);
+        }
+    }
+    for Entry {
+        scope,
+        number,
+        value,
+    } in file.entries
+    {
+        let label = format!("[{}] {number}", scope.key());
+        let Some(row) = tables
+            .get(&scope)
+            .and_then(|rows| rows.iter().find(|r| r.number == number))
+        else {
+            problems.push(format!("{label}: no such parameter on this module"));
+            continue;
+        };
+        let name = &row.name;
+        if !row.access.write || row.role == ParamRole::State {
+            problems.push(format!("{label} {name}: not a setting, left alone"));
+        } else if !row.range.contains(value) {
+            problems.push(format!(
+                "{label} {name}: {value} is outside {}, left alone",
+                row.range
+            ));
+        } else {
+            entries.push((row.clone(), value));
+        }
+    }
+    CheckedFile { entries, problems }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -251,5 +338,67 @@ mod tests {
     fn broken_toml_names_the_line() {
         let error = parse("family = \"tmcl\"\n[axis.0]\n4 = = 3\n").unwrap_err();
         assert!(error.starts_with("line 3: "), "{error}");
+    }
+}
+
+#[cfg(test)]
+mod check_tests {
+    use super::*;
+    use crate::protocol::tmcl::parameter_set::TmclParameters;
+
+    #[test]
+    fn entries_are_checked_against_the_tables_and_name_the_parameter() {
+        let file = parse(
+            "family = \"tmcl\"\n[axis.0]\n4 = 1000\n6 = 300\n1 = 5\n999 = 1\n[bank.9]\n1 = 1\n",
+        )
+        .expect("parses");
+        let checked = check(file, &TmclParameters, &[0]);
+        assert_eq!(checked.entries.len(), 1, "{:?}", checked);
+        assert_eq!(checked.entries[0].0.number, 4);
+        assert_eq!(checked.entries[0].1, 1000);
+        let problems = checked.problems.join("\n");
+        assert!(
+            problems.contains("[axis.0] 6 Maximum current: 300 is outside 0..255"),
+            "{problems}"
+        );
+        assert!(
+            problems.contains("[axis.0] 1 Actual position: not a setting"),
+            "{problems}"
+        );
+        assert!(
+            problems.contains("[axis.0] 999: no such parameter"),
+            "{problems}"
+        );
+        assert!(
+            problems.contains("[bank.9] 1: no such parameter"),
+            "{problems}"
+        );
+    }
+
+    #[test]
+    fn a_file_for_another_family_names_both() {
+        let file = parse("family = \"cmd4cr\"\n").expect("parses");
+        let why = family_mismatch(&file, "tmcl").expect("refused");
+        assert_eq!(why, "it holds cmd4cr parameters; this module speaks tmcl");
+        assert_eq!(family_mismatch(&file, "CMD4CR"), None);
+        assert_eq!(family_mismatch(&ParamFile::default(), "tmcl"), None);
+    }
+
+    #[test]
+    fn an_export_holds_settings_only_and_the_banks_once() {
+        let rows = setting_rows(&TmclParameters, &[0]);
+        assert!(
+            rows.iter()
+                .all(|r| r.access.write && r.role != ParamRole::State)
+        );
+        assert!(
+            rows.iter()
+                .any(|r| r.scope == Scope::Axis(0) && r.number == 4)
+        );
+        let banks = rows
+            .iter()
+            .filter(|r| r.scope == Scope::Bank(2) && r.number == 0)
+            .count();
+        assert_eq!(banks, 1);
     }
 }
