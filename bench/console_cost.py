@@ -5,12 +5,19 @@ standing still and moving. Runs the console in a pseudo-terminal of
 
     cargo build --release
     python3 bench/console_cost.py target/release/axterm [SECONDS] [served]
+    python3 bench/console_cost.py target/release/axterm [SECONDS] \
+        --sim tmcm1110 --address 1-4 --sim tmcm1110 --address 1-4
 
 By default the console runs `--sim tmcm1110`, the simulator inside the
 console's process (its 1 ms clock counts against the console's CPU).
 With `served`, the simulator runs in a process of its own (`axterm sim
 tmcm1110 --pty`) and the console talks to it as to a serial port, which
 is what the console costs on a real line.
+
+Given connection options instead (TMCM-1110 modules only: every module
+is moved with `ROR 0, 300`), the console runs on them, and "moving"
+means every module of the list turns (`:module N` then the line, for
+each module the axes pane lists).
 """
 
 import fcntl
@@ -36,11 +43,30 @@ def cpu_seconds(pid):
     return (int(fields[11]) + int(fields[12])) / CLOCK_TICK
 
 
+def module_count(connection):
+    """Modules the options name: one a link, or each of an --address
+    list (1-4, 1,3,7)."""
+    count, link, addresses = 0, False, 1
+    for flag, value in zip(connection, connection[1:] + [""]):
+        if flag in ("--sim", "--port", "--tcp"):
+            count += addresses if link else 0
+            link, addresses = True, 1
+        elif flag == "--address":
+            addresses = 0
+            for part in value.split(","):
+                low, _, high = part.partition("-")
+                addresses += int(high or low) - int(low) + 1
+    return count + (addresses if link else 0)
+
+
 def main():
     binary = sys.argv[1]
     seconds = float(sys.argv[2]) if len(sys.argv) > 2 else 10.0
     served = len(sys.argv) > 3 and sys.argv[3] == "served"
     connection = ["--sim", "tmcm1110"]
+    if len(sys.argv) > 3 and sys.argv[3].startswith("--"):
+        connection = sys.argv[3:]
+    modules = module_count(connection)
     if served:
         sim = subprocess.Popen([binary, "sim", "tmcm1110", "--pty"],
                                stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
@@ -99,10 +125,14 @@ def main():
     print(f"first frame  {1000 * first_frame:9.1f} ms   ({first_bytes} bytes)"
           if first_frame else "first frame  never seen")
     window("standing")
-    os.write(master, b"ROR 0, 300\r")
+    for module in range(1, modules + 1):
+        if modules > 1:
+            os.write(master, f":module {module}\r".encode())
+        os.write(master, b"ROR 0, 300\r")
+        pump(time.monotonic() + 0.2)
     pump(time.monotonic() + 1)
     window("moving")
-    os.write(master, b"MST 0\r")
+    os.write(master, b":stop\r")
     pump(time.monotonic() + 1)
     os.write(master, F10)
     pump(time.monotonic() + 2)
