@@ -6,8 +6,8 @@ use std::io;
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use super::diff_backend::DiffBackend;
 use ratatui::Terminal;
-use ratatui::backend::CrosstermBackend;
 use tokio::sync::{broadcast, mpsc, watch};
 
 use super::app::{self, App, AppEvent, Connector, Controller, Pending};
@@ -253,7 +253,7 @@ pub async fn run_terminal(
         io::stdout(),
         ratatui::crossterm::terminal::Clear(ratatui::crossterm::terminal::ClearType::All)
     )?;
-    let mut terminal = Terminal::new(CrosstermBackend::new(io::stdout()))?;
+    let mut terminal = Terminal::new(DiffBackend::new(io::stdout()))?;
     let mut app = App::new(panes(setup), theme.value, keymap.value);
     app.set_config_dir(appearance.config_dir.clone());
     if controller.is_none() {
