@@ -155,6 +155,14 @@ pub fn status_difference(shown: &[AxisStatus], live: &[AxisStatus]) -> Differenc
         load: None,
         following_error: None,
         refresh: None,
+        watched: s
+            .watched
+            .iter()
+            .map(|w| crate::session::WatchedValue {
+                value: None,
+                ..w.clone()
+            })
+            .collect(),
         ..s.clone()
     };
     let numbers_only = shown.len() == live.len()
