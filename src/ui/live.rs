@@ -136,6 +136,15 @@ impl Controller for SessionController {
         self.session.acknowledge_errors(axis, seen);
     }
 
+    fn watch(&self, axis: usize, line: &str, on: bool) -> Result<(), String> {
+        if on {
+            self.session.watch(axis, line).map_err(|e| e.to_string())
+        } else {
+            self.session.unwatch(axis, line);
+            Ok(())
+        }
+    }
+
     fn clear_errors(
         &self,
         axis: usize,
