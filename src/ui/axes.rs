@@ -1046,10 +1046,12 @@ impl Pane for AxesPane {
             (PaneEvent::Wake { tag }, session) if self.waking == Some(*tag) => {
                 self.waking = None;
                 match session {
-                    Some(session) => {
-                        Outcome::Handled(self.offer_status(session).into_iter().collect())
+                    Some(session) if self.drawn_of.as_ref().is_some_and(|k| k.is(session)) => {
+                        self.drawn.catch_up(&session.status, self.clock.now());
+                        self.widen_spans();
+                        Outcome::redraw()
                     }
-                    None => Outcome::Ignored,
+                    _ => Outcome::Ignored,
                 }
             }
             (PaneEvent::Snapshot, Some(session)) => {

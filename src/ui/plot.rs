@@ -432,6 +432,19 @@ impl PlotPane {
             .filter_map(|&i| points.get(i).cloned())
             .collect();
         let (bounds, labels) = Self::bounds(&mine);
+        // Named after what it holds: `position (raw)`, `speed (raw)`.
+        let labels_of: Vec<String> = members
+            .iter()
+            .filter_map(|&i| self.series.get(i))
+            .map(|s| match &s.quantity {
+                Quantity::Status(v) if v.is_position() => "position".to_string(),
+                other => other.label(),
+            })
+            .collect();
+        let title = match labels_of.first() {
+            Some(first) if labels_of.iter().all(|l| l == first) => format!("{first} (raw)"),
+            _ => "raw".to_string(),
+        };
         let y_labels: Vec<Span> = labels
             .iter()
             .map(|l| Span::raw(format!("{l:>label_width$}")))
@@ -459,6 +472,7 @@ impl PlotPane {
             )
             .y_axis(
                 Axis::default()
+                    .title(Span::styled(title, theme.style(Role::Title)))
                     .bounds(bounds)
                     .labels(y_labels)
                     .style(theme.style(Role::PlotAxes)),

@@ -109,6 +109,12 @@ impl<T: Clone> ReadableRate<T> {
         }
     }
 
+    /// The wake-up asked for by [`Offer::Later`] came: its period is
+    /// over (a timer never fires early), show `live`.
+    pub fn catch_up(&mut self, live: &T, now: Instant) {
+        self.show(live, now);
+    }
+
     fn show(&mut self, live: &T, now: Instant) {
         self.shown = Some(live.clone());
         self.since = Some(now);
@@ -165,11 +171,13 @@ pub fn status_difference(shown: &[AxisStatus], live: &[AxisStatus]) -> Differenc
             .collect(),
         ..s.clone()
     };
+    // What the axis does (moving, stopped short, at its target) is read
+    // from its numbers too, and is no number: it goes through at once.
     let numbers_only = shown.len() == live.len()
         && shown
             .iter()
             .zip(live)
-            .all(|(a, b)| without_numbers(a) == without_numbers(b));
+            .all(|(a, b)| without_numbers(a) == without_numbers(b) && a.motion() == b.motion());
     if numbers_only {
         Difference::Numbers
     } else {
@@ -265,6 +273,15 @@ mod tests {
         );
         assert_eq!(
             status_difference(one(&moving), &[moving.clone(), on]),
+            Difference::State
+        );
+        // The speed falling to 0: the axis stopped, which shows at once.
+        let stopped = AxisStatus {
+            speed: Some(0),
+            ..moving.clone()
+        };
+        assert_eq!(
+            status_difference(one(&moving), one(&stopped)),
             Difference::State
         );
     }
