@@ -4,13 +4,17 @@ standing still and moving. Runs the console in a pseudo-terminal of
 100x30 and reads everything it writes. Standard library only.
 
     cargo build --release
-    python3 bench/console_cost.py target/release/axterm [SECONDS] [served]
+    python3 bench/console_cost.py target/release/axterm [SECONDS] [served] [KIND]
 
 By default the console runs `--sim tmcm1110`, the simulator inside the
 console's process (its 1 ms clock counts against the console's CPU).
 With `served`, the simulator runs in a process of its own (`axterm sim
-tmcm1110 --pty`) and the console talks to it as to a serial port, which
-is what the console costs on a real line.
+KIND --pty`) and the console talks to it as to a serial port, which
+is what the console costs on a real line. KIND is one of MOVES' keys
+(tmcm1110 unless given); its first axis is moved.
+
+With CONSOLE_COST_DUMP=FILE in the environment, the bytes written while
+moving are kept in FILE, to see which cells change.
 """
 
 import fcntl
@@ -25,6 +29,12 @@ import termios
 import time
 
 F10 = b"\x1b[21~"
+# Per simulator kind: the line that moves its first axis at a constant
+# speed, the line that stops it, and the console's --protocol for it.
+MOVES = {
+    "tmcm1110": ("ROR 0, 300", "MST 0", "tmcl"),
+    "cmd4cr": ("JX+", "STOPX", "cmd4cr"),
+}
 CLOCK_TICK = os.sysconf("SC_CLK_TCK")
 
 
@@ -39,12 +49,16 @@ def cpu_seconds(pid):
 def main():
     binary = sys.argv[1]
     seconds = float(sys.argv[2]) if len(sys.argv) > 2 else 10.0
-    served = len(sys.argv) > 3 and sys.argv[3] == "served"
-    connection = ["--sim", "tmcm1110"]
+    served = "served" in sys.argv[3:]
+    kinds = [a for a in sys.argv[3:] if a != "served"]
+    kind = kinds[0] if kinds else "tmcm1110"
+    move, stop, protocol = MOVES[kind]
+    dump = os.environ.get("CONSOLE_COST_DUMP")
+    connection = ["--sim", kind]
     if served:
-        sim = subprocess.Popen([binary, "sim", "tmcm1110", "--pty"],
+        sim = subprocess.Popen([binary, "sim", kind, "--pty"],
                                stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
-        connection = ["--port", sim.stdout.readline().strip()]
+        connection = ["--port", sim.stdout.readline().strip(), "--protocol", protocol]
     data = tempfile.mkdtemp()
     master, slave = pty.openpty()
     fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 30, 100, 0, 0))
@@ -75,7 +89,7 @@ def main():
                 except OSError:
                     return
                 total += len(chunk)
-                if len(seen) < 1_000_000:
+                if len(seen) < 4_000_000:
                     seen.extend(chunk)
 
     first_frame = None
@@ -90,7 +104,11 @@ def main():
 
     def window(label):
         bytes_before, cpu_before, t0 = total, cpu_seconds(pid), time.monotonic()
+        seen_before = len(seen)
         pump(t0 + seconds)
+        if dump and label == "moving":
+            with open(dump, "wb") as out:
+                out.write(seen[seen_before:])
         elapsed = time.monotonic() - t0
         cpu = cpu_seconds(pid) - cpu_before
         print(f"{label:<12} {(total - bytes_before) / elapsed:9.0f} B/s   "
@@ -99,10 +117,10 @@ def main():
     print(f"first frame  {1000 * first_frame:9.1f} ms   ({first_bytes} bytes)"
           if first_frame else "first frame  never seen")
     window("standing")
-    os.write(master, b"ROR 0, 300\r")
+    os.write(master, move.encode() + b"\r")
     pump(time.monotonic() + 1)
     window("moving")
-    os.write(master, b"MST 0\r")
+    os.write(master, stop.encode() + b"\r")
     pump(time.monotonic() + 1)
     os.write(master, F10)
     pump(time.monotonic() + 2)

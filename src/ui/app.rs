@@ -156,6 +156,13 @@ pub enum Effect {
     /// Drive an input of the connected simulator; the answer back as an
     /// [`AppEvent::Notice`].
     DriveSimInput(String),
+    /// Poll a read line with the status, or no longer
+    /// ([`Request::Watch`]); a refusal back as an [`AppEvent::Notice`].
+    Watch {
+        axis: usize,
+        line: String,
+        on: bool,
+    },
     /// Answer with [`AppEvent::Expired`] after this long: the status bar
     /// message `id` ages out.
     Expire {
@@ -668,6 +675,9 @@ impl App {
                 effects.push(Effect::LoadProgram { pane, tag, source })
             }
             Request::DriveSimInput(setting) => effects.push(Effect::DriveSimInput(setting)),
+            Request::Watch { axis, line, on } => effects.push(Effect::Watch { axis, line, on }),
+            Request::Plot(args) => self.broadcast(&PaneEvent::Plot(args), effects),
+            Request::Say(notice) => self.broadcast(&PaneEvent::Notice(notice), effects),
             Request::Quit => {
                 self.quit = true;
                 effects.push(Effect::Quit);
