@@ -4,20 +4,23 @@ standing still and moving. Runs the console in a pseudo-terminal of
 100x30 and reads everything it writes. Standard library only.
 
     cargo build --release
-    python3 bench/console_cost.py target/release/axterm [SECONDS] [served]
+    python3 bench/console_cost.py target/release/axterm [SECONDS] [served] [KIND]
     python3 bench/console_cost.py target/release/axterm [SECONDS] \
         --sim tmcm1110 --address 1-4 --sim tmcm1110 --address 1-4
 
 By default the console runs `--sim tmcm1110`, the simulator inside the
 console's process (its 1 ms clock counts against the console's CPU).
 With `served`, the simulator runs in a process of its own (`axterm sim
-tmcm1110 --pty`) and the console talks to it as to a serial port, which
-is what the console costs on a real line.
+KIND --pty`) and the console talks to it as to a serial port, which
+is what the console costs on a real line. KIND is one of MOVES' keys
+(tmcm1110 unless given); its first axis is moved.
 
-Given connection options instead (TMCM-1110 modules only: every module
-is moved with `ROR 0, 300`), the console runs on them, and "moving"
-means every module of the list turns (`:module N` then the line, for
-each module the axes pane lists).
+Given connection options instead of KIND (TMCM-1110 modules only), the
+console runs on them, and "moving" means every module the options name
+turns (`:module N` then `ROR 0, 300`, for each module of the list).
+
+With CONSOLE_COST_DUMP=FILE in the environment, the bytes written while
+moving are kept in FILE, to see which cells change.
 """
 
 import fcntl
@@ -32,6 +35,12 @@ import termios
 import time
 
 F10 = b"\x1b[21~"
+# Per simulator kind: the line that moves its first axis at a constant
+# speed, the line that stops it, and the console's --protocol for it.
+MOVES = {
+    "tmcm1110": ("ROR 0, 300", "MST 0", "tmcl"),
+    "cmd4cr": ("JX+", "STOPX", "cmd4cr"),
+}
 CLOCK_TICK = os.sysconf("SC_CLK_TCK")
 
 
@@ -62,15 +71,19 @@ def module_count(connection):
 def main():
     binary = sys.argv[1]
     seconds = float(sys.argv[2]) if len(sys.argv) > 2 else 10.0
-    served = len(sys.argv) > 3 and sys.argv[3] == "served"
-    connection = ["--sim", "tmcm1110"]
-    if len(sys.argv) > 3 and sys.argv[3].startswith("--"):
-        connection = sys.argv[3:]
+    options = sys.argv[3:]
+    given = bool(options) and options[0].startswith("--")
+    served = not given and "served" in options
+    kinds = [a for a in options if a != "served"]
+    kind = kinds[0] if kinds and not given else "tmcm1110"
+    move, stop, protocol = MOVES[kind]
+    dump = os.environ.get("CONSOLE_COST_DUMP")
+    connection = options if given else ["--sim", kind]
     modules = module_count(connection)
     if served:
-        sim = subprocess.Popen([binary, "sim", "tmcm1110", "--pty"],
+        sim = subprocess.Popen([binary, "sim", kind, "--pty"],
                                stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
-        connection = ["--port", sim.stdout.readline().strip()]
+        connection = ["--port", sim.stdout.readline().strip(), "--protocol", protocol]
     data = tempfile.mkdtemp()
     master, slave = pty.openpty()
     fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 30, 100, 0, 0))
@@ -101,7 +114,7 @@ def main():
                 except OSError:
                     return
                 total += len(chunk)
-                if len(seen) < 1_000_000:
+                if len(seen) < 4_000_000:
                     seen.extend(chunk)
 
     first_frame = None
@@ -116,7 +129,11 @@ def main():
 
     def window(label):
         bytes_before, cpu_before, t0 = total, cpu_seconds(pid), time.monotonic()
+        seen_before = len(seen)
         pump(t0 + seconds)
+        if dump and label == "moving":
+            with open(dump, "wb") as out:
+                out.write(seen[seen_before:])
         elapsed = time.monotonic() - t0
         cpu = cpu_seconds(pid) - cpu_before
         print(f"{label:<12} {(total - bytes_before) / elapsed:9.0f} B/s   "
@@ -128,11 +145,11 @@ def main():
     for module in range(1, modules + 1):
         if modules > 1:
             os.write(master, f":module {module}\r".encode())
-        os.write(master, b"ROR 0, 300\r")
+        os.write(master, move.encode() + b"\r")
         pump(time.monotonic() + 0.2)
     pump(time.monotonic() + 1)
     window("moving")
-    os.write(master, b":stop\r")
+    os.write(master, (":stop" if modules > 1 else stop).encode() + b"\r")
     pump(time.monotonic() + 1)
     os.write(master, F10)
     pump(time.monotonic() + 2)

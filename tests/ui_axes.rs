@@ -8,7 +8,7 @@ mod ui_support;
 use axterm::ui::app::{AppEvent, Effect};
 use panes_support::{SimModule, serve};
 use ratatui::crossterm::event::KeyCode;
-use ui_support::{axes, console, key, moving_status, screen, snapshot};
+use ui_support::{axes, console, key, moving_status, screen, show, snapshot};
 
 #[test]
 fn one_axis_at_80x24_shows_position_target_speed_switches_and_load() {
@@ -51,13 +51,13 @@ fn an_axis_stopped_short_of_its_target_says_so_not_moving_at_80x24() {
     let mut app = console();
     let mut s = snapshot(axes(&["motor 0"]));
     s.status[0] = moving_status(104_195, 200_000, 1_500, 1_500);
-    app.handle(AppEvent::Snapshot(s.clone()));
+    show(&mut app, s.clone());
     let lines = screen(&mut app, 80, 24);
     assert!(lines[1].contains("○ moving"), "{}", lines[1]);
     // The emergency stop (or Space): the speed falls to 0, the target
     // stays where it was, the module's reached flag stays clear.
     s.status[0].speed = Some(0);
-    app.handle(AppEvent::Snapshot(s.clone()));
+    show(&mut app, s.clone());
     let lines = screen(&mut app, 80, 24);
     let text = lines.join("\n");
     assert!(
@@ -70,12 +70,12 @@ fn an_axis_stopped_short_of_its_target_says_so_not_moving_at_80x24() {
     assert!(lines[2].contains("standing"), "{text}");
     // A new move: moving again; there: reached.
     s.status[0].speed = Some(300);
-    app.handle(AppEvent::Snapshot(s.clone()));
+    show(&mut app, s.clone());
     assert!(screen(&mut app, 80, 24)[1].contains("○ moving"));
     s.status[0].speed = Some(0);
     s.status[0].position = Some(200_000);
     s.status[0].reached = Some(true);
-    app.handle(AppEvent::Snapshot(s));
+    show(&mut app, s);
     assert!(screen(&mut app, 80, 24)[1].contains("● reached"));
 }
 
@@ -84,10 +84,10 @@ fn the_position_gauge_fills_toward_the_target_and_marks_it() {
     let mut app = console();
     let mut s = snapshot(axes(&["motor 0"]));
     s.status[0] = moving_status(0, 51_200, 0, 2_047);
-    app.handle(axterm::ui::app::AppEvent::Snapshot(s.clone()));
+    show(&mut app, s.clone());
     let before = screen(&mut app, 100, 30)[1].clone();
     s.status[0].position = Some(25_600);
-    app.handle(axterm::ui::app::AppEvent::Snapshot(s.clone()));
+    show(&mut app, s.clone());
     let half = screen(&mut app, 100, 30)[1].clone();
     let filled = |line: &str| line.chars().filter(|&c| c == '█').count();
     assert_eq!(filled(&before), 0, "{before}");
@@ -96,7 +96,7 @@ fn the_position_gauge_fills_toward_the_target_and_marks_it() {
     s.status[0].position = Some(51_200);
     s.status[0].reached = Some(true);
     s.status[0].speed = Some(0);
-    app.handle(axterm::ui::app::AppEvent::Snapshot(s));
+    show(&mut app, s);
     let lines = screen(&mut app, 100, 30);
     assert!(filled(&lines[1]) > filled(&half), "{}", lines[1]);
     assert!(lines[1].contains("● reached"), "{}", lines[1]);

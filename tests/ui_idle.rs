@@ -21,10 +21,15 @@ fn poll_record() -> TrafficRecord {
     }
 }
 
+/// The axes pane (second of `ui::panes`): it asks to be woken to draw
+/// numbers held back for a readable rate, shown or not behind a tab.
+const AXES_PANE: usize = 1;
+
+/// Wake-ups asked for, other than the axes pane's.
 fn wakes(effects: &[Effect]) -> usize {
     effects
         .iter()
-        .filter(|e| matches!(e, Effect::Wake { .. }))
+        .filter(|e| matches!(e, Effect::Wake { pane, .. } if *pane != AXES_PANE))
         .count()
 }
 

@@ -36,7 +36,7 @@ use std::time::Duration;
 use tokio::sync::watch;
 
 pub use crate::protocol::console::{AxisFlag, AxisInfo, PreparedLine, ReplyError, ReplyValue};
-pub use status::{AxisMotion, AxisStatus, RefreshRate, RestRead, RestSign};
+pub use status::{AxisMotion, AxisStatus, RefreshRate, RestRead, RestSign, WatchedValue};
 pub use transfer::Cancel;
 
 use crate::device::{
@@ -277,6 +277,9 @@ pub struct Session {
     /// Whose poll plan this module's is: modules on one link (a bus,
     /// [`Session::at_address`]) each poll by their own, in turn.
     poll_owner: PollOwner,
+    /// Lines read with the status for someone watching them (a plotted
+    /// parameter), as slow items ([`Session::watch`]).
+    watches: Arc<Mutex<Vec<StatusPoll>>>,
 }
 
 /// The device's hold for a line the family says may run for long.
@@ -323,6 +326,7 @@ impl Session {
             settings: settings::new_cache(device.state()),
             context: Arc::new(context),
             poll_owner: PollOwner::new(),
+            watches: Arc::new(Mutex::new(Vec::new())),
             device,
         }
     }
@@ -644,10 +648,58 @@ impl Session {
         *self.polling.lock().unwrap_or_else(|e| e.into_inner())
     }
 
+    /// Read `line` (a read of axis `axis`, as the family's parameter
+    /// table writes it) with the status, as often as the slow items, until
+    /// [`Session::unwatch`]: its value lands in the axis's
+    /// [`AxisStatus::watched`]. A line that does not parse or only acts
+    /// is refused, and nothing is polled.
+    pub fn watch(&self, axis: usize, line: &str) -> Result<(), SessionError> {
+        let prepared = self.prepare(line)?;
+        if prepared.effect != Effect::Reads || axis >= self.axes().len() {
+            return Err(SessionError::Refused {
+                line: prepared.canonical,
+                message: format!(
+                    "only a read of an axis of {} can be watched",
+                    self.family.name
+                ),
+            });
+        }
+        {
+            let mut watches = self.watches.lock().unwrap_or_else(|e| e.into_inner());
+            if watches
+                .iter()
+                .any(|w| w.axis == axis && w.line.canonical == prepared.canonical)
+            {
+                return Ok(());
+            }
+            watches.push(StatusPoll {
+                axis,
+                line: prepared.clone(),
+                fast: false,
+            });
+        }
+        status::post_watched(&self.board, axis, &prepared.canonical, None);
+        self.resume_polling();
+        Ok(())
+    }
+
+    /// Stop reading `line` for axis `axis` ([`Session::watch`]).
+    pub fn unwatch(&self, axis: usize, line: &str) {
+        let canonical = self
+            .prepare(line)
+            .map_or_else(|_| line.trim().to_string(), |p| p.canonical);
+        self.watches
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .retain(|w| !(w.axis == axis && w.line.canonical == canonical));
+        status::forget_watched(&self.board, axis, &canonical);
+        self.resume_polling();
+    }
+
     fn apply_poll_plan(&self, cadence: PollCadence) {
         let console = self.family.console;
         let context = self.current_context();
-        let polls: Vec<StatusPoll> = console
+        let mut polls: Vec<StatusPoll> = console
             .status_queries(self.address)
             .into_iter()
             .map(|poll| StatusPoll {
@@ -655,6 +707,19 @@ impl Session {
                 ..poll
             })
             .collect();
+        let status_items = polls.len();
+        // Watched lines go with the slow items and share their cap on
+        // the line's time.
+        polls.extend(
+            self.watches
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .iter()
+                .map(|watch| StatusPoll {
+                    line: adapt_line(console, &watch.line, context.as_deref()),
+                    ..watch.clone()
+                }),
+        );
         let slow = slow_period(cadence, self.byte_time, &polls);
         let items = polls
             .iter()
@@ -663,13 +728,15 @@ impl Session {
                 every: if poll.fast { cadence.fast } else { slow },
             })
             .collect();
+        let watched = polls.split_off(status_items);
         let sink = StatusSink::new(
             self.family,
             polls,
             Arc::clone(&self.board),
             context,
             Some(self.settings.subscribe()),
-        );
+        )
+        .with_watched(watched);
         self.device.set_poll_plan_of(
             self.poll_owner,
             Some(PollPlan {

@@ -65,6 +65,9 @@ pub struct AxisStatus {
     /// what its latest reading said: the evidence a session recording
     /// turns into `:wait-until LINE == VALUE` (see [`RestRead`]).
     pub rest_reads: Vec<RestRead>,
+    /// Lines read with the status because someone watches them
+    /// ([`crate::session::Session::watch`]), in the order asked for.
+    pub watched: Vec<WatchedValue>,
 }
 
 /// What a status poll says of an axis being at rest, from the weakest
@@ -109,6 +112,15 @@ impl RestRead {
             _ => None,
         }
     }
+}
+
+/// A watched line of an axis and the number it last answered (`None`
+/// until it did, or when its answer is no number).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct WatchedValue {
+    /// The line in the family's canonical form (`GAP 206, 0`).
+    pub line: String,
+    pub value: Option<i64>,
 }
 
 /// Full status refreshes a second, to a hundredth.
@@ -408,6 +420,41 @@ pub(crate) fn post_refresh(board: &StatusBoard, rate: Option<RefreshRate>) {
     });
 }
 
+/// Sets the value of a watched line of `axis`, adding the line if new.
+pub(crate) fn post_watched(board: &StatusBoard, axis: usize, line: &str, value: Option<i64>) {
+    board.send_if_modified(|axes| {
+        let Some(status) = axes.get_mut(axis) else {
+            return false;
+        };
+        match status.watched.iter_mut().find(|w| w.line == line) {
+            Some(watched) if watched.value == value => false,
+            Some(watched) => {
+                watched.value = value;
+                true
+            }
+            None => {
+                status.watched.push(WatchedValue {
+                    line: line.to_string(),
+                    value,
+                });
+                true
+            }
+        }
+    });
+}
+
+/// Drops a watched line of `axis`.
+pub(crate) fn forget_watched(board: &StatusBoard, axis: usize, line: &str) {
+    board.send_if_modified(|axes| {
+        let Some(status) = axes.get_mut(axis) else {
+            return false;
+        };
+        let before = status.watched.len();
+        status.watched.retain(|w| w.line != line);
+        status.watched.len() != before
+    });
+}
+
 /// Receives the device task's poll results and posts them.
 pub(crate) struct StatusSink {
     pub family: &'static Family,
@@ -419,6 +466,9 @@ pub(crate) struct StatusSink {
     /// The settings the session knows were written, which some readings
     /// are read in the light of.
     pub settings: Option<watch::Receiver<SettingsCache>>,
+    /// Watched lines, polled after the status items: index
+    /// `polls.len() + n` is `watched[n]`.
+    pub watched: Vec<StatusPoll>,
 }
 
 impl StatusSink {
@@ -436,7 +486,35 @@ impl StatusSink {
             board,
             context,
             settings,
+            watched: Vec::new(),
         }
+    }
+
+    /// The same, polling `watched` lines after the status items.
+    pub(crate) fn with_watched(mut self, watched: Vec<StatusPoll>) -> Self {
+        self.watched = watched;
+        self
+    }
+
+    /// The answer to watched line `n`, posted as its number.
+    fn post_watched(&self, n: usize, result: Result<&Answer, &DeviceError>) {
+        let (Some(watch), Ok(answer)) = (self.watched.get(n), result) else {
+            return;
+        };
+        let console = self.family.console;
+        let Ok(reading) = interpret_line(
+            console,
+            &watch.line,
+            &answer.frames,
+            self.context.as_deref(),
+        ) else {
+            return;
+        };
+        let value = match reading.value {
+            crate::protocol::console::ReplyValue::Number(n) => Some(n),
+            _ => None,
+        };
+        post_watched(&self.board, watch.axis, &watch.line.canonical, value);
     }
 
     /// The reading of item `index`, if it answered with one.
@@ -484,6 +562,10 @@ impl StatusSink {
 
 impl PollSink for StatusSink {
     fn record(&mut self, index: usize, result: Result<&Answer, &DeviceError>) {
+        if let Some(n) = index.checked_sub(self.polls.len()) {
+            self.post_watched(n, result);
+            return;
+        }
         let answered = self.post_reading(index, result);
         if let Some(rate) = self.meter.record(index, answered, Instant::now()) {
             post_refresh(&self.board, Some(rate));

@@ -172,6 +172,13 @@ pub enum Effect {
     /// Drive an input of the connected simulator; the answer back as an
     /// [`AppEvent::Notice`].
     DriveSimInput(String),
+    /// Poll a read line with the status, or no longer
+    /// ([`Request::Watch`]); a refusal back as an [`AppEvent::Notice`].
+    Watch {
+        axis: usize,
+        line: String,
+        on: bool,
+    },
     /// Answer with [`AppEvent::Expired`] after this long: the status bar
     /// message `id` ages out.
     Expire {
@@ -607,14 +614,20 @@ impl App {
         let count = self.modules.len();
         match self.modules.get_mut(index) {
             Some(old) if old.link == entry.link && same(&old.snapshot, &entry.snapshot) => return,
-            Some(old) => *old = entry,
+            Some(old) => {
+                *old = entry;
+                // The panes that show it decide when it is drawn (numbers
+                // at a readable rate, as the selected module's).
+                self.broadcast(&PaneEvent::ModuleChanged(index), effects);
+                return;
+            }
             None if index == count => self.modules.push(entry),
             None => return,
         }
         if self.snapshot.is_none() {
             // The first module of a console that had none.
             self.select_module(index, effects);
-        } else if index + 1 == self.modules.len() && index == count {
+        } else {
             // A module joined the list: the panes hear of it.
             self.broadcast(&PaneEvent::Snapshot, effects);
         }
@@ -818,6 +831,9 @@ impl App {
                 effects.push(Effect::LoadProgram { pane, tag, source })
             }
             Request::DriveSimInput(setting) => effects.push(Effect::DriveSimInput(setting)),
+            Request::Watch { axis, line, on } => effects.push(Effect::Watch { axis, line, on }),
+            Request::Plot(args) => self.broadcast(&PaneEvent::Plot(args), effects),
+            Request::Say(notice) => self.broadcast(&PaneEvent::Notice(notice), effects),
             Request::Quit => {
                 self.quit = true;
                 effects.push(Effect::Quit);

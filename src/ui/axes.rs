@@ -30,6 +30,7 @@ use super::keymap::{Action, Context};
 use super::pane::{
     Input, ModuleEntry, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View, key_label,
 };
+use super::readable::{Offer, PaneClock, ReadableRate, status_difference};
 use super::theme::{Role, Theme};
 use crate::device::LinkState;
 use crate::protocol::console::{AxisFlag, LoadScale, MotionPhase, ReplyValue};
@@ -127,7 +128,8 @@ struct AxisMemory {
     ramp: Option<Ramp>,
     /// Snapshots since the speed last changed.
     unchanged: u32,
-    /// The span of positions and targets seen: the position gauge's range.
+    /// The span of positions and targets drawn: the position gauge's
+    /// range.
     low: i64,
     high: i64,
 }
@@ -213,11 +215,107 @@ pub struct AxesPane {
     note: Option<String>,
     /// The controller runs a line that holds it busy: nothing is polled.
     busy: bool,
+    /// The status as drawn: numbers change at a readable rate
+    /// ([`super::readable`]), lamps and flags at once.
+    drawn: ReadableRate<Vec<AxisStatus>>,
+    /// The module `drawn` shows.
+    drawn_of: Option<ModuleKey>,
+    /// The status drawn of each module of several but the selected one
+    /// (by index into [`View::modules`]), at the same readable rate.
+    others_drawn: BTreeMap<usize, (ModuleKey, ReadableRate<Vec<AxisStatus>>)>,
+    /// The wake-up asked for to draw numbers held back, if any.
+    waking: Option<u64>,
+    clock: PaneClock,
 }
 
 impl AxesPane {
     pub fn new() -> AxesPane {
         AxesPane::default()
+    }
+
+    /// The same, with "now" from `clock` (tests).
+    pub fn with_clock(clock: PaneClock) -> AxesPane {
+        AxesPane {
+            clock,
+            ..AxesPane::default()
+        }
+    }
+
+    /// Take the snapshot's status for drawing, numbers at a readable
+    /// rate; a wake-up to draw numbers held back, if one is needed.
+    fn offer_status(&mut self, session: &Snapshot) -> Option<Request> {
+        if !self.drawn_of.as_ref().is_some_and(|k| k.is(session)) {
+            self.drawn.reset();
+            self.drawn_of = Some(ModuleKey::of(session));
+        }
+        let now = self.clock.now();
+        let offer = self.drawn.offer(&session.status, now, |shown, live| {
+            status_difference(shown, live)
+        });
+        if offer == Offer::Shown {
+            self.widen_spans();
+        }
+        match offer {
+            Offer::Later(after) if self.waking.is_none() => {
+                self.next_tag += 1;
+                self.waking = Some(self.next_tag);
+                Some(Request::WakeAfter {
+                    after,
+                    tag: self.next_tag,
+                })
+            }
+            _ => None,
+        }
+    }
+
+    /// Take module `index`'s status (not the selected module's) for
+    /// drawing, as [`AxesPane::offer_status`]: whether to draw now, and a
+    /// wake-up to draw numbers held back.
+    fn offer_module(&mut self, index: usize, module: &Snapshot) -> (bool, Option<Request>) {
+        let now = self.clock.now();
+        let (key, drawn) = self
+            .others_drawn
+            .entry(index)
+            .or_insert_with(|| (ModuleKey::of(module), ReadableRate::default()));
+        if !key.is(module) {
+            *key = ModuleKey::of(module);
+            drawn.reset();
+        }
+        let offer = drawn.offer(&module.status, now, |shown, live| {
+            status_difference(shown, live)
+        });
+        match offer {
+            Offer::Shown => (true, None),
+            Offer::Later(after) if self.waking.is_none() => {
+                self.next_tag += 1;
+                self.waking = Some(self.next_tag);
+                let wake = Request::WakeAfter {
+                    after,
+                    tag: self.next_tag,
+                };
+                (false, Some(wake))
+            }
+            _ => (false, None),
+        }
+    }
+
+    /// The status to draw of module `index` (not the selected one).
+    fn module_status<'a>(&'a self, index: usize, module: &'a Snapshot) -> &'a [AxisStatus] {
+        self.others_drawn
+            .get(&index)
+            .filter(|(key, _)| key.is(module))
+            .and_then(|(_, drawn)| drawn.shown())
+            .map_or(&module.status, |shown| shown.as_slice())
+    }
+
+    /// The status to draw of axis `index`.
+    fn drawn_status(&self, index: usize, session: &Snapshot) -> AxisStatus {
+        let drawn = self
+            .drawn
+            .shown()
+            .filter(|_| self.drawn_of.as_ref().is_some_and(|k| k.is(session)))
+            .unwrap_or(&session.status);
+        drawn.get(index).cloned().unwrap_or_default()
     }
 
     /// How positions and speeds are shown now.
@@ -319,7 +417,7 @@ impl AxesPane {
         }
     }
 
-    /// Follow a new snapshot: speed trends and position ranges.
+    /// Follow a new snapshot: speed trends.
     fn remember(&mut self, session: &Snapshot) {
         self.memory
             .resize(session.status.len(), AxisMemory::default());
@@ -344,6 +442,18 @@ impl AxesPane {
                     memory.ramp = Some(steady);
                 }
             }
+        }
+    }
+
+    /// Widen the position gauges' ranges to the positions and targets
+    /// drawn: a range that grew with every poll while the position drawn
+    /// waits for its turn would move the gauge's fill back and forth.
+    fn widen_spans(&mut self) {
+        let Some(drawn) = self.drawn.shown() else {
+            return;
+        };
+        self.memory.resize(drawn.len(), AxisMemory::default());
+        for (memory, status) in self.memory.iter_mut().zip(drawn) {
             for value in [status.position, status.target].into_iter().flatten() {
                 memory.low = memory.low.min(value);
                 memory.high = memory.high.max(value);
@@ -689,17 +799,25 @@ impl AxesPane {
             ]));
             let module_view = View {
                 session: Some(module),
+                modules: &[],
+                module: 0,
                 ..*view
             };
             let pane = if chosen { &*self } else { &plain };
+            // As drawn: numbers at a readable rate.
+            let statuses: Vec<AxisStatus> = if chosen {
+                (0..module.axes.len())
+                    .map(|i| self.drawn_status(i, module))
+                    .collect()
+            } else {
+                self.module_status(index, module).to_vec()
+            };
+            let status_of = |i: usize| statuses.get(i).cloned().unwrap_or_default();
             let shown: Vec<ShownValues> = module
                 .axes
                 .iter()
                 .enumerate()
-                .map(|(i, _)| {
-                    let status = module.status.get(i).cloned().unwrap_or_default();
-                    pane.shown_values(i, &status, &module_view)
-                })
+                .map(|(i, _)| pane.shown_values(i, &status_of(i), &module_view))
                 .collect();
             let width_of = |field: fn(&ShownValues) -> &String| {
                 shown
@@ -715,7 +833,7 @@ impl AxesPane {
                 width_of(|v| &v.max_speed),
             ];
             for (i, axis) in module.axes.iter().enumerate() {
-                let status = module.status.get(i).cloned().unwrap_or_default();
+                let status = status_of(i);
                 let here = chosen && i == module.axis;
                 if here {
                     selected_row = lines.len();
@@ -1009,7 +1127,7 @@ impl Pane for AxesPane {
             .axes
             .iter()
             .enumerate()
-            .map(|(i, axis)| (i, axis, session.status.get(i).cloned().unwrap_or_default()))
+            .map(|(i, axis)| (i, axis, self.drawn_status(i, session)))
             .collect();
         let count = axes.len();
         let cols = columns(area.width, count);
@@ -1132,8 +1250,43 @@ impl Pane for AxesPane {
                 }
                 Outcome::redraw()
             }
+            (PaneEvent::Wake { tag }, session) if self.waking == Some(*tag) => {
+                self.waking = None;
+                // The other modules' numbers held back come with it.
+                let now = self.clock.now();
+                let mut others = false;
+                for (index, (key, drawn)) in &mut self.others_drawn {
+                    if let Some(entry) = view.modules.get(*index)
+                        && key.is(&entry.snapshot)
+                        && index != &view.module
+                    {
+                        drawn.catch_up(&entry.snapshot.status, now);
+                        others = true;
+                    }
+                }
+                match session {
+                    Some(session) if self.drawn_of.as_ref().is_some_and(|k| k.is(session)) => {
+                        self.drawn.catch_up(&session.status, self.clock.now());
+                        self.widen_spans();
+                        Outcome::redraw()
+                    }
+                    _ if others => Outcome::redraw(),
+                    _ => Outcome::Ignored,
+                }
+            }
+            (PaneEvent::ModuleChanged(index), _) if *index != view.module => {
+                let Some(entry) = view.modules.get(*index) else {
+                    return Outcome::Ignored;
+                };
+                match self.offer_module(*index, &entry.snapshot) {
+                    (true, _) => Outcome::redraw(),
+                    (false, Some(wake)) => Outcome::request(wake),
+                    (false, None) => Outcome::Ignored,
+                }
+            }
             (PaneEvent::Snapshot, Some(session)) => {
                 self.remember(session);
+                let mut requests: Vec<Request> = self.offer_status(session).into_iter().collect();
                 // Another module (a new connection, another address):
                 // what the conversions need is read from it afresh.
                 if self.units != Units::Raw
@@ -1141,14 +1294,15 @@ impl Pane for AxesPane {
                 {
                     let params = session.family.console.parameters();
                     match params.filter(|p| !p.status_inputs().is_empty()) {
-                        Some(params) => return Outcome::Handled(self.read_inputs(session, params)),
+                        Some(params) => requests.extend(self.read_inputs(session, params)),
                         None => self.units = Units::Raw,
                     }
                 }
-                Outcome::redraw()
+                Outcome::Handled(requests)
             }
             (PaneEvent::Snapshot, None) => {
                 self.memory.clear();
+                self.drawn.reset();
                 Outcome::redraw()
             }
             (PaneEvent::Busy(busy), _) => {
@@ -1290,5 +1444,274 @@ mod tests {
         assert_eq!(fraction(5, 0, 10), 0.5);
         assert_eq!(fraction(5, 5, 5), 0.0);
         assert_eq!(fraction(i64::MIN, i64::MIN, i64::MAX), 0.0);
+    }
+
+    #[test]
+    fn another_modules_numbers_are_drawn_at_the_readable_rate_too() {
+        let mut drawn = Drawn::new();
+        let other = Snapshot {
+            address: 2,
+            ..drawn.snapshot.clone()
+        };
+        let mut modules = vec![
+            ModuleEntry {
+                link: 0,
+                snapshot: drawn.snapshot.clone(),
+            },
+            ModuleEntry {
+                link: 0,
+                snapshot: other,
+            },
+        ];
+        let theme = drawn.theme.clone();
+        let keymap = drawn.keymap.clone();
+        let session = drawn.snapshot.clone();
+        let changed = |pane: &mut AxesPane, modules: &[ModuleEntry], event: PaneEvent| {
+            let view = View {
+                theme: &theme,
+                keymap: &keymap,
+                session: Some(&session),
+                modules,
+                module: 0,
+                focused: false,
+                shown: true,
+            };
+            pane.on_event(&event, &view)
+        };
+        let position = |pane: &AxesPane, modules: &[ModuleEntry]| {
+            pane.module_status(1, &modules[1].snapshot)[0].position
+        };
+        // The first status of module 2 is drawn at once.
+        assert_eq!(
+            changed(&mut drawn.pane, &modules, PaneEvent::ModuleChanged(1)),
+            Outcome::redraw()
+        );
+        // A position 50 ms later waits for its turn, with a wake-up.
+        drawn.later(50);
+        modules[1].snapshot.status[0].position = Some(10);
+        let Outcome::Handled(asked) =
+            changed(&mut drawn.pane, &modules, PaneEvent::ModuleChanged(1))
+        else {
+            panic!("a wake-up asked for");
+        };
+        let [Request::WakeAfter { after, tag }] = asked.as_slice() else {
+            panic!("{asked:?}");
+        };
+        assert_eq!(*after, super::super::readable::READABLE_PERIOD / 4 * 3);
+        assert_eq!(position(&drawn.pane, &modules), Some(0), "held back");
+        // A lamp is no number: it goes through at once, numbers with it.
+        modules[1].snapshot.status[0].left_switch = Some(true);
+        assert_eq!(
+            changed(&mut drawn.pane, &modules, PaneEvent::ModuleChanged(1)),
+            Outcome::redraw()
+        );
+        assert_eq!(position(&drawn.pane, &modules), Some(10));
+        // The wake-up draws what is newest.
+        modules[1].snapshot.status[0].position = Some(20);
+        assert_eq!(
+            changed(&mut drawn.pane, &modules, PaneEvent::ModuleChanged(1)),
+            Outcome::Ignored,
+            "a wake-up is already asked for"
+        );
+        drawn.later(200);
+        changed(&mut drawn.pane, &modules, PaneEvent::Wake { tag: *tag });
+        assert_eq!(position(&drawn.pane, &modules), Some(20));
+    }
+
+    /// A pane on a hand-moved clock, a TMCL snapshot and a way to draw
+    /// it: the screen as cells.
+    struct Drawn {
+        pane: AxesPane,
+        now: std::sync::Arc<std::sync::Mutex<std::time::Instant>>,
+        snapshot: Snapshot,
+        theme: Theme,
+        keymap: super::super::keymap::Keymap,
+    }
+
+    impl Drawn {
+        fn new() -> Drawn {
+            let now = std::sync::Arc::new(std::sync::Mutex::new(std::time::Instant::now()));
+            let hand = now.clone();
+            let clock = PaneClock(std::sync::Arc::new(move || {
+                *hand.lock().unwrap_or_else(|e| e.into_inner())
+            }));
+            let family = crate::protocol::find_family("tmcl").expect("tmcl");
+            let status = AxisStatus {
+                position: Some(0),
+                target: Some(51_200),
+                speed: Some(0),
+                max_speed: Some(1000),
+                left_switch: Some(false),
+                ..AxisStatus::default()
+            };
+            Drawn {
+                pane: AxesPane::with_clock(clock),
+                now,
+                snapshot: Snapshot {
+                    family,
+                    address: 1,
+                    link_name: "sim".into(),
+                    axes: family.console.axes().to_vec(),
+                    status: vec![status],
+                    link: LinkState::Closed,
+                    identity: None,
+                    poll: None,
+                    settings: Default::default(),
+                    axis: 0,
+                },
+                theme: Theme::builtin("dark").expect("dark"),
+                keymap: super::super::keymap::Keymap::builtin("default").expect("keymap"),
+            }
+        }
+
+        fn later(&mut self, ms: u64) {
+            let mut now = self.now.lock().unwrap_or_else(|e| e.into_inner());
+            *now += std::time::Duration::from_millis(ms);
+        }
+
+        /// The snapshot changed: what the pane asks for.
+        fn snapshot_changed(&mut self) -> Vec<Request> {
+            let view = View {
+                theme: &self.theme,
+                keymap: &self.keymap,
+                session: Some(&self.snapshot),
+                modules: &[],
+                module: 0,
+                focused: false,
+                shown: true,
+            };
+            match self.pane.on_event(&PaneEvent::Snapshot, &view) {
+                Outcome::Handled(requests) => requests,
+                Outcome::Ignored => Vec::new(),
+            }
+        }
+
+        fn woken(&mut self, tag: u64) -> Vec<Request> {
+            let view = View {
+                theme: &self.theme,
+                keymap: &self.keymap,
+                session: Some(&self.snapshot),
+                modules: &[],
+                module: 0,
+                focused: false,
+                shown: true,
+            };
+            match self.pane.on_event(&PaneEvent::Wake { tag }, &view) {
+                Outcome::Handled(requests) => requests,
+                Outcome::Ignored => Vec::new(),
+            }
+        }
+
+        fn draw(&mut self) -> ratatui::buffer::Buffer {
+            let mut terminal =
+                ratatui::Terminal::new(ratatui::backend::TestBackend::new(100, 3)).expect("term");
+            let view = View {
+                theme: &self.theme,
+                keymap: &self.keymap,
+                session: Some(&self.snapshot),
+                modules: &[],
+                module: 0,
+                focused: false,
+                shown: true,
+            };
+            let pane = &mut self.pane;
+            terminal
+                .draw(|frame| pane.render(frame, frame.area(), &view))
+                .expect("draw");
+            terminal.backend().buffer().clone()
+        }
+    }
+
+    /// Whether only the first row differs.
+    fn only_the_first_row_differs(
+        a: &ratatui::buffer::Buffer,
+        b: &ratatui::buffer::Buffer,
+    ) -> bool {
+        a.diff(b).iter().all(|(_, y, _)| *y == 0)
+    }
+
+    /// The columns of the cells that differ between two screens.
+    fn changed(before: &ratatui::buffer::Buffer, after: &ratatui::buffer::Buffer) -> Vec<u16> {
+        before.diff(after).into_iter().map(|(x, _, _)| x).collect()
+    }
+
+    #[test]
+    fn a_position_moved_within_the_readable_period_and_a_gauge_cell_changes_no_cell() {
+        let mut drawn = Drawn::new();
+        assert!(drawn.snapshot_changed().is_empty(), "the first is shown");
+        let first = drawn.draw();
+        // 50 ms later (the next 20 Hz poll) the axis moved 10 of 51200
+        // counts: less than a cell of the gauge, and too soon to change
+        // the digits.
+        drawn.later(50);
+        drawn.snapshot.status[0].position = Some(10);
+        let asked = drawn.snapshot_changed();
+        let [Request::WakeAfter { after, tag }] = asked.as_slice() else {
+            panic!("a wake-up for the held digits, not {asked:?}");
+        };
+        assert_eq!(*after, super::super::readable::READABLE_PERIOD / 4 * 3);
+        assert_eq!(changed(&first, &drawn.draw()), [] as [u16; 0]);
+        // Another poll before the wake-up asks for no second one.
+        drawn.later(50);
+        drawn.snapshot.status[0].position = Some(20);
+        assert!(drawn.snapshot_changed().is_empty());
+        assert_eq!(changed(&first, &drawn.draw()), [] as [u16; 0]);
+        // At the wake-up the newest position is drawn: its digits change,
+        // the gauge does not.
+        drawn.later(100);
+        assert!(drawn.woken(*tag).is_empty());
+        let after = drawn.draw();
+        let columns = changed(&first, &after);
+        assert!(!columns.is_empty());
+        // The position's field: right-aligned after "pos ", before the
+        // gauge (11 columns wide for TMCL's numbers).
+        let row: Vec<&str> = (0..100u16).map(|x| after[(x, 0)].symbol()).collect();
+        let pos = row
+            .windows(4)
+            .position(|w| w.concat() == "pos ")
+            .expect("pos label") as u16
+            + 4;
+        assert_eq!(
+            row[usize::from(pos) + 9..usize::from(pos) + 11].concat(),
+            "20"
+        );
+        assert!(
+            columns.iter().all(|x| (pos..pos + 11).contains(x)),
+            "only the position's digits changed: {columns:?}"
+        );
+        assert!(only_the_first_row_differs(&first, &after));
+    }
+
+    #[test]
+    fn a_lamp_is_drawn_at_once_with_the_numbers_of_that_moment() {
+        let mut drawn = Drawn::new();
+        drawn.snapshot_changed();
+        drawn.later(10);
+        drawn.snapshot.status[0].position = Some(3000);
+        assert_eq!(drawn.snapshot_changed().len(), 1, "the digits wait");
+        drawn.later(10);
+        drawn.snapshot.status[0].left_switch = Some(true);
+        drawn.snapshot.status[0].position = Some(3100);
+        drawn.snapshot_changed();
+        let shown = drawn.pane.drawn_status(0, &drawn.snapshot);
+        assert_eq!(shown.left_switch, Some(true));
+        assert_eq!(shown.position, Some(3100));
+    }
+
+    #[test]
+    fn the_position_gauge_keeps_still_while_the_digits_wait_in_velocity_mode() {
+        // ROR: no target, the position runs away from everything seen, so
+        // the gauge's range grows with it.
+        let mut drawn = Drawn::new();
+        drawn.snapshot.status[0].target = None;
+        drawn.snapshot.status[0].position = Some(1000);
+        drawn.snapshot_changed();
+        let first = drawn.draw();
+        for position in [1100, 1200, 1300] {
+            drawn.later(50);
+            drawn.snapshot.status[0].position = Some(position);
+            drawn.snapshot_changed();
+            assert_eq!(changed(&first, &drawn.draw()), [] as [u16; 0]);
+        }
     }
 }

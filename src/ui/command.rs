@@ -90,6 +90,10 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
         ":log [FILE | off]",
         "log every frame with its UTC time to FILE (none: axterm-YYYYMMDD-HHMMSS.log here)",
     ),
+    (
+        ":plot add AXIS VALUE | remove AXIS VALUE | clear | csv FILE",
+        "plot a status value (position, speed, load…) or a parameter by name or number; export what was plotted",
+    ),
     (":theme NAME", "switch colours"),
     (":keymap NAME", "switch key bindings"),
     (
@@ -526,6 +530,7 @@ impl CommandPane {
             }
             "record-macro" => return self.record_command(rest, view),
             "record" => return self.session_record_command(rest, view),
+            "plot" => Request::Plot(rest.to_string()),
             command if is_host_command(command) => {
                 let (policy, rest) = run_options(rest);
                 return self

@@ -6,8 +6,8 @@ use std::io;
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use super::diff_backend::DiffBackend;
 use ratatui::Terminal;
-use ratatui::backend::CrosstermBackend;
 use tokio::sync::{broadcast, mpsc, watch};
 
 use super::app::{self, App, AppEvent, Connector, Controller, Pending};
@@ -147,6 +147,15 @@ impl Controller for SessionController {
         self.session.acknowledge_errors(axis, seen);
     }
 
+    fn watch(&self, axis: usize, line: &str, on: bool) -> Result<(), String> {
+        if on {
+            self.session.watch(axis, line).map_err(|e| e.to_string())
+        } else {
+            self.session.unwatch(axis, line);
+            Ok(())
+        }
+    }
+
     fn clear_errors(
         &self,
         axis: usize,
@@ -272,7 +281,7 @@ pub async fn run_terminal(
         io::stdout(),
         ratatui::crossterm::terminal::Clear(ratatui::crossterm::terminal::ClearType::All)
     )?;
-    let mut terminal = Terminal::new(CrosstermBackend::new(io::stdout()))?;
+    let mut terminal = Terminal::new(DiffBackend::new(io::stdout()))?;
     let mut app = App::new(panes(setup), theme.value, keymap.value);
     app.set_config_dir(appearance.config_dir.clone());
     if links.is_empty() {

@@ -133,6 +133,9 @@ pub enum PaneEvent {
     Snapshot,
     /// A frame went out or came in.
     Traffic(TrafficRecord),
+    /// Module `.0` of [`View::modules`], not the selected one, changed
+    /// (its status polled anew, its link's state…).
+    ModuleChanged(usize),
     /// A frame on link `link` (numbered as [`ModuleEntry::link`]), of a
     /// console on several links; [`PaneEvent::Traffic`] is link 0's.
     LinkTraffic { link: usize, record: TrafficRecord },
@@ -186,6 +189,8 @@ pub enum PaneEvent {
     /// The connect screen's choice now connects with this protocol family
     /// ([`Request::ChooseFamily`]).
     FamilyChosen(&'static str),
+    /// `:plot ARGS` ([`Request::Plot`]).
+    Plot(String),
     /// The [`Request::LoadProgram`] under `tag` was done: what the
     /// simulator holds now, or why it holds nothing new.
     ProgramLoaded {
@@ -303,6 +308,15 @@ pub enum Request {
     /// as if wired (only an in-process simulator can); what now holds, or
     /// why not, comes back as a [`PaneEvent::Notice`].
     DriveSimInput(String),
+    /// Read `line` (a read of axis `axis`) with the status polls (`on`),
+    /// or no longer; its number comes in the snapshot's
+    /// [`crate::session::AxisStatus::watched`].
+    Watch { axis: usize, line: String, on: bool },
+    /// `:plot ARGS` typed in the command pane: for the plot pane, as
+    /// [`PaneEvent::Plot`].
+    Plot(String),
+    /// Say this in the command pane (as [`PaneEvent::Notice`]).
+    Say(Notice),
     /// Leave the console.
     Quit,
 }

@@ -1,8 +1,19 @@
-//! Plots of the selected axis over time: position (with its target) and
-//! speed, from the session's status snapshots, in two charts sharing one
-//! time window. The window zooms in and out through a ladder of spans and
-//! can be frozen. Each signal has its own marker as well as its colour,
-//! so the mono theme tells them apart too.
+//! Plots over time of any polled value of any axis (position, target,
+//! speed, load, following error: what the session's [`AxisStatus`]
+//! carries) and of any axis parameter the technician picks from the
+//! family's parameter table (`:plot add X 206`, `:plot add 0 run
+//! current`): several series at once, each with its own colour and
+//! marker (the mono theme tells them apart by the marker) and named in a
+//! legend. Positions share the upper chart, everything else the lower
+//! one, over one time window that zooms through a ladder of spans and
+//! can be frozen. A parameter the status poll does not read is polled by
+//! the session with the slow status items while it is plotted
+//! ([`Request::Watch`]); its read line comes from the family's
+//! [`crate::protocol::parameters::ParameterSet`]. `:plot csv FILE` writes
+//! what was plotted: time, one column per series.
+//!
+//! Until the technician picks series, the plot follows the selected axis:
+//! its position, target and speed.
 
 use std::collections::VecDeque;
 use std::sync::Arc;
@@ -12,11 +23,15 @@ use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::symbols::Marker;
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Axis, Chart, Dataset, GraphType, Paragraph};
+use ratatui::widgets::{Axis, Chart, Dataset, GraphType, LegendPosition, Paragraph};
 
 use super::keymap::{Action, Context};
-use super::pane::{Input, Outcome, Pane, PaneEvent, Region, Request, View, key_label};
+use super::pane::{
+    Input, Notice, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View, key_label,
+};
 use super::theme::Role;
+use crate::protocol::parameters::{ParamOp, Scope};
+use crate::session::AxisStatus;
 
 /// The spans the window steps through when zooming.
 pub const WINDOWS: &[Duration] = &[
@@ -35,7 +50,8 @@ pub const WINDOWS: &[Duration] = &[
 /// The window at start and after a reset.
 pub const DEFAULT_WINDOW: Duration = Duration::from_secs(20);
 
-/// Samples kept at most: the longest window at a 20 Hz poll, twice over.
+/// Samples kept at most per series: the longest window at a 20 Hz poll,
+/// twice over.
 const MAX_SAMPLES: usize = 24_000;
 
 /// Redraws per window while the picture still moves (the newest sample
@@ -45,22 +61,117 @@ const TICKS_PER_WINDOW: u32 = 100;
 /// Where "now" comes from: the wall clock, or a test's hand.
 pub type Clock = Arc<dyn Fn() -> Instant + Send + Sync>;
 
-/// One reading of the axis.
+/// A value the status poll carries for every axis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-struct Sample {
-    at: Instant,
-    position: Option<i64>,
-    target: Option<i64>,
-    speed: Option<i64>,
+pub enum StatusValue {
+    Position,
+    Target,
+    Speed,
+    Load,
+    FollowingError,
 }
 
-/// One line of a chart: its name, points, marker and colour.
-struct Signal<'a> {
-    name: &'a str,
-    points: &'a [(f64, f64)],
-    marker: Marker,
-    role: Role,
+/// The status values by the names `:plot add` takes.
+const STATUS_VALUES: &[(&str, StatusValue)] = &[
+    ("position", StatusValue::Position),
+    ("target", StatusValue::Target),
+    ("speed", StatusValue::Speed),
+    ("load", StatusValue::Load),
+    ("ferr", StatusValue::FollowingError),
+];
+
+impl StatusValue {
+    fn name(self) -> &'static str {
+        STATUS_VALUES
+            .iter()
+            .find(|(_, v)| *v == self)
+            .map_or("?", |(name, _)| name)
+    }
+
+    fn of(self, status: &AxisStatus) -> Option<i64> {
+        match self {
+            StatusValue::Position => status.position,
+            StatusValue::Target => status.target,
+            StatusValue::Speed => status.speed,
+            StatusValue::Load => status.load,
+            StatusValue::FollowingError => status.following_error,
+        }
+    }
+
+    /// Positions share the upper chart.
+    fn is_position(self) -> bool {
+        matches!(self, StatusValue::Position | StatusValue::Target)
+    }
 }
+
+/// What a series plots.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Quantity {
+    Status(StatusValue),
+    /// An axis parameter, read by its line (`GAP 206, 0`).
+    Parameter {
+        number: u16,
+        name: String,
+        line: String,
+    },
+}
+
+impl Quantity {
+    fn label(&self) -> String {
+        match self {
+            Quantity::Status(value) => value.name().to_string(),
+            Quantity::Parameter { number, name, .. } => format!("{number} {name}"),
+        }
+    }
+}
+
+/// One plotted series: an axis's quantity and its readings.
+#[derive(Debug, Clone)]
+struct Series {
+    axis: usize,
+    axis_name: String,
+    quantity: Quantity,
+    samples: VecDeque<(Instant, i64)>,
+}
+
+impl Series {
+    fn new(axis: usize, axis_name: &str, quantity: Quantity) -> Series {
+        Series {
+            axis,
+            axis_name: axis_name.to_string(),
+            quantity,
+            samples: VecDeque::new(),
+        }
+    }
+
+    fn name(&self) -> String {
+        format!("{} {}", self.axis_name, self.quantity.label())
+    }
+
+    fn reading(&self, status: &AxisStatus) -> Option<i64> {
+        match &self.quantity {
+            Quantity::Status(value) => value.of(status),
+            Quantity::Parameter { line, .. } => status
+                .watched
+                .iter()
+                .find(|w| &w.line == line)
+                .and_then(|w| w.value),
+        }
+    }
+
+    fn in_upper_chart(&self) -> bool {
+        matches!(self.quantity, Quantity::Status(v) if v.is_position())
+    }
+}
+
+/// Colours and markers in turn: the n-th series takes the n-th of each.
+const LOOKS: &[(Role, Marker, &str)] = &[
+    (Role::Plot1, Marker::Braille, "⠒"),
+    (Role::Plot3, Marker::Dot, "•"),
+    (Role::Plot2, Marker::Block, "█"),
+    (Role::Plot4, Marker::Bar, "▄"),
+    (Role::Plot1, Marker::HalfBlock, "▀"),
+];
 
 /// A chart's value range and the labels of its ends.
 type Bounds = ([f64; 2], [String; 2]);
@@ -68,15 +179,20 @@ type Bounds = ([f64; 2], [String; 2]);
 /// The plot pane.
 pub struct PlotPane {
     clock: Clock,
-    samples: VecDeque<Sample>,
+    series: Vec<Series>,
+    /// The technician picked the series (`:plot add`, `:plot clear`);
+    /// until then they follow the selected axis.
+    picked: bool,
     window: Duration,
     /// The moment the view froze at.
     paused: Option<Instant>,
-    /// The axis being plotted: another one (or another link) starts over.
+    /// The module plotted: another one (or another link) starts over.
     following: Option<(String, u8, usize)>,
     /// A redraw is asked for already.
     ticking: bool,
     next_tag: u64,
+    /// What the last `:plot` command did, for the head line.
+    note: Option<String>,
 }
 
 impl Default for PlotPane {
@@ -93,12 +209,14 @@ impl PlotPane {
     pub fn with_clock(clock: Clock) -> PlotPane {
         PlotPane {
             clock,
-            samples: VecDeque::new(),
+            series: Vec::new(),
+            picked: false,
             window: DEFAULT_WINDOW,
             paused: None,
             following: None,
             ticking: false,
             next_tag: 1,
+            note: None,
         }
     }
 
@@ -111,13 +229,18 @@ impl PlotPane {
         self.paused.is_some()
     }
 
-    /// Samples kept.
+    /// Samples kept, over all series.
     pub fn len(&self) -> usize {
-        self.samples.len()
+        self.series.iter().map(|s| s.samples.len()).sum()
     }
 
     pub fn is_empty(&self) -> bool {
-        self.samples.is_empty()
+        self.len() == 0
+    }
+
+    /// The names of the series plotted, in legend order.
+    pub fn series_names(&self) -> Vec<String> {
+        self.series.iter().map(Series::name).collect()
     }
 
     fn zoom(&mut self, action: Action) {
@@ -132,57 +255,88 @@ impl PlotPane {
         };
     }
 
-    /// Take the selected axis's values from the snapshot; true if they
-    /// changed.
+    /// The selected axis's position, target and speed, while nothing is
+    /// picked.
+    fn follow_selected(&mut self, session: &Snapshot) {
+        let Some(axis) = session.selected_axis() else {
+            return;
+        };
+        let wanted = [
+            StatusValue::Position,
+            StatusValue::Target,
+            StatusValue::Speed,
+        ];
+        let same = self.series.len() == wanted.len()
+            && self
+                .series
+                .iter()
+                .zip(wanted)
+                .all(|(s, v)| s.axis == session.axis && s.quantity == Quantity::Status(v));
+        if !same {
+            self.series = wanted
+                .into_iter()
+                .map(|v| Series::new(session.axis, axis.name, Quantity::Status(v)))
+                .collect();
+        }
+    }
+
+    /// Take each series's value from the snapshot; true if one changed.
     fn sample(&mut self, view: &View) -> bool {
         let Some(session) = view.session else {
             return false;
         };
-        let following = (session.link_name.clone(), session.address, session.axis);
-        if self.following.as_ref() != Some(&following) {
-            self.samples.clear();
-            self.following = Some(following);
+        let module = (session.link_name.clone(), session.address, 0);
+        if self.following.as_ref() != Some(&module) {
+            // Another module: its series are not these.
+            if self.following.is_some() {
+                self.series.clear();
+                self.picked = false;
+            }
+            self.following = Some(module);
         }
-        let Some(status) = session.status.get(session.axis) else {
-            return false;
-        };
+        if !self.picked {
+            self.follow_selected(session);
+        }
         let at = (self.clock)();
-        let sample = Sample {
-            at,
-            position: status.position,
-            target: status.target,
-            speed: status.speed,
-        };
-        let same = self.samples.back().is_some_and(|last| {
-            (last.position, last.target, last.speed)
-                == (sample.position, sample.target, sample.speed)
-        });
-        if same {
-            return false;
-        }
-        self.samples.push_back(sample);
         let oldest = at.checked_sub(*WINDOWS.last().unwrap_or(&DEFAULT_WINDOW));
-        while self.samples.len() > MAX_SAMPLES
-            || self
-                .samples
-                .front()
-                .zip(oldest)
-                .is_some_and(|(s, oldest)| s.at < oldest)
-        {
-            self.samples.pop_front();
+        let mut changed = false;
+        for series in &mut self.series {
+            let Some(value) = session
+                .status
+                .get(series.axis)
+                .and_then(|s| series.reading(s))
+            else {
+                continue;
+            };
+            if series.samples.back().is_some_and(|&(_, v)| v == value) {
+                continue;
+            }
+            series.samples.push_back((at, value));
+            changed = true;
+            while series.samples.len() > MAX_SAMPLES
+                || series
+                    .samples
+                    .front()
+                    .zip(oldest)
+                    .is_some_and(|(&(t, _), oldest)| t < oldest)
+            {
+                series.samples.pop_front();
+            }
         }
-        true
+        changed
     }
 
     /// While the newest sample is inside the window the picture moves
     /// with time: ask to be woken to redraw it.
     fn tick(&mut self) -> Outcome {
         let now = (self.clock)();
+        let newest = self
+            .series
+            .iter()
+            .filter_map(|s| s.samples.back().map(|&(t, _)| t))
+            .max();
         let moving = self.paused.is_none()
-            && self
-                .samples
-                .back()
-                .is_some_and(|s| now.saturating_duration_since(s.at) <= self.window);
+            && newest.is_some_and(|t| now.saturating_duration_since(t) <= self.window);
         if !moving || self.ticking {
             return Outcome::redraw();
         }
@@ -193,9 +347,10 @@ impl PlotPane {
         Outcome::request(Request::WakeAfter { after, tag })
     }
 
-    /// Points of one signal in the window: seconds before `now` (negative)
-    /// and the value, held until the next sample and up to `now`.
-    fn points(&self, now: Instant, value: impl Fn(&Sample) -> Option<i64>) -> Vec<(f64, f64)> {
+    /// Points of one series in the window: seconds before `now`
+    /// (negative) and the value, held until the next sample and up to
+    /// `now`.
+    fn points(&self, now: Instant, samples: &VecDeque<(Instant, i64)>) -> Vec<(f64, f64)> {
         let start = now.checked_sub(self.window);
         let x = |at: Instant| {
             if at >= now {
@@ -206,15 +361,11 @@ impl PlotPane {
         };
         let mut points = Vec::new();
         let mut held: Option<i64> = None;
-        for sample in &self.samples {
-            if sample.at > now {
+        for &(at, v) in samples {
+            if at > now {
                 break;
             }
-            let Some(v) = value(sample) else {
-                continue;
-            };
-            let before = start.is_some_and(|s| sample.at < s);
-            if before {
+            if start.is_some_and(|s| at < s) {
                 held = Some(v);
                 continue;
             }
@@ -224,9 +375,9 @@ impl PlotPane {
             }
             if let Some(&(_, last)) = points.last() {
                 // A step, not a slope: the value held until it changed.
-                points.push((x(sample.at), last));
+                points.push((x(at), last));
             }
-            points.push((x(sample.at), v as f64));
+            points.push((x(at), v as f64));
         }
         if let Some(h) = held {
             points.push((-self.window.as_secs_f64(), h as f64));
@@ -237,11 +388,11 @@ impl PlotPane {
         points
     }
 
-    /// The value range of some signals, with a margin, and its labels.
-    fn bounds(signals: &[&[(f64, f64)]]) -> Bounds {
+    /// The value range of some point sets, with a margin, and its labels.
+    fn bounds(signals: &[Vec<(f64, f64)>]) -> Bounds {
         let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
         for points in signals {
-            for &(_, y) in points.iter() {
+            for &(_, y) in points {
                 low = low.min(y);
                 high = high.max(y);
             }
@@ -254,14 +405,14 @@ impl PlotPane {
         ([low, high], [format!("{low:.0}"), format!("{high:.0}")])
     }
 
-    /// One chart; `label_width` pads the value labels so that the time
-    /// axes of the two charts line up.
+    /// The chart of series `members` (indices into `self.series`);
+    /// `label_width` pads the value labels so that the time axes of the
+    /// two charts line up.
     fn chart<'a>(
         &self,
-        title: &'a str,
-        signals: Vec<Signal<'a>>,
+        members: &[usize],
+        points: &'a [Vec<(f64, f64)>],
         view: &View,
-        (bounds, labels): Bounds,
         label_width: usize,
         show_time: bool,
     ) -> Chart<'a> {
@@ -276,19 +427,39 @@ impl PlotPane {
         } else {
             Vec::new()
         };
+        let mine: Vec<Vec<(f64, f64)>> = members
+            .iter()
+            .filter_map(|&i| points.get(i).cloned())
+            .collect();
+        let (bounds, labels) = Self::bounds(&mine);
+        // Named after what it holds: `position (raw)`, `speed (raw)`.
+        let labels_of: Vec<String> = members
+            .iter()
+            .filter_map(|&i| self.series.get(i))
+            .map(|s| match &s.quantity {
+                Quantity::Status(v) if v.is_position() => "position".to_string(),
+                other => other.label(),
+            })
+            .collect();
+        let title = match labels_of.first() {
+            Some(first) if labels_of.iter().all(|l| l == first) => format!("{first} (raw)"),
+            _ => "raw".to_string(),
+        };
         let y_labels: Vec<Span> = labels
             .iter()
             .map(|l| Span::raw(format!("{l:>label_width$}")))
             .collect();
-        let sets = signals
-            .into_iter()
-            .map(|signal| {
+        let sets = members
+            .iter()
+            .filter_map(|&i| Some((i, self.series.get(i)?, points.get(i)?)))
+            .map(|(i, series, points)| {
+                let (role, marker, glyph) = LOOKS[i % LOOKS.len()];
                 Dataset::default()
-                    .name(signal.name)
-                    .marker(signal.marker)
+                    .name(format!("{glyph} {}", series.name()))
+                    .marker(marker)
                     .graph_type(GraphType::Line)
-                    .style(theme.style(signal.role))
-                    .data(signal.points)
+                    .style(theme.style(role))
+                    .data(points)
             })
             .collect();
         Chart::new(sets)
@@ -306,8 +477,234 @@ impl PlotPane {
                     .labels(y_labels)
                     .style(theme.style(Role::PlotAxes)),
             )
-            .hidden_legend_constraints((Constraint::Ratio(1, 2), Constraint::Ratio(1, 2)))
+            .legend_position(Some(LegendPosition::TopLeft))
+            .hidden_legend_constraints((Constraint::Ratio(2, 3), Constraint::Ratio(2, 3)))
     }
+
+    /// `:plot ARGS`: what to ask for, said in the head line and in the
+    /// command pane.
+    pub fn command(&mut self, args: &str, view: &View) -> Outcome {
+        let result = self.apply(args, view);
+        let notice = match &result {
+            Ok((said, _)) => Notice::info(said.clone()),
+            Err(message) => Notice::error(message.clone()),
+        };
+        self.note = Some(match &result {
+            Ok((said, _)) => said.clone(),
+            Err(message) => message.clone(),
+        });
+        let mut requests = vec![Request::Say(notice)];
+        if let Ok((_, more)) = result {
+            requests.extend(more);
+        }
+        Outcome::Handled(requests)
+    }
+
+    fn apply(&mut self, args: &str, view: &View) -> Result<(String, Vec<Request>), String> {
+        let args = args.trim();
+        let (verb, rest) = args
+            .split_once(char::is_whitespace)
+            .map_or((args, ""), |(v, r)| (v, r.trim()));
+        const USAGE: &str =
+            ":plot add AXIS VALUE, :plot remove AXIS VALUE, :plot clear or :plot csv FILE";
+        match verb {
+            "add" | "remove" => {
+                let session = view.session.ok_or("not connected: nothing to plot")?;
+                let (axis, quantity) = find_quantity(session, rest)?;
+                let axis_name = session.axes.get(axis).map_or("?", |a| a.name);
+                let at = self
+                    .series
+                    .iter()
+                    .position(|s| s.axis == axis && s.quantity == quantity);
+                let watch = |on: bool| match &quantity {
+                    Quantity::Parameter { line, .. } => vec![Request::Watch {
+                        axis,
+                        line: line.clone(),
+                        on,
+                    }],
+                    Quantity::Status(_) => Vec::new(),
+                };
+                let name = format!("{axis_name} {}", quantity.label());
+                if verb == "add" {
+                    if !self.picked {
+                        self.series.clear();
+                        self.picked = true;
+                    }
+                    if at.is_some() {
+                        return Ok((format!("{name} is plotted already"), Vec::new()));
+                    }
+                    let requests = watch(true);
+                    self.series.push(Series::new(axis, axis_name, quantity));
+                    Ok((format!("plotting {name}"), requests))
+                } else {
+                    let at = at.ok_or_else(|| format!("{name} is not plotted"))?;
+                    self.picked = true;
+                    let requests = watch(false);
+                    self.series.remove(at);
+                    Ok((format!("{name} no longer plotted"), requests))
+                }
+            }
+            "clear" => {
+                let requests = self.unwatch_all();
+                self.series.clear();
+                self.picked = true;
+                Ok(("plot cleared".into(), requests))
+            }
+            "csv" if !rest.is_empty() => {
+                let text = self.csv();
+                let rows = text.lines().count().saturating_sub(1);
+                crate::files::write_atomically(rest, text.as_bytes())
+                    .map_err(|e| format!("cannot write {rest}: {e}"))?;
+                Ok((
+                    format!(
+                        "{rows} rows of {} series written to {rest}",
+                        self.series.len()
+                    ),
+                    Vec::new(),
+                ))
+            }
+            "csv" => Err(":plot csv needs a file name".into()),
+            "" => Err(USAGE.to_string()),
+            other => Err(format!("no `:plot {other}`: {USAGE}")),
+        }
+    }
+
+    /// Stop polling every plotted parameter.
+    fn unwatch_all(&self) -> Vec<Request> {
+        self.series
+            .iter()
+            .filter_map(|s| match &s.quantity {
+                Quantity::Parameter { line, .. } => Some(Request::Watch {
+                    axis: s.axis,
+                    line: line.clone(),
+                    on: false,
+                }),
+                Quantity::Status(_) => None,
+            })
+            .collect()
+    }
+
+    /// What was plotted as CSV: seconds since the first sample, then one
+    /// column per series with the value it held at that moment (empty
+    /// before its first reading); a row for every moment a value changed.
+    pub fn csv(&self) -> String {
+        let mut text = String::from("time_s");
+        for series in &self.series {
+            text.push(',');
+            text.push_str(&csv_field(&series.name()));
+        }
+        text.push('\n');
+        let mut moments: Vec<Instant> = self
+            .series
+            .iter()
+            .flat_map(|s| s.samples.iter().map(|&(t, _)| t))
+            .collect();
+        moments.sort();
+        moments.dedup();
+        let Some(&first) = moments.first() else {
+            return text;
+        };
+        let mut next = vec![0usize; self.series.len()];
+        let mut held: Vec<Option<i64>> = vec![None; self.series.len()];
+        for at in moments {
+            for (n, series) in self.series.iter().enumerate() {
+                while let Some(&(t, v)) = series.samples.get(next[n]) {
+                    if t > at {
+                        break;
+                    }
+                    held[n] = Some(v);
+                    next[n] += 1;
+                }
+            }
+            text.push_str(&format!("{:.3}", at.duration_since(first).as_secs_f64()));
+            for value in &held {
+                text.push(',');
+                if let Some(v) = value {
+                    text.push_str(&v.to_string());
+                }
+            }
+            text.push('\n');
+        }
+        text
+    }
+}
+
+/// A CSV field, quoted when it holds a comma or a quote.
+fn csv_field(text: &str) -> String {
+    if text.contains([',', '"', '\n']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_string()
+    }
+}
+
+/// `AXIS VALUE` of `:plot add`: the axis (number or name) and a status
+/// value's name or an axis parameter of the family's table (number or
+/// name, with its read line).
+fn find_quantity(session: &Snapshot, text: &str) -> Result<(usize, Quantity), String> {
+    let (axis_text, value) = text
+        .split_once(char::is_whitespace)
+        .map(|(a, v)| (a, v.trim()))
+        .ok_or("which axis and value? e.g. `:plot add 0 load` or `:plot add 0 206`")?;
+    let axis = session
+        .axes
+        .iter()
+        .position(|a| axis_text.parse::<u8>().is_ok_and(|n| n == a.number))
+        .or_else(|| {
+            session
+                .axes
+                .iter()
+                .position(|a| a.name.eq_ignore_ascii_case(axis_text))
+        })
+        .ok_or_else(|| format!("no axis `{axis_text}` on this module"))?;
+    if let Some((_, v)) = STATUS_VALUES
+        .iter()
+        .find(|(name, _)| name.eq_ignore_ascii_case(value))
+    {
+        return Ok((axis, Quantity::Status(*v)));
+    }
+    let info = session.axes.get(axis).ok_or("no such axis")?;
+    let params = session.family.console.parameters().ok_or_else(|| {
+        format!(
+            "{} has no parameter table: plot one of {}",
+            session.family.name,
+            status_names()
+        )
+    })?;
+    let tables = params.tables(info.number);
+    let row = tables
+        .iter()
+        .flat_map(|t| t.rows.iter())
+        .filter(|r| r.scope == Scope::Axis(info.number))
+        .find(|r| {
+            value.parse::<u16>().is_ok_and(|n| n == r.number) || r.name.eq_ignore_ascii_case(value)
+        })
+        .ok_or_else(|| {
+            format!(
+                "`{value}` is none of {} nor a parameter of {}",
+                status_names(),
+                info.name
+            )
+        })?;
+    let line = params
+        .line(row, ParamOp::Read)
+        .map_err(|e| format!("cannot read {}: {e}", row.name))?;
+    Ok((
+        axis,
+        Quantity::Parameter {
+            number: row.number,
+            name: row.name.clone(),
+            line,
+        },
+    ))
+}
+
+fn status_names() -> String {
+    STATUS_VALUES
+        .iter()
+        .map(|(name, _)| *name)
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// "20 s", "2 min", "500 ms".
@@ -350,12 +747,8 @@ impl Pane for PlotPane {
         let theme = view.theme;
         let now = self.paused.unwrap_or_else(|| (self.clock)());
         let key = |action| key_label(view.keymap, Context::Plot, action);
-        let axis = view
-            .session
-            .and_then(|s| s.selected_axis())
-            .map_or("no axis", |a| a.name);
         let mut status = format!(
-            "{axis} · last {}{} · {} {} in/out · {} reset · {} freeze",
+            "last {}{} · {} {} in/out · {} reset · {} freeze · :plot add AXIS VALUE",
             span_label(self.window),
             if self.paused.is_some() {
                 " · FROZEN"
@@ -367,8 +760,13 @@ impl Pane for PlotPane {
             key(Action::PlotZoomReset),
             key(Action::PlotPause),
         );
+        if let Some(note) = &self.note {
+            status = format!("{note} · {status}");
+        }
         if view.session.is_none() {
             status = "not connected".into();
+        } else if self.series.is_empty() {
+            status = format!("nothing plotted: :plot add AXIS VALUE ({})", status_names());
         }
         let [head, body] =
             Layout::vertical([Constraint::Length(1), Constraint::Min(0)]).areas(area);
@@ -376,59 +774,40 @@ impl Pane for PlotPane {
             Paragraph::new(Line::styled(status, theme.style(Role::Muted))),
             head,
         );
-        if body.height < 4 {
+        if body.height < 4 || self.series.is_empty() {
             return;
         }
-        let position = self.points(now, |s| s.position);
-        let target = self.points(now, |s| s.target);
-        let speed = self.points(now, |s| s.speed);
-        let [top, bottom] =
-            Layout::vertical([Constraint::Percentage(55), Constraint::Percentage(45)]).areas(body);
-        let position_bounds = Self::bounds(&[&position, &target]);
-        let speed_bounds = Self::bounds(&[&speed]);
-        let label_width = position_bounds
-            .1
+        let points: Vec<Vec<(f64, f64)>> = self
+            .series
             .iter()
-            .chain(speed_bounds.1.iter())
-            .map(String::len)
+            .map(|s| self.points(now, &s.samples))
+            .collect();
+        let (upper, lower): (Vec<usize>, Vec<usize>) =
+            (0..self.series.len()).partition(|&i| self.series[i].in_upper_chart());
+        let label_width = [&upper, &lower]
+            .iter()
+            .filter(|m| !m.is_empty())
+            .flat_map(|m| {
+                let mine: Vec<Vec<(f64, f64)>> =
+                    m.iter().filter_map(|&i| points.get(i).cloned()).collect();
+                Self::bounds(&mine).1
+            })
+            .map(|l| l.len())
             .max()
             .unwrap_or(1);
-        let position_chart = self.chart(
-            "position (raw)",
-            vec![
-                Signal {
-                    name: "position",
-                    points: &position,
-                    marker: Marker::Braille,
-                    role: Role::Plot1,
-                },
-                Signal {
-                    name: "target •",
-                    points: &target,
-                    marker: Marker::Dot,
-                    role: Role::Plot3,
-                },
-            ],
-            view,
-            position_bounds,
-            label_width,
-            false,
-        );
-        frame.render_widget(position_chart, top);
-        let speed_chart = self.chart(
-            "speed (raw)",
-            vec![Signal {
-                name: "speed",
-                points: &speed,
-                marker: Marker::Braille,
-                role: Role::Plot2,
-            }],
-            view,
-            speed_bounds,
-            label_width,
-            true,
-        );
-        frame.render_widget(speed_chart, bottom);
+        match (upper.is_empty(), lower.is_empty()) {
+            (false, false) => {
+                let [top, bottom] =
+                    Layout::vertical([Constraint::Percentage(55), Constraint::Percentage(45)])
+                        .areas(body);
+                frame.render_widget(self.chart(&upper, &points, view, label_width, false), top);
+                frame.render_widget(self.chart(&lower, &points, view, label_width, true), bottom);
+            }
+            (false, true) => {
+                frame.render_widget(self.chart(&upper, &points, view, label_width, true), body)
+            }
+            _ => frame.render_widget(self.chart(&lower, &points, view, label_width, true), body),
+        }
     }
 
     fn handle_input(&mut self, input: &Input, view: &View) -> Outcome {
@@ -469,6 +848,7 @@ impl Pane for PlotPane {
                     Outcome::Ignored
                 }
             }
+            PaneEvent::Plot(args) => self.command(args, view),
             _ => Outcome::Ignored,
         }
     }
@@ -476,7 +856,112 @@ impl Pane for PlotPane {
 
 #[cfg(test)]
 mod tests {
+    use std::sync::Mutex;
+
     use super::*;
+    use crate::device::LinkState;
+    use crate::ui::keymap::Keymap;
+    use crate::ui::theme::Theme;
+
+    /// A plot pane on a hand-moved clock over a TMCL snapshot.
+    struct Bench {
+        plot: PlotPane,
+        now: Arc<Mutex<Instant>>,
+        start: Instant,
+        snapshot: Snapshot,
+        theme: Theme,
+        keymap: Keymap,
+    }
+
+    impl Bench {
+        fn new() -> Bench {
+            let start = Instant::now();
+            let now = Arc::new(Mutex::new(start));
+            let hand = now.clone();
+            let family = crate::protocol::find_family("tmcl").expect("tmcl");
+            Bench {
+                plot: PlotPane::with_clock(Arc::new(move || {
+                    *hand.lock().unwrap_or_else(|e| e.into_inner())
+                })),
+                now,
+                start,
+                snapshot: Snapshot {
+                    family,
+                    address: 1,
+                    link_name: "sim".into(),
+                    axes: family.console.axes().to_vec(),
+                    status: vec![AxisStatus::default()],
+                    link: LinkState::Closed,
+                    identity: None,
+                    poll: None,
+                    settings: Default::default(),
+                    axis: 0,
+                },
+                theme: Theme::builtin("dark").expect("theme"),
+                keymap: Keymap::builtin("default").expect("keymap"),
+            }
+        }
+
+        fn at(&mut self, ms: u64) {
+            *self.now.lock().unwrap_or_else(|e| e.into_inner()) =
+                self.start + Duration::from_millis(ms);
+        }
+
+        fn event(&mut self, event: PaneEvent) -> Vec<Request> {
+            let view = View {
+                theme: &self.theme,
+                keymap: &self.keymap,
+                session: Some(&self.snapshot),
+                modules: &[],
+                module: 0,
+                focused: false,
+                shown: true,
+            };
+            match self.plot.on_event(&event, &view) {
+                Outcome::Handled(requests) => requests,
+                Outcome::Ignored => Vec::new(),
+            }
+        }
+
+        fn command(&mut self, args: &str) -> Vec<Request> {
+            self.event(PaneEvent::Plot(args.into()))
+        }
+
+        /// The status changed at `ms`.
+        fn reading(&mut self, ms: u64, change: impl FnOnce(&mut AxisStatus)) {
+            self.at(ms);
+            change(&mut self.snapshot.status[0]);
+            self.event(PaneEvent::Snapshot);
+        }
+
+        fn screen(&mut self, width: u16, height: u16) -> String {
+            let mut terminal =
+                ratatui::Terminal::new(ratatui::backend::TestBackend::new(width, height))
+                    .expect("terminal");
+            let view = View {
+                theme: &self.theme,
+                keymap: &self.keymap,
+                session: Some(&self.snapshot),
+                modules: &[],
+                module: 0,
+                focused: false,
+                shown: true,
+            };
+            let plot = &mut self.plot;
+            terminal
+                .draw(|frame| plot.render(frame, frame.area(), &view))
+                .expect("draw");
+            let buffer = terminal.backend().buffer();
+            (0..height)
+                .map(|y| {
+                    (0..width)
+                        .map(|x| buffer[(x, y)].symbol().to_string())
+                        .collect::<String>()
+                })
+                .collect::<Vec<_>>()
+                .join("\n")
+        }
+    }
 
     #[test]
     fn the_window_steps_through_the_ladder_and_stops_at_its_ends() {
@@ -501,19 +986,14 @@ mod tests {
         let start = Instant::now();
         let mut plot = PlotPane::new();
         plot.window = Duration::from_secs(10);
-        for (s, v) in [(0, 5), (2, 7), (4, 9)] {
-            plot.samples.push_back(Sample {
-                at: start + Duration::from_secs(s),
-                position: Some(v),
-                target: None,
-                speed: None,
-            });
-        }
+        let samples: VecDeque<(Instant, i64)> = [(0, 5), (2, 7), (4, 9)]
+            .into_iter()
+            .map(|(s, v)| (start + Duration::from_secs(s), v))
+            .collect();
         let now = start + Duration::from_secs(12);
-        let points = plot.points(now, |s| s.position);
         // The first sample fell out of the window: its value starts it.
         assert_eq!(
-            points,
+            plot.points(now, &samples),
             [
                 (-10.0, 5.0),
                 (-10.0, 5.0),
@@ -523,13 +1003,129 @@ mod tests {
                 (0.0, 9.0)
             ]
         );
-        assert!(plot.points(now, |s| s.target).is_empty());
+        assert!(plot.points(now, &VecDeque::new()).is_empty());
     }
 
     #[test]
-    fn span_labels_read_naturally() {
-        assert_eq!(span_label(Duration::from_secs(20)), "20 s");
-        assert_eq!(span_label(Duration::from_secs(300)), "5 min");
-        assert_eq!(span_label(Duration::from_millis(500)), "500 ms");
+    fn until_series_are_picked_the_selected_axis_is_followed() {
+        let mut bench = Bench::new();
+        bench.reading(0, |s| s.position = Some(5));
+        let axis = bench.snapshot.axes[0].name;
+        assert_eq!(
+            bench.plot.series_names(),
+            [
+                format!("{axis} position"),
+                format!("{axis} target"),
+                format!("{axis} speed")
+            ]
+        );
+    }
+
+    #[test]
+    fn several_series_are_drawn_with_a_legend() {
+        let mut bench = Bench::new();
+        let axis = bench.snapshot.axes[0].name;
+        for value in ["position", "speed", "load", "6"] {
+            bench.command(&format!("add 0 {value}"));
+        }
+        for (n, ms) in [0u64, 500, 1000, 1500].into_iter().enumerate() {
+            let n = n as i64;
+            bench.reading(ms, |s| {
+                s.position = Some(1000 * n);
+                s.speed = Some(300);
+                s.load = Some(100 + n);
+                s.watched = vec![crate::session::WatchedValue {
+                    line: "GAP 6, 0".into(),
+                    value: Some(128),
+                }];
+            });
+        }
+        let screen = bench.screen(120, 30);
+        for name in bench.plot.series_names() {
+            assert!(screen.contains(&name), "no {name} in the legend:\n{screen}");
+        }
+        assert_eq!(
+            bench.plot.series_names()[3],
+            format!("{axis} 6 Maximum current")
+        );
+        // Each series has its own marker in the legend.
+        for glyph in ["⠒ ", "• ", "█ ", "▄ "] {
+            assert!(screen.contains(glyph), "no marker {glyph}:\n{screen}");
+        }
+    }
+
+    #[test]
+    fn a_parameter_series_is_polled_while_plotted() {
+        let mut bench = Bench::new();
+        let said = bench.command("add 0 206");
+        assert!(
+            said.contains(&Request::Watch {
+                axis: 0,
+                line: "GAP 206, 0".into(),
+                on: true
+            }),
+            "{said:?}"
+        );
+        let said = bench.command("remove 0 206");
+        assert!(said.contains(&Request::Watch {
+            axis: 0,
+            line: "GAP 206, 0".into(),
+            on: false
+        }));
+        bench.command("add 0 206");
+        let said = bench.command("clear");
+        assert!(said.contains(&Request::Watch {
+            axis: 0,
+            line: "GAP 206, 0".into(),
+            on: false
+        }));
+        assert!(bench.plot.series_names().is_empty());
+    }
+
+    #[test]
+    fn what_cannot_be_plotted_is_said() {
+        let mut bench = Bench::new();
+        for (args, expected) in [
+            ("add 9 position", "no axis `9`"),
+            ("add 0 banana", "`banana` is none of position"),
+            ("add 0", "which axis and value?"),
+            ("csv", "needs a file name"),
+            ("frobnicate", "no `:plot frobnicate`"),
+        ] {
+            let said = bench.command(args);
+            let Some(Request::Say(notice)) = said.first() else {
+                panic!("{args}: {said:?}");
+            };
+            assert!(notice.text.contains(expected), "{args}: {}", notice.text);
+        }
+    }
+
+    #[test]
+    fn the_csv_holds_every_moment_a_value_changed_one_column_per_series() {
+        let mut bench = Bench::new();
+        let axis = bench.snapshot.axes[0].name;
+        bench.command("add 0 position");
+        bench.command("add 0 load");
+        bench.reading(0, |s| s.position = Some(0));
+        bench.reading(250, |s| {
+            s.position = Some(100);
+            s.load = Some(7);
+        });
+        bench.reading(500, |s| s.load = Some(9));
+        bench.reading(1250, |s| s.position = Some(-20));
+        let dir = tempfile::tempdir().expect("dir");
+        let file = dir.path().join("plot.csv");
+        bench.command(&format!("csv {}", file.display()));
+        let written = std::fs::read_to_string(&file).expect("written");
+        assert_eq!(
+            written,
+            format!(
+                "time_s,{axis} position,{axis} load\n\
+                 0.000,0,\n\
+                 0.250,100,7\n\
+                 0.500,100,9\n\
+                 1.250,-20,9\n"
+            )
+        );
     }
 }

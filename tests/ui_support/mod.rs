@@ -86,6 +86,18 @@ pub fn key_with(code: KeyCode, modifiers: KeyModifiers) -> AppEvent {
     AppEvent::Terminal(Event::Key(KeyEvent::new(code, modifiers)))
 }
 
+/// Hand the console a snapshot, then carry out at once the wake-ups it
+/// asks for, as the loop would once their time is up: numbers a pane
+/// held back for a readable rate are drawn.
+pub fn show(app: &mut App, snapshot: Snapshot) {
+    let effects = app.handle(AppEvent::Snapshot(snapshot));
+    for effect in effects {
+        if let axterm::ui::app::Effect::Wake { pane, tag, .. } = effect {
+            app.handle(AppEvent::Wake { pane, tag });
+        }
+    }
+}
+
 /// Type `text` key by key.
 pub fn type_text(app: &mut App, text: &str) -> Vec<axterm::ui::app::Effect> {
     let mut effects = Vec::new();

@@ -74,6 +74,14 @@ pub trait Controller: Send + Sync {
         Box::pin(async { None })
     }
     fn acknowledge_errors(&self, axis: usize, seen: &[AxisFlag]);
+    /// Poll `line` (a read of `axis`) with the status (`on`) or no longer
+    /// ([`crate::session::Session::watch`]). By default it cannot.
+    fn watch(&self, axis: usize, line: &str, on: bool) -> Result<(), String> {
+        let _ = (axis, on);
+        Err(format!(
+            "this connection cannot poll {line} with the status"
+        ))
+    }
     /// Clear the error flags of `axis` in the module where its family
     /// needs a line for that (CMD-4CR `CLRX`), then forget those the user
     /// has seen; what the clear line brought back, if one was sent. By

@@ -924,6 +924,17 @@ impl Runner {
                 };
                 queue.push(AppEvent::Notice(notice));
             }
+            Effect::Watch { axis, line, on } => {
+                let Some(c) = self.selected(app) else {
+                    queue.push(not_connected());
+                    return;
+                };
+                if let Err(message) = c.controller.watch(axis, &line, on) {
+                    queue.push(AppEvent::Notice(Notice::error(format!(
+                        "cannot plot {line}: {message}"
+                    ))));
+                }
+            }
             Effect::Expire { id, after } => {
                 let tx = self.internal.clone();
                 tokio::spawn(async move {
