@@ -3,7 +3,7 @@
 //!
 //! The rule: each `--sim`, `--port` or `--tcp` starts a link; the link
 //! options that follow it (`--protocol`, `--baud`, `--address`,
-//! `--timeout`, `--link-option`, `--input`, `--program`), up to the next
+//! `--timeout`, `--link-option`, `--input`, `--fault`, `--program`), up to the next
 //! link flag, are that link's. Link options given before the first link
 //! flag are every link's, unless a link gives the same option itself.
 //! With one link this is what the options always meant, in any order.
@@ -28,8 +28,12 @@ const LINK_OPTIONS: &[(&str, &str)] = &[
     ("timeout", "--timeout"),
     ("link_option", "--link-option"),
     ("input", "--input"),
+    ("fault", "--fault"),
     ("program", "--program"),
 ];
+
+/// The link options one link may give several times (each adds one).
+const REPEATABLE: &[&str] = &["link_option", "input", "fault"];
 
 /// One link's options as given, for parsing on their own.
 #[derive(Debug, Parser)]
@@ -84,9 +88,11 @@ fn split_links(matches: &ArgMatches) -> Result<Vec<ConnectionArgs>, clap::Error>
     given.sort_by_key(|g| g.at);
     let starts_link = |g: &Given| LINK_FLAGS.iter().any(|&(id, _)| id == g.id);
     let Some(first) = given.iter().position(starts_link) else {
+        once_each(given.iter(), "")?;
         return Ok(Vec::new());
     };
     let shared = &given[..first];
+    once_each(shared.iter(), " before the first link")?;
     let mut groups: Vec<Vec<&Given>> = Vec::new();
     for g in &given[first..] {
         if starts_link(g) {
@@ -98,6 +104,7 @@ fn split_links(matches: &ArgMatches) -> Result<Vec<ConnectionArgs>, clap::Error>
     groups
         .into_iter()
         .map(|own| {
+            once_each(own.iter().copied(), " for one link")?;
             let defaults = shared.iter().filter(|s| !own.iter().any(|o| o.id == s.id));
             let mut argv: Vec<std::ffi::OsString> = vec!["axterm".into()];
             for g in defaults.chain(own.iter().copied()) {
@@ -107,6 +114,29 @@ fn split_links(matches: &ArgMatches) -> Result<Vec<ConnectionArgs>, clap::Error>
             OneLink::try_parse_from(argv).map(|one| one.connection)
         })
         .collect()
+}
+
+/// A usage error for an option that takes one value given twice where
+/// it counts once (`where`: for one link, before the first link).
+fn once_each<'a>(given: impl Iterator<Item = &'a Given>, place: &str) -> Result<(), clap::Error> {
+    let mut seen: Vec<&str> = Vec::new();
+    for g in given {
+        if REPEATABLE.contains(&g.id) {
+            continue;
+        }
+        if seen.contains(&g.id) {
+            return Err(clap::Error::raw(
+                clap::error::ErrorKind::ArgumentConflict,
+                format!(
+                    "{} given twice{place}: each --sim, --port or --tcp starts a link, and \
+                     the options after it are that link's\n",
+                    g.flag
+                ),
+            ));
+        }
+        seen.push(g.id);
+    }
+    Ok(())
 }
 
 /// Every link the options name, the first one first.
@@ -186,6 +216,43 @@ mod tests {
     fn links_after_a_subcommand_are_seen_too() {
         let cli = parse("exec --sim tmcm1110 --sim cmd4cr GAP");
         assert_eq!(cli.connection.more_links.len(), 1);
+    }
+
+    #[test]
+    fn every_connection_option_is_a_link_flag_or_a_link_option() {
+        use clap::Args;
+        let command = ConnectionArgs::augment_args(clap::Command::new("axterm"));
+        for arg in command.get_arguments() {
+            let id = arg.get_id().as_str();
+            assert!(
+                LINK_FLAGS
+                    .iter()
+                    .chain(LINK_OPTIONS)
+                    .any(|(known, _)| *known == id),
+                "--{id} is neither a link flag nor a link option: say which it is"
+            );
+        }
+    }
+
+    #[test]
+    fn an_option_twice_for_one_link_is_refused() {
+        for line in [
+            "--sim tmcm1110 --baud 9600 --baud 19200",
+            "--baud 9600 --baud 19200 --sim tmcm1110",
+            "--baud 9600 --baud 19200",
+        ] {
+            let argv = std::iter::once("axterm").chain(line.split_whitespace());
+            let error = parse_from(argv).expect_err(line);
+            assert!(error.to_string().contains("--baud given twice"), "{error}");
+        }
+        // Repeatable ones add up, and each link may give its own.
+        let cli = parse(
+            "--sim tmcm1110 --input IN1=1 --input IN2=1 --baud 9600 --sim cmd4cr --baud 9600",
+        );
+        assert_eq!(cli.connection.input, ["IN1=1", "IN2=1"]);
+        assert_eq!(cli.connection.more_links[0].baud, Some(9600));
+        let cli = parse("exec --sim cmd4cr --address 1-4 --fault 3:drop=1 --fault 4:drop=1 VER");
+        assert_eq!(cli.connection.fault, ["3:drop=1", "4:drop=1"]);
     }
 
     #[test]
