@@ -220,8 +220,8 @@ pub enum Command {
     /// answered on standard error (the end of standard input is no reason
     /// to stop). Runs until interrupted.
     Sim {
-        /// Which controller: tmcm1110, cmd4cr, mccl (MultiFlex PCI) or
-        /// mccl-eth (MultiFlex ETH: macros kept in --eeprom FILE).
+        /// Which controller: tmcm1110, cmd4cr, sixpack2, mccl (MultiFlex
+        /// PCI) or mccl-eth (MultiFlex ETH: macros kept in --eeprom FILE).
         kind: String,
         /// Serve it on a new pseudo-terminal and print its path.
         #[arg(long)]
@@ -716,6 +716,31 @@ fn report_ports(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn sim_help_names_every_simulator_kind() {
+        use clap::CommandFactory;
+        let mut command = Cli::command();
+        let sim = command
+            .find_subcommand_mut("sim")
+            .expect("the sim subcommand");
+        let argument = sim
+            .get_arguments()
+            .find(|argument| argument.get_id() == "kind")
+            .expect("the KIND argument");
+        let help = argument
+            .get_long_help()
+            .or(argument.get_help())
+            .map(ToString::to_string)
+            .unwrap_or_default();
+        for kind in sim::kinds() {
+            assert!(
+                help.contains(kind.name),
+                "{} missing from: {help}",
+                kind.name
+            );
+        }
+    }
 
     #[test]
     fn ports_are_listed_one_per_line_and_none_is_not_an_error() {

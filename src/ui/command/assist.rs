@@ -7,6 +7,12 @@ use super::*;
 impl CommandPane {
     pub(super) fn help_topic(&mut self, topic: &str, view: &View) {
         if topic.is_empty() {
+            // The list is longer than a short terminal: the key lines come
+            // last, where the pane shows the newest, so the emergency stop
+            // is on screen however many commands there are.
+            for (syntax, what) in CONSOLE_COMMANDS {
+                self.say(Role::Normal, format!("  {syntax:<24} {what}"));
+            }
             let key = |action| key_label(view.keymap, Context::Command, action);
             self.say(
                 Role::Accent,
@@ -29,9 +35,6 @@ impl CommandPane {
                     key(Action::ScrollPageDown),
                 ),
             );
-            for (syntax, what) in CONSOLE_COMMANDS {
-                self.say(Role::Normal, format!("  {syntax:<24} {what}"));
-            }
             return;
         }
         if topic.starts_with(':') {
