@@ -161,6 +161,20 @@ pub fn status_difference(shown: &[AxisStatus], live: &[AxisStatus]) -> Differenc
         load: None,
         following_error: None,
         refresh: None,
+        // The position a session recording keeps as rest evidence is a
+        // number too (it changes at every poll while the axis moves);
+        // whether the axis is at rest shows in `motion()` below.
+        rest_reads: s
+            .rest_reads
+            .iter()
+            .map(|r| match r.sign {
+                crate::session::RestSign::Position => crate::session::RestRead {
+                    at_rest: None,
+                    ..r.clone()
+                },
+                _ => r.clone(),
+            })
+            .collect(),
         watched: s
             .watched
             .iter()
@@ -188,6 +202,37 @@ pub fn status_difference(shown: &[AxisStatus], live: &[AxisStatus]) -> Differenc
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_position_kept_as_rest_evidence_is_a_number() {
+        use crate::session::{RestRead, RestSign};
+        let status = |position: i64, at_rest: Option<&str>| AxisStatus {
+            position: Some(position),
+            target: Some(0),
+            rest_reads: vec![
+                RestRead {
+                    line: "GAP 1, 0".into(),
+                    sign: RestSign::Position,
+                    at_rest: Some(position.to_string()),
+                },
+                RestRead {
+                    line: "GAP 3, 0".into(),
+                    sign: RestSign::Speed,
+                    at_rest: at_rest.map(str::to_string),
+                },
+            ],
+            ..AxisStatus::default()
+        };
+        assert_eq!(
+            status_difference(&[status(100, None)], &[status(200, None)]),
+            Difference::Numbers
+        );
+        // The speed's evidence changing is no number.
+        assert_eq!(
+            status_difference(&[status(100, None)], &[status(100, Some("0"))]),
+            Difference::State
+        );
+    }
 
     /// Values are (state, number).
     fn difference(shown: &(u8, i64), live: &(u8, i64)) -> Difference {
