@@ -209,3 +209,144 @@ fn another_axis_or_link_starts_the_plot_over() {
         "{all}"
     );
 }
+
+/// Type `text` into the focused pane.
+fn typed(app: &mut App, text: &str) -> Vec<Effect> {
+    text.chars()
+        .flat_map(|c| app.handle(key(KeyCode::Char(c))))
+        .collect()
+}
+
+/// The screen row holding `needle`.
+fn row_with<'a>(screen: &'a str, needle: &str) -> &'a str {
+    screen
+        .lines()
+        .find(|l| l.contains(needle))
+        .unwrap_or_else(|| panic!("no {needle}:\n{screen}"))
+}
+
+#[test]
+fn the_picker_lists_status_values_then_parameters_and_typing_narrows_it_at_80x24() {
+    let hand = Hand::new();
+    let mut app = console("dark", &hand);
+    a_move(&mut app, &hand);
+    // The head line names the key.
+    assert!(text(&mut app, 80, 24).contains("a pick"));
+    app.handle(key(KeyCode::Char('a')));
+    let all = text(&mut app, 80, 24);
+    assert!(all.contains("motor 0: what to plot"), "{all}");
+    assert!(all.contains("Enter plot/unplot · Esc close"), "{all}");
+    // Status values first, the followed ones marked plotted; the
+    // cursor on the first.
+    let position = all.find("position (status)").expect("position");
+    let first_parameter = all.find("   0 Target position").expect("{all}");
+    assert!(position < first_parameter, "{all}");
+    assert!(
+        row_with(&all, "position (status)").contains("› [x]"),
+        "{all}"
+    );
+    assert!(row_with(&all, "load (status)").contains("[ ]"), "{all}");
+
+    typed(&mut app, "load");
+    let all = text(&mut app, 80, 24);
+    assert!(all.contains("filter: load"), "{all}");
+    assert!(all.contains("load (status)"), "{all}");
+    assert!(all.contains(" 206 Actual load value"), "{all}");
+    assert!(!all.contains("position (status)"), "{all}");
+    assert!(!all.contains("Target position"), "{all}");
+
+    // By number: 206 alone.
+    for _ in 0..4 {
+        app.handle(key(KeyCode::Backspace));
+    }
+    typed(&mut app, "206");
+    let all = text(&mut app, 80, 24);
+    assert!(
+        row_with(&all, "206 Actual load value").contains("› [ ]"),
+        "{all}"
+    );
+    assert!(!all.contains("(status)"), "{all}");
+    typed(&mut app, "9");
+    assert!(text(&mut app, 80, 24).contains("nothing matches `2069`"));
+
+    // Esc closes: the plot is back.
+    app.handle(key(KeyCode::Esc));
+    let all = text(&mut app, 80, 24);
+    assert!(
+        !all.contains("what to plot") && all.contains("position (raw)"),
+        "{all}"
+    );
+}
+
+#[test]
+fn enter_in_the_picker_plots_a_parameter_with_its_poll_and_enter_again_stops_it() {
+    let hand = Hand::new();
+    let mut app = console("mono", &hand);
+    a_move(&mut app, &hand);
+    app.handle(key(KeyCode::Char('a')));
+    typed(&mut app, "actual load");
+    let added = app.handle(key(KeyCode::Enter));
+    // Polled as `:plot add 0 206` has it polled.
+    assert!(
+        added.contains(&Effect::Watch {
+            axis: 0,
+            line: "GAP 206, 0".into(),
+            on: true
+        }),
+        "{added:?}"
+    );
+    let all = text(&mut app, 80, 24);
+    assert!(all.contains("› [x]  206 Actual load value"), "{all}");
+    assert!(
+        all.contains("plotting motor 0 206 Actual load value"),
+        "{all}"
+    );
+
+    let removed = app.handle(key(KeyCode::Enter));
+    assert!(
+        removed.contains(&Effect::Watch {
+            axis: 0,
+            line: "GAP 206, 0".into(),
+            on: false
+        }),
+        "{removed:?}"
+    );
+    let all = text(&mut app, 80, 24);
+    assert!(
+        row_with(&all, "206 Actual load value").contains("› [ ]"),
+        "{all}"
+    );
+
+    // Added again, the picker closed: the legend names it.
+    app.handle(key(KeyCode::Enter));
+    app.handle(key(KeyCode::Esc));
+    let mut load = at(4000, 0);
+    load.status[0].watched = vec![axterm::session::WatchedValue {
+        line: "GAP 206, 0".into(),
+        value: Some(512),
+    }];
+    app.handle(AppEvent::Snapshot(load));
+    let all = text(&mut app, 80, 24);
+    assert!(all.contains("motor 0 206 Actual load value"), "{all}");
+}
+
+#[test]
+fn letters_typed_in_the_picker_filter_and_quit_nothing_in_the_vim_keymap() {
+    let hand = Hand::new();
+    let panes: Vec<Box<dyn Pane>> = vec![
+        Box::new(AxesPane::new()),
+        Box::new(PlotPane::with_clock(hand.clock())),
+    ];
+    let theme = Theme::builtin("dark").expect("theme");
+    let keymap = Keymap::builtin("vim").expect("keymap");
+    let mut app = App::new(panes, theme, keymap);
+    app.focus("plot");
+    a_move(&mut app, &hand);
+    app.handle(key(KeyCode::Char('a')));
+    let effects = typed(&mut app, "quick");
+    assert!(!effects.contains(&Effect::Quit), "{effects:?}");
+    assert!(text(&mut app, 80, 24).contains("filter: quick"));
+    // Closed, q quits again.
+    app.handle(key(KeyCode::Esc));
+    assert!(app.handle(key(KeyCode::Char('q'))).contains(&Effect::Quit));
+}

@@ -15,6 +15,8 @@
 //! Until the technician picks series, the plot follows the selected axis:
 //! its position, target and speed.
 
+mod picker;
+
 use std::collections::VecDeque;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -30,8 +32,9 @@ use super::pane::{
     Input, Notice, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View, key_label,
 };
 use super::theme::Role;
-use crate::protocol::parameters::{ParamOp, Scope};
+use crate::protocol::parameters::{ParamOp, ParamRow, ParameterSet, Scope};
 use crate::session::AxisStatus;
+use picker::Picker;
 
 /// The spans the window steps through when zooming.
 pub const WINDOWS: &[Duration] = &[
@@ -193,6 +196,8 @@ pub struct PlotPane {
     next_tag: u64,
     /// What the last `:plot` command did, for the head line.
     note: Option<String>,
+    /// The list of what can be plotted, while open.
+    picker: Option<Picker>,
 }
 
 impl Default for PlotPane {
@@ -217,6 +222,7 @@ impl PlotPane {
             ticking: false,
             next_tag: 1,
             note: None,
+            picker: None,
         }
     }
 
@@ -291,6 +297,7 @@ impl PlotPane {
             if self.following.is_some() {
                 self.series.clear();
                 self.picked = false;
+                self.picker = None;
             }
             self.following = Some(module);
         }
@@ -485,6 +492,12 @@ impl PlotPane {
     /// command pane.
     pub fn command(&mut self, args: &str, view: &View) -> Outcome {
         let result = self.apply(args, view);
+        self.report(result)
+    }
+
+    /// Say what a `:plot` command or the picker did, in the head line and
+    /// in the command pane, and pass on its requests.
+    fn report(&mut self, result: Result<(String, Vec<Request>), String>) -> Outcome {
         let notice = match &result {
             Ok((said, _)) => Notice::info(said.clone()),
             Err(message) => Notice::error(message.clone()),
@@ -511,37 +524,10 @@ impl PlotPane {
             "add" | "remove" => {
                 let session = view.session.ok_or("not connected: nothing to plot")?;
                 let (axis, quantity) = find_quantity(session, rest)?;
-                let axis_name = session.axes.get(axis).map_or("?", |a| a.name);
-                let at = self
-                    .series
-                    .iter()
-                    .position(|s| s.axis == axis && s.quantity == quantity);
-                let watch = |on: bool| match &quantity {
-                    Quantity::Parameter { line, .. } => vec![Request::Watch {
-                        axis,
-                        line: line.clone(),
-                        on,
-                    }],
-                    Quantity::Status(_) => Vec::new(),
-                };
-                let name = format!("{axis_name} {}", quantity.label());
                 if verb == "add" {
-                    if !self.picked {
-                        self.series.clear();
-                        self.picked = true;
-                    }
-                    if at.is_some() {
-                        return Ok((format!("{name} is plotted already"), Vec::new()));
-                    }
-                    let requests = watch(true);
-                    self.series.push(Series::new(axis, axis_name, quantity));
-                    Ok((format!("plotting {name}"), requests))
+                    self.add(session, axis, quantity)
                 } else {
-                    let at = at.ok_or_else(|| format!("{name} is not plotted"))?;
-                    self.picked = true;
-                    let requests = watch(false);
-                    self.series.remove(at);
-                    Ok((format!("{name} no longer plotted"), requests))
+                    self.remove(session, axis, quantity)
                 }
             }
             "clear" => {
@@ -569,18 +555,141 @@ impl PlotPane {
         }
     }
 
+    /// Plot `quantity` of `axis` (its parameter polled meanwhile): what
+    /// `:plot add` and the picker do.
+    fn add(
+        &mut self,
+        session: &Snapshot,
+        axis: usize,
+        quantity: Quantity,
+    ) -> Result<(String, Vec<Request>), String> {
+        let axis_name = session.axes.get(axis).map_or("?", |a| a.name);
+        let name = format!("{axis_name} {}", quantity.label());
+        if !self.picked {
+            self.series.clear();
+            self.picked = true;
+        }
+        if self.plots(axis, &quantity) {
+            return Ok((format!("{name} is plotted already"), Vec::new()));
+        }
+        let requests = watch(axis, &quantity, true);
+        self.series.push(Series::new(axis, axis_name, quantity));
+        Ok((format!("plotting {name}"), requests))
+    }
+
+    /// Stop plotting `quantity` of `axis`: what `:plot remove` and the
+    /// picker do.
+    fn remove(
+        &mut self,
+        session: &Snapshot,
+        axis: usize,
+        quantity: Quantity,
+    ) -> Result<(String, Vec<Request>), String> {
+        let axis_name = session.axes.get(axis).map_or("?", |a| a.name);
+        let name = format!("{axis_name} {}", quantity.label());
+        let at = self
+            .series
+            .iter()
+            .position(|s| s.axis == axis && s.quantity == quantity)
+            .ok_or_else(|| format!("{name} is not plotted"))?;
+        self.picked = true;
+        self.series.remove(at);
+        Ok((
+            format!("{name} no longer plotted"),
+            watch(axis, &quantity, false),
+        ))
+    }
+
+    /// Whether `quantity` of `axis` is plotted.
+    fn plots(&self, axis: usize, quantity: &Quantity) -> bool {
+        self.series
+            .iter()
+            .any(|s| s.axis == axis && &s.quantity == quantity)
+    }
+
+    /// The charts of the series in `body` (under the head line).
+    fn draw_charts(&self, frame: &mut Frame, body: Rect, view: &View, now: Instant) {
+        if body.height < 4 || self.series.is_empty() {
+            return;
+        }
+        let points: Vec<Vec<(f64, f64)>> = self
+            .series
+            .iter()
+            .map(|s| self.points(now, &s.samples))
+            .collect();
+        let (upper, lower): (Vec<usize>, Vec<usize>) =
+            (0..self.series.len()).partition(|&i| self.series[i].in_upper_chart());
+        let label_width = [&upper, &lower]
+            .iter()
+            .filter(|m| !m.is_empty())
+            .flat_map(|m| {
+                let mine: Vec<Vec<(f64, f64)>> =
+                    m.iter().filter_map(|&i| points.get(i).cloned()).collect();
+                Self::bounds(&mine).1
+            })
+            .map(|l| l.len())
+            .max()
+            .unwrap_or(1);
+        match (upper.is_empty(), lower.is_empty()) {
+            (false, false) => {
+                let [top, bottom] =
+                    Layout::vertical([Constraint::Percentage(55), Constraint::Percentage(45)])
+                        .areas(body);
+                frame.render_widget(self.chart(&upper, &points, view, label_width, false), top);
+                frame.render_widget(self.chart(&lower, &points, view, label_width, true), bottom);
+            }
+            (false, true) => {
+                frame.render_widget(self.chart(&upper, &points, view, label_width, true), body)
+            }
+            _ => frame.render_widget(self.chart(&lower, &points, view, label_width, true), body),
+        }
+    }
+
+    /// A key or paste while the picker is open: Enter plots the chosen
+    /// value or stops plotting it, Esc closes, the rest moves or filters.
+    fn picker_input(&mut self, input: &Input, view: &View) -> Outcome {
+        let Some(picker) = self.picker.as_mut() else {
+            return Outcome::Ignored;
+        };
+        let key = match input {
+            Input::Key(key) => key,
+            Input::Paste(text) => {
+                picker.paste(text);
+                return Outcome::redraw();
+            }
+            Input::Mouse(_) => return Outcome::Ignored,
+        };
+        let action = view.keymap.action_for(Context::Command, key);
+        match action {
+            Some(Action::Cancel) => {
+                self.picker = None;
+                Outcome::redraw()
+            }
+            Some(Action::Submit) => {
+                let (axis, chosen) = (picker.axis, picker.chosen());
+                let Some(quantity) = chosen else {
+                    return Outcome::Ignored;
+                };
+                let Some(session) = view.session else {
+                    return self.report(Err("not connected: nothing to plot".into()));
+                };
+                let result = if self.plots(axis, &quantity) {
+                    self.remove(session, axis, quantity)
+                } else {
+                    self.add(session, axis, quantity)
+                };
+                self.report(result)
+            }
+            _ if picker.key(action, key) => Outcome::redraw(),
+            _ => Outcome::Ignored,
+        }
+    }
+
     /// Stop polling every plotted parameter.
     fn unwatch_all(&self) -> Vec<Request> {
         self.series
             .iter()
-            .filter_map(|s| match &s.quantity {
-                Quantity::Parameter { line, .. } => Some(Request::Watch {
-                    axis: s.axis,
-                    line: line.clone(),
-                    on: false,
-                }),
-                Quantity::Status(_) => None,
-            })
+            .flat_map(|s| watch(s.axis, &s.quantity, false))
             .collect()
     }
 
@@ -629,6 +738,19 @@ impl PlotPane {
     }
 }
 
+/// Poll a plotted parameter while it is plotted (a status value is
+/// polled anyway).
+fn watch(axis: usize, quantity: &Quantity, on: bool) -> Vec<Request> {
+    match quantity {
+        Quantity::Parameter { line, .. } => vec![Request::Watch {
+            axis,
+            line: line.clone(),
+            on,
+        }],
+        Quantity::Status(_) => Vec::new(),
+    }
+}
+
 /// A CSV field, quoted when it holds a comma or a quote.
 fn csv_field(text: &str) -> String {
     if text.contains([',', '"', '\n']) {
@@ -663,6 +785,44 @@ fn find_quantity(session: &Snapshot, text: &str) -> Result<(usize, Quantity), St
     {
         return Ok((axis, Quantity::Status(*v)));
     }
+    let (params, rows) = axis_parameters(session, axis)?;
+    let row = rows
+        .iter()
+        .find(|r| {
+            value.parse::<u16>().is_ok_and(|n| n == r.number) || r.name.eq_ignore_ascii_case(value)
+        })
+        .ok_or_else(|| {
+            format!(
+                "`{value}` is none of {} nor a parameter of {}",
+                status_names(),
+                session.axes.get(axis).map_or("?", |a| a.name)
+            )
+        })?;
+    Ok((axis, parameter_quantity(params, row)?))
+}
+
+/// Everything axis `axis` can plot, as `:plot add` finds it: the status
+/// values, then the axis parameters of the family's table that can be
+/// read (a write-only one has no reading to plot).
+fn plottable(session: &Snapshot, axis: usize) -> Vec<Quantity> {
+    let mut all: Vec<Quantity> = STATUS_VALUES
+        .iter()
+        .map(|&(_, v)| Quantity::Status(v))
+        .collect();
+    if let Ok((params, rows)) = axis_parameters(session, axis) {
+        all.extend(
+            rows.iter()
+                .filter_map(|row| parameter_quantity(params, row).ok()),
+        );
+    }
+    all
+}
+
+/// The family's parameter set and the parameters of axis `axis` in it.
+fn axis_parameters(
+    session: &Snapshot,
+    axis: usize,
+) -> Result<(&'static dyn ParameterSet, Vec<ParamRow>), String> {
     let info = session.axes.get(axis).ok_or("no such axis")?;
     let params = session.family.console.parameters().ok_or_else(|| {
         format!(
@@ -671,32 +831,25 @@ fn find_quantity(session: &Snapshot, text: &str) -> Result<(usize, Quantity), St
             status_names()
         )
     })?;
-    let tables = params.tables(info.number);
-    let row = tables
-        .iter()
-        .flat_map(|t| t.rows.iter())
+    let rows = params
+        .tables(info.number)
+        .into_iter()
+        .flat_map(|t| t.rows)
         .filter(|r| r.scope == Scope::Axis(info.number))
-        .find(|r| {
-            value.parse::<u16>().is_ok_and(|n| n == r.number) || r.name.eq_ignore_ascii_case(value)
-        })
-        .ok_or_else(|| {
-            format!(
-                "`{value}` is none of {} nor a parameter of {}",
-                status_names(),
-                info.name
-            )
-        })?;
+        .collect();
+    Ok((params, rows))
+}
+
+/// A parameter as a series: its read line from the family's set.
+fn parameter_quantity(params: &dyn ParameterSet, row: &ParamRow) -> Result<Quantity, String> {
     let line = params
         .line(row, ParamOp::Read)
         .map_err(|e| format!("cannot read {}: {e}", row.name))?;
-    Ok((
-        axis,
-        Quantity::Parameter {
-            number: row.number,
-            name: row.name.clone(),
-            line,
-        },
-    ))
+    Ok(Quantity::Parameter {
+        number: row.number,
+        name: row.name.clone(),
+        line,
+    })
 }
 
 fn status_names() -> String {
@@ -724,8 +877,15 @@ impl Pane for PlotPane {
         "plot"
     }
 
+    /// While the picker is open keys are looked up as on the command
+    /// line, so that letters are filter text (the vim keymap's `q` does
+    /// not quit in the middle of a filter).
     fn context(&self) -> Context {
-        Context::Plot
+        if self.picker.is_some() {
+            Context::Command
+        } else {
+            Context::Plot
+        }
     }
 
     fn title(&self, _view: &View) -> String {
@@ -748,13 +908,14 @@ impl Pane for PlotPane {
         let now = self.paused.unwrap_or_else(|| (self.clock)());
         let key = |action| key_label(view.keymap, Context::Plot, action);
         let mut status = format!(
-            "last {}{} · {} {} in/out · {} reset · {} freeze · :plot add AXIS VALUE",
+            "last {}{} · {} pick · {} {} in/out · {} reset · {} freeze · :plot add AXIS VALUE",
             span_label(self.window),
             if self.paused.is_some() {
                 " · FROZEN"
             } else {
                 ""
             },
+            key(Action::PlotPick),
             key(Action::PlotZoomIn),
             key(Action::PlotZoomOut),
             key(Action::PlotZoomReset),
@@ -766,7 +927,11 @@ impl Pane for PlotPane {
         if view.session.is_none() {
             status = "not connected".into();
         } else if self.series.is_empty() {
-            status = format!("nothing plotted: :plot add AXIS VALUE ({})", status_names());
+            status = format!(
+                "nothing plotted: {} picks, or :plot add AXIS VALUE ({})",
+                key(Action::PlotPick),
+                status_names()
+            );
         }
         let [head, body] =
             Layout::vertical([Constraint::Length(1), Constraint::Min(0)]).areas(area);
@@ -774,43 +939,19 @@ impl Pane for PlotPane {
             Paragraph::new(Line::styled(status, theme.style(Role::Muted))),
             head,
         );
-        if body.height < 4 || self.series.is_empty() {
-            return;
-        }
-        let points: Vec<Vec<(f64, f64)>> = self
-            .series
-            .iter()
-            .map(|s| self.points(now, &s.samples))
-            .collect();
-        let (upper, lower): (Vec<usize>, Vec<usize>) =
-            (0..self.series.len()).partition(|&i| self.series[i].in_upper_chart());
-        let label_width = [&upper, &lower]
-            .iter()
-            .filter(|m| !m.is_empty())
-            .flat_map(|m| {
-                let mine: Vec<Vec<(f64, f64)>> =
-                    m.iter().filter_map(|&i| points.get(i).cloned()).collect();
-                Self::bounds(&mine).1
-            })
-            .map(|l| l.len())
-            .max()
-            .unwrap_or(1);
-        match (upper.is_empty(), lower.is_empty()) {
-            (false, false) => {
-                let [top, bottom] =
-                    Layout::vertical([Constraint::Percentage(55), Constraint::Percentage(45)])
-                        .areas(body);
-                frame.render_widget(self.chart(&upper, &points, view, label_width, false), top);
-                frame.render_widget(self.chart(&lower, &points, view, label_width, true), bottom);
-            }
-            (false, true) => {
-                frame.render_widget(self.chart(&upper, &points, view, label_width, true), body)
-            }
-            _ => frame.render_widget(self.chart(&lower, &points, view, label_width, true), body),
+        self.draw_charts(frame, body, view, now);
+        if let Some(mut picker) = self.picker.take() {
+            // Over the charts, the head line with its keys left visible.
+            let axis = picker.axis;
+            picker.render(frame, body, view, |q| self.plots(axis, q));
+            self.picker = Some(picker);
         }
     }
 
     fn handle_input(&mut self, input: &Input, view: &View) -> Outcome {
+        if self.picker.is_some() {
+            return self.picker_input(input, view);
+        }
         let Input::Key(key) = input else {
             return Outcome::Ignored;
         };
@@ -826,10 +967,18 @@ impl Pane for PlotPane {
                 };
                 self.tick()
             }
+            Some(Action::PlotPick) => {
+                let Some(session) = view.session else {
+                    return self.report(Err("not connected: nothing to plot".into()));
+                };
+                let axis = session.axis;
+                let axis_name = session.axes.get(axis).map_or("?", |a| a.name);
+                self.picker = Some(Picker::new(axis, axis_name, plottable(session, axis)));
+                Outcome::redraw()
+            }
             _ => Outcome::Ignored,
         }
     }
-
     fn on_event(&mut self, event: &PaneEvent, view: &View) -> Outcome {
         match event {
             // Sampled always; behind a tab nothing asks for refreshes.
