@@ -92,7 +92,7 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
     ),
     (
         ":plot add AXIS VALUE | remove AXIS VALUE | clear | csv FILE",
-        "plot a status value (position, speed, load…) or a parameter by name or number; export what was plotted",
+        "plot a status value (position, speed, load…) or a parameter by name or number; export what was plotted (in the plot pane its pick key, a by default, lists them)",
     ),
     (":theme NAME", "switch colours"),
     (":keymap NAME", "switch key bindings"),

@@ -10,7 +10,10 @@
 //! the session with the slow status items while it is plotted
 //! ([`Request::Watch`]); its read line comes from the family's
 //! [`crate::protocol::parameters::ParameterSet`]. `:plot csv FILE` writes
-//! what was plotted: time, one column per series.
+//! what was plotted: time, one column per series. The pick key opens a
+//! list of the same choices over the plot (the selected axis's status
+//! values, then its parameters; typing narrows it), where Enter plots
+//! one or stops plotting it, through the same code as `:plot add`.
 //!
 //! Until the technician picks series, the plot follows the selected axis:
 //! its position, target and speed.
