@@ -343,6 +343,20 @@ pub enum Command {
 }
 
 impl Command {
+    /// Whether the subcommand works on several links (`--sim mccl --sim
+    /// mccl`): those that work on a fleet of modules ([`fleet`]), every
+    /// module of every link in turn.
+    pub fn takes_several_links(&self) -> bool {
+        matches!(
+            self,
+            Command::Exec(_)
+                | Command::Run(_)
+                | Command::Params {
+                    command: params::ParamsCommand::Diff(_) | params::ParamsCommand::Apply(_)
+                }
+        )
+    }
+
     /// The subcommand's name as typed.
     pub fn name(&self) -> &'static str {
         match self {
@@ -369,10 +383,11 @@ impl Command {
 pub fn run(cli: Cli) -> i32 {
     if let Some(command) = &cli.command
         && !cli.connection.more_links.is_empty()
+        && !command.takes_several_links()
     {
         eprintln!(
             "axterm {}: one link at a time ({} given); only the console (axterm with no \
-             subcommand) takes several",
+             subcommand), exec, run and params diff|apply take several",
             command.name(),
             links::describe_links(&cli.connection)
         );
