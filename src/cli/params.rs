@@ -6,7 +6,8 @@
 //! The file is read and checked against the family's tables before the
 //! link is opened: a file that does not parse, names another family or
 //! holds a value outside its range (or no parameter of the module) sends
-//! nothing (exit 2). `diff` and `apply` take `--addresses`/`--all`
+//! nothing (exit 2). `diff` and `apply` take `--addresses`/`--all` and
+//! several links, the file checked against each link's family
 //! ([`super::fleet`]).
 
 use std::path::PathBuf;
@@ -40,7 +41,9 @@ pub enum ParamsCommand {
     /// but do not count. Exit codes: 0 nothing differs, 1 something
     /// differs, cannot be read, or cannot be read back at all (SIXpack 2
     /// settings this session did not write are not known), 2 a bad file
-    /// or usage (nothing sent), 3 no connection.
+    /// or usage (nothing sent), 3 no connection. Several modules
+    /// (--addresses, --all) or links (--port A --port B): a table at the
+    /// end, exit 0 only when every module of every link matches.
     Diff(DiffArgs),
     /// Write FILE's settings that differ, then read each back.
     ///
@@ -51,7 +54,10 @@ pub enum ParamsCommand {
     /// families that store nothing refuse --store. Exit codes: 0 every
     /// value written and verified (or nothing to do), 1 a write, read
     /// back or store failed or a value reads back otherwise, 2 a bad file
-    /// or usage (nothing sent), 3 no connection.
+    /// or usage (nothing sent), 3 no connection. Several modules
+    /// (--addresses, --all) or links (--port A --port B, a line of
+    /// MultiFlex boards): each in turn, a table at the end, exit 0 only
+    /// when every module of every link succeeded.
     Apply(ApplyArgs),
 }
 
