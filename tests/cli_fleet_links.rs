@@ -347,3 +347,45 @@ fn a_run_failing_on_two_links_ends_each_failing_module_with_the_stop_sequence() 
     assert!(row(&rows, "L2").contains("FAILED"), "{said}");
     assert_eq!(rows.last().copied(), Some("0 of 2 module(s) ok"), "{said}");
 }
+
+#[test]
+fn a_run_file_is_checked_for_every_link_before_any_is_opened() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("r.txt");
+    std::fs::write(&file, "GAP 4, 0\n").expect("write");
+    let file = file.display().to_string();
+    let out = axterm(&[
+        "run",
+        "--sim",
+        "tmcm1110",
+        "--port",
+        "/nonexistent/tty",
+        "--protocol",
+        "mccl",
+        &file,
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
+    assert!(stdout(&out).is_empty(), "{}", stdout(&out));
+    let err = stderr(&out);
+    assert!(
+        err.contains(&format!("L2 (--port /nonexistent/tty): {file}:1: ")),
+        "the bad line named with its link: {err}"
+    );
+    assert!(err.contains("nothing was sent"), "{err}");
+
+    let out = axterm(&[
+        "run",
+        "--dry-run",
+        "--sim",
+        "tmcm1110",
+        "--sim",
+        "tmcm1110",
+        &file,
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("1 console lines valid on 2 links, nothing sent (dry run)"),
+        "{}",
+        stderr(&out)
+    );
+}

@@ -114,7 +114,7 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
     };
     // Every module's lines are checked before anything is sent.
     if let Modules::List(addresses) = &modules
-        && !checks_at(&name, &text, family, addresses)
+        && !checks_at("", &name, &text, family, addresses)
     {
         eprintln!("axterm run: {name}: nothing was sent");
         return EXIT_USAGE;
@@ -203,14 +203,15 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
 }
 
 /// Whether the file checks at each of `addresses` (every problem said).
-fn checks_at(name: &str, text: &str, family: &'static Family, addresses: &[u8]) -> bool {
+/// `on` goes before each (the link, with several).
+fn checks_at(on: &str, name: &str, text: &str, family: &'static Family, addresses: &[u8]) -> bool {
     let problems: Vec<String> = addresses
         .iter()
         .filter_map(|&a| check_script(name, text, family, a).err())
         .flatten()
         .collect();
     for problem in &problems {
-        eprintln!("{problem}");
+        eprintln!("{on}{problem}");
     }
     problems.is_empty()
 }
@@ -243,7 +244,10 @@ fn run_on_links(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
         if let Modules::List(listed) = &link.modules {
             addresses.extend(listed);
         }
-        if !checks_at(&name, &text, family, &addresses) {
+        let on = link.name.as_ref().map_or(String::new(), |n| {
+            format!("{} ({}): ", n.label, n.connection)
+        });
+        if !checks_at(&on, &name, &text, family, &addresses) {
             ok = false;
             continue;
         }
