@@ -6,13 +6,13 @@
 use clap::Args;
 
 use super::confirm::{after_line, cautions};
-use super::connection::{Target, run_to_exit};
-use super::fleet::{self, FleetArgs, Identity, ModuleRow, Modules};
+use super::connection::run_to_exit;
+use super::fleet::{self, FleetArgs, FleetLink, FleetModule, Identity, ModuleRow, Modules, Walk};
 use super::output::{Format, json_outcome, print_outcome};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::protocol::Family;
+use crate::protocol::console::PreparedLine;
 use crate::protocol::settings::SettingsCache;
-use crate::session::Session;
 
 #[derive(Debug, Clone, Args)]
 pub struct ExecArgs {
@@ -32,63 +32,39 @@ pub struct ExecArgs {
 }
 
 pub fn run(connection: &ConnectionArgs, args: &ExecArgs) -> i32 {
-    let target = match Target::resolve(connection) {
-        Ok(target) => target,
+    let links = match FleetLink::resolve_all(connection, &args.fleet) {
+        Ok(links) => links,
         Err(message) => {
             eprintln!("axterm exec: {message}");
             return EXIT_USAGE;
         }
     };
-    let modules = match Modules::from_args(&args.fleet, target.family) {
-        Ok(modules) => modules,
-        Err(message) => {
-            eprintln!("axterm exec: {message}");
-            return EXIT_USAGE;
-        }
-    };
-    let console = target.family.console;
-    let mut prepared = Vec::new();
     let mut refused = false;
-    let mut known = SettingsCache::default();
-    for (index, line) in args.lines.iter().enumerate() {
-        match console.prepare(line, target.address) {
-            Ok(p) => {
-                let at = format!("axterm exec: line {} `{}`: ", index + 1, line.trim());
-                let said = cautions(console, &p, &known, args.yes);
-                after_line(console, &p, &mut known);
-                for warning in &said.warnings {
-                    eprintln!("{at}{warning}");
-                }
-                if let Some(refusal) = said.refusal {
-                    eprintln!("{at}{refusal}");
-                    refused = true;
-                }
-                prepared.push((line.clone(), p));
-            }
-            Err(message) => {
-                eprintln!(
-                    "axterm exec: line {} `{}`: {message}",
-                    index + 1,
-                    line.trim()
-                );
-                refused = true;
-            }
+    let mut prepared = Vec::new();
+    // The family's warnings once a family; every line checked for every
+    // link and every address listed.
+    let mut cautioned: Vec<&'static Family> = Vec::new();
+    for link in &links {
+        let on = link.name.as_ref().map_or(String::new(), |n| {
+            format!("{} ({}): ", n.label, n.connection)
+        });
+        let family = link.target.family;
+        let first_of_family = !cautioned.iter().any(|f| std::ptr::eq(*f, family));
+        cautioned.push(family);
+        let (lines, ok) = check_lines(&on, family, link.target.address, args, first_of_family);
+        refused |= !ok;
+        if prepared.is_empty() {
+            prepared = lines;
         }
-    }
-    if let Modules::List(addresses) = &modules {
-        for &address in addresses {
-            for (index, line) in args.lines.iter().enumerate() {
-                if let (Ok(_), Err(message)) = (
-                    console.prepare(line, target.address),
-                    console.prepare(line, address),
-                ) {
-                    eprintln!(
-                        "axterm exec: module {address}: line {} `{}`: {message}",
-                        index + 1,
-                        line.trim()
-                    );
-                    refused = true;
-                }
+        if let Modules::List(addresses) = &link.modules {
+            for &address in addresses {
+                refused |= !other_address_takes_lines(
+                    &on,
+                    family,
+                    link.target.address,
+                    address,
+                    &args.lines,
+                );
             }
         }
     }
@@ -97,26 +73,29 @@ pub fn run(connection: &ConnectionArgs, args: &ExecArgs) -> i32 {
         return EXIT_USAGE;
     }
     let format = args.format;
-    if modules.several() {
+    if FleetLink::several(&links) {
         let lines = args.lines.clone();
         let stop_on_failure = args.fleet.stop_on_failure;
         return run_to_exit("exec", async move {
-            let session = match target.open().await {
-                Ok(session) => session,
-                Err(e) => {
-                    eprintln!("axterm exec: {e}");
-                    return EXIT_CONNECTION;
-                }
-            };
-            let sessions = fleet::sessions(&session, &modules, &target.spec, "exec").await;
-            let lines = &lines;
-            let rows = fleet::each_module(&sessions, stop_on_failure, move |module| async move {
-                exec_on_module(&module, target.family, lines, format).await
-            })
-            .await;
-            fleet::finish(&rows, &["lines", "failed"], format)
+            let mut walk = Walk::new(&links, "exec", stop_on_failure);
+            loop {
+                let module = match walk.next().await {
+                    Ok(Some(module)) => module,
+                    Ok(None) => break,
+                    Err(e) => {
+                        eprintln!("axterm exec: {e}");
+                        return EXIT_CONNECTION;
+                    }
+                };
+                let row = exec_on_module(&module, &lines, format).await;
+                walk.record(&module, row);
+            }
+            fleet::finish(&walk.rows(), &["lines", "failed"], format)
         });
     }
+    let Some(target) = links.into_iter().next().map(|link| link.target) else {
+        return EXIT_USAGE;
+    };
     run_to_exit("exec", async move {
         let session = match target.open().await {
             Ok(session) => session,
@@ -137,24 +116,88 @@ pub fn run(connection: &ConnectionArgs, args: &ExecArgs) -> i32 {
     })
 }
 
-/// The lines on one module of several: each result prefixed with the
-/// module (text) or carrying it (JSON); the first line that fails ends
-/// this module's lines, not the others'.
-async fn exec_on_module(
-    session: &Session,
-    family: &'static Family,
+/// Prepare every line for `family` at `address`, saying each problem
+/// (after `on`, the link when there are several) and, when `cautions`,
+/// the family's warnings; the lines, and whether all may be sent.
+fn check_lines(
+    on: &str,
+    family: &Family,
+    address: u8,
+    args: &ExecArgs,
+    cautions_said: bool,
+) -> (Vec<(String, PreparedLine)>, bool) {
+    let console = family.console;
+    let mut prepared = Vec::new();
+    let mut ok = true;
+    let mut known = SettingsCache::default();
+    for (index, line) in args.lines.iter().enumerate() {
+        let at = format!("axterm exec: {on}line {} `{}`: ", index + 1, line.trim());
+        match console.prepare(line, address) {
+            Ok(p) => {
+                let said = cautions(console, &p, &known, args.yes);
+                after_line(console, &p, &mut known);
+                if cautions_said {
+                    for warning in &said.warnings {
+                        eprintln!("{at}{warning}");
+                    }
+                }
+                if let Some(refusal) = said.refusal {
+                    eprintln!("{at}{refusal}");
+                    ok = false;
+                }
+                prepared.push((line.clone(), p));
+            }
+            Err(message) => {
+                eprintln!("{at}{message}");
+                ok = false;
+            }
+        }
+    }
+    (prepared, ok)
+}
+
+/// Whether every line that prepares at `first` prepares at `address` too
+/// (a listed module); each that does not is said.
+fn other_address_takes_lines(
+    on: &str,
+    family: &Family,
+    first: u8,
+    address: u8,
     lines: &[String],
-    format: Format,
-) -> ModuleRow {
-    let address = session.address();
+) -> bool {
+    let console = family.console;
+    let mut ok = true;
+    for (index, line) in lines.iter().enumerate() {
+        if let (Ok(_), Err(message)) =
+            (console.prepare(line, first), console.prepare(line, address))
+        {
+            eprintln!(
+                "axterm exec: {on}module {address}: line {} `{}`: {message}",
+                index + 1,
+                line.trim()
+            );
+            ok = false;
+        }
+    }
+    ok
+}
+
+/// The lines on one module of several: each result prefixed with the
+/// module (and its link, with several) in text, or carrying them in JSON;
+/// the first line that fails ends this module's lines, not the others'.
+async fn exec_on_module(module: &FleetModule, lines: &[String], format: Format) -> ModuleRow {
+    let session = &module.session;
+    let family = session.family();
+    let address = module.address();
+    let who = module.who();
     let identity = Identity::ask(session).await;
-    let mut row = ModuleRow {
-        address,
-        firmware: identity.shown(),
-        ..ModuleRow::default()
-    };
+    let mut row = module.row(identity.shown());
     if let Identity::Silent(why) = identity {
-        eprintln!("axterm exec: {why}");
+        let on = module
+            .link
+            .as_ref()
+            .map_or(String::new(), |l| format!("{}: ", l.label));
+        eprintln!("axterm exec: {on}{why}");
         row.failed = 1;
         row.note = why;
         return row;
@@ -171,19 +214,19 @@ async fn exec_on_module(
         match format {
             Format::Text => {
                 if let Ok(result) = &outcome {
-                    println!("module {address}: {}", result.value);
+                    println!("{who}: {}", result.value);
                 }
             }
             Format::Json => {
                 let mut object = json_outcome(family, line, &outcome);
-                object["module"] = serde_json::json!(address);
+                module.mark(&mut object);
                 println!("{object}");
             }
         }
         match outcome {
             Ok(_) => row.written += 1,
             Err(error) => {
-                eprintln!("axterm exec: module {address}: line {}: {error}", index + 1);
+                eprintln!("axterm exec: {who}: line {}: {error}", index + 1);
                 row.failed = 1;
                 row.note = format!("line {} failed", index + 1);
                 return row;

@@ -8,16 +8,27 @@
 //! The work is written over a list of sessions on one link, each at its
 //! module's address ([`Session::at_address`]): one device task, one
 //! request in flight, as a multi-drop bus wants.
+//!
+//! Several links (`--sim mccl --sim mccl`, `--port A --port B`, cut by
+//! [`super::links`]) make one fleet too: every module of every link,
+//! worked link by link, module by module ([`Walk`]). A link is opened
+//! when its turn comes; one that cannot be opened is a failed row, and
+//! the others are still worked. This is how a line of MultiFlex boards
+//! (one board per link, no module address) is a fleet.
 
+use std::collections::VecDeque;
 use std::fmt::Write as _;
 
 use clap::Args;
 use serde_json::{Value, json};
 
+use super::ConnectionArgs;
+use super::connection::Target;
+use super::links::{all_links, describe_link};
 use super::output::Format;
 use super::scan::{PROBE_BYTES, PROBE_TIMEOUT, parse_addresses};
 use crate::device::DeviceError;
-use crate::link::LinkSpec;
+use crate::link::{LinkError, LinkSpec};
 use crate::protocol::Family;
 use crate::session::{Session, SessionError};
 
@@ -26,17 +37,271 @@ use crate::session::{Session, SessionError};
 pub struct FleetArgs {
     /// Do the same on each of these modules in turn: a list of addresses
     /// and ranges, e.g. 1-4 or 1,3,7 (the connection's --address is then
-    /// not used); a table at the end.
+    /// not used); a table at the end. With several links (--port A --port
+    /// B), on each link's bus.
     #[arg(long, conflicts_with = "all")]
     pub addresses: Option<String>,
     /// Scan the bus first (as `axterm scan`), then do the same on every
-    /// module that answered.
+    /// module that answered (with several links, each link's bus).
     #[arg(long)]
     pub all: bool,
-    /// With several modules: stop at the first module that fails (those
-    /// not tried are listed as such). By default every module is tried.
+    /// With several modules or links: stop at the first module that fails
+    /// (those not tried are listed as such). By default every module of
+    /// every link is tried.
     #[arg(long)]
     pub stop_on_failure: bool,
+}
+
+/// A link of several, as the table and the lines name it: `L2` and its
+/// connection (`--port /dev/ttyUSB1`).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct LinkName {
+    pub label: String,
+    pub connection: String,
+}
+
+/// One link of the fleet, resolved, not opened yet.
+pub struct FleetLink {
+    /// `None` when there is one link: then nothing names it.
+    pub name: Option<LinkName>,
+    pub target: Target,
+    pub modules: Modules,
+}
+
+impl FleetLink {
+    /// Every link the options give, each resolved with its modules
+    /// (`--addresses`/`--all` apply to each). One link resolves as a
+    /// single-link command always did ([`Target::resolve`]); with several,
+    /// each link's `--address` list is its modules (its first or default
+    /// address without one). A usage error names the link.
+    pub fn resolve_all(
+        connection: &ConnectionArgs,
+        args: &FleetArgs,
+    ) -> Result<Vec<FleetLink>, String> {
+        if connection.more_links.is_empty() {
+            let target = Target::resolve(connection)?;
+            let modules = Modules::from_args(args, target.family)?;
+            return Ok(vec![FleetLink {
+                name: None,
+                target,
+                modules,
+            }]);
+        }
+        all_links(connection)
+            .into_iter()
+            .enumerate()
+            .map(|(index, link)| {
+                let name = LinkName {
+                    label: format!("L{}", index + 1),
+                    connection: describe_link(link),
+                };
+                let at =
+                    |message: String| format!("{} ({}): {message}", name.label, name.connection);
+                let target = Target::resolve_modules(link).map_err(at)?;
+                let mut modules = Modules::from_args(args, target.family).map_err(at)?;
+                if modules == Modules::One && target.addresses.len() > 1 {
+                    modules = Modules::List(target.addresses.clone());
+                }
+                Ok(FleetLink {
+                    name: Some(name),
+                    target,
+                    modules,
+                })
+            })
+            .collect()
+    }
+
+    /// Whether the work on `links` is a fleet's (a table at the end):
+    /// several links, or several modules of one.
+    pub fn several(links: &[FleetLink]) -> bool {
+        links.len() > 1 || links.iter().any(|l| l.modules.several())
+    }
+
+    /// The addresses asked for before the link is open: `None` for a
+    /// scan's (not known until it ran).
+    fn asked(&self) -> Vec<Option<u8>> {
+        match &self.modules {
+            Modules::One => vec![Some(self.target.address)],
+            Modules::List(addresses) => addresses.iter().copied().map(Some).collect(),
+            Modules::Scan => vec![None],
+        }
+    }
+
+    /// A row for each module asked for on this link, not worked, saying
+    /// `note` (`failed`: counted as a failure).
+    fn rows_unworked(&self, firmware: &str, note: &str, failed: bool) -> Vec<ModuleRow> {
+        self.asked()
+            .into_iter()
+            .map(|address| ModuleRow {
+                address: address.unwrap_or_default(),
+                whole_link: address.is_none(),
+                link: self.name.clone(),
+                firmware: firmware.into(),
+                failed: usize::from(failed),
+                note: note.into(),
+                ..ModuleRow::default()
+            })
+            .collect()
+    }
+}
+
+/// A module of the fleet, its turn come: its session and its link.
+pub struct FleetModule {
+    pub session: Session,
+    pub link: Option<LinkName>,
+    /// Which of the fleet's links (0 the first).
+    pub link_index: usize,
+}
+
+impl FleetModule {
+    pub fn address(&self) -> u8 {
+        self.session.address()
+    }
+
+    /// How lines name the module: `module 3`, or `L2 module 3` with
+    /// several links.
+    pub fn who(&self) -> String {
+        match &self.link {
+            Some(link) => format!("{} module {}", link.label, self.address()),
+            None => format!("module {}", self.address()),
+        }
+    }
+
+    /// Its row, firmware known, nothing done yet.
+    pub fn row(&self, firmware: String) -> ModuleRow {
+        ModuleRow {
+            address: self.address(),
+            link: self.link.clone(),
+            firmware,
+            ..ModuleRow::default()
+        }
+    }
+
+    /// Put the module (and its link) into a line's JSON object.
+    pub fn mark(&self, object: &mut Value) {
+        object["module"] = json!(self.address());
+        if let Some(link) = &self.link {
+            object["link"] = json!(link.label);
+            object["connection"] = json!(link.connection);
+        }
+    }
+}
+
+/// The fleet's modules in turn, link by link, module by module: each link
+/// opened (and scanned with `--all`) when its turn comes, the rows of
+/// modules not worked (a link that cannot be opened, those after a
+/// failure with `--stop-on-failure`) kept as they are met.
+pub struct Walk<'a> {
+    links: &'a [FleetLink],
+    command: &'a str,
+    stop_on_failure: bool,
+    next_link: usize,
+    /// The open link's modules still to work, and its index.
+    waiting: VecDeque<Session>,
+    open_link: usize,
+    /// Why the modules not worked yet will not be.
+    ended: Option<String>,
+    rows: Vec<ModuleRow>,
+}
+
+impl<'a> Walk<'a> {
+    pub fn new(links: &'a [FleetLink], command: &'a str, stop_on_failure: bool) -> Walk<'a> {
+        Walk {
+            links,
+            command,
+            stop_on_failure,
+            next_link: 0,
+            waiting: VecDeque::new(),
+            open_link: 0,
+            ended: None,
+            rows: Vec::new(),
+        }
+    }
+
+    /// The next module to work, or `None` when there is none left. An
+    /// error only when the fleet's one link cannot be opened (the command
+    /// then fails as a single-link one does).
+    pub async fn next(&mut self) -> Result<Option<FleetModule>, LinkError> {
+        loop {
+            if let Some(why) = self.ended.clone() {
+                let note = format!("not tried: {why}");
+                let name = self.links.get(self.open_link).and_then(|l| l.name.clone());
+                for session in self.waiting.drain(..) {
+                    self.rows.push(ModuleRow {
+                        address: session.address(),
+                        link: name.clone(),
+                        firmware: "-".into(),
+                        note: note.clone(),
+                        ..ModuleRow::default()
+                    });
+                }
+                for link in &self.links[self.next_link.min(self.links.len())..] {
+                    self.rows.extend(link.rows_unworked("-", &note, false));
+                }
+                self.next_link = self.links.len();
+                return Ok(None);
+            }
+            if let Some(session) = self.waiting.pop_front() {
+                let link = &self.links[self.open_link];
+                return Ok(Some(FleetModule {
+                    session,
+                    link: link.name.clone(),
+                    link_index: self.open_link,
+                }));
+            }
+            let Some(link) = self.links.get(self.next_link) else {
+                return Ok(None);
+            };
+            self.open_link = self.next_link;
+            self.next_link += 1;
+            match link.target.open().await {
+                Ok(session) => {
+                    let modules = sessions(
+                        &session,
+                        &link.modules,
+                        &link.target.spec,
+                        self.command,
+                        link.name.as_ref(),
+                    )
+                    .await;
+                    self.waiting = modules.into();
+                }
+                Err(error) if self.links.len() == 1 => return Err(error),
+                Err(error) => {
+                    let label = link.name.as_ref().map_or("the link", |n| n.label.as_str());
+                    let connection = link.name.as_ref().map_or("", |n| n.connection.as_str());
+                    eprintln!("axterm {}: {label} ({connection}): {error}", self.command);
+                    let note = format!("{label} cannot be opened: {error}");
+                    self.rows
+                        .extend(link.rows_unworked("(no link)", &note, true));
+                    if self.stop_on_failure {
+                        self.ended = Some(format!(
+                            "--stop-on-failure after {label} could not be opened"
+                        ));
+                    }
+                }
+            }
+        }
+    }
+
+    /// The row of the module [`Walk::next`] gave; with
+    /// `--stop-on-failure` a failed one ends the walk.
+    pub fn record(&mut self, module: &FleetModule, row: ModuleRow) {
+        if !row.ok && self.stop_on_failure && self.ended.is_none() {
+            self.ended = Some(format!("--stop-on-failure after {} failed", module.who()));
+        }
+        self.rows.push(row);
+    }
+
+    /// End the walk: the modules not worked yet are rows saying `why`.
+    pub fn end_all(&mut self, why: String) {
+        self.ended.get_or_insert(why);
+    }
+
+    /// Every row, in the order met.
+    pub fn rows(self) -> Vec<ModuleRow> {
+        self.rows
+    }
 }
 
 /// The modules asked for, before the link is opened.
@@ -98,6 +363,7 @@ pub async fn sessions(
     modules: &Modules,
     spec: &LinkSpec,
     command: &str,
+    link: Option<&LinkName>,
 ) -> Vec<Session> {
     match modules {
         Modules::One => vec![session.clone()],
@@ -112,8 +378,9 @@ pub async fn sessions(
                 }
             }
             let list: Vec<String> = found.iter().map(u8::to_string).collect();
+            let on = link.map_or(String::new(), |l| format!("{}: ", l.label));
             eprintln!(
-                "axterm {command}: scan found {} module(s){}{}",
+                "axterm {command}: {on}scan found {} module(s){}{}",
                 found.len(),
                 if found.is_empty() { "" } else { ": " },
                 list.join(", ")
@@ -164,6 +431,11 @@ impl Identity {
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub struct ModuleRow {
     pub address: u8,
+    /// The row stands for a whole link whose modules are not known (a
+    /// scan on a link not opened): no address.
+    pub whole_link: bool,
+    /// Its link, when there are several.
+    pub link: Option<LinkName>,
     pub firmware: String,
     pub written: usize,
     pub verified: usize,
@@ -188,7 +460,7 @@ impl ModuleRow {
     }
 
     pub fn json(&self) -> Value {
-        json!({
+        let mut object = json!({
             "module": self.address,
             "firmware": self.firmware,
             "written": self.written,
@@ -197,36 +469,25 @@ impl ModuleRow {
             "failed": self.failed,
             "ok": self.ok,
             "note": self.note,
-        })
+        });
+        if self.whole_link {
+            object["module"] = Value::Null;
+        }
+        if let Some(link) = &self.link {
+            object["link"] = json!(link.label);
+            object["connection"] = json!(link.connection);
+        }
+        object
     }
-}
 
-/// Work on each session in turn (`work` gives a module's row); with
-/// `stop_on_failure` the modules after the first that fails are rows
-/// saying they were not tried.
-pub async fn each_module<W, F>(
-    sessions: &[Session],
-    stop_on_failure: bool,
-    mut work: W,
-) -> Vec<ModuleRow>
-where
-    W: FnMut(Session) -> F,
-    F: Future<Output = ModuleRow>,
-{
-    let mut rows: Vec<ModuleRow> = Vec::new();
-    let mut failed_at = None;
-    for session in sessions {
-        if let Some(after) = failed_at {
-            rows.push(ModuleRow::not_tried(session.address(), after));
-            continue;
+    /// The module column: its address, `-` for a whole link's row.
+    fn module_shown(&self) -> String {
+        if self.whole_link {
+            "-".into()
+        } else {
+            self.address.to_string()
         }
-        let row = work(session.clone()).await;
-        if !row.ok && stop_on_failure {
-            failed_at = Some(row.address);
-        }
-        rows.push(row);
     }
-    rows
 }
 
 /// The table at the end: one row a module, in the order worked on.
@@ -237,14 +498,29 @@ pub fn table(rows: &[ModuleRow], columns: &[&str]) -> String {
         .max()
         .unwrap_or(0)
         .max("firmware".len());
+    // The link column only with several links: one link's table is as it
+    // always was.
+    let links: Vec<&LinkName> = rows.iter().filter_map(|r| r.link.as_ref()).collect();
     let mut out = String::new();
+    if !links.is_empty() {
+        out.push_str("link  ");
+    }
     let _ = write!(out, "{:>6}  {:<firmware$}", "module", "firmware");
     for column in columns {
         let _ = write!(out, "  {column:>8}");
     }
     out.push_str("  result\n");
     for row in rows {
-        let _ = write!(out, "{:>6}  {:<firmware$}", row.address, row.firmware);
+        if !links.is_empty() {
+            let label = row.link.as_ref().map_or("", |l| l.label.as_str());
+            let _ = write!(out, "{label:<4}  ");
+        }
+        let _ = write!(
+            out,
+            "{:>6}  {:<firmware$}",
+            row.module_shown(),
+            row.firmware
+        );
         for column in columns {
             let n = match *column {
                 "written" | "lines" => row.written,
@@ -260,6 +536,13 @@ pub fn table(rows: &[ModuleRow], columns: &[&str]) -> String {
             let _ = write!(out, "  {}", row.note);
         }
         out.push('\n');
+    }
+    let mut named: Vec<&LinkName> = Vec::new();
+    for link in links {
+        if !named.contains(&link) {
+            named.push(link);
+            let _ = writeln!(out, "{}: {}", link.label, link.connection);
+        }
     }
     let good = rows.iter().filter(|r| r.ok).count();
     let _ = writeln!(out, "{good} of {} module(s) ok", rows.len());
@@ -328,6 +611,54 @@ mod tests {
                 "{error}"
             );
         }
+    }
+
+    #[test]
+    fn with_several_links_the_table_names_each_rows_link_and_each_link() {
+        let link = |n: usize, connection: &str| {
+            Some(LinkName {
+                label: format!("L{n}"),
+                connection: connection.into(),
+            })
+        };
+        let rows = [
+            ModuleRow {
+                link: link(1, "--sim mccl"),
+                firmware: "MFX".into(),
+                written: 1,
+                verified: 1,
+                ok: true,
+                ..ModuleRow::default()
+            },
+            ModuleRow {
+                link: link(2, "--port /dev/ttyUSB1"),
+                whole_link: true,
+                firmware: "(no link)".into(),
+                failed: 1,
+                note: "L2 cannot be opened: gone".into(),
+                ..ModuleRow::default()
+            },
+        ];
+        let text = table(&rows, &["written", "verified", "differs", "failed"]);
+        let lines: Vec<&str> = text.lines().collect();
+        assert!(lines[0].starts_with("link  module  firmware"), "{text}");
+        assert!(lines[1].starts_with("L1         0  MFX"), "{text}");
+        assert!(
+            lines[2].starts_with("L2         -  (no link)")
+                && lines[2].ends_with("FAILED  L2 cannot be opened: gone"),
+            "{text}"
+        );
+        assert_eq!(
+            lines[3..],
+            [
+                "L1: --sim mccl",
+                "L2: --port /dev/ttyUSB1",
+                "1 of 2 module(s) ok"
+            ]
+        );
+        assert_eq!(rows[1].json()["module"], Value::Null);
+        assert_eq!(rows[1].json()["link"], "L2");
+        assert_eq!(rows[1].json()["connection"], "--port /dev/ttyUSB1");
     }
 
     #[test]

@@ -149,14 +149,20 @@ pub fn all_links(args: &ConnectionArgs) -> Vec<&ConnectionArgs> {
 pub fn describe_links(args: &ConnectionArgs) -> String {
     all_links(args)
         .iter()
-        .map(|link| match (&link.sim, &link.port, &link.tcp) {
-            (Some(kind), _, _) => format!("--sim {kind}"),
-            (_, Some(path), _) => format!("--port {path}"),
-            (_, _, Some(address)) => format!("--tcp {address}"),
-            _ => "no link".to_string(),
-        })
+        .map(|link| describe_link(link))
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+/// How one link is named in messages: `--sim tmcm1110`, `--port
+/// /dev/ttyUSB0`, `--tcp localhost:4001`.
+pub fn describe_link(link: &ConnectionArgs) -> String {
+    match (&link.sim, &link.port, &link.tcp) {
+        (Some(kind), _, _) => format!("--sim {kind}"),
+        (_, Some(path), _) => format!("--port {path}"),
+        (_, _, Some(address)) => format!("--tcp {address}"),
+        _ => "no link".to_string(),
+    }
 }
 
 #[cfg(test)]

@@ -110,13 +110,16 @@ fn read_profiles(file: &std::path::Path) -> Result<profiles::ProfileBook, String
 /// The console takes several links: each `--sim`, `--port` or `--tcp`
 /// starts one, and the link options after it (up to the next link flag)
 /// are its own; options before the first link flag are every link's
-/// ([`links`]). The other subcommands take one link.
+/// ([`links`]). `exec`, `run` and `params diff|apply` take several too
+/// (every module of every link, [`fleet`]); the other subcommands take
+/// one link.
 #[derive(Debug, Clone, Default, Args)]
 pub struct ConnectionArgs {
     /// Serial port (e.g. /dev/ttyUSB0, COM3), or its stable name in
     /// /dev/serial/by-id as a full path or the file name alone (`axterm
-    /// ports` lists them). Starts a link: the console takes several
-    /// (--port A --port B, mixed with --sim and --tcp).
+    /// ports` lists them). Starts a link: the console, exec, run and
+    /// params diff|apply take several (--port A --port B, mixed with --sim
+    /// and --tcp); the options after it are its own.
     #[arg(long, global = true, action = ArgAction::Append)]
     pub port: Option<String>,
     /// Serial-over-TCP bridge, HOST:PORT. Starts a link, as --port.
@@ -141,7 +144,8 @@ pub struct ConnectionArgs {
     /// list such as 1-4 or 1,3,7 puts that many modules on one simulated
     /// bus, each its own simulator; the work of a single-module command
     /// (exec, run, download…) goes to the first address of the list, the
-    /// console lists every module of it. Not for mccl: a MultiFlex board
+    /// console lists every module of it; with several links, exec, run
+    /// and params diff|apply work on every module of each link's list. Not for mccl: a MultiFlex board
     /// has no module address on its link (one board per link).
     #[arg(long, global = true, value_name = "ADDRESS|LIST", action = ArgAction::Append)]
     pub address: Option<AddressList>,
@@ -241,7 +245,10 @@ pub enum Command {
     /// HardwareReset, StartReferenceSearch…) needs --yes. Exit codes: 0
     /// all good, 1 a device error or timeout, 2 a line that does not parse
     /// or validate or needs --yes (nothing sent), 3 the connection could
-    /// not be opened.
+    /// not be opened. With --addresses/--all or several links (--sim mccl
+    /// --sim mccl) the lines run on every module of every link in turn,
+    /// each result prefixed with its module (and link), a table at the
+    /// end; a link that cannot be opened is a failed row.
     Exec(exec::ExecArgs),
     /// Run a batch file of console lines (- for standard input).
     ///
@@ -253,7 +260,10 @@ pub enum Command {
     /// that fails, is cancelled with Ctrl-C or loses its link ends with
     /// the stop-everything sequence (the console's emergency stop), each
     /// stop line's answer printed, unless --no-stop-on-failure. A line the
-    /// family wants confirmed needs --yes.
+    /// family wants confirmed needs --yes. With --addresses/--all or
+    /// several links (--port A --port B) the file runs on every module of
+    /// every link in turn, each run ended as a single one; a table at the
+    /// end.
     Run(run::RunArgs),
     /// Run an A-Script program (CMD-4CR) from the host.
     ///
@@ -335,7 +345,9 @@ pub enum Command {
     ///
     /// The same TOML file as the console's parameter pane exports,
     /// compares and imports. `diff` and `apply` work on several modules of
-    /// a bus with --addresses LIST or --all, a table at the end.
+    /// a bus with --addresses LIST or --all, and on several links (--port
+    /// A --port B: every module of every link, e.g. a line of MultiFlex
+    /// boards), a table at the end.
     Params {
         #[command(subcommand)]
         command: params::ParamsCommand,
@@ -343,6 +355,20 @@ pub enum Command {
 }
 
 impl Command {
+    /// Whether the subcommand works on several links (`--sim mccl --sim
+    /// mccl`): those that work on a fleet of modules ([`fleet`]), every
+    /// module of every link in turn.
+    pub fn takes_several_links(&self) -> bool {
+        matches!(
+            self,
+            Command::Exec(_)
+                | Command::Run(_)
+                | Command::Params {
+                    command: params::ParamsCommand::Diff(_) | params::ParamsCommand::Apply(_)
+                }
+        )
+    }
+
     /// The subcommand's name as typed.
     pub fn name(&self) -> &'static str {
         match self {
@@ -369,10 +395,11 @@ impl Command {
 pub fn run(cli: Cli) -> i32 {
     if let Some(command) = &cli.command
         && !cli.connection.more_links.is_empty()
+        && !command.takes_several_links()
     {
         eprintln!(
             "axterm {}: one link at a time ({} given); only the console (axterm with no \
-             subcommand) takes several",
+             subcommand), exec, run and params diff|apply take several",
             command.name(),
             links::describe_links(&cli.connection)
         );

@@ -6,7 +6,8 @@
 //! The file is read and checked against the family's tables before the
 //! link is opened: a file that does not parse, names another family or
 //! holds a value outside its range (or no parameter of the module) sends
-//! nothing (exit 2). `diff` and `apply` take `--addresses`/`--all`
+//! nothing (exit 2). `diff` and `apply` take `--addresses`/`--all` and
+//! several links, the file checked against each link's family
 //! ([`super::fleet`]).
 
 use std::path::PathBuf;
@@ -15,12 +16,11 @@ use clap::{Args, Subcommand};
 use serde_json::{Value, json};
 
 use super::connection::{Target, run_to_exit};
-use super::fleet::{self, FleetArgs, Identity, ModuleRow, Modules};
+use super::fleet::{self, FleetArgs, FleetLink, FleetModule, Identity, ModuleRow, Walk};
 use super::output::Format;
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::protocol::parameter_file::{self, Exported};
 use crate::protocol::parameters::{ParamRow, ParameterSet};
-use crate::session::Session;
 use crate::session::params::{
     self as shared, ApplyOptions, ApplyReport, Difference, ModuleValue, ValueOutcome,
 };
@@ -41,7 +41,9 @@ pub enum ParamsCommand {
     /// but do not count. Exit codes: 0 nothing differs, 1 something
     /// differs, cannot be read, or cannot be read back at all (SIXpack 2
     /// settings this session did not write are not known), 2 a bad file
-    /// or usage (nothing sent), 3 no connection.
+    /// or usage (nothing sent), 3 no connection. Several modules
+    /// (--addresses, --all) or links (--port A --port B): a table at the
+    /// end, exit 0 only when every module of every link matches.
     Diff(DiffArgs),
     /// Write FILE's settings that differ, then read each back.
     ///
@@ -52,7 +54,10 @@ pub enum ParamsCommand {
     /// families that store nothing refuse --store. Exit codes: 0 every
     /// value written and verified (or nothing to do), 1 a write, read
     /// back or store failed or a value reads back otherwise, 2 a bad file
-    /// or usage (nothing sent), 3 no connection.
+    /// or usage (nothing sent), 3 no connection. Several modules
+    /// (--addresses, --all) or links (--port A --port B, a line of
+    /// MultiFlex boards): each in turn, a table at the end, exit 0 only
+    /// when every module of every link succeeded.
     Apply(ApplyArgs),
 }
 
@@ -120,6 +125,12 @@ fn resolve(
     connection: &ConnectionArgs,
 ) -> Result<(Target, &'static dyn ParameterSet, Vec<u8>), String> {
     let target = Target::resolve(connection)?;
+    let (parameters, axes) = parameters_of(&target)?;
+    Ok((target, parameters, axes))
+}
+
+/// The family's parameters and its axis numbers.
+fn parameters_of(target: &Target) -> Result<(&'static dyn ParameterSet, Vec<u8>), String> {
     let parameters = target
         .family
         .console
@@ -132,7 +143,7 @@ fn resolve(
         .iter()
         .map(|a| a.number)
         .collect();
-    Ok((target, parameters, axes))
+    Ok((parameters, axes))
 }
 
 fn export(connection: &ConnectionArgs, args: &ExportArgs) -> i32 {
@@ -260,8 +271,9 @@ fn export(connection: &ConnectionArgs, args: &ExportArgs) -> i32 {
     })
 }
 
-/// `diff` (`apply` is `None`) or `apply`: the file checked whole first,
-/// then the work on each module.
+/// `diff` (`apply` is `None`) or `apply`: the file checked whole first
+/// (against every link's family), then the work on each module of each
+/// link.
 fn compare_or_apply(
     connection: &ConnectionArgs,
     path: &std::path::Path,
@@ -274,17 +286,26 @@ fn compare_or_apply(
     } else {
         "params diff"
     };
-    let checked = resolve(connection).and_then(|(target, parameters, axes)| {
-        let modules = Modules::from_args(fleet_args, target.family)?;
-        if let Some(options) = apply
-            && options.store
-        {
-            refuse_store_without_place(parameters, &axes)?;
+    let checked = FleetLink::resolve_all(connection, fleet_args).and_then(|links| {
+        let mut checked = Vec::new();
+        for link in &links {
+            let named = |message: String| match &link.name {
+                Some(name) => format!("{} ({}): {message}", name.label, name.connection),
+                None => message,
+            };
+            let (parameters, axes) = parameters_of(&link.target).map_err(named)?;
+            if let Some(options) = apply
+                && options.store
+            {
+                refuse_store_without_place(parameters, &axes).map_err(named)?;
+            }
+            let entries =
+                read_file(path, link.target.family.name, parameters, &axes).map_err(named)?;
+            checked.push((parameters, entries));
         }
-        let entries = read_file(path, target.family.name, parameters, &axes)?;
-        Ok((target, parameters, modules, entries))
+        Ok((links, checked))
     });
-    let (target, parameters, modules, entries) = match checked {
+    let (links, checked) = match checked {
         Ok(checked) => checked,
         Err(message) => {
             eprintln!("axterm {command}: {message}");
@@ -294,24 +315,25 @@ fn compare_or_apply(
     };
     let stop_on_failure = fleet_args.stop_on_failure;
     run_to_exit(command, async move {
-        let session = match target.open().await {
-            Ok(session) => session,
-            Err(e) => {
-                eprintln!("axterm {command}: {e}");
-                return EXIT_CONNECTION;
-            }
-        };
-        let sessions = fleet::sessions(&session, &modules, &target.spec, command).await;
-        let several = modules.several();
-        let entries = &entries;
-        let rows = fleet::each_module(&sessions, stop_on_failure, move |module| async move {
-            let row = one_module(&module, parameters, entries, apply, format, several).await;
+        let several = FleetLink::several(&links);
+        let mut walk = Walk::new(&links, command, stop_on_failure);
+        loop {
+            let module = match walk.next().await {
+                Ok(Some(module)) => module,
+                Ok(None) => break,
+                Err(e) => {
+                    eprintln!("axterm {command}: {e}");
+                    return EXIT_CONNECTION;
+                }
+            };
+            let (parameters, entries) = &checked[module.link_index];
+            let row = one_module(&module, *parameters, entries, apply, format, several).await;
             if !several && !row.note.is_empty() && !row.ok {
                 eprintln!("axterm {command}: {}", row.note);
             }
-            row
-        })
-        .await;
+            walk.record(&module, row);
+        }
+        let rows = walk.rows();
         if several {
             let columns: &[&str] = &["written", "verified", "differs", "failed"];
             return fleet::finish(&rows, columns, format);
@@ -371,20 +393,17 @@ fn label(row: &ParamRow) -> String {
 /// printed as they come (prefixed with the module when there are
 /// several).
 async fn one_module(
-    session: &Session,
+    module: &FleetModule,
     parameters: &dyn ParameterSet,
     entries: &[(ParamRow, i64)],
     apply: Option<ApplyOptions>,
     format: Format,
     several: bool,
 ) -> ModuleRow {
+    let session = &module.session;
     let address = session.address();
     let identity = Identity::ask(session).await;
-    let mut row = ModuleRow {
-        address,
-        firmware: identity.shown(),
-        ..ModuleRow::default()
-    };
+    let mut row = module.row(identity.shown());
     if let Identity::Silent(why) = &identity {
         row.failed = 1;
         row.note = why.clone();
@@ -397,7 +416,7 @@ async fn one_module(
         return row;
     }
     let prefix = if several {
-        format!("module {address}: ")
+        format!("{}: ", module.who())
     } else {
         String::new()
     };
@@ -424,7 +443,14 @@ async fn one_module(
         Some(_) => fill_apply_row(&mut row, &report, dry_run),
     }
     match format {
-        Format::Text => print_text(&prefix, &report, apply.is_some(), dry_run, &row),
+        Format::Text => print_text(
+            &prefix,
+            &module.who(),
+            &report,
+            apply.is_some(),
+            dry_run,
+            &row,
+        ),
         Format::Json => println!("{}", json_report(&row, &report, apply.is_some(), dry_run)),
     }
     row
@@ -501,7 +527,14 @@ fn outcome_name(outcome: &ValueOutcome) -> &'static str {
     }
 }
 
-fn print_text(prefix: &str, report: &ApplyReport, applying: bool, dry_run: bool, row: &ModuleRow) {
+fn print_text(
+    prefix: &str,
+    who: &str,
+    report: &ApplyReport,
+    applying: bool,
+    dry_run: bool,
+    row: &ModuleRow,
+) {
     let comparison = &report.comparison;
     if applying {
         for value in &report.values {
@@ -584,7 +617,7 @@ fn print_text(prefix: &str, report: &ApplyReport, applying: bool, dry_run: bool,
     } else {
         format!(" ({})", row.note)
     };
-    println!("module {} ({}): {summary}{note}", row.address, row.firmware);
+    println!("{who} ({}): {summary}{note}", row.firmware);
 }
 
 fn module_json(value: &ModuleValue) -> Value {

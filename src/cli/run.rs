@@ -15,7 +15,7 @@ use serde_json::json;
 
 use super::confirm::{after_line, cautions};
 use super::connection::{Target, family_of, names_a_connection, run_to_exit};
-use super::fleet::{self, FleetArgs, Identity, ModuleRow, Modules};
+use super::fleet::{self, FleetArgs, FleetLink, FleetModule, Identity, ModuleRow, Modules, Walk};
 use super::output::{Format, print_outcome};
 use super::run_end::{Interrupt, RunReport, run_then_end, run_then_end_on};
 use super::script::{Action, CheckedStep, WAIT_INTERVAL, check_script, result_matches};
@@ -78,6 +78,9 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
     // A dry run needs only the family; a real run needs a connection. A
     // dry run given a connection checks its options as a real run would
     // (address, --program, --input), though nothing is opened.
+    if !connection.more_links.is_empty() {
+        return run_on_links(connection, args);
+    }
     let resolved = if args.dry_run && !names_a_connection(connection) {
         family_of(connection).map(|family| {
             let address = connection
@@ -110,19 +113,11 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
         }
     };
     // Every module's lines are checked before anything is sent.
-    if let Modules::List(addresses) = &modules {
-        let problems: Vec<String> = addresses
-            .iter()
-            .filter_map(|&a| check_script(&name, &text, family, a).err())
-            .flatten()
-            .collect();
-        if !problems.is_empty() {
-            for problem in problems {
-                eprintln!("{problem}");
-            }
-            eprintln!("axterm run: {name}: nothing was sent");
-            return EXIT_USAGE;
-        }
+    if let Modules::List(addresses) = &modules
+        && !checks_at("", &name, &text, family, addresses)
+    {
+        eprintln!("axterm run: {name}: nothing was sent");
+        return EXIT_USAGE;
     }
     let checked = match check_script(&name, &text, family, address) {
         Ok(checked) => checked,
@@ -154,17 +149,12 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
             policy,
             stop_on_failure: args.fleet.stop_on_failure,
         };
-        return run_to_exit("run", async move {
-            let session = match target.open().await {
-                Ok(session) => session,
-                Err(e) => {
-                    eprintln!("axterm run: {e}");
-                    return EXIT_CONNECTION;
-                }
-            };
-            let sessions = fleet::sessions(&session, &modules, &target.spec, "run").await;
-            fleet_run.run(&sessions).await
-        });
+        let links = vec![FleetLink {
+            name: None,
+            target,
+            modules,
+        }];
+        return run_to_exit("run", async move { fleet_run.run(&links).await });
     }
     run_to_exit("run", async move {
         let session = match target.open().await {
@@ -212,6 +202,89 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
     })
 }
 
+/// Whether the file checks at each of `addresses` (every problem said).
+/// `on` goes before each (the link, with several).
+fn checks_at(on: &str, name: &str, text: &str, family: &'static Family, addresses: &[u8]) -> bool {
+    let problems: Vec<String> = addresses
+        .iter()
+        .filter_map(|&a| check_script(name, text, family, a).err())
+        .flatten()
+        .collect();
+    for problem in &problems {
+        eprintln!("{on}{problem}");
+    }
+    problems.is_empty()
+}
+
+/// The file on every module of several links (`--port A --port B`): the
+/// whole file checked for each link's family and modules first, the
+/// family's cautions said once a family; then link by link, module by
+/// module, each run ended as a single one is.
+fn run_on_links(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
+    let links = match FleetLink::resolve_all(connection, &args.fleet) {
+        Ok(links) => links,
+        Err(message) => {
+            eprintln!("axterm run: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    let (name, text) = match read_source(&args.file) {
+        Ok(source) => source,
+        Err(message) => {
+            eprintln!("axterm run: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    let mut ok = true;
+    let mut cautioned: Vec<&'static Family> = Vec::new();
+    let mut lines = 0;
+    for link in &links {
+        let family = link.target.family;
+        let mut addresses = vec![link.target.address];
+        if let Modules::List(listed) = &link.modules {
+            addresses.extend(listed);
+        }
+        let on = link.name.as_ref().map_or(String::new(), |n| {
+            format!("{} ({}): ", n.label, n.connection)
+        });
+        if !checks_at(&on, &name, &text, family, &addresses) {
+            ok = false;
+            continue;
+        }
+        if cautioned.iter().any(|f| std::ptr::eq(*f, family)) {
+            continue;
+        }
+        cautioned.push(family);
+        match check_script(&name, &text, family, link.target.address) {
+            Ok(checked) => {
+                lines = checked.iter().filter(|c| c.line.is_some()).count();
+                ok &= said_cautions(&name, family, &checked, args.yes);
+            }
+            Err(_) => ok = false,
+        }
+    }
+    if !ok {
+        eprintln!("axterm run: {name}: nothing was sent");
+        return EXIT_USAGE;
+    }
+    if args.dry_run {
+        eprintln!(
+            "axterm run: {name}: {lines} console lines valid on {} links, nothing sent (dry run)",
+            links.len()
+        );
+        return EXIT_OK;
+    }
+    let fleet_run = FleetRun {
+        name,
+        text,
+        format: args.format,
+        keep_going: args.keep_going,
+        policy: StopOnFailure::from_flag(args.no_stop_on_failure),
+        stop_on_failure: args.fleet.stop_on_failure,
+    };
+    run_to_exit("run", async move { fleet_run.run(&links).await })
+}
+
 /// Print the family's warnings about every line of the file, and each
 /// line it wants confirmed when `--yes` was not given; false if there was
 /// such a line.
@@ -245,7 +318,7 @@ struct FleetRun {
 }
 
 impl FleetRun {
-    async fn run(&self, sessions: &[Session]) -> i32 {
+    async fn run(&self, links: &[FleetLink]) -> i32 {
         let mut interrupt = match Interrupt::watch() {
             Ok(interrupt) => interrupt,
             Err(e) => {
@@ -253,45 +326,42 @@ impl FleetRun {
                 return EXIT_DEVICE;
             }
         };
-        let mut rows: Vec<ModuleRow> = Vec::new();
-        let mut ended: Option<String> = None;
-        for session in sessions {
-            let address = session.address();
-            if let Some(why) = &ended {
-                rows.push(ModuleRow {
-                    address,
-                    firmware: "-".into(),
-                    note: format!("not tried: {why}"),
-                    ..ModuleRow::default()
-                });
-                continue;
-            }
-            let (row, ending) = self.on_module(session, &mut interrupt).await;
+        let mut walk = Walk::new(links, "run", self.stop_on_failure);
+        loop {
+            let module = match walk.next().await {
+                Ok(Some(module)) => module,
+                Ok(None) => break,
+                Err(e) => {
+                    eprintln!("axterm run: {e}");
+                    return EXIT_CONNECTION;
+                }
+            };
+            let (row, ending) = self.on_module(&module, &mut interrupt).await;
             if ending == RunEnding::Cancelled {
-                ended = Some("the run was cancelled (Ctrl-C)".into());
-            } else if !row.ok && self.stop_on_failure {
-                ended = Some(format!("--stop-on-failure after module {address} failed"));
+                walk.end_all("the run was cancelled (Ctrl-C)".into());
             }
-            rows.push(row);
+            walk.record(&module, row);
         }
-        fleet::finish(&rows, &["lines", "failed"], self.format)
+        fleet::finish(&walk.rows(), &["lines", "failed"], self.format)
     }
 
     /// The whole file on one module, ended as a single run is.
     async fn on_module(
         &self,
-        session: &Session,
+        module: &FleetModule,
         interrupt: &mut Interrupt,
     ) -> (ModuleRow, RunEnding) {
+        let session = &module.session;
         let address = session.address();
+        let who = module.who();
         let identity = Identity::ask(session).await;
-        let mut row = ModuleRow {
-            address,
-            firmware: identity.shown(),
-            ..ModuleRow::default()
-        };
+        let mut row = module.row(identity.shown());
         if let Identity::Silent(why) = identity {
-            eprintln!("axterm run: {}: {why}", self.name);
+            let on = module
+                .link
+                .as_ref()
+                .map_or(String::new(), |l| format!("{}: ", l.label));
+            eprintln!("axterm run: {on}{}: {why}", self.name);
             row.failed = 1;
             row.note = why;
             return (row, RunEnding::Failed);
@@ -300,7 +370,7 @@ impl FleetRun {
             Ok(checked) => checked,
             Err(problems) => {
                 for problem in &problems {
-                    eprintln!("module {address}: {problem}");
+                    eprintln!("{who}: {problem}");
                 }
                 row.failed = problems.len();
                 row.note = "the file does not check for this address: nothing sent".into();
@@ -311,7 +381,7 @@ impl FleetRun {
             session,
             name: &self.name,
             format: self.format,
-            module: Some(address),
+            module: Some(module),
         };
         // Counted by the work, read after it ended (or was dropped).
         let (done, failed) = (AtomicUsize::new(0), AtomicUsize::new(0));
@@ -326,7 +396,7 @@ impl FleetRun {
             }
             failed.load(Ordering::Relaxed) == 0
         };
-        let prefix = format!("axterm run: module {address}: {}: ", self.name);
+        let prefix = format!("axterm run: {who}: {}: ", self.name);
         let report = RunReport {
             prefix: &prefix,
             format: self.format,
@@ -347,16 +417,18 @@ struct Runner<'a> {
     name: &'a str,
     format: Format,
     /// The module, when the file runs on several: its results say which.
-    module: Option<u8>,
+    module: Option<&'a FleetModule>,
 }
 
 impl Runner<'_> {
     /// Run one step; false if it failed (the failure is reported).
     async fn step(&self, item: &CheckedStep) -> bool {
         let at = match self.module {
-            Some(address) => format!(
-                "module {address}: {}:{}: ",
-                self.name, item.step.line_number
+            Some(module) => format!(
+                "{}: {}:{}: ",
+                module.who(),
+                self.name,
+                item.step.line_number
             ),
             None => format!("{}:{}: ", self.name, item.step.line_number),
         };
@@ -366,8 +438,8 @@ impl Runner<'_> {
                 let outcome = self.session.execute(line).await;
                 match self.module {
                     None => print_outcome(self.format, family, text, &at, &outcome),
-                    Some(address) => {
-                        print_module_outcome(self.format, family, address, text, &at, &outcome)
+                    Some(module) => {
+                        print_module_outcome(self.format, family, module, text, &at, &outcome)
                     }
                 }
                 outcome.is_ok()
@@ -396,10 +468,12 @@ impl Runner<'_> {
             (Action::Echo(text), _) => {
                 match (self.format, self.module) {
                     (Format::Text, None) => println!("{text}"),
-                    (Format::Text, Some(address)) => println!("module {address}: {text}"),
+                    (Format::Text, Some(module)) => println!("{}: {text}", module.who()),
                     (Format::Json, None) => println!("{}", json!({ "echo": text })),
-                    (Format::Json, Some(address)) => {
-                        println!("{}", json!({ "echo": text, "module": address }))
+                    (Format::Json, Some(module)) => {
+                        let mut object = json!({ "echo": text });
+                        module.mark(&mut object);
+                        println!("{object}");
                     }
                 }
                 true
@@ -449,7 +523,7 @@ impl Runner<'_> {
 fn print_module_outcome(
     format: Format,
     family: &Family,
-    address: u8,
+    module: &FleetModule,
     line: &str,
     context: &str,
     outcome: &Result<crate::session::LineResult, crate::session::SessionError>,
@@ -457,12 +531,12 @@ fn print_module_outcome(
     match format {
         Format::Text => {
             if let Ok(result) = outcome {
-                println!("module {address}: {}", result.value);
+                println!("{}: {}", module.who(), result.value);
             }
         }
         Format::Json => {
             let mut object = super::output::json_outcome(family, line, outcome);
-            object["module"] = json!(address);
+            module.mark(&mut object);
             println!("{object}");
         }
     }
