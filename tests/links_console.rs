@@ -469,3 +469,41 @@ async fn four_modules_of_one_simulated_bus_are_each_polled_listed_and_stopped() 
         .collect();
     assert_eq!(polled, [1, 2, 3, 4].into_iter().collect());
 }
+
+#[tokio::test(start_paused = true)]
+async fn a_session_recording_ends_when_another_module_is_selected() {
+    // A run file replays on one module: a line typed to another must not
+    // join it as if it were the recorded module's.
+    let (tmcl, cmd4cr) = two_links().await;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("session.txt");
+    let record = format!(":record {}", file.display());
+    run_links_on(
+        console(),
+        (160, 30),
+        vec![vec![tmcl], vec![cmd4cr]],
+        no_connector(),
+        async |mut rig: Rig| {
+            rig.screens.until("module 2 cmd4cr #1").await;
+            type_line(&rig, &record);
+            rig.screens.until("recording the session to").await;
+            type_line(&rig, "GAP 1, 0");
+            rig.screens.until("got 02 01 64 06").await;
+            type_line(&rig, ":module 2");
+            rig.screens
+                .until("session recording ended: another module was selected")
+                .await;
+            type_line(&rig, "PX");
+            rig.screens.until("sent @01PX\\r  got 0").await;
+            press(&rig, KeyCode::F(10));
+        },
+    )
+    .await;
+    let recorded = std::fs::read_to_string(&file).expect("the recording");
+    assert!(recorded.contains("GAP 1, 0"), "{recorded}");
+    assert!(
+        recorded.contains("# recording ended here: another module was selected\n"),
+        "{recorded}"
+    );
+    assert!(!recorded.contains("PX"), "{recorded}");
+}

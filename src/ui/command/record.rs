@@ -128,6 +128,17 @@ pub(super) struct SessionRecording {
     recorder: RunRecorder,
     /// When it began, on the console's clock (virtual in tests).
     began: Instant,
+    /// The module recorded: its link (index in the console's list of
+    /// links) and address. A run file replays on one module, so a line
+    /// sent to another is no part of it.
+    module: (usize, u8),
+}
+
+/// The selected module as (link, address), the key a recording keeps.
+fn selected_module(view: &View) -> Option<(usize, u8)> {
+    let session = view.session?;
+    let link = view.modules.get(view.module).map_or(0, |entry| entry.link);
+    Some((link, session.address))
 }
 
 impl SessionRecording {
@@ -214,18 +225,48 @@ impl CommandPane {
             path,
             recorder: RunRecorder::new(),
             began: Instant::now(),
+            module: selected_module(view).unwrap_or((0, session.address)),
         };
         recording.recorder.observe(&session.status, Duration::ZERO);
         self.session_recording = Some(recording);
         Outcome::redraw()
     }
 
-    /// A status snapshot came: the recording watches the axes.
+    /// A status snapshot came: the recording watches the axes, or ends
+    /// when another module was selected.
     pub(super) fn session_record_status(&mut self, view: &View) {
+        if !self.session_record_still_on(view) {
+            return;
+        }
         if let (Some(r), Some(session)) = (self.session_recording.as_mut(), view.session) {
             let now = r.now();
             r.recorder.observe(&session.status, now);
         }
+    }
+
+    /// Whether the recording (if any) goes on: it ends, saying why, once
+    /// the selected module is not the one recorded, as the lines typed
+    /// from then on go elsewhere.
+    fn session_record_still_on(&mut self, view: &View) -> bool {
+        let Some(r) = self.session_recording.as_ref() else {
+            return false;
+        };
+        if selected_module(view) == Some(r.module) {
+            return true;
+        }
+        let text = "# recording ended here: another module was selected\n".to_string();
+        self.session_record_write(&text);
+        if let Some(r) = self.session_recording.take() {
+            let (lines, waits) = r.recorder.counts();
+            self.say(
+                Role::Warning,
+                format!(
+                    "session recording ended: another module was selected, and a recording replays on one module ({lines} line(s), {waits} wait(s) in {})",
+                    r.path.display()
+                ),
+            );
+        }
+        false
     }
 
     /// A line is about to be sent: the waits made before it.
@@ -246,6 +287,9 @@ impl CommandPane {
         result: &Result<LineResult, SessionError>,
         view: &View,
     ) {
+        if !self.session_record_still_on(view) {
+            return;
+        }
         let Some(r) = self.session_recording.as_mut() else {
             return;
         };
