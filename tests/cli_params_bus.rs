@@ -43,7 +43,9 @@ fn counts(rows: &[String], row: &str) -> Vec<String> {
     let numbers_at = header
         .find("written")
         .map_or(0, |at| (at + "written".len()).saturating_sub(10));
-    let (front, back) = row.split_at(numbers_at.min(row.len()));
+    // Counted in characters: a cut firmware column ends in "…".
+    let front: String = row.chars().take(numbers_at).collect();
+    let back: String = row.chars().skip(numbers_at).collect();
     let mut columns: Vec<String> = front.split_whitespace().take(1).map(String::from).collect();
     columns.push("firmware".into());
     columns.extend(back.split_whitespace().map(String::from));

@@ -26,7 +26,7 @@ use super::ConnectionArgs;
 use super::connection::Target;
 use super::links::{all_links, describe_link};
 use super::output::Format;
-use super::scan::{PROBE_BYTES, PROBE_TIMEOUT, parse_addresses};
+use super::scan::{PROBE_BYTES, PROBE_TIMEOUT, find_modules, parse_addresses};
 use crate::device::DeviceError;
 use crate::link::{LinkError, LinkSpec};
 use crate::protocol::Family;
@@ -370,15 +370,16 @@ pub async fn sessions(
         Modules::List(addresses) => addresses.iter().map(|&a| session.at_address(a)).collect(),
         Modules::Scan => {
             let timeout = PROBE_TIMEOUT + spec.byte_time().unwrap_or_default() * PROBE_BYTES;
-            let mut found = Vec::new();
-            for address in session.family().console.addresses() {
-                match session.probe(address, timeout).await {
-                    Ok(_) | Err(SessionError::Reply { .. }) => found.push(address),
-                    Err(_) => {}
-                }
-            }
-            let list: Vec<String> = found.iter().map(u8::to_string).collect();
             let on = link.map_or(String::new(), |l| format!("{}: ", l.label));
+            let every: Vec<u8> = session.family().console.addresses().collect();
+            let found: Vec<u8> = match find_modules(session, &every, timeout).await {
+                Ok(found) => found.iter().map(|module| module.address).collect(),
+                Err(error) => {
+                    eprintln!("axterm {command}: {on}the scan stopped: {error}");
+                    Vec::new()
+                }
+            };
+            let list: Vec<String> = found.iter().map(u8::to_string).collect();
             eprintln!(
                 "axterm {command}: {on}scan found {} module(s){}{}",
                 found.len(),
@@ -491,10 +492,26 @@ impl ModuleRow {
 }
 
 /// The table at the end: one row a module, in the order worked on.
+/// The firmware column holds at most this many characters: a MultiFlex
+/// answers its `VE` with a paragraph, which would push the counts off the
+/// screen. The JSON form keeps the whole answer.
+pub const FIRMWARE_COLUMN: usize = 40;
+
+/// `firmware` as the table shows it: its first line, cut to
+/// [`FIRMWARE_COLUMN`] characters with an ellipsis.
+fn firmware_shown(firmware: &str) -> String {
+    let first = firmware.lines().next().unwrap_or("").trim();
+    if first.chars().count() <= FIRMWARE_COLUMN && first.len() == firmware.trim().len() {
+        return first.to_string();
+    }
+    let cut: String = first.chars().take(FIRMWARE_COLUMN - 1).collect();
+    format!("{}…", cut.trim_end())
+}
+
 pub fn table(rows: &[ModuleRow], columns: &[&str]) -> String {
     let firmware = rows
         .iter()
-        .map(|r| r.firmware.chars().count())
+        .map(|r| firmware_shown(&r.firmware).chars().count())
         .max()
         .unwrap_or(0)
         .max("firmware".len());
@@ -519,7 +536,7 @@ pub fn table(rows: &[ModuleRow], columns: &[&str]) -> String {
             out,
             "{:>6}  {:<firmware$}",
             row.module_shown(),
-            row.firmware
+            firmware_shown(&row.firmware)
         );
         for column in columns {
             let n = match *column {
@@ -572,6 +589,32 @@ pub fn finish(rows: &[ModuleRow], columns: &[&str], format: Format) -> i32 {
 mod tests {
     use super::*;
     use crate::protocol::find_family;
+
+    #[test]
+    fn a_paragraph_of_firmware_is_cut_in_the_table_and_kept_whole_in_json() {
+        let long = format!("MultiFlex ETH {}\nsecond line", "x".repeat(80));
+        let row = ModuleRow {
+            address: 0,
+            firmware: long.clone(),
+            ok: true,
+            ..ModuleRow::default()
+        };
+        let said = table(std::slice::from_ref(&row), &["written"]);
+        let line = said.lines().nth(1).expect("the row");
+        let shown = line
+            .split_whitespace()
+            .nth(1)
+            .expect("the firmware column")
+            .to_string();
+        assert!(line.contains("MultiFlex ETH xxx"), "{said}");
+        assert!(!said.contains("second line"), "{said}");
+        assert!(
+            line.contains('…') && !line.contains(&"x".repeat(FIRMWARE_COLUMN)),
+            "{said} ({shown})"
+        );
+        assert_eq!(row.json()["firmware"], long);
+        assert_eq!(firmware_shown("TMCM-1110 v1.42"), "TMCM-1110 v1.42");
+    }
 
     fn fleet(addresses: Option<&str>, all: bool) -> FleetArgs {
         FleetArgs {
