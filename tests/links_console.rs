@@ -507,3 +507,44 @@ async fn a_session_recording_ends_when_another_module_is_selected() {
     );
     assert!(!recorded.contains("PX"), "{recorded}");
 }
+
+#[tokio::test(start_paused = true)]
+async fn the_log_takes_every_links_frames_each_named_by_its_link() {
+    let (tmcl, cmd4cr) = two_links().await;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("line.log");
+    let log = format!(":log {}", file.display());
+    run_links_on(
+        console(),
+        (160, 30),
+        vec![vec![tmcl], vec![cmd4cr]],
+        no_connector(),
+        async |mut rig: Rig| {
+            rig.screens.until("module 2 cmd4cr #1").await;
+            type_line(&rig, ":poll off");
+            type_line(&rig, &log);
+            rig.screens.until("logging every frame to").await;
+            type_line(&rig, "GAP 1, 0");
+            rig.screens.until("got 02 01 64 06").await;
+            type_line(&rig, ":module 2");
+            type_line(&rig, "PX");
+            rig.screens.until("sent @01PX\\r  got 0").await;
+            type_line(&rig, ":log off");
+            rig.screens.until("closed: ").await;
+            press(&rig, KeyCode::F(10));
+        },
+    )
+    .await;
+    let log = std::fs::read_to_string(&file).expect("the log");
+    let user: Vec<&str> = log
+        .lines()
+        .filter(|line| line.contains(" request     user "))
+        .collect();
+    assert_eq!(user.len(), 2, "{log}");
+    assert!(
+        user[0].contains(" ms L1 -> request     user     01 06 01 00"),
+        "{log}"
+    );
+    assert!(user[1].contains(" ms L2 -> request     user     "), "{log}");
+    assert!(user[1].contains("@01PX"), "{log}");
+}

@@ -72,7 +72,7 @@ pub(super) struct Connection {
     /// The link it is on (numbered from 0 in the order links were opened):
     /// the modules of one link share its traffic, events and busy line,
     /// which only the link's first module watches.
-    link: usize,
+    pub(super) link: usize,
     /// Its channels are closed: nothing more comes of it.
     gone: bool,
     status: watch::Receiver<Vec<AxisStatus>>,
@@ -843,11 +843,18 @@ impl Runner {
                 let Some(path) = path else {
                     return;
                 };
-                let Some(c) = self.selected(app) else {
+                if self.selected(app).is_none() {
                     queue.push(not_connected());
                     return;
-                };
-                match TrafficLog::start(&path, c, &self.internal) {
+                }
+                // One connection of each link: a bus's modules share it.
+                let mut links: Vec<&Connection> = Vec::new();
+                for c in self.connections.iter().filter(|c| !c.gone) {
+                    if !links.iter().any(|l| l.link == c.link) {
+                        links.push(c);
+                    }
+                }
+                match TrafficLog::start(&path, &links, &self.internal) {
                     Ok(log) => {
                         self.log = Some(log);
                         queue.push(AppEvent::Notice(Notice::info(format!(

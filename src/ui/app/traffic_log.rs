@@ -5,7 +5,9 @@ use std::io::Write;
 use std::path::Path;
 use std::time::{Instant, SystemTime};
 
-use tokio::sync::{broadcast, mpsc, oneshot};
+use std::sync::{Arc, Mutex};
+
+use tokio::sync::{broadcast, mpsc, watch};
 
 use super::AppEvent;
 use super::runner::Connection;
@@ -15,61 +17,61 @@ use crate::ui::pane::Notice;
 use crate::wall_clock::CivilTime;
 
 /// A log of every frame to a file (`:log FILE`), written by a task of its
-/// own from the device's traffic stream.
+/// own from the device's traffic stream of every link.
 pub(super) struct TrafficLog {
-    stop: oneshot::Sender<()>,
+    stop: watch::Sender<bool>,
 }
 
 impl TrafficLog {
-    /// Start logging `connection`'s traffic to `path`; the task reports
-    /// when it ends.
+    /// Start logging the traffic of `links` (one connection of each link:
+    /// the modules of a bus share theirs) to `path`, each line naming its
+    /// link when there are several; the task reports when it ends.
     pub(super) fn start(
         path: &Path,
-        connection: &Connection,
+        links: &[&Connection],
         internal: &mpsc::UnboundedSender<AppEvent>,
     ) -> Result<TrafficLog, String> {
-        let Some(mut traffic) = connection.controller.traffic() else {
+        let mut streams = Vec::new();
+        for connection in links {
+            if let Some(traffic) = connection.controller.traffic() {
+                let label = (links.len() > 1).then(|| format!("L{}", connection.link + 1));
+                streams.push((label, connection.controller.family(), traffic));
+            }
+        }
+        if streams.is_empty() {
             return Err("this connection has no traffic to log".into());
-        };
+        }
         let file = std::fs::OpenOptions::new()
             .create(true)
             .append(true)
             .open(path)
             .map_err(|e| format!("cannot log to {}: {e}", path.display()))?;
-        let out = std::io::LineWriter::new(file);
-        let family = connection.controller.family();
+        let log = Arc::new(Mutex::new(LogWriter {
+            out: std::io::LineWriter::new(file),
+            start: None,
+            frames: 0,
+            failure: None,
+        }));
         let name = path.display().to_string();
-        let (stop, mut stopped) = oneshot::channel();
+        let (stop, stopped) = watch::channel(false);
         let report = internal.clone();
-        tokio::spawn(async move {
-            let mut log = LogWriter {
-                out,
+        let mut readers = tokio::task::JoinSet::new();
+        for (label, family, traffic) in streams {
+            readers.spawn(read_link(
+                traffic,
                 family,
-                start: None,
-                frames: 0,
-                failure: None,
+                label,
+                log.clone(),
+                stopped.clone(),
+            ));
+        }
+        tokio::spawn(async move {
+            while readers.join_next().await.is_some() {}
+            let (frames, failure) = match log.lock() {
+                Ok(log) => (log.frames, log.failure.clone()),
+                Err(_) => (0, Some("the log's writer failed".into())),
             };
-            loop {
-                tokio::select! {
-                    _ = &mut stopped => {
-                        // Everything sent before the stop is written.
-                        while let Ok(record) = traffic.try_recv() {
-                            log.write(&record);
-                        }
-                        break;
-                    }
-                    record = traffic.recv() => match record {
-                        Ok(record) => log.write(&record),
-                        Err(broadcast::error::RecvError::Lagged(n)) => {
-                            log.failure
-                                .get_or_insert(format!("{n} frames were missed (the disk was too slow)"));
-                        }
-                        Err(broadcast::error::RecvError::Closed) => break,
-                    },
-                }
-            }
-            let frames = log.frames;
-            let notice = match log.failure {
+            let notice = match failure {
                 None => Notice::info(format!("log {name} closed: {frames} frames")),
                 Some(e) => Notice::error(format!("log {name} closed after {frames} frames: {e}")),
             };
@@ -79,13 +81,48 @@ impl TrafficLog {
     }
 
     pub(super) fn stop(self) {
-        let _ = self.stop.send(());
+        let _ = self.stop.send(true);
+    }
+}
+
+/// Write one link's frames to the shared log until told to stop (then
+/// everything that link sent before the stop) or the link is gone.
+async fn read_link(
+    mut traffic: broadcast::Receiver<TrafficRecord>,
+    family: &'static Family,
+    label: Option<String>,
+    log: Arc<Mutex<LogWriter>>,
+    mut stopped: watch::Receiver<bool>,
+) {
+    let write = |record: &TrafficRecord| {
+        if let Ok(mut log) = log.lock() {
+            log.write(family, label.as_deref(), record);
+        }
+    };
+    loop {
+        tokio::select! {
+            _ = stopped.changed() => {
+                while let Ok(record) = traffic.try_recv() {
+                    write(&record);
+                }
+                return;
+            }
+            record = traffic.recv() => match record {
+                Ok(record) => write(&record),
+                Err(broadcast::error::RecvError::Lagged(n)) => {
+                    if let Ok(mut log) = log.lock() {
+                        log.failure
+                            .get_or_insert(format!("{n} frames were missed (the disk was too slow)"));
+                    }
+                }
+                Err(broadcast::error::RecvError::Closed) => return,
+            },
+        }
     }
 }
 
 struct LogWriter {
     out: std::io::LineWriter<std::fs::File>,
-    family: &'static Family,
     /// The first frame's instant and the wall-clock time then.
     start: Option<(Instant, SystemTime)>,
     frames: u64,
@@ -94,13 +131,20 @@ struct LogWriter {
 }
 
 impl LogWriter {
-    fn write(&mut self, record: &TrafficRecord) {
+    fn write(&mut self, family: &Family, link: Option<&str>, record: &TrafficRecord) {
         let (start, wall) = *self
             .start
             .get_or_insert_with(|| (record.at, SystemTime::now()));
         self.frames += 1;
+        let mut line = log_line(family, start, wall, record);
+        if let Some(link) = link {
+            // After the two times, before the direction: `L2 -> request …`.
+            if let Some(at) = line.find(" ms ") {
+                line.insert_str(at + " ms ".len(), &format!("{link} "));
+            }
+        }
         if self.failure.is_none()
-            && let Err(e) = writeln!(self.out, "{}", log_line(self.family, start, wall, record))
+            && let Err(e) = writeln!(self.out, "{line}")
         {
             self.failure = Some(e.to_string());
         }
