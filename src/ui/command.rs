@@ -88,7 +88,7 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
     ),
     (
         ":log [FILE | off]",
-        "log every frame with its UTC time to FILE (none: axterm-YYYYMMDD-HHMMSS.log here)",
+        "log every link's frames, UTC-stamped, to FILE (none: axterm-YYYYMMDD-HHMMSS.log here)",
     ),
     (
         ":plot add AXIS VALUE | remove AXIS VALUE | clear | csv FILE",
