@@ -14,7 +14,7 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use axterm::device::{DeviceEvent, LinkState, TrafficRecord};
-use axterm::link::ports::{PortInfo, PortKind, UsbIdentity};
+use axterm::link::ports::{ListedPort, PortInfo, PortKind, UsbIdentity};
 use axterm::protocol::{Family, find_family};
 use axterm::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
 use axterm::ui::app::{self, App, AppEvent, Connector, Controller, Effect, Pending};
@@ -34,9 +34,8 @@ use ui_support::{key, key_with, snapshot, type_text};
 
 static SCANS: AtomicUsize = AtomicUsize::new(0);
 
-fn two_ports() -> io::Result<Vec<PortInfo>> {
-    SCANS.fetch_add(1, Ordering::SeqCst);
-    Ok(vec![
+fn two_devices() -> Vec<PortInfo> {
+    vec![
         PortInfo {
             path: "/dev/ttyACM0".into(),
             kind: PortKind::Usb(UsbIdentity {
@@ -51,10 +50,36 @@ fn two_ports() -> io::Result<Vec<PortInfo>> {
             path: "/dev/ttyUSB0".into(),
             kind: PortKind::Other,
         },
-    ])
+    ]
 }
 
-fn no_sysfs() -> io::Result<Vec<PortInfo>> {
+fn two_ports() -> io::Result<Vec<ListedPort>> {
+    SCANS.fetch_add(1, Ordering::SeqCst);
+    Ok(two_devices()
+        .into_iter()
+        .map(|port| ListedPort {
+            port,
+            by_id: Vec::new(),
+        })
+        .collect())
+}
+
+/// The same ports, the second with a stable name in /dev/serial/by-id.
+fn two_ports_one_by_id() -> io::Result<Vec<ListedPort>> {
+    Ok(two_devices()
+        .into_iter()
+        .map(|port| {
+            let by_id = if port.path == "/dev/ttyUSB0" {
+                vec!["/dev/serial/by-id/usb-FTDI_FT232R_USB_UART_A50285BI-if00-port0".into()]
+            } else {
+                Vec::new()
+            };
+            ListedPort { port, by_id }
+        })
+        .collect())
+}
+
+fn no_sysfs() -> io::Result<Vec<ListedPort>> {
     Err(io::Error::new(io::ErrorKind::NotFound, "no /sys/class/tty"))
 }
 
@@ -168,6 +193,29 @@ fn a_port_takes_the_protocol_baud_and_address_of_the_form() {
         connects(&effects),
         Some(args(
             "--port /dev/ttyUSB0 --protocol tmcl --baud 115200 --address 3"
+        ))
+    );
+}
+
+#[test]
+fn a_port_with_a_by_id_name_shows_it_and_is_opened_by_it() {
+    // The by-id name stays when the adapter comes back as another ttyUSB:
+    // the connection (and the recent one remembered) uses it.
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mut app = console(dir.path(), two_ports_one_by_id);
+    let all = text(&mut app, 120, 30);
+    assert!(
+        all.contains("/dev/ttyUSB0") && all.contains("by-id usb-FTDI_FT232R_USB_UART_A50285BI"),
+        "{all}"
+    );
+    past_the_other_simulators(&mut app);
+    app.handle(key(KeyCode::Down));
+    app.handle(key(KeyCode::Down));
+    let effects = app.handle(key(KeyCode::Enter));
+    assert_eq!(
+        connects(&effects),
+        Some(args(
+            "--port /dev/serial/by-id/usb-FTDI_FT232R_USB_UART_A50285BI-if00-port0 --protocol tmcl --baud 9600"
         ))
     );
 }

@@ -28,14 +28,37 @@ use super::keymap::{Action, Context};
 use super::pane::{Input, NoticeLevel, Outcome, Pane, PaneEvent, Region, Request, View, key_label};
 use super::text::fit;
 use super::theme::Role;
-use crate::link::ports::PortInfo;
+use crate::link::ports::ListedPort;
 use crate::protocol::{FAMILIES, Family, LinkChoice, LinkOption, find_family};
 use crate::sim::{find_kind, kinds};
 use recent::Recents;
 
-/// Lists the serial ports of the machine: the link layer's listing, or a
-/// test's.
-pub type PortLister = fn() -> io::Result<Vec<PortInfo>>;
+/// Lists the serial ports of the machine with their stable names: the
+/// link layer's listing, or a test's.
+pub type PortLister = fn() -> io::Result<Vec<ListedPort>>;
+
+/// A listed port's line on the connect screen: its device path, and what
+/// is behind it with its stable name (`by-id usb-FTDI_…`).
+fn port_line(listed: &ListedPort) -> (String, String) {
+    let device = listed.port.path.clone();
+    let info = listed.port.to_string();
+    let mut note = info
+        .strip_prefix(device.as_str())
+        .unwrap_or("")
+        .trim()
+        .to_string();
+    if let Some(stable) = listed.by_id.first() {
+        let file = std::path::Path::new(stable)
+            .file_name()
+            .map_or_else(|| stable.clone(), |f| f.to_string_lossy().into_owned());
+        if !note.is_empty() {
+            note.push_str(" · ");
+        }
+        note.push_str("by-id ");
+        note.push_str(&file);
+    }
+    (device, note)
+}
 
 /// The baud rate offered first: the TMCM-1110's default (§5.1 GP65 = 0).
 pub const DEFAULT_BAUD: &str = "9600";
@@ -87,7 +110,7 @@ impl Focus {
 pub struct ConnectPane {
     recents: Recents,
     list_ports: PortLister,
-    ports: Vec<PortInfo>,
+    ports: Vec<ListedPort>,
     port_problem: Option<String>,
     scanned: bool,
     selected: usize,
@@ -188,7 +211,14 @@ impl ConnectPane {
             name: kind.name,
             description: kind.description,
         }));
-        choices.extend(self.ports.iter().map(|p| Choice::Port(p.path.clone())));
+        // A port with a /dev/serial/by-id name is opened (and kept in the
+        // recent connections) by it: the name stays when the adapter is
+        // plugged in again and comes back as another ttyUSB.
+        choices.extend(
+            self.ports
+                .iter()
+                .map(|p| Choice::Port(p.by_id.first().unwrap_or(&p.port.path).clone())),
+        );
         choices.push(Choice::Rescan);
         choices.push(Choice::Tcp);
         choices
@@ -424,20 +454,11 @@ impl ConnectPane {
         let (text, note) = match choice {
             Choice::Recent(args) => (args.join(" "), String::new()),
             Choice::Sim { name, description } => (format!("sim {name}"), description.to_string()),
-            Choice::Port(path) => {
-                let info = self
-                    .ports
-                    .iter()
-                    .find(|p| p.path == *path)
-                    .map(|p| p.to_string())
-                    .unwrap_or_default();
-                let note = info
-                    .strip_prefix(path.as_str())
-                    .unwrap_or("")
-                    .trim()
-                    .to_string();
-                (path.clone(), note)
-            }
+            Choice::Port(name) => self
+                .ports
+                .iter()
+                .find(|p| p.port.path == *name || p.by_id.first() == Some(name))
+                .map_or_else(|| (name.clone(), String::new()), port_line),
             Choice::Rescan => ("↻ look for serial ports again".into(), String::new()),
             Choice::Tcp => (
                 format!("tcp {}", self.tcp.text().trim()),

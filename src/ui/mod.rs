@@ -93,7 +93,7 @@ pub fn panes(setup: &PaneSetup) -> Vec<Box<dyn Pane>> {
         Box::new(plot::PlotPane::new()),
         Box::new(connect::ConnectPane::new(
             setup.history_dir.as_deref(),
-            crate::link::ports::available_ports,
+            crate::link::ports::listed_ports,
         )),
         Box::new(editor::EditorPane::new(setup.history_dir.clone())),
     ]
