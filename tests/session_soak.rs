@@ -429,6 +429,15 @@ fn judge(
             if given.iter().any(|a| kind.value_of(a) == Some(value)) {
                 return;
             }
+            // A CMD-4CR answer has no checksum: one corrupted byte turned
+            // into a CR cuts its own answer in two, and the first piece is
+            // read as the value ("1150003\r" read as 1). That is this
+            // request's answer damaged, not another request's, even when
+            // another read happens to answer the same number.
+            if kind == Kind::Cmd4cr && given.iter().any(|a| cut_into(a, value)) {
+                figures.corrupted_values += 1;
+                return;
+            }
             let elsewhere = answers
                 .lock()
                 .expect("answers")
@@ -486,6 +495,25 @@ fn judge(
             }
         }
     }
+}
+
+/// Whether `value` is read from a piece of `answer` cut at one byte
+/// turned into the terminator (the piece before it or after it).
+fn cut_into(answer: &[u8], value: i64) -> bool {
+    (0..answer.len()).any(|at| {
+        let before = [&answer[..at], b"\r"].concat();
+        let after = answer.get(at + 1..).unwrap_or_default();
+        Kind::Cmd4cr.value_of(&before) == Some(value) || Kind::Cmd4cr.value_of(after) == Some(value)
+    })
+}
+
+#[test]
+fn a_cmd4cr_answer_cut_by_a_corrupted_byte_is_its_own_damage() {
+    // The case proptest found: "1150003\r" with its second byte turned
+    // into CR reads as 1, which a status poll also answers.
+    assert!(cut_into(b"1150003\r", 1));
+    assert!(cut_into(b"1150003\r", 50003));
+    assert!(!cut_into(b"1150003\r", 65536));
 }
 
 fn plan(delay_timeouts: f64, seed: u64) -> FaultPlan {
@@ -644,4 +672,22 @@ proptest! {
             prop_assert_eq!(figures.corrupted_values, 0, "{}", problems);
         }
     }
+}
+
+/// The case proptest found (`any_faults_never_misattribute_or_say_ok_falsely`):
+/// a corrupted CMD-4CR answer read as a number another read also answers.
+#[test]
+fn cmd4cr_an_answer_cut_short_by_corruption_is_not_another_requests() {
+    let plan = FaultPlan {
+        drop: 0.0,
+        corrupt: 0.08649485200072006,
+        garbage: 0.0832850073781003,
+        delay: 0.03457706679740237,
+        delay_ms: 279,
+        seed: 1436084031496116230,
+        ..FaultPlan::default()
+    };
+    let figures = run(Kind::Cmd4cr, plan, 6057620949107596579, 300);
+    let problems = figures.problems.join("\n");
+    assert_eq!(figures.misattributed, 0, "{problems}");
 }
