@@ -10,6 +10,8 @@ use std::time::{SystemTime, UNIX_EPOCH};
 
 use serde::{Deserialize, Serialize};
 
+use crate::wall_clock::CivilTime;
+
 /// The safety copy's file name in the data directory.
 pub const AUTOSAVE_FILE: &str = "editor-autosave.json";
 
@@ -88,23 +90,10 @@ pub fn remove_autosave(data_dir: &Path) -> Result<(), String> {
 
 /// Seconds since 1970 as `YYYY-MM-DD HH:MM UTC`.
 pub fn utc_time(seconds: u64) -> String {
-    let days = i64::try_from(seconds / 86_400).unwrap_or(0);
-    let rest = seconds % 86_400;
-    // Days to a civil date in the proleptic Gregorian calendar (the
-    // well-known era/day-of-era conversion).
-    let z = days + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z.rem_euclid(146_097);
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let day = doy - (153 * mp + 2) / 5 + 1;
-    let month = if mp < 10 { mp + 3 } else { mp - 9 };
-    let year = yoe + era * 400 + i64::from(month <= 2);
+    let at = CivilTime::since_epoch(std::time::Duration::from_secs(seconds));
     format!(
-        "{year:04}-{month:02}-{day:02} {:02}:{:02} UTC",
-        rest / 3600,
-        rest % 3600 / 60
+        "{:04}-{:02}-{:02} {:02}:{:02} UTC",
+        at.year, at.month, at.day, at.hour, at.minute
     )
 }
 
