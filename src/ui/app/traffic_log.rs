@@ -3,9 +3,8 @@
 
 use std::io::Write;
 use std::path::Path;
+use std::sync::mpsc as std_mpsc;
 use std::time::{Instant, SystemTime};
-
-use std::sync::{Arc, Mutex};
 
 use tokio::sync::{broadcast, mpsc, watch};
 
@@ -16,16 +15,28 @@ use crate::protocol::Family;
 use crate::ui::pane::Notice;
 use crate::wall_clock::CivilTime;
 
-/// A log of every frame to a file (`:log FILE`), written by a task of its
-/// own from the device's traffic stream of every link.
+/// A log of every frame to a file (`:log FILE`): a task per link takes
+/// its frames from the device's traffic stream and hands them to one
+/// thread that writes the file, so no file write waits on the runtime.
 pub(super) struct TrafficLog {
     stop: watch::Sender<bool>,
+}
+
+/// What a link's reader hands the writer.
+enum Logged {
+    Frame {
+        family: &'static Family,
+        link: Option<String>,
+        record: TrafficRecord,
+    },
+    /// The link's stream ran ahead of the reader.
+    Missed(u64),
 }
 
 impl TrafficLog {
     /// Start logging the traffic of `links` (one connection of each link:
     /// the modules of a bus share theirs) to `path`, each line naming its
-    /// link when there are several; the task reports when it ends.
+    /// link when there are several; the writer reports when it ends.
     pub(super) fn start(
         path: &Path,
         links: &[&Connection],
@@ -46,32 +57,43 @@ impl TrafficLog {
             .append(true)
             .open(path)
             .map_err(|e| format!("cannot log to {}: {e}", path.display()))?;
-        let log = Arc::new(Mutex::new(LogWriter {
-            out: std::io::LineWriter::new(file),
-            start: None,
-            frames: 0,
-            failure: None,
-        }));
-        let name = path.display().to_string();
         let (stop, stopped) = watch::channel(false);
-        let report = internal.clone();
-        let mut readers = tokio::task::JoinSet::new();
+        let (to_writer, logged) = std_mpsc::channel();
         for (label, family, traffic) in streams {
-            readers.spawn(read_link(
+            tokio::spawn(read_link(
                 traffic,
                 family,
                 label,
-                log.clone(),
+                to_writer.clone(),
                 stopped.clone(),
             ));
         }
-        tokio::spawn(async move {
-            while readers.join_next().await.is_some() {}
-            let (frames, failure) = match log.lock() {
-                Ok(log) => (log.frames, log.failure.clone()),
-                Err(_) => (0, Some("the log's writer failed".into())),
+        let name = path.display().to_string();
+        let report = internal.clone();
+        // Ends when every reader has (each drops its sender).
+        std::thread::spawn(move || {
+            let mut log = LogWriter {
+                out: std::io::LineWriter::new(file),
+                start: None,
+                frames: 0,
+                failure: None,
             };
-            let notice = match failure {
+            for logged in logged {
+                match logged {
+                    Logged::Frame {
+                        family,
+                        link,
+                        record,
+                    } => log.write(family, link.as_deref(), &record),
+                    Logged::Missed(n) => {
+                        log.failure.get_or_insert(format!(
+                            "{n} frames were missed (the disk was too slow)"
+                        ));
+                    }
+                }
+            }
+            let frames = log.frames;
+            let notice = match log.failure {
                 None => Notice::info(format!("log {name} closed: {frames} frames")),
                 Some(e) => Notice::error(format!("log {name} closed after {frames} frames: {e}")),
             };
@@ -85,38 +107,38 @@ impl TrafficLog {
     }
 }
 
-/// Write one link's frames to the shared log until told to stop (then
+/// Hand one link's frames to the writer until told to stop (then
 /// everything that link sent before the stop) or the link is gone.
 async fn read_link(
     mut traffic: broadcast::Receiver<TrafficRecord>,
     family: &'static Family,
-    label: Option<String>,
-    log: Arc<Mutex<LogWriter>>,
+    link: Option<String>,
+    to_writer: std_mpsc::Sender<Logged>,
     mut stopped: watch::Receiver<bool>,
 ) {
-    let write = |record: &TrafficRecord| {
-        if let Ok(mut log) = log.lock() {
-            log.write(family, label.as_deref(), record);
-        }
+    let frame = |record| Logged::Frame {
+        family,
+        link: link.clone(),
+        record,
     };
     loop {
         tokio::select! {
             _ = stopped.changed() => {
                 while let Ok(record) = traffic.try_recv() {
-                    write(&record);
+                    let _ = to_writer.send(frame(record));
                 }
                 return;
             }
-            record = traffic.recv() => match record {
-                Ok(record) => write(&record),
-                Err(broadcast::error::RecvError::Lagged(n)) => {
-                    if let Ok(mut log) = log.lock() {
-                        log.failure
-                            .get_or_insert(format!("{n} frames were missed (the disk was too slow)"));
-                    }
+            record = traffic.recv() => {
+                let logged = match record {
+                    Ok(record) => frame(record),
+                    Err(broadcast::error::RecvError::Lagged(n)) => Logged::Missed(n),
+                    Err(broadcast::error::RecvError::Closed) => return,
+                };
+                if to_writer.send(logged).is_err() {
+                    return;
                 }
-                Err(broadcast::error::RecvError::Closed) => return,
-            },
+            }
         }
     }
 }
@@ -136,15 +158,8 @@ impl LogWriter {
             .start
             .get_or_insert_with(|| (record.at, SystemTime::now()));
         self.frames += 1;
-        let mut line = log_line(family, start, wall, record);
-        if let Some(link) = link {
-            // After the two times, before the direction: `L2 -> request …`.
-            if let Some(at) = line.find(" ms ") {
-                line.insert_str(at + " ms ".len(), &format!("{link} "));
-            }
-        }
         if self.failure.is_none()
-            && let Err(e) = writeln!(self.out, "{line}")
+            && let Err(e) = writeln!(self.out, "{}", log_line(family, link, start, wall, record))
         {
             self.failure = Some(e.to_string());
         }
@@ -152,10 +167,12 @@ impl LogWriter {
 }
 
 /// One logged frame: its wall-clock time (UTC, from `wall`, the time at
-/// `start`), milliseconds since the log began, direction, what it was,
-/// who asked, the bytes as the family shows them.
+/// `start`), milliseconds since the log began, its link when there are
+/// several (`L2`), direction, what it was, who asked, the bytes as the
+/// family shows them.
 pub fn log_line(
     family: &Family,
+    link: Option<&str>,
     start: Instant,
     wall: SystemTime,
     record: &TrafficRecord,
@@ -181,8 +198,9 @@ pub fn log_line(
         Some(Priority::Poll) => "poll",
         None => "-",
     };
+    let link = link.map_or(String::new(), |link| format!("{link} "));
     format!(
-        "{stamp} {at:>12.3} ms {direction} {kind:<11} {by:<8} {}",
+        "{stamp} {at:>12.3} ms {link}{direction} {kind:<11} {by:<8} {}",
         (family.show_bytes)(&record.bytes)
     )
 }
@@ -206,7 +224,7 @@ mod tests {
             priority: None,
         };
         assert_eq!(
-            log_line(family, start, wall, &record),
+            log_line(family, None, start, wall, &record),
             "2025-01-01T00:00:00.001Z        2.000 ms <- answer      -        02 01 64 06 00 00 00 00 6D"
         );
     }
