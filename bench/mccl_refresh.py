@@ -29,53 +29,9 @@ import sys
 import tempfile
 import time
 
+from bench_support import Tmux, shown_rate, unescape_len, log_entry
+
 FAST = re.compile(r"^[1-8]TP,TV,TS$")
-SHOWN = re.compile(r"→ (\d+(?:\.\d+)?)/s")
-
-
-def unescape_len(text):
-    """Bytes of a frame as the MCCL log shows it (`1TP,TV,TS\\r`)."""
-    count, i = 0, 0
-    while i < len(text):
-        if text[i] == "\\":
-            i += 4 if text[i + 1:i + 2] == "x" else 2
-        else:
-            i += 1
-        count += 1
-    return count
-
-
-class Tmux:
-    def __init__(self, command, name):
-        self.socket = f"axterm-bench-{name}-{os.getpid()}"
-        subprocess.run(["tmux", "-L", self.socket, "-f", "/dev/null", "new-session", "-d",
-                        "-x", "120", "-y", "40", command], check=True)
-
-    def keys(self, *keys):
-        subprocess.run(["tmux", "-L", self.socket, "send-keys", *keys], check=True)
-
-    def screen(self):
-        out = subprocess.run(["tmux", "-L", self.socket, "capture-pane", "-p", "-J"],
-                             capture_output=True, text=True, check=False)
-        return out.stdout
-
-    def until(self, what, ready, timeout=60):
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
-            screen = self.screen()
-            if ready(screen):
-                return screen
-            time.sleep(0.1)
-        raise SystemExit(f"gave up waiting for {what}:\n{self.screen()}")
-
-    def close(self):
-        subprocess.run(["tmux", "-L", self.socket, "kill-server"], check=False,
-                       stderr=subprocess.DEVNULL)
-
-
-def shown_rate(tmux):
-    match = SHOWN.search(tmux.screen())
-    return float(match.group(1)) if match else None
 
 
 def window(log_path, start_ms, end_ms):
@@ -84,10 +40,10 @@ def window(log_path, start_ms, end_ms):
     current = None
     with open(log_path) as log:
         for line in log:
-            fields = line.rstrip("\n").split(None, 5)
-            if len(fields) < 6:
+            entry = log_entry(line)
+            if entry is None:
                 continue
-            at, direction, by, frame = float(fields[0]), fields[2], fields[4], fields[5]
+            at, direction, by, frame = entry
             if not start_ms <= at < end_ms or by not in ("poll", "-"):
                 continue
             if direction == "->":
@@ -122,10 +78,10 @@ def measure(binary, baud, seconds):
     tmux = Tmux(f"AXTERM_DATA_DIR={data} {binary} --port {pty} --protocol mccl --baud {baud}",
                 str(baud))
     try:
-        tmux.until("the console", lambda s: "→ " in s)
+        tmux.until("the console", lambda s: "→ " in s, timeout=60)
         tmux.keys("-l", f":log {log_path}")
         tmux.keys("Enter")
-        tmux.until("the log", lambda s: "logging every frame" in s)
+        tmux.until("the log", lambda s: "logging every frame" in s, timeout=60)
         log_started = time.monotonic()
         results = []
         phases = (("standing", None), ("axis 1 turning", "1MN,1VM,1SV20000,1GO"),
@@ -144,7 +100,7 @@ def measure(binary, baud, seconds):
         tmux.keys("F12")
         tmux.keys("-l", ":log off")
         tmux.keys("Enter")
-        tmux.until("the log closed", lambda s: "closed:" in s)
+        tmux.until("the log closed", lambda s: "closed:" in s, timeout=60)
         tmux.keys("F10")
     finally:
         tmux.close()

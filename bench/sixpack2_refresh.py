@@ -16,45 +16,16 @@ twelve exchanges alone (1 / (12 × (17 × 10 / baud + 6 ms))) and the share
 of it reached. Needs tmux; standard library only.
 """
 
-import os
-import re
 import subprocess
 import sys
 import tempfile
 import time
 
-SHOWN = re.compile(r"→ (\d+(?:\.\d+)?)/s")
+from bench_support import Tmux, shown_rate
+
 EXCHANGES = 12
 BYTES = 17
 SWITCH_OVER = 0.006
-
-
-class Tmux:
-    def __init__(self, command, name):
-        self.socket = f"axterm-bench-sp2-{name}-{os.getpid()}"
-        subprocess.run(["tmux", "-L", self.socket, "-f", "/dev/null", "new-session", "-d",
-                        "-x", "120", "-y", "40", command], check=True)
-
-    def keys(self, *keys):
-        subprocess.run(["tmux", "-L", self.socket, "send-keys", *keys], check=True)
-
-    def screen(self):
-        out = subprocess.run(["tmux", "-L", self.socket, "capture-pane", "-p", "-J"],
-                             capture_output=True, text=True, check=False)
-        return out.stdout
-
-    def until(self, what, ready, timeout=30):
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
-            screen = self.screen()
-            if ready(screen):
-                return screen
-            time.sleep(0.1)
-        raise SystemExit(f"gave up waiting for {what}:\n{self.screen()}")
-
-    def close(self):
-        subprocess.run(["tmux", "-L", self.socket, "kill-server"], check=False,
-                       stderr=subprocess.DEVNULL)
 
 
 def shown_rates(tmux, seconds):
@@ -62,9 +33,9 @@ def shown_rates(tmux, seconds):
     rates = []
     end = time.monotonic() + seconds
     while time.monotonic() < end:
-        match = SHOWN.search(tmux.screen())
-        if match:
-            rates.append(float(match.group(1)))
+        rate = shown_rate(tmux)
+        if rate is not None:
+            rates.append(rate)
         time.sleep(0.5)
     return rates
 
@@ -75,7 +46,7 @@ def measure(binary, baud, seconds):
     pty = sim.stdout.readline().strip()
     data = tempfile.mkdtemp()
     tmux = Tmux(f"AXTERM_DATA_DIR={data} {binary} --port {pty} --protocol sixpack2 --baud {baud}",
-                str(baud))
+                f"sp2-{baud}")
     allowed = 1 / (EXCHANGES * (BYTES * 10 / baud + SWITCH_OVER))
     try:
         tmux.until("the console", lambda s: "→ " in s)
