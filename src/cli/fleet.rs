@@ -26,9 +26,9 @@ use super::ConnectionArgs;
 use super::connection::Target;
 use super::links::{all_links, describe_link};
 use super::output::Format;
-use super::scan::{PROBE_BYTES, PROBE_TIMEOUT, find_modules, parse_addresses};
+use super::scan::{find_modules, parse_addresses, probe_timeout};
 use crate::device::DeviceError;
-use crate::link::{LinkError, LinkSpec};
+use crate::link::LinkError;
 use crate::protocol::Family;
 use crate::session::{Session, SessionError};
 
@@ -259,7 +259,7 @@ impl<'a> Walk<'a> {
                     let modules = sessions(
                         &session,
                         &link.modules,
-                        &link.target.spec,
+                        &link.target,
                         self.command,
                         link.name.as_ref(),
                     )
@@ -361,7 +361,7 @@ impl Modules {
 pub async fn sessions(
     session: &Session,
     modules: &Modules,
-    spec: &LinkSpec,
+    target: &Target,
     command: &str,
     link: Option<&LinkName>,
 ) -> Vec<Session> {
@@ -369,7 +369,7 @@ pub async fn sessions(
         Modules::One => vec![session.clone()],
         Modules::List(addresses) => addresses.iter().map(|&a| session.at_address(a)).collect(),
         Modules::Scan => {
-            let timeout = PROBE_TIMEOUT + spec.byte_time().unwrap_or_default() * PROBE_BYTES;
+            let timeout = probe_timeout(target);
             let on = link.map_or(String::new(), |l| format!("{}: ", l.label));
             let every: Vec<u8> = session.family().console.addresses().collect();
             let found: Vec<u8> = match find_modules(session, &every, timeout).await {

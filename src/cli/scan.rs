@@ -25,7 +25,7 @@ use crate::session::{Session, SessionError};
 pub const PROBE_TIMEOUT: Duration = Duration::from_millis(50);
 
 /// Bytes on the wire per probe, request and reply, with room to spare.
-pub const PROBE_BYTES: u32 = 40;
+const PROBE_BYTES: u32 = 40;
 
 #[derive(Debug, Clone, Args)]
 pub struct ScanArgs {
