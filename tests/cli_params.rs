@@ -416,3 +416,48 @@ fn every_module_asked_for_gets_a_row_and_stop_on_failure_says_who_was_not_tried(
         "not tried: --stop-on-failure after module 2 failed"
     );
 }
+
+/// What each family's simulator reports must round-trip: its own export
+/// applies and compares with nothing refused and nothing differing (an
+/// MCCL servo reports OB 0, which the table once refused as outside
+/// `> 0`).
+#[test]
+fn every_family_applies_and_diffs_its_own_export_unchanged() {
+    for family in axterm::protocol::FAMILIES {
+        for sim in family.simulators {
+            let dir = tempfile::tempdir().expect("temp dir");
+            let file = dir.path().join("exported.toml").display().to_string();
+            let connection = ["--sim", sim.name];
+            let run = |command: &str| {
+                let mut args = vec!["params", command];
+                args.extend(connection);
+                args.push(&file);
+                axterm(&args)
+            };
+            let out = run("export");
+            assert_eq!(code(&out), Some(0), "{}: {}", sim.name, stderr(&out));
+            for command in ["apply", "diff"] {
+                let out = run(command);
+                let said = format!("{}{}", stdout(&out), stderr(&out));
+                assert_eq!(code(&out), Some(0), "{} {command}: {said}", sim.name);
+                assert!(
+                    !said.contains("outside") && !said.contains("nothing was sent"),
+                    "{} {command} refused part of its own file: {said}",
+                    sim.name
+                );
+                assert!(
+                    said.contains(" 0 differ") && said.contains(" 0 failed"),
+                    "{} {command}: {said}",
+                    sim.name
+                );
+            }
+            let out = run("apply");
+            assert!(
+                stdout(&out).contains("wrote 0,"),
+                "{}: nothing to write: {}",
+                sim.name,
+                stdout(&out)
+            );
+        }
+    }
+}

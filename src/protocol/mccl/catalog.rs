@@ -506,12 +506,12 @@ pub const COMMANDS: &[CommandSpec] = &[
         "start/stop velocity, steps/s (typically 1–10 % of SV)"),
     spec("NF", Some(0x150), Setup, "No IIR Filter", Optional, Param::Undocumented, SERVO,
         UNDESCRIBED),
+    // The syntax line says "n > 0, <= 10" but the text "between 0 and 10",
+    // and 0 is what a controller holds until OB is given (OUTDBAND reads 0):
+    // 0 turns the deadband off, so it is taken.
     spec("OB", Some(0xC3), Setup, "set the Output deadBand", One,
-        Param::Real(RealRange {
-            min: Some(Bound { value: 0.0, inclusive: false }),
-            max: Some(Bound { value: 10.0, inclusive: true }),
-        }),
-        SERVO, "output deadband, volts (> 0, ≤ 10): output magnitude increased by n"),
+        Param::Real(RealRange::between(0.0, 10.0)),
+        SERVO, "output deadband, volts (0 off, ≤ 10): output magnitude increased by n"),
     spec("OM", Some(0xD8), Setup, "set Output Mode", One, int(0, 3), SERVO_STEPPER,
         "servo 0 ±10 V, 1 0–10 V, 2 bipolar PWM, 3 unipolar PWM; stepper 0 pulse+direction, \
          1 CW/CCW (syntax line says 0, 1)"),
