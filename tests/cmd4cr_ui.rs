@@ -205,7 +205,11 @@ fn the_parameter_table_reads_every_setting_of_the_axis_and_the_globals() {
         .lines()
         .find(|l| l.contains("SLRX") && !l.contains("filter"))
         .unwrap_or_else(|| panic!("no SLRX row:\n{text}"));
-    assert!(row.contains("1500") && row.contains("1.500"), "{row}");
+    // The ratio in its unit, as an edit starts from it: not thousandths.
+    assert!(
+        row.contains(" 1.500 pulses/count") && !row.contains("1500"),
+        "{row}"
+    );
     assert!(!text.contains("unreadable"), "{text}");
 }
 

@@ -172,6 +172,22 @@ fn a_setting_is_written_with_the_others_its_frame_carries_as_known() {
         all.contains("vmax is written together with amax by SetAMaxVMax ($14)"),
         "{all}"
     );
+    // The line to type and what became of the value are readable to
+    // their end, wide or narrow: the message wraps, it is not cut.
+    for width in [80, 200] {
+        // The left pane's text, its lines joined: what is between the
+        // first two borders of each screen line.
+        let left: Vec<String> = screen(&mut app, width, 30)
+            .iter()
+            .filter_map(|line| line.split('│').nth(1).map(str::to_string))
+            .collect();
+        let all = left.join(" ");
+        let all = all.split_whitespace().collect::<Vec<_>>().join(" ");
+        assert!(
+            all.contains("so type `SetAMaxVMax 0 AMAX 400` in the command pane: nothing sent"),
+            "at {width} columns: {all}"
+        );
+    }
 }
 
 #[test]
@@ -213,7 +229,7 @@ fn export_and_import_work_on_the_settings_written() {
     let sent = serve(&mut app, effects);
     assert_eq!(sent, ["SetAMaxVMax 0 100 300", "SetClockDivider 3"]);
     let all = screen(&mut app, 120, 30).join("\n");
-    assert!(all.contains("wrote 2 value(s)"), "{all}");
+    assert!(all.contains("wrote 2 values"), "{all}");
 }
 
 /// The lines of `effects` sent.

@@ -330,7 +330,7 @@ fn the_emergency_stop_drops_the_reads_still_waiting() {
     );
     let effects = app.handle(key(KeyCode::F(12)));
     assert!(effects.contains(&Effect::EmergencyStop));
-    assert!(screen_text(&mut app, 80, 24).contains("parameter line(s) not sent"));
+    assert!(screen_text(&mut app, 80, 24).contains("parameter lines not sent"));
     // Refresh starts again from the top.
     let effects = app.handle(key(KeyCode::F(5)));
     assert!(
@@ -392,7 +392,7 @@ fn export_then_import_shows_the_difference_and_writes_only_when_asked() {
         [format!("SAP 4, 0, {original}"), "GAP 4, 0".into()]
     );
     assert_eq!(module_value(&mut module, "GAP 4, 0"), original);
-    assert!(screen_text(&mut app, 80, 24).contains("wrote 1 value(s)"));
+    assert!(screen_text(&mut app, 80, 24).contains("wrote 1 value from"));
     // Compared again: nothing differs.
     press(&mut app, &mut module, KeyCode::Char('d'));
     typed_clear(&mut app);

@@ -245,12 +245,14 @@ fn export(connection: &ConnectionArgs, args: &ExportArgs) -> i32 {
                 } else {
                     &file
                 };
-                eprintln!("axterm params export: exported {read} settings to {to}");
+                let settings = if read == 1 { "setting" } else { "settings" };
+                eprintln!("axterm params export: exported {read} {settings} to {to}");
             }
         }
         if unknown > 0 {
+            let settings = if unknown == 1 { "setting" } else { "settings" };
             eprintln!(
-                "axterm params export: {unknown} settings cannot be read back from the module \
+                "axterm params export: {unknown} {settings} cannot be read back from the module \
                  and were not written by this session: commented out, not exported"
             );
         }

@@ -278,6 +278,22 @@ pub trait ParameterSet: Send + Sync {
         None
     }
 
+    /// `value` of `row` as the table shows it and as an edit of it
+    /// starts: [`ParameterSet::parse_value`] reads this text back as
+    /// `value`, so that a value confirmed unchanged writes what was read.
+    /// The plain number by default; a family whose rows keep a scaled
+    /// number (MCCL's reals in thousandths) gives it in its unit.
+    fn value_text(&self, row: &ParamRow, value: i64) -> String {
+        let _ = row;
+        value.to_string()
+    }
+
+    /// The values `row` takes, in the terms of
+    /// [`ParameterSet::value_text`]: its raw range by default.
+    fn range_text(&self, row: &ParamRow) -> String {
+        row.range.to_string()
+    }
+
     /// A value as the user typed it for `row`: a number, or (where the
     /// family converts) a number with a real-world unit (`51200 pps`).
     fn parse_value(

@@ -433,7 +433,11 @@ impl ParamsPane {
             self.show_diff(comparing);
         }
         if let Some(run) = self.importing.take() {
-            let mut text = format!("wrote {} value(s) from {}", run.written, run.path.display());
+            let mut text = format!(
+                "wrote {} from {}",
+                counted(run.written, "value"),
+                run.path.display()
+            );
             if run.failed > 0 {
                 text.push_str(&format!(", {} failed", run.failed));
                 if let Some(first) = run.problems.first() {
@@ -442,8 +446,8 @@ impl ParamsPane {
             }
             if run.skipped > 0 {
                 text.push_str(&format!(
-                    "; {} link setting(s) left for you to write",
-                    run.skipped
+                    "; {} left for you to write",
+                    counted(run.skipped, "link setting")
                 ));
             }
             let role = if run.failed > 0 {
@@ -565,7 +569,11 @@ impl ParamsPane {
         self.export = Some(path.clone());
         self.set_message(
             Role::Accent,
-            format!("reading {} settings for {}…", rows.len(), path.display()),
+            format!(
+                "reading {} for {}…",
+                counted(rows.len(), "setting"),
+                path.display()
+            ),
         );
         self.pump(view)
     }
@@ -600,14 +608,18 @@ impl ParamsPane {
         match crate::files::write_atomically(path, text.as_bytes()) {
             Ok(()) if failed == 0 => self.set_message(
                 Role::Ok,
-                format!("exported {} settings to {}", exported.len(), path.display()),
+                format!(
+                    "exported {} to {}",
+                    counted(exported.len(), "setting"),
+                    path.display()
+                ),
             ),
             Ok(()) => self.set_message(
                 Role::Warning,
                 format!(
-                    "exported {} settings to {}; {failed} could not be read or are not known \
+                    "exported {} to {}; {failed} could not be read or are not known \
                      (commented out)",
-                    exported.len() - failed,
+                    counted(exported.len() - failed, "setting"),
                     path.display()
                 ),
             ),
@@ -712,7 +724,11 @@ impl ParamsPane {
         }
         self.set_message(
             Role::Accent,
-            format!("writing {queued} value(s) from {}…", diff.path.display()),
+            format!(
+                "writing {} from {}…",
+                counted(queued, "value"),
+                diff.path.display()
+            ),
         );
         self.importing = Some(run);
         self.mode = Mode::Browse;
@@ -727,7 +743,12 @@ impl ParamsPane {
             .parse_value(&row, field.text(), &self.axis_value(row.scope))
             .and_then(|value| {
                 if !row.range.contains(value) {
-                    return Err(format!("{} takes {}, not {value}", row.name, row.range));
+                    return Err(format!(
+                        "{} takes {}, not {}",
+                        row.name,
+                        parameters.range_text(&row),
+                        parameters.value_text(&row, value)
+                    ));
                 }
                 Ok((
                     value,
@@ -782,11 +803,14 @@ impl ParamsPane {
             );
             return Outcome::redraw();
         }
-        if view.session.is_none() {
+        let Some(parameters) = Self::parameters(view) else {
             return self.no_parameters(view);
-        }
+        };
+        // The field starts from the value as shown, in the text the family
+        // reads back as that value: Enter on it unchanged writes what was
+        // read (an MCCL velocity in its unit, not its thousandths).
         let current = match self.cell(&row) {
-            Some(Cell::Value(v)) => v.to_string(),
+            Some(Cell::Value(v)) => parameters.value_text(&row, v),
             _ => String::new(),
         };
         self.message = None;
@@ -944,6 +968,15 @@ impl ParamsPane {
     }
 }
 
+/// `n` and the noun, plural unless one (`1 parameter`, `3 settings`).
+fn counted(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
 /// Whether a row passes the filter: its name contains it, or it is its
 /// number.
 fn matches(row: &ParamRow, filter: &str) -> bool {
@@ -1052,7 +1085,10 @@ impl Pane for ParamsPane {
                 self.drop_work();
                 self.set_message(
                     Role::Warning,
-                    format!("emergency stop: {dropped} parameter line(s) not sent"),
+                    format!(
+                        "emergency stop: {} not sent",
+                        counted(dropped, "parameter line")
+                    ),
                 );
                 Outcome::redraw()
             }

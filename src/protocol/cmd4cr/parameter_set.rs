@@ -13,8 +13,8 @@ use super::catalog::{Axis, COMMANDS, CommandSpec, Form, Format, Kind};
 use super::command::{Cmd4crCommand, Selector, format_value, parse_thousandths};
 use super::reply::{Mst, describe_pol};
 use crate::protocol::parameters::{
-    ParamAccess, ParamOp, ParamRange, ParamRole, ParamRow, ParamTable, ParameterSet, Physical,
-    Scope, SpeedUnit, parse_integer,
+    ParamAccess, ParamOp, ParamRange, ParamRole, ParamRow, ParamTable, ParameterSet, Scope,
+    parse_integer,
 };
 
 /// The axes a per-axis setting exists for.
@@ -200,7 +200,8 @@ fn param_row(scope: Scope, row_index: usize, index: u8, name: String) -> Option<
         number: number_of(row_index, index),
         name,
         unit: match values.format {
-            Format::Thousandths => "1/1000",
+            // Shown as the ratio itself (`value_text`), not in thousandths.
+            Format::Thousandths => "pulses/count",
             _ => values.unit,
         },
         range: ParamRange::Span {
@@ -238,6 +239,13 @@ fn selector_of(row: &ParamRow, spec: &CommandSpec, index: u8) -> Option<Selector
         }
         _ => None,
     }
+}
+
+/// Whether a row's value is a decimal held in thousandths (SLR).
+fn is_thousandths(row: &ParamRow) -> bool {
+    decode(row.number)
+        .and_then(|(spec, _)| spec.values)
+        .is_some_and(|v| v.format == Format::Thousandths)
 }
 
 /// The CMD-4CR's parameters for the console.
@@ -329,20 +337,29 @@ impl ParameterSet for Cmd4crParameters {
         }
     }
 
-    fn physical(
-        &self,
-        row: &ParamRow,
-        value: i64,
-        unit: SpeedUnit,
-        axis_value: &dyn Fn(u16) -> Option<i64>,
-    ) -> Option<Physical> {
-        let _ = (unit, axis_value);
-        let (spec, _) = decode(row.number)?;
-        let values = spec.values?;
-        (values.format == Format::Thousandths).then(|| Physical {
-            value: value as f64 / 1000.0,
-            unit: "pulses/count",
-        })
+    /// SLR as the ratio it is (`1.500`, what `parse_value` reads back as
+    /// 1500 thousandths), the rest as plain numbers.
+    fn value_text(&self, row: &ParamRow, value: i64) -> String {
+        if !is_thousandths(row) {
+            return value.to_string();
+        }
+        let sign = if value < 0 { "-" } else { "" };
+        let magnitude = value.unsigned_abs();
+        format!("{sign}{}.{:03}", magnitude / 1000, magnitude % 1000)
+    }
+
+    /// SLR's range as ratios (`0.001..999.999`).
+    fn range_text(&self, row: &ParamRow) -> String {
+        match row.range {
+            ParamRange::Span { min, max } if is_thousandths(row) => {
+                format!(
+                    "{}..{}",
+                    self.value_text(row, min),
+                    self.value_text(row, max)
+                )
+            }
+            range => range.to_string(),
+        }
     }
 
     /// §2.1.7: STORE writes every setting of Table 2-19 at once.
@@ -393,10 +410,7 @@ impl ParameterSet for Cmd4crParameters {
         axis_value: &dyn Fn(u16) -> Option<i64>,
     ) -> Result<i64, String> {
         let _ = axis_value;
-        let thousandths = decode(row.number)
-            .and_then(|(spec, _)| spec.values)
-            .is_some_and(|v| v.format == Format::Thousandths);
-        if thousandths {
+        if is_thousandths(row) {
             parse_thousandths(text.trim())
                 .ok_or_else(|| format!("`{}` is not a number with at most 3 decimals", text.trim()))
         } else {
@@ -491,20 +505,14 @@ mod tests {
     #[test]
     fn the_steps_per_count_ratio_reads_in_thousandths() {
         let slr = row(0, Scope::Axis(0), "SLRX");
-        assert_eq!(slr.unit, "1/1000");
+        assert_eq!(slr.unit, "pulses/count");
         let none = |_: u16| None;
         assert_eq!(Cmd4crParameters.parse_value(&slr, "1.5", &none), Ok(1500));
         assert_eq!(line(&slr, ParamOp::Write(1500)).as_deref(), Ok("SLRX=1.5"));
-        let shown = Cmd4crParameters
-            .physical(&slr, 1500, SpeedUnit::Pps, &none)
-            .expect("a ratio");
-        assert_eq!(shown.to_string(), "1.500 pulses/count");
+        assert_eq!(Cmd4crParameters.value_text(&slr, 1500), "1.500");
+        assert_eq!(Cmd4crParameters.value_text(&slr, -2), "-0.002");
         let hspd = row(0, Scope::Axis(0), "HSPDX");
-        assert!(
-            Cmd4crParameters
-                .physical(&hspd, 10, SpeedUnit::Pps, &none)
-                .is_none()
-        );
+        assert_eq!(Cmd4crParameters.value_text(&hspd, 4000), "4000");
         assert_eq!(Cmd4crParameters.parse_value(&hspd, "0x10", &none), Ok(16));
     }
 

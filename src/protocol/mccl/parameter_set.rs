@@ -17,8 +17,7 @@
 use super::catalog::{self, Param};
 use super::machine::{AxisKind, Machine};
 use crate::protocol::parameters::{
-    ParamAccess, ParamOp, ParamRange, ParamRole, ParamRow, ParamTable, ParameterSet, Physical,
-    Scope, SpeedUnit,
+    ParamAccess, ParamOp, ParamRange, ParamRole, ParamRow, ParamTable, ParameterSet, Scope,
 };
 
 /// Where a setting is read back from.
@@ -83,24 +82,27 @@ const fn setting(
 
 use Source::{Tell, Variable};
 
-/// Digest §16's table, in its order.
+/// Digest §16's table, in its order. Units are the manual's defaults
+/// (Ch5, digest §14: positions in encoder counts, steps on a stepper;
+/// velocities per second): user scaling (US, UR) changes them, which the
+/// value's note says.
 #[rustfmt::skip]
 const SETTINGS: &[Setting] = &[
-    setting("SV", "velocity", Variable("PGMVEL"), 3, "units/s", Axes::All),
-    setting("SA", "acceleration", Variable("PGMACC"), 3, "units/s²", Axes::All),
-    setting("DS", "deceleration", Variable("PGMDEC"), 3, "units/s²", Axes::All),
+    setting("SV", "velocity", Variable("PGMVEL"), 3, "counts/s", Axes::All),
+    setting("SA", "acceleration", Variable("PGMACC"), 3, "counts/s²", Axes::All),
+    setting("DS", "deceleration", Variable("PGMDEC"), 3, "counts/s²", Axes::All),
     setting("MV", "minimum velocity", Variable("MINVEL"), 3, "steps/s", Axes::Stepper),
-    setting("SE", "following error limit", Variable("MAXERROR"), 3, "units", Axes::ClosedLoop),
-    setting("DB", "deadband", Variable("POSDBAND"), 3, "units", Axes::Servo),
+    setting("SE", "following error limit", Variable("MAXERROR"), 3, "counts", Axes::ClosedLoop),
+    setting("DB", "deadband", Variable("POSDBAND"), 3, "counts", Axes::Servo),
     setting("DT", "delay at target", Variable("TGTDELAY"), 4, "s", Axes::Servo),
-    setting("HL", "high soft limit", Variable("HILIM"), 3, "units", Axes::All),
-    setting("LL", "low soft limit", Variable("LOLIM"), 3, "units", Axes::All),
+    setting("HL", "high soft limit", Variable("HILIM"), 3, "counts", Axes::All),
+    setting("LL", "low soft limit", Variable("LOLIM"), 3, "counts", Axes::All),
     setting("US", "user scale", Variable("SCALE"), 4, "counts/unit", Axes::All),
     setting("UO", "user offset", Variable("OFFSET"), 4, "units", Axes::All),
     setting("UZ", "user zero", Variable("ZERO"), 4, "units", Axes::All),
     setting("UR", "user rate", Variable("RATE"), 4, "s", Axes::All),
     setting("UK", "user output constant", Variable("OUTCONST"), 4, "", Axes::Servo),
-    setting("BD", "backlash distance", Variable("BACKLASH"), 3, "units", Axes::Servo),
+    setting("BD", "backlash distance", Variable("BACKLASH"), 3, "counts", Axes::Servo),
     setting("ES", "steps per encoder count", Variable("ENCSCALE"), 4, "", Axes::Stepper),
     setting("SG", "proportional gain", Tell("TG"), 5, "V/count", Axes::ClosedLoop),
     setting("SD", "derivative gain", Tell("TD"), 5, "", Axes::ClosedLoop),
@@ -158,15 +160,10 @@ fn raw_range(setting: &Setting) -> ParamRange {
 }
 
 impl MclParameters {
-    fn row(&self, axis: u8, number: usize, setting: &Setting) -> ParamRow {
-        let unit = match (setting.decimals, setting.unit) {
-            (0, unit) => unit,
-            (1, _) => "1/10",
-            (2, _) => "1/100",
-            (3, _) => "1/1000",
-            (4, _) => "1/10000",
-            _ => "1/100000",
-        };
+    fn row(&self, axis: u8, number: usize, setting: &Setting, kind: AxisKind) -> ParamRow {
+        // Values are shown in their unit with the row's decimals
+        // ([`ParameterSet::value_text`]), not as the raw integer.
+        let unit = unit_on(setting, kind);
         let description = setting
             .command
             .and_then(catalog::find)
@@ -197,6 +194,44 @@ impl MclParameters {
     }
 }
 
+/// A setting's unit on an axis of `kind`: an open-loop stepper counts
+/// steps where an axis with an encoder counts encoder counts (Ch5: "counts
+/// (steps) per second"); the following error (closed loop only) is always
+/// in encoder counts.
+fn unit_on(setting: &Setting, kind: AxisKind) -> &'static str {
+    if kind != AxisKind::OpenLoopStepper {
+        return setting.unit;
+    }
+    match setting.unit {
+        "counts/s" => "steps/s",
+        "counts/s²" => "steps/s²",
+        "counts" => "steps",
+        "counts/unit" => "steps/unit",
+        unit => unit,
+    }
+}
+
+/// Rows whose values are in user units (Ch5 US, UR): positions,
+/// distances, velocities and accelerations.
+fn in_user_units(setting: &Setting) -> bool {
+    setting.unit.starts_with("counts") || setting.unit.starts_with("steps")
+}
+
+/// The value of the user-units setting `command` (US, UR) of `axis` as
+/// read, a real number.
+fn user_setting(
+    command: &str,
+    axis: u8,
+    value_of: &dyn Fn(Scope, u16) -> Option<i64>,
+) -> Option<f64> {
+    let (number, setting) = SETTINGS
+        .iter()
+        .enumerate()
+        .find(|(_, s)| s.command == Some(command))?;
+    let raw = value_of(Scope::Axis(axis), u16::try_from(number).ok()?)?;
+    Some(raw as f64 / scale(setting.decimals))
+}
+
 fn setting_of(row: &ParamRow) -> Option<&'static Setting> {
     SETTINGS.get(usize::from(row.number))
 }
@@ -221,7 +256,7 @@ impl ParameterSet for MclParameters {
             .iter()
             .enumerate()
             .filter(|(_, s)| s.axes.includes(kind))
-            .map(|(number, s)| self.row(axis, number, s))
+            .map(|(number, s)| self.row(axis, number, s, kind))
             .collect();
         vec![ParamTable {
             scope: Scope::Axis(axis),
@@ -265,18 +300,27 @@ impl ParameterSet for MclParameters {
         }
     }
 
-    fn physical(
-        &self,
-        row: &ParamRow,
-        value: i64,
-        _unit: SpeedUnit,
-        _axis_value: &dyn Fn(u16) -> Option<i64>,
-    ) -> Option<Physical> {
-        let setting = setting_of(row)?;
-        (setting.decimals > 0).then(|| Physical {
-            value: value as f64 / scale(setting.decimals),
-            unit: setting.unit,
-        })
+    /// The real number with the row's decimals, as `line` writes it and
+    /// `parse_value` reads it (`150000.000`, not `150000000`).
+    fn value_text(&self, row: &ParamRow, value: i64) -> String {
+        match setting_of(row) {
+            Some(setting) => real_text(setting, value),
+            None => value.to_string(),
+        }
+    }
+
+    /// The command's range as the manual gives it (`0.000153..10`, `≥ 0`).
+    fn range_text(&self, row: &ParamRow) -> String {
+        match setting_of(row)
+            .and_then(|s| s.command)
+            .and_then(catalog::find)
+        {
+            Some(command) => match command.param {
+                Param::Real(range) => range.to_string(),
+                _ => row.range.to_string(),
+            },
+            None => row.range.to_string(),
+        }
     }
 
     fn store_place(&self) -> &'static str {
@@ -287,7 +331,7 @@ impl ParameterSet for MclParameters {
         &self,
         row: &ParamRow,
         value: i64,
-        _value_of: &dyn Fn(Scope, u16) -> Option<i64>,
+        value_of: &dyn Fn(Scope, u16) -> Option<i64>,
     ) -> Option<String> {
         let setting = setting_of(row)?;
         if setting.command.is_none() {
@@ -299,7 +343,28 @@ impl ParameterSet for MclParameters {
             let word = super::status::StatusWord::new(kind, value as u32);
             return Some(word.to_string());
         }
-        (setting.decimals > 0).then(|| format!("{} {}", real_text(setting, value), setting.unit))
+        // The unit shown is right only without user scaling (Ch5: US
+        // counts per user unit, UR seconds per user time unit).
+        let Scope::Axis(axis) = row.scope else {
+            return None;
+        };
+        let user_scale = user_setting("US", axis, value_of);
+        let user_rate = user_setting("UR", axis, value_of);
+        let scaled = |v: Option<f64>| v.is_some_and(|v| v != 1.0);
+        (in_user_units(setting) && (scaled(user_scale) || scaled(user_rate))).then(|| {
+            let text = |v: Option<f64>| v.map_or_else(|| "?".to_string(), |v| v.to_string());
+            format!(
+                "in user units, not {}: US {} {} per unit, UR {} s per time unit (Ch5)",
+                row.unit,
+                text(user_scale),
+                if row.unit.starts_with("steps") {
+                    "steps"
+                } else {
+                    "counts"
+                },
+                text(user_rate)
+            )
+        })
     }
 
     fn parse_value(
@@ -392,7 +457,7 @@ mod tests {
     #[test]
     fn writes_scale_back_and_check_the_range() {
         let sg = row(1, "SG");
-        assert_eq!(sg.unit, "1/100000");
+        assert_eq!(sg.unit, "V/count");
         assert_eq!(
             PARAMETERS.line(&sg, ParamOp::Write(4000)).as_deref(),
             Ok("1SG0.04000")
@@ -446,15 +511,33 @@ mod tests {
             PARAMETERS.parse_value(&sv, "100000", &none),
             Ok(100_000_000)
         );
-        let phys = PARAMETERS
-            .physical(&sv, 100_000_000, SpeedUnit::Pps, &none)
-            .expect("units");
-        assert_eq!((phys.value, phys.unit), (100_000.0, "units/s"));
+        // Shown in the unit, in the text an edit starts from and reads back.
+        assert_eq!(PARAMETERS.value_text(&sv, 150_000_000), "150000.000");
+        assert_eq!(sv.unit, "counts/s");
+        assert_eq!(row(5, "SV").unit, "steps/s", "an open-loop stepper");
+        for r in &PARAMETERS.tables(1)[0].rows {
+            let value = 1_234_567;
+            let text = PARAMETERS.value_text(r, value);
+            assert_eq!(
+                PARAMETERS.parse_value(r, &text, &none),
+                Ok(value),
+                "{}",
+                r.name
+            );
+        }
         let no = |_: Scope, _: u16| None;
         assert_eq!(
-            PARAMETERS.value_note(&sg, 4000, &no).as_deref(),
-            Some("0.04000 V/count")
+            PARAMETERS.value_note(&sg, 4000, &no),
+            None,
+            "no user units read"
         );
+        // US (row 9) 2.0: velocities are in user units, not counts/s.
+        let scaled = |_: Scope, n: u16| (n == 9).then_some(20_000);
+        assert_eq!(
+            PARAMETERS.value_note(&sv, 100_000_000, &scaled).as_deref(),
+            Some("in user units, not counts/s: US 2 counts per unit, UR ? s per time unit (Ch5)")
+        );
+        assert_eq!(PARAMETERS.value_note(&sg, 4000, &scaled), None, "volts");
         let status = row(1, "primary");
         assert_eq!(
             PARAMETERS.value_note(&status, 10, &no).as_deref(),

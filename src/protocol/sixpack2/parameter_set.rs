@@ -476,6 +476,15 @@ impl ParameterSet for Sixpack2Parameters {
         "nowhere: the SIXpack 2 stores no setting"
     }
 
+    /// A motor mask as its list of motors (`0,2`): typed back as a bare
+    /// number, `5`, it would read as motor 5, not motors 0 and 2.
+    fn value_text(&self, row: &ParamRow, value: i64) -> String {
+        match field_of(row).map(|(spec, index)| &spec.fields[index]) {
+            Some(field) if field.kind == FieldKind::MotorMask => format_value(field, value),
+            _ => value.to_string(),
+        }
+    }
+
     /// Flags and masks by name; the debounce mask as its delay.
     fn value_note(
         &self,

@@ -5,7 +5,9 @@ use super::*;
 use crate::protocol::parameters::ParamRole;
 
 impl ParamsPane {
-    fn value_text(&self, row: &ParamRow) -> (String, Role) {
+    /// The value column of a row: the value as the family writes it in
+    /// its unit ([`ParameterSet::value_text`]), else what is known of it.
+    fn value_text(&self, row: &ParamRow, view: &View) -> (String, Role) {
         let key = (row.scope, row.number);
         let reading = self
             .in_flight
@@ -16,7 +18,7 @@ impl ParamsPane {
             Some(Cell::Value(v)) => {
                 let changed = self.first.get(&key).is_some_and(|first| *first != v);
                 (
-                    v.to_string(),
+                    Self::parameters(view).map_or_else(|| v.to_string(), |p| p.value_text(row, v)),
                     if changed { Role::Changed } else { Role::Normal },
                 )
             }
@@ -56,6 +58,30 @@ impl ParamsPane {
         Self::parameters(view)?.value_note(row, v, &value_of)
     }
 
+    /// How wide the numbers, values and real-world values of every row
+    /// of the tables are, so that their columns cut none.
+    fn widest(&self, view: &View) -> Widest {
+        let rows = || self.tables.iter().flat_map(|t| t.rows.iter());
+        let widest = |texts: &mut dyn Iterator<Item = String>| {
+            texts.map(|t| t.chars().count()).max().unwrap_or(0)
+        };
+        let real = |row: &ParamRow| {
+            let (Some(parameters), Some(Cell::Value(v))) = (Self::parameters(view), self.cell(row))
+            else {
+                return None;
+            };
+            parameters
+                .physical(row, v, self.unit, &self.axis_value(row.scope))
+                .map(|p| p.to_string())
+        };
+        Widest {
+            number: widest(&mut rows().map(|r| r.number.to_string())),
+            value: widest(&mut rows().map(|r| self.value_text(r, view).0)),
+            unit: widest(&mut rows().map(|r| r.unit.to_string())),
+            real: widest(&mut rows().filter_map(real)),
+        }
+    }
+
     fn row_line(
         &self,
         row: &ParamRow,
@@ -87,10 +113,14 @@ impl ParamsPane {
             on(Role::Normal),
             on(Role::Matched),
         ));
-        let (value, role) = self.value_text(row);
-        spans.push(Span::styled(format!(" {:>11}", fit(&value, 11)), on(role)));
+        let (value, role) = self.value_text(row, view);
+        // The column is as wide as the widest value: a number is never cut.
         spans.push(Span::styled(
-            format!(" {:<9}", fit(row.unit, 9)),
+            format!(" {:>w$}", fit(&value, columns.value), w = columns.value),
+            on(role),
+        ));
+        spans.push(Span::styled(
+            format!(" {:<w$}", fit(row.unit, columns.unit), w = columns.unit),
             on(Role::Muted),
         ));
         if columns.real > 0 {
@@ -101,7 +131,8 @@ impl ParamsPane {
             ));
         }
         if columns.range > 0 {
-            let range = row.range.to_string();
+            let range =
+                Self::parameters(view).map_or_else(|| row.range.to_string(), |p| p.range_text(row));
             spans.push(Span::styled(
                 format!(" {:<w$}", fit(&range, columns.range), w = columns.range),
                 on(Role::Muted),
@@ -128,7 +159,13 @@ impl ParamsPane {
             n = columns.number,
             w = columns.name
         );
-        text.push_str(&format!(" {:>11} {:<9}", "Value", "Unit"));
+        text.push_str(&format!(
+            " {:>w$} {:<u$}",
+            "Value",
+            "Unit",
+            w = columns.value,
+            u = columns.unit
+        ));
         if columns.real > 0 {
             text.push_str(&format!(" {:>w$}", "Real", w = columns.real));
         }
@@ -145,8 +182,8 @@ impl ParamsPane {
     fn status_text(&self, view: &View) -> String {
         let rows = self.shown_rows().len();
         let mut parts = vec![match view.session.and_then(Snapshot::selected_axis) {
-            Some(axis) => format!("{rows} parameters · {}", axis.name),
-            None => format!("{rows} parameters"),
+            Some(axis) => format!("{} · {}", counted(rows, "parameter"), axis.name),
+            None => counted(rows, "parameter"),
         }];
         if !self.filter.is_empty() {
             parts.push(format!("filter \"{}\"", self.filter));
@@ -181,6 +218,9 @@ impl ParamsPane {
                 Some(column),
             )
         };
+        let range_text = |row: &ParamRow| {
+            Self::parameters(view).map_or_else(|| row.range.to_string(), |p| p.range_text(row))
+        };
         let mut lines = Vec::new();
         match &self.mode {
             Mode::Edit { row, field } => lines.push(prompt(
@@ -188,7 +228,7 @@ impl ParamsPane {
                 field,
                 format!(
                     "{} {} · {} writes, {} cancels",
-                    row.range,
+                    range_text(row),
                     row.unit,
                     cmd(Action::Submit),
                     cmd(Action::Cancel)
@@ -217,11 +257,15 @@ impl ParamsPane {
             }
             Mode::Browse | Mode::Diff(_) => {}
         }
+        // A message (a refusal naming the line to type instead) wraps
+        // rather than losing its end.
         if let Some((role, text)) = &self.message {
-            lines.push((Line::styled(fit(text, width), theme.style(*role)), None));
+            for part in wrap(text, width, MESSAGE_ROWS) {
+                lines.push((Line::styled(part, theme.style(*role)), None));
+            }
         }
         if let (Mode::Browse, Some(row)) = (&self.mode, self.selected_row()) {
-            let mut detail = format!("{}: {} {}", row.name, row.range, row.access);
+            let mut detail = format!("{}: {} {}", row.name, range_text(row), row.access);
             if let Some(default) = row.default {
                 detail.push_str(&format!(", default {default}"));
             }
@@ -301,8 +345,9 @@ impl ParamsPane {
             .count();
         let hint = if diff.import && writable > 0 {
             format!(
-                "{} writes the {writable} file value(s) below, {} drops them; nothing is written yet",
+                "{} writes the {} below, {} drops them; nothing is written yet",
                 key(Action::ParameterWrite),
+                counted(writable, "file value"),
                 key(Action::Cancel)
             )
         } else {
@@ -389,14 +434,7 @@ impl ParamsPane {
         let footer_rows = footer.len().min(usize::from(area.height).saturating_sub(3));
         let body_rows = usize::from(area.height).saturating_sub(2 + footer_rows);
         self.page = body_rows.max(1);
-        let widest = self
-            .tables
-            .iter()
-            .flat_map(|t| t.rows.iter())
-            .map(|r| r.number.to_string().len())
-            .max()
-            .unwrap_or(4);
-        let columns = Columns::for_numbers(width, widest);
+        let columns = Columns::for_widths(width, self.widest(view));
         let mut lines = vec![
             Line::styled(
                 fit(&self.status_text(view), width),
@@ -480,31 +518,51 @@ struct Columns {
     /// their command-table row and index, up to 5 digits).
     number: usize,
     name: usize,
+    /// The widest value shown, at least 11.
+    value: usize,
+    /// The widest unit, at least 9.
+    unit: usize,
     real: usize,
     range: usize,
     description: usize,
 }
 
+/// How wide the contents of the columns sized by them are.
+#[derive(Debug, Clone, Copy)]
+struct Widest {
+    number: usize,
+    value: usize,
+    unit: usize,
+    real: usize,
+}
+
 impl Columns {
-    /// Number (`number` wide, at least 4), value, unit and access always;
-    /// the real-world value, the range and the description when there is
-    /// room, in that order.
-    fn for_numbers(width: usize, number: usize) -> Columns {
-        let number = number.max(4);
-        let fixed = number + 1 + 12 + 10 + 5;
+    /// Number (`number` wide, at least 4), value (as wide as the widest,
+    /// at least 11: numbers are never cut), unit (as wide as the widest,
+    /// at least 9) and access always; the
+    /// real-world value (at least 12), the range and the description when
+    /// there is room, in that order.
+    fn for_widths(width: usize, widest: Widest) -> Columns {
+        let number = widest.number.max(4);
+        let value = widest.value.max(11);
+        let unit = widest.unit.max(9);
+        let real = widest.real.max(12);
+        let fixed = number + 1 + value + 1 + unit + 1 + 5;
         const NAME_MIN: usize = 16;
         const NAME_MAX: usize = 34;
         let mut columns = Columns {
             number,
             name: 0,
+            value,
+            unit,
             real: 0,
             range: 0,
             description: 0,
         };
         let mut room = width.saturating_sub(fixed);
-        if room >= NAME_MIN + 13 {
-            columns.real = 12;
-            room -= 13;
+        if room > NAME_MIN + real {
+            columns.real = real;
+            room -= real + 1;
         }
         // A full 32-bit span is 23 characters; at 80 columns the footer
         // shows the selected row's range instead.
@@ -523,10 +581,27 @@ impl Columns {
         }
         columns
     }
+
+    /// [`Columns::for_widths`] for contents no wider than the least.
+    #[cfg(test)]
+    fn for_numbers(width: usize, number: usize) -> Columns {
+        Columns::for_widths(
+            width,
+            Widest {
+                number,
+                value: 0,
+                unit: 0,
+                real: 0,
+            },
+        )
+    }
 }
 
 /// Footer lines a value's note may take at most.
 const NOTE_ROWS: usize = 3;
+
+/// Footer lines a message may take at most.
+const MESSAGE_ROWS: usize = 3;
 
 /// `text` in lines of at most `width` characters, broken between words,
 /// at most `rows` of them (the last cut with an ellipsis if need be).
