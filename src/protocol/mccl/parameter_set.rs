@@ -375,8 +375,14 @@ impl ParameterSet for MclParameters {
     ) -> Result<i64, String> {
         let setting = setting_of(row).ok_or_else(|| format!("no setting {}", row.number))?;
         let text = text.trim();
+        // A typed value may carry the unit the table shows
+        // (`150000 counts/s`).
+        let bare = match text.strip_suffix(row.unit) {
+            Some(rest) if !row.unit.is_empty() => rest.trim_end(),
+            _ => text,
+        };
         // A reply line (`01 0.04000`) or a typed value (`0.04`).
-        let number = text.rsplit([' ', '\t']).next().unwrap_or(text);
+        let number = bare.rsplit([' ', '\t']).next().unwrap_or(bare);
         let value: f64 = number
             .parse()
             .ok()
@@ -514,6 +520,15 @@ mod tests {
         // Shown in the unit, in the text an edit starts from and reads back.
         assert_eq!(PARAMETERS.value_text(&sv, 150_000_000), "150000.000");
         assert_eq!(sv.unit, "counts/s");
+        assert_eq!(
+            PARAMETERS.parse_value(&sv, "150000 counts/s", &none),
+            Ok(150_000_000)
+        );
+        assert!(
+            PARAMETERS
+                .parse_value(&sv, "150000 steps/s", &none)
+                .is_err()
+        );
         assert_eq!(row(5, "SV").unit, "steps/s", "an open-loop stepper");
         for r in &PARAMETERS.tables(1)[0].rows {
             let value = 1_234_567;
