@@ -369,6 +369,40 @@ fn the_parameter_table_reads_the_motor_table_and_sets_with_the_set_command() {
     );
 }
 
+/// Values show in their unit, whole at any width: the soft limits were
+/// cut to `-214748364…`, the velocity shown in thousandths.
+#[test]
+fn parameter_values_show_in_their_unit_and_no_number_is_cut() {
+    let mut sim = Mccl::new(SimConfig::pci());
+    let mut app = connected(five_axes());
+    let focus = app.handle(key_with(KeyCode::Char('3'), KeyModifiers::ALT));
+    serve(&mut app, &mut sim, focus);
+    for (width, height) in [(80, 24), (120, 40), (200, 50)] {
+        for (filter, shown) in [
+            ("SV velocity", "100000.000 counts/s"),
+            ("HL high", "2147483647.000 counts"),
+            ("LL low", "-2147483648.000 counts"),
+        ] {
+            app.handle(key(KeyCode::Char('/')));
+            for _ in 0..40 {
+                app.handle(key(KeyCode::Backspace));
+            }
+            type_text(&mut app, filter);
+            app.handle(key(KeyCode::Enter));
+            let text = screen(&mut app, width, height).join("\n");
+            let row = text
+                .lines()
+                .find(|l| l.contains(filter) && !l.contains("filter"))
+                .unwrap_or_else(|| panic!("no {filter} row:\n{text}"));
+            let words: Vec<&str> = row.split_whitespace().collect();
+            assert!(
+                words.join(" ").contains(shown),
+                "{width}x{height}: {row}\n{text}"
+            );
+        }
+    }
+}
+
 #[test]
 fn the_macro_manager_lists_deletes_and_stops_tasks() {
     let mut sim = Mccl::new(SimConfig::pci());

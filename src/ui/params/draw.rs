@@ -78,6 +78,9 @@ impl ParamsPane {
             number: widest(&mut rows().map(|r| r.number.to_string())),
             value: widest(&mut rows().map(|r| self.value_text(r, view).0)),
             unit: widest(&mut rows().map(|r| r.unit.to_string())),
+            range: widest(&mut rows().map(|r| {
+                Self::parameters(view).map_or_else(|| r.range.to_string(), |p| p.range_text(r))
+            })),
             real: widest(&mut rows().filter_map(real)),
         }
     }
@@ -533,6 +536,7 @@ struct Widest {
     number: usize,
     value: usize,
     unit: usize,
+    range: usize,
     real: usize,
 }
 
@@ -540,8 +544,8 @@ impl Columns {
     /// Number (`number` wide, at least 4), value (as wide as the widest,
     /// at least 11: numbers are never cut), unit (as wide as the widest,
     /// at least 9) and access always; the
-    /// real-world value (at least 12), the range and the description when
-    /// there is room, in that order.
+    /// real-world value (at least 12), the range (whole) and the
+    /// description when there is room, in that order.
     fn for_widths(width: usize, widest: Widest) -> Columns {
         let number = widest.number.max(4);
         let value = widest.value.max(11);
@@ -564,14 +568,14 @@ impl Columns {
             columns.real = real;
             room -= real + 1;
         }
-        // A full 32-bit span is 23 characters; at 80 columns the footer
-        // shows the selected row's range instead.
-        if room >= NAME_MAX + 24 + 20 {
-            columns.range = 23;
-            room -= 24;
-        } else if room >= 28 + 16 {
-            columns.range = 15;
-            room -= 16;
+        // The widest range whole or none, up to a full 32-bit span (23
+        // characters): a longer list of values is cut, and without the
+        // column, the footer shows the selected row's range whole.
+        let range = widest.range.clamp("Range".len(), 23);
+        // It leaves the name 28 columns at least.
+        if room > 28 + range {
+            columns.range = range;
+            room -= range + 1;
         }
         if room > NAME_MAX + 20 {
             columns.name = NAME_MAX;
@@ -591,6 +595,7 @@ impl Columns {
                 number,
                 value: 0,
                 unit: 0,
+                range: 23,
                 real: 0,
             },
         )
@@ -678,6 +683,25 @@ mod tests {
         // Wider numbers take their room from the name.
         let five = Columns::for_numbers(80, 5);
         assert_eq!((five.number, five.name + 1), (5, narrow.name));
+    }
+
+    #[test]
+    fn columns_are_as_wide_as_their_widest_number() {
+        let widest = Widest {
+            number: 4,
+            value: 15,
+            unit: 13,
+            range: 23,
+            real: 14,
+        };
+        let wide = Columns::for_widths(200, widest);
+        assert_eq!(
+            (wide.value, wide.unit, wide.real, wide.range),
+            (15, 13, 14, 23)
+        );
+        // No room for the whole range: none, the footer shows it.
+        let narrow = Columns::for_widths(100, widest);
+        assert_eq!((narrow.value, narrow.range), (15, 0));
     }
 
     #[test]
