@@ -28,7 +28,7 @@ use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::protocol::Family;
 use crate::protocol::program::{
     CheckedProgram, DownloadOptions, DownloadWay, FactValue, ProgramTool, Progress,
-    TransferFailure, TransferReport, UploadExtent,
+    TransferFailure, TransferReport, UploadExtent, download_plan,
 };
 use crate::session::{Cancel, Session};
 
@@ -125,10 +125,13 @@ pub fn run_download(connection: &ConnectionArgs, args: &DownloadArgs) -> i32 {
         run: args.run,
         autostart: args.autostart,
     };
-    let plan = match program.download(target.address, options) {
+    let plan = match download_plan(program.as_ref(), target.address, options) {
         Ok(plan) => plan,
         Err(failure) => {
-            eprintln!("axterm download: {failure}");
+            eprintln!(
+                "axterm download: {}: {failure}; nothing was sent",
+                args.file
+            );
             return EXIT_USAGE;
         }
     };
