@@ -20,6 +20,12 @@
 //! line by line (a session recording) is started with [`create_new`] and
 //! grown with [`append_synced`]: each piece is on the disk when the call
 //! returns, so a crash loses nothing already recorded.
+//!
+//! A file written because the user named it (an export, an upload, a
+//! plot, a log, a recording) goes through [`save`], [`start_growing`] or
+//! [`open_growing`] under one rule ([`Existing`]): an existing file is
+//! refused unless `--force` was given, and a folder that is not there is
+//! the user's mistake, not the device's ([`WriteError::is_usage`]).
 
 use std::fs::{File, Metadata, OpenOptions};
 use std::io::{self, Read, Write};
@@ -402,6 +408,21 @@ pub fn start_growing(
         Existing::Refuse => create_new(path, bytes).map_err(WriteError::from),
         Existing::Replace => write_atomically(path, bytes).map_err(WriteError::from),
     }
+}
+
+/// Open a file that grows as it is written (a traffic log): a new file,
+/// or with `--force` an existing one emptied first. A device or FIFO
+/// (`/dev/stdout`) is written to as it is.
+pub fn open_growing(path: impl AsRef<Path>, existing: Existing) -> Result<File, WriteError> {
+    let path = path.as_ref();
+    check_destination(path, existing)?;
+    let mut options = OpenOptions::new();
+    match std::fs::metadata(path) {
+        Ok(metadata) if !metadata.is_file() => options.append(true),
+        _ if existing == Existing::Refuse => options.write(true).create_new(true),
+        _ => options.write(true).create(true).truncate(true),
+    };
+    options.open(path).map_err(WriteError::from)
 }
 
 /// Create `path` with `bytes` in it, synced, refusing a file that already
