@@ -319,6 +319,21 @@ fn compare_or_apply(
             }
             let entries =
                 read_file(path, link.target.family.name, parameters, &axes).map_err(named)?;
+            // A file cut between two whole lines reads as a shorter file:
+            // what it leaves out is said, so that "the same" is not taken
+            // for the whole module.
+            let settings = parameter_file::setting_rows(parameters, &axes).len();
+            if entries.len() < settings {
+                eprintln!(
+                    "axterm {command}: {}",
+                    named(format!(
+                        "{} gives {} of the module's {settings} settings: the others are not \
+                         compared",
+                        path.display(),
+                        entries.len()
+                    ))
+                );
+            }
             checked.push((parameters, entries));
         }
         Ok((links, checked))
