@@ -448,7 +448,9 @@ impl Runner<'_> {
             }
             (Action::Expect { line: text, value }, Some(line)) => {
                 let outcome = self.session.execute(line).await;
-                let ok = matches!(&outcome, Ok(result) if result_matches(&result.value.to_string(), value));
+                let ok = outcome
+                    .as_ref()
+                    .is_ok_and(|result| result_matches(&result.value.to_string(), value));
                 self.print_check(&CheckOutcome {
                     directive: "expect",
                     line: text,

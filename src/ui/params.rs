@@ -17,7 +17,6 @@
 
 mod draw;
 
-use crate::files::Existing;
 use std::collections::{HashMap, VecDeque};
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -34,6 +33,7 @@ use super::keymap::{Action, Context};
 use super::pane::{Input, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View, key_label};
 use super::text::fit;
 use super::theme::Role;
+use crate::files::Existing;
 use crate::protocol::parameter_file::{self, Exported, ParamFile};
 use crate::protocol::parameters::{ParamOp, ParamRow, ParamTable, ParameterSet, Scope, SpeedUnit};
 use crate::protocol::settings::SettingsCache;
