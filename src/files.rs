@@ -20,6 +20,12 @@
 //! line by line (a session recording) is started with [`create_new`] and
 //! grown with [`append_synced`]: each piece is on the disk when the call
 //! returns, so a crash loses nothing already recorded.
+//!
+//! A file written because the user named it (an export, an upload, a
+//! plot, a log, a recording) goes through [`save`], [`start_growing`] or
+//! [`open_growing`] under one rule ([`Existing`]): an existing file is
+//! refused unless `--force` was given, and a folder that is not there is
+//! the user's mistake, not the device's ([`WriteError::is_usage`]).
 
 use std::fs::{File, Metadata, OpenOptions};
 use std::io::{self, Read, Write};
@@ -237,6 +243,186 @@ pub fn write_atomically(path: impl AsRef<Path>, bytes: &[u8]) -> io::Result<()> 
         return Err(e);
     }
     sync_directory(&dir)
+}
+
+/// Whether a file the user asked axterm to write may replace one that is
+/// already there. One rule for every such file (`params export`, `upload
+/// -o`, `asm -o`, `:plot csv`, `:log`, `:record`, the traffic and
+/// parameter panes' saves): an existing file is refused unless the user
+/// said `--force` (on the command line and in the console alike).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Existing {
+    /// An existing file is left as it is and the write refused.
+    Refuse,
+    /// An existing file is replaced (`--force`).
+    Replace,
+}
+
+impl Existing {
+    /// `--force` given or not.
+    pub fn from_force(force: bool) -> Existing {
+        if force {
+            Existing::Replace
+        } else {
+            Existing::Refuse
+        }
+    }
+}
+
+/// The word that lets a write replace an existing file, on the command
+/// line and in the console (`:log --force FILE`), as `:run
+/// --no-stop-on-failure FILE` takes its option.
+pub const FORCE_FLAG: &str = "--force";
+
+/// `--force` at the start of a console command's arguments: whether it
+/// is there, and the rest (the file name).
+pub fn force_option(rest: &str) -> (Existing, &str) {
+    let rest = rest.trim();
+    match rest.strip_prefix(FORCE_FLAG) {
+        Some(after) if after.is_empty() || after.starts_with(char::is_whitespace) => {
+            (Existing::Replace, after.trim_start())
+        }
+        _ => (Existing::Refuse, rest),
+    }
+}
+
+/// Why a file the user named cannot be written. The message says why, not
+/// which file: callers say "cannot write FILE: …".
+#[derive(Debug, thiserror::Error)]
+pub enum WriteError {
+    /// A file is there and `--force` was not given.
+    #[error("it exists: give --force to replace it (nothing was overwritten)")]
+    Exists,
+    /// The folder it would go in does not exist.
+    #[error("there is no folder {0}")]
+    NoFolder(String),
+    /// The place it would go in is not a folder.
+    #[error("{0} is not a folder")]
+    NotAFolder(String),
+    #[error("it is a directory")]
+    IsDirectory,
+    #[error("{0}")]
+    Io(io::Error),
+}
+
+impl WriteError {
+    /// A mistake in what was asked (exit code 2): the file exists, or the
+    /// place for it does not; not a failure of the disk.
+    pub fn is_usage(&self) -> bool {
+        !matches!(self, WriteError::Io(_))
+    }
+}
+
+impl From<io::Error> for WriteError {
+    fn from(error: io::Error) -> WriteError {
+        match error.kind() {
+            io::ErrorKind::AlreadyExists => WriteError::Exists,
+            io::ErrorKind::IsADirectory => WriteError::IsDirectory,
+            _ => WriteError::Io(error),
+        }
+    }
+}
+
+/// The folder a file at `path` goes in.
+fn folder_of(path: &Path) -> PathBuf {
+    match path.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => dir.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+/// Whether a file the user named can be written at `path` under
+/// `existing`, checked before any work (before a link is opened): its
+/// folder is there, it is not a directory, and an existing file is
+/// refused without `--force`. A device or FIFO (`/dev/stdout`) is
+/// written to, never replaced, and is no existing file here.
+pub fn check_destination(path: impl AsRef<Path>, existing: Existing) -> Result<(), WriteError> {
+    let path = path.as_ref();
+    let folder = folder_of(path);
+    match std::fs::metadata(&folder) {
+        Ok(metadata) if metadata.is_dir() => {}
+        Ok(_) => return Err(WriteError::NotAFolder(folder.display().to_string())),
+        Err(e) if e.kind() == io::ErrorKind::NotFound => {
+            return Err(WriteError::NoFolder(folder.display().to_string()));
+        }
+        Err(e) => return Err(WriteError::Io(e)),
+    }
+    match std::fs::symlink_metadata(path) {
+        Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(()),
+        Err(e) => Err(WriteError::Io(e)),
+        Ok(_) => match std::fs::metadata(path) {
+            Ok(metadata) if metadata.is_dir() => Err(WriteError::IsDirectory),
+            Ok(metadata) if !metadata.is_file() => Ok(()),
+            // A file, or a link to one or to nothing.
+            _ if existing == Existing::Refuse => Err(WriteError::Exists),
+            _ => Ok(()),
+        },
+    }
+}
+
+/// Write a file the user asked for: [`check_destination`], then in one
+/// step as [`write_atomically`]. Without `--force` the new file is put in
+/// place only if the name is still free when it is (a hard link, which
+/// never replaces), so a file that appeared meanwhile is not overwritten
+/// either.
+pub fn save(path: impl AsRef<Path>, bytes: &[u8], existing: Existing) -> Result<(), WriteError> {
+    let path = path.as_ref();
+    check_destination(path, existing)?;
+    let free =
+        matches!(std::fs::symlink_metadata(path), Err(e) if e.kind() == io::ErrorKind::NotFound);
+    if existing == Existing::Replace || !free {
+        // Replacing, or a device or FIFO written to directly.
+        return write_atomically(path, bytes).map_err(WriteError::from);
+    }
+    let folder = folder_of(path);
+    let (temporary, mut file) = create_temporary(&folder, path)?;
+    let written = (|| {
+        file.write_all(bytes)?;
+        file.sync_all()?;
+        drop(file);
+        match std::fs::hard_link(&temporary, path) {
+            Ok(()) => Ok(()),
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => Err(e),
+            // A file system without hard links (FAT, some shares): the
+            // check above is all there is.
+            Err(_) => std::fs::rename(&temporary, path),
+        }
+    })();
+    let _ = std::fs::remove_file(&temporary);
+    written?;
+    sync_directory(&folder).map_err(WriteError::from)
+}
+
+/// Start a file that grows line by line (a session recording, a traffic
+/// log) with `bytes`: a new file, or with `--force` an existing one
+/// replaced. It is then grown with [`append_synced`] or opened for
+/// appending.
+pub fn start_growing(
+    path: impl AsRef<Path>,
+    bytes: &[u8],
+    existing: Existing,
+) -> Result<(), WriteError> {
+    let path = path.as_ref();
+    check_destination(path, existing)?;
+    match existing {
+        Existing::Refuse => create_new(path, bytes).map_err(WriteError::from),
+        Existing::Replace => write_atomically(path, bytes).map_err(WriteError::from),
+    }
+}
+
+/// Open a file that grows as it is written (a traffic log): a new file,
+/// or with `--force` an existing one emptied first. A device or FIFO
+/// (`/dev/stdout`) is written to as it is.
+pub fn open_growing(path: impl AsRef<Path>, existing: Existing) -> Result<File, WriteError> {
+    let path = path.as_ref();
+    check_destination(path, existing)?;
+    let mut options = OpenOptions::new();
+    match std::fs::metadata(path) {
+        Ok(metadata) if !metadata.is_file() => options.append(true),
+        _ if existing == Existing::Refuse => options.write(true).create_new(true),
+        _ => options.write(true).create(true).truncate(true),
+    };
+    options.open(path).map_err(WriteError::from)
 }
 
 /// Create `path` with `bytes` in it, synced, refusing a file that already
@@ -485,6 +671,83 @@ mod tests {
         for leftover in &leftovers {
             assert_eq!(std::fs::read(leftover).expect("read"), b"leftover");
         }
+    }
+
+    #[test]
+    fn a_file_the_user_named_is_not_overwritten_without_force() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let path = dir.path().join("params.toml");
+        save(&path, b"first", Existing::Refuse).expect("a new file");
+        let refused = save(&path, b"second", Existing::Refuse).expect_err("exists");
+        assert!(matches!(refused, WriteError::Exists), "{refused}");
+        assert!(refused.is_usage());
+        assert_eq!(
+            refused.to_string(),
+            "it exists: give --force to replace it (nothing was overwritten)"
+        );
+        assert_eq!(std::fs::read(&path).expect("read"), b"first");
+        save(&path, b"third", Existing::Replace).expect("forced");
+        assert_eq!(std::fs::read(&path).expect("read"), b"third");
+        // No temporary is left behind by either way.
+        let names: Vec<_> = std::fs::read_dir(dir.path())
+            .expect("list")
+            .map(|e| e.expect("entry").file_name())
+            .collect();
+        assert_eq!(names, vec![std::ffi::OsString::from("params.toml")]);
+        // A link to nothing is a name taken too.
+        let dangling = dir.path().join("dangling");
+        std::os::unix::fs::symlink(dir.path().join("nowhere"), &dangling).expect("symlink");
+        assert!(matches!(
+            save(&dangling, b"x", Existing::Refuse),
+            Err(WriteError::Exists)
+        ));
+    }
+
+    #[test]
+    fn a_missing_folder_or_a_directory_is_a_usage_error_even_with_force() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let missing = dir.path().join("no-such-folder").join("x.toml");
+        for existing in [Existing::Refuse, Existing::Replace] {
+            let error = check_destination(&missing, existing).expect_err("no folder");
+            assert!(matches!(error, WriteError::NoFolder(_)), "{error}");
+            assert!(error.is_usage());
+            assert!(
+                error.to_string().starts_with("there is no folder "),
+                "{error}"
+            );
+            let error = save(dir.path(), b"x", existing).expect_err("a directory");
+            assert!(matches!(error, WriteError::IsDirectory), "{error}");
+        }
+        let file = dir.path().join("file");
+        std::fs::write(&file, "x").expect("write");
+        let error = check_destination(file.join("x.toml"), Existing::Replace).expect_err("file");
+        assert!(matches!(error, WriteError::NotAFolder(_)), "{error}");
+        // A device is written to, not replaced: no --force needed.
+        save("/dev/null", b"nothing", Existing::Refuse).expect("a device");
+    }
+
+    #[test]
+    fn a_growing_file_starts_new_or_forced() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let path = dir.path().join("session.txt");
+        start_growing(&path, b"# one\n", Existing::Refuse).expect("new");
+        assert!(matches!(
+            start_growing(&path, b"# two\n", Existing::Refuse),
+            Err(WriteError::Exists)
+        ));
+        start_growing(&path, b"# three\n", Existing::Replace).expect("forced");
+        assert_eq!(std::fs::read(&path).expect("read"), b"# three\n");
+    }
+
+    #[test]
+    fn force_is_an_option_before_the_file_name() {
+        assert_eq!(force_option("--force a.csv"), (Existing::Replace, "a.csv"));
+        assert_eq!(force_option("  --force  "), (Existing::Replace, ""));
+        assert_eq!(force_option("a.csv"), (Existing::Refuse, "a.csv"));
+        assert_eq!(
+            force_option("--forced.csv"),
+            (Existing::Refuse, "--forced.csv")
+        );
     }
 
     #[test]

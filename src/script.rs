@@ -118,6 +118,14 @@ pub fn check_script(
             line: prepared,
         });
     }
+    // A file with nothing to do is refused as every front end's empty
+    // file is (download, params, run-macro, run-ascript): ending "ok"
+    // after doing nothing would hide a wrong or cut-off file.
+    if checked.is_empty() && problems.is_empty() {
+        problems.push(format!(
+            "{name}: no line to run (the file is empty, or holds only comments and blank lines)"
+        ));
+    }
     if problems.is_empty() {
         Ok(checked)
     } else {
@@ -345,6 +353,22 @@ fn parse_integer(text: &str) -> Option<i128> {
 mod tests {
     use super::*;
     use proptest::prelude::*;
+
+    #[test]
+    fn a_script_with_no_line_is_refused() {
+        let tmcl = crate::protocol::find_family("tmcl").expect("tmcl");
+        for text in ["", "\n  \n", "# setup\n// later\n"] {
+            let problems = check_script("f.txt", text, tmcl, 1).expect_err("nothing to run");
+            assert_eq!(
+                problems,
+                [
+                    "f.txt: no line to run (the file is empty, or holds only comments and blank \
+                  lines)"
+                ]
+            );
+        }
+        assert!(check_script("f.txt", ":echo hello\n", tmcl, 1).is_ok());
+    }
 
     #[test]
     fn comments_and_blank_lines_are_skipped() {

@@ -366,7 +366,7 @@ fn the_lines_sent_are_recorded_as_a_macro_file() {
     // An existing file is never overwritten.
     typed_line(&mut app, &format!(":record-macro {}", file.display()));
     let all = screen(&mut app, 140, 30).join("\n");
-    assert!(all.contains("exists: give a new file name"), "{all}");
+    assert!(all.contains("exists: give --force to replace it"), "{all}");
 }
 
 #[test]

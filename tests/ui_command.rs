@@ -6,6 +6,7 @@ mod ui_support;
 
 use std::time::Duration;
 
+use axterm::files::Existing;
 use axterm::protocol::console::{ReplyError, ReplyValue};
 use axterm::session::run_end::{LinkAtStop, RunAftermath, RunEnding, RunStop, StopOnFailure};
 use axterm::session::{LineResult, SessionError};
@@ -244,11 +245,15 @@ fn console_commands_become_requests() {
     );
     assert_eq!(
         enter(&mut app, ":log traffic.log"),
-        [Effect::Log(Some("traffic.log".into()))]
+        [Effect::Log(Some(("traffic.log".into(), Existing::Refuse)))]
+    );
+    assert_eq!(
+        enter(&mut app, ":log --force traffic.log"),
+        [Effect::Log(Some(("traffic.log".into(), Existing::Replace)))]
     );
     // No name: one of the time, `axterm-YYYYMMDD-HHMMSS.log`, here.
     let logged = enter(&mut app, ":log");
-    let [Effect::Log(Some(auto))] = logged.as_slice() else {
+    let [Effect::Log(Some((auto, Existing::Refuse)))] = logged.as_slice() else {
         panic!(":log alone logs");
     };
     let auto = auto.to_string_lossy().into_owned();

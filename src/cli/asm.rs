@@ -80,6 +80,7 @@ pub fn run_asm(
     file: &str,
     listing: bool,
     output: Option<&Path>,
+    existing: crate::files::Existing,
     connection: &ConnectionArgs,
 ) -> i32 {
     let tool = match tool_for(file, connection) {
@@ -117,13 +118,13 @@ pub fn run_asm(
         return EXIT_USAGE;
     };
     if let Some(path) = output
-        && let Err(e) = crate::files::write_atomically(path, image.as_bytes())
+        && let Err(e) = crate::files::save(path, image.as_bytes(), existing)
     {
-        eprintln!(
-            "axterm asm: cannot write {}: {}",
-            path.display(),
-            describe_io(&e)
-        );
+        let why = match &e {
+            crate::files::WriteError::Io(io) => describe_io(io),
+            other => other.to_string(),
+        };
+        eprintln!("axterm asm: cannot write {}: {why}", path.display());
         return EXIT_USAGE;
     }
     let shown = if listing {
@@ -204,7 +205,13 @@ mod tests {
         let loaded = SourceFiles.load("no/such/dir/x.inc");
         assert_eq!(loaded, Err("no such file".to_string()));
         assert_eq!(
-            run_asm("no/such/dir/x.tmc", false, None, &ConnectionArgs::default()),
+            run_asm(
+                "no/such/dir/x.tmc",
+                false,
+                None,
+                crate::files::Existing::Refuse,
+                &ConnectionArgs::default()
+            ),
             EXIT_USAGE
         );
         assert_eq!(

@@ -460,17 +460,24 @@ impl ModuleRow {
         }
     }
 
+    /// The row as `params diff|apply` report it: every count.
     pub fn json(&self) -> Value {
+        self.json_with(&["written", "verified", "differs", "failed"])
+    }
+
+    /// The row with the counts of `columns`, under the names the text
+    /// table gives them: `exec` and `run` count lines (a read is not a
+    /// write), `params` what was written, verified, differs.
+    pub fn json_with(&self, columns: &[&str]) -> Value {
         let mut object = json!({
             "module": self.address,
             "firmware": self.firmware,
-            "written": self.written,
-            "verified": self.verified,
-            "differs": self.differs,
-            "failed": self.failed,
             "ok": self.ok,
             "note": self.note,
         });
+        for column in columns {
+            object[*column] = json!(self.count(column));
+        }
         if self.whole_link {
             object["module"] = Value::Null;
         }
@@ -479,6 +486,17 @@ impl ModuleRow {
             object["connection"] = json!(link.connection);
         }
         object
+    }
+
+    /// The count a column of the table shows (`lines` counts the lines
+    /// done, kept in `written`).
+    fn count(&self, column: &str) -> usize {
+        match column {
+            "written" | "lines" => self.written,
+            "verified" => self.verified,
+            "differs" => self.differs,
+            _ => self.failed,
+        }
     }
 
     /// The module column: its address, `-` for a whole link's row.
@@ -539,13 +557,7 @@ pub fn table(rows: &[ModuleRow], columns: &[&str]) -> String {
             firmware_shown(&row.firmware)
         );
         for column in columns {
-            let n = match *column {
-                "written" | "lines" => row.written,
-                "verified" => row.verified,
-                "differs" => row.differs,
-                _ => row.failed,
-            };
-            let _ = write!(out, "  {n:>8}");
+            let _ = write!(out, "  {:>8}", row.count(column));
         }
         let result = if row.ok { "ok" } else { "FAILED" };
         let _ = write!(out, "  {result}");
@@ -573,7 +585,7 @@ pub fn finish(rows: &[ModuleRow], columns: &[&str], format: Format) -> i32 {
     match format {
         Format::Text => print!("{}", table(rows, columns)),
         Format::Json => {
-            let modules: Vec<Value> = rows.iter().map(ModuleRow::json).collect();
+            let modules: Vec<Value> = rows.iter().map(|row| row.json_with(columns)).collect();
             let ok = !rows.is_empty() && rows.iter().all(|r| r.ok);
             println!("{}", json!({ "modules": modules, "ok": ok }));
         }

@@ -317,6 +317,10 @@ pub enum Command {
         /// Write the image to this file (then nothing is printed but a listing).
         #[arg(long, short)]
         output: Option<std::path::PathBuf>,
+        /// Replace the --output file if it exists (without it an existing
+        /// file is refused, exit 2).
+        #[arg(long, requires = "output")]
+        force: bool,
     },
     /// Disassemble a program image file (- for standard input), or, with a
     /// connection and no file, the module's program.
@@ -423,7 +427,14 @@ pub fn run(cli: Cli) -> i32 {
             file,
             listing,
             output,
-        }) => asm::run_asm(&file, listing, output.as_deref(), &cli.connection),
+            force,
+        }) => asm::run_asm(
+            &file,
+            listing,
+            output.as_deref(),
+            crate::files::Existing::from_force(force),
+            &cli.connection,
+        ),
         Some(Command::Disasm { file, extent }) => {
             asm::run_disasm(file.as_deref(), &cli.connection, &extent)
         }

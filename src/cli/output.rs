@@ -58,6 +58,46 @@ pub fn json_outcome(
     }
 }
 
+/// A check of a run file (`:expect`, `:wait-until`) as it ended.
+pub struct CheckOutcome<'a> {
+    /// `expect` or `wait-until`.
+    pub directive: &'a str,
+    /// The console line checked, as the file gives it.
+    pub line: &'a str,
+    /// Its line in the file (1-based).
+    pub line_number: usize,
+    /// The value it had to have, as the file gives it.
+    pub expected: &'a str,
+    /// The last reading of the line (for `:wait-until`, the one that
+    /// matched or the last before the deadline).
+    pub last: &'a Result<LineResult, SessionError>,
+    pub ok: bool,
+}
+
+/// The JSON object for a check: the directive, the line and its place,
+/// the value expected and the value read (`null` when the line failed,
+/// with its error), and whether it passed.
+pub fn json_check(check: &CheckOutcome) -> Value {
+    let mut object = json!({
+        "directive": check.directive,
+        "line": check.line,
+        "line_number": check.line_number,
+        "expected": check.expected,
+        "ok": check.ok,
+    });
+    match check.last {
+        Ok(result) => {
+            object["command"] = json!(result.line);
+            object["actual"] = json_value(&result.value);
+        }
+        Err(error) => {
+            object["actual"] = Value::Null;
+            object["error"] = json!(error.to_string());
+        }
+    }
+    object
+}
+
 fn json_value(value: &ReplyValue) -> Value {
     match value {
         ReplyValue::None => Value::Null,

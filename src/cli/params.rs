@@ -19,6 +19,7 @@ use super::connection::{Target, run_to_exit};
 use super::fleet::{self, FleetArgs, FleetLink, FleetModule, Identity, ModuleRow, Walk};
 use super::output::Format;
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
+use crate::files::Existing;
 use crate::protocol::parameter_file::{self, Exported};
 use crate::protocol::parameters::{ParamRow, ParameterSet};
 use crate::session::params::{
@@ -65,6 +66,10 @@ pub enum ParamsCommand {
 pub struct ExportArgs {
     /// The parameter file to write (- for standard output).
     pub file: String,
+    /// Replace FILE if it exists (without it an existing file is refused,
+    /// exit 2, before the module is asked anything).
+    #[arg(long)]
+    pub force: bool,
     /// text: a summary line; json: one object with what was and was not
     /// read.
     #[arg(long, value_enum, default_value_t)]
@@ -155,6 +160,15 @@ fn export(connection: &ConnectionArgs, args: &ExportArgs) -> i32 {
         }
     };
     let (file, format) = (args.file.clone(), args.format);
+    let existing = Existing::from_force(args.force);
+    // A file that cannot be written is known before the module is asked.
+    if file != "-"
+        && let Err(e) = crate::files::check_destination(&file, existing)
+    {
+        eprintln!("axterm params export: cannot write {file}: {e}");
+        eprintln!("axterm params export: nothing was sent");
+        return EXIT_USAGE;
+    }
     run_to_exit("params export", async move {
         let session = match target.open().await {
             Ok(session) => session,
@@ -194,11 +208,15 @@ fn export(connection: &ConnectionArgs, args: &ExportArgs) -> i32 {
             print!("{text}");
             Ok(())
         } else {
-            crate::files::write_atomically(&file, text.as_bytes())
+            crate::files::save(&file, text.as_bytes(), existing)
         };
         if let Err(e) = written {
             eprintln!("axterm params export: cannot write {file}: {e}");
-            return EXIT_DEVICE;
+            return if e.is_usage() {
+                EXIT_USAGE
+            } else {
+                EXIT_DEVICE
+            };
         }
         // Not read: the module did not answer or refused (a failure);
         // unknown: it cannot be asked and this session wrote none.
@@ -303,6 +321,21 @@ fn compare_or_apply(
             }
             let entries =
                 read_file(path, link.target.family.name, parameters, &axes).map_err(named)?;
+            // A file cut between two whole lines reads as a shorter file:
+            // what it leaves out is said, so that "the same" is not taken
+            // for the whole module.
+            let settings = parameter_file::setting_rows(parameters, &axes).len();
+            if entries.len() < settings {
+                eprintln!(
+                    "axterm {command}: {}",
+                    named(format!(
+                        "{} gives {} of the module's {settings} settings: the others are not \
+                         compared",
+                        path.display(),
+                        entries.len()
+                    ))
+                );
+            }
             checked.push((parameters, entries));
         }
         Ok((links, checked))

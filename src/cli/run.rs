@@ -16,7 +16,7 @@ use serde_json::json;
 use super::confirm::{after_line, cautions};
 use super::connection::{Target, family_of, names_a_connection, run_to_exit};
 use super::fleet::{self, FleetArgs, FleetLink, FleetModule, Identity, ModuleRow, Modules, Walk};
-use super::output::{Format, print_outcome};
+use super::output::{CheckOutcome, Format, json_check, print_outcome};
 use super::run_end::{Interrupt, RunReport, run_then_end, run_then_end_on};
 use super::script::{Action, CheckedStep, WAIT_INTERVAL, check_script, result_matches};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
@@ -24,8 +24,8 @@ use crate::protocol::settings::SettingsCache;
 
 use crate::protocol::Family;
 use crate::protocol::console::PreparedLine;
-use crate::session::Session;
 use crate::session::run_end::{RunEnding, StopOnFailure};
+use crate::session::{LineResult, Session, SessionError};
 
 #[derive(Debug, Clone, Args)]
 pub struct RunArgs {
@@ -39,7 +39,9 @@ pub struct RunArgs {
     /// nothing is opened).
     #[arg(long)]
     pub dry_run: bool,
-    /// text: the value (or ok) per console line; json: one object per line.
+    /// text: the value (or ok) per console line; json: one object per
+    /// console line and one per `:expect` and `:wait-until` (expected,
+    /// actual, ok).
     #[arg(long, value_enum, default_value_t)]
     pub format: Format,
     /// When the run fails, is cancelled (Ctrl-C) or loses its link, leave
@@ -444,22 +446,49 @@ impl Runner<'_> {
                 }
                 outcome.is_ok()
             }
-            (Action::Expect { value, .. }, Some(line)) => match self.session.execute(line).await {
-                Ok(result) => {
-                    let got = result.value.to_string();
-                    let ok = result_matches(&got, value);
-                    if !ok {
-                        eprintln!("{at}expected {} == {value}, got {got}", result.line);
+            (Action::Expect { line: text, value }, Some(line)) => {
+                let outcome = self.session.execute(line).await;
+                let ok = outcome
+                    .as_ref()
+                    .is_ok_and(|result| result_matches(&result.value.to_string(), value));
+                self.print_check(&CheckOutcome {
+                    directive: "expect",
+                    line: text,
+                    line_number: item.step.line_number,
+                    expected: value,
+                    last: &outcome,
+                    ok,
+                });
+                match &outcome {
+                    Ok(result) if !ok => {
+                        eprintln!(
+                            "{at}expected {} == {value}, got {}",
+                            result.line, result.value
+                        );
                     }
-                    ok
+                    Ok(_) => {}
+                    Err(e) => eprintln!("{at}{e}"),
                 }
-                Err(e) => {
-                    eprintln!("{at}{e}");
-                    false
-                }
-            },
-            (Action::WaitUntil { value, timeout, .. }, Some(line)) => {
-                self.wait_until(&at, line, value, *timeout).await
+                ok
+            }
+            (
+                Action::WaitUntil {
+                    line: text,
+                    value,
+                    timeout,
+                },
+                Some(line),
+            ) => {
+                let (last, ok) = self.wait_until(&at, line, value, *timeout).await;
+                self.print_check(&CheckOutcome {
+                    directive: "wait-until",
+                    line: text,
+                    line_number: item.step.line_number,
+                    expected: value,
+                    last: &last,
+                    ok,
+                });
+                ok
             }
             (Action::Sleep(duration), _) => {
                 tokio::time::sleep(*duration).await;
@@ -486,24 +515,40 @@ impl Runner<'_> {
         }
     }
 
+    /// A check's object on standard output (JSON only: the text form
+    /// says nothing of a check that passes, a failed one on stderr).
+    fn print_check(&self, check: &CheckOutcome) {
+        if self.format != Format::Json {
+            return;
+        }
+        let mut object = json_check(check);
+        if let Some(module) = self.module {
+            module.mark(&mut object);
+        }
+        println!("{object}");
+    }
+
+    /// Read `line` until it gives `value` or `timeout` has passed: the
+    /// last reading, and whether it matched (a failure is said).
     async fn wait_until(
         &self,
         at: &str,
         line: &PreparedLine,
         value: &str,
         timeout: Duration,
-    ) -> bool {
+    ) -> (Result<LineResult, SessionError>, bool) {
         let deadline = tokio::time::Instant::now() + timeout;
         loop {
-            let got = match self.session.execute(line).await {
+            let outcome = self.session.execute(line).await;
+            let got = match &outcome {
                 Ok(result) => result.value.to_string(),
                 Err(e) => {
                     eprintln!("{at}{e}");
-                    return false;
+                    return (outcome, false);
                 }
             };
             if result_matches(&got, value) {
-                return true;
+                return (outcome, true);
             }
             if tokio::time::Instant::now() >= deadline {
                 eprintln!(
@@ -511,7 +556,7 @@ impl Runner<'_> {
                     line.canonical,
                     show_duration(timeout)
                 );
-                return false;
+                return (outcome, false);
             }
             tokio::time::sleep(WAIT_INTERVAL).await;
         }

@@ -30,6 +30,14 @@ pub fn load_program_file(
         Some(tool) => {
             let checked = tool.check(&name, &source, &NoIncludes);
             match checked.program {
+                // Loaded, it would read as a program there: refused as
+                // an empty download is.
+                Some(program) if program.size() == 0 => {
+                    return Err(vec![format!(
+                        "{name}: the program holds nothing to load (the file is empty, or only \
+                         blank lines)"
+                    )]);
+                }
                 Some(program) => Some((tool, program)),
                 None => {
                     return Err(checked
@@ -105,6 +113,26 @@ mod tests {
             problems[1].starts_with(&format!("{name}:3: BIT Error")),
             "{problems:?}"
         );
+    }
+
+    #[test]
+    fn an_empty_program_is_not_loaded() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let path = dir.path().join("empty.asc");
+        for text in ["", "\n  \n"] {
+            std::fs::write(&path, text).expect("write");
+            let mut sim = build("cmd4cr");
+            let problems =
+                load_program_file(sim.as_mut(), find_family("cmd4cr"), &path).expect_err("empty");
+            assert_eq!(
+                problems,
+                [format!(
+                    "{}: the program holds nothing to load (the file is empty, or only blank \
+                     lines)",
+                    path.display()
+                )]
+            );
+        }
     }
 
     #[test]

@@ -25,10 +25,11 @@ use super::asm::{SourceFiles, read_input};
 use super::connection::{Target, run_to_exit};
 use super::output::Format;
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
+use crate::files::Existing;
 use crate::protocol::Family;
 use crate::protocol::program::{
     CheckedProgram, DownloadOptions, DownloadWay, FactValue, ProgramTool, Progress,
-    TransferFailure, TransferReport, UploadExtent,
+    TransferFailure, TransferReport, UploadExtent, download_plan,
 };
 use crate::session::{Cancel, Session};
 
@@ -78,6 +79,10 @@ pub struct UploadArgs {
     /// Write to this file instead of standard output.
     #[arg(long, short)]
     pub output: Option<PathBuf>,
+    /// Replace the --output file if it exists (without it an existing
+    /// file is refused, exit 2, before the module is asked anything).
+    #[arg(long, requires = "output")]
+    pub force: bool,
     /// Write the program image (hex words) instead of source.
     #[arg(long)]
     pub image: bool,
@@ -125,10 +130,13 @@ pub fn run_download(connection: &ConnectionArgs, args: &DownloadArgs) -> i32 {
         run: args.run,
         autostart: args.autostart,
     };
-    let plan = match program.download(target.address, options) {
+    let plan = match download_plan(program.as_ref(), target.address, options) {
         Ok(plan) => plan,
         Err(failure) => {
-            eprintln!("axterm download: {failure}");
+            eprintln!(
+                "axterm download: {}: {failure}; nothing was sent",
+                args.file
+            );
             return EXIT_USAGE;
         }
     };
@@ -313,6 +321,15 @@ fn plural(n: usize) -> &'static str {
 pub fn run_upload(connection: &ConnectionArgs, args: &UploadArgs) -> i32 {
     let output = args.output.clone();
     let image = args.image;
+    let existing = Existing::from_force(args.force);
+    // A file that cannot be written is known before the module is asked.
+    if let Some(path) = &output
+        && let Err(e) = crate::files::check_destination(path, existing)
+    {
+        eprintln!("axterm upload: cannot write {}: {e}", path.display());
+        eprintln!("axterm upload: nothing was sent");
+        return EXIT_USAGE;
+    }
     read_program("upload", connection, &args.extent, move |tool, read| {
         let text = if image {
             read.image
@@ -322,7 +339,7 @@ pub fn run_upload(connection: &ConnectionArgs, args: &UploadArgs) -> i32 {
             read.source.clone()
         };
         match &output {
-            Some(path) => crate::files::write_atomically(path, text.as_bytes())
+            Some(path) => crate::files::save(path, text.as_bytes(), existing)
                 .map_err(|e| format!("cannot write {}: {e}", path.display())),
             None => {
                 print_out(&text);

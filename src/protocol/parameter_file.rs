@@ -124,8 +124,39 @@ pub fn parse(text: &str) -> Result<ParamFile, String> {
             )),
         }
     }
+    file.problems.extend(headers_with_nothing_under(text));
     file.entries.sort_by_key(|e| (e.scope, e.number));
     Ok(file)
+}
+
+/// Section headers with nothing under them, not even a comment: an
+/// export writes every row of a section under its header (its value, or
+/// why it was not read), so a bare header is where a file was cut off.
+/// A file cut between two whole lines of settings cannot be told from a
+/// shorter file and is not guessed at.
+fn headers_with_nothing_under(text: &str) -> Vec<String> {
+    let mut bare = Vec::new();
+    let mut open: Option<(usize, &str)> = None;
+    for (index, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() {
+            continue;
+        }
+        if let Some((number, header)) = open.take()
+            && line.starts_with('[')
+        {
+            bare.push((number, header));
+        }
+        if line.starts_with('[') {
+            open = Some((index + 1, line));
+        }
+    }
+    bare.extend(open);
+    bare.into_iter()
+        .map(|(number, header)| {
+            format!("line {number}: {header} has no settings under it (is the file cut short?)")
+        })
+        .collect()
 }
 
 fn read_section(scope: Scope, params: &toml::Table, file: &mut ParamFile) {
@@ -231,6 +262,12 @@ pub fn check(file: ParamFile, parameters: &dyn ParameterSet, axes: &[u8]) -> Che
         } else {
             entries.push((row.clone(), value));
         }
+    }
+    if entries.is_empty() && problems.is_empty() {
+        problems.push(
+            "it holds no settings (an empty file, or one cut short): nothing to compare or apply"
+                .to_string(),
+        );
     }
     CheckedFile { entries, problems }
 }
@@ -345,6 +382,37 @@ mod tests {
 mod check_tests {
     use super::*;
     use crate::protocol::tmcl::parameter_set::TmclParameters;
+
+    #[test]
+    fn a_file_without_settings_or_cut_after_a_header_is_a_problem() {
+        for text in ["", "family = \"tmcl\"\n", "# a comment\n\n"] {
+            let checked = check(parse(text).expect("parses"), &TmclParameters, &[0]);
+            assert!(checked.entries.is_empty());
+            assert_eq!(
+                checked.problems,
+                [
+                    "it holds no settings (an empty file, or one cut short): nothing to compare or \
+                  apply"
+                ],
+                "{text:?}"
+            );
+        }
+        let cut = parse("family = \"tmcl\"\n[axis.0]\n4 = 1000\n\n[bank.0]\n  \n").expect("parses");
+        assert_eq!(
+            cut.problems,
+            ["line 5: [bank.0] has no settings under it (is the file cut short?)"]
+        );
+        let cut = parse("[axis.0]\n[axis.1]\n4 = 1\n").expect("parses");
+        assert_eq!(
+            cut.problems,
+            ["line 1: [axis.0] has no settings under it (is the file cut short?)"]
+        );
+        // A section whose values were not read (commented out, as an
+        // export writes them) is whole.
+        let whole =
+            parse("[axis.0]\n4 = 1000\n[bank.0]\n# 0 not read: no answer  # x\n").expect("parses");
+        assert!(whole.problems.is_empty(), "{:?}", whole.problems);
+    }
 
     #[test]
     fn entries_are_checked_against_the_tables_and_name_the_parameter() {

@@ -613,6 +613,25 @@ pub struct DownloadOptions {
     pub autostart: bool,
 }
 
+/// The plan that stores `program` in the module at `address`: every
+/// download goes through here. A program with no unit in it (an empty
+/// file, or only comments and blank lines) is refused before anything is
+/// sent: storing nothing and reading nothing back would read as a
+/// verified download.
+pub fn download_plan(
+    program: &dyn CheckedProgram,
+    address: u8,
+    options: DownloadOptions,
+) -> Result<Box<dyn TransferPlan>, TransferFailure> {
+    if program.size() == 0 {
+        return Err(TransferFailure::refused(
+            "the program holds nothing to download (the file is empty, or only comments and \
+             blank lines)",
+        ));
+    }
+    program.download(address, options)
+}
+
 /// Where an upload stops (a module need not know its program's length).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum UploadExtent {
@@ -960,5 +979,46 @@ pub trait HostRun: Send + fmt::Debug {
     /// How messages name program `program` of the run ("PRG 0").
     fn place_name(&self, program: u8) -> String {
         format!("program {program}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::protocol::FAMILIES;
+
+    #[test]
+    fn no_family_downloads_an_empty_program() {
+        let mut tried = 0;
+        for family in FAMILIES {
+            let Some(tool) = family.console.program() else {
+                continue;
+            };
+            if tool.download_way() != DownloadWay::Wire {
+                continue;
+            }
+            for source in ["", "\n\n"] {
+                let checked = tool.check("empty", source, &NoIncludes);
+                // A tool may refuse it as a source already; one that
+                // checks it must not make a download of it.
+                let Some(program) = checked.program else {
+                    continue;
+                };
+                tried += 1;
+                let address = family.console.default_address();
+                let Err(refused) =
+                    download_plan(program.as_ref(), address, DownloadOptions::default())
+                else {
+                    panic!("{}: a download of nothing was planned", family.name);
+                };
+                assert!(refused.nothing_sent(), "{}: {refused}", family.name);
+                assert!(
+                    refused.to_string().contains("holds nothing to download"),
+                    "{}: {refused}",
+                    family.name
+                );
+            }
+        }
+        assert!(tried > 0, "no family's tool checked an empty source");
     }
 }

@@ -358,7 +358,9 @@ impl Session {
     /// The plan of `job` for this session's module (nothing sent).
     pub fn plan(&self, job: &TransferJob) -> Result<Box<dyn TransferPlan>, TransferFailure> {
         match job {
-            TransferJob::Download { program, options } => program.download(self.address, *options),
+            TransferJob::Download { program, options } => {
+                crate::protocol::program::download_plan(program.as_ref(), self.address, *options)
+            }
             TransferJob::Verify { program } => program.verify(self.address),
             TransferJob::Upload(extent) => match self.family.console.program() {
                 Some(tool) => tool.upload(self.address, *extent),

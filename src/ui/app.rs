@@ -144,7 +144,7 @@ pub enum Effect {
         axis: usize,
         seen: Vec<AxisFlag>,
     },
-    Log(Option<std::path::PathBuf>),
+    Log(Option<(std::path::PathBuf, crate::files::Existing)>),
     Connect(Vec<String>),
     /// Open one more link beside those open ([`Request::AddLink`]).
     AddLink(Vec<String>),

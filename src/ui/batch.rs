@@ -260,6 +260,20 @@ mod tests {
     }
 
     #[test]
+    fn a_file_with_no_line_is_refused_as_axterm_run_refuses_it() {
+        for text in ["", "# nothing yet\n\n// still nothing\n"] {
+            let problems = Batch::check("empty.txt", text, tmcl(), 1).expect_err("empty");
+            assert_eq!(
+                problems,
+                [
+                    "empty.txt: no line to run (the file is empty, or holds only comments and \
+                  blank lines)"
+                ]
+            );
+        }
+    }
+
+    #[test]
     fn a_file_with_bad_lines_lists_them_all_and_sends_nothing() {
         let problems = Batch::check("f.txt", "GAP 1, 0\nSAP 6, 0, 100000\n:bogus\n", tmcl(), 1)
             .expect_err("bad");

@@ -87,11 +87,11 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
         "list the programs the controller runs in the background (MCCL: ID7), or stop one (ET)",
     ),
     (
-        ":log [FILE | off]",
-        "log every link's frames, UTC-stamped, to FILE (none: axterm-YYYYMMDD-HHMMSS.log here)",
+        ":log [--force] [FILE | off]",
+        "log every link's frames, UTC-stamped, to FILE (none: axterm-YYYYMMDD-HHMMSS.log here; an existing FILE only with --force, which replaces it)",
     ),
     (
-        ":plot add AXIS VALUE | remove AXIS VALUE | clear | csv FILE",
+        ":plot add AXIS VALUE | remove AXIS VALUE | clear | csv [--force] FILE",
         "plot a status value (position, speed, load…) or a parameter by name or number; export what was plotted (in the plot pane its pick key, a by default, lists them)",
     ),
     (":theme NAME", "switch colours"),
@@ -113,12 +113,12 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
         "play a SIXpack 2 SQPack macro file from the host (checked whole first; frames the family wants confirmed are asked about once; stops every axis if it fails or is cancelled unless told not to)",
     ),
     (
-        ":record [FILE | off]",
-        "record each line sent and its answer as an `axterm run` file (reads as :expect, waits as :wait-until)",
+        ":record [[--force] FILE | off]",
+        "record each line sent and its answer as an `axterm run` file (reads as :expect, waits as :wait-until; an existing FILE only with --force)",
     ),
     (
-        ":record-macro FILE | off",
-        "record every line sent from here as a macro file of the module's program language (SIXpack 2: SendToPack lines, §5.4.6), until off",
+        ":record-macro [--force] FILE | off",
+        "record every line sent from here as a macro file of the module's program language (SIXpack 2: SendToPack lines, §5.4.6), until off; an existing FILE only with --force",
     ),
     (
         ":expect LINE == VALUE",
@@ -477,13 +477,17 @@ impl CommandPane {
                     }
                 }
             }
-            "log" => match rest {
+            "log" => match crate::files::force_option(rest) {
                 // tio's habit: a name of the time, in the current directory.
-                "" => Request::Log(Some(PathBuf::from(
-                    crate::wall_clock::CivilTime::of(std::time::SystemTime::now()).log_file_name(),
+                (existing, "") => Request::Log(Some((
+                    PathBuf::from(
+                        crate::wall_clock::CivilTime::of(std::time::SystemTime::now())
+                            .log_file_name(),
+                    ),
+                    existing,
                 ))),
-                "off" => Request::Log(None),
-                file => Request::Log(Some(PathBuf::from(file))),
+                (_, "off") => Request::Log(None),
+                (existing, file) => Request::Log(Some((PathBuf::from(file), existing))),
             },
             "theme" if !rest.is_empty() => Request::Theme(rest.to_string()),
             "keymap" if !rest.is_empty() => Request::Keymap(rest.to_string()),

@@ -274,8 +274,9 @@ pub enum Request {
     SetAddress(u8),
     /// Forget the latched error flags of this axis that the user has seen.
     ClearErrors(usize),
-    /// Log every frame to this file (`None`: stop logging).
-    Log(Option<PathBuf>),
+    /// Log every frame to this file, replacing one there only with
+    /// `--force` (`None`: stop logging).
+    Log(Option<(PathBuf, crate::files::Existing)>),
     /// Switch colours.
     Theme(String),
     /// Switch key bindings.

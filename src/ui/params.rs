@@ -33,6 +33,7 @@ use super::keymap::{Action, Context};
 use super::pane::{Input, Outcome, Pane, PaneEvent, Region, Request, Snapshot, View, key_label};
 use super::text::fit;
 use super::theme::Role;
+use crate::files::Existing;
 use crate::protocol::parameter_file::{self, Exported, ParamFile};
 use crate::protocol::parameters::{ParamOp, ParamRow, ParamTable, ParameterSet, Scope, SpeedUnit};
 use crate::protocol::settings::SettingsCache;
@@ -164,7 +165,7 @@ pub struct ParamsPane {
     message: Option<(Role, String)>,
     unit: SpeedUnit,
     /// Where to write an export once its reads are done.
-    export: Option<PathBuf>,
+    export: Option<(PathBuf, Existing)>,
     comparing: Option<Comparing>,
     /// The path last used, offered next time.
     last_file: String,
@@ -426,8 +427,8 @@ impl ParamsPane {
     /// Everything asked for was answered: write a waiting export, show a
     /// waiting comparison.
     fn finish(&mut self, view: &View) -> Outcome {
-        if let Some(path) = self.export.take() {
-            self.write_export(&path, view);
+        if let Some((path, existing)) = self.export.take() {
+            self.write_export(&path, existing, view);
         }
         if let Some(comparing) = self.comparing.take() {
             self.show_diff(comparing);
@@ -558,15 +559,21 @@ impl ParamsPane {
         parameter_file::setting_rows(parameters, &axes)
     }
 
-    fn start_export(&mut self, path: PathBuf, view: &View) -> Outcome {
+    fn start_export(&mut self, path: PathBuf, existing: Existing, view: &View) -> Outcome {
         let (Some(session), Some(parameters)) = (view.session, Self::parameters(view)) else {
             return self.no_parameters(view);
         };
+        // A file that cannot be written is known before the module is
+        // asked (an existing one needs `--force` before its name).
+        if let Err(e) = crate::files::check_destination(&path, existing) {
+            self.set_message(Role::Error, format!("cannot write {}: {e}", path.display()));
+            return Outcome::redraw();
+        }
         let rows = Self::setting_rows(session, parameters);
         // Fresh values: what was read earlier may have been changed since
         // by a typed command or a program.
         self.queue_reads(parameters, &rows);
-        self.export = Some(path.clone());
+        self.export = Some((path.clone(), existing));
         self.set_message(
             Role::Accent,
             format!(
@@ -578,7 +585,7 @@ impl ParamsPane {
         self.pump(view)
     }
 
-    fn write_export(&mut self, path: &std::path::Path, view: &View) {
+    fn write_export(&mut self, path: &std::path::Path, existing: Existing, view: &View) {
         let (Some(session), Some(parameters)) = (view.session, Self::parameters(view)) else {
             return;
         };
@@ -605,7 +612,7 @@ impl ParamsPane {
             header.push(format!("firmware {identity}"));
         }
         let text = parameter_file::render(session.family.name, &header, &exported);
-        match crate::files::write_atomically(path, text.as_bytes()) {
+        match crate::files::save(path, text.as_bytes(), existing) {
             Ok(()) if failed == 0 => self.set_message(
                 Role::Ok,
                 format!(
@@ -929,15 +936,16 @@ impl ParamsPane {
             (Mode::Edit { row, field }, Some(Action::Submit)) => self.edit_submit(row, field, view),
             (Mode::File { purpose, field }, Some(Action::Submit)) => {
                 let text = field.text().trim().to_string();
-                if text.is_empty() {
+                let (existing, name) = crate::files::force_option(&text);
+                if name.is_empty() {
                     self.mode = Mode::File { purpose, field };
                     self.set_message(Role::Error, "no file name given");
                     return Outcome::redraw();
                 }
-                self.last_file = text.clone();
-                let path = PathBuf::from(text);
+                self.last_file = name.to_string();
+                let path = PathBuf::from(name);
                 match purpose {
-                    FileUse::Export => self.start_export(path, view),
+                    FileUse::Export => self.start_export(path, existing, view),
                     FileUse::Import => self.start_compare(path, true, view),
                     FileUse::Compare => self.start_compare(path, false, view),
                 }

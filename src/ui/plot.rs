@@ -521,8 +521,7 @@ impl PlotPane {
         let (verb, rest) = args
             .split_once(char::is_whitespace)
             .map_or((args, ""), |(v, r)| (v, r.trim()));
-        const USAGE: &str =
-            ":plot add AXIS VALUE, :plot remove AXIS VALUE, :plot clear or :plot csv FILE";
+        const USAGE: &str = ":plot add AXIS VALUE, :plot remove AXIS VALUE, :plot clear or :plot csv [--force] FILE";
         match verb {
             "add" | "remove" => {
                 let session = view.session.ok_or("not connected: nothing to plot")?;
@@ -539,10 +538,11 @@ impl PlotPane {
                 self.picked = true;
                 Ok(("plot cleared".into(), requests))
             }
-            "csv" if !rest.is_empty() => {
+            "csv" if !crate::files::force_option(rest).1.is_empty() => {
+                let (existing, rest) = crate::files::force_option(rest);
                 let text = self.csv();
                 let rows = text.lines().count().saturating_sub(1);
-                crate::files::write_atomically(rest, text.as_bytes())
+                crate::files::save(rest, text.as_bytes(), existing)
                     .map_err(|e| format!("cannot write {rest}: {e}"))?;
                 Ok((
                     format!(

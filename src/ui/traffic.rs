@@ -297,7 +297,8 @@ impl TrafficPane {
     }
 
     /// The shown frames as a text file.
-    fn save(&mut self, path: PathBuf) {
+    /// An existing file is replaced only with `--force` before its name.
+    fn save(&mut self, path: PathBuf, existing: crate::files::Existing) {
         let mut text = String::new();
         let _ = writeln!(
             text,
@@ -308,27 +309,26 @@ impl TrafficPane {
             let _ = writeln!(text, "{}", self.line_text(entry));
             count += 1;
         }
-        self.message = Some(
-            match crate::files::write_atomically(&path, text.as_bytes()) {
-                Ok(()) => (
-                    Role::Ok,
-                    format!("saved {count} frame(s) to {}", path.display()),
-                ),
-                Err(e) => (Role::Error, format!("cannot write {}: {e}", path.display())),
-            },
-        );
+        self.message = Some(match crate::files::save(&path, text.as_bytes(), existing) {
+            Ok(()) => (
+                Role::Ok,
+                format!("saved {count} frame(s) to {}", path.display()),
+            ),
+            Err(e) => (Role::Error, format!("cannot write {}: {e}", path.display())),
+        });
     }
 
     fn save_key(&mut self, mut field: Field, key: &KeyEvent, view: &View) -> Outcome {
         match view.keymap.action_for(Context::Command, key) {
             Some(Action::Cancel) => {}
             Some(Action::Submit) => {
-                let name = field.text().trim().to_string();
+                let text = field.text().trim().to_string();
+                let (existing, name) = crate::files::force_option(&text);
                 if name.is_empty() {
                     self.message = Some((Role::Error, "no file name given".into()));
                     self.saving = Some(field);
                 } else {
-                    self.save(PathBuf::from(name));
+                    self.save(PathBuf::from(name), existing);
                 }
             }
             _ => {

@@ -172,6 +172,14 @@ pub fn start_playback(name: &str, checked: &MacroCheck) -> Result<HostStart, Vec
     if !errors.is_empty() {
         return Err(errors);
     }
+    // An empty playback would end "0 frames sent" as if it had done
+    // something: refused as every empty run file is.
+    if checked.frames.is_empty() {
+        return Err(vec![format!(
+            "{name}: no SendToPack line: nothing to play (the file is empty, or holds only \
+             comments and blank lines)"
+        )]);
+    }
     let confirm = checked
         .frames
         .iter()

@@ -840,7 +840,7 @@ impl Runner {
                 if let Some(log) = self.log.take() {
                     log.stop();
                 }
-                let Some(path) = path else {
+                let Some((path, existing)) = path else {
                     return;
                 };
                 if self.selected(app).is_none() {
@@ -854,7 +854,7 @@ impl Runner {
                         links.push(c);
                     }
                 }
-                match TrafficLog::start(&path, &links, &self.internal) {
+                match TrafficLog::start(&path, existing, &links, &self.internal) {
                     Ok(log) => {
                         self.log = Some(log);
                         queue.push(AppEvent::Notice(Notice::info(format!(

@@ -39,6 +39,7 @@ impl TrafficLog {
     /// link when there are several; the writer reports when it ends.
     pub(super) fn start(
         path: &Path,
+        existing: crate::files::Existing,
         links: &[&Connection],
         internal: &mpsc::UnboundedSender<AppEvent>,
     ) -> Result<TrafficLog, String> {
@@ -52,10 +53,7 @@ impl TrafficLog {
         if streams.is_empty() {
             return Err("this connection has no traffic to log".into());
         }
-        let file = std::fs::OpenOptions::new()
-            .create(true)
-            .append(true)
-            .open(path)
+        let file = crate::files::open_growing(path, existing)
             .map_err(|e| format!("cannot log to {}: {e}", path.display()))?;
         let (stop, stopped) = watch::channel(false);
         let (to_writer, logged) = std_mpsc::channel();

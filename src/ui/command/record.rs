@@ -24,7 +24,7 @@ impl CommandPane {
     /// or from a batch, once sent) as the connected family's program tool
     /// writes it, into FILE, rewritten after each line so that nothing
     /// recorded is lost; `off` ends it. An existing file is not
-    /// overwritten.
+    /// overwritten unless `--force` comes before its name.
     pub(super) fn record_command(&mut self, rest: &str, view: &View) -> Outcome {
         if rest.eq_ignore_ascii_case("off") {
             return match self.recording.take() {
@@ -42,6 +42,7 @@ impl CommandPane {
                 None => self.fail("nothing is being recorded"),
             };
         }
+        let (existing, rest) = crate::files::force_option(rest);
         if rest.is_empty() {
             return self.fail(":record-macro needs a file name (or off)");
         }
@@ -62,13 +63,7 @@ impl CommandPane {
             ));
         };
         let path = PathBuf::from(rest);
-        if path.exists() {
-            return self.fail(format!(
-                "{} exists: give a new file name (nothing is overwritten)",
-                path.display()
-            ));
-        }
-        if let Err(e) = crate::files::write_atomically(&path, b"") {
+        if let Err(e) = crate::files::start_growing(&path, b"", existing) {
             return self.fail(format!("cannot write {}: {e}", path.display()));
         }
         if let Some(before) = self.recording.take() {
@@ -189,6 +184,10 @@ impl CommandPane {
         let Some(session) = view.session else {
             return self.fail(not_connected());
         };
+        let (existing, rest) = crate::files::force_option(rest);
+        if rest.is_empty() {
+            return self.fail(":record needs a file name (or off)");
+        }
         let path = PathBuf::from(rest);
         let header = RecordingHeader {
             family: session.family.name.to_string(),
@@ -198,15 +197,8 @@ impl CommandPane {
             firmware: session.identity.clone(),
             started: CivilTime::of(std::time::SystemTime::now()).date_time(),
         };
-        if let Err(e) = crate::files::create_new(&path, header.text().as_bytes()) {
-            return self.fail(if e.kind() == std::io::ErrorKind::AlreadyExists {
-                format!(
-                    "{} exists: give a new file name (nothing is overwritten)",
-                    path.display()
-                )
-            } else {
-                format!("cannot write {}: {e}", path.display())
-            });
+        if let Err(e) = crate::files::start_growing(&path, header.text().as_bytes(), existing) {
+            return self.fail(format!("cannot write {}: {e}", path.display()));
         }
         if let Some(before) = self.session_recording.take() {
             self.say(

@@ -256,6 +256,14 @@ impl EditorPane {
             }
             return Outcome::redraw();
         }
+        // As an empty download is refused: loaded, it would read as a
+        // program in the simulator.
+        if self.checked.program.as_ref().is_some_and(|p| p.size() == 0) {
+            self.message = Some(Notice::error(
+                "nothing loaded: the text holds no program (it is empty, or only blank lines)",
+            ));
+            return Outcome::redraw();
+        }
         self.message = Some(Notice::info("loading the text into the simulator…"));
         Outcome::request(Request::LoadProgram {
             source: self.text(),
