@@ -1,5 +1,5 @@
 //! How `axterm run` and `axterm run-ascript` end a run: the run's work
-//! goes until it ends or Ctrl-C (SIGINT) comes, then the session decides
+//! goes until it ends or Ctrl-C (SIGINT), SIGTERM or SIGHUP comes, then the session decides
 //! what becomes of the axes ([`Session::end_run`]: the stop sequence after
 //! a run that failed or was cancelled, unless `--no-stop-on-failure`) and
 //! its report is printed on standard error. A second Ctrl-C while the
@@ -14,12 +14,33 @@ use super::{EXIT_DEVICE, EXIT_OK};
 use crate::session::Session;
 use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
 
-/// Ctrl-C (SIGINT), watched from when it is made: the default action
-/// (the process ends at once) is replaced, so the run can be ended
-/// properly.
+/// Ctrl-C (SIGINT), SIGTERM (a service manager, `kill`) and SIGHUP (the
+/// SSH session or terminal dropped), watched from when it is made: the
+/// default action of each (the process ends at once, the axes going on as
+/// they were told) is replaced, so the run can be ended properly. All
+/// three end a run the same way: as cancelled, with the stop sequence.
 pub struct Interrupt {
     #[cfg(unix)]
-    signal: tokio::signal::unix::Signal,
+    signals: [(Signal, tokio::signal::unix::Signal); 3],
+}
+
+/// Which signal ended a run, for its report.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Signal {
+    Interrupt,
+    Terminate,
+    HangUp,
+}
+
+impl Signal {
+    /// How the report names it: `Ctrl-C`, `SIGTERM`, `SIGHUP`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Signal::Interrupt => "Ctrl-C",
+            Signal::Terminate => "SIGTERM",
+            Signal::HangUp => "SIGHUP",
+        }
+    }
 }
 
 impl Interrupt {
@@ -28,7 +49,11 @@ impl Interrupt {
         {
             use tokio::signal::unix::{SignalKind, signal};
             Ok(Interrupt {
-                signal: signal(SignalKind::interrupt())?,
+                signals: [
+                    (Signal::Interrupt, signal(SignalKind::interrupt())?),
+                    (Signal::Terminate, signal(SignalKind::terminate())?),
+                    (Signal::HangUp, signal(SignalKind::hangup())?),
+                ],
             })
         }
         #[cfg(not(unix))]
@@ -37,15 +62,21 @@ impl Interrupt {
         }
     }
 
-    /// The next Ctrl-C.
-    pub async fn received(&mut self) {
+    /// The next Ctrl-C, SIGTERM or SIGHUP: which one came.
+    pub async fn received(&mut self) -> Signal {
         #[cfg(unix)]
         {
-            self.signal.recv().await;
+            let [(a, first), (b, second), (c, third)] = &mut self.signals;
+            tokio::select! {
+                _ = first.recv() => *a,
+                _ = second.recv() => *b,
+                _ = third.recv() => *c,
+            }
         }
         #[cfg(not(unix))]
         {
             let _ = tokio::signal::ctrl_c().await;
+            Signal::Interrupt
         }
     }
 }
@@ -88,10 +119,10 @@ pub async fn run_then_end_on(
 ) -> RunEnding {
     let ending = tokio::select! {
         ok = work => RunEnding::from_success(ok),
-        () = interrupt.received() => {
+        signal = interrupt.received() => {
             // The work is dropped here: its line in flight is answered,
             // nothing more of it is sent.
-            eprintln!("{}stopped by Ctrl-C", report.prefix);
+            eprintln!("{}stopped by {}", report.prefix, signal.name());
             RunEnding::Cancelled
         }
     };
@@ -100,10 +131,11 @@ pub async fn run_then_end_on(
     }
     let aftermath = tokio::select! {
         aftermath = session.end_run(ending, policy) => aftermath,
-        () = interrupt.received() => {
+        signal = interrupt.received() => {
             eprintln!(
-                "{}Ctrl-C again: gave up sending the stop; the axes may still move",
-                report.prefix
+                "{}{} again: gave up sending the stop; the axes may still move",
+                report.prefix,
+                signal.name()
             );
             return RunEnding::Cancelled;
         }

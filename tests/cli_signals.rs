@@ -1,0 +1,138 @@
+//! A run ended from outside: SIGTERM (a service manager, `kill`) and
+//! SIGHUP (the SSH session dropped) end `axterm run` as Ctrl-C does, with
+//! the family's stop sequence, in every family. Each family's simulator is
+//! served on a real pseudo-terminal (`axterm sim KIND --pty`); the run
+//! starts an axis moving and says so, the signal comes then, and the axis
+//! is read back at rest by a second run. Synchronised on output and on the
+//! axis's state, never on time.
+
+mod cli_support;
+mod served_support;
+
+use std::io::{BufRead, BufReader, Read};
+use std::process::{Command, Stdio};
+
+use axterm::protocol::FAMILIES;
+use cli_support::{axterm_stdin, stderr};
+use served_support::Served;
+
+/// For each family: a line that starts an axis moving until told to stop,
+/// and a `:wait-until` that holds once that axis is at rest.
+const MOTIONS: &[(&str, &str, &str)] = &[
+    (
+        "tmcl",
+        "ROR 0, 500",
+        ":wait-until GAP 3, 0 == 0 timeout 10s",
+    ),
+    (
+        "sixpack2",
+        "ConstantRotation 0 100",
+        ":wait-until GetVelocityAndActivity 0 == vact=0 action=inactive timeout 10s",
+    ),
+    ("cmd4cr", "JX+", ":wait-until PSX == 0 timeout 10s"),
+    (
+        "mccl",
+        "1MN,1VM,1DI0,1GO",
+        ":wait-until 1TV == 0 timeout 10s",
+    ),
+];
+
+/// The run of `file` on `served` ended by `signal` once it says `moving`:
+/// its exit code and standard error.
+fn run_until_signal(
+    served: &Served,
+    family: &str,
+    file: &str,
+    signal: i32,
+) -> (Option<i32>, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_axterm"))
+        .args([
+            "run",
+            "--port",
+            &served.pty,
+            "--protocol",
+            family,
+            "--yes",
+            file,
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start axterm run");
+    let mut lines = BufReader::new(child.stdout.take().expect("stdout")).lines();
+    // The axis moves and the run sleeps.
+    loop {
+        let line = lines
+            .next()
+            .expect("the run ended before it said `moving`")
+            .expect("text");
+        if line == "moving" {
+            break;
+        }
+    }
+    let pid = libc::pid_t::try_from(child.id()).expect("pid");
+    // SAFETY: a signal to our own child process; nothing is shared.
+    unsafe {
+        libc::kill(pid, signal);
+    }
+    let status = child.wait().expect("wait");
+    let mut err = String::new();
+    child
+        .stderr
+        .take()
+        .expect("stderr")
+        .read_to_string(&mut err)
+        .expect("stderr text");
+    (status.code(), err)
+}
+
+fn a_signal_ends_the_run_with_the_stop_sequence_in_every_family(signal: i32, name: &str) {
+    let dir = tempfile::tempdir().expect("temp dir");
+    for family in FAMILIES {
+        let Some(&(_, start, at_rest)) = MOTIONS.iter().find(|(f, _, _)| *f == family.name) else {
+            panic!("no motion for the {} family in this test", family.name);
+        };
+        let kind = family.simulators.first().expect("a simulator").name;
+        let served = Served::start(kind, &[]);
+        let file = dir.path().join(format!("{}.txt", family.name));
+        std::fs::write(&file, format!("{start}\n:echo moving\n:sleep 10m\n")).expect("write");
+        let file = file.to_string_lossy().into_owned();
+        let (code, err) = run_until_signal(&served, family.name, &file, signal);
+        assert_eq!(code, Some(1), "{}: {err}", family.name);
+        assert!(
+            err.contains(&format!("axterm run: {file}: stopped by {name}\n"))
+                && err.contains("the run was cancelled: stopping every axis:"),
+            "{}: {err}",
+            family.name
+        );
+        let check = axterm_stdin(
+            &[
+                "run",
+                "--port",
+                &served.pty,
+                "--protocol",
+                family.name,
+                "--no-stop-on-failure",
+                "-",
+            ],
+            &format!("{at_rest}\n"),
+        );
+        assert_eq!(
+            check.status.code(),
+            Some(0),
+            "{}: the axis still moves after {name}: {}",
+            family.name,
+            stderr(&check)
+        );
+    }
+}
+
+#[test]
+fn sigterm_ends_a_run_with_the_stop_sequence_in_every_family() {
+    a_signal_ends_the_run_with_the_stop_sequence_in_every_family(libc::SIGTERM, "SIGTERM");
+}
+
+#[test]
+fn sighup_ends_a_run_with_the_stop_sequence_in_every_family() {
+    a_signal_ends_the_run_with_the_stop_sequence_in_every_family(libc::SIGHUP, "SIGHUP");
+}
