@@ -15,7 +15,7 @@ use axterm::session::{ReplyValue, Session, SessionOptions};
 use axterm::ui::app::Controller;
 use axterm::ui::live::SessionController;
 use ratatui::crossterm::event::KeyCode;
-use ui_support::looped::{Rig, enter, press, run_command_console};
+use ui_support::looped::{Rig, enter, no_connector, press, run_command_console, run_console_on};
 
 async fn session(kind: &str) -> Session {
     let target = Target::resolve(&ConnectionArgs {
@@ -158,4 +158,78 @@ async fn esc_ends_a_host_run_with_the_emergency_stop_and_the_axis_stands() {
         assert_eq!(number(&session, "MSTX").await & 0b111, 0);
     })
     .await;
+}
+
+/// For each family: a line that starts an axis moving until told to stop,
+/// a line that reads that axis's speed, and what it reads at rest.
+const MOTIONS: &[(&str, &str, &str, &str)] = &[
+    ("tmcl", "ROR 0, 500", "GAP 3, 0", "0"),
+    (
+        "sixpack2",
+        "ConstantRotation 0 100",
+        "GetVelocityAndActivity 0",
+        "vact=0 action=inactive",
+    ),
+    ("cmd4cr", "JX+", "PSX", "0"),
+    ("mccl", "1MN,1VM,1DI0,1GO", "1TV", "0"),
+];
+
+/// Read `line` every 20 ms of virtual time until `ready` says yes to what
+/// it printed; false if it never did in 500 reads.
+async fn reads_until(session: &Session, line: &str, ready: impl Fn(&str) -> bool) -> bool {
+    for _ in 0..500 {
+        match session.execute_line(line).await {
+            Ok(result) if ready(&result.value.to_string()) => return true,
+            Ok(_) => {}
+            Err(e) => panic!("{line}: {e}"),
+        }
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    false
+}
+
+/// SIGTERM, SIGHUP or SIGINT from outside (`AppEvent::Terminate`) ends the
+/// console as Ctrl-C ends `axterm run`: every axis stopped before it lets
+/// go, in every family.
+#[tokio::test(start_paused = true)]
+async fn a_console_ended_from_outside_stops_every_axis_in_every_family() {
+    use axterm::protocol::FAMILIES;
+    use axterm::script::result_matches;
+    use axterm::ui::app::AppEvent;
+    for family in FAMILIES {
+        let Some(&(_, start, speed, at_rest)) = MOTIONS.iter().find(|m| m.0 == family.name) else {
+            panic!("no motion for the {} family in this test", family.name);
+        };
+        let kind = family.simulators.first().expect("a simulator").name;
+        let session = session(kind).await;
+        let controller: Arc<dyn Controller> = Arc::new(SessionController::new(
+            session.clone(),
+            "sim".into(),
+            SessionOptions::default(),
+        ));
+        let mut app = ui_support::console_with(&axterm::ui::PaneSetup::default());
+        app.focus("command");
+        // Ended only by the signal: no F10 after the driver.
+        run_console_on(
+            app,
+            (120, 40),
+            Some(controller),
+            no_connector(),
+            async |rig: Rig| {
+                enter(&rig, start);
+                assert!(
+                    reads_until(&session, speed, |v| !result_matches(v, at_rest)).await,
+                    "{}: {start} did not start the axis",
+                    family.name
+                );
+                let _ = rig.extra.send(AppEvent::Terminate);
+            },
+        )
+        .await;
+        assert!(
+            reads_until(&session, speed, |v| result_matches(v, at_rest)).await,
+            "{}: the axis still moves after the console ended",
+            family.name
+        );
+    }
 }
