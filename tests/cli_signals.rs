@@ -7,6 +7,7 @@
 //! axis's state, never on time.
 
 mod cli_support;
+mod motion_support;
 mod served_support;
 
 use std::io::{BufRead, BufReader, Read};
@@ -14,28 +15,8 @@ use std::process::{Command, Stdio};
 
 use axterm::protocol::FAMILIES;
 use cli_support::{axterm_stdin, stderr};
+use motion_support::motion_of;
 use served_support::Served;
-
-/// For each family: a line that starts an axis moving until told to stop,
-/// and a `:wait-until` that holds once that axis is at rest.
-const MOTIONS: &[(&str, &str, &str)] = &[
-    (
-        "tmcl",
-        "ROR 0, 500",
-        ":wait-until GAP 3, 0 == 0 timeout 10s",
-    ),
-    (
-        "sixpack2",
-        "ConstantRotation 0 100",
-        ":wait-until GetVelocityAndActivity 0 == vact=0 action=inactive timeout 10s",
-    ),
-    ("cmd4cr", "JX+", ":wait-until PSX == 0 timeout 10s"),
-    (
-        "mccl",
-        "1MN,1VM,1DI0,1GO",
-        ":wait-until 1TV == 0 timeout 10s",
-    ),
-];
 
 /// The run of `file` on `served` ended by `signal` once it says `moving`:
 /// its exit code and standard error.
@@ -89,13 +70,15 @@ fn run_until_signal(
 fn a_signal_ends_the_run_with_the_stop_sequence_in_every_family(signal: i32, name: &str) {
     let dir = tempfile::tempdir().expect("temp dir");
     for family in FAMILIES {
-        let Some(&(_, start, at_rest)) = MOTIONS.iter().find(|(f, _, _)| *f == family.name) else {
-            panic!("no motion for the {} family in this test", family.name);
-        };
+        let motion = motion_of(family);
         let kind = family.simulators.first().expect("a simulator").name;
         let served = Served::start(kind, &[]);
         let file = dir.path().join(format!("{}.txt", family.name));
-        std::fs::write(&file, format!("{start}\n:echo moving\n:sleep 10m\n")).expect("write");
+        std::fs::write(
+            &file,
+            format!("{}\n:echo moving\n:sleep 10m\n", motion.start),
+        )
+        .expect("write");
         let file = file.to_string_lossy().into_owned();
         let (code, err) = run_until_signal(&served, family.name, &file, signal);
         assert_eq!(code, Some(1), "{}: {err}", family.name);
@@ -115,7 +98,7 @@ fn a_signal_ends_the_run_with_the_stop_sequence_in_every_family(signal: i32, nam
                 "--no-stop-on-failure",
                 "-",
             ],
-            &format!("{at_rest}\n"),
+            &format!("{}\n", motion.wait_at_rest()),
         );
         assert_eq!(
             check.status.code(),

@@ -4,6 +4,7 @@
 //! line shown with its answer, and the axis comes to rest short of its
 //! target.
 
+mod motion_support;
 mod ui_support;
 
 use std::sync::Arc;
@@ -14,6 +15,7 @@ use axterm::cli::connection::Target;
 use axterm::session::{ReplyValue, Session, SessionOptions};
 use axterm::ui::app::Controller;
 use axterm::ui::live::SessionController;
+use motion_support::motion_of;
 use ratatui::crossterm::event::KeyCode;
 use ui_support::looped::{Rig, enter, no_connector, press, run_command_console, run_console_on};
 
@@ -160,20 +162,6 @@ async fn esc_ends_a_host_run_with_the_emergency_stop_and_the_axis_stands() {
     .await;
 }
 
-/// For each family: a line that starts an axis moving until told to stop,
-/// a line that reads that axis's speed, and what it reads at rest.
-const MOTIONS: &[(&str, &str, &str, &str)] = &[
-    ("tmcl", "ROR 0, 500", "GAP 3, 0", "0"),
-    (
-        "sixpack2",
-        "ConstantRotation 0 100",
-        "GetVelocityAndActivity 0",
-        "vact=0 action=inactive",
-    ),
-    ("cmd4cr", "JX+", "PSX", "0"),
-    ("mccl", "1MN,1VM,1DI0,1GO", "1TV", "0"),
-];
-
 /// Read `line` every 20 ms of virtual time until `ready` says yes to what
 /// it printed; false if it never did in 500 reads.
 async fn reads_until(session: &Session, line: &str, ready: impl Fn(&str) -> bool) -> bool {
@@ -197,9 +185,8 @@ async fn a_console_ended_from_outside_stops_every_axis_in_every_family() {
     use axterm::script::result_matches;
     use axterm::ui::app::AppEvent;
     for family in FAMILIES {
-        let Some(&(_, start, speed, at_rest)) = MOTIONS.iter().find(|m| m.0 == family.name) else {
-            panic!("no motion for the {} family in this test", family.name);
-        };
+        let motion = motion_of(family);
+        let (start, speed, at_rest) = (motion.start, motion.speed, motion.at_rest);
         let kind = family.simulators.first().expect("a simulator").name;
         let session = session(kind).await;
         let controller: Arc<dyn Controller> = Arc::new(SessionController::new(

@@ -600,6 +600,31 @@ impl Session {
         results
     }
 
+    /// Read every axis's fast-changing status once (the family's fast
+    /// status polls: position, speed, motion phase) and name the axes it
+    /// shows moving, for the end of a run that must not leave one so.
+    pub async fn moving_axes(&self) -> Result<Vec<&'static str>, SessionError> {
+        let polls = self.family.console.status_queries(self.address);
+        for poll in polls.iter().filter(|p| p.fast) {
+            self.send(
+                Priority::User,
+                &poll.line,
+                Retry::Read(self.read_retries),
+                None,
+            )
+            .await?;
+        }
+        let axes = self.axes();
+        Ok(self
+            .board
+            .borrow()
+            .iter()
+            .enumerate()
+            .filter(|(_, status)| status.motion() == AxisMotion::Moving)
+            .map(|(index, _)| axes.get(index).map_or("?", |a| a.name))
+            .collect())
+    }
+
     /// Read the module's identity (TMCL: the firmware version string) and
     /// keep it for [`Session::identity`].
     pub async fn identify(&self) -> Result<String, SessionError> {

@@ -114,7 +114,7 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
     ),
     (
         ":record [FILE | off]",
-        "record each line sent and its answer as an `axterm run` file (reads as :expect, waits as :wait-until)",
+        "record each line sent and its answer as an `axterm run` file (reads as :expect, waits as :wait-until, the emergency stop as the stop lines it sent)",
     ),
     (
         ":record-macro FILE | off",
@@ -134,6 +134,10 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
     ),
     (":sleep D", "wait (500ms, 2s, 1m)"),
     (":echo TEXT", "show TEXT"),
+    (
+        ":leave-moving",
+        "in a batch file: it means to leave an axis moving at its end (without it, `axterm run` stops an axis still moving at the end, exit 1)",
+    ),
     (":quit", "leave the console"),
 ];
 
@@ -1123,6 +1127,7 @@ impl Pane for CommandPane {
                 Outcome::redraw()
             }
             PaneEvent::EmergencyStop(results) => {
+                self.session_record_stop_lines(results);
                 for result in results {
                     match result {
                         Ok(r) => {
