@@ -119,3 +119,61 @@ fn sigterm_ends_a_run_with_the_stop_sequence_in_every_family() {
 fn sighup_ends_a_run_with_the_stop_sequence_in_every_family() {
     a_signal_ends_the_run_with_the_stop_sequence_in_every_family(libc::SIGHUP, "SIGHUP");
 }
+
+/// `axterm exec` ended by SIGTERM while a line runs long (MCCL `WA`, a
+/// wait the controller holds the line for) stops the axis its first line
+/// set moving, as a cancelled run does.
+#[test]
+fn sigterm_ends_exec_with_the_stop_sequence() {
+    let served = Served::start("mccl", &[]);
+    let mut child = Command::new(env!("CARGO_BIN_EXE_axterm"))
+        .args([
+            "exec",
+            "--port",
+            &served.pty,
+            "--protocol",
+            "mccl",
+            "--yes",
+            "1MN,1VM,1DI0,1GO",
+            "WA100",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start axterm exec");
+    let mut lines = BufReader::new(child.stdout.take().expect("stdout")).lines();
+    // The first line's answer: the axis moves, the wait holds the line.
+    let first = lines.next().expect("a line").expect("text");
+    assert_eq!(first, "ok");
+    let pid = libc::pid_t::try_from(child.id()).expect("pid");
+    // SAFETY: a signal to our own child process; nothing is shared.
+    unsafe {
+        libc::kill(pid, libc::SIGTERM);
+    }
+    let status = child.wait().expect("wait");
+    let mut err = String::new();
+    child
+        .stderr
+        .take()
+        .expect("stderr")
+        .read_to_string(&mut err)
+        .expect("stderr text");
+    assert_eq!(status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("axterm exec: stopped by SIGTERM\n") && err.contains("  0AB → ok\n"),
+        "{err}"
+    );
+    let check = axterm_stdin(
+        &[
+            "run",
+            "--port",
+            &served.pty,
+            "--protocol",
+            "mccl",
+            "--no-stop-on-failure",
+            "-",
+        ],
+        ":wait-until 1TV == 0 timeout 10s\n",
+    );
+    assert_eq!(check.status.code(), Some(0), "{}", stderr(&check));
+}

@@ -234,6 +234,39 @@ pub async fn run_then_end_on(
     ending
 }
 
+/// `work` (one-shot lines, `axterm exec`: its exit code) to its end, or to
+/// a Ctrl-C, SIGTERM or SIGHUP: then nothing more of it is sent and the
+/// stop sequence goes out, as at the end of a cancelled run (exit 1). A
+/// line that fails does not stop the axes here: the lines were asked for
+/// one by one, and the exit code says which failed.
+pub async fn exit_or_stop_on_signal(
+    session: &Session,
+    mut interrupt: Interrupt,
+    report: &RunReport<'_>,
+    work: impl Future<Output = i32>,
+) -> i32 {
+    let signal = tokio::select! {
+        code = work => return code,
+        signal = interrupt.received() => signal,
+    };
+    // The work is dropped here: its line in flight is answered (or
+    // aborted by the stop), nothing more of it is sent.
+    eprintln!("{}stopped by {}", report.prefix, signal.name());
+    let aftermath = tokio::select! {
+        aftermath = session.end_run(RunEnding::Cancelled, StopOnFailure::Stop) => aftermath,
+        signal = interrupt.received() => {
+            eprintln!(
+                "{}{} again: gave up sending the stop; the axes may still move",
+                report.prefix,
+                signal.name()
+            );
+            return EXIT_DEVICE;
+        }
+    };
+    print_aftermath(session, report, &aftermath);
+    EXIT_DEVICE
+}
+
 fn print_aftermath(session: &Session, report: &RunReport<'_>, aftermath: &RunAftermath) {
     for line in aftermath.report() {
         if line.starts_with(' ') {
