@@ -1,5 +1,7 @@
 //! How `axterm run` and `axterm run-ascript` end a run: the run's work
-//! goes until it ends or Ctrl-C (SIGINT), SIGTERM or SIGHUP comes, then the session decides
+//! goes until it ends or Ctrl-C (SIGINT), SIGTERM or SIGHUP comes (each
+//! ends it alike), a run file that completed is checked for an axis it
+//! leaves moving ([`AtTheEnd`]), then the session decides
 //! what becomes of the axes ([`Session::end_run`]: the stop sequence after
 //! a run that failed or was cancelled, unless `--no-stop-on-failure`) and
 //! its report is printed on standard error. A second Ctrl-C while the
@@ -203,22 +205,20 @@ pub async fn run_then_end_on(
             RunEnding::Cancelled
         }
     };
+    // A run that completed may still leave an axis moving.
     let ending = match ending {
-        RunEnding::Completed => {
-            let checked = tokio::select! {
-                ending = completed_run_checked(session, report.at_the_end, report.prefix) => ending,
-                signal = interrupt.received() => {
-                    eprintln!("{}stopped by {}", report.prefix, signal.name());
-                    RunEnding::Cancelled
-                }
-            };
-            if checked == RunEnding::Completed {
-                return checked;
+        RunEnding::Completed => tokio::select! {
+            ending = completed_run_checked(session, report.at_the_end, report.prefix) => ending,
+            signal = interrupt.received() => {
+                eprintln!("{}stopped by {}", report.prefix, signal.name());
+                RunEnding::Cancelled
             }
-            checked
-        }
+        },
         other => other,
     };
+    if ending == RunEnding::Completed {
+        return ending;
+    }
     let aftermath = tokio::select! {
         aftermath = session.end_run(ending, policy) => aftermath,
         signal = interrupt.received() => {

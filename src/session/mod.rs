@@ -255,6 +255,11 @@ fn garbled(
     }
 }
 
+/// Between the two status reads of [`Session::moving_axes`]: a motion just
+/// started shows by then (a module may read speed 0 for its first
+/// moments, while it starts to accelerate).
+pub const MOTION_START_GRACE: Duration = Duration::from_millis(100);
+
 /// One connected controller. Cheap to clone; clones share everything.
 #[derive(Clone)]
 pub struct Session {
@@ -637,10 +642,31 @@ impl Session {
             .clone()
     }
 
-    /// Read every axis's fast-changing status once (the family's fast
-    /// status polls: position, speed, motion phase) and name the axes it
-    /// shows moving, for the end of a run that must not leave one so.
+    /// Read every axis's fast-changing status (the family's fast status
+    /// polls: position, speed, motion phase) twice, [`MOTION_START_GRACE`]
+    /// apart, and name the axes seen moving either time. Twice, because a module may still read speed 0 (and
+    /// standing) just after a motion was started; for the end of a run
+    /// that must not leave an axis moving.
     pub async fn moving_axes(&self) -> Result<Vec<&'static str>, SessionError> {
+        let first = self.read_fast_status().await?;
+        tokio::time::sleep(MOTION_START_GRACE).await;
+        let second = self.read_fast_status().await?;
+        let axes = self.axes();
+        Ok(first
+            .iter()
+            .zip(&second)
+            .enumerate()
+            // Not a position that changed: a servo holding its place
+            // dithers by a count or so.
+            .filter(|(_, (before, now))| {
+                before.motion() == AxisMotion::Moving || now.motion() == AxisMotion::Moving
+            })
+            .map(|(index, _)| axes.get(index).map_or("?", |a| a.name))
+            .collect())
+    }
+
+    /// Send the family's fast status polls once; the status they leave.
+    async fn read_fast_status(&self) -> Result<Vec<AxisStatus>, SessionError> {
         let polls = self.family.console.status_queries(self.address);
         for poll in polls.iter().filter(|p| p.fast) {
             self.send(
@@ -651,15 +677,7 @@ impl Session {
             )
             .await?;
         }
-        let axes = self.axes();
-        Ok(self
-            .board
-            .borrow()
-            .iter()
-            .enumerate()
-            .filter(|(_, status)| status.motion() == AxisMotion::Moving)
-            .map(|(index, _)| axes.get(index).map_or("?", |a| a.name))
-            .collect())
+        Ok(self.board.borrow().clone())
     }
 
     /// Read the module's identity (TMCL: the firmware version string) and
