@@ -25,7 +25,7 @@ use std::time::Duration;
 
 use crate::protocol::console::Effect;
 use crate::script::{Action, DEFAULT_WAIT_TIMEOUT, parse_script_line, result_matches};
-use crate::session::{AxisMotion, AxisStatus};
+use crate::session::{AxisMotion, AxisStatus, RestSign};
 
 /// What a recording's header says of the session.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -79,6 +79,10 @@ struct AxisWatch {
     started_at: Duration,
     /// How long after that the axis was first seen at rest.
     settled_after: Option<Duration>,
+    /// An emergency stop came since: where the axis comes to rest then
+    /// depends on timing, so its wait is on a sign of rest that does not
+    /// (its phase, its speed 0), never on its position.
+    stopped: bool,
 }
 
 type Baseline = (Option<i64>, Option<i64>);
@@ -192,6 +196,50 @@ impl RunRecorder {
         self.ready()
     }
 
+    /// The recording ends: the waits the technician made since the last
+    /// line (an axis that came to rest after it, an emergency stop
+    /// above all) are written too, so that a replay ends where the
+    /// recording did, no axis moving. Returns what can be written now.
+    pub fn finish(&mut self) -> String {
+        let mut text = self.ready();
+        text.push_str(&self.waits_made());
+        text
+    }
+
+    /// The emergency stop's lines and how each came out, `now` after the
+    /// recording began: written as the lines they are, as sent (they are
+    /// what happened, and a replay must stop the axes there too), each
+    /// after the waits made before it like any line that acts; a stop line
+    /// that failed or was never sent is a comment. Returns what can be
+    /// written now.
+    pub fn emergency_stop(&mut self, lines: &[(&str, LineOutcome)], now: Duration) -> String {
+        let mut text = self.forget_unanswered();
+        text.push_str(&self.waits_made());
+        text.push_str(if lines.is_empty() {
+            "# emergency stop here: no stop line was sent\n"
+        } else {
+            "# emergency stop here: the stop lines it sent\n"
+        });
+        for &(line, outcome) in lines {
+            let line = line.trim();
+            text.push_str(&match outcome {
+                LineOutcome::Answered(_) => {
+                    self.line_text(line, None, Some(Effect::Acts), outcome, now)
+                }
+                LineOutcome::Failed(why) => {
+                    comment(&format!("stop line failed, not replayed: {line}  ({why})"))
+                }
+                LineOutcome::NotSent(why) => {
+                    comment(&format!("stop line not sent: {line}  ({why})"))
+                }
+            });
+        }
+        for watch in &mut self.axes {
+            watch.stopped = true;
+        }
+        text
+    }
+
     /// The text of the pieces at the front that are complete.
     fn ready(&mut self) -> String {
         let mut text = String::new();
@@ -233,8 +281,19 @@ impl RunRecorder {
                 continue;
             }
             let took = watch.settled_after;
+            let stopped = watch.stopped;
             *watch = AxisWatch::default();
-            let Some(evidence) = axis.rest_evidence() else {
+            let evidence = if stopped {
+                axis.rest_evidence().and_then(|_| {
+                    axis.rest_reads
+                        .iter()
+                        .filter(|r| r.at_rest.is_some() && r.sign != RestSign::Position)
+                        .max_by_key(|r| r.sign)
+                })
+            } else {
+                axis.rest_evidence()
+            };
+            let Some(evidence) = evidence else {
                 continue;
             };
             let Some(value) = evidence.at_rest.as_deref() else {
@@ -359,7 +418,7 @@ mod tests {
     use super::*;
     use crate::protocol::console::MotionPhase;
     use crate::script::parse_script;
-    use crate::session::{RestRead, RestSign};
+    use crate::session::RestRead;
     use proptest::prelude::*;
 
     const S: fn(u64) -> Duration = Duration::from_secs;
@@ -600,6 +659,53 @@ mod tests {
             act(&mut r, "SAP 4, 0, 10", S(3)),
             ":wait-until GAP 8, 0 == 1 timeout 10s\n"
         );
+    }
+
+    #[test]
+    fn the_emergency_stop_is_written_as_the_stop_lines_it_sent() {
+        let mut r = RunRecorder::new();
+        r.observe(&[standing(0, 0, Some("1"))], S(0));
+        act(&mut r, "MVP REL, 0, 5000", S(1));
+        r.observe(&[moving(100, 5000)], S(2));
+        // A line waiting for its answer when the stop came is dropped.
+        assert_eq!(r.before_line(7, S(2)), "");
+        let written = r.emergency_stop(
+            &[
+                ("MST 0", LineOutcome::Answered("ok")),
+                ("STOPAPP", LineOutcome::Failed("no reply within 200 ms")),
+                ("MST 0", LineOutcome::NotSent("not connected")),
+            ],
+            S(3),
+        );
+        assert_eq!(
+            written,
+            "# emergency stop here: the stop lines it sent\n\
+             MST 0\n\
+             # stop line failed, not replayed: STOPAPP  (no reply within 200 ms)\n\
+             # stop line not sent: MST 0  (not connected)\n"
+        );
+        assert_eq!(r.counts(), (2, 0), "the move and the stop line");
+        // The axis comes to rest after the stop: the next line waits for
+        // it, as the end of the recording does.
+        let mut short = standing(2000, 5000, None);
+        // Where it came to rest depends on when the stop came: not waited on.
+        short.note_rest(RestRead {
+            line: "GAP 1, 0".into(),
+            sign: RestSign::Position,
+            at_rest: Some("2000".into()),
+        });
+        short.note_rest(RestRead {
+            line: "GAP 3, 0".into(),
+            sign: RestSign::Speed,
+            at_rest: Some("0".into()),
+        });
+        r.observe(&[short], S(4));
+        let mut ended = r.clone();
+        assert_eq!(
+            act(&mut r, "SAP 4, 0, 10", S(5)),
+            ":wait-until GAP 3, 0 == 0 timeout 10s\n"
+        );
+        assert_eq!(ended.finish(), ":wait-until GAP 3, 0 == 0 timeout 10s\n");
     }
 
     #[test]

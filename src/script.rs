@@ -10,7 +10,13 @@
 //! :wait-until GAP 8, 0 == 1 timeout 30s
 //! :sleep 500ms
 //! :echo homing done
+//! :leave-moving           the file means to leave an axis moving at its end
 //! ```
+//!
+//! A run that ends with an axis still moving says so and, unless the file
+//! says `:leave-moving` (anywhere in it), stops it as a failed run is
+//! stopped: a file that starts a motion and ends before the motion does
+//! (or a recording replayed) must not leave a motor running by mistake.
 //!
 //! This module knows only the syntax; the console lines themselves are
 //! checked by the protocol family before anything is sent.
@@ -51,6 +57,18 @@ pub enum Action {
     Sleep(Duration),
     /// Print the text.
     Echo(String),
+    /// The file means to leave an axis moving when it ends: the run is not
+    /// stopped for that ([`LEAVE_MOVING`]). Does nothing where it stands.
+    LeaveMoving,
+}
+
+/// The directive by which a file says it means to leave an axis moving at
+/// its end.
+pub const LEAVE_MOVING: &str = ":leave-moving";
+
+/// Whether `steps` say [`LEAVE_MOVING`].
+pub fn leaves_moving<'a>(mut steps: impl Iterator<Item = &'a Action>) -> bool {
+    steps.any(|action| *action == Action::LeaveMoving)
 }
 
 /// An action and the file line it came from (1-based).
@@ -91,7 +109,7 @@ pub fn check_script(
         let (line, must_only_read) = match &action {
             Action::Line(line) | Action::Expect { line, .. } => (Some(line), false),
             Action::WaitUntil { line, .. } => (Some(line), true),
-            Action::Sleep(_) | Action::Echo(_) => (None, false),
+            Action::Sleep(_) | Action::Echo(_) | Action::LeaveMoving => (None, false),
         };
         let prepared = match line.map(|l| family.console.prepare(l, address)) {
             None => None,
@@ -199,9 +217,12 @@ pub fn parse_script_line(raw: &str) -> Result<Option<Action>, String> {
             Action::Sleep(parse_duration(rest)?)
         }
         "echo" => Action::Echo(rest.to_string()),
+        "leave-moving" if rest.is_empty() => Action::LeaveMoving,
+        "leave-moving" => return Err(format!("{LEAVE_MOVING} takes nothing after it")),
         _ => {
             return Err(format!(
-                "unknown directive `:{name}` (known: :expect, :wait-until, :sleep, :echo)"
+                "unknown directive `:{name}` (known: :expect, :wait-until, :sleep, :echo, \
+                 {LEAVE_MOVING})"
             ));
         }
     };
@@ -368,6 +389,22 @@ mod tests {
             );
         }
         assert!(check_script("f.txt", ":echo hello\n", tmcl, 1).is_ok());
+    }
+
+    #[test]
+    fn leave_moving_is_a_directive_of_the_whole_file() {
+        assert_eq!(
+            parse_script_line(":leave-moving"),
+            Ok(Some(Action::LeaveMoving))
+        );
+        assert_eq!(
+            parse_script_line(":leave-moving now"),
+            Err(":leave-moving takes nothing after it".to_string())
+        );
+        let steps = parse_script("ROR 0, 500\n:leave-moving\n").expect("parses");
+        assert!(leaves_moving(steps.iter().map(|s| &s.action)));
+        let steps = parse_script("ROR 0, 500\n").expect("parses");
+        assert!(!leaves_moving(steps.iter().map(|s| &s.action)));
     }
 
     #[test]

@@ -290,9 +290,21 @@ fn run_refuses_a_file_with_a_line_to_confirm_unless_told_yes() {
     let out = axterm(&args);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     assert_eq!(stdout(&out), "sent\nsent\n");
+    let received = fake.received();
     assert_eq!(
-        fake.received(),
+        received.get(..2).unwrap_or_default(),
         ["00 15 00 10 27 00 00 10 04", "00 22 00 00 00 00 00 00 00"]
+    );
+    // Then the run reads the axes' status ($20) to stop one it would
+    // leave moving; this fake never answers, which the run says.
+    assert!(
+        received.iter().skip(2).all(|f| f.starts_with("00 20 ")),
+        "{received:?}"
+    );
+    assert!(
+        stderr(&out).contains("cannot tell whether an axis still moves at the end of the run"),
+        "{}",
+        stderr(&out)
     );
 }
 

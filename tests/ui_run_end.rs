@@ -4,6 +4,7 @@
 //! line shown with its answer, and the axis comes to rest short of its
 //! target.
 
+mod motion_support;
 mod ui_support;
 
 use std::sync::Arc;
@@ -14,8 +15,9 @@ use axterm::cli::connection::Target;
 use axterm::session::{ReplyValue, Session, SessionOptions};
 use axterm::ui::app::Controller;
 use axterm::ui::live::SessionController;
+use motion_support::motion_of;
 use ratatui::crossterm::event::KeyCode;
-use ui_support::looped::{Rig, enter, press, run_command_console};
+use ui_support::looped::{Rig, enter, no_connector, press, run_command_console, run_console_on};
 
 async fn session(kind: &str) -> Session {
     let target = Target::resolve(&ConnectionArgs {
@@ -158,4 +160,63 @@ async fn esc_ends_a_host_run_with_the_emergency_stop_and_the_axis_stands() {
         assert_eq!(number(&session, "MSTX").await & 0b111, 0);
     })
     .await;
+}
+
+/// Read `line` every 20 ms of virtual time until `ready` says yes to what
+/// it printed; false if it never did in 500 reads.
+async fn reads_until(session: &Session, line: &str, ready: impl Fn(&str) -> bool) -> bool {
+    for _ in 0..500 {
+        match session.execute_line(line).await {
+            Ok(result) if ready(&result.value.to_string()) => return true,
+            Ok(_) => {}
+            Err(e) => panic!("{line}: {e}"),
+        }
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    false
+}
+
+/// SIGTERM, SIGHUP or SIGINT from outside (`AppEvent::Terminate`) ends the
+/// console as Ctrl-C ends `axterm run`: every axis stopped before it lets
+/// go, in every family.
+#[tokio::test(start_paused = true)]
+async fn a_console_ended_from_outside_stops_every_axis_in_every_family() {
+    use axterm::protocol::FAMILIES;
+    use axterm::script::result_matches;
+    use axterm::ui::app::AppEvent;
+    for family in FAMILIES {
+        let motion = motion_of(family);
+        let (start, speed, at_rest) = (motion.start, motion.speed, motion.at_rest);
+        let kind = family.simulators.first().expect("a simulator").name;
+        let session = session(kind).await;
+        let controller: Arc<dyn Controller> = Arc::new(SessionController::new(
+            session.clone(),
+            "sim".into(),
+            SessionOptions::default(),
+        ));
+        let mut app = ui_support::console_with(&axterm::ui::PaneSetup::default());
+        app.focus("command");
+        // Ended only by the signal: no F10 after the driver.
+        run_console_on(
+            app,
+            (120, 40),
+            Some(controller),
+            no_connector(),
+            async |rig: Rig| {
+                enter(&rig, start);
+                assert!(
+                    reads_until(&session, speed, |v| !result_matches(v, at_rest)).await,
+                    "{}: {start} did not start the axis",
+                    family.name
+                );
+                let _ = rig.extra.send(AppEvent::Terminate);
+            },
+        )
+        .await;
+        assert!(
+            reads_until(&session, speed, |v| result_matches(v, at_rest)).await,
+            "{}: the axis still moves after the console ended",
+            family.name
+        );
+    }
 }

@@ -9,6 +9,7 @@ use super::confirm::{after_line, cautions};
 use super::connection::run_to_exit;
 use super::fleet::{self, FleetArgs, FleetLink, FleetModule, Identity, ModuleRow, Modules, Walk};
 use super::output::{Format, json_outcome, print_outcome};
+use super::run_end::{AtTheEnd, Interrupt, RunReport, exit_or_stop_on_signal};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::protocol::Family;
 use crate::protocol::console::PreparedLine;
@@ -104,15 +105,32 @@ pub fn run(connection: &ConnectionArgs, args: &ExecArgs) -> i32 {
                 return EXIT_CONNECTION;
             }
         };
-        for (index, (line, prepared)) in prepared.iter().enumerate() {
-            let outcome = session.execute(prepared).await;
-            let context = format!("axterm exec: line {}: ", index + 1);
-            print_outcome(format, target.family, line, &context, &outcome);
-            if outcome.is_err() {
+        // A Ctrl-C, SIGTERM or SIGHUP while the lines go (a line that runs
+        // long, MCCL `WA`) stops the axes before the process ends.
+        let interrupt = match Interrupt::watch() {
+            Ok(interrupt) => interrupt,
+            Err(e) => {
+                eprintln!("axterm exec: cannot watch for Ctrl-C: {e}");
                 return EXIT_DEVICE;
             }
-        }
-        EXIT_OK
+        };
+        let work = async {
+            for (index, (line, prepared)) in prepared.iter().enumerate() {
+                let outcome = session.execute(prepared).await;
+                let context = format!("axterm exec: line {}: ", index + 1);
+                print_outcome(format, target.family, line, &context, &outcome);
+                if outcome.is_err() {
+                    return EXIT_DEVICE;
+                }
+            }
+            EXIT_OK
+        };
+        let report = RunReport {
+            prefix: "axterm exec: ",
+            format,
+            at_the_end: AtTheEnd::Nothing,
+        };
+        exit_or_stop_on_signal(&session, interrupt, &report, work).await
     })
 }
 

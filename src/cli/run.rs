@@ -17,7 +17,7 @@ use super::confirm::{after_line, cautions};
 use super::connection::{Target, family_of, names_a_connection, run_to_exit};
 use super::fleet::{self, FleetArgs, FleetLink, FleetModule, Identity, ModuleRow, Modules, Walk};
 use super::output::{CheckOutcome, Format, json_check, print_outcome};
-use super::run_end::{Interrupt, RunReport, run_then_end, run_then_end_on};
+use super::run_end::{AtTheEnd, Interrupt, RunReport, run_then_end, run_then_end_on};
 use super::script::{Action, CheckedStep, WAIT_INTERVAL, check_script, result_matches};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::protocol::settings::SettingsCache;
@@ -199,6 +199,7 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
         let report = RunReport {
             prefix: &prefix,
             format,
+            at_the_end: AtTheEnd::of_script(&checked),
         };
         run_then_end(&session, interrupt, policy, &report, work).await
     })
@@ -402,6 +403,7 @@ impl FleetRun {
         let report = RunReport {
             prefix: &prefix,
             format: self.format,
+            at_the_end: AtTheEnd::of_script(&checked),
         };
         let ending = run_then_end_on(session, interrupt, self.policy, &report, work).await;
         row.written = done.load(Ordering::Relaxed);
@@ -507,6 +509,8 @@ impl Runner<'_> {
                 }
                 true
             }
+            // Said of the file as a whole (see `run_then_end_on`).
+            (Action::LeaveMoving, _) => true,
             // check_script prepares a line for every step that has one.
             (_, None) => {
                 eprintln!("{at}internal error: the line was not checked");

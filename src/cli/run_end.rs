@@ -1,5 +1,7 @@
 //! How `axterm run` and `axterm run-ascript` end a run: the run's work
-//! goes until it ends or Ctrl-C (SIGINT) comes, then the session decides
+//! goes until it ends or Ctrl-C (SIGINT), SIGTERM or SIGHUP comes (each
+//! ends it alike), a run file that completed is checked for an axis it
+//! leaves moving ([`AtTheEnd`]), then the session decides
 //! what becomes of the axes ([`Session::end_run`]: the stop sequence after
 //! a run that failed or was cancelled, unless `--no-stop-on-failure`) and
 //! its report is printed on standard error. A second Ctrl-C while the
@@ -11,15 +13,37 @@ use serde_json::Value;
 
 use super::output::{Format, json_outcome};
 use super::{EXIT_DEVICE, EXIT_OK};
+use crate::script::LEAVE_MOVING;
 use crate::session::Session;
 use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
 
-/// Ctrl-C (SIGINT), watched from when it is made: the default action
-/// (the process ends at once) is replaced, so the run can be ended
-/// properly.
+/// Ctrl-C (SIGINT), SIGTERM (a service manager, `kill`) and SIGHUP (the
+/// SSH session or terminal dropped), watched from when it is made: the
+/// default action of each (the process ends at once, the axes going on as
+/// they were told) is replaced, so the run can be ended properly. All
+/// three end a run the same way: as cancelled, with the stop sequence.
 pub struct Interrupt {
     #[cfg(unix)]
-    signal: tokio::signal::unix::Signal,
+    signals: [(Signal, tokio::signal::unix::Signal); 3],
+}
+
+/// Which signal ended a run, for its report.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Signal {
+    Interrupt,
+    Terminate,
+    HangUp,
+}
+
+impl Signal {
+    /// How the report names it: `Ctrl-C`, `SIGTERM`, `SIGHUP`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Signal::Interrupt => "Ctrl-C",
+            Signal::Terminate => "SIGTERM",
+            Signal::HangUp => "SIGHUP",
+        }
+    }
 }
 
 impl Interrupt {
@@ -28,7 +52,11 @@ impl Interrupt {
         {
             use tokio::signal::unix::{SignalKind, signal};
             Ok(Interrupt {
-                signal: signal(SignalKind::interrupt())?,
+                signals: [
+                    (Signal::Interrupt, signal(SignalKind::interrupt())?),
+                    (Signal::Terminate, signal(SignalKind::terminate())?),
+                    (Signal::HangUp, signal(SignalKind::hangup())?),
+                ],
             })
         }
         #[cfg(not(unix))]
@@ -37,15 +65,21 @@ impl Interrupt {
         }
     }
 
-    /// The next Ctrl-C.
-    pub async fn received(&mut self) {
+    /// The next Ctrl-C, SIGTERM or SIGHUP: which one came.
+    pub async fn received(&mut self) -> Signal {
         #[cfg(unix)]
         {
-            self.signal.recv().await;
+            let [(a, first), (b, second), (c, third)] = &mut self.signals;
+            tokio::select! {
+                _ = first.recv() => *a,
+                _ = second.recv() => *b,
+                _ = third.recv() => *c,
+            }
         }
         #[cfg(not(unix))]
         {
             let _ = tokio::signal::ctrl_c().await;
+            Signal::Interrupt
         }
     }
 }
@@ -58,6 +92,82 @@ pub struct RunReport<'a> {
     /// With [`Format::Json`] each stop line is also printed on standard
     /// output as the JSON object of its outcome, with `"stop": true`.
     pub format: Format,
+    /// What a run that completed checks of the axes.
+    pub at_the_end: AtTheEnd,
+}
+
+/// What a run that completed checks of the axes at its end.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AtTheEnd {
+    /// Nothing: the run moved nothing, or its language has no way to say
+    /// it means to leave an axis moving.
+    Nothing,
+    /// Whether an axis still moves: if one does, the run says so and ends
+    /// as a failed one (the stop sequence, unless `--no-stop-on-failure`).
+    StopIfMoving,
+    /// Whether an axis still moves: if one does, the run says so, and that
+    /// the file means it ([`crate::script::LEAVE_MOVING`]).
+    SayIfMoving,
+}
+
+impl AtTheEnd {
+    /// For a file of `steps`: whether it may move an axis (a line that
+    /// acts) and whether it says it means to leave one moving.
+    pub fn of_script(steps: &[crate::script::CheckedStep]) -> AtTheEnd {
+        use crate::protocol::console::Effect;
+        use crate::script::{Action, leaves_moving};
+        let acts = steps.iter().any(|s| {
+            matches!(s.step.action, Action::Line(_))
+                && s.line.as_ref().is_some_and(|l| l.effect == Effect::Acts)
+        });
+        if !acts {
+            AtTheEnd::Nothing
+        } else if leaves_moving(steps.iter().map(|s| &s.step.action)) {
+            AtTheEnd::SayIfMoving
+        } else {
+            AtTheEnd::StopIfMoving
+        }
+    }
+}
+
+/// A run that completed under `check`: whether it ends as completed, or as
+/// failed because it leaves an axis moving that the file did not mean to
+/// leave so (said on standard error either way). When the axes cannot be
+/// read, that is said and the run stays completed: nothing is known to
+/// move.
+async fn completed_run_checked(session: &Session, check: AtTheEnd, prefix: &str) -> RunEnding {
+    if check == AtTheEnd::Nothing {
+        return RunEnding::Completed;
+    }
+    let moving = match session.moving_axes().await {
+        Ok(moving) => moving,
+        Err(e) => {
+            eprintln!("{prefix}cannot tell whether an axis still moves at the end of the run: {e}");
+            return RunEnding::Completed;
+        }
+    };
+    if moving.is_empty() {
+        return RunEnding::Completed;
+    }
+    let axes = moving.join(", ");
+    let (noun, verb) = if moving.len() == 1 {
+        ("axis", "moves")
+    } else {
+        ("axes", "move")
+    };
+    if check == AtTheEnd::SayIfMoving {
+        eprintln!(
+            "{prefix}the run ended and {noun} {axes} still {verb}, as the file means it to \
+             ({LEAVE_MOVING})"
+        );
+        RunEnding::Completed
+    } else {
+        eprintln!(
+            "{prefix}the run ended and {noun} {axes} still {verb}; the file does not say \
+             {LEAVE_MOVING}, so the run ends as a failed one"
+        );
+        RunEnding::Failed
+    }
 }
 
 /// Run `work` (true when every step succeeded) to its end or to a Ctrl-C,
@@ -88,28 +198,73 @@ pub async fn run_then_end_on(
 ) -> RunEnding {
     let ending = tokio::select! {
         ok = work => RunEnding::from_success(ok),
-        () = interrupt.received() => {
+        signal = interrupt.received() => {
             // The work is dropped here: its line in flight is answered,
             // nothing more of it is sent.
-            eprintln!("{}stopped by Ctrl-C", report.prefix);
+            eprintln!("{}stopped by {}", report.prefix, signal.name());
             RunEnding::Cancelled
         }
+    };
+    // A run that completed may still leave an axis moving.
+    let ending = match ending {
+        RunEnding::Completed => tokio::select! {
+            ending = completed_run_checked(session, report.at_the_end, report.prefix) => ending,
+            signal = interrupt.received() => {
+                eprintln!("{}stopped by {}", report.prefix, signal.name());
+                RunEnding::Cancelled
+            }
+        },
+        other => other,
     };
     if ending == RunEnding::Completed {
         return ending;
     }
     let aftermath = tokio::select! {
         aftermath = session.end_run(ending, policy) => aftermath,
-        () = interrupt.received() => {
+        signal = interrupt.received() => {
             eprintln!(
-                "{}Ctrl-C again: gave up sending the stop; the axes may still move",
-                report.prefix
+                "{}{} again: gave up sending the stop; the axes may still move",
+                report.prefix,
+                signal.name()
             );
             return RunEnding::Cancelled;
         }
     };
     print_aftermath(session, report, &aftermath);
     ending
+}
+
+/// `work` (one-shot lines, `axterm exec`: its exit code) to its end, or to
+/// a Ctrl-C, SIGTERM or SIGHUP: then nothing more of it is sent and the
+/// stop sequence goes out, as at the end of a cancelled run (exit 1). A
+/// line that fails does not stop the axes here: the lines were asked for
+/// one by one, and the exit code says which failed.
+pub async fn exit_or_stop_on_signal(
+    session: &Session,
+    mut interrupt: Interrupt,
+    report: &RunReport<'_>,
+    work: impl Future<Output = i32>,
+) -> i32 {
+    let signal = tokio::select! {
+        code = work => return code,
+        signal = interrupt.received() => signal,
+    };
+    // The work is dropped here: its line in flight is answered (or
+    // aborted by the stop), nothing more of it is sent.
+    eprintln!("{}stopped by {}", report.prefix, signal.name());
+    let aftermath = tokio::select! {
+        aftermath = session.end_run(RunEnding::Cancelled, StopOnFailure::Stop) => aftermath,
+        signal = interrupt.received() => {
+            eprintln!(
+                "{}{} again: gave up sending the stop; the axes may still move",
+                report.prefix,
+                signal.name()
+            );
+            return EXIT_DEVICE;
+        }
+    };
+    print_aftermath(session, report, &aftermath);
+    EXIT_DEVICE
 }
 
 fn print_aftermath(session: &Session, report: &RunReport<'_>, aftermath: &RunAftermath) {

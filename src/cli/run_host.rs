@@ -16,7 +16,7 @@ use std::io::Write;
 use super::connection::{Target, family_of, names_a_connection, run_to_exit};
 use super::output::Format;
 use super::run::read_source;
-use super::run_end::{Interrupt, RunReport, run_then_end};
+use super::run_end::{AtTheEnd, Interrupt, RunReport, run_then_end};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::protocol::program::{HostNews, ProgramTool};
 use crate::protocol::{FAMILIES, Family};
@@ -187,6 +187,9 @@ pub fn run(command: &HostCommand, connection: &ConnectionArgs, args: &HostRunArg
         let report = RunReport {
             prefix: &prefix,
             format: Format::Text,
+            // A host run's languages cannot say they mean to leave an
+            // axis moving.
+            at_the_end: AtTheEnd::Nothing,
         };
         run_then_end(&session, interrupt, policy, &report, work).await
     })

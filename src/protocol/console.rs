@@ -63,6 +63,19 @@ pub struct PreparedLine {
     pub effect: Effect,
 }
 
+/// What a session knows of the programs a module runs in the background
+/// (MCCL tasks, Ch4 "MCCL Multi-Tasking"), for an emergency stop that ends
+/// them one by one ([`FamilyConsole::emergency_stop_knowing`]).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub enum RunningPrograms {
+    /// Anything may run: nothing was read since connecting, or a line
+    /// since may have started one.
+    #[default]
+    Unknown,
+    /// Exactly these IDs run, as last listed and since ended or not.
+    Known(Vec<i64>),
+}
+
 /// What a successful answer carries.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum ReplyValue {
@@ -471,6 +484,29 @@ pub trait FamilyConsole: Send + Sync {
 
     /// The lines that stop every motor of the module at `address`.
     fn emergency_stop(&self, address: u8) -> Vec<PreparedLine>;
+
+    /// [`FamilyConsole::emergency_stop`] in the light of what the session
+    /// knows runs in the background (`running`): a family whose stop ends
+    /// background programs one by one ends those known to run, and all of
+    /// them only when it cannot know. By default: the whole stop.
+    fn emergency_stop_knowing(&self, address: u8, running: &RunningPrograms) -> Vec<PreparedLine> {
+        let _ = running;
+        self.emergency_stop(address)
+    }
+
+    /// What runs in the background after `line` (`answer`: its value when
+    /// it was answered with success; `None` when it failed, which may
+    /// still have started something), given what was `known` before. By
+    /// default nothing changes: the family's stop does not depend on it.
+    fn running_after(
+        &self,
+        line: &PreparedLine,
+        answer: Option<&ReplyValue>,
+        known: RunningPrograms,
+    ) -> RunningPrograms {
+        let _ = (line, answer);
+        known
+    }
 
     /// The line asking the module at `address` who it is; its reading is
     /// the identity (TMCL: the firmware version string, 136 type 0).

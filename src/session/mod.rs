@@ -46,8 +46,8 @@ use crate::device::{
 use crate::link::{LinkError, LinkSpec};
 use crate::protocol::Family;
 use crate::protocol::console::{
-    Answering, Effect, FamilyConsole, LinkContext, LinkContexts, StatusPoll, adapt_line,
-    interpret_line,
+    Answering, Effect, FamilyConsole, LinkContext, LinkContexts, RunningPrograms, StatusPoll,
+    adapt_line, interpret_line,
 };
 use status::{StatusBoard, StatusSink};
 
@@ -255,6 +255,11 @@ fn garbled(
     }
 }
 
+/// Between the two status reads of [`Session::moving_axes`]: a motion just
+/// started shows by then (a module may read speed 0 for its first
+/// moments, while it starts to accelerate).
+pub const MOTION_START_GRACE: Duration = Duration::from_millis(100);
+
 /// One connected controller. Cheap to clone; clones share everything.
 #[derive(Clone)]
 pub struct Session {
@@ -280,6 +285,11 @@ pub struct Session {
     /// Lines read with the status for someone watching them (a plotted
     /// parameter), as slow items ([`Session::watch`]).
     watches: Arc<Mutex<Vec<StatusPoll>>>,
+    /// What runs in the background, as far as the lines sent and their
+    /// answers tell ([`FamilyConsole::running_after`]): the emergency stop
+    /// ends those ([`FamilyConsole::emergency_stop_knowing`]). Not known
+    /// on connecting: the module may run what it was left running.
+    running: Arc<Mutex<RunningPrograms>>,
 }
 
 /// The device's hold for a line the family says may run for long.
@@ -327,6 +337,7 @@ impl Session {
             context: Arc::new(context),
             poll_owner: PollOwner::new(),
             watches: Arc::new(Mutex::new(Vec::new())),
+            running: Arc::new(Mutex::new(RunningPrograms::Unknown)),
             device,
         }
     }
@@ -563,10 +574,15 @@ impl Session {
     pub async fn emergency_stop_lines(&self) -> Vec<Result<LineResult, SessionError>> {
         let halted = transfer::halt_transfer(self).await;
         let leave = halted.release().cloned();
+        let running = self.running_programs();
         let lines: Vec<PreparedLine> = leave
             .iter()
             .cloned()
-            .chain(self.family.console.emergency_stop(self.address))
+            .chain(
+                self.family
+                    .console
+                    .emergency_stop_knowing(self.address, &running),
+            )
             .collect();
         let mut sends: Vec<_> = lines
             .iter()
@@ -597,7 +613,71 @@ impl Session {
         if leave.is_some() && results.first().is_some_and(Result::is_ok) {
             halted.released();
         }
+        // Every stop line answered: every background program it ends is
+        // ended (a line sent since may have started one again: it said so
+        // when its answer came, after the stop's, which jumped it).
+        if !results.is_empty() && results.iter().all(Result::is_ok) {
+            *self.running.lock().unwrap_or_else(|e| e.into_inner()) =
+                RunningPrograms::Known(Vec::new());
+        }
         results
+    }
+
+    /// What runs in the background after `line`, `answer`ed or not.
+    fn note_running(&self, line: &PreparedLine, answer: Option<&ReplyValue>) {
+        if line.address != self.address {
+            return;
+        }
+        let mut running = self.running.lock().unwrap_or_else(|e| e.into_inner());
+        let known = std::mem::take(&mut *running);
+        *running = self.family.console.running_after(line, answer, known);
+    }
+
+    /// What the session knows runs in the background
+    /// ([`FamilyConsole::running_after`]).
+    pub fn running_programs(&self) -> RunningPrograms {
+        self.running
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .clone()
+    }
+
+    /// Read every axis's fast-changing status (the family's fast status
+    /// polls: position, speed, motion phase) twice, [`MOTION_START_GRACE`]
+    /// apart, and name the axes seen moving either time. Twice, because a module may still read speed 0 (and
+    /// standing) just after a motion was started; for the end of a run
+    /// that must not leave an axis moving.
+    pub async fn moving_axes(&self) -> Result<Vec<&'static str>, SessionError> {
+        let first = self.read_fast_status().await?;
+        tokio::time::sleep(MOTION_START_GRACE).await;
+        let second = self.read_fast_status().await?;
+        let axes = self.axes();
+        Ok(first
+            .iter()
+            .zip(&second)
+            .enumerate()
+            // Not a position that changed: a servo holding its place
+            // dithers by a count or so.
+            .filter(|(_, (before, now))| {
+                before.motion() == AxisMotion::Moving || now.motion() == AxisMotion::Moving
+            })
+            .map(|(index, _)| axes.get(index).map_or("?", |a| a.name))
+            .collect())
+    }
+
+    /// Send the family's fast status polls once; the status they leave.
+    async fn read_fast_status(&self) -> Result<Vec<AxisStatus>, SessionError> {
+        let polls = self.family.console.status_queries(self.address);
+        for poll in polls.iter().filter(|p| p.fast) {
+            self.send(
+                Priority::User,
+                &poll.line,
+                Retry::Read(self.read_retries),
+                None,
+            )
+            .await?;
+        }
+        Ok(self.board.borrow().clone())
     }
 
     /// Read the module's identity (TMCL: the firmware version string) and
@@ -792,9 +872,16 @@ impl Session {
             self.device.set_poll_plan_of(self.poll_owner, None);
         }
         let transaction = self.transaction(line, retry, timeout);
+        // Taken as failed until answered: a line that may start a
+        // background program makes it unknown from before it is sent, so
+        // that an emergency stop pressed meanwhile ends every one.
+        self.note_running(line, None);
         let result = self
             .send_adapted(priority, line, transaction, context.as_deref())
             .await;
+        if let Ok(answer) = &result {
+            self.note_running(line, Some(&answer.value));
+        }
         match (&result, changes) {
             (Ok(_), Some(changed)) => self.set_context(changed),
             _ if paused => self.resume_polling(),

@@ -210,6 +210,12 @@ pub struct App {
     status_messages: u64,
     dirty: bool,
     quit: bool,
+    /// Ended from outside (SIGTERM, SIGHUP, SIGINT, the terminal gone):
+    /// the loop stops every axis before it lets go ([`App::terminated`]).
+    terminated: bool,
+    /// What the loop did on its way out, for standard error once the
+    /// terminal is given back ([`App::parting_report`]).
+    parting: Vec<String>,
     /// Where each shown pane was drawn last, for mouse clicks.
     drawn: Vec<(usize, Rect)>,
     /// Where the user's themes and keymaps are (`:theme`, `:keymap`).
@@ -243,6 +249,8 @@ impl App {
             status_messages: 0,
             dirty: true,
             quit: false,
+            terminated: false,
+            parting: Vec::new(),
             drawn: Vec::new(),
             config_dir: None,
             connect_args: None,
@@ -262,6 +270,23 @@ impl App {
 
     pub fn should_quit(&self) -> bool {
         self.quit
+    }
+
+    /// Whether the console was ended from outside ([`AppEvent::Terminate`])
+    /// rather than quit by the user.
+    pub fn terminated(&self) -> bool {
+        self.terminated
+    }
+
+    /// What the loop did on its way out (the stop sent when the console
+    /// was ended from outside), a line each; empty when nothing.
+    pub fn parting_report(&self) -> &[String] {
+        &self.parting
+    }
+
+    /// Keep `lines` for [`App::parting_report`].
+    pub(crate) fn set_parting_report(&mut self, lines: Vec<String>) {
+        self.parting = lines;
     }
 
     pub fn snapshot(&self) -> Option<&Snapshot> {
@@ -459,6 +484,7 @@ impl App {
             }
             AppEvent::Terminate => {
                 self.quit = true;
+                self.terminated = true;
                 effects.push(Effect::Quit);
             }
         }

@@ -131,6 +131,8 @@ impl Batch {
                     out.push(BatchStep::Echo(text.clone()));
                     self.next += 1;
                 }
+                // Said of the file as a whole: nothing to do where it stands.
+                Action::LeaveMoving => self.next += 1,
                 Action::Line(line) | Action::Expect { line, .. } => {
                     out.push(BatchStep::Send(line.clone()));
                     return out;

@@ -114,7 +114,7 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
     ),
     (
         ":record [[--force] FILE | off]",
-        "record each line sent and its answer as an `axterm run` file (reads as :expect, waits as :wait-until; an existing FILE only with --force)",
+        "record each line sent and its answer as an `axterm run` file (reads as :expect, waits as :wait-until, the emergency stop as the stop lines it sent; an existing FILE only with --force)",
     ),
     (
         ":record-macro [--force] FILE | off",
@@ -134,6 +134,10 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
     ),
     (":sleep D", "wait (500ms, 2s, 1m)"),
     (":echo TEXT", "show TEXT"),
+    (
+        ":leave-moving",
+        "in a batch file: it means to leave an axis moving at its end (without it, `axterm run` stops an axis still moving at the end, exit 1)",
+    ),
     (":quit", "leave the console"),
 ];
 
@@ -1127,6 +1131,7 @@ impl Pane for CommandPane {
                 Outcome::redraw()
             }
             PaneEvent::EmergencyStop(results) => {
+                self.session_record_stop_lines(results);
                 for result in results {
                     match result {
                         Ok(r) => {

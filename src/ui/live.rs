@@ -2,7 +2,7 @@
 //! [`Session`], and [`run_terminal`], which holds the terminal, watches
 //! for SIGTERM/SIGHUP and runs the loop.
 
-use std::io;
+use std::io::{self, Write};
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -293,7 +293,7 @@ pub async fn run_terminal(
     // runtime's wake-up file descriptor (a write and another epoll round)
     // every time, where waking a task costs no system call at all.
     let looping = tokio::spawn(async move {
-        app::run_links(
+        let result = app::run_links(
             &mut app,
             links,
             connector,
@@ -301,17 +301,27 @@ pub async fn run_terminal(
             Some(signals),
             &mut |app: &mut App| terminal.draw(|frame| app.render(frame)).map(|_| ()),
         )
-        .await
+        .await;
+        (result, app.parting_report().to_vec())
     });
-    let result = match looping.await {
-        Ok(result) => result,
+    let (result, parting) = match looping.await {
+        Ok(done) => done,
         // A bug in the loop: the panic hook has given the terminal back
         // and printed the message; it goes on as the panic it is (exit
         // code 101), as it did before the loop became a task.
         Err(e) if e.is_panic() => std::panic::resume_unwind(e.into_panic()),
-        Err(e) => Err(io::Error::other(format!("the console loop failed: {e}"))),
+        Err(e) => (
+            Err(io::Error::other(format!("the console loop failed: {e}"))),
+            Vec::new(),
+        ),
     };
     drop(guard);
+    // After a SIGHUP the terminal may be gone: a report that cannot be
+    // written is no reason to fail (`eprintln!` would panic).
+    let mut stderr = io::stderr().lock();
+    for line in parting {
+        let _ = writeln!(stderr, "{line}");
+    }
     result
 }
 

@@ -23,13 +23,15 @@ use super::parameter_set::MclParameters;
 use super::profile::{Echo, LinkProfile, LinkState, PromptPer};
 use super::reply::{AnswerRule, Printed, Reply, Report, read_reply, runs_straight};
 use super::status::{BitClass, PRIMARY, StatusBit, StatusSelector, StatusWord, StatusWordKind};
+use super::tool::MacroStore;
 use super::wire::MclWire;
 use crate::protocol::console::{
     Answering, AxisFlag, AxisInfo, AxisUpdate, Completions, Effect, FamilyConsole, LinkContext,
-    LinkContexts, LongRunning, PreparedLine, Reading, ReplyError, ReplyValue, StatusPoll,
-    SwitchKind,
+    LinkContexts, LongRunning, PreparedLine, Reading, ReplyError, ReplyValue, RunningPrograms,
+    StatusPoll, SwitchKind,
 };
 use crate::protocol::parameters::ParameterSet;
+use crate::protocol::program::ProgramStore;
 use crate::protocol::wire::{Frame, WireFormat};
 
 /// The ASCII interface is point to point: there is no bus address, and the
@@ -515,20 +517,72 @@ impl FamilyConsole for MclConsole {
         self.read_answer(line, frames, &self.power_up())
     }
 
-    fn emergency_stop(&self, _address: u8) -> Vec<PreparedLine> {
+    fn emergency_stop(&self, address: u8) -> Vec<PreparedLine> {
+        self.emergency_stop_knowing(address, &RunningPrograms::Unknown)
+    }
+
+    fn emergency_stop_knowing(&self, _address: u8, running: &RunningPrograms) -> Vec<PreparedLine> {
         // Escape first aborts a line running in the foreground: that is the
         // device layer's, through the abort byte of the line's
         // `long_running`. Then every axis, then every task that could
-        // start motion again.
+        // start motion again: those known to run, every ID a task may have
+        // when that cannot be known.
         let stop = match self.stop {
             StopMotion::Abort => "0AB",
             StopMotion::Decelerate => "0ST",
         };
+        let tasks: &[i64] = match running {
+            RunningPrograms::Known(ids) => ids,
+            RunningPrograms::Unknown => self.tasks,
+        };
         std::iter::once(stop.to_string())
-            .chain(self.tasks.iter().map(|id| format!("ET{id}")))
+            .chain(tasks.iter().map(|id| format!("ET{id}")))
             .filter_map(|text| parse_line(&text, NumberBase::Decimal).ok())
             .map(|line| self.prepare_line(&line))
             .collect()
+    }
+
+    /// `ID7` lists the tasks that run (Ch4); `ETn` answered ends task n;
+    /// `GT` starts one whose ID only the accumulator holds, and a macro
+    /// called (`MC`, `MJ`) or a reset (`RT`: the power-up macro) may start
+    /// one: after those, what runs is not known until `ID7` is read again.
+    fn running_after(
+        &self,
+        line: &PreparedLine,
+        answer: Option<&ReplyValue>,
+        known: RunningPrograms,
+    ) -> RunningPrograms {
+        let Some(parsed) = self.line_of(line) else {
+            return known;
+        };
+        if parsed.defines_macro() {
+            return known;
+        }
+        let lists = |c: &super::line::Command| c.mnemonic() == "ID" && c.number() == Some(7.0);
+        if let (Some(answer), [only]) = (answer, parsed.commands.as_slice())
+            && lists(only)
+        {
+            return RunningPrograms::Known(MacroStore.running(answer));
+        }
+        let may_start = ["GT", "MC", "MJ", "RT"];
+        if parsed
+            .commands
+            .iter()
+            .any(|c| may_start.contains(&c.mnemonic()))
+        {
+            return RunningPrograms::Unknown;
+        }
+        match known {
+            RunningPrograms::Known(mut ids) if answer.is_some() => {
+                for command in parsed.commands.iter().filter(|c| c.mnemonic() == "ET") {
+                    if let Some(id) = command.number() {
+                        ids.retain(|&running| running as f64 != id);
+                    }
+                }
+                RunningPrograms::Known(ids)
+            }
+            other => other,
+        }
     }
 
     fn identify(&self, _address: u8) -> PreparedLine {
@@ -939,6 +993,37 @@ mod tests {
         };
         assert_eq!(canonicals(&gentle.emergency_stop(0)), ["0ST", "ET7"]);
         assert_eq!(lines[0].bytes, b"0AB\r".to_vec());
+    }
+
+    #[test]
+    fn the_stop_ends_the_tasks_known_to_run_and_every_one_when_unknown() {
+        use RunningPrograms::{Known, Unknown};
+        let stop =
+            |running: &RunningPrograms| canonicals(&CONSOLE.emergency_stop_knowing(0, running));
+        assert_eq!(stop(&Known(vec![3, 9])), ["0AB", "ET3", "ET9"]);
+        assert_eq!(stop(&Known(Vec::new())), ["0AB"]);
+        assert_eq!(stop(&Unknown).len(), 22);
+        let after = |line: &str, answer: Option<&str>, known: RunningPrograms| {
+            let value = answer.map(|a| ReplyValue::Text(a.into()));
+            CONSOLE.running_after(&prepare(line), value.as_ref(), known)
+        };
+        let listing = "ACTIVE BACKGROUND TASKS: 2\nTask ID 3\nTask ID 9";
+        assert_eq!(after("ID7", Some(listing), Unknown), Known(vec![3, 9]));
+        assert_eq!(after("ID7", None, Unknown), Unknown, "not answered");
+        assert_eq!(after("ET3", Some(""), Known(vec![3, 9])), Known(vec![9]));
+        assert_eq!(after("ET3", None, Known(vec![3, 9])), Known(vec![3, 9]));
+        for starts in ["GT100", "GT0,1MR5,1WS", "MC10", "1MR5,MJ10", "RT"] {
+            assert_eq!(after(starts, None, Known(vec![])), Unknown, "{starts}");
+            assert_eq!(after(starts, Some(""), Known(vec![])), Unknown, "{starts}");
+        }
+        // Stored, not run; and lines that start nothing.
+        for line in ["MD10,GT11", "1MR1000", "1TP"] {
+            assert_eq!(
+                after(line, Some(""), Known(vec![4])),
+                Known(vec![4]),
+                "{line}"
+            );
+        }
     }
 
     #[test]

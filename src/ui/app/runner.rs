@@ -14,6 +14,7 @@ use crate::device::{Busy, DeviceEvent, LinkState, TrafficRecord};
 use crate::protocol::program::{Progress, TransferFailure};
 use crate::protocol::settings::SettingsCache;
 use crate::session::Cancel;
+use crate::session::run_end::{LinkAtStop, RunAftermath, RunEnding, RunStop};
 use crate::session::{AxisStatus, PollCadence};
 use crate::ui::pane::{Notice, Snapshot};
 
@@ -370,12 +371,18 @@ pub async fn run_links(
         };
         runner.handle(app, event);
     }
+    // A terminal that cannot be drawn on any more (the SSH session gone
+    // before its SIGHUP came) ends the console as a signal does.
+    let mut drawing_failed = None;
     loop {
         if app.should_quit() {
             break;
         }
-        if app.needs_redraw() {
-            draw(app)?;
+        if app.needs_redraw()
+            && let Err(e) = draw(app)
+        {
+            drawing_failed = Some(e);
+            break;
         }
         let traffic_shown = app.is_on_screen(TRAFFIC_PANE);
         let wakeup = runner
@@ -397,7 +404,7 @@ pub async fn run_links(
     if let Some(log) = runner.log.take() {
         log.stop();
     }
-    for c in runner.connections {
+    for c in &runner.connections {
         c.controller.set_polling(None);
     }
     for job in runner.sending {
@@ -407,7 +414,38 @@ pub async fn run_links(
     if let Some(cancel) = runner.transfer {
         cancel.cancel();
     }
-    Ok(())
+    if app.terminated() || drawing_failed.is_some() {
+        let report = stop_every_module(&runner.connections).await;
+        app.set_parting_report(report);
+    }
+    match drawing_failed {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+/// The console ended from outside (SIGTERM, SIGHUP, SIGINT, its terminal
+/// gone) must not leave a motor running that nobody can see any more: the
+/// emergency stop of every module, as Ctrl-C gives a run in the command
+/// line (`axterm run`), and what came back for each stop line.
+async fn stop_every_module(connections: &[Connection]) -> Vec<String> {
+    let mut report = Vec::new();
+    for c in connections.iter().filter(|c| !c.gone) {
+        let stop = RunStop {
+            ending: RunEnding::Cancelled,
+            lines: c.controller.emergency_stop().await,
+            link: LinkAtStop::Up,
+        };
+        report.push(format!(
+            "axterm: the console was ended from outside: stopping every axis of {} \
+             (address {}):",
+            c.controller.link_name(),
+            c.controller.address()
+        ));
+        // The first line says why in a run's words; said above instead.
+        report.extend(RunAftermath::Stopped(stop).report().into_iter().skip(1));
+    }
+    report
 }
 
 impl Runner {

@@ -165,6 +165,10 @@ impl CommandPane {
             return Outcome::redraw();
         }
         if rest.eq_ignore_ascii_case("off") {
+            if let Some(r) = self.session_recording.as_mut() {
+                let text = r.recorder.finish();
+                self.session_record_write(&text);
+            }
             return match self.session_recording.take() {
                 Some(r) => {
                     let (lines, waits) = r.recorder.counts();
@@ -312,14 +316,46 @@ impl CommandPane {
         self.session_record_write(&text);
     }
 
-    /// The emergency stop: lines waiting were dropped; the stop itself is
-    /// noted, not replayed.
+    /// The emergency stop: lines waiting were dropped; the stop lines
+    /// come with [`CommandPane::session_record_stop_lines`].
     pub(super) fn session_record_stopping(&mut self) {
         let Some(r) = self.session_recording.as_mut() else {
             return;
         };
-        let mut text = r.recorder.forget_unanswered();
-        text.push_str("# emergency stop pressed here (not replayed)\n");
+        let text = r.recorder.forget_unanswered();
+        self.session_record_write(&text);
+    }
+
+    /// What the emergency stop sent: recorded as the stop lines they are,
+    /// so that a replay stops the axes where the technician did.
+    pub(super) fn session_record_stop_lines(
+        &mut self,
+        results: &[Result<LineResult, SessionError>],
+    ) {
+        let Some(r) = self.session_recording.as_mut() else {
+            return;
+        };
+        let values: Vec<(String, String, bool)> = results
+            .iter()
+            .map(|result| match result {
+                Ok(answer) => (answer.line.clone(), answer.value.to_string(), true),
+                Err(e) => (e.line().to_string(), e.to_string(), false),
+            })
+            .collect();
+        let lines: Vec<(&str, LineOutcome)> = values
+            .iter()
+            .zip(results)
+            .map(|((line, value, ok), result)| {
+                let outcome = match result {
+                    _ if *ok => LineOutcome::Answered(value),
+                    Err(e) if e.nothing_sent() => LineOutcome::NotSent(value),
+                    _ => LineOutcome::Failed(value),
+                };
+                (line.as_str(), outcome)
+            })
+            .collect();
+        let now = r.now();
+        let text = r.recorder.emergency_stop(&lines, now);
         self.session_record_write(&text);
     }
 
