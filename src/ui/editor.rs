@@ -495,7 +495,10 @@ impl EditorPane {
     /// Forget the recovered text: back to the file as it is on disk (or
     /// an empty buffer), and the safety copy removed. Only the copy as it
     /// was recovered: once edited, the text is the user's and stays.
-    fn discard_recovered(&mut self) {
+    /// Its language goes back to the file's, else the connected
+    /// family's, else the one a fresh start has: the copy's was the
+    /// copy's alone.
+    fn discard_recovered(&mut self, view: &View) {
         let Some(recovered) = self.recovered.take() else {
             return;
         };
@@ -510,6 +513,14 @@ impl EditorPane {
             .file
             .as_deref()
             .is_some_and(|f| language::tool_of_file(&[self.tool], f).is_some());
+        if !self.tool_fixed && !self.follow_family(view) {
+            let connected = view.session.and_then(|s| s.family.console.program());
+            if connected.is_none()
+                && let Some(tool) = default_tool()
+            {
+                self.set_tool(tool);
+            }
+        }
         self.assemble();
         self.write_safety_copy();
         self.message = Some(Notice::info("recovered text discarded"));
@@ -652,7 +663,7 @@ impl EditorPane {
                     return outcome;
                 }
                 if self.recovered.is_some() {
-                    self.discard_recovered();
+                    self.discard_recovered(view);
                 } else if self.message.take().is_none() {
                     return Outcome::Ignored;
                 }
