@@ -12,7 +12,7 @@ use super::params::{axis_param, global_param};
 use super::wire::{TmclReplyRule, TmclWire, is_version_string};
 use crate::protocol::console::{
     Answering, AxisFlag, AxisInfo, AxisUpdate, Completions, Effect, FamilyConsole, LoadScale,
-    PreparedLine, Reading, ReplyError, ReplyValue, StatusPoll, SwitchKind,
+    PreparedLine, Reading, ReplyError, ReplyValue, StatusPoll, StatusValue, SwitchKind,
 };
 use crate::protocol::parameters::ParameterSet;
 use crate::protocol::wire::{Frame, ReplyRule, Verdict, WireFormat};
@@ -382,6 +382,16 @@ fn flags_in(table: &[(u32, AxisFlag)], bits: i64) -> Vec<AxisFlag> {
 }
 
 impl FamilyConsole for TmclConsole {
+    /// AP0 target, AP1 position, AP3 speed and AP206 load, as polled.
+    fn status_values(&self) -> &'static [StatusValue] {
+        &[
+            StatusValue::Position,
+            StatusValue::Target,
+            StatusValue::Speed,
+            StatusValue::Load,
+        ]
+    }
+
     fn wire(&self) -> Arc<dyn WireFormat> {
         Arc::new(TmclWire::default())
     }
