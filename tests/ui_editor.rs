@@ -593,3 +593,41 @@ fn text_switched_to_another_language_comes_back_in_it() {
         );
     }
 }
+
+/// A line that does not check, in each family's program language.
+fn bad_line(family: &str) -> &'static str {
+    match family {
+        // An unknown word is a comment in an SQPack macro file.
+        "sixpack2" => "SendToPack(1,2,3",
+        _ => "§§§ 1",
+    }
+}
+
+/// F9's error about a line, then the line deleted: the error goes with
+/// it (issue 19, point 9), in every family's language.
+#[test]
+fn an_error_message_goes_when_its_line_is_deleted() {
+    for family in axterm::protocol::FAMILIES {
+        let mut app = editor_console(None);
+        app.handle(AppEvent::Snapshot(connected(family)));
+        let line = bad_line(family.name);
+        type_program(&mut app, line);
+        app.handle(key(KeyCode::F(9)));
+        let shown = screen(&mut app, 100, 30);
+        let message = shown[shown.len() - 3]
+            .trim_matches(|c| c == '│' || c == ' ')
+            .to_string();
+        assert!(!message.is_empty(), "{}: {}", family.name, shown.join("\n"));
+        // F9 put the cursor on the error: from the end of the line, back.
+        app.handle(key(KeyCode::End));
+        for _ in line.chars() {
+            app.handle(key(KeyCode::Backspace));
+        }
+        let all = screen(&mut app, 100, 30).join("\n");
+        assert!(
+            !all.contains(&message),
+            "{}: {message:?} stayed:\n{all}",
+            family.name
+        );
+    }
+}

@@ -175,6 +175,10 @@ pub struct EditorPane {
     state_at: u64,
     clock: u64,
     recovered: Option<Recovered>,
+    /// The message the check's problems made (F9, the next-error key): it
+    /// speaks of the text as it was, so a change takes it away (the line
+    /// under the cursor still shows its own problem).
+    check_notice: Option<Notice>,
     /// F3 was pressed with unsaved changes: the next F3 opens anyway.
     open_confirmed: bool,
     /// The host-run key was pressed on a text with lines the family wants
@@ -228,6 +232,7 @@ impl EditorPane {
             state_at: 0,
             clock: 0,
             recovered: None,
+            check_notice: None,
             open_confirmed: false,
             host_confirmed: false,
             upload_confirmed: false,
@@ -427,6 +432,9 @@ impl EditorPane {
         self.upload_confirmed = false;
         self.failed_line = None;
         self.recovered = None;
+        if self.message.is_some() && self.message == self.check_notice.take() {
+            self.message = None;
+        }
         self.assemble();
         if self.data_dir.is_none() {
             return Outcome::redraw();
@@ -546,6 +554,7 @@ impl EditorPane {
                 } else {
                     Notice::warning(p.text)
                 });
+                self.check_notice = self.message.clone();
             }
             None => {
                 self.message = Some(match self.first_error() {
@@ -696,6 +705,7 @@ impl EditorPane {
                 e
             })
         });
+        self.check_notice = self.message.clone();
     }
 
     /// Say that the text waits for the transfer.
