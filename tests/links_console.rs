@@ -112,7 +112,11 @@ async fn a_wide_screen_lists_every_module_grouped_by_link() {
         "{first}"
     );
     assert!(text[1].starts_with("▶module 1 tmcl #1"), "{first}");
-    assert!(text[2].starts_with(" ▶motor 0 0→0 "), "{first}");
+    // Positions in their fixed-width column.
+    assert!(
+        text[2].starts_with(" ▶motor 0 ") && text[2].contains(" 0→0 "),
+        "{first}"
+    );
     assert!(
         text[3].starts_with("link 2 sim cmd4cr at 9600 Bd · connected"),
         "{first}"

@@ -438,3 +438,70 @@ fn the_units_key_says_so_when_the_family_has_no_conversion() {
     );
     assert!(lines[1].contains("pos       12800"), "{}", lines[1]);
 }
+
+/// Where each column marker of the axis pane's rows is, by screen row:
+/// `→` between position and target, `/` after the speed, the `L`
+/// switch lamp, and the card labels.
+fn column_marks(lines: &[String]) -> Vec<Vec<(&'static str, Option<usize>)>> {
+    let end = lines
+        .iter()
+        .position(|l| l.contains("Command"))
+        .unwrap_or(lines.len());
+    lines[..end]
+        .iter()
+        .map(|line| {
+            ["→", "/", " L", " tgt ", " max ", "ferr", "spd "]
+                .into_iter()
+                .map(|mark| {
+                    let at = line.find(mark).map(|byte| line[..byte].chars().count());
+                    (mark, at)
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// A number gaining a digit moves no column, in any family's rows or
+/// cards (issue 19, point 9: SIXpack 2 and MCCL rows shifted).
+#[test]
+fn columns_stay_put_when_a_number_gains_a_digit() {
+    use axterm::protocol::console::StatusValue;
+    for family in axterm::protocol::FAMILIES {
+        let reads_ferr = family
+            .console
+            .status_values()
+            .contains(&StatusValue::FollowingError);
+        let at = |n: i64| {
+            let mut s = axterm::ui::pane::Snapshot {
+                family,
+                ..snapshot(family.console.axes().to_vec())
+            };
+            for status in &mut s.status {
+                *status = moving_status(n, n, n, n.abs());
+                if reads_ferr {
+                    // A servo trips at its maximum following error long
+                    // before 5 digits.
+                    status.following_error = Some(n.clamp(-9999, 9999));
+                }
+            }
+            s
+        };
+        for (width, height) in [(80, 24), (120, 40), (200, 60)] {
+            let mut app = console();
+            ui_support::show(&mut app, at(9));
+            let before = screen(&mut app, width, height);
+            for n in [10, 12345, -99_999] {
+                ui_support::show(&mut app, at(n));
+                let after = screen(&mut app, width, height);
+                assert_eq!(
+                    column_marks(&before),
+                    column_marks(&after),
+                    "{} at {width}×{height}, 9 then {n}:\n{}\n{}",
+                    family.name,
+                    before.join("\n"),
+                    after.join("\n")
+                );
+            }
+        }
+    }
+}

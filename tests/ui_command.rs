@@ -635,3 +635,61 @@ fn help_after_disconnecting_comes_from_the_family_last_connected() {
     );
     assert!(screen.contains("Maximum positioning speed"), "{screen}");
 }
+
+/// The console connected to a module of `family`.
+fn connected_to(family: &str) -> App {
+    let mut app = console();
+    let family = axterm::protocol::find_family(family).expect("registered");
+    app.handle(AppEvent::Snapshot(axterm::ui::pane::Snapshot {
+        family,
+        ..snapshot(family.console.axes().to_vec())
+    }));
+    app
+}
+
+/// F1 on a word that only begins a command: the commands it may be, each
+/// once (the syntax hint under them repeated the first; issue 19,
+/// point 9).
+#[test]
+fn f1_on_the_start_of_a_word_lists_each_command_once() {
+    let mut app = connected_to("sixpack2");
+    type_text(&mut app, "StartR");
+    app.handle(key(KeyCode::F(1)));
+    let screen = text(&mut app, 100, 30);
+    assert_eq!(
+        screen.matches("StartReferenceSearch motno").count(),
+        1,
+        "{screen}"
+    );
+    assert!(screen.contains("StartRampParallel motors"), "{screen}");
+    // Typing on: the hint is back for the line as it is now.
+    type_text(&mut app, "eferenceSearch 0");
+    let screen = text(&mut app, 100, 30);
+    assert_eq!(
+        screen.matches("StartReferenceSearch motno").count(),
+        2,
+        "the help above and the hint under it: {screen}"
+    );
+}
+
+/// Help wraps between words, on every family's console (issue 19,
+/// point 9: `until of│f`).
+#[test]
+fn help_wraps_between_words() {
+    let words = "record every line sent from here as a macro file of the module's program \
+                 language, until off";
+    for family in axterm::protocol::FAMILIES {
+        for width in [60, 70, 80, 90] {
+            let mut app = connected_to(family.name);
+            enter(&mut app, ":help :record-macro");
+            let screen = text(&mut app, width, 30);
+            for word in words.split([' ', ',']).filter(|w| !w.is_empty()) {
+                assert!(
+                    screen.contains(word),
+                    "{} at {width} columns, `{word}` cut: {screen}",
+                    family.name
+                );
+            }
+        }
+    }
+}

@@ -142,11 +142,36 @@ fn the_screen_lists_simulators_ports_and_tcp_at_80x24_and_large() {
         );
         assert!(all.contains("/dev/ttyUSB0"), "{all}");
         assert!(all.contains("tcp 127.0.0.1:4001"), "{all}");
+        // A simulator is highlighted: no wire time unless asked for.
         assert!(
-            all.contains("protocol [tmcl]  baud [9600]  address [default]"),
+            all.contains("protocol [tmcl]  baud [none]  address [default]"),
             "{all}"
         );
     }
+}
+
+/// Each simulator highlighted, the form shows the protocol it speaks and
+/// no baud rate, not the form's values for ports; on a port, the form's
+/// again (issue 19, point 9: `protocol [tmcl] baud [9600]` beside sim
+/// sixpack2).
+#[test]
+fn the_form_shows_what_the_highlighted_choice_connects_with() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mut app = console(dir.path(), two_ports);
+    for kind in axterm::sim::kinds() {
+        let family = kind.family().expect("a family");
+        let all = text(&mut app, 100, 30);
+        assert!(all.contains(&format!("▶ sim {}", kind.name)), "{all}");
+        assert!(
+            all.contains(&format!("protocol [{}]  baud [none]", family.name)),
+            "{}: {all}",
+            kind.name
+        );
+        app.handle(key(KeyCode::Down));
+    }
+    let all = text(&mut app, 100, 30);
+    assert!(all.contains("▶ /dev/ttyACM0"), "{all}");
+    assert!(all.contains("protocol [tmcl]  baud [9600]"), "{all}");
 }
 
 #[test]

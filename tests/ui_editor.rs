@@ -511,3 +511,123 @@ fn the_recovery_banners_keys_fit_80_columns_whatever_the_file() {
         "{banner}"
     );
 }
+
+/// The editor's title for an untitled text in `tool`'s language.
+fn untitled_title(tool: &dyn axterm::protocol::program::ProgramTool, changed: &str) -> String {
+    let first = axterm::ui::editor::language::default_tool().expect("a tool");
+    if first.name() == tool.name() {
+        format!("Program — untitled{changed}")
+    } else {
+        format!("Program ({}) — untitled{changed}", tool.name())
+    }
+}
+
+/// A snapshot of a connected module of `family`.
+fn connected(family: &'static axterm::protocol::Family) -> axterm::ui::pane::Snapshot {
+    axterm::ui::pane::Snapshot {
+        family,
+        ..ui_support::snapshot(family.console.axes().to_vec())
+    }
+}
+
+/// Esc on a recovered copy in another family's language, with a module
+/// connected: the empty text is the connected family's again, not the
+/// copy's (issue 19, point 7), for every family with programs.
+#[test]
+fn after_esc_on_a_recovered_copy_the_text_follows_the_connection_again() {
+    for family in axterm::protocol::FAMILIES {
+        let Some(own) = family.console.program() else {
+            continue;
+        };
+        let tools = axterm::ui::editor::language::registered_tools();
+        let other = tools
+            .iter()
+            .find(|t| t.name() != own.name())
+            .expect("another language");
+        let dir = tempfile::tempdir().expect("temp dir");
+        let copy = axterm::ui::editor::autosave::Autosave::now(None, "some text".into())
+            .in_language(other.name());
+        axterm::ui::editor::autosave::write_autosave(dir.path(), &copy).expect("written");
+        let mut app = editor_console(Some(dir.path()));
+        app.handle(AppEvent::Snapshot(connected(family)));
+        let all = screen(&mut app, 150, 40).join("\n");
+        assert!(all.contains(&untitled_title(*other, "*")), "{all}");
+        app.handle(key(KeyCode::Esc));
+        let all = screen(&mut app, 150, 40).join("\n");
+        assert!(all.contains("recovered text discarded"), "{all}");
+        assert!(
+            all.contains(&untitled_title(own, "")),
+            "{}: the text is {} again:\n{all}",
+            family.name,
+            own.name()
+        );
+    }
+}
+
+/// Text switched to another language with the language key comes back
+/// in that language at the next start, whichever it is (issue 19,
+/// point 7).
+#[test]
+fn text_switched_to_another_language_comes_back_in_it() {
+    let tools = axterm::ui::editor::language::registered_tools();
+    for tool in tools.iter().skip(1) {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let mut app = editor_console(Some(dir.path()));
+        let effects = type_program(&mut app, "MVP ABS, 0, 1");
+        timers_due(&mut app, &effects);
+        for _ in 0..tools.len() {
+            let all = screen(&mut app, 150, 40).join("\n");
+            if all.contains(&untitled_title(*tool, "*")) {
+                break;
+            }
+            app.handle(key_with(KeyCode::Char('l'), KeyModifiers::CONTROL));
+        }
+        let again = &mut editor_console(Some(dir.path()));
+        let all = screen(again, 150, 40).join("\n");
+        assert!(all.contains(&untitled_title(*tool, "*")), "{all}");
+        assert_eq!(
+            read_autosave(dir.path())
+                .and_then(|c| c.language)
+                .as_deref(),
+            Some(tool.name())
+        );
+    }
+}
+
+/// A line that does not check, in each family's program language.
+fn bad_line(family: &str) -> &'static str {
+    match family {
+        // An unknown word is a comment in an SQPack macro file.
+        "sixpack2" => "SendToPack(1,2,3",
+        _ => "§§§ 1",
+    }
+}
+
+/// F9's error about a line, then the line deleted: the error goes with
+/// it (issue 19, point 9), in every family's language.
+#[test]
+fn an_error_message_goes_when_its_line_is_deleted() {
+    for family in axterm::protocol::FAMILIES {
+        let mut app = editor_console(None);
+        app.handle(AppEvent::Snapshot(connected(family)));
+        let line = bad_line(family.name);
+        type_program(&mut app, line);
+        app.handle(key(KeyCode::F(9)));
+        let shown = screen(&mut app, 100, 30);
+        let message = shown[shown.len() - 3]
+            .trim_matches(|c| c == '│' || c == ' ')
+            .to_string();
+        assert!(!message.is_empty(), "{}: {}", family.name, shown.join("\n"));
+        // F9 put the cursor on the error: from the end of the line, back.
+        app.handle(key(KeyCode::End));
+        for _ in line.chars() {
+            app.handle(key(KeyCode::Backspace));
+        }
+        let all = screen(&mut app, 100, 30).join("\n");
+        assert!(
+            !all.contains(&message),
+            "{}: {message:?} stayed:\n{all}",
+            family.name
+        );
+    }
+}

@@ -335,6 +335,36 @@ async fn f4_loads_the_simulator_and_f5_runs_the_program_there_watched_over_the_w
     .await;
 }
 
+/// F4, F5, then F12: the stop ends the programs (SACTRL), and the editor
+/// reads `SASTAT` again instead of leaving `running` up (issue 19,
+/// point 6, as for TMCL).
+#[tokio::test(start_paused = true)]
+async fn after_the_emergency_stop_the_editor_shows_the_program_idle() {
+    on_the_simulator(async |rig: &mut Rig, session: &Session| {
+        rig.screens.until("Program (A-Script)").await;
+        paste_into(
+            rig,
+            "PRG 0\n    WHILE 1=1\n        DELAY=100\n    ENDWHILE\nEND\n",
+        );
+        rig.screens.until("A-Script checks: PRG 0").await;
+        press(rig, KeyCode::F(4));
+        rig.screens
+            .until("loaded into the simulator (sim cmd4cr)")
+            .await;
+        press(rig, KeyCode::F(5));
+        rig.screens
+            .until("SACTRL0=1: start PRG 0 in the controller")
+            .await;
+        press(rig, KeyCode::Esc);
+        rig.screens.until("PRG 0 running SPC").await;
+        press(rig, KeyCode::F(12));
+        let frame = rig.screens.until("PRG 0 idle SPC").await;
+        assert!(!frame.contains("PRG 0 running"), "{frame}");
+        assert_eq!(read(session, "SASTAT0").await, "0");
+    })
+    .await;
+}
+
 #[tokio::test(start_paused = true)]
 async fn the_text_runs_from_the_host_with_its_lines_marked_and_the_stop_key_ends_it() {
     on_the_simulator(async |rig: &mut Rig, session: &Session| {

@@ -375,3 +375,28 @@ async fn a_watched_user_variable_counts_up_beside_the_running_program() {
         other => panic!("{other:?}"),
     }
 }
+
+/// F4, F5, then F12: the stop ends the program (TMCL 128), and the
+/// editor reads its state again instead of leaving `running` up until
+/// Shift-F5 (issue 19, point 6).
+#[tokio::test(start_paused = true)]
+async fn after_the_emergency_stop_the_editor_shows_the_program_stopped() {
+    let session = session_with(FaultPlan::none()).await;
+    let text = "Loop: WAIT TICKS, 0, 20 // 200 ms\n\
+                JA Loop";
+    run_console(&session, async |rig: &mut Rig| {
+        rig.paste(text);
+        rig.until("  2 JA Loop").await;
+        rig.press(KeyCode::F(4), KeyModifiers::NONE);
+        rig.until("downloaded and verified 2 words").await;
+        rig.press(KeyCode::Esc, KeyModifiers::NONE);
+        rig.press(KeyCode::F(5), KeyModifiers::NONE);
+        rig.until("running PC").await;
+        rig.press(KeyCode::F(12), KeyModifiers::NONE);
+        let frame = rig.until("stopped PC").await;
+        assert!(!frame.contains("running PC"), "{frame}");
+    })
+    .await;
+    let mode = session.execute_line("GGP 128, 0").await.expect("read");
+    assert_eq!(mode.value.to_string(), "0", "the module agrees: stopped");
+}

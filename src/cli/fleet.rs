@@ -499,6 +499,19 @@ impl ModuleRow {
         }
     }
 
+    /// The result column: `FAILED` only for a module that failed (did not
+    /// answer, refused, was not tried); one that answered every question
+    /// and only differs from the file says so.
+    pub fn result(&self) -> &'static str {
+        if self.ok {
+            "ok"
+        } else if self.failed == 0 && self.differs > 0 {
+            "differs"
+        } else {
+            "FAILED"
+        }
+    }
+
     /// The module column: its address, `-` for a whole link's row.
     fn module_shown(&self) -> String {
         if self.whole_link {
@@ -559,7 +572,7 @@ pub fn table(rows: &[ModuleRow], columns: &[&str]) -> String {
         for column in columns {
             let _ = write!(out, "  {:>8}", row.count(column));
         }
-        let result = if row.ok { "ok" } else { "FAILED" };
+        let result = row.result();
         let _ = write!(out, "  {result}");
         if !row.note.is_empty() {
             let _ = write!(out, "  {}", row.note);
@@ -666,6 +679,37 @@ mod tests {
                 "{error}"
             );
         }
+    }
+
+    /// `params diff` on a module that answers and only differs: not
+    /// `FAILED`, which stays for one that does not answer (issue 19,
+    /// point 8). The table is every family's, so one test covers them.
+    #[test]
+    fn a_module_that_only_differs_is_not_called_failed() {
+        let rows = [
+            ModuleRow {
+                address: 1,
+                firmware: "TMCM-1110".into(),
+                differs: 2,
+                ..ModuleRow::default()
+            },
+            ModuleRow {
+                address: 2,
+                firmware: "-".into(),
+                failed: 1,
+                note: "module 2 does not answer".into(),
+                ..ModuleRow::default()
+            },
+        ];
+        let text = table(&rows, &["written", "verified", "differs", "failed"]);
+        let lines: Vec<&str> = text.lines().collect();
+        assert!(lines[1].ends_with("  differs"), "{text}");
+        assert!(!lines[1].contains("FAILED"), "{text}");
+        assert!(
+            lines[2].ends_with("FAILED  module 2 does not answer"),
+            "{text}"
+        );
+        assert_eq!(lines[3], "0 of 2 module(s) ok", "{text}");
     }
 
     #[test]

@@ -46,11 +46,21 @@ pub const EXIT_USAGE: i32 = 2;
 /// Exit code when the connection could not be opened.
 pub const EXIT_CONNECTION: i32 = 3;
 
+/// The program's `--help` after its one-line description: how links are
+/// given (the `links` and `fleet` modules). Plain text: clap prints it.
+const LINKS_HELP: &str = "A terminal console for commissioning stepper and servo axes.
+
+The console takes several links: each `--sim`, `--port` or `--tcp` starts one, and the link \
+options after it (up to the next link flag) are its own; options before the first link flag are \
+every link's. `exec`, `run` and `params diff|apply` take several too (every module of every \
+link); the other subcommands take one link.";
+
 #[derive(Debug, Parser)]
 #[command(
     name = "axterm",
     version,
-    about = "A terminal console for commissioning stepper and servo axes"
+    about = "A terminal console for commissioning stepper and servo axes",
+    long_about = LINKS_HELP
 )]
 pub struct Cli {
     #[command(flatten)]
@@ -105,14 +115,9 @@ fn read_profiles(file: &std::path::Path) -> Result<profiles::ProfileBook, String
     profiles::ProfileBook::parse(&text).map_err(|e| format!("{name}: {e}"))
 }
 
-/// Where the controller is: a serial port, a TCP bridge or a built-in simulator.
-///
-/// The console takes several links: each `--sim`, `--port` or `--tcp`
-/// starts one, and the link options after it (up to the next link flag)
-/// are its own; options before the first link flag are every link's
-/// ([`links`]). `exec`, `run` and `params diff|apply` take several too
-/// (every module of every link, [`fleet`]); the other subcommands take
-/// one link.
+// Where the controller is: a serial port, a TCP bridge or a built-in
+// simulator. Not a doc comment: clap would print it as the program's
+// `--help` in place of what axterm is; [`LINKS_HELP`] says it there.
 #[derive(Debug, Clone, Default, Args)]
 pub struct ConnectionArgs {
     /// Serial port (e.g. /dev/ttyUSB0, COM3), or its stable name in
@@ -754,6 +759,31 @@ fn report_ports(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every `--help` text, of the program and of each subcommand at any
+    /// depth, with its name.
+    fn every_help(command: &mut clap::Command, path: &str, helps: &mut Vec<(String, String)>) {
+        helps.push((path.to_string(), command.render_long_help().to_string()));
+        for sub in command.get_subcommands_mut() {
+            let path = format!("{path} {}", sub.get_name());
+            every_help(sub, &path, helps);
+        }
+    }
+
+    /// Doc comments are `--help` text: rustdoc link markup (``[`links`]``)
+    /// reads as noise there (issue 19, point 9).
+    #[test]
+    fn no_help_text_shows_rustdoc_link_markup() {
+        use clap::CommandFactory;
+        let mut command = Cli::command();
+        command.build();
+        let mut helps = Vec::new();
+        every_help(&mut command, "axterm", &mut helps);
+        assert!(helps.len() > 10, "{} help texts", helps.len());
+        for (path, help) in helps {
+            assert!(!help.contains("[`"), "{path} --help:\n{help}");
+        }
+    }
 
     #[test]
     fn sim_help_names_every_simulator_kind() {

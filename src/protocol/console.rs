@@ -218,6 +218,17 @@ pub enum AxisUpdate {
     DriverFlags(Vec<AxisFlag>),
 }
 
+/// A value the status poll reads for every axis of a family: what the
+/// plot offers to follow.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StatusValue {
+    Position,
+    Target,
+    Speed,
+    Load,
+    FollowingError,
+}
+
 /// How a line that may keep the module busy for long is dealt with while it
 /// runs (MCCL `RP`, `WS`, `MC`, `FI`: the controller takes nothing but an
 /// abort and a pause byte until the line's prompt, Ch2). The session sends
@@ -536,6 +547,13 @@ pub trait FamilyConsole: Send + Sync {
     ) -> Vec<(usize, AxisUpdate)> {
         let _ = known;
         self.status_update(line, reading)
+    }
+
+    /// The values [`FamilyConsole::status_queries`] read for every axis
+    /// (the [`AxisUpdate`]s of [`FamilyConsole::status_update`]): the plot
+    /// offers these and no others. Position and speed by default.
+    fn status_values(&self) -> &'static [StatusValue] {
+        &[StatusValue::Position, StatusValue::Speed]
     }
 
     /// Candidates for the word of `line` at byte offset `cursor`: command

@@ -39,6 +39,34 @@ use crate::session::{AxisInfo, AxisMotion, AxisStatus};
 
 /// Rows of one axis card.
 const CARD_ROWS: u16 = 3;
+
+/// Characters a position column of the one-row-per-axis layout holds
+/// however the value changes (`-999999`): a wider value widens every
+/// row's column alike. Kept short so that five MCCL axes' rows keep their
+/// lamps and errors at 80 columns.
+const POSITION_COLUMN: usize = 7;
+
+/// Characters a speed column holds (`-99999`).
+const SPEED_COLUMN: usize = 6;
+
+/// Characters a maximum speed column holds (`99999`: a maximum is never
+/// negative, and changes only when someone sets it).
+const MAX_SPEED_COLUMN: usize = 5;
+
+/// Characters a following-error column holds (`-9999`: a servo trips at
+/// its maximum following error long before more).
+const FERR_COLUMN: usize = 5;
+
+/// Whether the module's family reads a following error: its column is
+/// kept from the first row on, not only once a value came.
+fn reads_following_error(view: &View) -> bool {
+    view.session.is_some_and(|s| {
+        s.family
+            .console
+            .status_values()
+            .contains(&crate::protocol::console::StatusValue::FollowingError)
+    })
+}
 /// A card is at least this wide; wider panes put cards side by side.
 const CARD_MIN_WIDTH: u16 = 84;
 /// Columns between cards side by side.
@@ -533,11 +561,14 @@ impl AxesPane {
         // " max ", number, then the longest lamp (`○ stopped short`) or
         // ramp label (`constant speed`).
         let fixed = label_width + 4 + (w + 1) + 5 + (w + 1) + 15;
-        // A closed loop's following error after the ramp: ` ferr -12345`.
+        // A closed loop's following error after the ramp: ` ferr -12345`,
+        // as wide as any, so that the gauges keep their width.
         let fixed = fixed
-            + status
-                .following_error
-                .map_or(0, |e| 6 + e.to_string().len());
+            + if reads_following_error(view) || status.following_error.is_some() {
+                6 + FERR_COLUMN
+            } else {
+                0
+            };
         let gauge_width = width.saturating_sub(fixed).max(4);
         let (low, high) = self.span(index, status);
         let position_gauge = gauge(
@@ -644,7 +675,12 @@ impl AxesPane {
         view: &View,
     ) -> Line<'static> {
         let theme = view.theme;
+        // Columns as wide as the values a poll brings in practice, so that
+        // no column moves when a number gains a digit; only a longer one
+        // widens them (every row alike).
         let [wp, wt, ws, wm] = widths;
+        let (wp, wt) = (wp.max(POSITION_COLUMN), wt.max(POSITION_COLUMN));
+        let (ws, wm) = (ws.max(SPEED_COLUMN), wm.max(MAX_SPEED_COLUMN));
         let shown = self.shown_values(index, status, view);
         // Names as long as the module's longest, 4 to 8 characters: `X`,
         // `servo 1` and `step 5` all read.
@@ -677,18 +713,20 @@ impl AxesPane {
             false,
             "",
         ));
+        // `v500` right-aligned as one word (scripts read it so).
+        let speed = format!("v{}", shown.speed);
+        let ws = ws + 1;
         spans.push(Span::styled(
             format!(
-                " v{:>ws$}/{:<wm$} {:<6} ",
-                shown.speed,
+                " {speed:>ws$}/{:<wm$} {:<6} ",
                 shown.max_speed,
                 self.ramp(index, status).short_label()
             ),
             theme.style(Role::Normal),
         ));
-        if let Some(error) = status.following_error {
+        if reads_following_error(view) {
             spans.push(Span::styled(
-                format!("fe{error} "),
+                format!("fe{:<FERR_COLUMN$} ", number(status.following_error)),
                 theme.style(Role::Normal),
             ));
         }

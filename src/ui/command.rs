@@ -183,6 +183,9 @@ pub struct CommandPane {
     completing: Option<Completing>,
     /// A one-line remark under the output (no completion, a syntax hint).
     hint: Option<Output>,
+    /// The input F1 last explained: the syntax hint would only repeat the
+    /// first line of the help shown just above it.
+    explained: Option<String>,
     history: History,
     history_dir: Option<PathBuf>,
     /// The family whose history is loaded.
@@ -236,6 +239,7 @@ impl CommandPane {
             scroll: 0,
             completing: None,
             hint: None,
+            explained: None,
             history: History::default(),
             history_dir,
             family: None,
@@ -800,13 +804,11 @@ impl CommandPane {
         let width = width.max(1);
         let mut rows = Vec::new();
         for line in &self.output {
-            let chars: Vec<char> = line.text.chars().collect();
-            if chars.is_empty() {
-                rows.push((line.role, String::new()));
-            }
-            for chunk in chars.chunks(width) {
-                rows.push((line.role, chunk.iter().collect()));
-            }
+            rows.extend(
+                crate::ui::text::wrap(&line.text, width)
+                    .into_iter()
+                    .map(|row| (line.role, row)),
+            );
         }
         rows
     }
@@ -886,6 +888,7 @@ impl CommandPane {
         if let Some(family) = self.family(view)
             && !self.input.trim().is_empty()
             && !self.input.starts_with(':')
+            && self.explained.as_deref() != Some(self.input.as_str())
             && let Some(first) = family.console.help(&self.input, 0).first()
         {
             return vec![Line::styled(first.clone(), theme.style(Role::Muted))];

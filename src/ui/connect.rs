@@ -479,24 +479,42 @@ impl ConnectPane {
         Line::styled(line, style)
     }
 
+    /// The protocol and baud rate the highlighted choice connects with
+    /// where they are not the form's (a simulator, a recent connection):
+    /// the form shows what will be used, not values that do not apply.
+    fn choice_protocol_and_baud(&self) -> Option<(String, String)> {
+        let args = match self.choices().get(self.selected)? {
+            Choice::Sim { name, .. } => vec!["--sim".to_string(), (*name).to_string()],
+            Choice::Recent(args) => args.clone(),
+            Choice::Port(_) | Choice::Rescan | Choice::Tcp => return None,
+        };
+        let family = family_of_args(&args)?;
+        let baud = option_value(&args, "--baud").map(str::to_string);
+        let baud = match (baud, option_value(&args, "--sim")) {
+            (Some(baud), _) => baud,
+            // A simulator without --baud has no wire time to emulate.
+            (None, Some(_)) => "none".to_string(),
+            (None, None) => family.console.default_baud().to_string(),
+        };
+        Some((family.name.to_string(), baud))
+    }
+
     fn form_line(&self, view: &View) -> (Line<'static>, Option<usize>) {
         let theme = view.theme;
         let mut spans = Vec::new();
         let mut cursor = None;
         let mut column = 0;
-        let fields = [
-            (
-                Focus::Protocol,
-                "protocol ",
+        let on_form = matches!(self.focus, Focus::Protocol | Focus::Baud);
+        let (protocol, baud) = match self.choice_protocol_and_baud() {
+            Some(applied) if !on_form => applied,
+            _ => (
                 self.protocol_name().to_string(),
-                None,
-            ),
-            (
-                Focus::Baud,
-                "baud ",
                 self.baud.text().to_string(),
-                Some(&self.baud),
             ),
+        };
+        let fields = [
+            (Focus::Protocol, "protocol ", protocol, None),
+            (Focus::Baud, "baud ", baud, Some(&self.baud)),
             (
                 Focus::Address,
                 "address ",
@@ -548,19 +566,23 @@ pub fn initial_family(data_dir: Option<&Path>) -> Option<&'static Family> {
     }
 }
 
+/// The value `option` has in connection options (`--baud 9600` or
+/// `--baud=9600`), if given.
+fn option_value<'a>(args: &'a [String], option: &str) -> Option<&'a str> {
+    let prefix = format!("{option}=");
+    args.iter().enumerate().find_map(|(i, arg)| {
+        if arg == option {
+            args.get(i + 1).map(String::as_str)
+        } else {
+            arg.strip_prefix(&prefix)
+        }
+    })
+}
+
 /// The protocol family connection options name: `--protocol`, else the
 /// simulator's, else TMCL (as on the command line).
 pub fn family_of_args(args: &[String]) -> Option<&'static Family> {
-    let value = |option: &str| {
-        let prefix = format!("{option}=");
-        args.iter().enumerate().find_map(|(i, arg)| {
-            if arg == option {
-                args.get(i + 1).map(String::as_str)
-            } else {
-                arg.strip_prefix(&prefix)
-            }
-        })
-    };
+    let value = |option: &str| option_value(args, option);
     match (value("--protocol"), value("--sim")) {
         (Some(protocol), _) => find_family(protocol),
         (None, Some(sim)) => find_kind(sim)?.family(),

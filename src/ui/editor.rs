@@ -175,6 +175,10 @@ pub struct EditorPane {
     state_at: u64,
     clock: u64,
     recovered: Option<Recovered>,
+    /// The message the check's problems made (F9, the next-error key): it
+    /// speaks of the text as it was, so a change takes it away (the line
+    /// under the cursor still shows its own problem).
+    check_notice: Option<Notice>,
     /// F3 was pressed with unsaved changes: the next F3 opens anyway.
     open_confirmed: bool,
     /// The host-run key was pressed on a text with lines the family wants
@@ -228,6 +232,7 @@ impl EditorPane {
             state_at: 0,
             clock: 0,
             recovered: None,
+            check_notice: None,
             open_confirmed: false,
             host_confirmed: false,
             upload_confirmed: false,
@@ -427,6 +432,9 @@ impl EditorPane {
         self.upload_confirmed = false;
         self.failed_line = None;
         self.recovered = None;
+        if self.message.is_some() && self.message == self.check_notice.take() {
+            self.message = None;
+        }
         self.assemble();
         if self.data_dir.is_none() {
             return Outcome::redraw();
@@ -495,7 +503,10 @@ impl EditorPane {
     /// Forget the recovered text: back to the file as it is on disk (or
     /// an empty buffer), and the safety copy removed. Only the copy as it
     /// was recovered: once edited, the text is the user's and stays.
-    fn discard_recovered(&mut self) {
+    /// Its language goes back to the file's, else the connected
+    /// family's, else the one a fresh start has: the copy's was the
+    /// copy's alone.
+    fn discard_recovered(&mut self, view: &View) {
         let Some(recovered) = self.recovered.take() else {
             return;
         };
@@ -510,6 +521,14 @@ impl EditorPane {
             .file
             .as_deref()
             .is_some_and(|f| language::tool_of_file(&[self.tool], f).is_some());
+        if !self.tool_fixed && !self.follow_family(view) {
+            let connected = view.session.and_then(|s| s.family.console.program());
+            if connected.is_none()
+                && let Some(tool) = default_tool()
+            {
+                self.set_tool(tool);
+            }
+        }
         self.assemble();
         self.write_safety_copy();
         self.message = Some(Notice::info("recovered text discarded"));
@@ -535,6 +554,7 @@ impl EditorPane {
                 } else {
                     Notice::warning(p.text)
                 });
+                self.check_notice = self.message.clone();
             }
             None => {
                 self.message = Some(match self.first_error() {
@@ -652,7 +672,7 @@ impl EditorPane {
                     return outcome;
                 }
                 if self.recovered.is_some() {
-                    self.discard_recovered();
+                    self.discard_recovered(view);
                 } else if self.message.take().is_none() {
                     return Outcome::Ignored;
                 }
@@ -685,6 +705,7 @@ impl EditorPane {
                 e
             })
         });
+        self.check_notice = self.message.clone();
     }
 
     /// Say that the text waits for the transfer.

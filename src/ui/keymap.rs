@@ -273,7 +273,7 @@ pub const ACTIONS: &[ActionInfo] = &[
     info(Action::EditorReset, "editor_reset", "Reset", "reset the program on the controller to its start", EDITOR),
     info(Action::EditorWatch, "editor_watch", "Watch", "watch the user variable of the line (GGP/SGP n, 2; A-Script: V[n]), or one typed, beside the program; again stops", EDITOR),
     info(Action::EditorHostRun, "editor_host_run", "Run from host", "run the text from the host, statement by statement (A-Script: the CMD-4CR takes no program download over the wire; SQPack macros: the SIXpack 2 stores no program)", EDITOR),
-    info(Action::EditorLanguage, "editor_language", "Language", "switch the text between TMCL and A-Script (CMD-4CR)", EDITOR),
+    info(Action::EditorLanguage, "editor_language", "Language", "switch the text to the next program language (one per family)", EDITOR),
 ];
 
 impl Action {
@@ -885,6 +885,16 @@ fn assemble(
 
 #[cfg(test)]
 mod tests {
+    /// The language key goes through every family's language, not two
+    /// (issue 19, point 7): its help names none of them.
+    #[test]
+    fn the_language_key_names_no_single_language() {
+        let said = Action::EditorLanguage.description();
+        for tool in crate::ui::editor::language::registered_tools() {
+            assert!(!said.contains(tool.name()), "{said}");
+        }
+    }
+
     use super::*;
     use ratatui::crossterm::event::{KeyCode, KeyModifiers};
 

@@ -67,15 +67,9 @@ const TICKS_PER_WINDOW: u32 = 100;
 /// Where "now" comes from: the wall clock, or a test's hand.
 pub type Clock = Arc<dyn Fn() -> Instant + Send + Sync>;
 
-/// A value the status poll carries for every axis.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum StatusValue {
-    Position,
-    Target,
-    Speed,
-    Load,
-    FollowingError,
-}
+/// A value the status poll carries for every axis; which ones, the
+/// family says ([`crate::protocol::console::FamilyConsole::status_values`]).
+pub use crate::protocol::console::StatusValue;
 
 /// The status values by the names `:plot add` takes.
 const STATUS_VALUES: &[(&str, StatusValue)] = &[
@@ -782,10 +776,17 @@ fn find_quantity(session: &Snapshot, text: &str) -> Result<(usize, Quantity), St
                 .position(|a| a.name.eq_ignore_ascii_case(axis_text))
         })
         .ok_or_else(|| format!("no axis `{axis_text}` on this module"))?;
-    if let Some((_, v)) = STATUS_VALUES
+    if let Some((name, v)) = STATUS_VALUES
         .iter()
         .find(|(name, _)| name.eq_ignore_ascii_case(value))
     {
+        if !session.family.console.status_values().contains(v) {
+            return Err(format!(
+                "{} modules report no {name}: plot one of {}",
+                session.family.name,
+                status_names(session)
+            ));
+        }
         return Ok((axis, Quantity::Status(*v)));
     }
     let (params, rows) = axis_parameters(session, axis)?;
@@ -797,7 +798,7 @@ fn find_quantity(session: &Snapshot, text: &str) -> Result<(usize, Quantity), St
         .ok_or_else(|| {
             format!(
                 "`{value}` is none of {} nor a parameter of {}",
-                status_names(),
+                status_names(session),
                 session.axes.get(axis).map_or("?", |a| a.name)
             )
         })?;
@@ -805,11 +806,13 @@ fn find_quantity(session: &Snapshot, text: &str) -> Result<(usize, Quantity), St
 }
 
 /// Everything axis `axis` can plot, as `:plot add` finds it: the status
-/// values, then the axis parameters of the family's table that can be
-/// read (a write-only one has no reading to plot).
+/// values the family reads, then the axis parameters of the family's
+/// table that can be read (a write-only one has no reading to plot).
 fn plottable(session: &Snapshot, axis: usize) -> Vec<Quantity> {
+    let read = session.family.console.status_values();
     let mut all: Vec<Quantity> = STATUS_VALUES
         .iter()
+        .filter(|(_, v)| read.contains(v))
         .map(|&(_, v)| Quantity::Status(v))
         .collect();
     if let Ok((params, rows)) = axis_parameters(session, axis) {
@@ -831,7 +834,7 @@ fn axis_parameters(
         format!(
             "{} has no parameter table: plot one of {}",
             session.family.name,
-            status_names()
+            status_names(session)
         )
     })?;
     let rows = params
@@ -855,9 +858,12 @@ fn parameter_quantity(params: &dyn ParameterSet, row: &ParamRow) -> Result<Quant
     })
 }
 
-fn status_names() -> String {
+/// The names of the status values `session`'s family reads.
+fn status_names(session: &Snapshot) -> String {
+    let read = session.family.console.status_values();
     STATUS_VALUES
         .iter()
+        .filter(|(_, v)| read.contains(v))
         .map(|(name, _)| *name)
         .collect::<Vec<_>>()
         .join(", ")
@@ -927,14 +933,16 @@ impl Pane for PlotPane {
         if let Some(note) = &self.note {
             status = format!("{note} · {status}");
         }
-        if view.session.is_none() {
-            status = "not connected".into();
-        } else if self.series.is_empty() {
-            status = format!(
-                "nothing plotted: {} picks, or :plot add AXIS VALUE ({})",
-                key(Action::PlotPick),
-                status_names()
-            );
+        match view.session {
+            None => status = "not connected".into(),
+            Some(session) if self.series.is_empty() => {
+                status = format!(
+                    "nothing plotted: {} picks, or :plot add AXIS VALUE ({})",
+                    key(Action::PlotPick),
+                    status_names(session)
+                );
+            }
+            Some(_) => {}
         }
         let [head, body] =
             Layout::vertical([Constraint::Length(1), Constraint::Min(0)]).areas(area);
@@ -1014,6 +1022,53 @@ mod tests {
     use crate::device::LinkState;
     use crate::ui::keymap::Keymap;
     use crate::ui::theme::Theme;
+
+    fn snapshot_of(family: &'static crate::protocol::Family) -> Snapshot {
+        Snapshot {
+            family,
+            address: 1,
+            link_name: "sim".into(),
+            axes: family.console.axes().to_vec(),
+            status: vec![AxisStatus::default(); family.console.axes().len()],
+            link: LinkState::Closed,
+            identity: None,
+            poll: None,
+            settings: Default::default(),
+            axis: 0,
+        }
+    }
+
+    /// The picker and `:plot add` offer the status values the family
+    /// reads and no others: MCCL reads no load (issue 19, point 9).
+    #[test]
+    fn only_the_status_values_a_family_reads_are_offered() {
+        for family in crate::protocol::FAMILIES {
+            let session = snapshot_of(family);
+            let read = family.console.status_values();
+            let offered: Vec<StatusValue> = plottable(&session, 0)
+                .into_iter()
+                .filter_map(|q| match q {
+                    Quantity::Status(v) => Some(v),
+                    Quantity::Parameter { .. } => None,
+                })
+                .collect();
+            assert_eq!(offered, read, "{}", family.name);
+            let first = session.axes.first().map_or(0, |a| a.number);
+            for (name, value) in STATUS_VALUES {
+                let added = find_quantity(&session, &format!("{first} {name}"));
+                if read.contains(value) {
+                    assert!(added.is_ok(), "{}: {added:?}", family.name);
+                } else {
+                    let error = added.expect_err(name);
+                    assert!(error.contains(&format!("report no {name}")), "{error}");
+                }
+            }
+        }
+        let mccl = crate::protocol::find_family("mccl").expect("mccl");
+        assert!(!mccl.console.status_values().contains(&StatusValue::Load));
+        let tmcl = crate::protocol::find_family("tmcl").expect("tmcl");
+        assert!(tmcl.console.status_values().contains(&StatusValue::Load));
+    }
 
     /// A plot pane on a hand-moved clock over a TMCL snapshot.
     struct Bench {

@@ -28,7 +28,7 @@ use super::wire::MclWire;
 use crate::protocol::console::{
     Answering, AxisFlag, AxisInfo, AxisUpdate, Completions, Effect, FamilyConsole, LinkContext,
     LinkContexts, LongRunning, PreparedLine, Reading, ReplyError, ReplyValue, RunningPrograms,
-    StatusPoll, SwitchKind,
+    StatusPoll, StatusValue, SwitchKind,
 };
 use crate::protocol::parameters::ParameterSet;
 use crate::protocol::program::ProgramStore;
@@ -472,6 +472,16 @@ fn primary_updates(axis: usize, kind: Option<AxisKind>, value: u32) -> Vec<(usiz
 }
 
 impl FamilyConsole for MclConsole {
+    /// TP, TT, TV and TF (Ch8); MCCL has no load reading.
+    fn status_values(&self) -> &'static [StatusValue] {
+        &[
+            StatusValue::Position,
+            StatusValue::Target,
+            StatusValue::Speed,
+            StatusValue::FollowingError,
+        ]
+    }
+
     fn wire(&self) -> Arc<dyn WireFormat> {
         Arc::new(MclWire::new(&self.profile))
     }

@@ -16,7 +16,7 @@ use super::reply::{ReplyFields, check_answers};
 use super::wire::{IdleAnswerRule, Sixpack2ReplyRule, Sixpack2Wire};
 use crate::protocol::console::{
     Answering, AxisFlag, AxisInfo, AxisUpdate, Completions, Effect, FamilyConsole, LinkChoice,
-    LinkOption, PreparedLine, Reading, ReplyError, ReplyValue, StatusPoll, SwitchKind,
+    LinkOption, PreparedLine, Reading, ReplyError, ReplyValue, StatusPoll, StatusValue, SwitchKind,
 };
 use crate::protocol::parameters::{ParameterSet, Scope};
 use crate::protocol::program::ProgramTool;
@@ -272,6 +272,16 @@ fn action_updates(axis: usize, action: Option<i64>) -> Option<(usize, AxisUpdate
 }
 
 impl FamilyConsole for Sixpack2Console {
+    /// posact, the target and vact, as polled; the SIXpack 2 reports no
+    /// load.
+    fn status_values(&self) -> &'static [StatusValue] {
+        &[
+            StatusValue::Position,
+            StatusValue::Target,
+            StatusValue::Speed,
+        ]
+    }
+
     fn wire(&self) -> Arc<dyn WireFormat> {
         Arc::new(Sixpack2Wire {
             framing: self.framing,

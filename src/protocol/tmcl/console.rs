@@ -5,14 +5,14 @@
 use std::sync::Arc;
 
 use super::DEFAULT_MODULE_ADDRESS;
-use super::command::{Command, RfsAction, VersionFormat};
+use super::command::{Command, RfsAction, StatusQuery, VersionFormat};
 use super::frame::{FRAME_LEN, Reply, Request, checksum};
 use super::line::{format_command, parse_line};
 use super::params::{axis_param, global_param};
 use super::wire::{TmclReplyRule, TmclWire, is_version_string};
 use crate::protocol::console::{
     Answering, AxisFlag, AxisInfo, AxisUpdate, Completions, Effect, FamilyConsole, LoadScale,
-    PreparedLine, Reading, ReplyError, ReplyValue, StatusPoll, SwitchKind,
+    PreparedLine, Reading, ReplyError, ReplyValue, StatusPoll, StatusValue, SwitchKind,
 };
 use crate::protocol::parameters::ParameterSet;
 use crate::protocol::wire::{Frame, ReplyRule, Verdict, WireFormat};
@@ -345,8 +345,14 @@ pub(super) fn reply_value(command: &Command, raw: i32) -> ReplyValue {
         Command::Ggp { param, bank } => ReplyValue::Number(
             global_param(bank, param).map_or(i64::from(raw), |info| info.value_from_wire(raw)),
         ),
+        Command::ApplicationStatus { query } => match packed_status_meaning(query) {
+            Some(packed) => ReplyValue::Text(format!(
+                "{raw} (0x{raw:08X}: {packed}, packed in one word in a layout §3.6.53 does \
+                 not give; GGP 128 reads the mode, GGP 130 the program counter)"
+            )),
+            None => ReplyValue::Number(i64::from(raw)),
+        },
         Command::Gio { .. }
-        | Command::ApplicationStatus { .. }
         | Command::FirmwareVersion { .. }
         | Command::Rfs {
             action: RfsAction::Status,
@@ -354,6 +360,16 @@ pub(super) fn reply_value(command: &Command, raw: i32) -> ReplyValue {
         } => ReplyValue::Number(i64::from(raw)),
         Command::Gco { motor, .. } if motor != 255 => ReplyValue::Number(i64::from(raw)),
         _ => ReplyValue::None,
+    }
+}
+
+/// What command 135's packed types hold (§3.6.53 Table 14); `None` for
+/// the plain registers (accumulator, X).
+fn packed_status_meaning(query: StatusQuery) -> Option<&'static str> {
+    match query {
+        StatusQuery::Mode => Some("mode, wait flag and memory pointer"),
+        StatusQuery::ProgramCounter => Some("mode, wait flag and program counter"),
+        StatusQuery::Accumulator | StatusQuery::XRegister => None,
     }
 }
 
@@ -366,6 +382,16 @@ fn flags_in(table: &[(u32, AxisFlag)], bits: i64) -> Vec<AxisFlag> {
 }
 
 impl FamilyConsole for TmclConsole {
+    /// AP0 target, AP1 position, AP3 speed and AP206 load, as polled.
+    fn status_values(&self) -> &'static [StatusValue] {
+        &[
+            StatusValue::Position,
+            StatusValue::Target,
+            StatusValue::Speed,
+            StatusValue::Load,
+        ]
+    }
+
     fn wire(&self) -> Arc<dyn WireFormat> {
         Arc::new(TmclWire::default())
     }
@@ -626,6 +652,27 @@ mod tests {
             Answering::MaybeReply(_)
         ));
         assert!(matches!(prepare("GAP 1, 0").answering, Answering::Reply(_)));
+    }
+
+    /// `APPSTATUS MODE` answers a packed word: a bare `5` says nothing
+    /// (issue 19, point 8); the registers stay numbers.
+    #[test]
+    fn the_packed_application_status_says_what_it_holds() {
+        let line = prepare("APPSTATUS MODE");
+        let reading = TmclConsole
+            .interpret(&line, &[reply(100, 135, 5)])
+            .expect("a reading");
+        let shown = reading.value.to_string();
+        assert!(
+            shown.starts_with("5 (0x00000005: mode, wait flag and memory pointer"),
+            "{shown}"
+        );
+        assert!(shown.contains("GGP 128"), "{shown}");
+        let line = prepare("APPSTATUS ACCU");
+        let reading = TmclConsole
+            .interpret(&line, &[reply(100, 135, 7)])
+            .expect("a reading");
+        assert_eq!(reading.value, ReplyValue::Number(7));
     }
 
     #[test]

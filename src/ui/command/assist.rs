@@ -89,6 +89,7 @@ impl CommandPane {
             self.help_topic(&line, view);
         } else if let Some(family) = self.family(view) {
             self.offline_note(view);
+            self.explained = Some(self.input.clone());
             let lines = family
                 .console
                 .help(&self.input, self.cursor.min(self.input.len()));

@@ -520,11 +520,20 @@ impl EditorPane {
                     _ => Outcome::redraw(),
                 })
             }
-            PaneEvent::Stopping | PaneEvent::EmergencyStop(_) => {
-                // The stop ends the program (TMCL 128): read where it
-                // stopped, once.
+            PaneEvent::Stopping => {
                 self.state.watching = false;
                 None
+            }
+            PaneEvent::EmergencyStop(_) => {
+                // The stop ends the programs too (TMCL 128, SACTRL): the
+                // state shown was read before it, so read where each
+                // stopped, once, rather than leave `running` up.
+                self.state.watching = false;
+                let control = self.tool.control()?;
+                if self.state.describe(control).is_none() || !self.connected_to_tool(view) {
+                    return None;
+                }
+                Some(Outcome::request(self.read_state(control)))
             }
             _ => None,
         }

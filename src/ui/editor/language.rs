@@ -134,6 +134,11 @@ impl EditorPane {
         }
         self.set_tool(to);
         self.tool_fixed = true;
+        // The safety copy names the language: a start after a crash
+        // brings the text back in this one, not the one it was typed in.
+        if self.modified() {
+            self.write_safety_copy();
+        }
         let again = if tools.len() == 2 {
             "switches back"
         } else {
@@ -157,6 +162,9 @@ impl EditorPane {
             return false;
         }
         self.set_tool(tool);
+        if self.modified() {
+            self.write_safety_copy();
+        }
         true
     }
 
