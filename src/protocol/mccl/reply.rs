@@ -317,11 +317,17 @@ pub fn runs_straight(line: &Line) -> bool {
 /// will be interpreted as the number of decimal digits"), if it is written
 /// out.
 pub fn precision_of(command: &Command) -> Option<usize> {
-    if command.spec.param != Param::Precision {
-        return None;
-    }
     let n = command.number()?;
-    Some(((n * 10.0).floor() as i64).clamp(0, 9) as usize)
+    match command.spec.param {
+        Param::Precision => Some(((n * 10.0).floor() as i64).clamp(0, 9) as usize),
+        // `TRn.p` (Ch4): the register prints as it is (a real with six
+        // decimals) unless a precision is asked for.
+        Param::RegisterPrecision => {
+            let tenths = (n.fract() * 10.0).round() as i64;
+            (tenths > 0).then(|| tenths.clamp(0, 9) as usize)
+        }
+        _ => None,
+    }
 }
 
 /// Read a value line as the output of `command`, checking its decimals
