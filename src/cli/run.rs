@@ -444,20 +444,22 @@ impl Runner<'_> {
                 }
                 outcome.is_ok()
             }
-            (Action::Expect { value, .. }, Some(line)) => match self.session.execute(line).await {
-                Ok(result) => {
-                    let got = result.value.to_string();
-                    let ok = result_matches(&got, value);
-                    if !ok {
-                        eprintln!("{at}expected {} == {value}, got {got}", result.line);
+            (Action::Expect { value, .. }, Some(line)) => {
+                match self.session.execute_agreed(line).await {
+                    Ok(result) => {
+                        let got = result.value.to_string();
+                        let ok = result_matches(&got, value);
+                        if !ok {
+                            eprintln!("{at}expected {} == {value}, got {got}", result.line);
+                        }
+                        ok
                     }
-                    ok
+                    Err(e) => {
+                        eprintln!("{at}{e}");
+                        false
+                    }
                 }
-                Err(e) => {
-                    eprintln!("{at}{e}");
-                    false
-                }
-            },
+            }
             (Action::WaitUntil { value, timeout, .. }, Some(line)) => {
                 self.wait_until(&at, line, value, *timeout).await
             }
@@ -495,7 +497,7 @@ impl Runner<'_> {
     ) -> bool {
         let deadline = tokio::time::Instant::now() + timeout;
         loop {
-            let got = match self.session.execute(line).await {
+            let got = match self.session.execute_agreed(line).await {
                 Ok(result) => result.value.to_string(),
                 Err(e) => {
                     eprintln!("{at}{e}");

@@ -401,6 +401,15 @@ pub trait FamilyConsole: Send + Sync {
         0..=255
     }
 
+    /// Whether the family's answers carry a check of their own (a
+    /// checksum) that tells a value damaged on the wire from a good one.
+    /// Without one (the default: claim it only where the manual gives
+    /// it), a value is called good only when two reads agree
+    /// ([`crate::session::Session::execute_agreed`]).
+    fn replies_checked(&self) -> bool {
+        false
+    }
+
     /// The choices about reading the link that the family's manual
     /// leaves open ([`LinkOption`]); none by default.
     fn link_options(&self) -> &'static [LinkOption] {
