@@ -24,8 +24,8 @@ use crate::protocol::settings::SettingsCache;
 
 use crate::protocol::Family;
 use crate::protocol::console::PreparedLine;
-use crate::session::Session;
 use crate::session::run_end::{RunEnding, StopOnFailure};
+use crate::session::{LineResult, Session};
 
 #[derive(Debug, Clone, Args)]
 pub struct RunArgs {
@@ -445,10 +445,10 @@ impl Runner<'_> {
                 outcome.is_ok()
             }
             (Action::Expect { value, .. }, Some(line)) => {
-                match self.session.execute_agreed(line).await {
-                    Ok(result) => {
+                let good = |r: &LineResult| result_matches(&r.value.to_string(), value);
+                match self.session.execute_confirmed(line, good).await {
+                    Ok((result, ok)) => {
                         let got = result.value.to_string();
-                        let ok = result_matches(&got, value);
                         if !ok {
                             eprintln!("{at}expected {} == {value}, got {got}", result.line);
                         }
@@ -497,16 +497,15 @@ impl Runner<'_> {
     ) -> bool {
         let deadline = tokio::time::Instant::now() + timeout;
         loop {
-            let got = match self.session.execute_agreed(line).await {
-                Ok(result) => result.value.to_string(),
+            let good = |r: &LineResult| result_matches(&r.value.to_string(), value);
+            let got = match self.session.execute_confirmed(line, good).await {
+                Ok((_, true)) => return true,
+                Ok((result, false)) => result.value.to_string(),
                 Err(e) => {
                     eprintln!("{at}{e}");
                     return false;
                 }
             };
-            if result_matches(&got, value) {
-                return true;
-            }
             if tokio::time::Instant::now() >= deadline {
                 eprintln!(
                     "{at}{} did not become {value} within {} (last {got})",

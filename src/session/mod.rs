@@ -54,10 +54,6 @@ use status::{StatusBoard, StatusSink};
 /// Further attempts for a read whose reply was lost or garbled.
 pub const DEFAULT_READ_RETRIES: u32 = 2;
 
-/// The most reads [`Session::execute_agreed`] makes of a value whose
-/// answers carry no check, looking for two in a row that agree.
-pub const READS_TO_AGREE: usize = 4;
-
 /// How a session talks to its controller.
 #[derive(Debug, Clone)]
 pub struct SessionOptions {
@@ -538,45 +534,37 @@ impl Session {
         Ok(result)
     }
 
-    /// Send a prepared line as [`Session::execute`] does; a read of a
-    /// family whose answers carry no check of their own
-    /// ([`FamilyConsole::replies_checked`]: SIXpack 2, CMD-4CR, MCCL) is
-    /// read again until two answers in a row agree, at most
-    /// [`READS_TO_AGREE`] times, before its value is called good: what
-    /// `:expect` and `:wait-until` judge. Reads that never agree are an
-    /// unreadable answer.
-    pub async fn execute_agreed(&self, line: &PreparedLine) -> Result<LineResult, SessionError> {
+    /// Send a prepared line as [`Session::execute`] does and judge its
+    /// answer with `good` (what `:expect` and `:wait-until` ask of it).
+    /// A read of a family whose answers carry no check of their own
+    /// ([`FamilyConsole::replies_checked`]: SIXpack 2, CMD-4CR, MCCL) that
+    /// looks good is read once more, and called good only if the second
+    /// answer is good too (they agree on what `good` judges; the rest of a
+    /// reply, a position while a search runs, may move between them; what
+    /// the first read cleared is taken as it left it,
+    /// [`FamilyConsole::as_if_unread`]): one damaged answer cannot pass.
+    /// The result is the last answer read, and whether it is good.
+    pub async fn execute_confirmed(
+        &self,
+        line: &PreparedLine,
+        good: impl Fn(&LineResult) -> bool,
+    ) -> Result<(LineResult, bool), SessionError> {
         let first = self.execute(line).await?;
-        if line.effect != Effect::Reads || self.family.console.replies_checked() {
-            return Ok(first);
+        let unchecked = line.effect == Effect::Reads && !self.family.console.replies_checked();
+        if !good(&first) || !unchecked {
+            let verdict = good(&first);
+            return Ok((first, verdict));
         }
-        let mut seen = vec![first];
-        while seen.len() < READS_TO_AGREE {
-            let next = self.execute(line).await?;
-            let agreed = seen
-                .last()
-                .is_some_and(|last| last.value == next.value && last.status == next.status);
-            if agreed {
-                return Ok(next);
-            }
-            seen.push(next);
-        }
-        let values: Vec<String> = seen.iter().map(|r| r.value.to_string()).collect();
-        let last = seen.pop();
-        Err(SessionError::Reply {
-            error: Box::new(ReplyError::Malformed {
-                line: line.canonical.clone(),
-                reason: format!(
-                    "{READS_TO_AGREE} reads, no two in a row agree ({}): the {} protocol \
-                     has no checksum to tell the good one",
-                    values.join(", "),
-                    self.family.name
-                ),
-            }),
-            request: line.bytes.clone(),
-            reply: last.as_ref().map(|r| r.reply.clone()).unwrap_or_default(),
-            elapsed: last.map(|r| r.elapsed).unwrap_or_default(),
-        })
+        let second = self.execute(line).await?;
+        let as_if_unread = LineResult {
+            value: (self
+                .family
+                .console
+                .as_if_unread(line, &first.value, &second.value)),
+            ..second.clone()
+        };
+        let verdict = good(&as_if_unread);
+        Ok((second, verdict))
     }
 
     /// Stop every motor, ahead of everything queued. Every stop line is
