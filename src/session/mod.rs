@@ -255,6 +255,13 @@ fn garbled(
     }
 }
 
+/// Whether a value `line` reads is called good only once a second read
+/// agrees ([`Session::execute_confirmed`]): a read of a family whose
+/// answers carry no check of their own.
+pub fn confirms_reads(console: &dyn FamilyConsole, line: &PreparedLine) -> bool {
+    line.effect == Effect::Reads && !console.replies_checked()
+}
+
 /// One connected controller. Cheap to clone; clones share everything.
 #[derive(Clone)]
 pub struct Session {
@@ -550,8 +557,7 @@ impl Session {
         good: impl Fn(&LineResult) -> bool,
     ) -> Result<(LineResult, bool), SessionError> {
         let first = self.execute(line).await?;
-        let unchecked = line.effect == Effect::Reads && !self.family.console.replies_checked();
-        if !good(&first) || !unchecked {
+        if !good(&first) || !confirms_reads(self.family.console, line) {
             let verdict = good(&first);
             return Ok((first, verdict));
         }
