@@ -8,7 +8,7 @@ mod device_support;
 
 use axterm::device::DeviceOptions;
 use axterm::protocol::FAMILIES;
-use axterm::session::{LineResult, Session, SessionOptions};
+use axterm::session::{LineResult, READS_TO_AGREE, Session, SessionError, SessionOptions};
 use device_support::device_with;
 
 fn cmd4cr() -> &'static axterm::protocol::Family {
@@ -74,5 +74,41 @@ async fn an_unchecked_read_is_good_only_when_a_second_answer_agrees() {
     script.send(b"7\r");
     let (_, good) = judged.await.expect("joined").expect("answered");
     assert!(!good);
+    assert!(script.nothing_written());
+}
+
+/// `axterm params` reads a CMD-4CR value until two answers in a row agree.
+#[tokio::test(start_paused = true)]
+async fn a_parameter_read_without_a_checksum_is_the_value_two_reads_agree_on() {
+    let family = cmd4cr();
+    let (device, mut script) = device_with(family.console.wire(), DeviceOptions::default());
+    let session = Session::new(device, family, &SessionOptions::default());
+    let line = session.prepare("PX").expect("PX prepares");
+    let read = {
+        let (session, line) = (session.clone(), line.clone());
+        tokio::spawn(async move { session.read_agreed(&line).await })
+    };
+    for answer in ["-2080262363\r", "112421\r", "112421\r"] {
+        script.request().await;
+        script.send(answer.as_bytes());
+    }
+    let result = read.await.expect("joined").expect("two agreed");
+    assert_eq!(result.value.to_string(), "112421");
+
+    let read = tokio::spawn(async move { session.read_agreed(&line).await });
+    for n in 0..READS_TO_AGREE {
+        script.request().await;
+        script.send(format!("{n}\r").as_bytes());
+    }
+    let result = read.await.expect("joined");
+    let Err(SessionError::Reply { error, .. }) = &result else {
+        panic!("expected an unreadable answer, got {result:?}");
+    };
+    assert!(
+        error
+            .to_string()
+            .contains("no two in a row agree (0, 1, 2)"),
+        "{error}"
+    );
     assert!(script.nothing_written());
 }

@@ -54,6 +54,10 @@ use status::{StatusBoard, StatusSink};
 /// Further attempts for a read whose reply was lost or garbled.
 pub const DEFAULT_READ_RETRIES: u32 = 2;
 
+/// The most reads [`Session::read_agreed`] makes of a value whose answers
+/// carry no check, looking for two in a row that agree.
+pub const READS_TO_AGREE: usize = 3;
+
 /// How a session talks to its controller.
 #[derive(Debug, Clone)]
 pub struct SessionOptions {
@@ -571,6 +575,45 @@ impl Session {
         };
         let verdict = good(&as_if_unread);
         Ok((second, verdict))
+    }
+
+    /// Read `line` until two answers in a row agree, if the family's
+    /// answers carry no check ([`confirms_reads`]; at most
+    /// [`READS_TO_AGREE`] reads), else once: what the parameter reads of
+    /// `axterm params` call a value. Reads that never agree are an
+    /// unreadable answer naming what came.
+    pub async fn read_agreed(&self, line: &PreparedLine) -> Result<LineResult, SessionError> {
+        let mut last = self.execute(line).await?;
+        if !confirms_reads(self.family.console, line) {
+            return Ok(last);
+        }
+        let mut values = vec![last.value.to_string()];
+        while values.len() < READS_TO_AGREE {
+            let next = self.execute(line).await?;
+            let as_if_unread = self
+                .family
+                .console
+                .as_if_unread(line, &last.value, &next.value);
+            if as_if_unread == last.value {
+                return Ok(next);
+            }
+            values.push(next.value.to_string());
+            last = next;
+        }
+        Err(SessionError::Reply {
+            error: Box::new(ReplyError::Malformed {
+                line: line.canonical.clone(),
+                reason: format!(
+                    "{READS_TO_AGREE} reads, no two in a row agree ({}): {} answers carry no \
+                     checksum to tell the good one",
+                    values.join(", "),
+                    self.family.name
+                ),
+            }),
+            request: line.bytes.clone(),
+            reply: last.reply,
+            elapsed: last.elapsed,
+        })
     }
 
     /// Stop every motor, ahead of everything queued. Every stop line is
