@@ -494,6 +494,84 @@ async fn a_read_gives_up_after_its_retries() {
     assert_eq!((counters.timeouts, counters.retries), (3, 2));
 }
 
+/// Noise that never stops must not hold a line back past its deadline
+/// (fault soak: a device writing random bytes kept `1TP` waiting for 40 s
+/// and more): a read that could not go for it fails once its timeout has
+/// passed for each attempt it may have, not sent, with the noise shown.
+#[tokio::test(start_paused = true)]
+async fn nonstop_noise_fails_an_unsent_read_at_its_deadline() {
+    let (device, mut script) = tmcl_device(DeviceOptions::default());
+    let noise = nonstop_noise(&script);
+    sleep(Duration::from_millis(3)).await;
+    let gap = request(GAP, 1, 0, 0);
+    let asked = Instant::now();
+    let pending = device.transact(Priority::User, transaction(&gap, Retry::Read(2)));
+    let result = timeout_at(asked + nine_bytes() * 4, pending)
+        .await
+        .expect("ended by the line's deadline");
+    assert_waited(asked.elapsed(), nine_bytes() * 3);
+    let Err(DeviceError::NeverQuiet {
+        waited,
+        heard,
+        first,
+    }) = result
+    else {
+        panic!("expected not sent for the noise, got {result:?}");
+    };
+    assert_waited(waited, nine_bytes() * 3);
+    assert!(heard > 25, "{heard} bytes heard");
+    assert_eq!(first, [0xFF; 32]);
+    assert!(script.nothing_written());
+    noise.abort();
+}
+
+/// Noise that starts after a read was sent: its attempt times out at its
+/// own deadline, and the retry, which waits for a quiet line, is given up
+/// at the line's deadline with the noise of the attempt shown.
+#[tokio::test(start_paused = true)]
+async fn nonstop_noise_after_a_read_went_fails_it_at_the_lines_deadline() {
+    let (device, mut script) = tmcl_device(DeviceOptions::default());
+    let gap = request(GAP, 1, 0, 0);
+    let pending = device.submit(Priority::User, transaction(&gap, Retry::Read(2)));
+    assert_eq!(script.request().await, gap.to_bytes().to_vec());
+    let sent = Instant::now();
+    let noise = nonstop_noise(&script);
+    let result = timeout_at(sent + nine_bytes() * 4, pending)
+        .await
+        .expect("ended by the line's deadline");
+    assert_waited(sent.elapsed(), nine_bytes() * 3);
+    let Err(DeviceError::Garbled {
+        attempts, received, ..
+    }) = result
+    else {
+        panic!("expected a garbled answer, got {result:?}");
+    };
+    assert_eq!(attempts, 1);
+    assert!(received.iter().all(|b| *b == 0xFF) && !received.is_empty());
+    assert!(script.nothing_written(), "no retry went into the noise");
+    noise.abort();
+}
+
+/// An emergency stop is not given up for noise: past its deadline it goes
+/// all the same.
+#[tokio::test(start_paused = true)]
+async fn an_emergency_stop_goes_through_nonstop_noise_at_its_deadline() {
+    let (device, mut script) = tmcl_device(DeviceOptions::default());
+    let noise = nonstop_noise(&script);
+    sleep(Duration::from_millis(3)).await;
+    let mst = request(MST, 0, 0, 0);
+    let asked = Instant::now();
+    let pending = device.submit(Priority::EmergencyStop, transaction(&mst, Retry::Never));
+    let written = timeout_at(asked + nine_bytes() * 2, script.request())
+        .await
+        .expect("sent by its deadline");
+    assert_eq!(written, mst.to_bytes().to_vec());
+    assert_waited(asked.elapsed(), nine_bytes());
+    noise.abort();
+    script.send(&ok(&mst, 0));
+    pending.await.expect("answered");
+}
+
 #[tokio::test(start_paused = true)]
 async fn a_write_is_never_sent_twice() {
     let (device, mut script) = tmcl_device(DeviceOptions::default());

@@ -19,7 +19,10 @@ pub enum Format {
 
 /// The JSON object for one line's outcome: the line as given, request and
 /// reply bytes as the family shows them, the status, the value, whether it
-/// succeeded, and the round trip in microseconds.
+/// succeeded, and the round trip in microseconds. A value read from a
+/// family whose answers carry no checksum
+/// ([`crate::protocol::console::FamilyConsole::replies_checked`]) is marked
+/// `"unchecked": true`: nothing on the wire vouches for its digits.
 pub fn json_outcome(
     family: &Family,
     line: &str,
@@ -27,16 +30,22 @@ pub fn json_outcome(
 ) -> Value {
     let hex = |bytes: &[u8]| (family.show_bytes)(bytes);
     match outcome {
-        Ok(result) => json!({
-            "line": line,
-            "command": result.line,
-            "request": hex(&result.request),
-            "reply": hex(&result.reply),
-            "status": result.status,
-            "value": json_value(&result.value),
-            "ok": true,
-            "elapsed_us": u64::try_from(result.elapsed.as_micros()).unwrap_or(u64::MAX),
-        }),
+        Ok(result) => {
+            let mut object = json!({
+                "line": line,
+                "command": result.line,
+                "request": hex(&result.request),
+                "reply": hex(&result.reply),
+                "status": result.status,
+                "value": json_value(&result.value),
+                "ok": true,
+                "elapsed_us": u64::try_from(result.elapsed.as_micros()).unwrap_or(u64::MAX),
+            });
+            if result.value != ReplyValue::None && !family.console.replies_checked() {
+                object["unchecked"] = json!(true);
+            }
+            object
+        }
         Err(error) => {
             let elapsed = match error {
                 SessionError::Reply { elapsed, .. } => {
@@ -135,6 +144,31 @@ mod tests {
     use crate::protocol::find_family;
     use std::time::Duration;
 
+    /// Issue 19: a SIXpack 2 position read printed a corrupted value as
+    /// plain ok. A value read from a family without a checksum says so;
+    /// a write's `ok` has no value to vouch for.
+    #[test]
+    fn json_marks_values_read_without_a_checksum() {
+        let result = |value| {
+            Ok(LineResult {
+                line: "PX".into(),
+                request: b"@01PX\r".to_vec(),
+                reply: b"112421\r".to_vec(),
+                status: None,
+                value,
+                elapsed: Duration::from_micros(900),
+                attempts: 1,
+            })
+        };
+        for name in ["cmd4cr", "sixpack2", "mccl"] {
+            let family = find_family(name).unwrap();
+            let read = json_outcome(family, "PX", &result(ReplyValue::Number(112421)));
+            assert_eq!(read["unchecked"], true, "{name}");
+            let write = json_outcome(family, "PX", &result(ReplyValue::None));
+            assert_eq!(write.get("unchecked"), None, "{name}");
+        }
+    }
+
     #[test]
     fn json_carries_every_field() {
         let family = find_family("tmcl").unwrap();
@@ -148,6 +182,11 @@ mod tests {
             attempts: 1,
         });
         let object = json_outcome(family, "gap 4 0", &ok);
+        assert_eq!(
+            object.get("unchecked"),
+            None,
+            "TMCL replies carry a checksum"
+        );
         assert_eq!(object["line"], "gap 4 0");
         assert_eq!(object["command"], "GAP 4, 0");
         assert_eq!(object["request"], "01 06 04 00 00 00 00 00 0B");

@@ -449,10 +449,13 @@ impl Runner<'_> {
                 outcome.is_ok()
             }
             (Action::Expect { line: text, value }, Some(line)) => {
-                let outcome = self.session.execute(line).await;
-                let ok = outcome
-                    .as_ref()
-                    .is_ok_and(|result| result_matches(&result.value.to_string(), value));
+                // A family whose answers carry no check of their own is read
+                // twice before a value is called good.
+                let good = |r: &LineResult| result_matches(&r.value.to_string(), value);
+                let (outcome, ok) = match self.session.execute_confirmed(line, good).await {
+                    Ok((result, ok)) => (Ok(result), ok),
+                    Err(e) => (Err(e), false),
+                };
                 self.print_check(&CheckOutcome {
                     directive: "expect",
                     line: text,
@@ -543,7 +546,11 @@ impl Runner<'_> {
     ) -> (Result<LineResult, SessionError>, bool) {
         let deadline = tokio::time::Instant::now() + timeout;
         loop {
-            let outcome = self.session.execute(line).await;
+            let good = |r: &LineResult| result_matches(&r.value.to_string(), value);
+            let (outcome, ok) = match self.session.execute_confirmed(line, good).await {
+                Ok((result, ok)) => (Ok(result), ok),
+                Err(e) => (Err(e), false),
+            };
             let got = match &outcome {
                 Ok(result) => result.value.to_string(),
                 Err(e) => {
@@ -551,7 +558,7 @@ impl Runner<'_> {
                     return (outcome, false);
                 }
             };
-            if result_matches(&got, value) {
+            if ok {
                 return (outcome, true);
             }
             if tokio::time::Instant::now() >= deadline {

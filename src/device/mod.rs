@@ -25,7 +25,13 @@
 //!    (emergency stop, user, transfer, poll); only when every queue is empty,
 //!    the most overdue item of the poll plan. If the line must settle first
 //!    (see below), wait, still taking orders, so that an emergency stop that
-//!    arrives meanwhile goes first.
+//!    arrives meanwhile goes first. A line's deadline is absolute: bytes
+//!    that keep coming without the line ever falling silent (a device that
+//!    never stops talking) hold a job back no longer than its timeout for
+//!    each attempt it may have, counted from when it first headed the
+//!    queues (or the talk began, if later). Then it fails unsent
+//!    ([`DeviceError::NeverQuiet`]) or, after an attempt, with what that
+//!    attempt got; an emergency stop goes all the same.
 //! 4. Send it (one attempt) and wait for its answer: each frame received
 //!    is first offered to the unanswered attempts, oldest first, then put
 //!    to the request's [`ReplyRule`]; frames nobody claims are unsolicited
@@ -260,6 +266,17 @@ pub enum DeviceError {
     /// came within the grace: the controller may still be running it.
     #[error("aborted ({} sent), but no answer came within {} ms: the controller may still be busy", hex(abort), grace.as_millis())]
     AbortUnanswered { grace: Duration, abort: Vec<u8> },
+    /// The request was not sent: bytes kept coming past its line's
+    /// deadline, and a request written over a device that is talking
+    /// could collide with it on the bus or be lost in what it says.
+    #[error("not sent: the line did not fall quiet within {} ms ({heard} bytes came, beginning {})", waited.as_millis(), hex(first))]
+    NeverQuiet {
+        waited: Duration,
+        /// How many bytes came since the last request was written.
+        heard: u64,
+        /// The first of them.
+        first: Vec<u8>,
+    },
     #[error("not connected: {0}")]
     Disconnected(String),
     #[error("the link was lost while waiting for the reply: {0}")]

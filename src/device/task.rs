@@ -50,6 +50,8 @@ struct Job {
     /// an earlier request (so they were taken for that one's), in the last
     /// attempt that received any.
     ambiguous: Vec<u8>,
+    /// Since when it has headed the queues (see [`Task::overdue`]).
+    waiting: Option<Instant>,
 }
 
 impl Job {
@@ -62,6 +64,15 @@ impl Job {
             origin,
             garbled: Vec::new(),
             ambiguous: Vec::new(),
+            waiting: None,
+        }
+    }
+
+    /// How many attempts it may have in all.
+    fn allowed_attempts(&self) -> u32 {
+        match self.transaction.retry {
+            Retry::Never => 1,
+            Retry::Read(further) => further.saturating_add(1),
         }
     }
 
@@ -133,6 +144,9 @@ struct Line {
     framer: Box<dyn Framer>,
     silence: Duration,
     last_rx: Instant,
+    /// Since when bytes have come without the line falling silent between
+    /// them (meaningful while `last_rx` is recent).
+    talking_since: Instant,
     /// Garbage was seen at this time: wait for silence before sending.
     garbage_at: Option<Instant>,
     /// The last attempt failed at this time: wait for silence before
@@ -143,6 +157,31 @@ struct Line {
     /// A sentinel went since the last request: the next request goes
     /// without another, whatever became of it.
     sentinel_sent: bool,
+    /// What came while no request was on the wire, since the last one was
+    /// written: shown when a request could not go for it.
+    heard: Heard,
+}
+
+/// Bytes that came while no request was on the wire: how many, and the
+/// first [`Heard::KEPT`] of them.
+#[derive(Default)]
+struct Heard {
+    count: u64,
+    first: Vec<u8>,
+}
+
+impl Heard {
+    /// Enough to recognise what kept the line busy, short enough for one
+    /// error line.
+    const KEPT: usize = 32;
+
+    fn add(&mut self, bytes: &[u8]) {
+        self.count = self
+            .count
+            .saturating_add(u64::try_from(bytes.len()).unwrap_or(u64::MAX));
+        let room = Self::KEPT.saturating_sub(self.first.len());
+        self.first.extend(bytes.iter().take(room));
+    }
 }
 
 impl Line {
@@ -155,16 +194,28 @@ impl Line {
             outgoing: link.outgoing,
             byte_time: link.byte_time,
             last_rx: Instant::now(),
+            talking_since: Instant::now(),
             garbage_at: None,
             failed_at: None,
             unanswered: VecDeque::new(),
             sentinel_sent: false,
+            heard: Heard::default(),
         }
     }
 
     fn take_bytes(&mut self, bytes: &[u8]) -> Vec<Frame> {
-        self.last_rx = Instant::now();
+        self.received_now();
         self.framer.push(bytes)
+    }
+
+    /// Bytes came just now: a new stretch of talk if the line had been
+    /// silent since the last ones.
+    fn received_now(&mut self) {
+        let now = Instant::now();
+        if now.saturating_duration_since(self.last_rx) > self.silence {
+            self.talking_since = now;
+        }
+        self.last_rx = now;
     }
 
     /// When a partial frame held back becomes garbage.
@@ -247,6 +298,15 @@ impl Line {
             .flatten()
             .max()
     }
+}
+
+/// Whether a job waiting for the line has waited past its line's deadline.
+enum Overdue {
+    /// Not yet: it may wait until then (while the talk goes on).
+    No(Option<Instant>),
+    /// An emergency stop: it goes without the line falling quiet.
+    SendAnyway,
+    GiveUp,
 }
 
 /// What became of one attempt.
@@ -423,7 +483,22 @@ impl Task {
                 Next::Idle => None,
             }
             .map(|at| at.filter(|at| *at > now));
-            if let Some(None) = wake_for_work {
+            let mut line_deadline = None;
+            let mut send_anyway = false;
+            if let Next::Queued { id, .. } = next {
+                let overdue = self.overdue(&line, id, now);
+                if let Some(Some(_)) = wake_for_work {
+                    match overdue {
+                        Overdue::No(deadline) => line_deadline = deadline,
+                        Overdue::SendAnyway => send_anyway = true,
+                        Overdue::GiveUp => {
+                            self.give_up(&mut line, id, now);
+                            continue;
+                        }
+                    }
+                }
+            }
+            if matches!(wake_for_work, Some(None)) || send_anyway {
                 let sent = match settle {
                     Settle::Sentinel(sentinel) => {
                         let priority = match next {
@@ -446,10 +521,14 @@ impl Task {
                 }
                 continue;
             }
-            let wake = [wake_for_work.flatten(), line.partial_deadline()]
-                .into_iter()
-                .flatten()
-                .min();
+            let wake = [
+                wake_for_work.flatten(),
+                line.partial_deadline(),
+                line_deadline,
+            ]
+            .into_iter()
+            .flatten()
+            .min();
             let take_plan = self.plans_open && !self.plan_job_pending();
             tokio::select! {
                 biased;
@@ -465,6 +544,79 @@ impl Task {
         }
     }
 
+    /// Whether queued job `id`, if it has to wait for the line to be
+    /// ready, is past its line's deadline. Bytes that keep coming without
+    /// the line ever falling silent (a device that never stops talking)
+    /// hold it back no longer than its timeout for each attempt it may
+    /// have, counted from when it first headed the queues or the talk
+    /// began, whichever is later; retries and the waits before them
+    /// included. Past it, an emergency stop goes all the same; anything
+    /// else is given up. Waits the line's silence ends (settling after a
+    /// lost answer, a burst of garbage) are left alone.
+    fn overdue(&mut self, line: &Line, id: u64, now: Instant) -> Overdue {
+        let Some(each) = self.queued(id).map(|job| {
+            let transaction = &job.transaction;
+            self.timeout_for(line, transaction.timeout, transaction.bytes.len())
+        }) else {
+            return Overdue::No(None);
+        };
+        let Some(job) = self
+            .queues
+            .iter_mut()
+            .find_map(|q| q.front_mut().filter(|j| j.id == id))
+        else {
+            return Overdue::No(None);
+        };
+        let budget = each.saturating_mul(job.allowed_attempts());
+        let since = *job.waiting.get_or_insert(now);
+        // Held back by talk that has not stopped since it began (or since
+        // the job headed the queues, if it began before).
+        let talking = now.saturating_duration_since(line.last_rx) <= line.silence;
+        let deadline = since.max(line.talking_since) + budget;
+        if !talking {
+            // Bytes that come wake the task anyway.
+            Overdue::No(None)
+        } else if now < deadline {
+            Overdue::No(Some(deadline))
+        } else if job.priority == Priority::EmergencyStop {
+            Overdue::SendAnyway
+        } else {
+            Overdue::GiveUp
+        }
+    }
+
+    /// Fail queued job `id`, held back past its line's deadline by a line
+    /// that never fell quiet: with what its last attempt got if it had
+    /// one, else as not sent, with what came meanwhile.
+    fn give_up(&mut self, line: &mut Line, id: u64, now: Instant) {
+        let Some(job) = self.queues.iter_mut().find_map(|queue| {
+            let index = queue.iter().position(|job| job.id == id)?;
+            queue.remove(index)
+        }) else {
+            return;
+        };
+        let since = job.waiting.unwrap_or(now);
+        let error = if job.attempts > 0 {
+            let timeout =
+                self.timeout_for(line, job.transaction.timeout, job.transaction.bytes.len());
+            job.failure(timeout)
+        } else {
+            DeviceError::NeverQuiet {
+                waited: now.saturating_duration_since(since),
+                heard: line.heard.count,
+                first: line.heard.first.clone(),
+            }
+        };
+        self.deliver(job, Err(error));
+    }
+
+    /// Queued job `id`, if it heads its queue.
+    fn queued(&self, id: u64) -> Option<&Job> {
+        self.queues
+            .iter()
+            .find_map(|queue| queue.front().filter(|job| job.id == id))
+    }
+
     /// What has to happen before `next` goes.
     fn settle_for(&self, line: &Line, next: &Next, now: Instant) -> Settle {
         if line.unanswered.is_empty() {
@@ -472,11 +624,7 @@ impl Task {
         }
         let (priority, id, transaction) = match *next {
             Next::Queued { priority, id } => {
-                let Some(job) = self
-                    .queues
-                    .iter()
-                    .find_map(|queue| queue.front().filter(|job| job.id == id))
-                else {
+                let Some(job) = self.queued(id) else {
                     return Settle::Go;
                 };
                 (priority, Some(id), &job.transaction)
@@ -531,6 +679,7 @@ impl Task {
         }
         line.garbage_at = None;
         line.failed_at = None;
+        line.heard = Heard::default();
         self.publish(
             Direction::Sent,
             TrafficKind::Request,
@@ -689,7 +838,7 @@ impl Task {
                 biased;
                 input = line.incoming.recv() => match input {
                     Some(LinkInput::Bytes(bytes)) => {
-                        line.last_rx = Instant::now();
+                        line.received_now();
                         self.publish(
                             Direction::Received,
                             TrafficKind::Answer,
@@ -1158,6 +1307,7 @@ impl Task {
     fn receive_idle(&mut self, line: &mut Line, input: Option<LinkInput>) -> Result<(), String> {
         match input {
             Some(LinkInput::Bytes(bytes)) => {
+                line.heard.add(&bytes);
                 let frames = line.take_bytes(&bytes);
                 self.log_skipped(line);
                 for frame in frames {

@@ -425,6 +425,28 @@ pub trait FamilyConsole: Send + Sync {
         0..=255
     }
 
+    /// Whether the family's answers carry a check of their own (a
+    /// checksum) that tells a value damaged on the wire from a good one.
+    /// Without one (the default: claim it only where the manual gives
+    /// it), a value is called good only when two reads agree
+    /// ([`crate::session::Session::execute_confirmed`]).
+    fn replies_checked(&self) -> bool {
+        false
+    }
+
+    /// A second read's value as it would read had the first read not
+    /// changed it: `second` with what reading clears (a latched flag)
+    /// taken from `first`, so that two reads can be compared. By default
+    /// reading changes nothing.
+    fn as_if_unread(
+        &self,
+        _line: &PreparedLine,
+        _first: &ReplyValue,
+        second: &ReplyValue,
+    ) -> ReplyValue {
+        second.clone()
+    }
+
     /// The choices about reading the link that the family's manual
     /// leaves open ([`LinkOption`]); none by default.
     fn link_options(&self) -> &'static [LinkOption] {

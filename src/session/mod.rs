@@ -54,6 +54,10 @@ use status::{StatusBoard, StatusSink};
 /// Further attempts for a read whose reply was lost or garbled.
 pub const DEFAULT_READ_RETRIES: u32 = 2;
 
+/// The most reads [`Session::read_agreed`] makes of a value whose answers
+/// carry no check, looking for two in a row that agree.
+pub const READS_TO_AGREE: usize = 3;
+
 /// How a session talks to its controller.
 #[derive(Debug, Clone)]
 pub struct SessionOptions {
@@ -259,6 +263,13 @@ fn garbled(
 /// started shows by then (a module may read speed 0 for its first
 /// moments, while it starts to accelerate).
 pub const MOTION_START_GRACE: Duration = Duration::from_millis(100);
+
+/// Whether a value `line` reads is called good only once a second read
+/// agrees ([`Session::execute_confirmed`]): a read of a family whose
+/// answers carry no check of their own.
+pub fn confirms_reads(console: &dyn FamilyConsole, line: &PreparedLine) -> bool {
+    line.effect == Effect::Reads && !console.replies_checked()
+}
 
 /// One connected controller. Cheap to clone; clones share everything.
 #[derive(Clone)]
@@ -543,6 +554,77 @@ impl Session {
         let result = self.send(Priority::User, line, retry, None).await?;
         transfer::after_user_line(self, line);
         Ok(result)
+    }
+
+    /// Send a prepared line as [`Session::execute`] does and judge its
+    /// answer with `good` (what `:expect` and `:wait-until` ask of it).
+    /// A read of a family whose answers carry no check of their own
+    /// ([`FamilyConsole::replies_checked`]: SIXpack 2, CMD-4CR, MCCL) that
+    /// looks good is read once more, and called good only if the second
+    /// answer is good too (they agree on what `good` judges; the rest of a
+    /// reply, a position while a search runs, may move between them; what
+    /// the first read cleared is taken as it left it,
+    /// [`FamilyConsole::as_if_unread`]): one damaged answer cannot pass.
+    /// The result is the last answer read, and whether it is good.
+    pub async fn execute_confirmed(
+        &self,
+        line: &PreparedLine,
+        good: impl Fn(&LineResult) -> bool,
+    ) -> Result<(LineResult, bool), SessionError> {
+        let first = self.execute(line).await?;
+        if !good(&first) || !confirms_reads(self.family.console, line) {
+            let verdict = good(&first);
+            return Ok((first, verdict));
+        }
+        let second = self.execute(line).await?;
+        let as_if_unread = LineResult {
+            value: (self
+                .family
+                .console
+                .as_if_unread(line, &first.value, &second.value)),
+            ..second.clone()
+        };
+        let verdict = good(&as_if_unread);
+        Ok((second, verdict))
+    }
+
+    /// Read `line` until two answers in a row agree, if the family's
+    /// answers carry no check ([`confirms_reads`]; at most
+    /// [`READS_TO_AGREE`] reads), else once: what the parameter reads of
+    /// `axterm params` call a value. Reads that never agree are an
+    /// unreadable answer naming what came.
+    pub async fn read_agreed(&self, line: &PreparedLine) -> Result<LineResult, SessionError> {
+        let mut last = self.execute(line).await?;
+        if !confirms_reads(self.family.console, line) {
+            return Ok(last);
+        }
+        let mut values = vec![last.value.to_string()];
+        while values.len() < READS_TO_AGREE {
+            let next = self.execute(line).await?;
+            let as_if_unread = self
+                .family
+                .console
+                .as_if_unread(line, &last.value, &next.value);
+            if as_if_unread == last.value {
+                return Ok(next);
+            }
+            values.push(next.value.to_string());
+            last = next;
+        }
+        Err(SessionError::Reply {
+            error: Box::new(ReplyError::Malformed {
+                line: line.canonical.clone(),
+                reason: format!(
+                    "{READS_TO_AGREE} reads, no two in a row agree ({}): {} answers carry no \
+                     checksum to tell the good one",
+                    values.join(", "),
+                    self.family.name
+                ),
+            }),
+            request: line.bytes.clone(),
+            reply: last.reply,
+            elapsed: last.elapsed,
+        })
     }
 
     /// Stop every motor, ahead of everything queued. Every stop line is

@@ -273,7 +273,9 @@ impl fmt::Display for StopLine<'_> {
         match self.0 {
             Ok(result) => write!(f, "{} → {}", result.line, result.value),
             Err(SessionError::Device { line, error, .. }) => match error {
-                DeviceError::Disconnected(_) | DeviceError::Closed => {
+                DeviceError::Disconnected(_)
+                | DeviceError::Closed
+                | DeviceError::NeverQuiet { .. } => {
                     write!(f, "{line}: NOT SENT ({error})")
                 }
                 DeviceError::LinkLost(_) => {

@@ -8,9 +8,10 @@ use std::time::Duration;
 use tokio::time::Instant;
 
 use crate::protocol::Family;
+use crate::protocol::console::{FamilyConsole, PreparedLine, ReplyValue};
 use crate::script::{Action, Step, WAIT_INTERVAL, check_script, result_matches};
 use crate::session::run_end::{NO_STOP_FLAG, StopOnFailure};
-use crate::session::{LineResult, SessionError};
+use crate::session::{LineResult, SessionError, confirms_reads};
 
 /// The options of `:run` and `:run-ascript` before the file name: only
 /// [`NO_STOP_FLAG`], as `axterm run` takes it. What a run that fails or is
@@ -53,6 +54,21 @@ pub struct Batch {
     reads: u32,
     /// The lines the family wants confirmed, as `NAME:LINE: `line`: why`.
     confirm: Vec<String>,
+    /// Each step's line as prepared, for a second read.
+    prepared: Vec<Option<PreparedLine>>,
+    console: Console,
+    /// The first of two reads of an `:expect` or `:wait-until` whose
+    /// value needs a second that agrees ([`confirms_reads`]).
+    first_read: Option<ReplyValue>,
+}
+
+/// The family's console, for judging a second read.
+struct Console(&'static dyn FamilyConsole);
+
+impl std::fmt::Debug for Console {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Console")
+    }
 }
 
 impl Batch {
@@ -77,7 +93,10 @@ impl Batch {
                 ))
             })
             .collect();
-        let steps = checked.into_iter().map(|checked| checked.step).collect();
+        let (steps, prepared) = checked
+            .into_iter()
+            .map(|checked| (checked.step, checked.line))
+            .unzip();
         Ok(Batch {
             name: name.to_string(),
             steps,
@@ -85,6 +104,9 @@ impl Batch {
             deadline: None,
             reads: 0,
             confirm,
+            prepared,
+            console: Console(family.console),
+            first_read: None,
         })
     }
 
@@ -181,7 +203,32 @@ impl Batch {
             Ok(result) => result,
             Err(e) => return vec![BatchStep::Failed(format!("{at}{e}"))],
         };
-        let got = result.value.to_string();
+        let mut got = result.value.to_string();
+        let judged = matches!(
+            step.action,
+            Action::Expect { .. } | Action::WaitUntil { .. }
+        );
+        let prepared = self.prepared.get(self.next).and_then(Option::as_ref);
+        if judged && let Some(prepared) = prepared.filter(|l| confirms_reads(self.console.0, l)) {
+            // No check over the answer: a value that looks good is read
+            // once more, and good only if the second read is good too.
+            match self.first_read.take() {
+                Some(first) => {
+                    got = (self.console.0)
+                        .as_if_unread(prepared, &first, &result.value)
+                        .to_string();
+                }
+                None => {
+                    if let Action::Expect { line, value } | Action::WaitUntil { line, value, .. } =
+                        &step.action
+                        && result_matches(&got, value)
+                    {
+                        self.first_read = Some(result.value.clone());
+                        return vec![BatchStep::Send(line.clone())];
+                    }
+                }
+            }
+        }
         match &step.action {
             Action::Expect { value, .. } if !result_matches(&got, value) => {
                 return vec![BatchStep::Failed(format!(
@@ -241,6 +288,38 @@ mod tests {
             elapsed: Duration::ZERO,
             attempts: 1,
         })
+    }
+
+    /// Issue 19: the console's `:expect` and `:wait-until` call a value
+    /// read from a family without a checksum good only when a second read
+    /// agrees; TMCL's checksum vouches for one.
+    #[test]
+    fn an_unchecked_value_is_read_twice_before_it_is_good() {
+        let cmd4cr = find_family("cmd4cr").expect("cmd4cr");
+        let mut batch = Batch::check("f.txt", ":expect PX == 5\n", cmd4cr, 1).expect("valid");
+        assert_eq!(batch.advance(), [BatchStep::Send("PX".into())]);
+        let again = batch.on_reply(&reply(ReplyValue::Number(5)));
+        assert_eq!(again, [BatchStep::Send("PX".into())], "read once more");
+        let after = batch.on_reply(&reply(ReplyValue::Number(-2080262363)));
+        assert!(
+            matches!(after.as_slice(), [BatchStep::Failed(_)]),
+            "{after:?}"
+        );
+
+        let mut batch = Batch::check("f.txt", ":expect PX == 5\n", cmd4cr, 1).expect("valid");
+        batch.advance();
+        batch.on_reply(&reply(ReplyValue::Number(5)));
+        assert_eq!(
+            batch.on_reply(&reply(ReplyValue::Number(5))),
+            [BatchStep::Done]
+        );
+
+        let mut batch = Batch::check("f.txt", ":expect GAP 8, 0 == 5\n", tmcl(), 1).expect("valid");
+        batch.advance();
+        assert_eq!(
+            batch.on_reply(&reply(ReplyValue::Number(5))),
+            [BatchStep::Done]
+        );
     }
 
     #[test]

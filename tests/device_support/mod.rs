@@ -226,3 +226,16 @@ impl PollSink for RecordingSink {
         self.0.lock().expect("sink").push((index, result));
     }
 }
+
+/// A device that never stops talking: from now on, 25 bytes of noise each
+/// millisecond of virtual time (25 KB/s) come from the scripted link,
+/// until the task is dropped or the device task has gone. The noise is
+/// 0xFF bytes: no TMCL frame (eight of them sum to F8, not FF).
+pub fn nonstop_noise(script: &Script) -> tokio::task::JoinHandle<()> {
+    let to_host = script.to_host.clone();
+    tokio::spawn(async move {
+        while to_host.send(LinkInput::Bytes(vec![0xFF; 25])).is_ok() {
+            tokio::time::sleep(Duration::from_millis(1)).await;
+        }
+    })
+}

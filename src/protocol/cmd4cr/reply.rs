@@ -257,7 +257,10 @@ pub enum AnswerError {
 /// Read a reply line. `format` is the register's format for a read, `None`
 /// for a write or an action.
 pub fn parse_answer(line: &str, format: Option<Format>) -> Result<Answer, AnswerError> {
-    let line = line.trim();
+    // §3.2.2 shows replies as they are (`7␍`, `OK␍`): no checksum guards
+    // them, so a blank where none belongs (a corrupted byte) makes the
+    // answer unreadable, never a success. Only the line end is dropped.
+    let line = line.trim_end_matches(['\r', '\n']);
     if let Some(error) = ErrorReply::parse(line) {
         return Err(AnswerError::Refused(error));
     }
@@ -275,8 +278,7 @@ pub fn parse_answer(line: &str, format: Option<Format>) -> Result<Answer, Answer
             .map(|v| Answer::Thousandths(v, line.to_string()))
             .ok_or_else(|| unreadable("a number with at most 3 decimals")),
         Some(Format::Fields(names)) => {
-            let values: Option<Vec<i64>> =
-                line.split(':').map(|f| parse_integer(f.trim())).collect();
+            let values: Option<Vec<i64>> = line.split(':').map(parse_integer).collect();
             match values {
                 Some(values) if values.len() == names.len() => {
                     Ok(Answer::Fields(values, line.to_string()))
@@ -556,6 +558,31 @@ mod tests {
         ));
     }
 
+    /// The same looseness as MCCL's (issue 19, point 14): with no
+    /// checksum, only the exact success form is success; a blank where
+    /// §3.2.2's replies have none is a damaged answer.
+    #[test]
+    fn only_the_exact_success_form_is_success() {
+        let fields = Some(Format::Fields(&["X", "Y", "Z", "U"]));
+        for (damaged, format) in [
+            ("OK ", None),
+            (" OK", None),
+            ("7 ", Some(Format::Integer)),
+            (" 7", Some(Format::Integer)),
+            ("100: 5:0:7", fields),
+            ("1.5 ", Some(Format::Thousandths)),
+        ] {
+            assert!(
+                matches!(
+                    parse_answer(damaged, format),
+                    Err(AnswerError::Unreadable { .. })
+                ),
+                "`{damaged}` read as {:?}",
+                parse_answer(damaged, format)
+            );
+        }
+    }
+
     #[test]
     fn a_read_is_not_answered_by_ok() {
         assert!(!answers("OK", Some(Format::Integer)));
@@ -567,7 +594,8 @@ mod tests {
     #[test]
     fn a_write_is_answered_by_ok_or_an_error_only() {
         assert!(answers("OK", None));
-        assert!(answers(" OK ", None), "blanks around it are no garbling");
+        // §3.2.2 shows `OK␍`: blanks around it are a damaged answer.
+        assert!(!answers(" OK ", None), "blanks the manual never shows");
         assert!(answers("?Error Moving", None));
         // The garbled answers of the issue's `--fault corrupt=1,seed=1` run,
         // a late value, noise, and what the manual never shows.

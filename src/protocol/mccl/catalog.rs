@@ -208,6 +208,10 @@ pub enum Param {
     /// `TS n`: a status word (0, 64, 96, 128, 160) or one of its bits 1–31
     /// (Ch8 TS).
     Status,
+    /// `TRn.p`, `TR.p`: register `n` (0–999, Ch4 "Controller User
+    /// Registers"; none is the accumulator) and, in the tenths digit, the
+    /// reporting precision as [`Param::Precision`] (Ch4 register table).
+    RegisterPrecision,
     /// A string in double quotes (`LU"STATUS"`, `OT"…"`).
     Text,
     /// An optional string (`BK`, `BK"wait"`).
@@ -306,6 +310,7 @@ impl CommandSpec {
         let param = match self.param {
             Param::None => "",
             Param::Precision => "p",
+            Param::RegisterPrecision => "n.p",
             Param::Text => "\"s\"",
             Param::OptionalText => "[\"s\"]",
             Param::Help => "n|\"mm\"",
@@ -332,6 +337,9 @@ impl CommandSpec {
             }
             Param::Real(range) => format!("integer or real, {range}"),
             Param::Precision => "precision 0, .1 … .5 (decimals in the reply)".into(),
+            Param::RegisterPrecision => {
+                "register 0..999 and precision .1 … .5 (decimals in the reply): 5.2, .3".into()
+            }
             Param::Status => {
                 "0 primary word, 1–31 its bits; 64/96/128/160 aux, profile, trajectory, \
                  encoder-fault words, +1–31 their bits"
@@ -744,8 +752,9 @@ pub const COMMANDS: &[CommandSpec] = &[
     spec("TQ", Some(0xD1), Reporting, "Tell torQue", One, Param::Precision, SERVO,
         "report the SQ setting")
         .reports(Output::Value),
-    spec("TR", Some(0x57), Reporting, "Tell Register n", NoAxis, REGISTER, REGISTERS,
-        "report register n (0 = the accumulator; syntax prints n ≤ 255)")
+    spec("TR", Some(0x57), Reporting, "Tell Register n", NoAxis, Param::RegisterPrecision,
+        REGISTERS,
+        "report register n (0 = the accumulator; syntax prints n ≤ 255), .p decimals (Ch4 TRn.p)")
         .reports(Output::Value),
     spec("TS", Some(0x53), Reporting, "Tell Status", One, Param::Status, SERVO_STEPPER,
         "report a status word or bit (Ch8 TS)")

@@ -362,6 +362,16 @@ fn check_value(f: &mut Findings, index: usize, command: &Command) {
             }
             "0, .1, .2, .3, .4 or .5 (decimals in the reply)".into()
         }
+        Param::RegisterPrecision => {
+            let (register, tenths) = (value.trunc(), value.fract() * 10.0);
+            if (0.0..=999.0).contains(&register)
+                && (0.0..=5.0).contains(&tenths)
+                && (tenths - tenths.round()).abs() < 1e-6
+            {
+                return;
+            }
+            "a register 0..999 with precision .1 … .5 at most (TRn.p, Ch4)".into()
+        }
         Param::Status => {
             if integer.and_then(StatusSelector::from_parameter).is_some() {
                 return;

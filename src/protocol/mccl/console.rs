@@ -761,6 +761,36 @@ mod tests {
         lines.iter().map(|l| l.canonical.clone()).collect()
     }
 
+    /// Ch4's register table lists `TRn.p` (register n) and `TR.p` (the
+    /// accumulator): a register and a reporting precision, whose decimals
+    /// the reply must have.
+    #[test]
+    fn tr_takes_a_register_and_a_precision() {
+        for line in ["TR5.3", "TR.2", "TR999.5", "TR5", "TR"] {
+            assert!(CONSOLE.prepare(line, 0).is_ok(), "{line}");
+        }
+        for line in ["TR1000", "TR5.7", "TR5.25", "TR-1"] {
+            assert!(CONSOLE.prepare(line, 0).is_err(), "{line}");
+        }
+        assert_eq!(
+            answer(&prepare("TR5.3"), &["01 123.456"]).map(|r| r.value),
+            Ok(ReplyValue::Text("123.456".into()))
+        );
+        assert_eq!(
+            answer(&prepare("TR.1"), &["01 123.4"]).map(|r| r.value),
+            Ok(ReplyValue::Text("123.4".into()))
+        );
+        assert!(
+            answer(&prepare("TR5.2"), &["01 15"]).is_err(),
+            "2 decimals asked"
+        );
+        assert_eq!(
+            answer(&prepare("TR5"), &["01 123.456700"]).map(|r| r.value),
+            Ok(ReplyValue::Text("123.456700".into())),
+            "without a precision, as the register holds it"
+        );
+    }
+
     #[test]
     fn a_line_is_sent_canonical_with_a_cr() {
         let line = prepare("2mr1000, ws0.5 ;there and back");

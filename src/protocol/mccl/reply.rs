@@ -270,6 +270,9 @@ pub enum ReplyProblem {
     Unexpected { line: String },
     /// A reply line that is not a value of its command.
     BadValue { command: String, reason: String },
+    /// Blanks where the answer has none: around the echo, before the
+    /// prompt, a line of them (a corrupted line end).
+    Damaged { got: String },
 }
 
 impl fmt::Display for ReplyProblem {
@@ -287,6 +290,10 @@ impl fmt::Display for ReplyProblem {
                 write!(f, "`{line}` answers no reporting command of the line")
             }
             ReplyProblem::BadValue { command, reason } => write!(f, "{command}: {reason}"),
+            ReplyProblem::Damaged { got } => write!(
+                f,
+                "`{got}` is neither the exact echo, a reply line nor the prompt alone: unreadable"
+            ),
         }
     }
 }
@@ -310,11 +317,17 @@ pub fn runs_straight(line: &Line) -> bool {
 /// will be interpreted as the number of decimal digits"), if it is written
 /// out.
 pub fn precision_of(command: &Command) -> Option<usize> {
-    if command.spec.param != Param::Precision {
-        return None;
-    }
     let n = command.number()?;
-    Some(((n * 10.0).floor() as i64).clamp(0, 9) as usize)
+    match command.spec.param {
+        Param::Precision => Some(((n * 10.0).floor() as i64).clamp(0, 9) as usize),
+        // `TRn.p` (Ch4): the register prints as it is (a real with six
+        // decimals) unless a precision is asked for.
+        Param::RegisterPrecision => {
+            let tenths = (n.fract() * 10.0).round() as i64;
+            (tenths > 0).then(|| tenths.clamp(0, 9) as usize)
+        }
+        _ => None,
+    }
 }
 
 /// Read a value line as the output of `command`, checking its decimals
@@ -360,13 +373,25 @@ pub fn read_reply(
         .map(|f| String::from_utf8_lossy(f).into_owned());
     let mut lines = Vec::new();
     let mut prompts = 0;
+    // Ch2: the controller echoes each character as it was typed, so the
+    // echo is the line exactly, and the prompt is one character: blanks
+    // around either are damage (a corrupted line end), never success,
+    // unless the line prints text of its own (`OT" "` prints blanks).
+    let prints_text =
+        !runs_straight(line) || line.commands.iter().any(|c| c.spec.output == Output::Text);
+    let damaged = |got: &str| ReplyProblem::Damaged {
+        got: got.to_string(),
+    };
     if state.echo == Echo::Line {
         let first = texts.next().unwrap_or_default();
-        let Some(rest) = first.trim().strip_prefix(sent) else {
+        let Some(rest) = first.strip_prefix(sent) else {
             return Err(ReplyProblem::NoEcho { got: first });
         };
         // An answer may follow the echo on its line (`1XX?1`).
-        if !rest.trim().is_empty() {
+        if !rest.is_empty() {
+            if rest.trim().is_empty() {
+                return Err(damaged(&first));
+            }
             lines.push(rest.trim().to_string());
         }
     }
@@ -379,16 +404,20 @@ pub fn read_reply(
         }
         // A line left without its end runs into the prompt (`OT"x"`
         // prints `x>`).
-        let text = match prompt_char.map(char::from) {
+        let glued = match prompt_char.map(char::from) {
             Some(p) if text.ends_with(p) => {
                 prompts += 1;
                 text[..text.len() - p.len_utf8()].to_string()
             }
-            _ => text,
+            _ => text.clone(),
         };
-        if !text.trim().is_empty() {
-            lines.push(text.trim().to_string());
+        if glued.trim().is_empty() {
+            if !prints_text {
+                return Err(damaged(&text));
+            }
+            continue;
         }
+        lines.push(glued.trim().to_string());
     }
     let error_at = lines.iter().position(|l| ErrorReply::parse(l).is_some());
     let error = error_at.and_then(|at| {
@@ -691,6 +720,38 @@ mod tests {
         // Nothing printed by a line that reports nothing.
         let r = reply("1MR1000", &["1MR1000", ">"]).expect("reply");
         assert!(r.reports.is_empty() && r.error.is_none());
+    }
+
+    /// Fault soak: `4SV140381` answered `4SV140381`, ` >` (a line end
+    /// corrupted to a blank before the prompt) was taken for success.
+    /// Ch2: the echo is the line as typed and the prompt one character.
+    #[test]
+    fn only_the_exact_echo_and_prompt_are_success() {
+        assert!(reply("4SV140381", &["4SV140381", ">"]).is_ok());
+        for damaged in [
+            &["4SV140381", " >"][..],
+            &["4SV140381 ", ">"],
+            &[" 4SV140381", ">"],
+            &["4SV140381", " ", ">"],
+            &["4SV140381", "\t>"],
+        ] {
+            assert!(
+                matches!(
+                    reply("4SV140381", damaged),
+                    Err(ReplyProblem::Damaged { .. } | ReplyProblem::NoEcho { .. })
+                ),
+                "{damaged:?}: {:?}",
+                reply("4SV140381", damaged)
+            );
+        }
+        let told = reply("1TP", &["1TP", "01 997", " >"]);
+        assert!(
+            matches!(told, Err(ReplyProblem::Damaged { .. })),
+            "{told:?}"
+        );
+        // Text output may be blanks of its own (`OT` prints what it is
+        // given), and runs into the prompt without its line end.
+        assert!(reply("OT\"  \"", &["OT\"  \"", "  >"]).is_ok());
     }
 
     #[test]

@@ -95,6 +95,10 @@ pub static LINK_OPTIONS: [LinkOption; 1] = [LinkOption {
 /// saw.
 pub const SENT: &str = "sent";
 
+/// Reply fields a read clears (§7.1: `$20` "stop flag … cleared after
+/// read", `$43` reset flag "1 on the first read after a reset").
+const CLEARED_BY_READING: &[&str] = &["stop", "reset"];
+
 /// The `$20` stop flag: latched by the unit until read, so the session
 /// keeps it (§7.2, §6.4.4).
 pub const STOP_FLAG: AxisFlag = AxisFlag {
@@ -346,6 +350,35 @@ impl FamilyConsole for Sixpack2Console {
         caution::confirmation(&request_of(line)?)
     }
 
+    /// §7.1: reading `$20` clears its stop flag, reading `$43` its reset
+    /// flag; a second read shows them as the first left them.
+    fn as_if_unread(
+        &self,
+        _line: &PreparedLine,
+        first: &ReplyValue,
+        second: &ReplyValue,
+    ) -> ReplyValue {
+        let (ReplyValue::Text(first), ReplyValue::Text(second)) = (first, second) else {
+            return second.clone();
+        };
+        let cleared = |word: &&str| {
+            word.split_once('=')
+                .is_some_and(|(name, _)| CLEARED_BY_READING.contains(&name))
+        };
+        let words: Vec<&str> = second
+            .split_whitespace()
+            .map(|word| match word.split_once('=') {
+                Some((name, _)) if CLEARED_BY_READING.contains(&name) => first
+                    .split_whitespace()
+                    .filter(cleared)
+                    .find(|w| w.split_once('=').is_some_and(|(n, _)| n == name))
+                    .unwrap_or(word),
+                _ => word,
+            })
+            .collect();
+        ReplyValue::Text(words.join(" "))
+    }
+
     fn interpret(&self, line: &PreparedLine, frames: &[Frame]) -> Result<Reading, ReplyError> {
         let Some(frame) = frames.last() else {
             return match line.answering {
@@ -365,6 +398,9 @@ impl FamilyConsole for Sixpack2Console {
         let spec = check_answers(&request, &reply).map_err(|e| got(e.to_string()))?;
         let fields = ReplyFields::read(spec, &reply.params)
             .ok_or_else(|| got(format!("{} does not answer", spec.mnemonic)))?;
+        if let Some(impossible) = fields.impossible() {
+            return Err(got(format!("{impossible}: a damaged reply")));
+        }
         Ok(Reading {
             status: None,
             value: ReplyValue::Text(fields.value_text()),
@@ -576,6 +612,19 @@ mod tests {
 
     const CONSOLE: Sixpack2Console = Sixpack2Console::AUTO;
 
+    #[test]
+    fn a_second_read_shows_the_flags_the_first_cleared_as_it_left_them() {
+        let pos = prepare("GetPositionAndActivity 0");
+        let first = ReplyValue::Text("posact=9 action=inactive stop=1".into());
+        let second = ReplyValue::Text("posact=9 action=inactive stop=0".into());
+        assert_eq!(CONSOLE.as_if_unread(&pos, &first, &second), first);
+        let moved = ReplyValue::Text("posact=12 action=inactive stop=0".into());
+        assert_eq!(
+            CONSOLE.as_if_unread(&pos, &first, &moved).to_string(),
+            "posact=12 action=inactive stop=1"
+        );
+    }
+
     fn prepare(line: &str) -> PreparedLine {
         CONSOLE
             .prepare(line, 0)
@@ -698,6 +747,27 @@ mod tests {
             reading.value.to_string(),
             "firmware=148 reset=1 temperature=25 serial=12345"
         );
+    }
+
+    /// Issue 19: with no checksum (§7.1), a corrupted reply is caught only
+    /// by a value no SIXpack 2 sends: an action code §7.2 does not list.
+    #[test]
+    fn an_action_code_the_manual_does_not_list_is_a_damaged_reply() {
+        let pos = prepare("GetPositionAndActivity 2");
+        let error = reply(&pos, &[0x20, 2, 0x10, 0x27, 0, 0, 7, 0]).unwrap_err();
+        assert!(
+            error
+                .to_string()
+                .contains("action 7 is no action code of §7.2"),
+            "{error}"
+        );
+        assert!(
+            reply(&pos, &[0x20, 2, 0x10, 0x27, 0, 0, 23, 0]).is_ok(),
+            "a search"
+        );
+        let all = prepare("GetAllActivities");
+        assert!(reply(&all, &[0x28, 0, 5, 10, 15, 30, 0, 0]).is_ok());
+        assert!(reply(&all, &[0x28, 0, 5, 10, 15, 31, 0, 0]).is_err());
     }
 
     #[test]

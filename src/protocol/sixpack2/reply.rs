@@ -89,6 +89,17 @@ impl ReplyFields {
         })
     }
 
+    /// A value no SIXpack 2 sends, if the reply has one: an action code
+    /// §7.2 does not list. With no checksum over the frame (§7.1), such a
+    /// value is the only sign of a damaged reply.
+    pub fn impossible(&self) -> Option<String> {
+        self.values.iter().find_map(|&(field, value)| {
+            let listed = u8::try_from(value).ok().and_then(activity).is_some();
+            (field.kind == FieldKind::Action && !listed)
+                .then(|| format!("{} {value} is no action code of §7.2", field.name))
+        })
+    }
+
     /// The value of the field called `name`.
     pub fn get(&self, name: &str) -> Option<i64> {
         self.values

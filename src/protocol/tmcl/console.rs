@@ -396,6 +396,12 @@ impl FamilyConsole for TmclConsole {
         Arc::new(TmclWire::default())
     }
 
+    /// §3.1.1: every reply carries an 8-bit checksum, and one that does
+    /// not add up is never an answer.
+    fn replies_checked(&self) -> bool {
+        true
+    }
+
     fn complete(&self, line: &str, cursor: usize) -> Completions {
         super::assist::complete(line, cursor)
     }

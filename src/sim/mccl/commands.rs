@@ -84,6 +84,9 @@ pub enum ParamKind {
     HelpTopic,
     /// Reporting precision p: 0 or .1 … .5 (Ch8 introduction).
     Precision,
+    /// `TRn.p`: a register 0–999 and, in the tenths digit, a reporting
+    /// precision as [`ParamKind::Precision`] (Ch4 register table).
+    RegisterPrecision,
 }
 
 /// One command of the table.
@@ -333,7 +336,7 @@ pub const COMMANDS: &[CommandSpec] = &[
     tell("TO", Applies::ANY, "Tell Optimal position"),
     tell("TP", Applies::ANY, "Tell Position"),
     tell("TQ", Applies::SERVO, "Tell torQue setting"),
-    reporting(plain("TR", Register, REGISTER, "Tell Register n")),
+    reporting(plain("TR", Register, ParamKind::RegisterPrecision, "Tell Register n")),
     reporting(axis("TS", Reporting, Applies::ANY, int(0, 191), "Tell Status word or bit")),
     tell("TT", Applies::ANY, "Tell Target"),
     tell("TV", Applies::ANY, "Tell Velocity"),

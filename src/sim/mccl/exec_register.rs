@@ -128,7 +128,7 @@ impl Mccl {
                     return Err(Code::PARAMETER);
                 }
             }
-            "TR" => return self.tell_register(interp, target, op.int),
+            "TR" => return self.tell_register(interp, target, op.int, op.digits),
             // ---- I/O (Ch9) ----
             "CN" | "CF" => {
                 let channel = u8::try_from(op.int).map_err(|_| Code::PARAMETER)?;

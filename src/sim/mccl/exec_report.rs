@@ -144,6 +144,7 @@ impl Mccl {
         interp: &Interpreter,
         target: Target,
         n: i64,
+        digits: u8,
     ) -> Result<Flow, Code> {
         let register = u32::try_from(n).map_err(|_| Code::PARAMETER)?;
         let value = self.register(interp, register).ok_or(Code::PARAMETER)?;
@@ -151,7 +152,11 @@ impl Mccl {
             Target::Plain(0) => 1,
             other => u32::from(other.axis()).max(1),
         };
-        let text = register_text(value, self.link.radix);
+        // TRn.p (Ch4): with a precision, as the Tell commands print.
+        let text = match digits {
+            0 => register_text(value, self.link.radix),
+            digits => tell_value(value.as_f64(), digits, self.link.radix),
+        };
         self.link.tell(field, &text);
         Ok(Flow::Next)
     }

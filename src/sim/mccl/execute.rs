@@ -186,6 +186,18 @@ impl Mccl {
                 let (value, _) = number(&command.param)?;
                 op.digits = precision_digits(value.as_f64()).ok_or(Code::PARAMETER)?;
             }
+            ParamKind::RegisterPrecision => {
+                let (value, _) = number(&command.param)?;
+                let value = value.as_f64();
+                let register = value.trunc();
+                if !(0.0..=999.0).contains(&register) {
+                    return Err(Code::PARAMETER);
+                }
+                op.int = register as i64;
+                // 5.3 − 5 is 0.2999…: the tenths digit, rounded.
+                let tenths = ((value - register) * 10.0).round() / 10.0;
+                op.digits = precision_digits(tenths).ok_or(Code::PARAMETER)?;
+            }
         }
         Ok(op)
     }

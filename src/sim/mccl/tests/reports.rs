@@ -177,3 +177,19 @@ fn status_words_read_through_lu_and_rl() {
     s.quiet(&["FM@100"]);
     assert_eq!(s.error("FM@100"), -1, "freed already");
 }
+
+/// Ch4's register table: `TRn.p` tells register n, `TR.p` the accumulator,
+/// with p as the Tell commands' precision (Ch8: the tenths digit is the
+/// number of decimals). Without a precision a register prints as before.
+#[test]
+fn tr_takes_a_register_and_a_precision() {
+    let mut s = Session::new();
+    assert_eq!(s.line("AL123.4567,AR5"), Vec::<String>::new());
+    assert_eq!(s.line("TR5.3"), ["01 123.456"]);
+    assert_eq!(s.line("TR.1"), ["01 123.4"], "the accumulator");
+    assert_eq!(s.line("TR5"), ["01 123.456700"], "a real as %f");
+    assert_eq!(s.line("AL15,AR7"), Vec::<String>::new());
+    assert_eq!(s.line("TR7.2"), ["01 15.00"]);
+    assert_eq!(s.line("TR7"), ["01 15"]);
+    assert_eq!(s.line("TR7.7"), ["?-1 TR7.7"], "precision .1 … .5");
+}
