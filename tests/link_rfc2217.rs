@@ -280,3 +280,163 @@ fn a_server_refusing_com_port_option_is_named() {
     );
     server.join().expect("the server thread");
 }
+
+// ------------------------------------------- the link against a scripted server
+
+mod scripted {
+    use std::time::Duration;
+
+    use axterm::link::{Link, LinkInput, LinkSpec};
+    use tokio::io::{AsyncReadExt, AsyncWriteExt};
+    use tokio::net::{TcpListener, TcpStream};
+
+    const GIVE_UP_AFTER: Duration = Duration::from_secs(10);
+    const IAC: u8 = 255;
+
+    /// What an RFC 2217 client sends first: WILL COM-PORT-OPTION, WILL
+    /// BINARY, DO BINARY, DO SUPPRESS-GO-AHEAD.
+    const OPENING: [u8; 12] = [IAC, 251, 44, IAC, 251, 0, IAC, 253, 0, IAC, 253, 3];
+
+    /// The four settings at 57600 Bd 8N1 (RFC 2217 SET-BAUDRATE, -DATASIZE,
+    /// -PARITY, -STOPSIZE).
+    const SETTINGS: [u8; 31] = [
+        IAC, 250, 44, 1, 0, 0, 0xE1, 0x00, IAC, 240, //
+        IAC, 250, 44, 2, 8, IAC, 240, //
+        IAC, 250, 44, 3, 1, IAC, 240, //
+        IAC, 250, 44, 4, 1, IAC, 240,
+    ];
+
+    /// The server's confirmations: the client's codes plus 100, with `baud`.
+    fn confirmations(baud: u32) -> Vec<u8> {
+        let b = baud.to_be_bytes();
+        vec![
+            IAC, 250, 44, 101, b[0], b[1], b[2], b[3], IAC, 240, //
+            IAC, 250, 44, 102, 8, IAC, 240, //
+            IAC, 250, 44, 103, 1, IAC, 240, //
+            IAC, 250, 44, 104, 1, IAC, 240,
+        ]
+    }
+
+    /// Open an RFC 2217 link at 57600 Bd while `server` plays the bridge.
+    async fn open_against<F, Fut>(server: F) -> Result<Link, String>
+    where
+        F: FnOnce(TcpStream) -> Fut + Send + 'static,
+        Fut: std::future::Future<Output = ()> + Send,
+    {
+        let listener = TcpListener::bind("127.0.0.1:0").await.expect("bind");
+        let address = listener.local_addr().expect("address").to_string();
+        let serving = tokio::spawn(async move {
+            let (stream, _) = listener.accept().await.expect("accept");
+            server(stream).await;
+        });
+        let spec = LinkSpec::Rfc2217 {
+            address,
+            baud: 57600,
+        };
+        let link = tokio::time::timeout(GIVE_UP_AFTER, spec.open())
+            .await
+            .expect("opens or fails within the guard time");
+        if link.is_err() {
+            serving.abort();
+        }
+        link.map_err(|e| e.to_string())
+    }
+
+    async fn read_exactly(stream: &mut TcpStream, n: usize) -> Vec<u8> {
+        let mut buf = vec![0; n];
+        tokio::time::timeout(GIVE_UP_AFTER, stream.read_exact(&mut buf))
+            .await
+            .expect("the client writes within the guard time")
+            .expect("read");
+        buf
+    }
+
+    async fn device_bytes(link: &mut Link, n: usize) -> Vec<u8> {
+        let mut got = Vec::new();
+        while got.len() < n {
+            match tokio::time::timeout(GIVE_UP_AFTER, link.incoming.recv()).await {
+                Ok(Some(LinkInput::Bytes(bytes))) => got.extend(bytes),
+                other => panic!("expected bytes, got {other:?}"),
+            }
+        }
+        got
+    }
+
+    #[tokio::test]
+    async fn settings_are_sent_once_accepted_and_telnet_never_reaches_the_device_task() {
+        let (to_test, mut from_server) = tokio::sync::mpsc::unbounded_channel();
+        let mut link = open_against(move |mut bridge| async move {
+            assert_eq!(read_exactly(&mut bridge, OPENING.len()).await, OPENING);
+            bridge
+                .write_all(&[IAC, 253, 44])
+                .await
+                .expect("DO COM-PORT");
+            assert_eq!(read_exactly(&mut bridge, SETTINGS.len()).await, SETTINGS);
+            bridge
+                .write_all(&confirmations(57600))
+                .await
+                .expect("confirm");
+            // Device bytes with IAC doubled, an offer of ECHO in between,
+            // sent in pieces that cut both sequences.
+            for piece in [&[1, IAC][..], &[IAC, 2, IAC], &[251], &[1, 3]] {
+                bridge.write_all(piece).await.expect("write");
+                bridge.flush().await.expect("flush");
+            }
+            // The client refuses ECHO, then sends a frame holding 0xFF.
+            assert_eq!(read_exactly(&mut bridge, 3).await, [IAC, 254, 1]);
+            let _ = to_test.send(read_exactly(&mut bridge, 4).await);
+        })
+        .await
+        .expect("opens");
+        assert!(
+            link.name.starts_with("rfc2217://127.0.0.1:"),
+            "{}",
+            link.name
+        );
+        assert_eq!(device_bytes(&mut link, 4).await, [1, IAC, 2, 3]);
+        link.outgoing.send(&[7, IAC, 8]).expect("send");
+        let sent = tokio::time::timeout(GIVE_UP_AFTER, from_server.recv())
+            .await
+            .expect("the server reports");
+        assert_eq!(sent, Some(vec![7, IAC, IAC, 8]), "IAC doubled on the wire");
+    }
+
+    #[tokio::test]
+    async fn a_server_setting_another_rate_fails_the_opening() {
+        let error = open_against(|mut bridge| async move {
+            read_exactly(&mut bridge, OPENING.len()).await;
+            bridge
+                .write_all(&[IAC, 253, 44])
+                .await
+                .expect("DO COM-PORT");
+            read_exactly(&mut bridge, SETTINGS.len()).await;
+            bridge
+                .write_all(&confirmations(9600))
+                .await
+                .expect("confirm");
+            let mut rest = Vec::new();
+            let _ = bridge.read_to_end(&mut rest).await;
+        })
+        .await
+        .expect_err("refused");
+        assert!(
+            error.ends_with(
+                "at 57600 Bd: the server set its port to 9600 Bd, not the 57600 Bd asked for"
+            ),
+            "{error}"
+        );
+    }
+
+    #[tokio::test]
+    async fn a_server_closing_during_the_opening_is_named() {
+        let error = open_against(|mut bridge| async move {
+            read_exactly(&mut bridge, OPENING.len()).await;
+        })
+        .await
+        .expect_err("fails");
+        assert!(
+            error.ends_with("the server closed the connection during the RFC 2217 opening"),
+            "{error}"
+        );
+    }
+}
