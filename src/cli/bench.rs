@@ -550,6 +550,11 @@ fn bare_loop(
                 .map(|bare| answered(bare, "TcpStream"))
                 .map_err(BareError::Exchange)
         }
+        // The bare loop writes and reads raw bytes; Telnet's escaping and
+        // the RFC 2217 opening live in the link, so only the link is timed.
+        LinkSpec::Rfc2217 { .. } => Err(BareError::Exchange(
+            "no bare loop over RFC 2217 (it needs the link's Telnet handling)".into(),
+        )),
         LinkSpec::Sim { sim, .. } => sim_loop(sim, wire, rule.as_ref(), &line.bytes, requests)
             .map(|bare| answered(bare, "simulator called directly, no wire time"))
             .map_err(BareError::Exchange),

@@ -7,7 +7,7 @@ use std::time::Duration;
 
 use super::{AddressList, ConnectionArgs, EXIT_DEVICE};
 use crate::device::DeviceOptions;
-use crate::link::{LinkError, LinkSpec, ports};
+use crate::link::{LinkError, LinkSpec, RFC2217_SCHEME, ports};
 use crate::protocol::{self, Family};
 use crate::session::{Session, SessionOptions};
 use crate::sim::bus::{BusFaults, SimBus};
@@ -185,10 +185,18 @@ impl Target {
                 path: ports::resolve_port(path, std::path::Path::new(ports::BY_ID_DIR)),
                 baud: args.baud.unwrap_or(family.console.default_baud()),
             },
-            (None, None, Some(address)) => LinkSpec::Tcp {
-                address: address.clone(),
-                // The bridge's serial side, when the user says it.
-                baud: args.baud,
+            // RFC 2217 sets the bridge's port, so it needs a rate: the
+            // family's factory rate when none is given, as on a port.
+            (None, None, Some(address)) => match address.strip_prefix(RFC2217_SCHEME) {
+                Some(address) => LinkSpec::Rfc2217 {
+                    address: address.to_string(),
+                    baud: args.baud.unwrap_or(family.console.default_baud()),
+                },
+                None => LinkSpec::Tcp {
+                    address: address.clone(),
+                    // The bridge's serial side, when the user says it.
+                    baud: args.baud,
+                },
             },
             (None, None, None) => {
                 return Err(
@@ -380,6 +388,27 @@ mod tests {
         let untold = bridge(None);
         assert_eq!(untold.byte_time(), None);
         assert_eq!(untold.describe(), "tcp localhost:4001");
+    }
+
+    #[test]
+    fn an_rfc2217_bridge_is_set_to_the_given_or_the_family_rate() {
+        let bridge = |baud| {
+            Target::resolve(&ConnectionArgs {
+                tcp: Some("rfc2217://localhost:4001".into()),
+                protocol: Some("tmcl".into()),
+                baud,
+                ..args()
+            })
+            .unwrap()
+            .spec
+        };
+        let told = bridge(Some(57600));
+        assert!(
+            matches!(&told, LinkSpec::Rfc2217 { address, baud: 57600 } if address == "localhost:4001")
+        );
+        assert_eq!(told.describe(), "rfc2217://localhost:4001 at 57600 Bd");
+        // TMCL's factory rate, as on a serial port.
+        assert!(matches!(bridge(None), LinkSpec::Rfc2217 { baud: 9600, .. }));
     }
 
     #[test]

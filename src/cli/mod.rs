@@ -127,7 +127,8 @@ pub struct ConnectionArgs {
     /// and --tcp); the options after it are its own.
     #[arg(long, global = true, action = ArgAction::Append)]
     pub port: Option<String>,
-    /// Serial-over-TCP bridge, HOST:PORT. Starts a link, as --port.
+    /// Serial-over-TCP bridge, HOST:PORT (raw bytes), or rfc2217://HOST:PORT to
+    /// set its port to --baud and 8N1 over RFC 2217. Starts a link, as --port.
     #[arg(long, global = true, action = ArgAction::Append)]
     pub tcp: Option<String>,
     /// Built-in simulator: tmcm1110, cmd4cr, sixpack2, mccl or mccl-eth.

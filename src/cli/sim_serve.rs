@@ -274,8 +274,20 @@ fn serve_pty(
     // closing its own handle does not hang up the master (reads would fail
     // with EIO until someone opened the path again).
     let keep_open = slave;
+    let mut settings = line_settings(&keep_open);
     let mut buf = [0u8; 512];
     while !stop.load(Ordering::Relaxed) {
+        // A pseudo-terminal carries the termios its client sets (a serial
+        // port opened at a baud rate, ser2net told one over RFC 2217):
+        // say so when it changes, as a real module's line would notice.
+        // Not an "axterm sim: " answer: those answer typed settings.
+        let now = line_settings(&keep_open);
+        if now != settings {
+            if let Some(text) = &now {
+                eprintln!("{LINE_NOTICE}{text}");
+            }
+            settings = now;
+        }
         serialport::SerialPort::set_timeout(&mut master, clock.wait()).map_err(io::Error::other)?;
         let received = match master.read(&mut buf) {
             Ok(n) => n,
@@ -295,6 +307,32 @@ fn serve_pty(
         }
     }
     Ok(())
+}
+
+/// How `axterm sim --pty` notes on stderr that its client changed the
+/// pseudo-terminal's line settings, followed by them ("19200 Bd 8N1").
+pub const LINE_NOTICE: &str = "axterm sim line: the client set it to ";
+
+/// The line settings on a pseudo-terminal, as "19200 Bd 8N1".
+fn line_settings(tty: &serialport::TTYPort) -> Option<String> {
+    use serialport::{DataBits, Parity, SerialPort, StopBits};
+    let baud = tty.baud_rate().ok()?;
+    let bits = match tty.data_bits().ok()? {
+        DataBits::Five => 5,
+        DataBits::Six => 6,
+        DataBits::Seven => 7,
+        DataBits::Eight => 8,
+    };
+    let parity = match tty.parity().ok()? {
+        Parity::None => 'N',
+        Parity::Odd => 'O',
+        Parity::Even => 'E',
+    };
+    let stop = match tty.stop_bits().ok()? {
+        StopBits::One => 1,
+        StopBits::Two => 2,
+    };
+    Some(format!("{baud} Bd {bits}{parity}{stop}"))
 }
 
 fn serve_tcp(

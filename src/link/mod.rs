@@ -15,6 +15,7 @@ use crate::sim::SimulatedController;
 use crate::sim::faults::FaultPlan;
 
 pub mod ports;
+pub mod rfc2217;
 mod serial;
 pub mod sim_line;
 mod sim_link;
@@ -22,6 +23,23 @@ mod tcp;
 
 /// Serial character frame: start bit, 8 data bits, stop bit.
 pub const BITS_PER_BYTE: u32 = 10;
+
+/// The character framing a serial line is set to: data bits, parity, stop
+/// bits. Every family's line is 8N1 ([`LINE_FRAMING`]); a serial port is
+/// opened with it and an RFC 2217 bridge is told it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Framing {
+    pub data_bits: u8,
+    pub parity: rfc2217::ComParity,
+    pub stop_bits: rfc2217::ComStopBits,
+}
+
+/// 8N1, no flow control: the framing of every family's serial line.
+pub const LINE_FRAMING: Framing = Framing {
+    data_bits: 8,
+    parity: rfc2217::ComParity::None,
+    stop_bits: rfc2217::ComStopBits::One,
+};
 
 /// Wire time of one byte at `baud`.
 pub fn byte_time(baud: u32) -> Duration {
@@ -90,6 +108,11 @@ pub enum LinkSpec {
     /// packets, so inter-byte silences and reply timeouts cannot be told
     /// from the baud rate).
     Tcp { address: String, baud: Option<u32> },
+    /// A serial-over-TCP bridge speaking RFC 2217 (`--tcp
+    /// rfc2217://HOST:PORT`): the link sets the remote port to `baud` and
+    /// [`LINE_FRAMING`] before any device byte is sent. Untimed, as
+    /// [`LinkSpec::Tcp`] is.
+    Rfc2217 { address: String, baud: u32 },
     /// A simulator in this process, advanced on the (tokio) clock, with
     /// optional wire-time emulation and fault injection.
     Sim {
@@ -99,6 +122,9 @@ pub enum LinkSpec {
         faults: FaultPlan,
     },
 }
+
+/// How `--tcp` names a bridge that speaks RFC 2217.
+pub const RFC2217_SCHEME: &str = "rfc2217://";
 
 impl fmt::Debug for LinkSpec {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -119,6 +145,9 @@ impl LinkSpec {
                 address,
                 baud: Some(baud),
             } => format!("tcp {address} (line at {baud} Bd)"),
+            LinkSpec::Rfc2217 { address, baud } => {
+                format!("{RFC2217_SCHEME}{address} at {baud} Bd")
+            }
             LinkSpec::Sim { kind, baud, .. } => match baud {
                 Some(baud) => format!("sim {kind} at {baud} Bd"),
                 None => format!("sim {kind}"),
@@ -131,6 +160,7 @@ impl LinkSpec {
         match self {
             LinkSpec::Serial { baud, .. } => Some(byte_time(*baud)),
             LinkSpec::Tcp { baud, .. } => baud.map(byte_time),
+            LinkSpec::Rfc2217 { baud, .. } => Some(byte_time(*baud)),
             LinkSpec::Sim { baud, .. } => baud.map(byte_time),
         }
     }
@@ -152,7 +182,10 @@ impl LinkSpec {
     pub async fn open(&self) -> Result<Link, LinkError> {
         match self {
             LinkSpec::Serial { path, baud } => serial::open(path, *baud, self.describe()).await,
-            LinkSpec::Tcp { address, .. } => tcp::open(address, self.describe()).await,
+            LinkSpec::Tcp { address, .. } => tcp::open(address, None, self.describe()).await,
+            LinkSpec::Rfc2217 { address, baud } => {
+                tcp::open(address, Some(*baud), self.describe()).await
+            }
             LinkSpec::Sim {
                 sim, baud, faults, ..
             } => Ok(sim_link::open(

@@ -22,7 +22,8 @@ use std::time::{Duration, Instant};
 
 use serialport::{DataBits, FlowControl, Parity, SerialPort, StopBits};
 
-use super::{Inbox, Link, LinkError, LinkWriter, byte_time, io_reason};
+use super::rfc2217::{ComParity, ComStopBits};
+use super::{Inbox, LINE_FRAMING, Link, LinkError, LinkWriter, byte_time, io_reason};
 
 /// How long one write may wait for room in the driver's buffer. With no
 /// flow control the UART drains at the baud rate, so only a stuck driver
@@ -43,9 +44,9 @@ pub(super) async fn open(path: &str, baud: u32, name: String) -> Result<Link, Li
         reason,
     };
     let builder = serialport::new(path, baud)
-        .data_bits(DataBits::Eight)
-        .parity(Parity::None)
-        .stop_bits(StopBits::One)
+        .data_bits(data_bits(LINE_FRAMING.data_bits))
+        .parity(parity(LINE_FRAMING.parity))
+        .stop_bits(stop_bits(LINE_FRAMING.stop_bits))
         .flow_control(FlowControl::None)
         .timeout(WRITE_TIMEOUT);
     let port = tokio::task::spawn_blocking(move || builder.open_native())
@@ -71,6 +72,32 @@ pub(super) async fn open(path: &str, baud: u32, name: String) -> Result<Link, Li
         }),
         byte_time: Some(byte_time(baud)),
     })
+}
+
+fn data_bits(bits: u8) -> DataBits {
+    match bits {
+        5 => DataBits::Five,
+        6 => DataBits::Six,
+        7 => DataBits::Seven,
+        _ => DataBits::Eight,
+    }
+}
+
+/// serialport has no mark or space parity.
+fn parity(parity: ComParity) -> Parity {
+    match parity {
+        ComParity::Odd => Parity::Odd,
+        ComParity::Even => Parity::Even,
+        ComParity::None | ComParity::Mark | ComParity::Space => Parity::None,
+    }
+}
+
+/// serialport has no 1.5 stop bits.
+fn stop_bits(stop: ComStopBits) -> StopBits {
+    match stop {
+        ComStopBits::One | ComStopBits::OneAndHalf => StopBits::One,
+        ComStopBits::Two => StopBits::Two,
+    }
 }
 
 /// serialport's words for a failed opening, made plain where they are not.

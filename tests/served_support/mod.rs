@@ -55,10 +55,15 @@ impl Served {
     /// Type `setting` on its standard input and wait for its answer: the
     /// next line on standard error from `axterm sim: `, without that.
     pub fn drive(&mut self, setting: &str) -> String {
-        let stdin = self.stdin.as_mut().expect("started to be driven");
-        writeln!(stdin, "{setting}").expect("write a setting");
-        stdin.flush().expect("flush the setting");
+        self.type_line(setting);
         self.next_answer()
+    }
+
+    /// Type `line` on its standard input, without waiting for an answer.
+    pub fn type_line(&mut self, line: &str) {
+        let stdin = self.stdin.as_mut().expect("started to be driven");
+        writeln!(stdin, "{line}").expect("write a setting");
+        stdin.flush().expect("flush the setting");
     }
 
     /// The next line on standard error from `axterm sim: `, without that
@@ -73,6 +78,14 @@ impl Served {
                 return answer.to_string();
             }
         }
+    }
+
+    /// The next line on standard error, whatever it is (none at its end).
+    pub fn next_stderr_line(&mut self) -> Option<String> {
+        let stderr = self.stderr.as_mut().expect("started to be driven");
+        let mut line = String::new();
+        let n = stderr.read_line(&mut line).expect("read standard error");
+        (n > 0).then(|| line.trim_end().to_string())
     }
 
     /// Close its standard input: the end of the settings.
