@@ -555,6 +555,7 @@ impl AxesPane {
             AxisMotion::AtTarget => lamp(theme, true, false, "reached"),
             AxisMotion::Moving => lamp(theme, false, false, "moving"),
             AxisMotion::StoppedShort => lamp(theme, false, false, "stopped short"),
+            AxisMotion::Stopped => lamp(theme, false, false, "stopped"),
             AxisMotion::Unknown => lamp(theme, false, false, "reached?"),
         };
         // The widest fixed parts: label, "pos "/"spd ", number, " tgt "/
