@@ -185,6 +185,10 @@ pub enum MotionPhase {
     /// Moving at a constant speed.
     Constant,
     Decelerating,
+    /// Not moving, and the motion not over: the module waits for an input
+    /// before the move starts or completes (CMD-4CR MST bits 18, 19:
+    /// in-position, external start).
+    Waiting,
 }
 
 /// How a module takes the target of a move line, where it has a mode for

@@ -618,6 +618,11 @@ mod tests {
         axis.apply(AxisUpdate::MoveTarget(1000));
         assert_eq!(axis.target, Some(1000));
         assert_eq!(axis.motion(), AxisMotion::AtTarget);
+        // At the target's position, the module still waiting for an input
+        // before the move completes: not reached yet.
+        axis.apply(AxisUpdate::Phase(MotionPhase::Waiting));
+        assert_eq!(axis.motion(), AxisMotion::Moving);
+        axis.apply(AxisUpdate::Phase(MotionPhase::Standing));
         axis.apply(AxisUpdate::TargetUnknown);
         assert_eq!(axis.target, None);
         // A step from a position never read is no target either.

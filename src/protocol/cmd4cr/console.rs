@@ -137,7 +137,9 @@ static LAMPS: LazyLock<Vec<AxisFlag>> = LazyLock::new(|| {
         .collect()
 });
 
-/// Bits 0–2 as the phase of the motion (Table 2-28); none set: standing.
+/// Bits 0–2 as the phase of the motion (Table 2-28); none set: waiting
+/// while bit 18 or 19 says the move waits for INP or /CSTA (its target
+/// not yet reached, or the move not yet started), else standing.
 fn phase(mst: Mst) -> MotionPhase {
     if mst.is_set(0) {
         MotionPhase::Accelerating
@@ -145,6 +147,8 @@ fn phase(mst: Mst) -> MotionPhase {
         MotionPhase::Decelerating
     } else if mst.is_set(2) {
         MotionPhase::Constant
+    } else if mst.is_set(18) || mst.is_set(19) {
+        MotionPhase::Waiting
     } else {
         MotionPhase::Standing
     }
@@ -740,6 +744,10 @@ mod tests {
             (1, MotionPhase::Accelerating),
             (4, MotionPhase::Constant),
             (4 | 64, MotionPhase::Constant),
+            // Pulses done, waiting for INP: not yet at the target.
+            (1 << 18, MotionPhase::Waiting),
+            (1 << 19, MotionPhase::Waiting),
+            (2 | (1 << 18), MotionPhase::Decelerating),
         ] {
             let found = updates_of("MSTY", &word.to_string());
             assert!(found.contains(&(1, AxisUpdate::Phase(phase))), "{word}");
