@@ -124,7 +124,7 @@ pub struct RunRecorder {
 fn at_rest(status: &AxisStatus) -> bool {
     matches!(
         status.motion(),
-        AxisMotion::AtTarget | AxisMotion::StoppedShort
+        AxisMotion::AtTarget | AxisMotion::StoppedShort | AxisMotion::Stopped
     )
 }
 

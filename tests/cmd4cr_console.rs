@@ -12,8 +12,11 @@ use std::time::Duration;
 use axterm::cli::ConnectionArgs;
 use axterm::cli::connection::Target;
 use axterm::device::{Direction, Priority, TrafficRecord};
+use axterm::protocol::console::{MotionPhase, MoveMode};
 use axterm::protocol::find_family;
-use axterm::session::{PollCadence, SLOW_SHARE_DIVISOR, Session, SessionError, slow_period};
+use axterm::session::{
+    AxisMotion, PollCadence, SLOW_SHARE_DIVISOR, Session, SessionError, slow_period,
+};
 use session_support::{GIVE_UP_AFTER, wait_for};
 use tokio::sync::broadcast;
 
@@ -66,7 +69,12 @@ async fn four_axes_are_polled_within_a_9600_baud_line() {
         })
     })
     .await;
-    assert!(axes.iter().all(|a| a.reached == Some(true)), "{axes:?}");
+    // Standing, and no move sent: stopped, with no target to have reached
+    // (MST's motion complete is no "reached", §2.2.4).
+    assert!(
+        axes.iter().all(|a| a.motion() == AxisMotion::Stopped),
+        "{axes:?}"
+    );
 
     // Ten seconds of polling: what each item got of the line.
     let records = record_traffic(
@@ -174,8 +182,9 @@ fn the_slow_items_take_a_tenth_of_a_slow_line_and_their_cadence_on_a_fast_one() 
         .status_queries(1);
     let cadence = PollCadence::default();
     let at = |baud| slow_period(cadence, Some(axterm::link::byte_time(baud)), &polls);
-    // HSPD, HSPDX..U: 44 request bytes, counted twice: 88 × 1.04 ms × 10.
-    assert_eq!(at(9600), axterm::link::byte_time(9600) * 88 * 10);
+    // MM, HSPD, HSPDX..U: 50 request bytes, counted twice: 100 × 1.04 ms
+    // × 10.
+    assert_eq!(at(9600), axterm::link::byte_time(9600) * 100 * 10);
     assert!(at(19_200) > cadence.slow);
     assert_eq!(at(115_200), cadence.slow);
     assert_eq!(
@@ -194,7 +203,7 @@ async fn clearing_an_error_sends_clr_and_the_next_polls_do_not_bring_it_back() {
         run(&session, line).await;
     }
     let axes = wait_for(&session, |axes| {
-        !axes[0].errors.is_empty() && axes[0].reached == Some(true)
+        !axes[0].errors.is_empty() && axes[0].phase == Some(MotionPhase::Standing)
     })
     .await;
     let seen = axes[0].errors.clone();
@@ -229,4 +238,85 @@ async fn a_tmcl_module_needs_no_line_to_clear_its_errors() {
     let cleared = session.clear_errors(0, &[]).await.expect("nothing to fail");
     assert!(cleared.is_none());
     assert!(traffic.try_recv().is_err(), "nothing was sent");
+}
+
+/// Issue 19, point 8: the CMD-4CR has no target register; the target of
+/// `X50000` comes from the line sent, read in the move mode (`MM`, polled
+/// first, §2.2.4.1), and an emergency stop before it is a stop short of
+/// it, not "reached" from MST's motion complete.
+#[tokio::test(start_paused = true)]
+async fn a_move_shows_its_target_and_an_emergency_stop_before_it_is_short() {
+    let session = session("cmd4cr", 9600).await;
+    session.start_polling(PollCadence::default());
+    let axes = wait_for(&session, |axes| {
+        axes[0].move_mode.is_some() && axes[0].position.is_some()
+    })
+    .await;
+    assert_eq!(axes[0].move_mode, Some(MoveMode::Absolute), "read by MM");
+    run(&session, "X50000").await;
+    assert_eq!(session.status().borrow()[0].target, Some(50000));
+    wait_for(&session, |axes| axes[0].motion() == AxisMotion::Moving).await;
+    session
+        .emergency_stop()
+        .await
+        .expect("the stop is answered");
+    let axes = wait_for(&session, |axes| axes[0].motion() != AxisMotion::Moving).await;
+    let x = &axes[0];
+    assert!(x.position.is_some_and(|p| p < 50000), "{x:?}");
+    assert_eq!(x.motion(), AxisMotion::StoppedShort, "{x:?}");
+    // Polls go on: it stays short, whatever MST says of the motion.
+    let polls = session.device().counters().borrow().polls;
+    let mut counters = session.device().counters();
+    tokio::time::timeout(GIVE_UP_AFTER, counters.wait_for(|c| c.polls >= polls + 20))
+        .await
+        .expect("polls go on")
+        .expect("the device task is alive");
+    assert_eq!(
+        session.status().borrow()[0].motion(),
+        AxisMotion::StoppedShort
+    );
+}
+
+/// In INC the operand is a step from where the axis stands; a move that
+/// gets there is reached.
+#[tokio::test(start_paused = true)]
+async fn an_incremental_move_targets_a_step_from_the_position_and_is_reached() {
+    let session = session("cmd4cr", 9600).await;
+    session.start_polling(PollCadence::default());
+    // A step needs the position it starts from.
+    wait_for(&session, |axes| axes[0].position == Some(0)).await;
+    run(&session, "INC").await;
+    run(&session, "X700").await;
+    assert_eq!(session.status().borrow()[0].target, Some(700));
+    wait_for(&session, |axes| axes[0].motion() == AxisMotion::AtTarget).await;
+    run(&session, "X-200").await;
+    assert_eq!(session.status().borrow()[0].target, Some(500));
+    let axes = wait_for(&session, |axes| {
+        axes[0].position == Some(500) && axes[0].motion() != AxisMotion::Moving
+    })
+    .await;
+    assert_eq!(axes[0].motion(), AxisMotion::AtTarget, "{:?}", axes[0]);
+}
+
+/// Without the mode read or set, `X…` gives no target: the axis that
+/// stands again has "stopped", never "reached".
+#[tokio::test(start_paused = true)]
+async fn without_the_move_mode_a_move_has_no_target_and_ends_stopped() {
+    let session = session("cmd4cr", 9600).await;
+    run(&session, "X300").await;
+    assert_eq!(session.status().borrow()[0].target, None);
+    let mut reads = 0;
+    loop {
+        run(&session, "MSTX").await;
+        if session.status().borrow()[0].motion() != AxisMotion::Moving {
+            break;
+        }
+        reads += 1;
+        assert!(reads < 10_000, "X never stopped");
+    }
+    run(&session, "PX").await;
+    let x = session.status().borrow()[0].clone();
+    assert_eq!(x.position, Some(300), "{x:?}");
+    assert_eq!(x.target, None);
+    assert_eq!(x.motion(), AxisMotion::Stopped);
 }

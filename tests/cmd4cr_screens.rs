@@ -126,13 +126,22 @@ async fn jog_stop_and_clear(size: (u16, u16), cards: bool) {
                 "{order:?}\n{stopped}"
             );
             // X stands; ESTOP latched the EMG error on it (it was moving).
+            // A jog has no target: X has stopped (`v0/` on the compact
+            // row), and nothing says "reached".
             let standing = rig
                 .screens
                 .until_frame("X standing with its EMG error", |f| {
                     f.contains("ERR EMG error")
-                        && after_label(f, "X").is_some_and(|w| w.iter().any(|w| w.contains('●')))
+                        && after_label(f, "X").is_some_and(|w| {
+                            w.iter().any(|w| *w == "stopped" || w.starts_with("v0/"))
+                        })
                 })
                 .await;
+            let row = after_label(&standing, "X").unwrap_or_default();
+            assert!(
+                !row.iter().any(|w| w.contains('●') || *w == "reached"),
+                "{standing}"
+            );
             let x = position(&standing, "X").expect("X's position");
             assert!(x > 0, "{standing}");
 

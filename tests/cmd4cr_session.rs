@@ -14,8 +14,9 @@ use std::time::Duration;
 
 use axterm::link::LinkSpec;
 use axterm::protocol::cmd4cr::parse_request;
+use axterm::protocol::console::MotionPhase;
 use axterm::protocol::find_family;
-use axterm::session::{PollCadence, ReplyValue, Session, SessionError, SessionOptions};
+use axterm::session::{AxisMotion, PollCadence, ReplyValue, Session, SessionError, SessionOptions};
 use axterm::sim::SimulatedController;
 use axterm::sim::faults::FaultPlan;
 use session_support::wait_for;
@@ -153,7 +154,8 @@ async fn polling_fills_the_status_of_all_four_axes() {
     // X, Z and U use the global HSPD (theirs is 0, §2.1.4); Y its own.
     let max: Vec<Option<i64>> = axes.iter().map(|a| a.max_speed).collect();
     assert_eq!(max, [Some(5000), Some(800), Some(5000), Some(5000)]);
-    assert!(axes.iter().all(|a| a.reached == Some(true)));
+    // Standing (MST 0), no move sent: stopped, nothing reached.
+    assert!(axes.iter().all(|a| a.motion() == AxisMotion::Stopped));
     // One PP reads all positions: no per-axis position query is polled.
     let received = fake.received();
     assert!(received.contains(&"PP".to_string()));
@@ -173,7 +175,7 @@ async fn mst_bits_show_as_switches_errors_and_lamps() {
     assert_eq!(y.right_switch, Some(true));
     assert_eq!(y.left_switch, Some(false));
     assert_eq!(y.home_switch, Some(false));
-    assert_eq!(y.reached, Some(false));
+    assert_eq!(y.phase, Some(MotionPhase::Constant));
     let errors: Vec<&str> = y.errors.iter().map(|f| f.name).collect();
     assert_eq!(errors, ["+limit error"]);
     let lamps: Vec<&str> = y.driver_flags.iter().flatten().map(|f| f.name).collect();
@@ -183,7 +185,10 @@ async fn mst_bits_show_as_switches_errors_and_lamps() {
     // Cleared on the controller: the console keeps the error until the
     // user acknowledges it.
     fake.set("MSTY", "0");
-    let axes = wait_for(&session, |axes| axes[1].reached == Some(true)).await;
+    let axes = wait_for(&session, |axes| {
+        axes[1].phase == Some(MotionPhase::Standing)
+    })
+    .await;
     assert_eq!(axes[1].errors.len(), 1);
 }
 

@@ -244,3 +244,35 @@ fn address_takes_the_ids_a_controller_can_have() {
     let text = screen(&mut app, 100, 30).join("\n");
     assert!(text.contains("module address 0..99, not `100`"), "{text}");
 }
+
+/// Issue 19, point 8, through the console's real loop on the simulator:
+/// after `X50000` the X row shows its target, and F12 before it leaves
+/// the lamp at "stopped short", not "reached".
+#[tokio::test(start_paused = true)]
+async fn a_move_shows_its_target_and_f12_before_it_stops_short() {
+    use ui_support::looped::{Rig, enter, press, run_command_console};
+    let first_row = |frame: &str| frame.lines().nth(1).unwrap_or_default().to_string();
+    let controller = ui_support::sim_controller("cmd4cr", 115_200).await;
+    run_command_console(controller, (120, 40), async |rig: &mut Rig| {
+        rig.screens.until("connected").await;
+        enter(rig, "X50000");
+        rig.screens
+            .until_frame("X moving to 50000", |f| {
+                let row = first_row(f);
+                row.contains("50000") && row.contains("○ moving")
+            })
+            .await;
+        press(rig, KeyCode::F(12));
+        let frame = rig
+            .screens
+            .until_frame("X stopped", |f| !first_row(f).contains("moving"))
+            .await;
+        let row = first_row(&frame);
+        assert!(
+            row.contains("○ stopped short") && row.contains("50000"),
+            "{frame}"
+        );
+        assert!(!row.contains("reached"), "{frame}");
+    })
+    .await;
+}

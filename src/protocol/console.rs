@@ -185,6 +185,21 @@ pub enum MotionPhase {
     /// Moving at a constant speed.
     Constant,
     Decelerating,
+    /// Not moving, and the motion not over: the module waits for an input
+    /// before the move starts or completes (CMD-4CR MST bits 18, 19:
+    /// in-position, external start).
+    Waiting,
+}
+
+/// How a module takes the target of a move line, where it has a mode for
+/// it that applies to later lines (CMD-4CR `ABS`/`INC`, read back by `MM`,
+/// §2.2.4.1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MoveMode {
+    /// The operand is the target.
+    Absolute,
+    /// The operand is a step from where the axis stands.
+    Incremental,
 }
 
 /// What one status answer says about an axis.
@@ -192,6 +207,20 @@ pub enum MotionPhase {
 pub enum AxisUpdate {
     Position(i64),
     Target(i64),
+    /// A move line sent gives the axis this target operand, meant as the
+    /// axis's move mode says ([`AxisUpdate::MoveMode`]): the target
+    /// itself, or a step from the position last read. For a module with
+    /// no target register, whose target only the line sent tells; while
+    /// the mode (or, for a step, the position) is not known, so is not
+    /// the target.
+    MoveTarget(i64),
+    /// The axis's move mode as read or set (`None`: a reading that names
+    /// no mode the manual gives).
+    MoveMode(Option<MoveMode>),
+    /// A line made the target unknown: a motion with no target the
+    /// console can tell (a jog, a homing, a target changed in flight), or
+    /// the position counter written.
+    TargetUnknown,
     Speed(i64),
     /// The fastest the axis moves when positioning (TMCL AP4), for a speed
     /// gauge: the axis's own setting.

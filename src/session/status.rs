@@ -21,7 +21,8 @@ use tokio::time::Instant;
 use crate::device::{Answer, DeviceError, PollSink};
 use crate::protocol::Family;
 use crate::protocol::console::{
-    AxisFlag, AxisUpdate, LinkContext, MotionPhase, StatusPoll, SwitchKind, interpret_line,
+    AxisFlag, AxisUpdate, LinkContext, MotionPhase, MoveMode, StatusPoll, SwitchKind,
+    interpret_line,
 };
 use crate::protocol::settings::SettingsCache;
 
@@ -30,6 +31,9 @@ use crate::protocol::settings::SettingsCache;
 pub struct AxisStatus {
     pub position: Option<i64>,
     pub target: Option<i64>,
+    /// How a move line's target operand is meant, where the module has a
+    /// mode for it ([`AxisUpdate::MoveMode`]).
+    pub move_mode: Option<MoveMode>,
     pub speed: Option<i64>,
     /// The fastest the axis moves when positioning: its own maximum, or
     /// the module-wide one where its own reads 0.
@@ -261,6 +265,19 @@ impl AxisStatus {
         match update {
             AxisUpdate::Position(v) => self.position = Some(v),
             AxisUpdate::Target(v) => self.target = Some(v),
+            // Not guessed: without the mode (or, for a step, a position)
+            // the target is unknown.
+            AxisUpdate::MoveTarget(operand) => {
+                self.target = match self.move_mode {
+                    Some(MoveMode::Absolute) => Some(operand),
+                    Some(MoveMode::Incremental) => {
+                        self.position.and_then(|p| p.checked_add(operand))
+                    }
+                    None => None,
+                }
+            }
+            AxisUpdate::MoveMode(mode) => self.move_mode = mode,
+            AxisUpdate::TargetUnknown => self.target = None,
             AxisUpdate::Speed(v) => self.speed = Some(v),
             AxisUpdate::MaxSpeed(v) => {
                 self.own_max_speed = Some(v);
@@ -312,7 +329,7 @@ impl AxisStatus {
     pub fn rest_evidence(&self) -> Option<&RestRead> {
         if !matches!(
             self.motion(),
-            AxisMotion::AtTarget | AxisMotion::StoppedShort
+            AxisMotion::AtTarget | AxisMotion::StoppedShort | AxisMotion::Stopped
         ) {
             return None;
         }
@@ -333,7 +350,9 @@ impl AxisStatus {
     /// it is at its target when the module says so (TMCL AP8, CMD-4CR
     /// motion complete) or its position is the target, and short of it
     /// otherwise — an emergency stop, a stop key, a switch or a stall
-    /// ended the move before it got there. A reached flag read before the
+    /// ended the move before it got there. Standing with neither a
+    /// target nor such a flag known, it has stopped, and nothing says
+    /// where it meant to go. A reached flag read before the
     /// speed fell to 0 does not make a standing axis moving.
     pub fn motion(&self) -> AxisMotion {
         let standing = match (self.phase, self.speed) {
@@ -356,7 +375,7 @@ impl AxisStatus {
         match (self.reached, on_target) {
             (Some(true), _) | (_, Some(true)) => AxisMotion::AtTarget,
             (Some(false), _) | (None, Some(false)) => AxisMotion::StoppedShort,
-            (None, None) => AxisMotion::Unknown,
+            (None, None) => AxisMotion::Stopped,
         }
     }
 }
@@ -372,6 +391,9 @@ pub enum AxisMotion {
     AtTarget,
     /// Standing short of its target: stopped before it got there.
     StoppedShort,
+    /// Standing, with no target known and no flag of the module's saying
+    /// whether it was reached.
+    Stopped,
 }
 
 /// The shared snapshots: written by the poll sink (in the device task) and
@@ -578,6 +600,43 @@ mod tests {
     use super::*;
 
     #[test]
+    fn a_move_target_is_read_in_the_axis_move_mode_or_left_unknown() {
+        let mut axis = AxisStatus {
+            position: Some(1000),
+            phase: Some(MotionPhase::Standing),
+            ..AxisStatus::default()
+        };
+        // No mode known: no target guessed, and a stop says only stopped.
+        axis.apply(AxisUpdate::MoveTarget(500));
+        assert_eq!(axis.target, None);
+        assert_eq!(axis.motion(), AxisMotion::Stopped);
+        axis.apply(AxisUpdate::MoveMode(Some(MoveMode::Incremental)));
+        axis.apply(AxisUpdate::MoveTarget(500));
+        assert_eq!(axis.target, Some(1500), "a step from where it stands");
+        assert_eq!(axis.motion(), AxisMotion::StoppedShort);
+        axis.apply(AxisUpdate::MoveMode(Some(MoveMode::Absolute)));
+        axis.apply(AxisUpdate::MoveTarget(1000));
+        assert_eq!(axis.target, Some(1000));
+        assert_eq!(axis.motion(), AxisMotion::AtTarget);
+        // At the target's position, the module still waiting for an input
+        // before the move completes: not reached yet.
+        axis.apply(AxisUpdate::Phase(MotionPhase::Waiting));
+        assert_eq!(axis.motion(), AxisMotion::Moving);
+        axis.apply(AxisUpdate::Phase(MotionPhase::Standing));
+        axis.apply(AxisUpdate::TargetUnknown);
+        assert_eq!(axis.target, None);
+        // A step from a position never read is no target either.
+        let mut unread = AxisStatus {
+            move_mode: Some(MoveMode::Incremental),
+            ..AxisStatus::default()
+        };
+        unread.apply(AxisUpdate::MoveTarget(500));
+        assert_eq!(unread.target, None);
+        unread.apply(AxisUpdate::MoveMode(None));
+        assert_eq!(unread.move_mode, None);
+    }
+
+    #[test]
     fn motion_says_what_the_axis_does_not_whether_it_got_there() {
         let axis = |speed: Option<i64>, reached: Option<bool>, position, target| AxisStatus {
             speed,
@@ -619,7 +678,8 @@ mod tests {
         assert_eq!(axis(None, None, None, None).motion(), Unknown);
         assert_eq!(axis(None, Some(false), Some(1), Some(2)).motion(), Unknown);
         assert_eq!(axis(None, Some(true), None, None).motion(), AtTarget);
-        assert_eq!(axis(Some(0), None, None, None).motion(), Unknown);
+        // Standing, with nothing to say whether at a target: stopped.
+        assert_eq!(axis(Some(0), None, None, None).motion(), Stopped);
         // A module that reports its phase: that decides, not the speed.
         let mut cmd4cr = axis(Some(0), Some(false), None, None);
         cmd4cr.phase = Some(MotionPhase::Decelerating);

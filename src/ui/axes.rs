@@ -88,6 +88,8 @@ pub enum Ramp {
     /// Moving at a constant speed below the maximum (velocity mode).
     Constant,
     Decelerating,
+    /// Not moving, the motion not over: waiting for an input.
+    Waiting,
 }
 
 impl Ramp {
@@ -99,6 +101,7 @@ impl Ramp {
             Ramp::Cruising => "at max speed",
             Ramp::Constant => "constant speed",
             Ramp::Decelerating => "decelerating",
+            Ramp::Waiting => "waiting",
         }
     }
 
@@ -111,6 +114,7 @@ impl Ramp {
             Ramp::Cruising => "cruise",
             Ramp::Constant => "const",
             Ramp::Decelerating => "decel",
+            Ramp::Waiting => "wait",
         }
     }
 
@@ -121,6 +125,7 @@ impl Ramp {
             MotionPhase::Standing => Ramp::Standing,
             MotionPhase::Accelerating => Ramp::Accelerating,
             MotionPhase::Decelerating => Ramp::Decelerating,
+            MotionPhase::Waiting => Ramp::Waiting,
             MotionPhase::Constant => match (speed, max) {
                 (Some(s), Some(m)) if s.unsigned_abs() == m.unsigned_abs() => Ramp::Cruising,
                 _ => Ramp::Constant,
@@ -555,6 +560,7 @@ impl AxesPane {
             AxisMotion::AtTarget => lamp(theme, true, false, "reached"),
             AxisMotion::Moving => lamp(theme, false, false, "moving"),
             AxisMotion::StoppedShort => lamp(theme, false, false, "stopped short"),
+            AxisMotion::Stopped => lamp(theme, false, false, "stopped"),
             AxisMotion::Unknown => lamp(theme, false, false, "reached?"),
         };
         // The widest fixed parts: label, "pos "/"spd ", number, " tgt "/

@@ -11,7 +11,7 @@ use super::reply::{Answer, AnswerError, MST_BITS, Mst, MstBit, MstClass, answers
 use super::{ControllerId, DEFAULT_ID, MAX_ID, frame};
 use crate::protocol::console::{
     Answering, AxisFlag, AxisInfo, AxisUpdate, Completions, Effect, FamilyConsole, MotionPhase,
-    PreparedLine, Reading, ReplyError, ReplyValue, StatusPoll, SwitchKind,
+    MoveMode, PreparedLine, Reading, ReplyError, ReplyValue, StatusPoll, SwitchKind,
 };
 use crate::protocol::parameters::ParameterSet;
 use crate::protocol::wire::{Frame, ReplyRule, Verdict, WireFormat};
@@ -137,7 +137,9 @@ static LAMPS: LazyLock<Vec<AxisFlag>> = LazyLock::new(|| {
         .collect()
 });
 
-/// Bits 0–2 as the phase of the motion (Table 2-28); none set: standing.
+/// Bits 0–2 as the phase of the motion (Table 2-28); none set: waiting
+/// while bit 18 or 19 says the move waits for INP or /CSTA (its target
+/// not yet reached, or the move not yet started), else standing.
 fn phase(mst: Mst) -> MotionPhase {
     if mst.is_set(0) {
         MotionPhase::Accelerating
@@ -145,13 +147,19 @@ fn phase(mst: Mst) -> MotionPhase {
         MotionPhase::Decelerating
     } else if mst.is_set(2) {
         MotionPhase::Constant
+    } else if mst.is_set(18) || mst.is_set(19) {
+        MotionPhase::Waiting
     } else {
         MotionPhase::Standing
     }
 }
 
-/// The MST word as updates of its axis: switches, motion phase and
-/// completion, latched errors, and the other inputs and waits as lamps.
+/// The MST word as updates of its axis: switches, motion phase, latched
+/// errors, and the other inputs and waits as lamps. Not whether the axis
+/// reached its target: MST says the motion is complete after a STOP, an
+/// ESTOP or a limit as after the target (§2.2.4: the move ends early
+/// then), and the CMD-4CR has no target register; the target comes from
+/// the move line sent ([`move_updates`]).
 fn mst_updates(axis: usize, value: i64) -> Vec<(usize, AxisUpdate)> {
     let mst = Mst::from_value(value);
     let flags = |class: MstClass| -> Vec<AxisFlag> {
@@ -176,11 +184,61 @@ fn mst_updates(axis: usize, value: i64) -> Vec<(usize, AxisUpdate)> {
             AxisUpdate::Switch(SwitchKind::Left, mst.minus_limit()),
         ),
         (axis, AxisUpdate::Switch(SwitchKind::Home, mst.home())),
-        (axis, AxisUpdate::Reached(mst.complete())),
         (axis, AxisUpdate::Phase(phase(mst))),
         (axis, AxisUpdate::Errors(flags(MstClass::Error))),
         (axis, AxisUpdate::DriverFlags(lamps)),
     ]
+}
+
+/// The move mode the `MM` reading `value` names (Table 2-22).
+fn move_mode(value: i64) -> Option<MoveMode> {
+    match value {
+        0 => Some(MoveMode::Absolute),
+        1 => Some(MoveMode::Incremental),
+        _ => None,
+    }
+}
+
+/// The mode for all four axes: `ABS`/`INC` and `MM` are global (§2.2.4.1).
+fn mode_updates(mode: Option<MoveMode>) -> Vec<(usize, AxisUpdate)> {
+    (0..AXES.len())
+        .map(|axis| (axis, AxisUpdate::MoveMode(mode)))
+        .collect()
+}
+
+fn target_unknown(axes: impl IntoIterator<Item = Axis>) -> Vec<(usize, AxisUpdate)> {
+    axes.into_iter()
+        .map(|axis| (axis.index(), AxisUpdate::TargetUnknown))
+        .collect()
+}
+
+/// What a motion line accepted says of its axes' targets. The CMD-4CR has
+/// no target register: `X50000` is the only word of where the axis goes,
+/// its operand absolute or a step as the move mode is (§2.2.4.1). Every
+/// other motion leaves no target the console can tell: a jog or a Z-move
+/// has none, a homing ends where its trigger was, a target changed in
+/// flight is a step from the move's start in INC (§2.4.2), a circle or an
+/// arc ends where the geometry says (§2.3.2, §2.3.3), a buffered move runs
+/// later (§2.3.4).
+fn move_updates(command: &Cmd4crCommand) -> Vec<(usize, AxisUpdate)> {
+    match *command {
+        Cmd4crCommand::Move { targets } => targets
+            .iter()
+            .enumerate()
+            .filter_map(|(axis, target)| target.map(|t| (axis, AxisUpdate::MoveTarget(t))))
+            .collect(),
+        Cmd4crCommand::Jog { axis, .. }
+        | Cmd4crCommand::Home { axis, .. }
+        | Cmd4crCommand::ZMove { axis, .. }
+        | Cmd4crCommand::NewTarget { axis, .. } => target_unknown([axis]),
+        Cmd4crCommand::Circle { axes, .. } | Cmd4crCommand::Arc { axes, .. } => {
+            target_unknown(axes)
+        }
+        Cmd4crCommand::HelicalCircle { .. }
+        | Cmd4crCommand::HelicalArc { .. }
+        | Cmd4crCommand::BufferMove { .. } => target_unknown([Axis::X, Axis::Y, Axis::Z]),
+        _ => Vec::new(),
+    }
 }
 
 /// The console line of `action` on the axis numbered `axis` (`STOPZ`).
@@ -322,11 +380,16 @@ impl FamilyConsole for Cmd4crConsole {
         // positions in one line (§2.6.1.1). HSPD is the speed gauge's
         // scale: an axis's own unless 0, else the global one (§2.1.4).
         let poll = |axis: usize, line: PreparedLine, fast: bool| StatusPoll { axis, line, fast };
-        let mut polls = vec![poll(
-            0,
-            self.read(Register::Pp, Selector::All, address),
-            true,
-        )];
+        // First the move mode, which says what the target of a move line
+        // sent is (§2.2.4.1): its power-on state is not in the manual and a
+        // standalone program may change it (ABS/INC are program commands
+        // too), so it is read, not assumed — first, so that a move typed
+        // just after connecting finds it known. Slow: the ABS/INC lines
+        // the console sends set it at once.
+        let mut polls = vec![
+            poll(0, self.read(Register::Mm, Selector::All, address), false),
+            poll(0, self.read(Register::Pp, Selector::All, address), true),
+        ];
         for register in [Register::Mst, Register::Ps] {
             polls.extend(Axis::ALL.into_iter().map(|axis| {
                 poll(
@@ -362,7 +425,28 @@ impl FamilyConsole for Cmd4crConsole {
                 selector,
                 value,
             }) => return max_speed_updates(axis_of(selector), value),
-            _ => return Vec::new(),
+            // A position counter written: the axis stands elsewhere than
+            // any target it had, in other coordinates.
+            Ok(Cmd4crCommand::Write {
+                register: Register::P,
+                selector,
+                ..
+            }) => {
+                return match axis_of(selector) {
+                    Some(axis) => vec![(axis, AxisUpdate::TargetUnknown)],
+                    None => target_unknown(Axis::ALL),
+                };
+            }
+            Ok(Cmd4crCommand::Action {
+                action: Action::Abs,
+                ..
+            }) => return mode_updates(Some(MoveMode::Absolute)),
+            Ok(Cmd4crCommand::Action {
+                action: Action::Inc,
+                ..
+            }) => return mode_updates(Some(MoveMode::Incremental)),
+            Ok(command) => return move_updates(&command),
+            Err(_) => return Vec::new(),
         };
         let number = match reading.value {
             ReplyValue::Number(n) => Some(n),
@@ -387,6 +471,7 @@ impl FamilyConsole for Cmd4crConsole {
             (Register::Ps, Some(axis), Some(speed)) => vec![(axis, AxisUpdate::Speed(speed))],
             (Register::Mst, Some(axis), Some(word)) => mst_updates(axis, word),
             (Register::Hspd, axis, Some(speed)) => max_speed_updates(axis, speed),
+            (Register::Mm, None, Some(mode)) => mode_updates(move_mode(mode)),
             _ => Vec::new(),
         }
     }
@@ -593,13 +678,13 @@ mod tests {
         assert_eq!(
             names,
             [
-                "PP", "MSTX", "MSTY", "MSTZ", "MSTU", "PSX", "PSY", "PSZ", "PSU", "HSPD", "HSPDX",
-                "HSPDY", "HSPDZ", "HSPDU"
+                "MM", "PP", "MSTX", "MSTY", "MSTZ", "MSTU", "PSX", "PSY", "PSZ", "PSU", "HSPD",
+                "HSPDX", "HSPDY", "HSPDZ", "HSPDU"
             ]
         );
         assert!(polls.iter().all(|p| p.line.effect == Effect::Reads));
         assert_eq!(polls.iter().filter(|p| p.fast).count(), 9);
-        let pp = &polls[0].line;
+        let pp = &polls[1].line;
         let reading = reply(pp, "100:-200:0:5").expect("read");
         assert_eq!(
             Cmd4crConsole.status_update(pp, &reading),
@@ -623,7 +708,6 @@ mod tests {
         assert!(updates.contains(&AxisUpdate::Switch(SwitchKind::Right, true)));
         assert!(updates.contains(&AxisUpdate::Switch(SwitchKind::Left, false)));
         assert!(updates.contains(&AxisUpdate::Switch(SwitchKind::Home, false)));
-        assert!(updates.contains(&AxisUpdate::Reached(false)));
         assert!(updates.contains(&AxisUpdate::Phase(MotionPhase::Decelerating)));
         let names = |wanted: fn(&AxisUpdate) -> Option<&Vec<AxisFlag>>| -> Vec<&str> {
             updates
@@ -647,12 +731,23 @@ mod tests {
             ["INP"]
         );
         let idle = updates_of("MSTY", "0");
-        assert!(idle.contains(&(1, AxisUpdate::Reached(true))));
         assert!(idle.contains(&(1, AxisUpdate::Phase(MotionPhase::Standing))));
+        // Motion complete is no target reached: a STOP, an ESTOP or a
+        // limit completes a move as well (§2.2.4).
+        assert!(
+            !idle
+                .iter()
+                .any(|(_, u)| matches!(u, AxisUpdate::Reached(_))),
+            "{idle:?}"
+        );
         for (word, phase) in [
             (1, MotionPhase::Accelerating),
             (4, MotionPhase::Constant),
             (4 | 64, MotionPhase::Constant),
+            // Pulses done, waiting for INP: not yet at the target.
+            (1 << 18, MotionPhase::Waiting),
+            (1 << 19, MotionPhase::Waiting),
+            (2 | (1 << 18), MotionPhase::Decelerating),
         ] {
             let found = updates_of("MSTY", &word.to_string());
             assert!(found.contains(&(1, AxisUpdate::Phase(phase))), "{word}");
@@ -707,16 +802,17 @@ mod tests {
         let global = prepare("HSPD");
         let reading = reply(&global, "5000").expect("read");
         assert_eq!(Cmd4crConsole.status_update(&global, &reading).len(), 4);
-        // A user's own read of a position counts too; writes say nothing.
+        // A user's own read of a position counts too; a position written
+        // says only that any target is unknown now (not a position: the
+        // next poll reads it).
         let px = prepare("PX");
         let reading = reply(&px, "12").expect("read");
         assert_eq!(
             Cmd4crConsole.status_update(&px, &reading),
             [(0, AxisUpdate::Position(12))]
         );
-        let write = prepare("PX=0");
-        let reading = reply(&write, "OK").expect("ok");
-        assert!(Cmd4crConsole.status_update(&write, &reading).is_empty());
+        assert_eq!(updates_of("PX=0", "OK"), [(0, AxisUpdate::TargetUnknown)]);
+        assert!(updates_of("LSPDX=100", "OK").is_empty());
         // A high speed written is the gauge's scale at once.
         assert_eq!(
             updates_of("HSPDY=800", "OK"),
@@ -726,6 +822,47 @@ mod tests {
             updates_of("HSPD=7000", "OK")[3],
             (3, AxisUpdate::GlobalMaxSpeed(7000))
         );
+    }
+
+    #[test]
+    fn a_move_line_gives_its_target_operand_and_the_mode_comes_from_abs_inc_and_mm() {
+        assert_eq!(
+            updates_of("X50000", "OK"),
+            [(0, AxisUpdate::MoveTarget(50000))]
+        );
+        assert_eq!(
+            updates_of("Y-20Z300", "OK"),
+            [
+                (1, AxisUpdate::MoveTarget(-20)),
+                (2, AxisUpdate::MoveTarget(300))
+            ]
+        );
+        let all = |mode| -> Vec<(usize, AxisUpdate)> {
+            (0..4).map(|a| (a, AxisUpdate::MoveMode(mode))).collect()
+        };
+        assert_eq!(updates_of("ABS", "OK"), all(Some(MoveMode::Absolute)));
+        assert_eq!(updates_of("INC", "OK"), all(Some(MoveMode::Incremental)));
+        assert_eq!(updates_of("MM", "0"), all(Some(MoveMode::Absolute)));
+        assert_eq!(updates_of("MM", "1"), all(Some(MoveMode::Incremental)));
+        assert_eq!(updates_of("MM", "7"), all(None), "no mode of Table 2-22");
+        // No target the console can tell after these.
+        for (line, axes) in [
+            ("JX+", &[0][..]),
+            ("HY-1", &[1]),
+            ("ZMOVEU+", &[3]),
+            ("TX5000", &[0]),
+            ("PZ=0", &[2]),
+            ("CIRXZP1000:1000", &[0, 2]),
+        ] {
+            let expected: Vec<(usize, AxisUpdate)> = axes
+                .iter()
+                .map(|&a| (a, AxisUpdate::TargetUnknown))
+                .collect();
+            assert_eq!(updates_of(line, "OK"), expected, "{line}");
+        }
+        // A stop says nothing of the target: the axis stands short of it.
+        assert!(updates_of("STOP", "OK").is_empty());
+        assert!(updates_of("ESTOP", "OK").is_empty());
     }
 
     #[test]
