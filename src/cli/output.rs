@@ -128,6 +128,9 @@ pub fn print_outcome(
         Format::Text => {
             if let Ok(result) = outcome {
                 println!("{}", result.value);
+                if let Some(note) = unchecked_note(family, line, result) {
+                    eprintln!("{context}{note}");
+                }
             }
         }
         Format::Json => println!("{}", json_outcome(family, line, outcome)),
@@ -137,12 +140,43 @@ pub fn print_outcome(
     }
 }
 
+/// The text front ends' mark of a value nothing on the wire vouches for
+/// (a family whose replies carry no checksum). It goes to stderr, not on
+/// the value's line: scripts that parse the bare value on stdout keep
+/// working, and a person at the terminal still sees it.
+pub fn unchecked_note(family: &Family, line: &str, result: &LineResult) -> Option<String> {
+    (result.value != ReplyValue::None && !family.console.replies_checked())
+        .then(|| format!("{line}: unchecked (the reply carries no checksum)"))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::protocol::console::ReplyError;
     use crate::protocol::find_family;
     use std::time::Duration;
+
+    /// Issue 19: the text output's stderr note marks a value read without a
+    /// checksum, never a write's ok nor a checked family's value.
+    #[test]
+    fn text_note_marks_unchecked_values_only() {
+        let checked = find_family("tmcl").expect("tmcl");
+        let unchecked = find_family("sixpack2").expect("sixpack2");
+        let result = |value| LineResult {
+            line: "PX".into(),
+            request: Vec::new(),
+            reply: Vec::new(),
+            status: None,
+            value,
+            elapsed: Duration::from_micros(900),
+            attempts: 1,
+        };
+        let read = result(ReplyValue::Number(5));
+        let write = result(ReplyValue::None);
+        assert!(unchecked_note(unchecked, "x", &read).is_some());
+        assert!(unchecked_note(unchecked, "x", &write).is_none());
+        assert!(unchecked_note(checked, "x", &read).is_none());
+    }
 
     /// Issue 19: a SIXpack 2 position read printed a corrupted value as
     /// plain ok. A value read from a family without a checksum says so;
