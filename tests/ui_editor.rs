@@ -631,3 +631,47 @@ fn an_error_message_goes_when_its_line_is_deleted() {
         );
     }
 }
+
+#[test]
+fn save_as_over_another_existing_file_is_refused_unless_forced() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let other = dir.path().join("other.tmc");
+    std::fs::write(&other, "ROL 0, 100\n").expect("write");
+    let mut app = editor_console(None);
+    type_program(&mut app, "MVP ABS, 0, 1");
+    // F2 without a file asks for a name; an existing one is refused.
+    app.handle(key(KeyCode::F(2)));
+    app.handle(AppEvent::Terminal(ratatui::crossterm::event::Event::Paste(
+        other.display().to_string(),
+    )));
+    app.handle(key(KeyCode::Enter));
+    assert_eq!(
+        std::fs::read_to_string(&other).expect("kept"),
+        "ROL 0, 100\n"
+    );
+    let lines = screen(&mut app, 200, 50);
+    assert!(
+        lines
+            .iter()
+            .any(|l| l.contains("give --force to replace it")),
+        "{}",
+        lines.join("\n")
+    );
+    // `--force FILE` replaces it.
+    app.handle(key(KeyCode::F(2)));
+    app.handle(AppEvent::Terminal(ratatui::crossterm::event::Event::Paste(
+        format!("--force {}", other.display()),
+    )));
+    app.handle(key(KeyCode::Enter));
+    assert_eq!(
+        std::fs::read_to_string(&other).expect("saved"),
+        "MVP ABS, 0, 1"
+    );
+    // Its own file is saved over without asking.
+    type_program(&mut app, "\nSTOP");
+    app.handle(key(KeyCode::F(2)));
+    assert_eq!(
+        std::fs::read_to_string(&other).expect("saved"),
+        "MVP ABS, 0, 1\nSTOP"
+    );
+}

@@ -482,6 +482,23 @@ impl EditorPane {
     }
 
     /// Save the text to `path` (atomically), which becomes its file.
+    /// Save as, typed in the prompt: another file that exists is refused
+    /// unless `--force` comes before its name, the rule of every file axterm
+    /// writes on request (issue 19, point 5); the editor's own file is
+    /// saved over, as any editor does.
+    fn save_as_typed(&mut self, typed: &str) -> Result<(), String> {
+        let (force, name) = match typed.strip_prefix("--force") {
+            Some(rest) if rest.starts_with(char::is_whitespace) => (true, rest.trim()),
+            _ => (false, typed),
+        };
+        let path = PathBuf::from(name);
+        if !force && self.file.as_deref() != Some(path.as_path()) {
+            crate::files::check_destination(&path, crate::files::Existing::Refuse)
+                .map_err(|e| format!("cannot save as {}: {e}", path.display()))?;
+        }
+        self.save_to(&path)
+    }
+
     pub fn save_to(&mut self, path: &Path) -> Result<(), String> {
         let text = self.text();
         crate::files::write_atomically(path, text.as_bytes())
@@ -583,11 +600,10 @@ impl EditorPane {
                 if name.is_empty() {
                     return Outcome::redraw();
                 }
-                let path = PathBuf::from(&name);
                 let result = match kind {
                     PromptKind::Watch => return self.watch_typed(&name, view),
-                    PromptKind::Open => self.open_file(&path),
-                    PromptKind::SaveAs => self.save_to(&path),
+                    PromptKind::Open => self.open_file(&PathBuf::from(&name)),
+                    PromptKind::SaveAs => self.save_as_typed(&name),
                 };
                 if let Err(e) = result {
                     self.message = Some(Notice::error(e));

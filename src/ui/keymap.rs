@@ -266,7 +266,7 @@ pub const ACTIONS: &[ActionInfo] = &[
     info(Action::EditorRun, "editor_run", "Run", "run the program on the controller", EDITOR),
     info(Action::EditorStop, "editor_stop", "Stop", "stop the program on the controller", EDITOR),
     info(Action::EditorStep, "editor_step", "Step", "execute one instruction of the program", EDITOR),
-    info(Action::EditorSaveAs, "editor_save_as", "Save as", "save the program source under a new name", EDITOR),
+    info(Action::EditorSaveAs, "editor_save_as", "Save as", "save the program source under a new name (--force FILE to replace another file)", EDITOR),
     info(Action::EditorNextError, "editor_next_error", "Next error", "go to the next line that does not assemble", EDITOR),
     info(Action::EditorVerify, "editor_verify", "Verify", "compare the program in the controller with the source", EDITOR),
     info(Action::EditorUpload, "editor_upload", "Upload", "read the program from the controller into a new buffer", EDITOR),
