@@ -41,7 +41,7 @@ pub fn json_outcome(
                 "ok": true,
                 "elapsed_us": u64::try_from(result.elapsed.as_micros()).unwrap_or(u64::MAX),
             });
-            if result.value != ReplyValue::None && !family.console.replies_checked() {
+            if read_unchecked(family, result) {
                 object["unchecked"] = json!(true);
             }
             object
@@ -145,8 +145,16 @@ pub fn print_outcome(
 /// the value's line: scripts that parse the bare value on stdout keep
 /// working, and a person at the terminal still sees it.
 pub fn unchecked_note(family: &Family, line: &str, result: &LineResult) -> Option<String> {
-    (result.value != ReplyValue::None && !family.console.replies_checked())
+    read_unchecked(family, result)
         .then(|| format!("{line}: unchecked (the reply carries no checksum)"))
+}
+
+/// Whether `result` holds a value a reply carried (a frame that gets no
+/// reply, "sent", holds none) from a family whose replies carry no check.
+fn read_unchecked(family: &Family, result: &LineResult) -> bool {
+    !result.reply.is_empty()
+        && result.value != ReplyValue::None
+        && !family.console.replies_checked()
 }
 
 #[cfg(test)]
@@ -162,19 +170,23 @@ mod tests {
     fn text_note_marks_unchecked_values_only() {
         let checked = find_family("tmcl").expect("tmcl");
         let unchecked = find_family("sixpack2").expect("sixpack2");
-        let result = |value| LineResult {
+        let result = |reply: &[u8], value| LineResult {
             line: "PX".into(),
             request: Vec::new(),
-            reply: Vec::new(),
+            reply: reply.to_vec(),
             status: None,
             value,
             elapsed: Duration::from_micros(900),
             attempts: 1,
         };
-        let read = result(ReplyValue::Number(5));
-        let write = result(ReplyValue::None);
+        let read = result(b"5\r", ReplyValue::Number(5));
+        let write = result(b"OK\r", ReplyValue::None);
+        // A frame that gets no reply (SIXpack 2 `SetPeakCurrent`): "sent"
+        // is no value read.
+        let sent = result(b"", ReplyValue::Text("sent".into()));
         assert!(unchecked_note(unchecked, "x", &read).is_some());
         assert!(unchecked_note(unchecked, "x", &write).is_none());
+        assert!(unchecked_note(unchecked, "x", &sent).is_none());
         assert!(unchecked_note(checked, "x", &read).is_none());
     }
 
