@@ -5,7 +5,7 @@ mod served_support;
 
 use cli_support::{axterm, axterm_stdin, stderr, stdout};
 use served_support::Served;
-use std::io::{BufRead, BufReader, Read};
+use std::io::{BufRead, BufReader};
 use std::path::Path;
 use std::process::{Command, Stdio};
 
@@ -349,19 +349,7 @@ fn ctrl_c_cancels_the_run_and_sends_the_stop_sequence() {
             break;
         }
     }
-    let pid = libc::pid_t::try_from(child.id()).expect("pid");
-    // SAFETY: a signal to our own child process; nothing is shared.
-    unsafe {
-        libc::kill(pid, libc::SIGINT);
-    }
-    let status = child.wait().expect("wait");
-    let mut err = String::new();
-    child
-        .stderr
-        .take()
-        .expect("stderr")
-        .read_to_string(&mut err)
-        .expect("stderr text");
+    let (status, err) = cli_support::signal_and_wait(&mut child, libc::SIGINT);
     assert_eq!(status.code(), Some(1), "{err}");
     assert!(
         err.contains(&format!("axterm run: {file}: stopped by Ctrl-C\n")),

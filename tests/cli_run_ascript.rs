@@ -220,7 +220,7 @@ fn usage_and_connection_errors_have_their_exit_codes() {
 
 #[test]
 fn ctrl_c_ends_the_run_and_sends_the_emergency_stop() {
-    use std::io::{BufRead, BufReader, Read};
+    use std::io::{BufRead, BufReader};
     use std::process::Stdio;
     let dir = tempfile::tempdir().expect("temp dir");
     let file = program(
@@ -241,19 +241,7 @@ fn ctrl_c_ends_the_run_and_sends_the_emergency_stop() {
             break;
         }
     }
-    let pid = libc::pid_t::try_from(child.id()).expect("pid");
-    // SAFETY: a signal to our own child process; nothing is shared.
-    unsafe {
-        libc::kill(pid, libc::SIGINT);
-    }
-    let status = child.wait().expect("wait");
-    let mut err = String::new();
-    child
-        .stderr
-        .take()
-        .expect("stderr")
-        .read_to_string(&mut err)
-        .expect("stderr text");
+    let (status, err) = cli_support::signal_and_wait(&mut child, libc::SIGINT);
     assert_eq!(status.code(), Some(1), "{err}");
     assert!(
         err.contains(&format!("{file}: stopped by Ctrl-C\n")),

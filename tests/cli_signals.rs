@@ -10,7 +10,7 @@ mod cli_support;
 mod motion_support;
 mod served_support;
 
-use std::io::{BufRead, BufReader, Read};
+use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 
 use axterm::protocol::FAMILIES;
@@ -51,19 +51,7 @@ fn run_until_signal(
             break;
         }
     }
-    let pid = libc::pid_t::try_from(child.id()).expect("pid");
-    // SAFETY: a signal to our own child process; nothing is shared.
-    unsafe {
-        libc::kill(pid, signal);
-    }
-    let status = child.wait().expect("wait");
-    let mut err = String::new();
-    child
-        .stderr
-        .take()
-        .expect("stderr")
-        .read_to_string(&mut err)
-        .expect("stderr text");
+    let (status, err) = cli_support::signal_and_wait(&mut child, signal);
     (status.code(), err)
 }
 
@@ -145,19 +133,7 @@ fn sigterm_ends_exec_with_the_stop_sequence() {
     // The first line's answer: the axis moves, the wait holds the line.
     let first = lines.next().expect("a line").expect("text");
     assert_eq!(first, "ok");
-    let pid = libc::pid_t::try_from(child.id()).expect("pid");
-    // SAFETY: a signal to our own child process; nothing is shared.
-    unsafe {
-        libc::kill(pid, libc::SIGTERM);
-    }
-    let status = child.wait().expect("wait");
-    let mut err = String::new();
-    child
-        .stderr
-        .take()
-        .expect("stderr")
-        .read_to_string(&mut err)
-        .expect("stderr text");
+    let (status, err) = cli_support::signal_and_wait(&mut child, libc::SIGTERM);
     assert_eq!(status.code(), Some(1), "{err}");
     assert!(
         err.contains("axterm exec: stopped by SIGTERM\n") && err.contains("  0AB → ok\n"),

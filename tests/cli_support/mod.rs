@@ -38,3 +38,27 @@ pub fn stdout(output: &Output) -> String {
 pub fn stderr(output: &Output) -> String {
     String::from_utf8_lossy(&output.stderr).into_owned()
 }
+
+/// Send `signal` to `child` (an `axterm` this test started with a piped
+/// standard error), wait for it to end, and return its exit status and
+/// what it said on standard error.
+pub fn signal_and_wait(
+    child: &mut std::process::Child,
+    signal: i32,
+) -> (std::process::ExitStatus, String) {
+    use std::io::Read;
+    let pid = libc::pid_t::try_from(child.id()).expect("pid");
+    // SAFETY: a signal to our own child process; nothing is shared.
+    unsafe {
+        libc::kill(pid, signal);
+    }
+    let status = child.wait().expect("wait");
+    let mut err = String::new();
+    child
+        .stderr
+        .take()
+        .expect("stderr")
+        .read_to_string(&mut err)
+        .expect("stderr text");
+    (status, err)
+}
