@@ -220,3 +220,54 @@ async fn a_console_ended_from_outside_stops_every_axis_in_every_family() {
         );
     }
 }
+
+/// A `:run` that completes with an axis still moving (a replayed
+/// recording whose last move still goes) says so and ends as a failed run:
+/// the stop sequence, the axis at rest; one that says `:leave-moving` says
+/// the axis moves as the file means and leaves it so. In every family, as
+/// `axterm run` does.
+#[tokio::test(start_paused = true)]
+async fn a_console_run_that_leaves_an_axis_moving_says_so_and_stops_it_unless_meant() {
+    use axterm::protocol::FAMILIES;
+    use axterm::script::result_matches;
+    for family in FAMILIES {
+        let motion = motion_of(family);
+        let (start, speed, at_rest) = (motion.start, motion.speed, motion.at_rest);
+        let kind = family.simulators.first().expect("a simulator").name;
+        let dir = tempfile::tempdir().expect("temp dir");
+        let unmeant = dir.path().join("moves.txt");
+        std::fs::write(&unmeant, format!("{start}\n")).expect("write");
+        let meant = dir.path().join("meant.txt");
+        std::fs::write(&meant, format!("{start}\n:leave-moving\n")).expect("write");
+
+        let session = session(kind).await;
+        run_console(&session, async |rig: &mut Rig| {
+            enter(rig, &format!(":run {}", unmeant.display()));
+            rig.screens
+                .until("still moves; the file does not say :leave-moving")
+                .await;
+            // The stop report follows (a SIXpack 2's 18 lines scroll the
+            // rest away): the axis at rest is what counts.
+            assert!(
+                reads_until(&session, speed, |v| result_matches(v, at_rest)).await,
+                "{}: the axis still moves after the run",
+                family.name
+            );
+        })
+        .await;
+
+        let session = self::session(kind).await;
+        run_console(&session, async |rig: &mut Rig| {
+            enter(rig, &format!(":run {}", meant.display()));
+            let frame = rig.screens.until("as the file means it to").await;
+            assert!(!frame.contains("stopping every axis"), "{frame}");
+            assert!(
+                reads_until(&session, speed, |v| !result_matches(v, at_rest)).await,
+                "{}: the axis was stopped although the file meant it to move",
+                family.name
+            );
+            session.emergency_stop_lines().await;
+        })
+        .await;
+    }
+}

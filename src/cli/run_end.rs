@@ -13,8 +13,8 @@ use serde_json::Value;
 
 use super::output::{Format, json_outcome};
 use super::{EXIT_DEVICE, EXIT_OK};
-use crate::script::LEAVE_MOVING;
 use crate::session::Session;
+pub use crate::session::run_end::AtTheEnd;
 use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
 
 /// Ctrl-C (SIGINT), SIGTERM (a service manager, `kill`) and SIGHUP (the
@@ -96,78 +96,15 @@ pub struct RunReport<'a> {
     pub at_the_end: AtTheEnd,
 }
 
-/// What a run that completed checks of the axes at its end.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum AtTheEnd {
-    /// Nothing: the run moved nothing, or its language has no way to say
-    /// it means to leave an axis moving.
-    Nothing,
-    /// Whether an axis still moves: if one does, the run says so and ends
-    /// as a failed one (the stop sequence, unless `--no-stop-on-failure`).
-    StopIfMoving,
-    /// Whether an axis still moves: if one does, the run says so, and that
-    /// the file means it ([`crate::script::LEAVE_MOVING`]).
-    SayIfMoving,
-}
-
-impl AtTheEnd {
-    /// For a file of `steps`: whether it may move an axis (a line that
-    /// acts) and whether it says it means to leave one moving.
-    pub fn of_script(steps: &[crate::script::CheckedStep]) -> AtTheEnd {
-        use crate::protocol::console::Effect;
-        use crate::script::{Action, leaves_moving};
-        let acts = steps.iter().any(|s| {
-            matches!(s.step.action, Action::Line(_))
-                && s.line.as_ref().is_some_and(|l| l.effect == Effect::Acts)
-        });
-        if !acts {
-            AtTheEnd::Nothing
-        } else if leaves_moving(steps.iter().map(|s| &s.step.action)) {
-            AtTheEnd::SayIfMoving
-        } else {
-            AtTheEnd::StopIfMoving
-        }
-    }
-}
-
 /// A run that completed under `check`: whether it ends as completed, or as
 /// failed because it leaves an axis moving that the file did not mean to
-/// leave so (said on standard error either way). When the axes cannot be
-/// read, that is said and the run stays completed: nothing is known to
-/// move.
+/// leave so (said on standard error either way).
 async fn completed_run_checked(session: &Session, check: AtTheEnd, prefix: &str) -> RunEnding {
-    if check == AtTheEnd::Nothing {
-        return RunEnding::Completed;
+    let found = session.check_run_end(check).await;
+    if let Some(said) = &found.said {
+        eprintln!("{prefix}{said}");
     }
-    let moving = match session.moving_axes().await {
-        Ok(moving) => moving,
-        Err(e) => {
-            eprintln!("{prefix}cannot tell whether an axis still moves at the end of the run: {e}");
-            return RunEnding::Completed;
-        }
-    };
-    if moving.is_empty() {
-        return RunEnding::Completed;
-    }
-    let axes = moving.join(", ");
-    let (noun, verb) = if moving.len() == 1 {
-        ("axis", "moves")
-    } else {
-        ("axes", "move")
-    };
-    if check == AtTheEnd::SayIfMoving {
-        eprintln!(
-            "{prefix}the run ended and {noun} {axes} still {verb}, as the file means it to \
-             ({LEAVE_MOVING})"
-        );
-        RunEnding::Completed
-    } else {
-        eprintln!(
-            "{prefix}the run ended and {noun} {axes} still {verb}; the file does not say \
-             {LEAVE_MOVING}, so the run ends as a failed one"
-        );
-        RunEnding::Failed
-    }
+    found.ending
 }
 
 /// Run `work` (true when every step succeeded) to its end or to a Ctrl-C,

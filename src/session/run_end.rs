@@ -26,6 +26,7 @@ use tokio::time::Instant;
 
 use super::{LineResult, Session, SessionError};
 use crate::device::{DeviceError, LinkState};
+use crate::script::LEAVE_MOVING;
 
 /// The option that leaves the axes as they are after a run that did not
 /// complete (`axterm run`, `axterm run-ascript`, `:run`, `:run-ascript`).
@@ -93,6 +94,114 @@ impl StopOnFailure {
     /// Whether a run that ended so stops the axes.
     pub fn stops_after(self, ending: RunEnding) -> bool {
         self == StopOnFailure::Stop && ending != RunEnding::Completed
+    }
+}
+
+/// What a run that completed checks of the axes at its end: a replayed
+/// recording or a run file whose last move is still going must not end
+/// "completed" with an axis turning behind it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum AtTheEnd {
+    /// Nothing: the run moved nothing, or its language has no way to say
+    /// it means to leave an axis moving.
+    #[default]
+    Nothing,
+    /// Whether an axis still moves: if one does, the run says so and ends
+    /// as a failed one (the stop sequence, unless `--no-stop-on-failure`).
+    StopIfMoving,
+    /// Whether an axis still moves: if one does, the run says so, and that
+    /// the file means it ([`LEAVE_MOVING`]).
+    SayIfMoving,
+}
+
+impl AtTheEnd {
+    /// For a file of `steps`: whether it may move an axis (a line that
+    /// acts) and whether it says it means to leave one moving.
+    pub fn of_script(steps: &[crate::script::CheckedStep]) -> AtTheEnd {
+        use crate::protocol::console::Effect;
+        use crate::script::{Action, leaves_moving};
+        let acts = steps.iter().any(|s| {
+            matches!(s.step.action, Action::Line(_))
+                && s.line.as_ref().is_some_and(|l| l.effect == Effect::Acts)
+        });
+        if !acts {
+            AtTheEnd::Nothing
+        } else if leaves_moving(steps.iter().map(|s| &s.step.action)) {
+            AtTheEnd::SayIfMoving
+        } else {
+            AtTheEnd::StopIfMoving
+        }
+    }
+}
+
+/// What the check at the end of a run that completed found
+/// ([`Session::check_run_end`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct EndCheck {
+    /// Completed, or failed for an axis left moving that the file did not
+    /// mean to leave so.
+    pub ending: RunEnding,
+    /// What to tell the user, if anything: the axes still moving, or that
+    /// they could not be read.
+    pub said: Option<String>,
+    /// Whether `said` is a problem (an axis left moving unmeant, or the
+    /// axes unreadable) rather than what the file meant.
+    pub alarming: bool,
+}
+
+impl EndCheck {
+    /// Nothing checked or nothing found: the run stays completed.
+    pub fn completed() -> EndCheck {
+        EndCheck {
+            ending: RunEnding::Completed,
+            said: None,
+            alarming: false,
+        }
+    }
+
+    /// What `moving` (the axes that still move, or why they could not be
+    /// read) comes to under `check`. Axes that cannot be read leave the
+    /// run completed, said so: nothing is known to move.
+    pub fn judge(check: AtTheEnd, moving: Result<Vec<&str>, String>) -> EndCheck {
+        let moving = match moving {
+            _ if check == AtTheEnd::Nothing => return EndCheck::completed(),
+            Ok(moving) if moving.is_empty() => return EndCheck::completed(),
+            Ok(moving) => moving,
+            Err(why) => {
+                return EndCheck {
+                    ending: RunEnding::Completed,
+                    said: Some(format!(
+                        "cannot tell whether an axis still moves at the end of the run: {why}"
+                    )),
+                    alarming: true,
+                };
+            }
+        };
+        let axes = moving.join(", ");
+        let (noun, verb) = if moving.len() == 1 {
+            ("axis", "moves")
+        } else {
+            ("axes", "move")
+        };
+        if check == AtTheEnd::SayIfMoving {
+            EndCheck {
+                ending: RunEnding::Completed,
+                said: Some(format!(
+                    "the run ended and {noun} {axes} still {verb}, as the file means it to \
+                     ({LEAVE_MOVING})"
+                )),
+                alarming: false,
+            }
+        } else {
+            EndCheck {
+                ending: RunEnding::Failed,
+                said: Some(format!(
+                    "the run ended and {noun} {axes} still {verb}; the file does not say \
+                     {LEAVE_MOVING}, so the run ends as a failed one"
+                )),
+                alarming: true,
+            }
+        }
     }
 }
 
@@ -340,6 +449,16 @@ impl Session {
         .await
     }
 
+    /// Check the axes at the end of a run that completed, under `check`
+    /// (every front end's `:run`/`axterm run` goes through here).
+    pub async fn check_run_end(&self, check: AtTheEnd) -> EndCheck {
+        if check == AtTheEnd::Nothing {
+            return EndCheck::completed();
+        }
+        let moving = self.moving_axes().await.map_err(|e| e.to_string());
+        EndCheck::judge(check, moving)
+    }
+
     /// Send the stop-everything sequence after a run that did not
     /// complete. While the link is down the stop waits for it to come
     /// back, at most `reach` in all. The link may also have gone with the
@@ -406,6 +525,29 @@ impl Session {
 mod tests {
     use super::*;
     use crate::protocol::console::ReplyValue;
+
+    #[test]
+    fn the_end_check_fails_a_run_only_for_an_axis_left_moving_unmeant() {
+        let moving = || Ok(vec!["0"]);
+        assert_eq!(
+            EndCheck::judge(AtTheEnd::Nothing, moving()),
+            EndCheck::completed()
+        );
+        assert_eq!(
+            EndCheck::judge(AtTheEnd::StopIfMoving, Ok(Vec::new())),
+            EndCheck::completed()
+        );
+        let unmeant = EndCheck::judge(AtTheEnd::StopIfMoving, moving());
+        assert_eq!(unmeant.ending, RunEnding::Failed);
+        assert!(unmeant.alarming);
+        let meant = EndCheck::judge(AtTheEnd::SayIfMoving, moving());
+        assert_eq!(meant.ending, RunEnding::Completed);
+        assert!(meant.said.is_some_and(|s| s.contains(LEAVE_MOVING)));
+        // Axes that cannot be read: nothing known to move, but said.
+        let unread = EndCheck::judge(AtTheEnd::StopIfMoving, Err("timeout".into()));
+        assert_eq!(unread.ending, RunEnding::Completed);
+        assert!(unread.said.is_some_and(|s| s.contains("timeout")));
+    }
 
     fn ok(line: &str) -> Result<LineResult, SessionError> {
         Ok(LineResult {

@@ -33,7 +33,7 @@ use super::pane::{Input, ModuleEntry, Notice, Outcome, Pane, PaneEvent, Request,
 use super::theme::{Theme, load_theme};
 use crate::device::{Busy, DeviceEvent, TrafficRecord};
 use crate::protocol::program::{Progress, TransferFailure, TransferJob, TransferReport};
-use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
+use crate::session::run_end::{AtTheEnd, RunAftermath, RunEnding, StopOnFailure};
 use crate::session::{AxisFlag, LineResult, PollCadence, SessionError};
 
 /// How long a message stays in the status bar ("STOP: 3 sent, all ok"):
@@ -135,6 +135,13 @@ pub enum Effect {
     EndRun {
         pane: usize,
         ending: RunEnding,
+        policy: StopOnFailure,
+    },
+    /// Check the axes after a pane's run completed
+    /// ([`Controller::check_run_end`]), then end it as its check says.
+    CheckRunEnd {
+        pane: usize,
+        check: AtTheEnd,
         policy: StopOnFailure,
     },
     Poll(Option<PollCadence>),
@@ -796,6 +803,11 @@ impl App {
             Request::EndRun { ending, policy } => effects.push(Effect::EndRun {
                 pane,
                 ending,
+                policy,
+            }),
+            Request::CheckRunEnd { check, policy } => effects.push(Effect::CheckRunEnd {
+                pane,
+                check,
                 policy,
             }),
             Request::Poll(rate) => effects.push(Effect::Poll(cadence_for(rate))),

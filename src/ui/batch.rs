@@ -10,6 +10,7 @@ use tokio::time::Instant;
 use crate::protocol::Family;
 use crate::protocol::console::{FamilyConsole, PreparedLine, ReplyValue};
 use crate::script::{Action, Step, WAIT_INTERVAL, check_script, result_matches};
+use crate::session::run_end::AtTheEnd;
 use crate::session::run_end::{NO_STOP_FLAG, StopOnFailure};
 use crate::session::{LineResult, SessionError, confirms_reads};
 
@@ -60,6 +61,8 @@ pub struct Batch {
     /// The first of two reads of an `:expect` or `:wait-until` whose
     /// value needs a second that agrees ([`confirms_reads`]).
     first_read: Option<ReplyValue>,
+    /// What the end of the batch checks of the axes, once it completed.
+    at_the_end: AtTheEnd,
 }
 
 /// The family's console, for judging a second read.
@@ -93,6 +96,7 @@ impl Batch {
                 ))
             })
             .collect();
+        let at_the_end = AtTheEnd::of_script(&checked);
         let (steps, prepared) = checked
             .into_iter()
             .map(|checked| (checked.step, checked.line))
@@ -107,7 +111,15 @@ impl Batch {
             prepared,
             console: Console(family.console),
             first_read: None,
+            at_the_end,
         })
+    }
+
+    /// What the end of the batch checks of the axes once every step is
+    /// done: whether an axis may be left moving, and whether the file
+    /// means it ([`crate::script::LEAVE_MOVING`]).
+    pub fn at_the_end(&self) -> AtTheEnd {
+        self.at_the_end
     }
 
     /// The file's name, or the directive typed.

@@ -34,7 +34,7 @@ use crate::device::{Busy, DeviceEvent, LinkState};
 use crate::protocol::console::{Candidate, Completions, PreparedLine};
 use crate::protocol::program::{HostStart, ProgramTool};
 use crate::protocol::{FAMILIES, Family, find_family};
-use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
+use crate::session::run_end::{AtTheEnd, RunAftermath, RunEnding, StopOnFailure};
 use crate::session::{LineResult, SessionError};
 use confirm::{Confirming, Deferred};
 use history::History;

@@ -22,7 +22,7 @@ use crate::protocol::Family;
 use crate::protocol::program::{Progress, TransferFailure, TransferJob, TransferReport};
 use crate::protocol::settings::SettingsCache;
 use crate::session::Cancel;
-use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
+use crate::session::run_end::{AtTheEnd, EndCheck, RunAftermath, RunEnding, StopOnFailure};
 use crate::session::{
     AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, Session, SessionError, SessionOptions,
 };
@@ -120,6 +120,11 @@ impl Controller for SessionController {
     fn end_run(&self, ending: RunEnding, policy: StopOnFailure) -> Pending<RunAftermath> {
         let session = self.session.clone();
         Box::pin(async move { session.end_run(ending, policy).await })
+    }
+
+    fn check_run_end(&self, check: AtTheEnd) -> Pending<EndCheck> {
+        let session = self.session.clone();
+        Box::pin(async move { session.check_run_end(check).await })
     }
 
     fn set_polling(&self, cadence: Option<PollCadence>) {

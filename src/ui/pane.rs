@@ -266,6 +266,15 @@ pub enum Request {
         ending: RunEnding,
         policy: StopOnFailure,
     },
+    /// A run of this pane (`:run`) completed: the session checks the axes
+    /// under `check` ([`crate::session::Session::check_run_end`]), says
+    /// what it found, and ends the run under `policy` as a failed one when
+    /// an axis is left moving that the file did not mean to leave so (what
+    /// it did back as [`PaneEvent::RunEnded`]).
+    CheckRunEnd {
+        check: crate::session::run_end::AtTheEnd,
+        policy: StopOnFailure,
+    },
     /// Poll status this many times a second (0: stop polling).
     Poll(f64),
     /// Work with this axis (index into [`Snapshot::axes`]).

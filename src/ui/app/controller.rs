@@ -11,7 +11,9 @@ use crate::protocol::Family;
 use crate::protocol::program::{Progress, TransferFailure, TransferJob, TransferReport};
 use crate::protocol::settings::SettingsCache;
 use crate::session::Cancel;
-use crate::session::run_end::{LinkAtStop, RunAftermath, RunEnding, RunStop, StopOnFailure};
+use crate::session::run_end::{
+    AtTheEnd, EndCheck, LinkAtStop, RunAftermath, RunEnding, RunStop, StopOnFailure,
+};
 use crate::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
 
 /// A future the loop can spawn.
@@ -56,6 +58,13 @@ pub trait Controller: Send + Sync {
                 link: LinkAtStop::Up,
             }
         }))
+    }
+    /// Check the axes at the end of a run that completed
+    /// ([`crate::session::Session::check_run_end`]). By default nothing is
+    /// known to move.
+    fn check_run_end(&self, check: AtTheEnd) -> Pending<EndCheck> {
+        let _ = check;
+        Box::pin(async { EndCheck::completed() })
     }
     fn set_polling(&self, cadence: Option<PollCadence>);
     /// The line the controller is busy with, if any: a line that runs until

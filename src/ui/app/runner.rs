@@ -791,6 +791,33 @@ impl Runner {
                     let _ = tx.send(AppEvent::RunEnded { pane, aftermath });
                 });
             }
+            Effect::CheckRunEnd {
+                pane,
+                check,
+                policy,
+            } => {
+                let Some(c) = self.selected(app) else {
+                    queue.push(not_connected());
+                    return;
+                };
+                let controller = Arc::clone(&c.controller);
+                let tx = self.internal.clone();
+                tokio::spawn(async move {
+                    let found = controller.check_run_end(check).await;
+                    if let Some(said) = found.said {
+                        let notice = if found.alarming {
+                            Notice::error(said)
+                        } else {
+                            Notice::warning(said)
+                        };
+                        let _ = tx.send(AppEvent::Notice(notice));
+                    }
+                    if found.ending != RunEnding::Completed {
+                        let aftermath = controller.end_run(found.ending, policy).await;
+                        let _ = tx.send(AppEvent::RunEnded { pane, aftermath });
+                    }
+                });
+            }
             Effect::Poll(cadence) => {
                 // The rate is the console's: every module polls at it.
                 if self.connections.is_empty() {

@@ -212,10 +212,22 @@ impl CommandPane {
                     requests.extend(self.end_run(RunEnding::Failed));
                 }
                 BatchStep::Done => {
-                    if self.batch.take().is_some_and(|b| b.len() > 1) {
+                    let Some(batch) = self.batch.take() else {
+                        continue;
+                    };
+                    if batch.len() > 1 {
                         self.say(Role::Ok, "batch done");
                     }
-                    self.run_policy = None;
+                    // A run (not a typed directive) that may have left an
+                    // axis moving: the session looks, as `axterm run` does.
+                    if let Some(policy) = self.run_policy.take()
+                        && batch.at_the_end() != AtTheEnd::Nothing
+                    {
+                        requests.push(Request::CheckRunEnd {
+                            check: batch.at_the_end(),
+                            policy,
+                        });
+                    }
                 }
             }
         }
