@@ -152,7 +152,7 @@ fn serve(app: &mut App, effects: Vec<Effect>, values: &[(&str, &str)]) -> Vec<St
         assert!(sent.len() < 10_000, "the console never stops sending");
         let mut next = Vec::new();
         for effect in queue {
-            if let Effect::Send { pane, tag, lines } = effect {
+            if let Some((pane, tag, lines)) = effect.sends() {
                 for line in lines {
                     sent.push(line.clone());
                     let result = answer(&line, values);

@@ -294,10 +294,7 @@ fn simulated(sim: &mut Mccl, line: &str) -> Result<LineResult, SessionError> {
 fn serve(app: &mut App, sim: &mut Mccl, mut effects: Vec<Effect>) -> Vec<String> {
     let mut sent = Vec::new();
     for _ in 0..200 {
-        let Some((pane, tag, lines)) = effects.iter().find_map(|e| match e {
-            Effect::Send { pane, tag, lines } => Some((*pane, *tag, lines.clone())),
-            _ => None,
-        }) else {
+        let Some((pane, tag, lines)) = effects.iter().find_map(Effect::sends) else {
             return sent;
         };
         effects.clear();

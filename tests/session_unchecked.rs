@@ -112,3 +112,24 @@ async fn a_parameter_read_without_a_checksum_is_the_value_two_reads_agree_on() {
     );
     assert!(script.nothing_written());
 }
+
+/// The console's parameter pane reads through its controller's
+/// `read_agreed` (`Effect::ReadAgreed`): on a session, a damaged first
+/// answer is not what the table shows.
+#[tokio::test(start_paused = true)]
+async fn the_console_reads_a_parameter_until_two_answers_agree() {
+    use axterm::ui::app::Controller;
+    use axterm::ui::live::SessionController;
+    let family = cmd4cr();
+    let (device, mut script) = device_with(family.console.wire(), DeviceOptions::default());
+    let session = Session::new(device, family, &SessionOptions::default());
+    let controller = SessionController::new(session, "script".into(), SessionOptions::default());
+    let read = tokio::spawn(controller.read_agreed("PX".into()));
+    for answer in ["-2080262363\r", "112421\r", "112421\r"] {
+        script.request().await;
+        script.send(answer.as_bytes());
+    }
+    let result = read.await.expect("joined").expect("two agreed");
+    assert_eq!(result.value.to_string(), "112421");
+    assert!(script.nothing_written());
+}

@@ -56,7 +56,7 @@ fn serve(app: &mut App, effects: Vec<Effect>) -> Vec<String> {
     while !queue.is_empty() {
         let mut next = Vec::new();
         for effect in queue {
-            if let Effect::Send { pane, tag, lines } = effect {
+            if let Some((pane, tag, lines)) = effect.sends() {
                 for line in lines {
                     let result = console
                         .prepare(&line, 0)
@@ -236,10 +236,7 @@ fn export_and_import_work_on_the_settings_written() {
 fn sends(effects: &[Effect]) -> Vec<String> {
     effects
         .iter()
-        .filter_map(|e| match e {
-            Effect::Send { lines, .. } => Some(lines.clone()),
-            _ => None,
-        })
+        .filter_map(|e| e.sends().map(|(_, _, lines)| lines))
         .flatten()
         .collect()
 }

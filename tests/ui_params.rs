@@ -158,10 +158,7 @@ fn an_out_of_range_value_is_refused_before_anything_is_sent() {
         effects.extend(app.handle(key(KeyCode::Enter)));
         effects
     };
-    assert!(
-        !sent.iter().any(|e| matches!(e, Effect::Send { .. })),
-        "{sent:?}"
-    );
+    assert!(!sent.iter().any(|e| e.sends().is_some()), "{sent:?}");
     let text = screen_text(&mut app, 80, 24);
     assert!(
         text.contains("takes 1..2047, not 5000: nothing sent"),
@@ -321,13 +318,7 @@ fn the_emergency_stop_drops_the_reads_still_waiting() {
     let mut app = console("default");
     app.handle(AppEvent::Snapshot(tmcl_snapshot()));
     let effects = app.handle(key_with(KeyCode::Char('3'), KeyModifiers::ALT));
-    assert_eq!(
-        effects
-            .iter()
-            .filter(|e| matches!(e, Effect::Send { .. }))
-            .count(),
-        1
-    );
+    assert_eq!(effects.iter().filter(|e| e.sends().is_some()).count(), 1);
     let effects = app.handle(key(KeyCode::F(12)));
     assert!(effects.contains(&Effect::EmergencyStop));
     assert!(screen_text(&mut app, 80, 24).contains("parameter lines not sent"));
@@ -336,7 +327,7 @@ fn the_emergency_stop_drops_the_reads_still_waiting() {
     assert!(
         effects
             .iter()
-            .any(|e| matches!(e, Effect::Send { lines, .. } if lines == &["GAP 0, 0"]))
+            .any(|e| e.sends().is_some_and(|(_, _, lines)| lines == ["GAP 0, 0"]))
     );
 }
 
@@ -463,4 +454,23 @@ fn not_connected_the_pane_says_so() {
     let text = screen_text(&mut app, 80, 24);
     assert!(text.contains("not connected"), "{text}");
     assert!(app.handle(key(KeyCode::F(5))).is_empty());
+}
+
+/// The table's reads ask for a value two answers agree on (the session
+/// reads once where the family has a checksum); its writes are plain sends.
+#[test]
+fn the_table_reads_values_two_answers_agree_on_and_writes_plainly() {
+    let mut app = console("default");
+    app.handle(AppEvent::Snapshot(tmcl_snapshot()));
+    let effects = app.handle(key_with(KeyCode::Char('3'), KeyModifiers::ALT));
+    assert!(
+        effects
+            .iter()
+            .any(|e| matches!(e, Effect::ReadAgreed { line, .. } if line == "GAP 0, 0")),
+        "{effects:?}"
+    );
+    assert!(
+        !effects.iter().any(|e| matches!(e, Effect::Send { .. })),
+        "{effects:?}"
+    );
 }

@@ -69,7 +69,7 @@ async fn serve(
         assert!(sent.len() < 100_000, "the console never stops sending");
         let mut next = Vec::new();
         for effect in queue {
-            if let Effect::Send { pane, tag, lines } = effect {
+            if let Some((pane, tag, lines)) = effect.sends() {
                 for line in lines {
                     sent.push(line.clone());
                     let result = session.execute_line(&line).await;

@@ -123,6 +123,13 @@ pub enum Effect {
         tag: u64,
         lines: Vec<String>,
     },
+    /// Read a line for a pane until two answers agree
+    /// ([`Controller::read_agreed`]); the answer back as [`AppEvent::Reply`].
+    ReadAgreed {
+        pane: usize,
+        tag: u64,
+        line: String,
+    },
     /// Stop everything: abort the lines still waiting to be sent, then the
     /// session's emergency stop, ahead of anything queued.
     EmergencyStop,
@@ -193,6 +200,19 @@ pub enum Effect {
         after: Duration,
     },
     Quit,
+}
+
+impl Effect {
+    /// The lines this effect sends for a pane, as (pane, tag, lines):
+    /// those of [`Effect::Send`], or the one line of
+    /// [`Effect::ReadAgreed`]; each is answered as an [`AppEvent::Reply`].
+    pub fn sends(&self) -> Option<(usize, u64, Vec<String>)> {
+        match self {
+            Effect::Send { pane, tag, lines } => Some((*pane, *tag, lines.clone())),
+            Effect::ReadAgreed { pane, tag, line } => Some((*pane, *tag, vec![line.clone()])),
+            _ => None,
+        }
+    }
 }
 
 /// The console.
@@ -794,6 +814,9 @@ impl App {
     fn request(&mut self, pane: usize, request: Request, effects: &mut Vec<Effect>) {
         match request {
             Request::Send { lines, tag } => effects.push(Effect::Send { pane, tag, lines }),
+            Request::ReadAgreed { line, tag } => {
+                effects.push(Effect::ReadAgreed { pane, tag, line })
+            }
             Request::EmergencyStop => self.emergency_stop(effects),
             Request::SelectModule(index) => self.select_module(index, effects),
             Request::AddLink(args) => effects.push(Effect::AddLink(args)),

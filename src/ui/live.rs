@@ -112,6 +112,14 @@ impl Controller for SessionController {
         Box::pin(async move { session.execute_line(&line).await })
     }
 
+    fn read_agreed(&self, line: String) -> Pending<Result<LineResult, SessionError>> {
+        let session = self.session.clone();
+        Box::pin(async move {
+            let prepared = session.prepare(&line)?;
+            session.read_agreed(&prepared).await
+        })
+    }
+
     fn emergency_stop(&self) -> Pending<Vec<Result<LineResult, SessionError>>> {
         let session = self.session.clone();
         Box::pin(async move { session.emergency_stop_lines().await })

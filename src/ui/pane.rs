@@ -243,6 +243,11 @@ pub enum Request {
     /// comes back to this pane as [`PaneEvent::Reply`] with `tag`. A line
     /// is sent only after the previous one was answered.
     Send { lines: Vec<String>, tag: u64 },
+    /// Read this line at user priority, as [`Request::Send`] does, but
+    /// where the family's answers carry no check, until two answers agree
+    /// ([`crate::session::Session::read_agreed`]): what a value shown as
+    /// read is. The answer comes back as [`PaneEvent::Reply`] with `tag`.
+    ReadAgreed { line: String, tag: u64 },
     /// Stop every axis and any standalone program, ahead of everything.
     EmergencyStop,
     /// Send lines to the module at this index of [`View::modules`] from

@@ -419,9 +419,22 @@ impl ParamsPane {
         };
         let tag = self.next_tag;
         self.next_tag += 1;
-        let lines = vec![job.line.clone()];
+        // A value shown as read is one two answers agree on where the
+        // family's answers carry no checksum (issue: a damaged SIXpack 2
+        // answer shown as the module's value).
+        let request = if job.op == ParamOp::Read {
+            Request::ReadAgreed {
+                line: job.line.clone(),
+                tag,
+            }
+        } else {
+            Request::Send {
+                lines: vec![job.line.clone()],
+                tag,
+            }
+        };
         self.in_flight = Some((tag, job));
-        Outcome::request(Request::Send { lines, tag })
+        Outcome::request(request)
     }
 
     /// Everything asked for was answered: write a waiting export, show a

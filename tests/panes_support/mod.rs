@@ -96,14 +96,11 @@ pub fn serve(app: &mut App, module: &mut SimModule, effects: Vec<Effect>) -> Ser
         guard += 1;
         assert!(guard < 100_000, "the console never stops sending");
         let mut next = Vec::new();
-        let sends = queue
-            .iter()
-            .filter(|e| matches!(e, Effect::Send { .. }))
-            .count();
+        let sends = queue.iter().filter(|e| e.sends().is_some()).count();
         served.most_at_once = served.most_at_once.max(sends);
         for effect in queue {
-            match effect {
-                Effect::Send { pane, tag, lines } => {
+            match effect.sends() {
+                Some((pane, tag, lines)) => {
                     for line in lines {
                         served.lines.push(line.clone());
                         let result = module.answer(&line);
@@ -119,7 +116,7 @@ pub fn serve(app: &mut App, module: &mut SimModule, effects: Vec<Effect>) -> Ser
                         }
                     }
                 }
-                other => served.others.push(other),
+                None => served.others.push(effect),
             }
         }
         queue = next;

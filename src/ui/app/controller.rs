@@ -40,6 +40,12 @@ pub trait Controller: Send + Sync {
     fn events(&self) -> Option<broadcast::Receiver<DeviceEvent>>;
     /// Send one line at user priority.
     fn execute(&self, line: String) -> Pending<Result<LineResult, SessionError>>;
+    /// Read `line` at user priority until two answers agree where the
+    /// family's answers carry no check
+    /// ([`crate::session::Session::read_agreed`]). By default: once.
+    fn read_agreed(&self, line: String) -> Pending<Result<LineResult, SessionError>> {
+        self.execute(line)
+    }
     /// Every stop line, ahead of everything queued; what came back for each.
     fn emergency_stop(&self) -> Pending<Vec<Result<LineResult, SessionError>>>;
     /// End a run that ended so under `policy`

@@ -734,6 +734,24 @@ impl Runner {
                     }
                 }));
             }
+            Effect::ReadAgreed { pane, tag, line } => {
+                let Some(c) = self.selected(app) else {
+                    queue.push(not_connected());
+                    return;
+                };
+                let controller = Arc::clone(&c.controller);
+                let tx = self.internal.clone();
+                // Kept with the other sends: the stop key aborts it too.
+                self.sending.push(tokio::spawn(async move {
+                    let result = controller.read_agreed(line.clone()).await;
+                    let _ = tx.send(AppEvent::Reply {
+                        pane,
+                        tag,
+                        line,
+                        result,
+                    });
+                }));
+            }
             Effect::EmergencyStop => {
                 // Lines still waiting to be sent must not go after the stop.
                 for job in self.sending.drain(..) {
