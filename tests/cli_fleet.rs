@@ -143,3 +143,32 @@ fn a_line_bad_for_any_listed_module_sends_nothing() {
         stderr(&out)
     );
 }
+
+/// Issue 19 point 15: a value read on several modules of a family whose
+/// answers carry no checksum says so on stderr, as on one module; stdout
+/// keeps the bare value.
+#[test]
+fn values_read_without_a_checksum_on_several_modules_say_so() {
+    let out = axterm(&["exec", "--sim", "cmd4cr", "--addresses", "1", "PX"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(stdout(&out).lines().next(), Some("module 1: 0"));
+    assert!(
+        stderr(&out)
+            .contains("axterm exec: module 1: PX: unchecked (the reply carries no checksum)"),
+        "{}",
+        stderr(&out)
+    );
+
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("r.txt");
+    std::fs::write(&file, "PX\n").expect("write");
+    let file = file.display().to_string();
+    let out = axterm(&["run", "--sim", "cmd4cr", "--addresses", "1", &file]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(stdout(&out).lines().next(), Some("module 1: 0"));
+    assert!(
+        stderr(&out).contains("PX: unchecked (the reply carries no checksum)"),
+        "{}",
+        stderr(&out)
+    );
+}

@@ -693,3 +693,33 @@ fn help_wraps_between_words() {
         }
     }
 }
+
+/// Issue 19 point 15: a value read from a family whose answers carry no
+/// checksum is marked so under its line; a checked family's is not.
+#[test]
+fn a_value_read_without_a_checksum_is_marked_unchecked() {
+    use axterm::protocol::FAMILIES;
+    for family in FAMILIES {
+        let mut app = console();
+        let mut shot = snapshot(axes(&["motor 0"]));
+        shot.family = family;
+        app.handle(AppEvent::Snapshot(shot));
+        // The family's identity read (a line that parses), answered by
+        // hand with a value.
+        let typed = family.console.identify(1).canonical;
+        let (pane, tag, _) = sent(&enter(&mut app, &typed));
+        app.handle(AppEvent::Reply {
+            pane,
+            tag,
+            line: typed.clone(),
+            result: ok(&typed, ReplyValue::Number(12)),
+        });
+        let screen = text(&mut app, 200, 24);
+        assert_eq!(
+            screen.contains("unchecked: the reply carries no checksum"),
+            !family.console.replies_checked(),
+            "{}: {screen}",
+            family.name
+        );
+    }
+}

@@ -8,7 +8,7 @@ use clap::Args;
 use super::confirm::{after_line, cautions};
 use super::connection::run_to_exit;
 use super::fleet::{self, FleetArgs, FleetLink, FleetModule, Identity, ModuleRow, Modules, Walk};
-use super::output::{Format, json_outcome, print_outcome};
+use super::output::{Format, json_outcome, print_outcome, unchecked_note};
 use super::run_end::{AtTheEnd, Interrupt, RunReport, exit_or_stop_on_signal};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::protocol::Family;
@@ -233,6 +233,9 @@ async fn exec_on_module(module: &FleetModule, lines: &[String], format: Format) 
             Format::Text => {
                 if let Ok(result) = &outcome {
                     println!("{who}: {}", result.value);
+                    if let Some(note) = unchecked_note(family, line, result) {
+                        eprintln!("axterm exec: {who}: {note}");
+                    }
                 }
             }
             Format::Json => {

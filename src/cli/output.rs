@@ -149,12 +149,10 @@ pub fn unchecked_note(family: &Family, line: &str, result: &LineResult) -> Optio
         .then(|| format!("{line}: unchecked (the reply carries no checksum)"))
 }
 
-/// Whether `result` holds a value a reply carried (a frame that gets no
-/// reply, "sent", holds none) from a family whose replies carry no check.
+/// Whether `result` holds a value nothing on the wire vouches for
+/// ([`crate::session::read_unchecked`]).
 fn read_unchecked(family: &Family, result: &LineResult) -> bool {
-    !result.reply.is_empty()
-        && result.value != ReplyValue::None
-        && !family.console.replies_checked()
+    crate::session::read_unchecked(family.console, result)
 }
 
 #[cfg(test)]

@@ -588,6 +588,9 @@ fn print_module_outcome(
         Format::Text => {
             if let Ok(result) = outcome {
                 println!("{}: {}", module.who(), result.value);
+                if let Some(note) = super::output::unchecked_note(family, line, result) {
+                    eprintln!("{context}{note}");
+                }
             }
         }
         Format::Json => {

@@ -271,6 +271,14 @@ pub fn confirms_reads(console: &dyn FamilyConsole, line: &PreparedLine) -> bool 
     line.effect == Effect::Reads && !console.replies_checked()
 }
 
+/// Whether `result` holds a value a reply carried (a frame that gets no
+/// reply, "sent", holds none) from a family whose replies carry no check
+/// ([`FamilyConsole::replies_checked`]): nothing on the wire vouches for
+/// its digits, and every front end says so.
+pub fn read_unchecked(console: &dyn FamilyConsole, result: &LineResult) -> bool {
+    !result.reply.is_empty() && result.value != ReplyValue::None && !console.replies_checked()
+}
+
 /// One connected controller. Cheap to clone; clones share everything.
 #[derive(Clone)]
 pub struct Session {

@@ -778,6 +778,9 @@ impl CommandPane {
                     if result.attempts > 1 {
                         wire.push_str(&format!("  ({} attempts)", result.attempts));
                     }
+                    if crate::session::read_unchecked(f.console, result) {
+                        wire.push_str("  unchecked: the reply carries no checksum");
+                    }
                     self.say(Role::Muted, wire);
                 }
             }
