@@ -779,7 +779,7 @@ impl CommandPane {
                         wire.push_str(&format!("  ({} attempts)", result.attempts));
                     }
                     if crate::session::read_unchecked(f.console, result) {
-                        wire.push_str("  unchecked: the reply carries no checksum");
+                        wire.push_str("  unchecked: no checksum");
                     }
                     self.say(Role::Muted, wire);
                 }
