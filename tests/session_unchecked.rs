@@ -133,3 +133,57 @@ async fn the_console_reads_a_parameter_until_two_answers_agree() {
     assert_eq!(result.value.to_string(), "112421");
     assert!(script.nothing_written());
 }
+
+/// The §6.2.2.3 reply to `$20` for motor 0: the command byte, the motor,
+/// posact LSB first, the action, the stop flag (no address, no checksum).
+fn posact_reply(position: i32, action: u8) -> Vec<u8> {
+    let mut reply = vec![0x20, 0];
+    reply.extend_from_slice(&position.to_le_bytes());
+    reply.extend_from_slice(&[action, 0]);
+    reply
+}
+
+/// Issue 19 point 15: a SIXpack 2 position that jumps further between two
+/// reads than §6.3.1's step-frequency law allows at its fastest is a damaged reply, not a
+/// value; the read after it is taken as it comes. A jump while a reference
+/// search runs (which sets a new zero) is not judged.
+#[tokio::test(start_paused = true)]
+async fn a_sixpack2_position_faster_than_any_motor_goes_is_refused() {
+    let family = FAMILIES
+        .iter()
+        .find(|f| f.name == "sixpack2")
+        .expect("sixpack2 is registered");
+    let (device, mut script) = device_with(family.console.wire(), DeviceOptions::default());
+    let session = Session::new(device, family, &SessionOptions::default());
+    let read = |session: &Session| {
+        let session = session.clone();
+        tokio::spawn(async move { session.execute_line("GetPositionAndActivity 0").await })
+    };
+    let mut answer = async |reply: Vec<u8>, session: &Session| {
+        let pending = read(session);
+        script.request().await;
+        script.send(&reply);
+        pending.await.expect("joined")
+    };
+    let first = answer(posact_reply(112_421, 0), &session).await;
+    assert_eq!(
+        first.expect("read").value.to_string(),
+        "posact=112421 action=inactive stop=0"
+    );
+    let damaged = answer(posact_reply(-2_080_262_363, 0), &session).await;
+    let Err(SessionError::Reply { error, .. }) = &damaged else {
+        panic!("expected a damaged reply, got {damaged:?}");
+    };
+    assert!(
+        error.to_string().contains("-2080262363 after 112421"),
+        "{error}"
+    );
+    // Forgotten with it: the next reading is taken.
+    let next = answer(posact_reply(112_421, 0), &session).await;
+    assert!(next.is_ok(), "{next:?}");
+    // A reference search (action 20) may set a new zero.
+    let searching = answer(posact_reply(-5_000_000, 20), &session).await;
+    assert!(searching.is_ok(), "{searching:?}");
+    let zeroed = answer(posact_reply(0, 0), &session).await;
+    assert!(zeroed.is_ok(), "{zeroed:?}");
+}

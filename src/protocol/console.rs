@@ -463,6 +463,24 @@ pub trait FamilyConsole: Send + Sync {
         false
     }
 
+    /// The position of an axis that `line`'s answer `value` gives, for
+    /// judging it against the last one ([`crate::protocol::plausible`]);
+    /// `None` (the default) for a line that reads no position.
+    fn position_read(
+        &self,
+        _line: &PreparedLine,
+        _value: &ReplyValue,
+    ) -> Option<crate::protocol::plausible::PositionRead> {
+        None
+    }
+
+    /// The fastest any axis of the family moves, from its manual, in the
+    /// unit of [`FamilyConsole::position_read`] per second; `None` (the
+    /// default) where the manual gives no such number.
+    fn top_speed(&self) -> Option<crate::protocol::plausible::TopSpeed> {
+        None
+    }
+
     /// A second read's value as it would read had the first read not
     /// changed it: `second` with what reading clears (a latched flag)
     /// taken from `first`, so that two reads can be compared. By default

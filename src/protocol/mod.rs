@@ -8,6 +8,7 @@ pub mod console;
 pub mod mccl;
 pub mod parameter_file;
 pub mod parameters;
+pub mod plausible;
 pub mod program;
 pub mod settings;
 pub mod sixpack2;

@@ -30,6 +30,7 @@ pub mod settings;
 mod status;
 pub mod transfer;
 
+use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
@@ -49,6 +50,7 @@ use crate::protocol::console::{
     Answering, Effect, FamilyConsole, LinkContext, LinkContexts, RunningPrograms, StatusPoll,
     adapt_line, interpret_line,
 };
+use crate::protocol::plausible::{self, PositionRead, Sighting};
 use status::{StatusBoard, StatusSink};
 
 /// Further attempts for a read whose reply was lost or garbled.
@@ -309,6 +311,19 @@ pub struct Session {
     /// ends those ([`FamilyConsole::emergency_stop_knowing`]). Not known
     /// on connecting: the module may run what it was left running.
     running: Arc<Mutex<RunningPrograms>>,
+    /// The last position read of each axis and when, where the family's
+    /// answers carry no checksum: a read that jumps further than any axis
+    /// goes is refused ([`crate::protocol::plausible`]). Forgotten when a
+    /// line that acts is sent (it may set a position).
+    positions: Arc<Mutex<HashMap<usize, SeenPosition>>>,
+}
+
+/// A position read and when its answer came.
+#[derive(Debug, Clone, Copy)]
+struct SeenPosition {
+    read: PositionRead,
+    at: tokio::time::Instant,
+    round_trip: Duration,
 }
 
 /// The device's hold for a line the family says may run for long.
@@ -357,6 +372,7 @@ impl Session {
             poll_owner: PollOwner::new(),
             watches: Arc::new(Mutex::new(Vec::new())),
             running: Arc::new(Mutex::new(RunningPrograms::Unknown)),
+            positions: Arc::new(Mutex::new(HashMap::new())),
             device,
         }
     }
@@ -559,9 +575,79 @@ impl Session {
             Effect::Reads => Retry::Read(self.read_retries),
             Effect::Acts => Retry::Never,
         };
-        let result = self.send(Priority::User, line, retry, None).await?;
+        let result = self.send(Priority::User, line, retry, None).await;
+        if line.effect == Effect::Acts {
+            self.positions
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .clear();
+        }
+        let result = result?;
         transfer::after_user_line(self, line);
+        self.position_plausible(line, &result)?;
         Ok(result)
+    }
+
+    /// Refuse a position read that moved further since the last read of
+    /// its axis than the family's fastest motion allows (only where the
+    /// answers carry no checksum to tell a damaged one); remember it
+    /// otherwise. A refused reading is forgotten with the last one: the
+    /// next read is taken as it comes, so one wrong call cannot repeat.
+    fn position_plausible(
+        &self,
+        line: &PreparedLine,
+        result: &LineResult,
+    ) -> Result<(), SessionError> {
+        let console = self.family.console;
+        if console.replies_checked() {
+            return Ok(());
+        }
+        let (Some(top), Some(read)) = (
+            console.top_speed(),
+            console.position_read(line, &result.value),
+        ) else {
+            return Ok(());
+        };
+        let now = SeenPosition {
+            read,
+            at: tokio::time::Instant::now(),
+            round_trip: result.elapsed,
+        };
+        let mut positions = self.positions.lock().unwrap_or_else(|e| e.into_inner());
+        let verdict = match positions.get(&read.axis) {
+            Some(last) => plausible::judge(
+                &Sighting {
+                    read: last.read,
+                    at: Duration::ZERO,
+                    round_trip: last.round_trip,
+                },
+                &Sighting {
+                    read: now.read,
+                    at: now.at.saturating_duration_since(last.at),
+                    round_trip: now.round_trip,
+                },
+                top,
+            ),
+            None => Ok(()),
+        };
+        match verdict {
+            Ok(()) => {
+                positions.insert(read.axis, now);
+                Ok(())
+            }
+            Err(reason) => {
+                positions.remove(&read.axis);
+                Err(SessionError::Reply {
+                    error: Box::new(ReplyError::Malformed {
+                        line: line.canonical.clone(),
+                        reason,
+                    }),
+                    request: result.request.clone(),
+                    reply: result.reply.clone(),
+                    elapsed: result.elapsed,
+                })
+            }
+        }
     }
 
     /// Send a prepared line as [`Session::execute`] does and judge its

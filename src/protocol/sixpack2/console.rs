@@ -4,6 +4,7 @@
 //! the protocol lacks, and the queries that make up the status of the six
 //! motors.
 
+use crate::protocol::plausible::{PositionRead, TopSpeed};
 use std::sync::{Arc, LazyLock};
 use std::time::Duration;
 
@@ -469,6 +470,39 @@ impl FamilyConsole for Sixpack2Console {
             });
         }
         polls
+    }
+
+    /// `$20`'s posact; a motor in a reference search (action 20-29) or a
+    /// mechanical reference (30) may be given a new zero by it.
+    fn position_read(&self, line: &PreparedLine, value: &ReplyValue) -> Option<PositionRead> {
+        let command = request_of(line).and_then(|r| Command::from_request(&r).ok().flatten())?;
+        if command.spec.code != 0x20 {
+            return None;
+        }
+        let axis = usize::from(command.motor()?);
+        let ReplyValue::Text(text) = value else {
+            return None;
+        };
+        let values = ReplyFields::parse_value(command.spec, text)?;
+        let get = |name: &str| values.iter().find(|(n, _)| *n == name).map(|(_, v)| *v);
+        let position = get("posact")?;
+        let may_jump = get("action").is_some_and(|code| (20..=30).contains(&code));
+        Some(PositionRead {
+            axis,
+            position,
+            may_jump,
+        })
+    }
+
+    /// §6.3.1's step-frequency law `f_µstep = 20 MHz / (clkdiv+1) · |v|
+    /// / 2^(14+div)` at its most (clkdiv 0, div 0, v 511): about 624 kHz,
+    /// whatever the settings. The manual's 200 kHz is a limit the user
+    /// must keep, not one the module enforces; posact counts microsteps.
+    fn top_speed(&self) -> Option<TopSpeed> {
+        Some(TopSpeed {
+            per_second: 20e6 * 511.0 / f64::from(1u32 << 14),
+            source: "SIXpack 2 manual §6.3.1 at clkdiv 0, div 0, v 511",
+        })
     }
 
     fn status_update(&self, line: &PreparedLine, reading: &Reading) -> Vec<(usize, AxisUpdate)> {
