@@ -686,6 +686,12 @@ pub trait FamilyConsole: Send + Sync {
         None
     }
 
+    /// How an axis of this family is jogged by hand (the bring-up pane);
+    /// `None` if the console does not know.
+    fn jog(&self) -> Option<&'static dyn crate::protocol::jog::JogPlan> {
+        None
+    }
+
     /// The family's parameter tables and how to read, write, store and
     /// restore one, for the parameter table; `None` if it has none.
     fn parameters(&self) -> Option<&'static dyn ParameterSet> {

@@ -503,6 +503,10 @@ impl FamilyConsole for Cmd4crConsole {
         Some(&super::parameter_set::Cmd4crParameters)
     }
 
+    fn jog(&self) -> Option<&'static dyn crate::protocol::jog::JogPlan> {
+        Some(&super::jog::Cmd4crJog)
+    }
+
     fn program(&self) -> Option<&'static dyn crate::protocol::program::ProgramTool> {
         Some(&super::tool::AScriptTool)
     }

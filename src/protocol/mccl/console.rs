@@ -716,6 +716,10 @@ impl FamilyConsole for MclConsole {
         Some(self.parameters)
     }
 
+    fn jog(&self) -> Option<&'static dyn crate::protocol::jog::JogPlan> {
+        Some(&super::jog::McclJog)
+    }
+
     fn program(&self) -> Option<&'static dyn crate::protocol::program::ProgramTool> {
         Some(&super::tool::MclTool)
     }

@@ -626,6 +626,10 @@ impl FamilyConsole for Sixpack2Console {
     }
 
     /// SQPack macro files, played from the host (§5.4.6, digest D8).
+    fn jog(&self) -> Option<&'static dyn crate::protocol::jog::JogPlan> {
+        Some(&super::jog::Sixpack2Jog)
+    }
+
     fn program(&self) -> Option<&'static dyn ProgramTool> {
         Some(&super::tool::MacroTool)
     }

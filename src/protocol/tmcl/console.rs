@@ -438,6 +438,10 @@ impl FamilyConsole for TmclConsole {
         Some(&super::parameter_set::TmclParameters)
     }
 
+    fn jog(&self) -> Option<&'static dyn crate::protocol::jog::JogPlan> {
+        Some(&super::jog::TmclJog)
+    }
+
     fn program(&self) -> Option<&'static dyn crate::protocol::program::ProgramTool> {
         Some(&super::tool::TmclTool)
     }
