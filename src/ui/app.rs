@@ -516,6 +516,7 @@ impl App {
             }
         }
         if self.focus != focus_before {
+            self.deliver(focus_before, &PaneEvent::Unfocused, &mut effects);
             self.deliver(self.focus, &PaneEvent::Focused, &mut effects);
         }
         effects
@@ -544,7 +545,8 @@ impl App {
                 self.give_focused(&Input::Paste(text), effects);
             }
             TermEvent::Resize(_, _) => self.dirty = true,
-            TermEvent::FocusGained | TermEvent::FocusLost => {}
+            TermEvent::FocusLost => self.deliver(self.focus, &PaneEvent::Unfocused, effects),
+            TermEvent::FocusGained => {}
         }
     }
 

@@ -50,10 +50,12 @@ pub enum Context {
     Plot,
     /// The program editor.
     Editor,
+    /// The bring-up pane: jogging an axis, its inputs.
+    BringUp,
 }
 
 impl Context {
-    pub const ALL: [Context; 7] = [
+    pub const ALL: [Context; 8] = [
         Context::Global,
         Context::Command,
         Context::Axis,
@@ -61,6 +63,7 @@ impl Context {
         Context::Traffic,
         Context::Plot,
         Context::Editor,
+        Context::BringUp,
     ];
 
     /// The section name in keymap files.
@@ -73,6 +76,7 @@ impl Context {
             Context::Traffic => "traffic",
             Context::Plot => "plot",
             Context::Editor => "editor",
+            Context::BringUp => "bringup",
         }
     }
 
@@ -159,6 +163,14 @@ pub enum Action {
     EditorWatch,
     EditorHostRun,
     EditorLanguage,
+    JogPositive,
+    JogNegative,
+    StepPositive,
+    StepNegative,
+    StepLarger,
+    StepSmaller,
+    JogFaster,
+    JogSlower,
 }
 
 /// An action's name in keymap files, its word in the status bar, what it
@@ -172,17 +184,20 @@ pub struct ActionInfo {
     pub contexts: &'static [Context],
 }
 
-use Context::{Axis, Command, Editor, Global, Parameters, Plot, Traffic};
+use Context::{Axis, BringUp, Command, Editor, Global, Parameters, Plot, Traffic};
 
 const ONLY_GLOBAL: &[Context] = &[Global];
 /// Moving about: global, and in the panes where letters are not text.
-const NAVIGATION: &[Context] = &[Global, Axis, Parameters, Traffic, Plot];
-const EVERYWHERE: &[Context] = &[Global, Command, Axis, Parameters, Traffic, Plot, Editor];
+const NAVIGATION: &[Context] = &[Global, Axis, Parameters, Traffic, Plot, BringUp];
+const EVERYWHERE: &[Context] = &[
+    Global, Command, Axis, Parameters, Traffic, Plot, Editor, BringUp,
+];
 const COMMAND_LINE: &[Context] = &[Command];
-const CANCELLING: &[Context] = &[Command, Parameters, Editor];
+const CANCELLING: &[Context] = &[Command, Parameters, Editor, BringUp];
 const SCROLLING: &[Context] = &[Command, Parameters, Traffic];
-const LISTS: &[Context] = &[Axis, Parameters];
-const AXES: &[Context] = &[Axis];
+const LISTS: &[Context] = &[Axis, Parameters, BringUp];
+const AXES: &[Context] = &[Axis, BringUp];
+const JOGGING: &[Context] = &[BringUp];
 const UNITS: &[Context] = &[Axis, Parameters, Plot];
 const PARAMETERS: &[Context] = &[Parameters];
 const TRAFFIC_ANYWHERE: &[Context] = &[Global, Traffic];
@@ -274,6 +289,14 @@ pub const ACTIONS: &[ActionInfo] = &[
     info(Action::EditorWatch, "editor_watch", "Watch", "watch the user variable of the line (GGP/SGP n, 2; A-Script: V[n]), or one typed, beside the program; again stops", EDITOR),
     info(Action::EditorHostRun, "editor_host_run", "Run from host", "run the text from the host, statement by statement (A-Script: the CMD-4CR takes no program download over the wire; SQPack macros: the SIXpack 2 stores no program)", EDITOR),
     info(Action::EditorLanguage, "editor_language", "Language", "switch the text to the next program language (one per family)", EDITOR),
+    info(Action::JogPositive, "jog_positive", "Jog +", "run the axis in + while the key repeats (held): it stops when the repeats stop", JOGGING),
+    info(Action::JogNegative, "jog_negative", "Jog -", "run the axis in - while the key repeats (held): it stops when the repeats stop", JOGGING),
+    info(Action::StepPositive, "step_positive", "Step +", "move the axis one step in +", JOGGING),
+    info(Action::StepNegative, "step_negative", "Step -", "move the axis one step in -", JOGGING),
+    info(Action::StepLarger, "step_larger", "Step size +", "make the step larger", JOGGING),
+    info(Action::StepSmaller, "step_smaller", "Step size -", "make the step smaller", JOGGING),
+    info(Action::JogFaster, "jog_faster", "Faster", "jog faster", JOGGING),
+    info(Action::JogSlower, "jog_slower", "Slower", "jog slower", JOGGING),
 ];
 
 impl Action {
@@ -598,6 +621,8 @@ struct KeymapFile {
     plot: Section,
     #[serde(default)]
     editor: Section,
+    #[serde(default)]
+    bringup: Section,
 }
 
 type Section = BTreeMap<Spanned<String>, Spanned<ChordList>>;
@@ -636,7 +661,7 @@ impl<'de> Deserialize<'de> for ChordList {
 }
 
 impl KeymapFile {
-    fn sections(&self) -> [(Context, &Section); 7] {
+    fn sections(&self) -> [(Context, &Section); 8] {
         [
             (Context::Global, &self.global),
             (Context::Command, &self.command),
@@ -645,6 +670,7 @@ impl KeymapFile {
             (Context::Traffic, &self.traffic),
             (Context::Plot, &self.plot),
             (Context::Editor, &self.editor),
+            (Context::BringUp, &self.bringup),
         ]
     }
 }

@@ -52,6 +52,7 @@
 pub mod app;
 pub mod axes;
 pub mod batch;
+pub mod bringup;
 pub mod command;
 pub mod config;
 pub mod connect;
@@ -96,5 +97,6 @@ pub fn panes(setup: &PaneSetup) -> Vec<Box<dyn Pane>> {
             crate::link::ports::listed_ports,
         )),
         Box::new(editor::EditorPane::new(setup.history_dir.clone())),
+        Box::new(bringup::BringUpPane::new()),
     ]
 }

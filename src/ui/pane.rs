@@ -161,6 +161,10 @@ pub enum PaneEvent {
     /// only): a pane that reads from the module when first looked at
     /// starts here.
     Focused,
+    /// This pane had the keyboard and lost it (another pane took it, or
+    /// the terminal lost the focus): a pane that moves an axis while a key
+    /// is held stops it here.
+    Unfocused,
     /// The emergency stop key was pressed: lines still waiting to be sent
     /// were dropped (their replies will never come) and the stop is on its
     /// way. Forget anything queued, stop running scripts.

@@ -10,6 +10,10 @@ pub struct Motion {
     pub start: &'static str,
     pub speed: &'static str,
     pub at_rest: &'static str,
+    /// A line that reads the axis's position.
+    pub position: &'static str,
+    /// Lines that make the axis ready to move (a servo's motor on).
+    pub ready: &'static [&'static str],
 }
 
 const MOTIONS: &[(&str, Motion)] = &[
@@ -19,6 +23,8 @@ const MOTIONS: &[(&str, Motion)] = &[
             start: "ROR 0, 500",
             speed: "GAP 3, 0",
             at_rest: "0",
+            position: "GAP 1, 0",
+            ready: &[],
         },
     ),
     (
@@ -27,6 +33,8 @@ const MOTIONS: &[(&str, Motion)] = &[
             start: "ConstantRotation 0 100",
             speed: "GetVelocityAndActivity 0",
             at_rest: "vact=0 action=inactive",
+            position: "GetPositionAndActivity 0",
+            ready: &[],
         },
     ),
     (
@@ -35,6 +43,8 @@ const MOTIONS: &[(&str, Motion)] = &[
             start: "JX+",
             speed: "PSX",
             at_rest: "0",
+            position: "PX",
+            ready: &[],
         },
     ),
     (
@@ -43,6 +53,8 @@ const MOTIONS: &[(&str, Motion)] = &[
             start: "1MN,1VM,1DI0,1GO",
             speed: "1TV",
             at_rest: "0",
+            position: "1TP",
+            ready: &["1MN"],
         },
     ),
 ];
