@@ -432,6 +432,23 @@ fn no_page_shows_rustdoc_link_markup() {
     }
 }
 
+#[test]
+fn every_page_says_what_it_is_for_under_its_title() {
+    for (name, text) in pages() {
+        let mut lines = text.lines();
+        let title = lines.next().unwrap_or_default();
+        assert!(
+            title.starts_with("# "),
+            "{name}: the first line is its title"
+        );
+        let purpose = lines.find(|l| !l.trim().is_empty()).unwrap_or_default();
+        assert!(
+            !purpose.starts_with('#') && !purpose.starts_with("```") && !purpose.starts_with('|'),
+            "{name}: the title is followed by what the page is for, not `{purpose}`"
+        );
+    }
+}
+
 #[cfg(test)]
 mod rules {
     use super::*;
