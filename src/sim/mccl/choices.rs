@@ -1,6 +1,6 @@
 //! Every choice the simulator makes where the manual is silent (digest
 //! §18.3 and the questions met while building it), as data: printed by
-//! the simulator's help and copied into the README. The ones marked
+//! the simulator's help and copied into docs/mccl.md. The ones marked
 //! "setting" can be changed from outside (see [`super::inputs`]).
 
 /// One choice: what the manual leaves open, and what the simulator does.
@@ -87,15 +87,15 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_readme_lists_every_choice() {
-        let readme = include_str!("../../../README.md");
-        let section = readme
-            .split_once("MultiFlex MCCL simulator")
+    fn the_mccl_page_lists_every_choice() {
+        let page = include_str!("../../../docs/mccl.md");
+        let section = page
+            .split_once("### Choices where the manual is silent")
             .map(|(_, rest)| rest)
-            .expect("a MultiFlex MCCL simulator section");
+            .expect("a section of the simulator's choices");
         for c in CHOICES {
             let line = format!("**{}**: {}", c.topic, c.choice);
-            assert!(section.contains(&line), "README misses {line}");
+            assert!(section.contains(&line), "docs/mccl.md misses {line}");
         }
     }
 }

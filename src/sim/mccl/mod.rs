@@ -14,7 +14,7 @@
 //! The command interpreter is this simulator's own reading of the manual
 //! (not the host codec of `protocol/mccl`): the two check each other.
 //! Where the manual is silent, the choice made is in [`choices::CHOICES`],
-//! printed by [`SimulatedController::help`] and the README.
+//! printed by [`SimulatedController::help`] and docs/mccl.md.
 //!
 //! Files: [`link`] the port (echo, line editing, prompt, errors);
 //! [`lexer`] reading a line; [`commands`] the command table; [`program`]

@@ -38,7 +38,7 @@
 //!   switches on A_In.
 //!
 //! Where the manual is silent the simulator chooses; every choice is in
-//! [`choices::Choices`], listed by [`Sixpack2::help_line`] and the README,
+//! [`choices::Choices`], listed by [`Sixpack2::help_line`] and docs/sixpack2.md,
 //! and changed by a setting ([`inputs`]). It keeps nothing between runs:
 //! see [`NOTHING_STORED`].
 
