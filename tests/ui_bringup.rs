@@ -330,3 +330,27 @@ async fn a_step_moves_exactly_its_distance() {
         .await;
     }
 }
+
+/// At 80×24 every pane is a tab of one strip, eight of them now: the tab
+/// shown keeps its whole title (the others give up words, then all but
+/// their number), so the pane the keyboard is in is always named.
+#[test]
+fn at_80_columns_the_shown_tab_is_named_whole() {
+    use axterm::ui::app::AppEvent;
+    use ui_support::{axes, screen, snapshot};
+    let mut app = ui_support::console_with(&axterm::ui::PaneSetup::default());
+    app.handle(AppEvent::Snapshot(snapshot(axes(&["motor 0"]))));
+    for (name, label) in [
+        ("command", "1 Command"),
+        ("params", "3 Parameters"),
+        ("traffic", "4 Traffic"),
+        ("plot", "5 Plot"),
+        ("connect", "6 Connect"),
+        ("editor", "7 Program — untitled"),
+        ("bringup", "8 Jog — motor 0"),
+    ] {
+        assert!(app.focus(name), "{name}");
+        let shown = screen(&mut app, 80, 24).join("\n");
+        assert!(shown.contains(label), "{name}: {shown}");
+    }
+}

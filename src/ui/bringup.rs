@@ -568,8 +568,8 @@ impl Pane for BringUpPane {
 
     fn title(&self, view: &View) -> String {
         match view.session.and_then(|s| s.selected_axis()) {
-            Some(axis) => format!("Bring-up — {}", axis.name),
-            None => "Bring-up".to_string(),
+            Some(axis) => format!("Jog — {}", axis.name),
+            None => "Jog".to_string(),
         }
     }
 

@@ -141,6 +141,51 @@ impl App {
             focused,
             shown: true,
         };
+        let full = |index: usize, pane: &dyn crate::ui::pane::Pane| {
+            if members.len() > 1 {
+                format!("{} {}", index + 1, pane.title(&view))
+            } else {
+                pane.title(&view)
+            }
+        };
+        // When the strip does not fit the border (eight tabs at 80
+        // columns), the tabs not shown keep the first word of their title,
+        // then only their number, so the one shown is always seen whole.
+        let first_word = |index: usize, pane: &dyn crate::ui::pane::Pane| {
+            let title = pane.title(&view);
+            let word = title
+                .split_whitespace()
+                .next()
+                .unwrap_or_default()
+                .to_string();
+            format!("{} {word}", index + 1)
+        };
+        let room = usize::from(area.width.saturating_sub(2));
+        let strip_with = |label: &dyn Fn(usize, &dyn crate::ui::pane::Pane) -> String| {
+            members
+                .iter()
+                .filter_map(|&i| {
+                    let pane = self.panes.get(i)?;
+                    Some(if i == shown {
+                        full(i, pane.as_ref())
+                    } else {
+                        label(i, pane.as_ref())
+                    })
+                })
+                .map(|text| text.chars().count())
+                .sum::<usize>()
+                + 3 * members.len().saturating_sub(1)
+                // The space before the first tab (the one after the last
+                // may be cut).
+                + 1
+        };
+        let shortening = if strip_with(&full) <= room {
+            0
+        } else if strip_with(&first_word) <= room {
+            1
+        } else {
+            2
+        };
         let mut title = vec![Span::raw(" ")];
         for (n, &index) in members.iter().enumerate() {
             let Some(pane) = self.panes.get(index) else {
@@ -149,10 +194,11 @@ impl App {
             if n > 0 {
                 title.push(Span::styled(" │ ", border));
             }
-            let text = if members.len() > 1 {
-                format!("{} {}", index + 1, pane.title(&view))
-            } else {
-                pane.title(&view)
+            let text = match shortening {
+                _ if index == shown => full(index, pane.as_ref()),
+                0 => full(index, pane.as_ref()),
+                1 => first_word(index, pane.as_ref()),
+                _ => (index + 1).to_string(),
             };
             let style = if index == shown {
                 theme.style(Role::Title)
