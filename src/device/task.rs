@@ -776,8 +776,14 @@ impl Task {
             Attempt::Answered => {
                 if received.through_earlier_attempt {
                     // An earlier attempt's answer came: this one's may
-                    // still come.
-                    line.unanswered.push_back(unanswered);
+                    // still come, as late as any answer after its own
+                    // deadline, not after the earlier answer's arrival
+                    // (tests/device_faults.rs: a retry's late answer taken
+                    // for the next read's).
+                    line.unanswered.push_back(Unanswered {
+                        deadline: deadline.unwrap_or(now).max(now),
+                        ..unanswered
+                    });
                 }
                 let answer = Answer {
                     frames: received.accepted,
