@@ -133,6 +133,9 @@ enum Settle {
     /// Wait until then (the line quiet for one timeout after the last
     /// deadline), then forget the unanswered requests.
     QuietUntil(Instant),
+    /// Wait until then (the oldest unanswered attempt is no longer looked
+    /// for), then settle again ([`Settling::AwaitSentinel`]).
+    Until(Instant),
 }
 
 /// The open link and what the task knows of its line.
@@ -266,6 +269,14 @@ impl Line {
         match wire.settling(bytes, &unanswered) {
             Settling::Sentinel(sentinel) => Settle::Sentinel(sentinel),
             Settling::InOrder => Settle::Go,
+            Settling::AwaitSentinel if priority == Priority::EmergencyStop => Settle::Go,
+            Settling::AwaitSentinel => Settle::Until(
+                self.unanswered
+                    .iter()
+                    .map(Unanswered::forget_at)
+                    .min()
+                    .unwrap_or(self.last_rx),
+            ),
             // An emergency stop does not wait: its answer is judged in
             // order like any other, and the unanswered stay in view.
             Settling::QuietTime if priority == Priority::EmergencyStop => Settle::Go,
@@ -290,7 +301,7 @@ impl Line {
         let garbage = self.garbage_at.map(|at| quiet_from(at) + self.silence);
         let failed = self.failed_at.map(|at| quiet_from(at) + self.silence);
         let settling = match settle {
-            Settle::QuietUntil(at) => Some(*at),
+            Settle::QuietUntil(at) | Settle::Until(at) => Some(*at),
             Settle::Go | Settle::Sentinel(_) => None,
         };
         [self.partial_deadline(), garbage, failed, settling]
@@ -515,6 +526,9 @@ impl Task {
                         self.execute_next(&mut line, now).await
                     }
                     Settle::Go => self.execute_next(&mut line, now).await,
+                    // The oldest unanswered is forgotten by now (the loop
+                    // forgets at its top): settle again.
+                    Settle::Until(_) => Ok(()),
                 };
                 if let Err(reason) = sent {
                     return Ended::Lost(reason);

@@ -159,6 +159,14 @@ pub enum Settling {
     /// requests in the order they were sent, and one that could be an
     /// earlier request's is never taken for this one's.
     InOrder,
+    /// The family has sentinels, but every one could be taken for an
+    /// unanswered request's answer (their own answers lost, or an answer
+    /// any frame could be): wait until the oldest of those is no longer
+    /// looked for ([`crate::device::LATE_ANSWER_TIMEOUTS`]), then settle
+    /// again. Matching in order instead would be a guess where answers
+    /// cannot be told apart: a dropped answer leaves the next one taken
+    /// for the oldest request it could answer.
+    AwaitSentinel,
 }
 
 /// A request that reads and changes nothing, whose answer marks a point in

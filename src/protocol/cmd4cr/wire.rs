@@ -143,7 +143,9 @@ impl WireFormat for Cmd4crWire {
                     rule: Arc::new(SentinelRule { format }),
                 }))
             })
-            .unwrap_or(Settling::InOrder)
+            // Answers are bare values that cannot be told apart: wait
+            // for a sentinel rather than match in order.
+            .unwrap_or(Settling::AwaitSentinel)
     }
 }
 
@@ -156,7 +158,8 @@ mod tests {
         let views: Vec<&[u8]> = unanswered.iter().map(Vec::as_slice).collect();
         match Cmd4crWire::default().settling(next.as_bytes(), &views) {
             Settling::Sentinel(s) => Some((String::from_utf8_lossy(&s.bytes).into_owned(), s.rule)),
-            Settling::InOrder => None,
+            Settling::AwaitSentinel => None,
+            Settling::InOrder => panic!("bare values are never matched in order"),
             Settling::QuietTime => panic!("a single controller always has sentinels"),
         }
     }
@@ -177,7 +180,7 @@ mod tests {
     }
 
     #[test]
-    fn without_a_sentinel_of_another_form_answers_go_in_order() {
+    fn without_a_sentinel_of_another_form_the_next_request_waits_for_one() {
         assert!(sentinel_of("@01PX\r", &["@01PP\r", "@01PX\r"]).is_none());
         assert!(
             sentinel_of("@01PX\r", &["@01VER\r"]).is_none(),

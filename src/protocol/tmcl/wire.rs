@@ -137,8 +137,8 @@ impl WireFormat for TmclWire {
     /// unanswered requests has; none if one of them went to another module
     /// (a sentinel says nothing about another module's answers: quiet
     /// time) or reads program memory (whose answer any checksummed frame
-    /// could be: in order); quiet time when both sentinels are among the
-    /// unanswered.
+    /// could be: in order); when both sentinels are among the unanswered,
+    /// wait for one.
     fn settling(&self, next: &[u8], unanswered: &[&[u8]]) -> Settling {
         let Some(&address) = next.first().filter(|_| next.len() == FRAME_LEN) else {
             return Settling::QuietTime;
@@ -152,14 +152,15 @@ impl WireFormat for TmclWire {
         if unanswered.iter().any(|r| r[1] == opcode::READ_MEMORY) {
             return Settling::InOrder;
         }
-        // Both sentinels unanswered: wait for quiet. Matching in order
-        // would be a guess: a dropped answer leaves the next one to be
-        // taken for the oldest request it could answer (a GGP 5 answer for
-        // an earlier GGP 0's, which TMCL replies cannot tell apart, §3.2).
+        // Both sentinels unanswered: wait until one is free. Matching in
+        // order would be a guess: a dropped answer leaves the next one to
+        // be taken for the oldest request it could answer (a GGP 5 answer
+        // for an earlier GGP 0's, which TMCL replies cannot tell apart,
+        // §3.2).
         SENTINELS
             .into_iter()
             .find(|(command, _)| unanswered.iter().all(|r| r[1] != *command))
-            .map_or(Settling::QuietTime, |(command, kind)| {
+            .map_or(Settling::AwaitSentinel, |(command, kind)| {
                 let request = Request {
                     address,
                     command,
@@ -400,11 +401,11 @@ mod tests {
             command: 135,
             ..version
         };
-        // Both sentinels unanswered: quiet time, never a guess in order
+        // Both sentinels unanswered: wait for one, never a guess in order
         // (tests/device_faults.rs found a poll given another read's answer).
         assert!(matches!(
             settling_of(&gap(1), &[version, status]),
-            Settling::QuietTime
+            Settling::AwaitSentinel
         ));
         let read_memory = Request {
             command: 134,
