@@ -23,6 +23,7 @@ pub use crate::script;
 pub mod sim_program;
 pub mod sim_serve;
 pub mod transfer;
+pub mod wiring;
 
 use std::io::Write;
 use std::sync::Arc;
@@ -313,6 +314,16 @@ pub enum Command {
     Ports,
     /// Look for modules on a bus (firmware version request at each address).
     Scan(scan::ScanArgs),
+    /// Check an axis's limit switches: jog toward + until one fires, then
+    /// toward −, and say which fired for which direction.
+    ///
+    /// A line each: the switch that fired and where, whether the module
+    /// stopped the axis at it, a switch that fires against the direction
+    /// of travel (swapped wiring or inverted direction), where the home
+    /// switch was seen. Exit 0 when each switch fired for its own direction
+    /// and stopped the axis, 1 otherwise. Needs --yes: it moves the axis to
+    /// both ends of its travel.
+    Wiring(wiring::WiringArgs),
     /// Assemble a program (TMCL): print its image, or its listing.
     Asm {
         /// The program source (- for standard input).
@@ -391,6 +402,7 @@ impl Command {
             Command::Ports => "ports",
             Command::Profiles => "profiles",
             Command::Scan(_) => "scan",
+            Command::Wiring(_) => "wiring",
             Command::Asm { .. } => "asm",
             Command::Disasm { .. } => "disasm",
             Command::Download(_) => "download",
@@ -427,6 +439,7 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::RunAscript(args)) => run_ascript::run(&cli.connection, &args),
         Some(Command::RunMacro(args)) => run_macro::run(&cli.connection, &args),
         Some(Command::Scan(args)) => scan::run(&cli.connection, &args),
+        Some(Command::Wiring(args)) => wiring::run(&cli.connection, &args),
         Some(Command::Bench(args)) => bench::run(&cli.connection, &args),
         Some(Command::Params { command }) => params::run(&cli.connection, &command),
         Some(Command::Asm {

@@ -55,6 +55,14 @@ pub trait JogPlan: Sync {
     /// The lines that stop `axis` (with its deceleration).
     fn stop(&self, axis: &AxisInfo) -> Vec<String>;
 
+    /// The lines that let `axis` move again after a limit switch stopped
+    /// it, where the module latches that stop as an error; none by
+    /// default.
+    fn clear_limit_stop(&self, axis: &AxisInfo) -> Vec<String> {
+        let _ = axis;
+        Vec::new()
+    }
+
     /// The speeds offered, slowest first, in [`JogPlan::speed_unit`].
     fn speeds(&self) -> &'static [i64];
 
@@ -121,6 +129,7 @@ mod tests {
                 lines.extend(plan.run(axis, Direction::Positive, speed).expect("a run"));
                 lines.extend(plan.run(axis, Direction::Negative, speed).expect("a run"));
                 lines.extend(plan.stop(axis));
+                lines.extend(plan.clear_limit_stop(axis));
                 for line in lines {
                     assert!(
                         console.prepare(&line, address).is_ok(),

@@ -29,6 +29,7 @@ pub mod run_end;
 pub mod settings;
 mod status;
 pub mod transfer;
+pub mod wiring;
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
@@ -843,8 +844,14 @@ impl Session {
 
     /// Send the family's fast status polls once; the status they leave.
     async fn read_fast_status(&self) -> Result<Vec<AxisStatus>, SessionError> {
+        self.read_status_polls(true).await
+    }
+
+    /// Send every status poll of the family once (the switches are slow
+    /// items in some), or only the fast ones; the status they leave.
+    async fn read_status_polls(&self, fast_only: bool) -> Result<Vec<AxisStatus>, SessionError> {
         let polls = self.family.console.status_queries(self.address);
-        for poll in polls.iter().filter(|p| p.fast) {
+        for poll in polls.iter().filter(|p| p.fast || !fast_only) {
             self.send(
                 Priority::User,
                 &poll.line,

@@ -51,6 +51,13 @@ impl JogPlan for Cmd4crJog {
         vec![format!("STOP{}", axis.name)]
     }
 
+    /// A limit stop is a latched error flag until cleared: `CLR[axis]`
+    /// (§2.6.2.3: "Clears limit, alarm, EMG, SD-stop and StepNLoop error
+    /// flags"); until then a move answers `?Error Moving`.
+    fn clear_limit_stop(&self, axis: &AxisInfo) -> Vec<String> {
+        vec![format!("CLR{}", axis.name)]
+    }
+
     fn speeds(&self) -> &'static [i64] {
         &[100, 500, 1_000, 5_000, 10_000, 50_000]
     }

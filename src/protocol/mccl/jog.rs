@@ -51,6 +51,12 @@ impl JogPlan for McclJog {
         vec![format!("{}ST", axis.number)]
     }
 
+    /// A limit trips the axis (a move or wait on it is error -13): `MN`
+    /// clears the latched error flags and switches the motor on again.
+    fn clear_limit_stop(&self, axis: &AxisInfo) -> Vec<String> {
+        vec![format!("{}MN", axis.number)]
+    }
+
     fn speeds(&self) -> &'static [i64] {
         &[100, 1_000, 5_000, 10_000, 50_000, 100_000]
     }
