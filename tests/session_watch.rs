@@ -78,6 +78,7 @@ async fn a_watched_parameter_is_polled_until_it_is_no_longer_watched() {
                 == [WatchedValue {
                     line: "GAP 6, 0".into(),
                     value: Some(200),
+                    reply: Some(axterm::protocol::console::ReplyValue::Number(200)),
                 }]
             {
                 break;
