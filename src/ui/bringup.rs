@@ -126,8 +126,12 @@ pub struct BringUpPane {
     /// Outputs as this pane last set them (point index, state), for
     /// those the module cannot read back.
     set_states: Vec<(usize, bool)>,
-    /// Outputs as last read back after a switch (point index, state).
+    /// Outputs as last read back (point index, state).
     read_states: Vec<(usize, i64)>,
+    /// The outputs' read lines sent once on taking the keyboard (they
+    /// change only when switched: polling them would hold up the lamps),
+    /// under this tag; `None` until sent.
+    outputs_read: Option<u64>,
 }
 
 impl Default for BringUpPane {
@@ -155,7 +159,55 @@ impl BringUpPane {
             switching: None,
             set_states: Vec::new(),
             read_states: Vec::new(),
+            outputs_read: None,
         }
+    }
+
+    /// Read the outputs once, those no watched line reads already.
+    fn read_outputs(&mut self, view: &View) -> Vec<Request> {
+        let Some(plan) = Self::io(view) else {
+            return Vec::new();
+        };
+        if self.outputs_read.is_some() || view.session.is_none() {
+            return Vec::new();
+        }
+        let mut lines: Vec<String> = Vec::new();
+        for point in plan.points().iter().filter(|p| p.is_output()) {
+            let Some(line) = point.read else { continue };
+            if !self.io_watched.iter().any(|(_, l, _)| l == line)
+                && !lines.iter().any(|l| l == line)
+            {
+                lines.push(line.to_string());
+            }
+        }
+        let tag = self.tag();
+        self.outputs_read = Some(tag);
+        if lines.is_empty() {
+            return Vec::new();
+        }
+        vec![Request::Send { lines, tag }]
+    }
+
+    /// The answer to an output's read line sent on taking the keyboard.
+    fn output_read(
+        &mut self,
+        line: &str,
+        result: &Result<crate::session::LineResult, crate::session::SessionError>,
+        view: &View,
+    ) -> Outcome {
+        let (Some(plan), Ok(result)) = (Self::io(view), result) else {
+            return Outcome::Ignored;
+        };
+        for (index, point) in plan.points().iter().enumerate() {
+            if point.is_output()
+                && point.read == Some(line)
+                && let Some(state) = plan.state(point, &result.value)
+            {
+                self.read_states.retain(|(i, _)| *i != index);
+                self.read_states.push((index, state));
+            }
+        }
+        Outcome::redraw()
     }
 
     fn io(view: &View) -> Option<&'static dyn IoPlan> {
@@ -170,7 +222,8 @@ impl BringUpPane {
         };
         let mut wanted: Vec<(usize, String, bool)> = Vec::new();
         for point in plan.points() {
-            if point.axis.is_some_and(|a| a != session.axis) {
+            // Outputs are read once, not polled (see `read_outputs`).
+            if point.axis.is_some_and(|a| a != session.axis) || point.is_output() {
                 continue;
             }
             let Some(line) = point.read else { continue };
@@ -1126,12 +1179,16 @@ impl Pane for BringUpPane {
             {
                 self.output_answer(result, view)
             }
+            PaneEvent::Reply { tag, line, result } if self.outputs_read == Some(*tag) => {
+                self.output_read(line, result, view)
+            }
             PaneEvent::Reply { tag, result, .. } => {
                 self.answer(*tag, result.as_ref().err().map(|e| e.to_string()))
             }
             PaneEvent::Focused => {
-                let watches = self.sync_watches(view, true);
-                Outcome::Handled(watches)
+                let mut requests = self.sync_watches(view, true);
+                requests.extend(self.read_outputs(view));
+                Outcome::Handled(requests)
             }
             PaneEvent::Wake { tag } if self.deadman_tag == Some(*tag) => self.deadman(),
             PaneEvent::RunEnded(aftermath) => {
@@ -1145,6 +1202,7 @@ impl Pane for BringUpPane {
             }
             PaneEvent::Unfocused => {
                 self.confirm = None;
+                self.outputs_read = None;
                 let watches = self.sync_watches(view, false);
                 match self.stop("the pane lost the keyboard") {
                     Outcome::Handled(mut requests) => {
@@ -1173,7 +1231,9 @@ impl Pane for BringUpPane {
                 // The selected axis's switches follow it; the first
                 // snapshot of a session brings its plan.
                 let watches = if view.focused {
-                    self.sync_watches(view, true)
+                    let mut requests = self.sync_watches(view, true);
+                    requests.extend(self.read_outputs(view));
+                    requests
                 } else {
                     Vec::new()
                 };

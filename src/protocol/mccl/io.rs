@@ -764,3 +764,30 @@ const POINTS: &[IoPoint] = &[
         "open-collector output 63, CN/CF (Ch9); not read back",
     ),
 ];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Ch9 Table 1: axis 2's limits are inputs 22/23, its fault 24; axis
+    /// 5 shares axis 1's.
+    #[test]
+    fn the_switches_are_table_1s_inputs() {
+        let bit = |axis: usize, name: &str| {
+            POINTS
+                .iter()
+                .find(|p| p.axis == Some(axis) && p.name == name)
+                .map(|p| p.rule)
+        };
+        assert_eq!(bit(1, "+limit"), Some(ReadRule::Bit(21)));
+        assert_eq!(bit(1, "-limit"), Some(ReadRule::Bit(22)));
+        assert_eq!(bit(1, "amp fault"), Some(ReadRule::Bit(23)));
+        assert_eq!(bit(4, "home"), Some(ReadRule::Bit(16)));
+        assert_eq!(bit(0, "coarse home"), Some(ReadRule::Bit(16)));
+        let volts = match POINTS.iter().find(|p| p.name == "AD1").map(|p| p.kind) {
+            Some(IoKind::AnalogInput { volts: Some(scale) }) => scale.volts(16384),
+            other => panic!("{other:?}"),
+        };
+        assert!((volts + 5.0).abs() < 1e-9);
+    }
+}

@@ -222,3 +222,34 @@ const POINTS: &[IoPoint] = &[
         "TTLIO1 as an output, $32 P1/P2; TTLOUT1 high (§7.3, §6.1.4)",
     ),
 ];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::protocol::console::ReplyValue;
+
+    /// `$30`'s answer as the console prints it: the reference inputs are
+    /// a motor list.
+    #[test]
+    fn the_reference_inputs_come_out_of_the_motor_list() {
+        let reply = ReplyValue::Text("analog=528 ref=0 refs=0,2 jp1=1 jp2=0 ttlio1=1".into());
+        let state = |name: &str, axis: Option<usize>| {
+            let point = POINTS
+                .iter()
+                .find(|p| p.name == name && p.axis == axis)
+                .expect("a point");
+            Sixpack2Io.state(point, &reply)
+        };
+        assert_eq!(state("reference", Some(0)), Some(1));
+        assert_eq!(state("reference", Some(1)), Some(0));
+        assert_eq!(state("reference", Some(2)), Some(1));
+        assert_eq!(state("JP1", None), Some(1));
+        assert_eq!(state("TTLIO1", None), Some(1));
+        let all = ReplyValue::Text("analog=0 ref=1 refs=all jp1=0 jp2=0 ttlio1=0".into());
+        let reference_5 = POINTS
+            .iter()
+            .find(|p| p.name == "reference" && p.axis == Some(5))
+            .expect("motor 5's");
+        assert_eq!(Sixpack2Io.state(reference_5, &all), Some(1));
+    }
+}
