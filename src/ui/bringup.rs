@@ -937,12 +937,24 @@ impl BringUpPane {
             (format!("{axis_name} "), axis_switches),
             ("module ".to_string(), module_switches),
             ("outputs ".to_string(), outputs),
-            ("inputs ".to_string(), inputs),
         ] {
             if !items.is_empty() {
                 flow(lines, &title, &items, width, theme);
             }
         }
+        let keys = |action| key_label(view.keymap, Context::BringUp, action);
+        lines.push(Line::styled(
+            fit(
+                &format!(
+                    "{}/{} choose an output · {} switch it (asks y/n)",
+                    keys(Action::OutputNext),
+                    keys(Action::OutputPrevious),
+                    keys(Action::OutputToggle),
+                ),
+                width,
+            ),
+            theme.style(Role::Muted),
+        ));
         let analog = points
             .iter()
             .enumerate()
@@ -968,19 +980,11 @@ impl BringUpPane {
                 ),
             ]));
         }
-        let keys = |action| key_label(view.keymap, Context::BringUp, action);
-        lines.push(Line::styled(
-            fit(
-                &format!(
-                    "{}/{} choose an output · {} switch it (asks y/n)",
-                    keys(Action::OutputNext),
-                    keys(Action::OutputPrevious),
-                    keys(Action::OutputToggle),
-                ),
-                width,
-            ),
-            theme.style(Role::Muted),
-        ));
+        // The general inputs last: on a small screen a long list (32 on
+        // a MultiFlex) runs past the pane's foot, not the outputs.
+        if !inputs.is_empty() {
+            flow(lines, "inputs ", &inputs, width, theme);
+        }
     }
 }
 
