@@ -32,7 +32,7 @@ fn jogging_into_the_right_end_switch_lights_its_lamp_and_letting_go_stops() {
     let lit = tmux.until_found("the right end switch's lamp", || {
         tmux.keys(&["Right", "Right"]);
         let screen = tmux.screen();
-        screen.contains("right/+ ●").then_some(screen)
+        screen.contains("right limit●").then_some(screen)
     });
     assert!(lit.contains("JOGGING") || lit.contains("jog"), "{lit}");
     // Let go: the deadman stops the jog.

@@ -78,6 +78,7 @@ async fn a_watched_parameter_is_polled_until_it_is_no_longer_watched() {
                 == [WatchedValue {
                     line: "GAP 6, 0".into(),
                     value: Some(200),
+                    reply: Some(axterm::protocol::console::ReplyValue::Number(200)),
                 }]
             {
                 break;
@@ -113,4 +114,47 @@ fn only_reads_of_an_axis_are_watched() {
         assert!(nonsense.nothing_sent());
         assert!(session.watch(7, "GAP 6, 0").is_err(), "no axis 7");
     });
+}
+
+/// `GAP 11, 0` (left limit switch) to module 1: 1 + 6 + 11 = 18.
+const GAP_11: [u8; 9] = [0x01, 0x06, 0x0B, 0x00, 0x00, 0x00, 0x00, 0x00, 0x12];
+
+/// A switch watched fast (the bring-up pane's lamps) that the status
+/// reads anyway as a slow item is not read twice: that item goes with the
+/// fast ones, as often as the position, and its answer is the watch's.
+#[tokio::test(start_paused = true)]
+async fn a_fast_watch_of_a_status_line_shares_it_at_the_fast_rate() {
+    let session = connect().await;
+    let mut traffic = session.device().traffic();
+    session.start_polling(PollCadence::default());
+    let before = requests(&mut traffic, 300).await;
+    let slow = before.iter().filter(|r| **r == GAP_11).count();
+    session
+        .watch_at(0, "GAP 11, 0", true)
+        .expect("a read of axis 0");
+    requests(&mut traffic, 12).await;
+    let after = requests(&mut traffic, 300).await;
+    let fast = after.iter().filter(|r| **r == GAP_11).count();
+    let positions = after.iter().filter(|r| r[1] == 6 && r[2] == 1).count();
+    assert!(fast > slow, "GAP 11 read {fast} times, {slow} before");
+    assert!(
+        fast + 1 >= positions,
+        "GAP 11 read {fast} times, the position {positions}"
+    );
+    let mut status = session.status();
+    let answered = async {
+        loop {
+            if status.borrow_and_update()[0]
+                .watched
+                .iter()
+                .any(|w| w.line == "GAP 11, 0" && w.value == Some(0))
+            {
+                break;
+            }
+            status.changed().await.expect("the session is alive");
+        }
+    };
+    tokio::time::timeout(GIVE_UP_AFTER, answered)
+        .await
+        .expect("the shared reading came");
 }

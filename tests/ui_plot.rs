@@ -291,7 +291,8 @@ fn enter_in_the_picker_plots_a_parameter_with_its_poll_and_enter_again_stops_it(
         added.contains(&Effect::Watch {
             axis: 0,
             line: "GAP 206, 0".into(),
-            on: true
+            on: true,
+            fast: false
         }),
         "{added:?}"
     );
@@ -307,7 +308,8 @@ fn enter_in_the_picker_plots_a_parameter_with_its_poll_and_enter_again_stops_it(
         removed.contains(&Effect::Watch {
             axis: 0,
             line: "GAP 206, 0".into(),
-            on: false
+            on: false,
+            fast: false
         }),
         "{removed:?}"
     );
@@ -324,6 +326,7 @@ fn enter_in_the_picker_plots_a_parameter_with_its_poll_and_enter_again_stops_it(
     load.status[0].watched = vec![axterm::session::WatchedValue {
         line: "GAP 206, 0".into(),
         value: Some(512),
+        reply: Some(axterm::protocol::console::ReplyValue::Number(512)),
     }];
     app.handle(AppEvent::Snapshot(load));
     let all = text(&mut app, 80, 24);

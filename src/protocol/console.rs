@@ -692,6 +692,12 @@ pub trait FamilyConsole: Send + Sync {
         None
     }
 
+    /// The module's inputs, outputs and switches, from its manual (the
+    /// bring-up pane's lamps); `None` if the console does not know.
+    fn io(&self) -> Option<&'static dyn crate::protocol::io::IoPlan> {
+        None
+    }
+
     /// The family's parameter tables and how to read, write, store and
     /// restore one, for the parameter table; `None` if it has none.
     fn parameters(&self) -> Option<&'static dyn ParameterSet> {

@@ -5,6 +5,7 @@ pub mod addresses;
 pub mod ascii;
 pub mod cmd4cr;
 pub mod console;
+pub mod io;
 pub mod jog;
 pub mod mccl;
 pub mod parameter_file;

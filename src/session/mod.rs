@@ -917,6 +917,14 @@ impl Session {
     /// [`AxisStatus::watched`]. A line that does not parse or only acts
     /// is refused, and nothing is polled.
     pub fn watch(&self, axis: usize, line: &str) -> Result<(), SessionError> {
+        self.watch_at(axis, line, false)
+    }
+
+    /// [`Session::watch`], with the fast status items when `fast` (a
+    /// switch whose change must show at once; the link's time then goes
+    /// to it as to a position). A line a status item reads already is not
+    /// read twice: that item's answer is the watched line's too.
+    pub fn watch_at(&self, axis: usize, line: &str, fast: bool) -> Result<(), SessionError> {
         let prepared = self.prepare(line)?;
         if prepared.effect != Effect::Reads || axis >= self.axes().len() {
             return Err(SessionError::Refused {
@@ -929,17 +937,21 @@ impl Session {
         }
         {
             let mut watches = self.watches.lock().unwrap_or_else(|e| e.into_inner());
-            if watches
-                .iter()
-                .any(|w| w.axis == axis && w.line.canonical == prepared.canonical)
+            if let Some(watch) = watches
+                .iter_mut()
+                .find(|w| w.axis == axis && w.line.canonical == prepared.canonical)
             {
-                return Ok(());
+                if watch.fast || !fast {
+                    return Ok(());
+                }
+                watch.fast = true;
+            } else {
+                watches.push(StatusPoll {
+                    axis,
+                    line: prepared.clone(),
+                    fast,
+                });
             }
-            watches.push(StatusPoll {
-                axis,
-                line: prepared.clone(),
-                fast: false,
-            });
         }
         status::post_watched(&self.board, axis, &prepared.canonical, None);
         self.resume_polling();
@@ -973,16 +985,30 @@ impl Session {
         let status_items = polls.len();
         // Watched lines go with the slow items and share their cap on
         // the line's time.
-        polls.extend(
-            self.watches
-                .lock()
-                .unwrap_or_else(|e| e.into_inner())
+        let mut shared = Vec::new();
+        for watch in self
+            .watches
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .iter()
+        {
+            let watch = StatusPoll {
+                line: adapt_line(console, &watch.line, context.as_deref()),
+                ..watch.clone()
+            };
+            match polls[..status_items]
                 .iter()
-                .map(|watch| StatusPoll {
-                    line: adapt_line(console, &watch.line, context.as_deref()),
-                    ..watch.clone()
-                }),
-        );
+                .position(|p| p.line.canonical == watch.line.canonical)
+            {
+                Some(index) => {
+                    // A switch watched fast that the status reads slowly
+                    // (TMCL's AP 9-11) is read fast for everyone.
+                    polls[index].fast |= watch.fast;
+                    shared.push((index, watch));
+                }
+                None => polls.push(watch),
+            }
+        }
         let slow = slow_period(cadence, self.byte_time, &polls);
         let items = polls
             .iter()
@@ -999,7 +1025,8 @@ impl Session {
             context,
             Some(self.settings.subscribe()),
         )
-        .with_watched(watched);
+        .with_watched(watched)
+        .with_shared(shared);
         self.device.set_poll_plan_of(
             self.poll_owner,
             Some(PollPlan {

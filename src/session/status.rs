@@ -21,7 +21,7 @@ use tokio::time::Instant;
 use crate::device::{Answer, DeviceError, PollSink};
 use crate::protocol::Family;
 use crate::protocol::console::{
-    AxisFlag, AxisUpdate, LinkContext, MotionPhase, MoveMode, StatusPoll, SwitchKind,
+    AxisFlag, AxisUpdate, LinkContext, MotionPhase, MoveMode, ReplyValue, StatusPoll, SwitchKind,
     interpret_line,
 };
 use crate::protocol::settings::SettingsCache;
@@ -125,6 +125,9 @@ pub struct WatchedValue {
     /// The line in the family's canonical form (`GAP 206, 0`).
     pub line: String,
     pub value: Option<i64>,
+    /// The whole answer, for a reading that is no single number (a
+    /// SIXpack 2 `$30` answer's fields); `None` until it answered.
+    pub reply: Option<ReplyValue>,
 }
 
 /// Full status refreshes a second, to a hundredth.
@@ -443,21 +446,32 @@ pub(crate) fn post_refresh(board: &StatusBoard, rate: Option<RefreshRate>) {
 }
 
 /// Sets the value of a watched line of `axis`, adding the line if new.
-pub(crate) fn post_watched(board: &StatusBoard, axis: usize, line: &str, value: Option<i64>) {
+pub(crate) fn post_watched(
+    board: &StatusBoard,
+    axis: usize,
+    line: &str,
+    reply: Option<ReplyValue>,
+) {
+    let value = match &reply {
+        Some(ReplyValue::Number(n)) => Some(*n),
+        _ => None,
+    };
     board.send_if_modified(|axes| {
         let Some(status) = axes.get_mut(axis) else {
             return false;
         };
         match status.watched.iter_mut().find(|w| w.line == line) {
-            Some(watched) if watched.value == value => false,
+            Some(watched) if watched.reply == reply => false,
             Some(watched) => {
                 watched.value = value;
+                watched.reply = reply;
                 true
             }
             None => {
                 status.watched.push(WatchedValue {
                     line: line.to_string(),
                     value,
+                    reply,
                 });
                 true
             }
@@ -491,6 +505,9 @@ pub(crate) struct StatusSink {
     /// Watched lines, polled after the status items: index
     /// `polls.len() + n` is `watched[n]`.
     pub watched: Vec<StatusPoll>,
+    /// Watched lines a status item reads already (a CMD-4CR's `MSTX`):
+    /// not polled twice; the status item's answer is theirs too.
+    pub shared: Vec<(usize, StatusPoll)>,
 }
 
 impl StatusSink {
@@ -509,6 +526,7 @@ impl StatusSink {
             context,
             settings,
             watched: Vec::new(),
+            shared: Vec::new(),
         }
     }
 
@@ -518,9 +536,23 @@ impl StatusSink {
         self
     }
 
-    /// The answer to watched line `n`, posted as its number.
+    /// The same, posting the answers of status item `index` for each
+    /// watched line of `shared` too.
+    pub(crate) fn with_shared(mut self, shared: Vec<(usize, StatusPoll)>) -> Self {
+        self.shared = shared;
+        self
+    }
+
+    /// The answer to watched line `n`.
     fn post_watched(&self, n: usize, result: Result<&Answer, &DeviceError>) {
-        let (Some(watch), Ok(answer)) = (self.watched.get(n), result) else {
+        if let Some(watch) = self.watched.get(n) {
+            self.post_watch(watch, result);
+        }
+    }
+
+    /// The answer to `watch`'s line, posted with its number.
+    fn post_watch(&self, watch: &StatusPoll, result: Result<&Answer, &DeviceError>) {
+        let Ok(answer) = result else {
             return;
         };
         let console = self.family.console;
@@ -532,11 +564,12 @@ impl StatusSink {
         ) else {
             return;
         };
-        let value = match reading.value {
-            crate::protocol::console::ReplyValue::Number(n) => Some(n),
-            _ => None,
-        };
-        post_watched(&self.board, watch.axis, &watch.line.canonical, value);
+        post_watched(
+            &self.board,
+            watch.axis,
+            &watch.line.canonical,
+            Some(reading.value),
+        );
     }
 
     /// The reading of item `index`, if it answered with one.
@@ -589,6 +622,9 @@ impl PollSink for StatusSink {
             return;
         }
         let answered = self.post_reading(index, result);
+        for (_, watch) in self.shared.iter().filter(|(i, _)| *i == index) {
+            self.post_watch(watch, result);
+        }
         if let Some(rate) = self.meter.record(index, answered, Instant::now()) {
             post_refresh(&self.board, Some(rate));
         }

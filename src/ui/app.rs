@@ -192,6 +192,7 @@ pub enum Effect {
         axis: usize,
         line: String,
         on: bool,
+        fast: bool,
     },
     /// Answer with [`AppEvent::Expired`] after this long: the status bar
     /// message `id` ages out.
@@ -894,7 +895,17 @@ impl App {
                 effects.push(Effect::LoadProgram { pane, tag, source })
             }
             Request::DriveSimInput(setting) => effects.push(Effect::DriveSimInput(setting)),
-            Request::Watch { axis, line, on } => effects.push(Effect::Watch { axis, line, on }),
+            Request::Watch {
+                axis,
+                line,
+                on,
+                fast,
+            } => effects.push(Effect::Watch {
+                axis,
+                line,
+                on,
+                fast,
+            }),
             Request::Plot(args) => self.broadcast(&PaneEvent::Plot(args), effects),
             Request::Say(notice) => self.broadcast(&PaneEvent::Notice(notice), effects),
             Request::Quit => {

@@ -21,6 +21,19 @@
 //!
 //! The stop of a run whose start lines are still on their way waits for
 //! their answers, so it cannot overtake them.
+//!
+//! # Inputs and outputs
+//!
+//! Below the jog, the module's inputs and outputs as its family lists
+//! them ([`crate::protocol::io::IoPlan`]): the selected axis's switches,
+//! the module's switches and inputs as lamps, analog inputs in volts where
+//! the manual gives the scale, and the outputs. While the pane has the
+//! keyboard their read lines ride on the status poll
+//! ([`Request::Watch`]): switches and digital inputs with the fast items,
+//! so a change shows within one round of the fast polls; analog values
+//! and outputs with the slow ones. An output is chosen with its keys and
+//! switched with Enter after a y/n question (an output can move
+//! machinery); its read line then goes at once and says what it reads.
 
 use std::time::Duration;
 
@@ -36,9 +49,11 @@ use super::pane::{Input, Outcome, Pane, PaneEvent, Region, Request, View, key_la
 use super::text::fit;
 use super::theme::Role;
 use crate::device::LinkState;
+use crate::protocol::io::{IoKind, IoPlan, IoPoint};
 use crate::protocol::jog::{Direction, JogPlan, STEP_DISTANCES};
 use crate::session::run_end::{RunEnding, StopOnFailure};
 use crate::session::{AxisMotion, AxisStatus};
+use crate::ui::pane::Snapshot;
 
 /// How long a continuous jog goes on after the last key repeat: terminals
 /// repeat a held key 25-33 times a second, so a window of 250 ms rides
@@ -97,6 +112,26 @@ pub struct BringUpPane {
     /// What was last sent, shown so nothing moves unseen.
     sent: Vec<String>,
     message: Option<(Role, String)>,
+    /// The read lines of inputs and outputs polled for the pane now:
+    /// (axis, line, fast).
+    io_watched: Vec<(usize, String, bool)>,
+    /// The chosen output: an index among the plan's outputs.
+    output: usize,
+    /// An output switch asked for and not yet confirmed: the point's
+    /// index in the plan and the state asked.
+    confirm: Option<(usize, bool)>,
+    /// The output switch on its way: its tag, the point, the state, and
+    /// how many of its lines are unanswered.
+    switching: Option<(u64, usize, bool, usize)>,
+    /// Outputs as this pane last set them (point index, state), for
+    /// those the module cannot read back.
+    set_states: Vec<(usize, bool)>,
+    /// Outputs as last read back (point index, state).
+    read_states: Vec<(usize, i64)>,
+    /// The outputs' read lines sent once on taking the keyboard (they
+    /// change only when switched: polling them would hold up the lamps),
+    /// under this tag; `None` until sent.
+    outputs_read: Option<u64>,
 }
 
 impl Default for BringUpPane {
@@ -118,7 +153,306 @@ impl BringUpPane {
             steps: Vec::new(),
             sent: Vec::new(),
             message: None,
+            io_watched: Vec::new(),
+            output: 0,
+            confirm: None,
+            switching: None,
+            set_states: Vec::new(),
+            read_states: Vec::new(),
+            outputs_read: None,
         }
+    }
+
+    /// Read the outputs once, those no watched line reads already.
+    fn read_outputs(&mut self, view: &View) -> Vec<Request> {
+        let Some(plan) = Self::io(view) else {
+            return Vec::new();
+        };
+        if self.outputs_read.is_some() || view.session.is_none() {
+            return Vec::new();
+        }
+        let mut lines: Vec<String> = Vec::new();
+        for point in plan.points().iter().filter(|p| p.is_output()) {
+            let Some(line) = point.read else { continue };
+            if !self.io_watched.iter().any(|(_, l, _)| l == line)
+                && !lines.iter().any(|l| l == line)
+            {
+                lines.push(line.to_string());
+            }
+        }
+        let tag = self.tag();
+        self.outputs_read = Some(tag);
+        if lines.is_empty() {
+            return Vec::new();
+        }
+        vec![Request::Send { lines, tag }]
+    }
+
+    /// The answer to an output's read line sent on taking the keyboard.
+    fn output_read(
+        &mut self,
+        line: &str,
+        result: &Result<crate::session::LineResult, crate::session::SessionError>,
+        view: &View,
+    ) -> Outcome {
+        let (Some(plan), Ok(result)) = (Self::io(view), result) else {
+            return Outcome::Ignored;
+        };
+        for (index, point) in plan.points().iter().enumerate() {
+            if point.is_output()
+                && point.read == Some(line)
+                && let Some(state) = plan.state(point, &result.value)
+            {
+                self.read_states.retain(|(i, _)| *i != index);
+                self.read_states.push((index, state));
+            }
+        }
+        Outcome::redraw()
+    }
+
+    fn io(view: &View) -> Option<&'static dyn IoPlan> {
+        view.session.and_then(|s| s.family.console.io())
+    }
+
+    /// The read lines the pane needs polled now: every module point's
+    /// and the selected axis's, each once.
+    fn io_wanted(view: &View, on: bool) -> Vec<(usize, String, bool)> {
+        let (Some(session), Some(plan), true) = (view.session, Self::io(view), on) else {
+            return Vec::new();
+        };
+        let mut wanted: Vec<(usize, String, bool)> = Vec::new();
+        for point in plan.points() {
+            // Outputs are read once, not polled (see `read_outputs`).
+            if point.axis.is_some_and(|a| a != session.axis) || point.is_output() {
+                continue;
+            }
+            let Some(line) = point.read else { continue };
+            match wanted.iter_mut().find(|(_, l, _)| l == line) {
+                Some(entry) => entry.2 |= point.fast,
+                None => wanted.push((point.axis.unwrap_or(0), line.to_string(), point.fast)),
+            }
+        }
+        wanted
+    }
+
+    /// Watch what is wanted now and no longer what is not.
+    fn sync_watches(&mut self, view: &View, on: bool) -> Vec<Request> {
+        let wanted = Self::io_wanted(view, on);
+        let mut requests = Vec::new();
+        for (axis, line, fast) in &self.io_watched {
+            if !wanted.contains(&(*axis, line.clone(), *fast)) {
+                requests.push(Request::Watch {
+                    axis: *axis,
+                    line: line.clone(),
+                    on: false,
+                    fast: *fast,
+                });
+            }
+        }
+        for (axis, line, fast) in &wanted {
+            if !self.io_watched.contains(&(*axis, line.clone(), *fast)) {
+                requests.push(Request::Watch {
+                    axis: *axis,
+                    line: line.clone(),
+                    on: true,
+                    fast: *fast,
+                });
+            }
+        }
+        self.io_watched = wanted;
+        requests
+    }
+
+    /// The indices of the plan's outputs.
+    fn outputs(plan: &dyn IoPlan) -> Vec<usize> {
+        plan.points()
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.is_output())
+            .map(|(i, _)| i)
+            .collect()
+    }
+
+    /// The state of `point` as known: read back after a switch, else from
+    /// the poll, else as last set (for an output that cannot be read).
+    fn point_state(&self, plan: &dyn IoPlan, index: usize, session: &Snapshot) -> Option<i64> {
+        let point = &plan.points()[index];
+        if let Some(line) = point.read {
+            let polled = session
+                .status
+                .iter()
+                .flat_map(|s| s.watched.iter())
+                .find(|w| w.line == line && w.reply.is_some())
+                .and_then(|w| w.reply.as_ref())
+                .and_then(|reply| plan.state(point, reply));
+            if polled.is_some() {
+                return polled;
+            }
+            return self
+                .read_states
+                .iter()
+                .find(|(i, _)| *i == index)
+                .map(|(_, v)| *v);
+        }
+        self.set_states
+            .iter()
+            .find(|(i, _)| *i == index)
+            .map(|(_, on)| i64::from(*on))
+    }
+
+    /// Choose the next (or previous) output.
+    fn choose_output(&mut self, forward: bool, view: &View) -> Outcome {
+        let Some(plan) = Self::io(view) else {
+            return Outcome::Ignored;
+        };
+        let count = Self::outputs(plan).len();
+        if count == 0 {
+            return Outcome::Ignored;
+        }
+        self.output = if forward {
+            (self.output + 1) % count
+        } else {
+            (self.output + count - 1) % count
+        };
+        Outcome::redraw()
+    }
+
+    /// Enter on the chosen output: ask before switching it.
+    fn ask_output(&mut self, view: &View) -> Outcome {
+        let (Some(plan), Some(session)) = (Self::io(view), view.session) else {
+            return self.not_connected();
+        };
+        let outputs = Self::outputs(plan);
+        let Some(&index) = outputs.get(self.output.min(outputs.len().saturating_sub(1))) else {
+            self.say(Role::Error, "this module lists no outputs");
+            return Outcome::redraw();
+        };
+        if self.switching.is_some() {
+            self.say(
+                Role::Error,
+                "an output is being switched: wait for its answer",
+            );
+            return Outcome::redraw();
+        }
+        let on = self.point_state(plan, index, session) != Some(1);
+        self.confirm = Some((index, on));
+        let name = plan.points()[index].name;
+        let note = plan.output_note();
+        let note = if note.is_empty() {
+            String::new()
+        } else {
+            format!(" ({note})")
+        };
+        self.say(
+            Role::Warning,
+            format!(
+                "set {name} {}? an output can move machinery: y/n{note}",
+                if on { "on" } else { "off" }
+            ),
+        );
+        Outcome::redraw()
+    }
+
+    /// The answer to the question: `y` switches the output, anything
+    /// else sends nothing.
+    fn confirmed(&mut self, yes: bool, view: &View) -> Outcome {
+        let Some((index, on)) = self.confirm.take() else {
+            return Outcome::Ignored;
+        };
+        let Some(plan) = Self::io(view) else {
+            return self.not_connected();
+        };
+        let point: &IoPoint = &plan.points()[index];
+        if !yes {
+            self.say(
+                Role::Muted,
+                format!("{} left as it is: nothing sent", point.name),
+            );
+            return Outcome::redraw();
+        }
+        let Some([off, on_line]) = point.set else {
+            return Outcome::Ignored;
+        };
+        let mut lines = vec![if on { on_line } else { off }.to_string()];
+        lines.extend(point.read.map(str::to_string));
+        let left = lines.len();
+        let (tag, send) = self.send(lines);
+        self.switching = Some((tag, index, on, left));
+        self.say(
+            Role::Accent,
+            format!("setting {} {}", point.name, if on { "on" } else { "off" }),
+        );
+        Outcome::request(send)
+    }
+
+    /// An answer to a line of an output switch.
+    fn output_answer(
+        &mut self,
+        result: &Result<crate::session::LineResult, crate::session::SessionError>,
+        view: &View,
+    ) -> Outcome {
+        let Some((tag, index, on, left)) = self.switching else {
+            return Outcome::Ignored;
+        };
+        let Some(plan) = Self::io(view) else {
+            self.switching = None;
+            return Outcome::Ignored;
+        };
+        let point = &plan.points()[index];
+        let value = match result {
+            Err(e) => {
+                self.switching = None;
+                self.say(Role::Error, format!("{}: {e}", point.name));
+                return Outcome::redraw();
+            }
+            Ok(result) => result.value.clone(),
+        };
+        let total = 1 + usize::from(point.read.is_some());
+        if left == total {
+            // The set line's answer.
+            self.set_states.retain(|(i, _)| *i != index);
+            self.set_states.push((index, on));
+        }
+        if left > 1 {
+            self.switching = Some((tag, index, on, left - 1));
+            return Outcome::redraw();
+        }
+        self.switching = None;
+        if point.read.is_none() {
+            self.say(
+                Role::Ok,
+                format!(
+                    "{} set {} (the module cannot read it back)",
+                    point.name,
+                    if on { "on" } else { "off" }
+                ),
+            );
+            return Outcome::redraw();
+        }
+        match plan.state(point, &value) {
+            Some(state) => {
+                self.read_states.retain(|(i, _)| *i != index);
+                self.read_states.push((index, state));
+                let role = if (state != 0) == on {
+                    Role::Ok
+                } else {
+                    Role::Error
+                };
+                self.say(
+                    role,
+                    format!(
+                        "{} reads {} after the switch",
+                        point.name,
+                        if state != 0 { "on" } else { "off" }
+                    ),
+                );
+            }
+            None => self.say(
+                Role::Error,
+                format!("{} read back as {value}: no state in it", point.name),
+            ),
+        }
+        Outcome::redraw()
     }
 
     fn plan(view: &View) -> Option<&'static dyn JogPlan> {
@@ -478,10 +812,19 @@ impl BringUpPane {
     }
 
     fn key(&mut self, key: &KeyEvent, view: &View) -> Outcome {
+        if self.confirm.is_some() {
+            // Only y switches; any other key answers no (and does
+            // nothing else).
+            let yes = key.code == ratatui::crossterm::event::KeyCode::Char('y');
+            return self.confirmed(yes, view);
+        }
         let Some(action) = view.keymap.action_for(Context::BringUp, key) else {
             return Outcome::Ignored;
         };
         match action {
+            Action::OutputNext => self.choose_output(true, view),
+            Action::OutputPrevious => self.choose_output(false, view),
+            Action::OutputToggle => self.ask_output(view),
             Action::JogPositive => self.jog_key(Direction::Positive, view),
             Action::JogNegative => self.jog_key(Direction::Negative, view),
             Action::StepPositive => self.step(Direction::Positive, view),
@@ -542,6 +885,135 @@ impl BringUpPane {
             Jog::Stopping { .. } => "stopping",
         }
     }
+}
+
+impl BringUpPane {
+    /// The inputs and outputs: the axis's switches, the module's, the
+    /// outputs (the chosen one marked), the general inputs, the analog
+    /// values.
+    fn io_lines(
+        &self,
+        lines: &mut Vec<Line<'static>>,
+        plan: &dyn IoPlan,
+        session: &Snapshot,
+        width: usize,
+        view: &View,
+    ) {
+        let theme = view.theme;
+        let points = plan.points();
+        let state = |index: usize| self.point_state(plan, index, session);
+        let shown = |p: &IoPoint| p.axis.is_none_or(|a| a == session.axis);
+        let axis_name = session.selected_axis().map_or("axis", |a| a.name);
+        // A switch lit is trouble; an input or output lit is just on.
+        let lamps_of = |wanted: fn(&IoPoint) -> bool, lit: Role| -> Vec<LampRow> {
+            points
+                .iter()
+                .enumerate()
+                .filter(|(_, p)| shown(p) && wanted(p))
+                .map(|(i, p)| {
+                    let (mark, role) = match state(i).map(|v| v != 0) {
+                        Some(true) => ("●", lit),
+                        other => lamp(other),
+                    };
+                    (p.name.to_string(), mark, role)
+                })
+                .collect()
+        };
+        let axis_switches = lamps_of(
+            |p| p.kind == IoKind::Switch && p.axis.is_some(),
+            Role::LampAlarm,
+        );
+        let module_switches = lamps_of(
+            |p| p.kind == IoKind::Switch && p.axis.is_none(),
+            Role::LampAlarm,
+        );
+        let mut outputs = lamps_of(IoPoint::is_output, Role::LampOn);
+        let chosen = self.output.min(outputs.len().saturating_sub(1));
+        if let Some(row) = outputs.get_mut(chosen) {
+            row.0 = format!("›{}", row.0);
+        }
+        let inputs = lamps_of(|p| p.kind == IoKind::DigitalInput, Role::LampOn);
+        for (title, items) in [
+            (format!("{axis_name} "), axis_switches),
+            ("module ".to_string(), module_switches),
+            ("outputs ".to_string(), outputs),
+        ] {
+            if !items.is_empty() {
+                flow(lines, &title, &items, width, theme);
+            }
+        }
+        let keys = |action| key_label(view.keymap, Context::BringUp, action);
+        lines.push(Line::styled(
+            fit(
+                &format!(
+                    "{}/{} choose an output · {} switch it (asks y/n)",
+                    keys(Action::OutputNext),
+                    keys(Action::OutputPrevious),
+                    keys(Action::OutputToggle),
+                ),
+                width,
+            ),
+            theme.style(Role::Muted),
+        ));
+        let analog = points
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| shown(p))
+            .filter_map(|(i, p)| match p.kind {
+                IoKind::AnalogInput { volts } => {
+                    let value = match (state(i), volts) {
+                        (Some(count), Some(scale)) => format!("{:.2} V", scale.volts(count)),
+                        (Some(count), None) => format!("{count}"),
+                        (None, _) => "—".into(),
+                    };
+                    Some(format!("{} {value}", p.name))
+                }
+                _ => None,
+            })
+            .collect::<Vec<_>>();
+        if !analog.is_empty() {
+            lines.push(Line::from(vec![
+                Span::styled("analog ", theme.style(Role::Muted)),
+                Span::styled(
+                    fit(&analog.join(" · "), width.saturating_sub(7)),
+                    theme.style(Role::Normal),
+                ),
+            ]));
+        }
+        // The general inputs last: on a small screen a long list (32 on
+        // a MultiFlex) runs past the pane's foot, not the outputs.
+        if !inputs.is_empty() {
+            flow(lines, "inputs ", &inputs, width, theme);
+        }
+    }
+}
+
+/// A point's name, its lamp and the lamp's colour.
+type LampRow = (String, &'static str, Role);
+
+/// `items` (name, lamp) after `title`, as many to a line as fit.
+fn flow(
+    lines: &mut Vec<Line<'static>>,
+    title: &str,
+    items: &[LampRow],
+    width: usize,
+    theme: &super::theme::Theme,
+) {
+    let indent = title.chars().count();
+    let mut spans = vec![Span::styled(title.to_string(), theme.style(Role::Muted))];
+    let mut used = indent;
+    for (name, mark, role) in items {
+        let wide = name.chars().count() + 3;
+        if used + wide > width && used > indent {
+            lines.push(Line::from(std::mem::take(&mut spans)));
+            spans.push(Span::raw(" ".repeat(indent)));
+            used = indent;
+        }
+        spans.push(Span::styled(name.clone(), theme.style(Role::Normal)));
+        spans.push(Span::styled(format!("{mark}  "), theme.style(*role)));
+        used += wide;
+    }
+    lines.push(Line::from(spans));
 }
 
 /// A lamp: `●` lit, `○` dark, `·` unknown.
@@ -611,17 +1083,19 @@ impl Pane for BringUpPane {
             ),
             Span::styled(self.state_text(), theme.style(state_role)),
         ]));
-        let mut switches = vec![Span::styled("switches ", theme.style(Role::Muted))];
-        for (name, value) in [
-            ("left/−", status.left_switch),
-            ("right/+", status.right_switch),
-            ("home", status.home_switch),
-        ] {
-            let (mark, role) = lamp(value);
-            switches.push(Span::styled(format!("{name} "), theme.style(Role::Normal)));
-            switches.push(Span::styled(format!("{mark}  "), theme.style(role)));
+        if Self::io(view).is_none() {
+            let mut switches = vec![Span::styled("switches ", theme.style(Role::Muted))];
+            for (name, value) in [
+                ("left/−", status.left_switch),
+                ("right/+", status.right_switch),
+                ("home", status.home_switch),
+            ] {
+                let (mark, role) = lamp(value);
+                switches.push(Span::styled(format!("{name} "), theme.style(Role::Normal)));
+                switches.push(Span::styled(format!("{mark}  "), theme.style(role)));
+            }
+            lines.push(Line::from(switches));
         }
-        lines.push(Line::from(switches));
         let driver = status
             .driver_flags
             .as_ref()
@@ -681,6 +1155,12 @@ impl Pane for BringUpPane {
         if let Some((role, text)) = &self.message {
             lines.push(Line::styled(fit(text, width), theme.style(*role)));
         }
+        if let Some(io) = Self::io(view) {
+            self.io_lines(&mut lines, io, session, width, view);
+        }
+        // At 80×24 a long list runs past the pane's foot: the switches,
+        // the question and the outputs come first, the general inputs
+        // after.
         frame.render_widget(Paragraph::new(lines), area);
     }
 
@@ -698,8 +1178,21 @@ impl Pane for BringUpPane {
 
     fn on_event(&mut self, event: &PaneEvent, view: &View) -> Outcome {
         match event {
+            PaneEvent::Reply { tag, result, .. }
+                if self.switching.is_some_and(|(t, ..)| t == *tag) =>
+            {
+                self.output_answer(result, view)
+            }
+            PaneEvent::Reply { tag, line, result } if self.outputs_read == Some(*tag) => {
+                self.output_read(line, result, view)
+            }
             PaneEvent::Reply { tag, result, .. } => {
                 self.answer(*tag, result.as_ref().err().map(|e| e.to_string()))
+            }
+            PaneEvent::Focused => {
+                let mut requests = self.sync_watches(view, true);
+                requests.extend(self.read_outputs(view));
+                Outcome::Handled(requests)
             }
             PaneEvent::Wake { tag } if self.deadman_tag == Some(*tag) => self.deadman(),
             PaneEvent::RunEnded(aftermath) => {
@@ -711,7 +1204,19 @@ impl Pane for BringUpPane {
                 self.say(role, aftermath.summary());
                 Outcome::redraw()
             }
-            PaneEvent::Unfocused => self.stop("the pane lost the keyboard"),
+            PaneEvent::Unfocused => {
+                self.confirm = None;
+                self.outputs_read = None;
+                let watches = self.sync_watches(view, false);
+                match self.stop("the pane lost the keyboard") {
+                    Outcome::Handled(mut requests) => {
+                        requests.extend(watches);
+                        Outcome::Handled(requests)
+                    }
+                    Outcome::Ignored if watches.is_empty() => Outcome::Ignored,
+                    Outcome::Ignored => Outcome::Handled(watches),
+                }
+            }
             PaneEvent::Stopping => {
                 // F12: the emergency stop goes ahead of everything; our
                 // lines still waiting were dropped.
@@ -727,6 +1232,34 @@ impl Pane for BringUpPane {
                 }
             }
             PaneEvent::Snapshot => {
+                // The selected axis's switches follow it; the first
+                // snapshot of a session brings its plan.
+                let watches = if view.focused {
+                    let mut requests = self.sync_watches(view, true);
+                    requests.extend(self.read_outputs(view));
+                    requests
+                } else {
+                    Vec::new()
+                };
+                match self.snapshot(view) {
+                    Outcome::Handled(mut requests) => {
+                        requests.extend(watches);
+                        Outcome::Handled(requests)
+                    }
+                    Outcome::Ignored if watches.is_empty() => Outcome::Ignored,
+                    Outcome::Ignored => Outcome::Handled(watches),
+                }
+            }
+            _ => Outcome::Ignored,
+        }
+    }
+}
+
+impl BringUpPane {
+    /// A new snapshot: the jog's checks.
+    fn snapshot(&mut self, view: &View) -> Outcome {
+        {
+            {
                 let Some(session) = view.session else {
                     return self.link_lost();
                 };
@@ -748,7 +1281,6 @@ impl Pane for BringUpPane {
                     Outcome::Ignored
                 }
             }
-            _ => Outcome::Ignored,
         }
     }
 }

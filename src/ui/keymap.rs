@@ -171,6 +171,9 @@ pub enum Action {
     StepSmaller,
     JogFaster,
     JogSlower,
+    OutputNext,
+    OutputPrevious,
+    OutputToggle,
 }
 
 /// An action's name in keymap files, its word in the status bar, what it
@@ -297,6 +300,9 @@ pub const ACTIONS: &[ActionInfo] = &[
     info(Action::StepSmaller, "step_smaller", "Step size -", "make the step smaller", JOGGING),
     info(Action::JogFaster, "jog_faster", "Faster", "jog faster", JOGGING),
     info(Action::JogSlower, "jog_slower", "Slower", "jog slower", JOGGING),
+    info(Action::OutputNext, "output_next", "Next output", "choose the next output of the module", JOGGING),
+    info(Action::OutputPrevious, "output_previous", "Previous output", "choose the previous output of the module", JOGGING),
+    info(Action::OutputToggle, "output_toggle", "Switch output", "switch the chosen output on or off, after a y/n question (an output can move machinery)", JOGGING),
 ];
 
 impl Action {

@@ -160,9 +160,11 @@ impl Controller for SessionController {
         self.session.acknowledge_errors(axis, seen);
     }
 
-    fn watch(&self, axis: usize, line: &str, on: bool) -> Result<(), String> {
+    fn watch(&self, axis: usize, line: &str, on: bool, fast: bool) -> Result<(), String> {
         if on {
-            self.session.watch(axis, line).map_err(|e| e.to_string())
+            self.session
+                .watch_at(axis, line, fast)
+                .map_err(|e| e.to_string())
         } else {
             self.session.unwatch(axis, line);
             Ok(())

@@ -329,8 +329,14 @@ pub enum Request {
     DriveSimInput(String),
     /// Read `line` (a read of axis `axis`) with the status polls (`on`),
     /// or no longer; its number comes in the snapshot's
-    /// [`crate::session::AxisStatus::watched`].
-    Watch { axis: usize, line: String, on: bool },
+    /// [`crate::session::AxisStatus::watched`]; with the fast status
+    /// items when `fast` ([`crate::session::Session::watch_at`]).
+    Watch {
+        axis: usize,
+        line: String,
+        on: bool,
+        fast: bool,
+    },
     /// `:plot ARGS` typed in the command pane: for the plot pane, as
     /// [`PaneEvent::Plot`].
     Plot(String),

@@ -743,6 +743,7 @@ fn watch(axis: usize, quantity: &Quantity, on: bool) -> Vec<Request> {
             axis,
             line: line.clone(),
             on,
+            fast: false,
         }],
         Quantity::Status(_) => Vec::new(),
     }
@@ -1244,6 +1245,7 @@ mod tests {
                 s.watched = vec![crate::session::WatchedValue {
                     line: "GAP 6, 0".into(),
                     value: Some(128),
+                    reply: Some(crate::protocol::console::ReplyValue::Number(128)),
                 }];
             });
         }
@@ -1269,7 +1271,8 @@ mod tests {
             said.contains(&Request::Watch {
                 axis: 0,
                 line: "GAP 206, 0".into(),
-                on: true
+                on: true,
+                fast: false
             }),
             "{said:?}"
         );
@@ -1277,14 +1280,16 @@ mod tests {
         assert!(said.contains(&Request::Watch {
             axis: 0,
             line: "GAP 206, 0".into(),
-            on: false
+            on: false,
+            fast: false
         }));
         bench.command("add 0 206");
         let said = bench.command("clear");
         assert!(said.contains(&Request::Watch {
             axis: 0,
             line: "GAP 206, 0".into(),
-            on: false
+            on: false,
+            fast: false
         }));
         assert!(bench.plot.series_names().is_empty());
     }

@@ -180,6 +180,7 @@ pub fn status_difference(shown: &[AxisStatus], live: &[AxisStatus]) -> Differenc
             .iter()
             .map(|w| crate::session::WatchedValue {
                 value: None,
+                reply: None,
                 ..w.clone()
             })
             .collect(),

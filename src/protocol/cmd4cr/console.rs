@@ -507,6 +507,10 @@ impl FamilyConsole for Cmd4crConsole {
         Some(&super::jog::Cmd4crJog)
     }
 
+    fn io(&self) -> Option<&'static dyn crate::protocol::io::IoPlan> {
+        Some(&super::io::Cmd4crIo)
+    }
+
     fn program(&self) -> Option<&'static dyn crate::protocol::program::ProgramTool> {
         Some(&super::tool::AScriptTool)
     }

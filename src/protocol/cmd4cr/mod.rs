@@ -12,6 +12,7 @@ pub mod catalog;
 pub mod command;
 pub mod console;
 pub mod host;
+pub mod io;
 pub mod jog;
 pub mod parameter_set;
 pub mod program_control;

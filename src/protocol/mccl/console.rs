@@ -720,6 +720,10 @@ impl FamilyConsole for MclConsole {
         Some(&super::jog::McclJog)
     }
 
+    fn io(&self) -> Option<&'static dyn crate::protocol::io::IoPlan> {
+        Some(&super::io::McclIo)
+    }
+
     fn program(&self) -> Option<&'static dyn crate::protocol::program::ProgramTool> {
         Some(&super::tool::MclTool)
     }

@@ -19,6 +19,7 @@ pub mod assist;
 pub mod catalog;
 pub mod check;
 pub mod console;
+pub mod io;
 pub mod jog;
 pub mod line;
 pub mod machine;

@@ -630,6 +630,10 @@ impl FamilyConsole for Sixpack2Console {
         Some(&super::jog::Sixpack2Jog)
     }
 
+    fn io(&self) -> Option<&'static dyn crate::protocol::io::IoPlan> {
+        Some(&super::io::Sixpack2Io)
+    }
+
     fn program(&self) -> Option<&'static dyn ProgramTool> {
         Some(&super::tool::MacroTool)
     }

@@ -15,6 +15,7 @@ pub mod caution;
 pub mod command;
 pub mod console;
 pub mod frame;
+pub mod io;
 pub mod jog;
 pub mod line;
 pub mod macros;

@@ -442,6 +442,10 @@ impl FamilyConsole for TmclConsole {
         Some(&super::jog::TmclJog)
     }
 
+    fn io(&self) -> Option<&'static dyn crate::protocol::io::IoPlan> {
+        Some(&super::io::TmclIo)
+    }
+
     fn program(&self) -> Option<&'static dyn crate::protocol::program::ProgramTool> {
         Some(&super::tool::TmclTool)
     }

@@ -8,6 +8,7 @@ pub mod command;
 pub mod console;
 pub mod frame;
 pub mod hex;
+pub mod io;
 pub mod jog;
 pub mod line;
 pub mod parameter_set;

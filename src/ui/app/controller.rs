@@ -90,9 +90,10 @@ pub trait Controller: Send + Sync {
     }
     fn acknowledge_errors(&self, axis: usize, seen: &[AxisFlag]);
     /// Poll `line` (a read of `axis`) with the status (`on`) or no longer
-    /// ([`crate::session::Session::watch`]). By default it cannot.
-    fn watch(&self, axis: usize, line: &str, on: bool) -> Result<(), String> {
-        let _ = (axis, on);
+    /// ([`crate::session::Session::watch_at`]), with the fast status
+    /// items when `fast`. By default it cannot.
+    fn watch(&self, axis: usize, line: &str, on: bool, fast: bool) -> Result<(), String> {
+        let _ = (axis, on, fast);
         Err(format!(
             "this connection cannot poll {line} with the status"
         ))

@@ -1014,14 +1014,19 @@ impl Runner {
                 };
                 queue.push(AppEvent::Notice(notice));
             }
-            Effect::Watch { axis, line, on } => {
+            Effect::Watch {
+                axis,
+                line,
+                on,
+                fast,
+            } => {
                 let Some(c) = self.selected(app) else {
                     queue.push(not_connected());
                     return;
                 };
-                if let Err(message) = c.controller.watch(axis, &line, on) {
+                if let Err(message) = c.controller.watch(axis, &line, on, fast) {
                     queue.push(AppEvent::Notice(Notice::error(format!(
-                        "cannot plot {line}: {message}"
+                        "cannot poll {line}: {message}"
                     ))));
                 }
             }
