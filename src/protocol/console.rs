@@ -686,6 +686,14 @@ pub trait FamilyConsole: Send + Sync {
         None
     }
 
+    /// How the family's raw positions, speeds and accelerations relate to
+    /// motor steps, from its manual, and where a line's operands are: for
+    /// values given and shown in an axis's own units
+    /// ([`crate::protocol::units`]). `None` (the default): raw only.
+    fn units(&self) -> Option<&'static dyn super::units::UnitLaw> {
+        None
+    }
+
     /// The family's parameter tables and how to read, write, store and
     /// restore one, for the parameter table; `None` if it has none.
     fn parameters(&self) -> Option<&'static dyn ParameterSet> {

@@ -18,6 +18,7 @@ use std::collections::HashMap;
 use std::fmt::Write as _;
 
 use crate::protocol::parameters::{ParamRole, ParamRow, ParameterSet, Scope};
+use crate::protocol::units::MechanicsTable;
 
 /// One value of a file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -36,6 +37,9 @@ pub struct ParamFile {
     pub entries: Vec<Entry>,
     /// Keys and values that are not parameters ("bank.9", "x = 1").
     pub problems: Vec<String>,
+    /// The axes' mechanics (`[mechanics.N]`), carried beside the
+    /// settings: the line's own units (issue 20).
+    pub mechanics: MechanicsTable,
 }
 
 /// One row as exported: its value, or why there is none.
@@ -105,6 +109,11 @@ pub fn parse(text: &str) -> Result<ParamFile, String> {
     for (key, value) in &table {
         match (key.as_str(), value) {
             ("family", toml::Value::String(name)) => file.family = Some(name.clone()),
+            ("mechanics", value) => {
+                let (mechanics, problems) = MechanicsTable::from_toml(value);
+                file.mechanics = mechanics;
+                file.problems.extend(problems);
+            }
             ("axis" | "bank", toml::Value::Table(groups)) => {
                 for (index, params) in groups {
                     let scope = index.parse::<u8>().ok().map(|n| match key.as_str() {
