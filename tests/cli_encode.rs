@@ -125,3 +125,31 @@ fn a_unit_without_mechanics_or_settings_is_refused_naming_what_is_missing() {
         stderr(&out)
     );
 }
+
+#[test]
+fn every_family_takes_values_in_the_axis_unit() {
+    let m = mechanics_file(
+        "[mechanics.0]\nunit = \"mm\"\nfull_steps_per_rev = 200\nmicrosteps = 10\ntravel_per_rev = 5\n\
+         [mechanics.1]\nunit = \"deg\"\ncounts_per_rev = 8000\ntravel_per_rev = 360\n\
+         [axis.1]\n9 = 10000\n12 = 10000\n",
+    );
+    let path = m.path().to_str().expect("utf-8");
+    let out = axterm(&["encode", "cmd4cr", "--mechanics", path, "HSPDX=20mm/s"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(stdout(&out), "@01HSPDX=8000\\r\n");
+    // MCCL user scaling US 1, UR 1 (rows 9 and 12, held in 1/10000).
+    let out = axterm(&["encode", "mccl", "--mechanics", path, "1MA90deg"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(stdout(&out), "1MA2000\\r\n");
+    let out = axterm(&["encode", "sixpack2", "--mechanics", path, "StartRamp 0 1mm"]);
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "the SIXpack 2's 16 µsteps are not 10"
+    );
+    assert!(
+        stderr(&out).contains("the module is set to 16"),
+        "{}",
+        stderr(&out)
+    );
+}
