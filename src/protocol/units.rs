@@ -438,34 +438,24 @@ pub fn axes_needed(law: &dyn UnitLaw, line: &str) -> Vec<u8> {
     axes
 }
 
-/// `line` with every value given in an axis's unit turned into the raw
-/// number it is under the module's settings (`value_of`), with a note
-/// for each; an error names the value and what is wrong (no mechanics
-/// for its axis, another unit, a setting not known, a result no whole
-/// number can hold). The family checks the line's ranges afterwards.
-pub fn convert_line(
-    law: Option<&dyn UnitLaw>,
-    line: &str,
-    mechanics: &MechanicsTable,
-    value_of: &ValueOf,
-) -> Result<Converted, String> {
-    let mut out = String::new();
-    let mut notes = Vec::new();
-    let mut at = 0;
-    let found: Vec<(Operand, &str)> = suffixed(law, line).collect();
-    if found.is_empty() {
-        return Ok(Converted {
-            line: line.to_string(),
-            notes,
-        });
-    }
-    let Some(law) = law else {
-        return Ok(Converted {
-            line: line.to_string(),
-            notes,
-        });
-    };
-    for (operand, text) in found {
+/// One unit value of a line, checked against its axis's mechanics.
+struct Found<'a> {
+    operand: Operand,
+    text: &'a str,
+    amount: UnitAmount,
+    mechanics: &'a Mechanics,
+}
+
+/// Every unit value of `line` with its mechanics; an error names the
+/// value and what is wrong (no mechanics for its axis, another unit, a
+/// speed where a position goes).
+fn found<'a>(
+    law: &dyn UnitLaw,
+    line: &'a str,
+    mechanics: &'a MechanicsTable,
+) -> Result<Vec<Found<'a>>, String> {
+    let mut all = Vec::new();
+    for (operand, text) in suffixed(Some(law), line) {
         let amount = match UnitAmount::parse(text) {
             Some(Ok(amount)) => amount,
             Some(Err(why)) => return Err(why),
@@ -496,12 +486,70 @@ pub fn convert_line(
                 operand.quantity.unit_text(&m.unit)
             ));
         }
-        let module_micro = law.microsteps(axis, value_of).transpose()?;
+        all.push(Found {
+            operand,
+            text,
+            amount,
+            mechanics: m,
+        });
+    }
+    Ok(all)
+}
+
+/// Check `line`'s unit values against the mechanics without the
+/// module's settings: what can be refused before anything is read.
+pub fn check_line(
+    law: Option<&dyn UnitLaw>,
+    line: &str,
+    mechanics: &MechanicsTable,
+) -> Result<(), String> {
+    match law {
+        Some(law) => found(law, line, mechanics).map(|_| ()),
+        None => Ok(()),
+    }
+}
+
+/// `line` with every value given in an axis's unit turned into the raw
+/// number it is under the module's settings (`value_of`), with a note
+/// for each; an error names the value and what is wrong (no mechanics
+/// for its axis, another unit, a setting not known, a result no whole
+/// number can hold). The family checks the line's ranges afterwards.
+pub fn convert_line(
+    law: Option<&dyn UnitLaw>,
+    line: &str,
+    mechanics: &MechanicsTable,
+    value_of: &ValueOf,
+) -> Result<Converted, String> {
+    let unchanged = || Converted {
+        line: line.to_string(),
+        notes: Vec::new(),
+    };
+    let Some(law) = law else {
+        return Ok(unchanged());
+    };
+    let all = found(law, line, mechanics)?;
+    if all.is_empty() {
+        return Ok(unchanged());
+    }
+    let mut out = String::new();
+    let mut notes = Vec::new();
+    let mut at = 0;
+    for Found {
+        operand,
+        text,
+        amount,
+        mechanics: m,
+    } in all
+    {
+        let module_micro = law
+            .microsteps(operand.axis, value_of)
+            .transpose()
+            .map_err(|e| format!("`{text}`: {e}"))?;
         let steps_per_unit = m
             .steps_per_unit(module_micro)
             .map_err(|e| format!("`{text}`: {e}"))?;
         let per_raw = law
-            .steps_per_raw(axis, operand.quantity, value_of)
+            .steps_per_raw(operand.axis, operand.quantity, value_of)
             .map_err(|e| format!("`{text}`: {e}"))?;
         let raw = amount.amount * steps_per_unit / per_raw;
         if !raw.is_finite() || raw.abs() >= 9.0e15 {

@@ -29,6 +29,7 @@ pub mod run_end;
 pub mod settings;
 mod status;
 pub mod transfer;
+mod units;
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
