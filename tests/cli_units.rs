@@ -218,3 +218,70 @@ fn first_line(out: &std::process::Output) -> String {
         .map(|l| format!("{l}\n"))
         .unwrap_or_default()
 }
+
+#[test]
+fn params_export_carries_the_mechanics_in_force_and_diff_compares_them() {
+    let m = file(MM_AXIS);
+    let dir = tempfile::tempdir().expect("temp dir");
+    let exported = dir.path().join("line3.toml");
+    let exported_path = exported.to_str().expect("utf-8");
+    let out = axterm(&[
+        "params",
+        "export",
+        "--sim",
+        "tmcm1110",
+        "--mechanics",
+        path(&m),
+        exported_path,
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&exported).expect("written");
+    assert!(
+        text.contains("\n[mechanics.0]\nunit = \"mm\"\nfull_steps_per_rev = 200\n"),
+        "{text}"
+    );
+    // The export is a mechanics file with the module's own settings: an
+    // offline speed converts with its pulse divisor.
+    let out = axterm(&[
+        "encode",
+        "tmcl",
+        "--mechanics",
+        exported_path,
+        "SAP 4, 0, 5mm/s",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(stderr(&out).contains("→ 1678"), "{}", stderr(&out));
+    let out = axterm(&["params", "diff", "--sim", "tmcm1110", exported_path]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("carries the mechanics of axis 0: not written"),
+        "{}",
+        stderr(&out)
+    );
+    let other = file(&MM_AXIS.replace("travel_per_rev = 5", "travel_per_rev = 4"));
+    let out = axterm(&[
+        "params",
+        "diff",
+        "--sim",
+        "tmcm1110",
+        "--mechanics",
+        path(&other),
+        exported_path,
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("mechanics differ from those in force"),
+        "{}",
+        stderr(&out)
+    );
+    // Mechanics of an axis the module lacks, or malformed, are refused.
+    let bad = text.replace("[mechanics.0]", "[mechanics.3]");
+    std::fs::write(&exported, bad).expect("written");
+    let out = axterm(&["params", "apply", "--sim", "tmcm1110", exported_path]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("[mechanics.3]: this module has no axis 3"),
+        "{}",
+        stderr(&out)
+    );
+}

@@ -439,7 +439,9 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::RunMacro(args)) => run_macro::run(&cli.connection, &args),
         Some(Command::Scan(args)) => scan::run(&cli.connection, &args),
         Some(Command::Bench(args)) => bench::run(&cli.connection, &args),
-        Some(Command::Params { command }) => params::run(&cli.connection, &command),
+        Some(Command::Params { command }) => {
+            params::run(&cli.connection, &command, cli.mechanics.as_deref())
+        }
         Some(Command::Asm {
             file,
             listing,

@@ -224,6 +224,10 @@ pub struct CheckedFile {
     /// What was not taken from it, and why (the file's own problems
     /// first): each names the parameter.
     pub problems: Vec<String>,
+    /// The axes' mechanics it carries, of axes the module has: not
+    /// written to the module (they are the console's), carried for the
+    /// line's own units.
+    pub mechanics: MechanicsTable,
 }
 
 /// Why a file is not for this module: it names another family.
@@ -240,6 +244,16 @@ pub fn family_mismatch(file: &ParamFile, family: &str) -> Option<String> {
 pub fn check(file: ParamFile, parameters: &dyn ParameterSet, axes: &[u8]) -> CheckedFile {
     let mut problems = file.problems;
     let mut entries = Vec::new();
+    let mut mechanics = file.mechanics;
+    mechanics.axes.retain(|axis, _| {
+        let here = axes.contains(axis);
+        if !here {
+            problems.push(format!(
+                "[mechanics.{axis}]: this module has no axis {axis}"
+            ));
+        }
+        here
+    });
     let mut tables: HashMap<Scope, Vec<ParamRow>> = HashMap::new();
     for &axis in axes {
         for table in parameters.tables(axis) {
@@ -278,7 +292,11 @@ pub fn check(file: ParamFile, parameters: &dyn ParameterSet, axes: &[u8]) -> Che
                 .to_string(),
         );
     }
-    CheckedFile { entries, problems }
+    CheckedFile {
+        entries,
+        problems,
+        mechanics,
+    }
 }
 
 #[cfg(test)]

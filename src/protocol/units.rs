@@ -77,6 +77,22 @@ pub struct Mechanics {
 // is an equivalence: files holding mechanics compare as wholes.
 impl Eq for Mechanics {}
 
+impl fmt::Display for Mechanics {
+    /// `200 full steps × 256 µsteps, gear 1, 5 mm a turn`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match (self.revolution, self.microsteps) {
+            (MotorRevolution::FullSteps(n), Some(m)) => write!(f, "{n} full steps × {m} µsteps")?,
+            (MotorRevolution::FullSteps(n), None) => write!(f, "{n} full steps")?,
+            (MotorRevolution::Counts(n), _) => write!(f, "{n} counts")?,
+        }
+        write!(
+            f,
+            ", gear {}, {} {} a turn",
+            self.gear_ratio, self.travel_per_rev, self.unit
+        )
+    }
+}
+
 /// The mechanics of every axis that has some, by axis number.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub struct MechanicsTable {
