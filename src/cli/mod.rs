@@ -467,6 +467,7 @@ pub fn run(cli: Cli) -> i32 {
                 config_dir: crate::ui::config::platform_config_dir(),
                 mouse: cli.mouse,
             },
+            cli.mechanics.as_deref(),
         ),
     }
 }

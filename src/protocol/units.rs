@@ -306,6 +306,9 @@ impl Mechanics {
     }
 }
 
+/// The mechanics in force, shared by every module a console works with.
+pub type SharedMechanics = std::sync::Arc<std::sync::RwLock<MechanicsTable>>;
+
 /// A value as typed with a unit suffix: `12.5mm`, `20mm/s`, `100mm/s2`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct UnitAmount {

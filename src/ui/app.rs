@@ -186,6 +186,8 @@ pub enum Effect {
     /// Drive an input of the connected simulator; the answer back as an
     /// [`AppEvent::Notice`].
     DriveSimInput(String),
+    /// Take these mechanics as those in force, on every module.
+    Mechanics(crate::protocol::units::MechanicsTable),
     /// Poll a read line with the status, or no longer
     /// ([`Request::Watch`]); a refusal back as an [`AppEvent::Notice`].
     Watch {
@@ -892,6 +894,7 @@ impl App {
                 effects.push(Effect::LoadProgram { pane, tag, source })
             }
             Request::DriveSimInput(setting) => effects.push(Effect::DriveSimInput(setting)),
+            Request::Mechanics(table) => effects.push(Effect::Mechanics(table)),
             Request::Watch { axis, line, on } => effects.push(Effect::Watch { axis, line, on }),
             Request::Plot(args) => self.broadcast(&PaneEvent::Plot(args), effects),
             Request::Say(notice) => self.broadcast(&PaneEvent::Notice(notice), effects),
@@ -913,6 +916,7 @@ fn same(a: &Snapshot, b: &Snapshot) -> bool {
         && a.identity == b.identity
         && a.poll == b.poll
         && a.settings == b.settings
+        && a.mechanics == b.mechanics
         && a.axis == b.axis
         && std::ptr::eq(a.family, b.family)
 }
@@ -1071,6 +1075,7 @@ mod tests {
             identity: None,
             poll: Some(PollCadence::default()),
             settings: Default::default(),
+            mechanics: Default::default(),
             axis: 0,
         }
     }

@@ -1034,6 +1034,7 @@ mod tests {
             identity: None,
             poll: None,
             settings: Default::default(),
+            mechanics: Default::default(),
             axis: 0,
         }
     }
@@ -1102,6 +1103,7 @@ mod tests {
                     identity: None,
                     poll: None,
                     settings: Default::default(),
+                    mechanics: Default::default(),
                     axis: 0,
                 },
                 theme: Theme::builtin("dark").expect("theme"),
