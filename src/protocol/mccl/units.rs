@@ -27,7 +27,7 @@ pub struct MclUnits;
 
 impl UnitLaw for MclUnits {
     fn inputs(&self, axis: u8) -> Vec<(Scope, u16)> {
-        ["US", "UR"]
+        ["US", "UR", "UO", "UZ"]
             .iter()
             .filter_map(|c| user_setting_row(c))
             .map(|(number, _)| (Scope::Axis(axis), number))
@@ -57,7 +57,23 @@ impl UnitLaw for MclUnits {
         };
         let scale = read("US")?;
         Ok(match quantity {
-            Quantity::Position => scale,
+            Quantity::Position => {
+                // The manual gives no mapping of the user offset and zero
+                // (digest §14 [?]): a position is converted only without them.
+                for command in ["UO", "UZ"] {
+                    let set = user_setting_row(command)
+                        .and_then(|(number, _)| value_of(Scope::Axis(axis), number))
+                        .filter(|v| *v != 0);
+                    if set.is_some() {
+                        return Err(format!(
+                            "axis {axis} has a user {} ({command}) set, and the manual gives no \
+                             mapping of it (Ch5): give the position raw",
+                            if command == "UO" { "offset" } else { "zero" }
+                        ));
+                    }
+                }
+                scale
+            }
             Quantity::Speed => scale / read("UR")?,
             Quantity::Acceleration => scale / read("UR")?.powi(2),
         })
@@ -157,6 +173,16 @@ mod tests {
         )
         .expect("converts");
         assert_eq!(c.line, "1MA0.25,SV60,WS0.5,MR-0.125");
+        let offset = |scope: Scope, number: u16| {
+            let (uo, _) = user_setting_row("UO").expect("UO");
+            if number == uo {
+                Some(10_000)
+            } else {
+                user(1.0, 1.0)(scope, number)
+            }
+        };
+        let err = convert_line(Some(&MclUnits), "1MA90deg", &m, &offset).unwrap_err();
+        assert!(err.contains("user offset (UO)"), "{err}");
         let err = convert_line(Some(&MclUnits), "2MA1deg", &m, &user(1.0, 1.0)).unwrap_err();
         assert!(err.contains("axis 2 has no mechanics"), "{err}");
         let err = convert_line(Some(&MclUnits), "1SA1deg/s", &m, &|_, _| None).unwrap_err();
