@@ -409,6 +409,14 @@ pub trait UnitLaw: Send + Sync {
     /// the family cannot read here has none (its parser says why).
     fn operands(&self, line: &str) -> Vec<Operand>;
 
+    /// What a parameter row holds, where it is an axis's position, speed
+    /// or acceleration in the law's raw terms: the parameter table shows
+    /// it in the axis's unit. None by default.
+    fn row_quantity(&self, row: &super::parameters::ParamRow) -> Option<Quantity> {
+        let _ = row;
+        None
+    }
+
     /// A converted raw value as the line is written: a whole number by
     /// default (rounded).
     fn raw_text(&self, raw: f64) -> String {

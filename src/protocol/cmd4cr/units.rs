@@ -81,6 +81,18 @@ impl UnitLaw for Cmd4crUnits {
         }
     }
 
+    fn row_quantity(&self, row: &crate::protocol::parameters::ParamRow) -> Option<Quantity> {
+        // The per-axis speed rows (HSPDX, LSPDY…) hold pps as they are.
+        let Scope::Axis(_) = row.scope else {
+            return None;
+        };
+        let keyword = row.name.get(..row.name.len().checked_sub(1)?)?;
+        SETTINGS
+            .iter()
+            .find(|(k, q)| *q == Quantity::Speed && k.eq_ignore_ascii_case(keyword))
+            .map(|&(_, q)| q)
+    }
+
     fn operands(&self, line: &str) -> Vec<Operand> {
         let trimmed = line.trim_start();
         let offset = line.len() - trimmed.len();

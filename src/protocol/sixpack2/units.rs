@@ -31,6 +31,17 @@ pub fn step_frequency(clkdiv: u8, div: u8) -> f64 {
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Sixpack2Units;
 
+/// What a field holds, by its unit in the catalogue.
+fn field_quantity(field: &super::catalog::Field) -> Option<Quantity> {
+    match (field.unit, field.name) {
+        ("µsteps", _) => Some(Quantity::Position),
+        // vmin runs at div 3 whatever the motor's div (§7.1 $13).
+        ("v", name) if name != "vmin" => Some(Quantity::Speed),
+        (_, "amax") => Some(Quantity::Acceleration),
+        _ => None,
+    }
+}
+
 fn settings(axis: u8, value_of: &ValueOf) -> Result<(u8, u8), String> {
     let clkdiv = value_of(Scope::Bank(0), row_number(CLOCK_DIVIDER.0, CLOCK_DIVIDER.1)).ok_or(
         "needs the ClockDivider ($12): not written this session (the module reads none back)",
@@ -80,6 +91,16 @@ impl UnitLaw for Sixpack2Units {
         Some(Ok(MICROSTEPS))
     }
 
+    fn row_quantity(&self, row: &crate::protocol::parameters::ParamRow) -> Option<Quantity> {
+        // A row is a command's field (`$14` P3-4 vmax is 0x1402).
+        let Scope::Axis(_) = row.scope else {
+            return None;
+        };
+        let spec = super::catalog::by_code(u8::try_from(row.number >> 8).ok()?)?;
+        let field = spec.fields.get(usize::from(row.number & 0xFF))?;
+        field_quantity(field)
+    }
+
     fn operands(&self, line: &str) -> Vec<Operand> {
         let (Some(head), words) = split_operands(line) else {
             return Vec::new();
@@ -101,12 +122,8 @@ impl UnitLaw for Sixpack2Units {
                 motor = line.get(span.clone()).and_then(|t| t.parse::<u8>().ok());
                 continue;
             }
-            let quantity = match (field.unit, field.name) {
-                ("µsteps", _) => Quantity::Position,
-                // vmin runs at div 3 whatever the motor's div (§7.1 $13).
-                ("v", name) if name != "vmin" => Quantity::Speed,
-                (_, "amax") => Quantity::Acceleration,
-                _ => continue,
+            let Some(quantity) = field_quantity(field) else {
+                continue;
             };
             found.push((span, quantity));
         }
@@ -136,6 +153,25 @@ mod tests {
             (Scope::Axis(_), n) if n == row_number(0x13, 3) => Some(2),
             _ => None,
         }
+    }
+
+    #[test]
+    fn the_parameter_rows_in_motor_steps_are_known_by_their_field() {
+        use crate::protocol::parameters::ParameterSet;
+        let tables = super::super::parameter_set::Sixpack2Parameters.tables(0);
+        let quantity = |number: u16| {
+            let row = tables
+                .iter()
+                .flat_map(|t| t.rows.iter())
+                .find(|r| r.scope == Scope::Axis(0) && r.number == number)
+                .unwrap_or_else(|| panic!("row {number:#x}"));
+            Sixpack2Units.row_quantity(row)
+        };
+        assert_eq!(quantity(0x1402), Some(Quantity::Speed), "vmax");
+        assert_eq!(quantity(0x1401), Some(Quantity::Acceleration), "amax");
+        assert_eq!(quantity(0x1302), Some(Quantity::Speed), "vstart");
+        assert_eq!(quantity(0x1301), None, "vmin runs at div 3");
+        assert_eq!(quantity(0x1303), None, "div");
     }
 
     #[test]

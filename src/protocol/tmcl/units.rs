@@ -143,6 +143,23 @@ impl crate::protocol::units::UnitLaw for TmclUnits {
         )
     }
 
+    fn row_quantity(
+        &self,
+        row: &crate::protocol::parameters::ParamRow,
+    ) -> Option<crate::protocol::units::Quantity> {
+        use super::params::{Unit, axis_param};
+        use crate::protocol::units::Quantity;
+        if !matches!(row.scope, crate::protocol::parameters::Scope::Axis(_)) {
+            return None;
+        }
+        match axis_param(u8::try_from(row.number).ok()?)?.unit {
+            Unit::Microsteps => Some(Quantity::Position),
+            Unit::VelocityInternal => Some(Quantity::Speed),
+            Unit::AccelerationInternal => Some(Quantity::Acceleration),
+            _ => None,
+        }
+    }
+
     fn operands(&self, line: &str) -> Vec<crate::protocol::units::Operand> {
         use super::params::{Unit, axis_param, axis_param_by_name};
         use crate::protocol::units::{Operand, Quantity, split_operands};
