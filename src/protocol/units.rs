@@ -329,7 +329,13 @@ impl UnitAmount {
             .find(|&(i, c)| !(c.is_ascii_digit() || c == '.' || ((c == '-' || c == '+') && i == 0)))
             .map_or(text.len(), |(i, _)| i);
         let (number, suffix) = text.split_at(number_end);
-        if !number.chars().any(|c| c.is_ascii_digit())
+        // An exponent (MCCL reals, `1.5E3`, Ch2) is part of the number.
+        let exponent = suffix
+            .strip_prefix(['e', 'E'])
+            .map(|rest| rest.strip_prefix(['+', '-']).unwrap_or(rest))
+            .is_some_and(|digits| !digits.is_empty() && digits.chars().all(|c| c.is_ascii_digit()));
+        if exponent
+            || !number.chars().any(|c| c.is_ascii_digit())
             || !suffix.chars().next().is_some_and(char::is_alphabetic)
             || suffix.starts_with(['x', 'X']) && number == "0"
         {
@@ -759,6 +765,8 @@ mod tests {
         assert_eq!(read("0x1F"), None);
         assert_eq!(read("ABS"), None);
         assert_eq!(read("-5"), None);
+        assert_eq!(read("1.5E3"), None, "an MCCL real with an exponent");
+        assert_eq!(read("2e-4"), None);
         assert!(
             read("3mm/min")
                 .expect("a unit")

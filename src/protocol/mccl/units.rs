@@ -183,6 +183,9 @@ mod tests {
         };
         let err = convert_line(Some(&MclUnits), "1MA90deg", &m, &offset).unwrap_err();
         assert!(err.contains("user offset (UO)"), "{err}");
+        // A real with an exponent is no unit value (Ch2).
+        let c = convert_line(Some(&MclUnits), "1MA1.5E3,SV2e2", &m, &|_, _| None).expect("plain");
+        assert!(!c.changed());
         let err = convert_line(Some(&MclUnits), "2MA1deg", &m, &user(1.0, 1.0)).unwrap_err();
         assert!(err.contains("axis 2 has no mechanics"), "{err}");
         let err = convert_line(Some(&MclUnits), "1SA1deg/s", &m, &|_, _| None).unwrap_err();
