@@ -184,6 +184,55 @@ pub fn parse_script(text: &str) -> Result<Vec<Step>, Vec<ScriptError>> {
 }
 
 /// One line of a file: `None` for blank lines and comments.
+/// The console lines of a script that give a value in an axis's unit
+/// (`MVP ABS, 0, 10mm`), by line number (from 1): what must be converted
+/// with the module's settings before the script is checked.
+pub fn unit_lines(
+    text: &str,
+    law: Option<&dyn crate::protocol::units::UnitLaw>,
+) -> Vec<(usize, String)> {
+    text.lines()
+        .enumerate()
+        .filter_map(|(index, raw)| match parse_script_line(raw) {
+            Ok(Some(
+                Action::Line(line) | Action::Expect { line, .. } | Action::WaitUntil { line, .. },
+            )) if crate::protocol::units::has_units(law, &line) => Some((index + 1, line)),
+            _ => None,
+        })
+        .collect()
+}
+
+/// Every console line of a script by line number (from 1).
+pub fn console_lines(text: &str) -> Vec<(usize, String)> {
+    text.lines()
+        .enumerate()
+        .filter_map(|(index, raw)| match parse_script_line(raw) {
+            Ok(Some(
+                Action::Line(line) | Action::Expect { line, .. } | Action::WaitUntil { line, .. },
+            )) => Some((index + 1, line)),
+            _ => None,
+        })
+        .collect()
+}
+
+/// `text` with the console line of each numbered line replaced (its
+/// directive and the rest of the line kept): a script's unit lines
+/// converted, line numbers unchanged for messages.
+pub fn with_lines_replaced(
+    text: &str,
+    replaced: &std::collections::HashMap<usize, (String, String)>,
+) -> String {
+    let mut out = String::new();
+    for (index, raw) in text.lines().enumerate() {
+        match replaced.get(&(index + 1)) {
+            Some((from, to)) => out.push_str(&raw.replacen(from.as_str(), to, 1)),
+            None => out.push_str(raw),
+        }
+        out.push('\n');
+    }
+    out
+}
+
 pub fn parse_script_line(raw: &str) -> Result<Option<Action>, String> {
     let line = raw.trim();
     if line.is_empty() || line.starts_with('#') || line.starts_with("//") {

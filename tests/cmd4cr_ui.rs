@@ -34,6 +34,7 @@ fn snapshot(status: Vec<AxisStatus>) -> Snapshot {
         identity: Some("V126BL".into()),
         poll: Some(PollCadence::default()),
         settings: Default::default(),
+        mechanics: Default::default(),
         axis: 0,
     }
 }

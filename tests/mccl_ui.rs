@@ -39,6 +39,7 @@ fn snapshot(status: Vec<AxisStatus>) -> Snapshot {
         poll: Some(PollCadence::default()),
         axis: 0,
         settings: Default::default(),
+        mechanics: Default::default(),
     }
 }
 

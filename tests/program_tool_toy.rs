@@ -768,6 +768,7 @@ fn toy_snapshot() -> Snapshot {
         identity: None,
         poll: None,
         settings: Default::default(),
+        mechanics: Default::default(),
         axis: 0,
     }
 }

@@ -25,6 +25,7 @@ fn sixpack2_snapshot(settings: SettingsCache) -> Snapshot {
         address: 0,
         link_name: "sim sixpack2".into(),
         settings: Arc::new(settings),
+        mechanics: Default::default(),
         ..snapshot(family.console.axes().to_vec())
     }
 }

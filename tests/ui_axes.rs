@@ -505,3 +505,45 @@ fn columns_stay_put_when_a_number_gains_a_digit() {
         }
     }
 }
+
+/// With mechanics in force the units key goes on past rpm to the axes'
+/// own units: each value beside its raw number, converted with the
+/// module's settings read afresh (TMCL §6.1: positions in µsteps, speeds
+/// with the pulse divisor; AP140 for the microsteps).
+#[test]
+fn with_mechanics_the_units_key_shows_the_axis_own_units_beside_raw() {
+    let mut module = SimModule::new();
+    for line in ["SAP 140, 0, 8", "SAP 154, 0, 3"] {
+        module.answer(line).expect("the simulator takes it");
+    }
+    let mut app = console();
+    let mut s = snapshot(axes(&["motor 0"]));
+    let value: toml::Table = "[mechanics.0]\nunit = \"mm\"\nfull_steps_per_rev = 200\n\
+                              travel_per_rev = 5\n"
+        .parse()
+        .expect("toml");
+    let (mechanics, problems) =
+        axterm::protocol::units::MechanicsTable::from_toml(&value["mechanics"]);
+    assert!(problems.is_empty(), "{problems:?}");
+    s.mechanics = std::sync::Arc::new(mechanics);
+    // 102400 µsteps at 10240 a mm: 10 mm; 1678 [int] at divisor 3 is
+    // 51208.5 pps (§6.1.1), 5.0 mm/s.
+    s.status[0] = moving_status(51_200, 102_400, 1_678, 1_678);
+    app.handle(AppEvent::Snapshot(s));
+    app.focus("axes");
+    for _ in 0..3 {
+        let effects = app.handle(key(KeyCode::Char('u')));
+        serve(&mut app, &mut module, effects);
+    }
+    let lines = screen(&mut app, 120, 30);
+    let all = lines.join("\n");
+    assert!(lines[0].contains("u units: axis units"), "{all}");
+    assert!(
+        lines[1].contains("51200 = 5 mm") && lines[1].contains("102400 = 10 mm"),
+        "{all}"
+    );
+    assert_eq!(lines[2].matches("1678 = 5.001 mm/s").count(), 2, "{all}");
+    let effects = app.handle(key(KeyCode::Char('u')));
+    assert!(sent_lines(&effects).is_empty(), "{effects:?}");
+    assert!(screen(&mut app, 120, 30)[0].contains("u units: raw"));
+}

@@ -474,3 +474,35 @@ fn the_table_reads_values_two_answers_agree_on_and_writes_plainly() {
         "{effects:?}"
     );
 }
+
+/// With mechanics in force the units key goes on from rpm to the axes'
+/// own units: the maximum positioning speed in mm/s by §6.1.1 with the
+/// pulse divisor read in the table.
+#[test]
+fn with_mechanics_the_real_column_shows_the_axis_own_units() {
+    let mut app = console("default");
+    let mut module = SimModule::new();
+    for line in ["SAP 140, 0, 8", "SAP 154, 0, 3", "SAP 4, 0, 1678"] {
+        module.answer(line).expect("the simulator takes it");
+    }
+    let mut s = tmcl_snapshot();
+    let (mechanics, _) = axterm::protocol::units::MechanicsTable::parse_file(
+        "[mechanics.0]\nunit = \"mm\"\nfull_steps_per_rev = 200\ntravel_per_rev = 5\n",
+    )
+    .expect("mechanics");
+    s.mechanics = std::sync::Arc::new(mechanics);
+    app.handle(AppEvent::Snapshot(s));
+    let effects = app.handle(key_with(KeyCode::Char('3'), KeyModifiers::ALT));
+    serve(&mut app, &mut module, effects);
+    filter(&mut app, &mut module, "maximum positioning");
+    press(&mut app, &mut module, KeyCode::Char('u'));
+    press(&mut app, &mut module, KeyCode::Char('u'));
+    let text = screen_text(&mut app, 100, 30);
+    // 1678 [int] at divisor 3 ≈ 51208.5 pps; 10240 µsteps a mm.
+    assert!(
+        text.contains("5.001 mm/s") && text.contains("real: axis units"),
+        "{text}"
+    );
+    press(&mut app, &mut module, KeyCode::Char('u'));
+    assert!(screen_text(&mut app, 100, 30).contains("real: pps"));
+}

@@ -47,6 +47,7 @@ fn snapshot(session: &Session, sim: &str, axis: usize) -> Snapshot {
         identity: None,
         poll: None,
         settings: Arc::new(session.settings().borrow().clone()),
+        mechanics: Default::default(),
         axis,
     }
 }

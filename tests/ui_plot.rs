@@ -353,3 +353,30 @@ fn letters_typed_in_the_picker_filter_and_quit_nothing_in_the_vim_keymap() {
     app.handle(key(KeyCode::Esc));
     assert!(app.handle(key(KeyCode::Char('q'))).contains(&Effect::Quit));
 }
+
+/// With mechanics in force a position chart is drawn in the axis's unit
+/// (TMCL positions are microsteps, §4 AP1: 10240 a mm with these
+/// mechanics); speeds, which need the pulse divisor the plot does not
+/// read, stay raw.
+#[test]
+fn with_mechanics_positions_are_plotted_in_the_axis_unit() {
+    let hand = Hand::new();
+    let mut app = console("dark", &hand);
+    let (mechanics, _) = axterm::protocol::units::MechanicsTable::parse_file(
+        "[mechanics.0]\nunit = \"mm\"\nfull_steps_per_rev = 200\nmicrosteps = 256\n\
+         travel_per_rev = 5\n",
+    )
+    .expect("mechanics");
+    let mechanics = Arc::new(mechanics);
+    for step in 0..=8 {
+        let mut s = at(step * 12_800, 1000);
+        s.mechanics = Arc::clone(&mechanics);
+        app.handle(AppEvent::Snapshot(s));
+        hand.advance(Duration::from_millis(500));
+    }
+    let all = text(&mut app, 120, 40);
+    assert!(all.contains("position (mm)"), "{all}");
+    assert!(all.contains("speed (raw)"), "{all}");
+    // 0 to 102400 µsteps is 0 to 10 mm: the axis spans about 11, not 107520.
+    assert!(all.contains("11│") && !all.contains("107520"), "{all}");
+}

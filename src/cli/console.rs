@@ -8,6 +8,7 @@ use super::connection::{Target, runtime};
 use super::links::{all_links, parse_from};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::link::LinkSpec;
+use crate::protocol::units::SharedMechanics;
 use crate::ui::PaneSetup;
 use crate::ui::app::{Connector, Controller};
 use crate::ui::live::{Appearance, SessionController, identify_later, run_terminal};
@@ -31,7 +32,10 @@ fn has_connection(args: &ConnectionArgs) -> bool {
 /// Open the connection the options describe and start polling its status:
 /// its first module's controller, which brings the others of an address
 /// list (`--address 1-4`, [`Controller::other_modules`]).
-async fn open(args: &ConnectionArgs) -> Result<Arc<dyn Controller>, (i32, String)> {
+async fn open(
+    args: &ConnectionArgs,
+    mechanics: &SharedMechanics,
+) -> Result<Arc<dyn Controller>, (i32, String)> {
     let target = Target::resolve_modules(args).map_err(|m| (EXIT_USAGE, m))?;
     let session = target
         .open()
@@ -41,7 +45,8 @@ async fn open(args: &ConnectionArgs) -> Result<Arc<dyn Controller>, (i32, String
     let others = target.addresses.iter().skip(1).copied().collect();
     let controller =
         SessionController::new(session, target.spec.describe(), target.options.clone())
-            .with_other_modules(others);
+            .with_other_modules(others)
+            .with_mechanics(mechanics.clone());
     Ok(Arc::new(match &target.spec {
         LinkSpec::Sim { sim, .. } => controller.with_simulator(Arc::clone(sim)),
         _ => controller,
@@ -61,9 +66,10 @@ pub const TEST_PANIC_MESSAGE: &str =
     "AXTERM_TEST_PANIC is set: a deliberate panic inside the console (test only)";
 
 /// `:connect ARGS`: the same options as on the command line.
-fn connector() -> Connector {
+fn connector(mechanics: SharedMechanics) -> Connector {
     let crash = std::env::var_os(TEST_PANIC_VAR).is_some();
     Box::new(move |args: Vec<String>| {
+        let mechanics = mechanics.clone();
         // The connector is called from the console loop itself (not from
         // a task of its own): a panic here unwinds through the loop with
         // the terminal in raw mode and on the alternate screen.
@@ -86,14 +92,29 @@ fn connector() -> Connector {
                     super::links::describe_links(&cli.connection)
                 ));
             }
-            open(&cli.connection)
+            open(&cli.connection, &mechanics)
                 .await
                 .map_err(|(_, message)| format!(":connect: {message}"))
         })
     })
 }
 
-pub fn run(args: &ConnectionArgs, appearance: Appearance) -> i32 {
+/// `mechanics`: the file `--mechanics` names; its mechanics are those in
+/// force from the start (`:mechanics FILE` changes them).
+pub fn run(
+    args: &ConnectionArgs,
+    appearance: Appearance,
+    mechanics: Option<&std::path::Path>,
+) -> i32 {
+    let mechanics: SharedMechanics = match super::mechanics::load(mechanics) {
+        Ok(m) => Arc::new(std::sync::RwLock::new(
+            m.map(|m| m.table).unwrap_or_default(),
+        )),
+        Err(message) => {
+            eprintln!("axterm: {message}");
+            return EXIT_USAGE;
+        }
+    };
     // Usage errors are reported before the terminal is touched.
     if has_connection(args) {
         for link in all_links(args) {
@@ -117,7 +138,7 @@ pub fn run(args: &ConnectionArgs, appearance: Appearance) -> i32 {
         let mut links = Vec::new();
         if has_connection(args) {
             for link in all_links(args) {
-                match open(link).await {
+                match open(link, &mechanics).await {
                     Ok(controller) => {
                         let others = controller.other_modules();
                         links.push(std::iter::once(controller).chain(others).collect());
@@ -129,7 +150,7 @@ pub fn run(args: &ConnectionArgs, appearance: Appearance) -> i32 {
                 }
             }
         }
-        match run_terminal(links, connector(), &setup, &appearance).await {
+        match run_terminal(links, connector(mechanics), &setup, &appearance).await {
             Ok(()) => EXIT_OK,
             Err(e) => {
                 eprintln!("axterm: the terminal failed: {e}");

@@ -14,6 +14,9 @@ use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::protocol::Family;
 use crate::protocol::console::PreparedLine;
 use crate::protocol::settings::SettingsCache;
+use crate::protocol::units::{MechanicsTable, check_line, has_units};
+use crate::session::Session;
+use std::path::Path;
 
 #[derive(Debug, Clone, Args)]
 pub struct ExecArgs {
@@ -32,7 +35,7 @@ pub struct ExecArgs {
     pub fleet: FleetArgs,
 }
 
-pub fn run(connection: &ConnectionArgs, args: &ExecArgs) -> i32 {
+pub fn run(connection: &ConnectionArgs, args: &ExecArgs, mechanics: Option<&Path>) -> i32 {
     let links = match FleetLink::resolve_all(connection, &args.fleet) {
         Ok(links) => links,
         Err(message) => {
@@ -40,6 +43,14 @@ pub fn run(connection: &ConnectionArgs, args: &ExecArgs) -> i32 {
             return EXIT_USAGE;
         }
     };
+    let mechanics = match super::mechanics::load(mechanics) {
+        Ok(m) => m.map(|m| m.table).unwrap_or_default(),
+        Err(message) => {
+            eprintln!("axterm exec: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    let one_module = !FleetLink::several(&links);
     let mut refused = false;
     let mut prepared = Vec::new();
     // The family's warnings once a family; every line checked for every
@@ -52,7 +63,14 @@ pub fn run(connection: &ConnectionArgs, args: &ExecArgs) -> i32 {
         let family = link.target.family;
         let first_of_family = !cautioned.iter().any(|f| std::ptr::eq(*f, family));
         cautioned.push(family);
-        let (lines, ok) = check_lines(&on, family, link.target.address, args, first_of_family);
+        let (lines, ok) = check_lines(
+            &on,
+            family,
+            link.target.address,
+            args,
+            first_of_family,
+            one_module.then_some(&mechanics),
+        );
         refused |= !ok;
         if prepared.is_empty() {
             prepared = lines;
@@ -74,6 +92,7 @@ pub fn run(connection: &ConnectionArgs, args: &ExecArgs) -> i32 {
         return EXIT_USAGE;
     }
     let format = args.format;
+    let yes = args.yes;
     if FleetLink::several(&links) {
         let lines = args.lines.clone();
         let stop_on_failure = args.fleet.stop_on_failure;
@@ -114,6 +133,16 @@ pub fn run(connection: &ConnectionArgs, args: &ExecArgs) -> i32 {
                 return EXIT_DEVICE;
             }
         };
+        // Values in an axis's unit: converted with the module's settings,
+        // read now, before any line is sent; one that does not convert or
+        // validate sends nothing.
+        let prepared = match convert_lines(&session, prepared, &mechanics, yes).await {
+            Ok(prepared) => prepared,
+            Err(()) => {
+                eprintln!("axterm exec: nothing was sent");
+                return EXIT_USAGE;
+            }
+        };
         let work = async {
             for (index, (line, prepared)) in prepared.iter().enumerate() {
                 let outcome = session.execute(prepared).await;
@@ -134,22 +163,97 @@ pub fn run(connection: &ConnectionArgs, args: &ExecArgs) -> i32 {
     })
 }
 
+/// Every line with its values in an axis's unit converted on `session`'s
+/// module (the conversion said on stderr) and prepared; `Err` when one
+/// did not convert, validate or may not be sent without `--yes` (each
+/// said).
+async fn convert_lines(
+    session: &Session,
+    lines: Vec<(String, Option<PreparedLine>)>,
+    mechanics: &MechanicsTable,
+    yes: bool,
+) -> Result<Vec<(String, PreparedLine)>, ()> {
+    let console = session.family().console;
+    let mut ready = Vec::new();
+    let mut ok = true;
+    // What the lines before write, for a family whose settings are known
+    // from what was written (they are not sent yet).
+    let mut known = session.settings().borrow().clone();
+    for (index, (line, prepared)) in lines.into_iter().enumerate() {
+        if let Some(prepared) = prepared {
+            after_line(console, &prepared, &mut known);
+            ready.push((line, prepared));
+            continue;
+        }
+        let at = format!("axterm exec: line {} `{}`: ", index + 1, line.trim());
+        let converted = match session.convert_units(&line, mechanics, &known).await {
+            Ok(converted) => converted,
+            Err(message) => {
+                eprintln!("{at}{message}");
+                ok = false;
+                continue;
+            }
+        };
+        let notes = converted.notes.join(", ");
+        match console.prepare(&converted.line, session.address()) {
+            Ok(prepared) => {
+                eprintln!("{at}{notes}: {}", prepared.canonical);
+                let said = cautions(console, &prepared, &known, yes);
+                for warning in &said.warnings {
+                    eprintln!("{at}{warning}");
+                }
+                if let Some(refusal) = said.refusal {
+                    eprintln!("{at}{refusal}");
+                    ok = false;
+                }
+                after_line(console, &prepared, &mut known);
+                ready.push((line, prepared));
+            }
+            Err(message) => {
+                eprintln!("{at}{notes}, which the line does not take: {message}");
+                ok = false;
+            }
+        }
+    }
+    if ok { Ok(ready) } else { Err(()) }
+}
+
 /// Prepare every line for `family` at `address`, saying each problem
 /// (after `on`, the link when there are several) and, when `cautions`,
-/// the family's warnings; the lines, and whether all may be sent.
+/// the family's warnings; the lines, and whether all may be sent. A line
+/// with values in an axis's unit is checked against `mechanics` (`None`:
+/// several modules, where such lines are refused) and left unprepared:
+/// it is converted once the module's settings are read.
 fn check_lines(
     on: &str,
     family: &Family,
     address: u8,
     args: &ExecArgs,
     cautions_said: bool,
-) -> (Vec<(String, PreparedLine)>, bool) {
+    mechanics: Option<&MechanicsTable>,
+) -> (Vec<(String, Option<PreparedLine>)>, bool) {
     let console = family.console;
     let mut prepared = Vec::new();
     let mut ok = true;
     let mut known = SettingsCache::default();
     for (index, line) in args.lines.iter().enumerate() {
         let at = format!("axterm exec: {on}line {} `{}`: ", index + 1, line.trim());
+        if has_units(console.units(), line) {
+            let checked = match mechanics {
+                Some(mechanics) => check_line(console.units(), line, mechanics),
+                None => Err(
+                    "values in an axis's unit are converted on one module at a time: give \
+                     them raw to several"
+                        .to_string(),
+                ),
+            };
+            if let Err(message) = checked {
+                eprintln!("{at}{message}");
+                ok = false;
+            }
+            prepared.push((line.clone(), None));
+            continue;
+        }
         match console.prepare(line, address) {
             Ok(p) => {
                 let said = cautions(console, &p, &known, args.yes);
@@ -163,7 +267,7 @@ fn check_lines(
                     eprintln!("{at}{refusal}");
                     ok = false;
                 }
-                prepared.push((line.clone(), p));
+                prepared.push((line.clone(), Some(p)));
             }
             Err(message) => {
                 eprintln!("{at}{message}");

@@ -8,6 +8,7 @@ pub mod console;
 pub mod exec;
 pub mod fleet;
 pub mod links;
+pub mod mechanics;
 pub mod output;
 pub mod params;
 pub mod profiles;
@@ -83,6 +84,13 @@ pub struct Cli {
     /// line3; `axterm profiles` lists them.
     #[arg(long, global = true, value_name = "FILE")]
     pub profiles: Option<std::path::PathBuf>,
+    /// The axes' mechanics ([mechanics.N]: unit, full_steps_per_rev or
+    /// counts_per_rev, microsteps, gear_ratio, travel_per_rev), read from
+    /// a parameter file: values may then be given in the axis's unit
+    /// (`MVP ABS, 0, 12.5mm`, `1MA90deg`, `HSPDX=20mm/s`) in encode, exec,
+    /// run and the console, which show them in it too.
+    #[arg(long, global = true, value_name = "FILE")]
+    pub mechanics: Option<std::path::PathBuf>,
     #[command(subcommand)]
     pub command: Option<Command>,
 }
@@ -431,17 +439,22 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::Sim { kind, pty, eeprom }) => run_sim(&cli.connection, &kind, pty, eeprom),
         Some(Command::Ports) => run_ports(),
         Some(Command::Profiles) => run_profiles(cli.profiles.as_deref()),
-        Some(Command::Encode { family, line }) => {
-            run_encode(&family, &line, cli.connection.address.as_ref())
-        }
-        Some(Command::Exec(args)) => exec::run(&cli.connection, &args),
-        Some(Command::Run(args)) => run::run(&cli.connection, &args),
+        Some(Command::Encode { family, line }) => run_encode(
+            &family,
+            &line,
+            cli.connection.address.as_ref(),
+            cli.mechanics.as_deref(),
+        ),
+        Some(Command::Exec(args)) => exec::run(&cli.connection, &args, cli.mechanics.as_deref()),
+        Some(Command::Run(args)) => run::run(&cli.connection, &args, cli.mechanics.as_deref()),
         Some(Command::RunAscript(args)) => run_ascript::run(&cli.connection, &args),
         Some(Command::RunMacro(args)) => run_macro::run(&cli.connection, &args),
         Some(Command::Scan(args)) => scan::run(&cli.connection, &args),
         Some(Command::Wiring(args)) => wiring::run(&cli.connection, &args),
         Some(Command::Bench(args)) => bench::run(&cli.connection, &args),
-        Some(Command::Params { command }) => params::run(&cli.connection, &command),
+        Some(Command::Params { command }) => {
+            params::run(&cli.connection, &command, cli.mechanics.as_deref())
+        }
         Some(Command::Asm {
             file,
             listing,
@@ -467,6 +480,7 @@ pub fn run(cli: Cli) -> i32 {
                 config_dir: crate::ui::config::platform_config_dir(),
                 mouse: cli.mouse,
             },
+            cli.mechanics.as_deref(),
         ),
     }
 }
@@ -681,7 +695,12 @@ impl StopSignals {
 
 /// `axterm encode FAMILY LINE`: the bytes a console line becomes. A line
 /// that does not parse or validate prints nothing on stdout and exits 2.
-fn run_encode(family: &str, line: &str, address: Option<&AddressList>) -> i32 {
+fn run_encode(
+    family: &str,
+    line: &str,
+    address: Option<&AddressList>,
+    mechanics: Option<&std::path::Path>,
+) -> i32 {
     let Some(family) = protocol::find_family(family) else {
         eprintln!(
             "axterm encode: unknown protocol family '{family}' (known: {})",
@@ -696,10 +715,34 @@ fn run_encode(family: &str, line: &str, address: Option<&AddressList>) -> i32 {
         );
         return EXIT_USAGE;
     }
-    match (family.encode_line)(line, address.map(AddressList::first)) {
+    // Values in an axis's unit become raw first, with the file's own
+    // settings for the module's (offline: nothing is read).
+    let mechanics = match mechanics::load(mechanics) {
+        Ok(m) => m.unwrap_or_default(),
+        Err(message) => {
+            eprintln!("axterm encode: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    let converted = match mechanics.convert_offline(family.console.units(), line) {
+        Ok(converted) => converted,
+        Err(message) => {
+            eprintln!("axterm encode: {message}; nothing encoded");
+            return EXIT_USAGE;
+        }
+    };
+    let said = converted.notes.join(", ");
+    match (family.encode_line)(&converted.line, address.map(AddressList::first)) {
         Ok(bytes) => {
+            if converted.changed() {
+                eprintln!("axterm encode: {said}: {}", converted.line.trim());
+            }
             println!("{}", (family.show_bytes)(&bytes));
             EXIT_OK
+        }
+        Err(message) if converted.changed() => {
+            eprintln!("axterm encode: {said}, which the line does not take: {message}");
+            EXIT_USAGE
         }
         Err(message) => {
             eprintln!("axterm encode: {message}");

@@ -22,6 +22,7 @@ use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::files::Existing;
 use crate::protocol::parameter_file::{self, Exported};
 use crate::protocol::parameters::{ParamRow, ParameterSet};
+use crate::protocol::units::MechanicsTable;
 use crate::session::params::{
     self as shared, ApplyOptions, ApplyReport, Difference, ModuleValue, ValueOutcome,
 };
@@ -105,12 +106,24 @@ pub struct ApplyArgs {
     pub format: Format,
 }
 
-pub fn run(connection: &ConnectionArgs, command: &ParamsCommand) -> i32 {
+/// `mechanics`: the file `--mechanics` names, the mechanics in force: an
+/// export writes them beside the settings, a diff or apply compares the
+/// file's with them.
+pub fn run(
+    connection: &ConnectionArgs,
+    command: &ParamsCommand,
+    mechanics: Option<&std::path::Path>,
+) -> i32 {
     match command {
-        ParamsCommand::Export(args) => export(connection, args),
-        ParamsCommand::Diff(args) => {
-            compare_or_apply(connection, &args.file, &args.fleet, None, args.format)
-        }
+        ParamsCommand::Export(args) => export(connection, args, mechanics),
+        ParamsCommand::Diff(args) => compare_or_apply(
+            connection,
+            &args.file,
+            &args.fleet,
+            None,
+            args.format,
+            mechanics,
+        ),
         ParamsCommand::Apply(args) => compare_or_apply(
             connection,
             &args.file,
@@ -120,6 +133,7 @@ pub fn run(connection: &ConnectionArgs, command: &ParamsCommand) -> i32 {
                 dry_run: args.dry_run,
             }),
             args.format,
+            mechanics,
         ),
     }
 }
@@ -151,7 +165,11 @@ fn parameters_of(target: &Target) -> Result<(&'static dyn ParameterSet, Vec<u8>)
     Ok((parameters, axes))
 }
 
-fn export(connection: &ConnectionArgs, args: &ExportArgs) -> i32 {
+fn export(
+    connection: &ConnectionArgs,
+    args: &ExportArgs,
+    mechanics: Option<&std::path::Path>,
+) -> i32 {
     let (target, parameters, axes) = match resolve(connection) {
         Ok(resolved) => resolved,
         Err(message) => {
@@ -159,6 +177,21 @@ fn export(connection: &ConnectionArgs, args: &ExportArgs) -> i32 {
             return EXIT_USAGE;
         }
     };
+    // The mechanics in force go into the file beside the settings, so
+    // that the file carries the line's units across to another line.
+    let mechanics = match super::mechanics::load(mechanics) {
+        Ok(m) => m.map(|m| m.table).unwrap_or_default(),
+        Err(message) => {
+            eprintln!("axterm params export: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    if let Some(axis) = mechanics.axes.keys().find(|a| !axes.contains(a)) {
+        eprintln!(
+            "axterm params export: the mechanics give axis {axis}, which this module does not have"
+        );
+        return EXIT_USAGE;
+    }
     let (file, format) = (args.file.clone(), args.format);
     let existing = Existing::from_force(args.force);
     // A file that cannot be written is known before the module is asked.
@@ -203,7 +236,8 @@ fn export(connection: &ConnectionArgs, args: &ExportArgs) -> i32 {
         if let Identity::Firmware(firmware) = &identity {
             header.push(format!("firmware {firmware}"));
         }
-        let text = parameter_file::render(target.family.name, &header, &exported);
+        let mut text = parameter_file::render(target.family.name, &header, &exported);
+        text.push_str(&mechanics.render());
         let written = if file == "-" {
             print!("{text}");
             Ok(())
@@ -300,11 +334,19 @@ fn compare_or_apply(
     fleet_args: &FleetArgs,
     apply: Option<ApplyOptions>,
     format: Format,
+    mechanics: Option<&std::path::Path>,
 ) -> i32 {
     let command = if apply.is_some() {
         "params apply"
     } else {
         "params diff"
+    };
+    let in_force = match super::mechanics::load(mechanics) {
+        Ok(m) => m.map(|m| m.table),
+        Err(message) => {
+            eprintln!("axterm {command}: {message}");
+            return EXIT_USAGE;
+        }
     };
     let checked = FleetLink::resolve_all(connection, fleet_args).and_then(|links| {
         let mut checked = Vec::new();
@@ -319,8 +361,13 @@ fn compare_or_apply(
             {
                 refuse_store_without_place(parameters, &axes).map_err(named)?;
             }
-            let entries =
+            let (entries, carried) =
                 read_file(path, link.target.family.name, parameters, &axes).map_err(named)?;
+            if checked.is_empty()
+                && let Some(note) = mechanics_note(path, &carried, in_force.as_ref())
+            {
+                eprintln!("axterm {command}: {note}");
+            }
             // A file cut between two whole lines reads as a shorter file:
             // what it leaves out is said, so that "the same" is not taken
             // for the whole module.
@@ -398,7 +445,7 @@ fn read_file(
     family: &str,
     parameters: &dyn ParameterSet,
     axes: &[u8],
-) -> Result<Vec<(ParamRow, i64)>, String> {
+) -> Result<(Vec<(ParamRow, i64)>, MechanicsTable), String> {
     let shown = path.display();
     let text = crate::files::read_text(path).map_err(|e| format!("cannot read {shown}: {e}"))?;
     let parsed = parameter_file::parse(&text)
@@ -415,7 +462,51 @@ fn read_file(
             .collect();
         return Err(list.join("\n"));
     }
-    Ok(checked.entries)
+    Ok((checked.entries, checked.mechanics))
+}
+
+/// What a diff or apply says of the mechanics a file carries: they are
+/// the console's, not the module's, so nothing is written; compared with
+/// the mechanics in force (`--mechanics`) where there are some.
+fn mechanics_note(
+    path: &std::path::Path,
+    carried: &MechanicsTable,
+    in_force: Option<&MechanicsTable>,
+) -> Option<String> {
+    let shown = path.display();
+    if carried.is_empty() {
+        return None;
+    }
+    let axes: Vec<String> = carried.axes.keys().map(u8::to_string).collect();
+    let axes = axes.join(", ");
+    Some(match in_force {
+        None => format!(
+            "{shown} carries the mechanics of axis {axes}: not written to the module (give the \
+             file to --mechanics, or :mechanics in the console, to use them)"
+        ),
+        Some(in_force) if in_force == carried => {
+            format!("{shown}: mechanics of axis {axes} as in force")
+        }
+        Some(in_force) => {
+            let differing: Vec<String> = carried
+                .axes
+                .iter()
+                .filter(|(axis, m)| in_force.get(**axis) != Some(*m))
+                .map(|(axis, m)| match in_force.get(*axis) {
+                    Some(now) => format!("[mechanics.{axis}] {m} in the file, {now} in force"),
+                    None => format!("[mechanics.{axis}] {m} in the file, none in force"),
+                })
+                .collect();
+            format!(
+                "{shown}: mechanics differ from those in force (not written to the module): {}",
+                if differing.is_empty() {
+                    "the file leaves out axes in force".to_string()
+                } else {
+                    differing.join("; ")
+                }
+            )
+        }
+    })
 }
 
 /// The label of a parameter in messages: `[axis.0] 4 Maximum positioning

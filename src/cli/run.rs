@@ -18,9 +18,12 @@ use super::connection::{Target, family_of, names_a_connection, run_to_exit};
 use super::fleet::{self, FleetArgs, FleetLink, FleetModule, Identity, ModuleRow, Modules, Walk};
 use super::output::{CheckOutcome, Format, json_check, print_outcome};
 use super::run_end::{AtTheEnd, Interrupt, RunReport, run_then_end, run_then_end_on};
-use super::script::{Action, CheckedStep, WAIT_INTERVAL, check_script, result_matches};
+use super::script::{self, Action, CheckedStep, WAIT_INTERVAL, check_script, result_matches};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::protocol::settings::SettingsCache;
+use crate::protocol::units::{MechanicsTable, check_line};
+use std::collections::HashMap;
+use std::path::Path;
 
 use crate::protocol::Family;
 use crate::protocol::console::PreparedLine;
@@ -76,7 +79,7 @@ pub(super) fn read_source(file: &str) -> Result<(String, String), String> {
     }
 }
 
-pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
+pub fn run(connection: &ConnectionArgs, args: &RunArgs, mechanics: Option<&Path>) -> i32 {
     // A dry run needs only the family; a real run needs a connection. A
     // dry run given a connection checks its options as a real run would
     // (address, --program, --input), though nothing is opened.
@@ -114,6 +117,80 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
             return EXIT_USAGE;
         }
     };
+    // Values in an axis's unit: checked against the mechanics now,
+    // converted with the module's settings once connected (a dry run:
+    // with the mechanics file's own), before the file is checked.
+    let law = family.console.units();
+    let unit_lines = script::unit_lines(&text, law);
+    let mut text = text;
+    if !unit_lines.is_empty() {
+        let mechanics = match super::mechanics::load(mechanics) {
+            Ok(m) => m.unwrap_or_default(),
+            Err(message) => {
+                eprintln!("axterm run: {message}");
+                return EXIT_USAGE;
+            }
+        };
+        let mut ok = true;
+        for (number, line) in &unit_lines {
+            let problem = if modules.several() {
+                Some(
+                    "values in an axis's unit are converted on one module at a time: give \
+                      them raw to several"
+                        .to_string(),
+                )
+            } else {
+                check_line(law, line, &mechanics.table).err()
+            };
+            if let Some(problem) = problem {
+                eprintln!("{name}:{number}: {problem}");
+                ok = false;
+            }
+        }
+        if !ok {
+            eprintln!("axterm run: {name}: nothing was sent");
+            return EXIT_USAGE;
+        }
+        match target {
+            Some(target) => {
+                let run = UnitRun {
+                    name,
+                    text,
+                    unit_lines,
+                    mechanics: mechanics.table,
+                    yes: args.yes,
+                    format: args.format,
+                    keep_going: args.keep_going,
+                    policy: StopOnFailure::from_flag(args.no_stop_on_failure),
+                };
+                return run_to_exit("run", run.run(target));
+            }
+            None => {
+                let mut replaced = HashMap::new();
+                for (number, line) in unit_lines {
+                    match mechanics.convert_offline(law, &line) {
+                        Ok(converted) => {
+                            eprintln!(
+                                "{name}:{number}: {}: {}",
+                                converted.notes.join(", "),
+                                converted.line
+                            );
+                            replaced.insert(number, (line, converted.line));
+                        }
+                        Err(problem) => {
+                            eprintln!("{name}:{number}: {problem}");
+                            ok = false;
+                        }
+                    }
+                }
+                if !ok {
+                    eprintln!("axterm run: {name}: nothing was sent");
+                    return EXIT_USAGE;
+                }
+                text = script::with_lines_replaced(&text, &replaced);
+            }
+        }
+    }
     // Every module's lines are checked before anything is sent.
     if let Modules::List(addresses) = &modules
         && !checks_at("", &name, &text, family, addresses)
@@ -166,43 +243,147 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
                 return EXIT_CONNECTION;
             }
         };
-        // Watched from before the first line goes, so that a Ctrl-C as
-        // soon as the run starts still ends it properly.
-        let interrupt = match Interrupt::watch() {
-            Ok(interrupt) => interrupt,
-            Err(e) => {
-                eprintln!("axterm run: cannot watch for Ctrl-C: {e}");
-                return EXIT_DEVICE;
-            }
-        };
-        let runner = Runner {
-            session: &session,
-            name: &name,
-            format,
-            module: None,
-        };
-        // With --keep-going a failed step does not end the run; the run
-        // still failed, and ends as one that did.
-        let work = async {
-            let mut failed = false;
-            for item in &checked {
-                if !runner.step(item).await {
-                    failed = true;
-                    if !keep_going {
-                        break;
-                    }
+        run_checked(&session, &name, &checked, format, keep_going, policy).await
+    })
+}
+
+/// The checked file on one module's session, ended as a run is.
+async fn run_checked(
+    session: &Session,
+    name: &str,
+    checked: &[CheckedStep],
+    format: Format,
+    keep_going: bool,
+    policy: StopOnFailure,
+) -> i32 {
+    // Watched from before the first line goes, so that a Ctrl-C as
+    // soon as the run starts still ends it properly.
+    let interrupt = match Interrupt::watch() {
+        Ok(interrupt) => interrupt,
+        Err(e) => {
+            eprintln!("axterm run: cannot watch for Ctrl-C: {e}");
+            return EXIT_DEVICE;
+        }
+    };
+    let runner = Runner {
+        session,
+        name,
+        format,
+        module: None,
+    };
+    // With --keep-going a failed step does not end the run; the run
+    // still failed, and ends as one that did.
+    let work = async {
+        let mut failed = false;
+        for item in checked {
+            if !runner.step(item).await {
+                failed = true;
+                if !keep_going {
+                    break;
                 }
             }
-            !failed
+        }
+        !failed
+    };
+    let prefix = format!("axterm run: {name}: ");
+    let report = RunReport {
+        prefix: &prefix,
+        format,
+        at_the_end: AtTheEnd::of_script(checked),
+    };
+    run_then_end(session, interrupt, policy, &report, work).await
+}
+
+/// A file with values in an axis's unit on one module: connected first,
+/// its unit lines converted with the module's settings (reads only), the
+/// file then checked as any other; a line that does not convert or check
+/// sends nothing of the file.
+struct UnitRun {
+    name: String,
+    text: String,
+    unit_lines: Vec<(usize, String)>,
+    mechanics: MechanicsTable,
+    yes: bool,
+    format: Format,
+    keep_going: bool,
+    policy: StopOnFailure,
+}
+
+impl UnitRun {
+    async fn run(self, target: Target) -> i32 {
+        let name = &self.name;
+        let session = match target.open().await {
+            Ok(session) => session,
+            Err(e) => {
+                eprintln!("axterm run: {e}");
+                return EXIT_CONNECTION;
+            }
         };
-        let prefix = format!("axterm run: {name}: ");
-        let report = RunReport {
-            prefix: &prefix,
-            format,
-            at_the_end: AtTheEnd::of_script(&checked),
+        let mut replaced = HashMap::new();
+        let mut ok = true;
+        let family = session.family();
+        // What the lines before each unit line write (not sent yet), for a
+        // family whose settings are known from what was written.
+        let mut known = session.settings().borrow().clone();
+        let mut before = 0;
+        for (number, line) in &self.unit_lines {
+            for (_, earlier) in script::console_lines(&self.text)
+                .into_iter()
+                .filter(|(n, _)| (before..*number).contains(n))
+            {
+                if let Ok(prepared) = family.console.prepare(&earlier, session.address()) {
+                    after_line(family.console, &prepared, &mut known);
+                }
+            }
+            before = *number + 1;
+            match session.convert_units(line, &self.mechanics, &known).await {
+                Ok(converted) => {
+                    eprintln!(
+                        "{name}:{number}: {}: {}",
+                        converted.notes.join(", "),
+                        converted.line
+                    );
+                    if let Ok(prepared) = family.console.prepare(&converted.line, session.address())
+                    {
+                        after_line(family.console, &prepared, &mut known);
+                    }
+                    replaced.insert(*number, (line.clone(), converted.line));
+                }
+                Err(problem) => {
+                    eprintln!("{name}:{number}: {problem}");
+                    ok = false;
+                }
+            }
+        }
+        if !ok {
+            eprintln!("axterm run: {name}: nothing was sent");
+            return EXIT_USAGE;
+        }
+        let text = script::with_lines_replaced(&self.text, &replaced);
+        let checked = match check_script(name, &text, family, session.address()) {
+            Ok(checked) => checked,
+            Err(problems) => {
+                for problem in problems {
+                    eprintln!("{problem}");
+                }
+                eprintln!("axterm run: {name}: nothing was sent");
+                return EXIT_USAGE;
+            }
         };
-        run_then_end(&session, interrupt, policy, &report, work).await
-    })
+        if !said_cautions(name, family, &checked, self.yes) {
+            eprintln!("axterm run: {name}: nothing was sent");
+            return EXIT_USAGE;
+        }
+        run_checked(
+            &session,
+            name,
+            &checked,
+            self.format,
+            self.keep_going,
+            self.policy,
+        )
+        .await
+    }
 }
 
 /// Whether the file checks at each of `addresses` (every problem said).

@@ -686,6 +686,14 @@ pub trait FamilyConsole: Send + Sync {
         None
     }
 
+    /// How the family's raw positions, speeds and accelerations relate to
+    /// motor steps, from its manual, and where a line's operands are: for
+    /// values given and shown in an axis's own units
+    /// ([`crate::protocol::units`]). `None` (the default): raw only.
+    fn units(&self) -> Option<&'static dyn super::units::UnitLaw> {
+        None
+    }
+
     /// How an axis of this family is jogged by hand (the bring-up pane);
     /// `None` if the console does not know.
     fn jog(&self) -> Option<&'static dyn crate::protocol::jog::JogPlan> {

@@ -15,6 +15,7 @@ pub mod program;
 pub mod settings;
 pub mod sixpack2;
 pub mod tmcl;
+pub mod units;
 pub mod wire;
 
 use console::FamilyConsole;

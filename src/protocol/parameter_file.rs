@@ -18,6 +18,7 @@ use std::collections::HashMap;
 use std::fmt::Write as _;
 
 use crate::protocol::parameters::{ParamRole, ParamRow, ParameterSet, Scope};
+use crate::protocol::units::MechanicsTable;
 
 /// One value of a file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -36,6 +37,9 @@ pub struct ParamFile {
     pub entries: Vec<Entry>,
     /// Keys and values that are not parameters ("bank.9", "x = 1").
     pub problems: Vec<String>,
+    /// The axes' mechanics (`[mechanics.N]`), carried beside the
+    /// settings: the line's own units (issue 20).
+    pub mechanics: MechanicsTable,
 }
 
 /// One row as exported: its value, or why there is none.
@@ -105,6 +109,11 @@ pub fn parse(text: &str) -> Result<ParamFile, String> {
     for (key, value) in &table {
         match (key.as_str(), value) {
             ("family", toml::Value::String(name)) => file.family = Some(name.clone()),
+            ("mechanics", value) => {
+                let (mechanics, problems) = MechanicsTable::from_toml(value);
+                file.mechanics = mechanics;
+                file.problems.extend(problems);
+            }
             ("axis" | "bank", toml::Value::Table(groups)) => {
                 for (index, params) in groups {
                     let scope = index.parse::<u8>().ok().map(|n| match key.as_str() {
@@ -215,6 +224,10 @@ pub struct CheckedFile {
     /// What was not taken from it, and why (the file's own problems
     /// first): each names the parameter.
     pub problems: Vec<String>,
+    /// The axes' mechanics it carries, of axes the module has: not
+    /// written to the module (they are the console's), carried for the
+    /// line's own units.
+    pub mechanics: MechanicsTable,
 }
 
 /// Why a file is not for this module: it names another family.
@@ -231,6 +244,16 @@ pub fn family_mismatch(file: &ParamFile, family: &str) -> Option<String> {
 pub fn check(file: ParamFile, parameters: &dyn ParameterSet, axes: &[u8]) -> CheckedFile {
     let mut problems = file.problems;
     let mut entries = Vec::new();
+    let mut mechanics = file.mechanics;
+    mechanics.axes.retain(|axis, _| {
+        let here = axes.contains(axis);
+        if !here {
+            problems.push(format!(
+                "[mechanics.{axis}]: this module has no axis {axis}"
+            ));
+        }
+        here
+    });
     let mut tables: HashMap<Scope, Vec<ParamRow>> = HashMap::new();
     for &axis in axes {
         for table in parameters.tables(axis) {
@@ -269,7 +292,11 @@ pub fn check(file: ParamFile, parameters: &dyn ParameterSet, axes: &[u8]) -> Che
                 .to_string(),
         );
     }
-    CheckedFile { entries, problems }
+    CheckedFile {
+        entries,
+        problems,
+        mechanics,
+    }
 }
 
 #[cfg(test)]

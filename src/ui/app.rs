@@ -186,6 +186,8 @@ pub enum Effect {
     /// Drive an input of the connected simulator; the answer back as an
     /// [`AppEvent::Notice`].
     DriveSimInput(String),
+    /// Take these mechanics as those in force, on every module.
+    Mechanics(crate::protocol::units::MechanicsTable),
     /// Poll a read line with the status, or no longer
     /// ([`Request::Watch`]); a refusal back as an [`AppEvent::Notice`].
     Watch {
@@ -895,6 +897,7 @@ impl App {
                 effects.push(Effect::LoadProgram { pane, tag, source })
             }
             Request::DriveSimInput(setting) => effects.push(Effect::DriveSimInput(setting)),
+            Request::Mechanics(table) => effects.push(Effect::Mechanics(table)),
             Request::Watch {
                 axis,
                 line,
@@ -926,6 +929,7 @@ fn same(a: &Snapshot, b: &Snapshot) -> bool {
         && a.identity == b.identity
         && a.poll == b.poll
         && a.settings == b.settings
+        && a.mechanics == b.mechanics
         && a.axis == b.axis
         && std::ptr::eq(a.family, b.family)
 }
@@ -1084,6 +1088,7 @@ mod tests {
             identity: None,
             poll: Some(PollCadence::default()),
             settings: Default::default(),
+            mechanics: Default::default(),
             axis: 0,
         }
     }

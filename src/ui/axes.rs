@@ -35,6 +35,7 @@ use super::theme::{Role, Theme};
 use crate::device::LinkState;
 use crate::protocol::console::{AxisFlag, LoadScale, MotionPhase, ReplyValue};
 use crate::protocol::parameters::{ParamOp, ParameterSet, Scope, SpeedUnit, StatusQuantity};
+use crate::protocol::units::{InUnits, Quantity as UnitQuantity, to_units};
 use crate::session::{AxisInfo, AxisMotion, AxisStatus};
 
 /// Rows of one axis card.
@@ -176,6 +177,9 @@ pub enum Units {
     /// In real-world units: speeds in pps (positions in the module's
     /// steps) or in rpm (positions in revolutions).
     Real(SpeedUnit),
+    /// In each axis's own unit from the mechanics in force (`mm`, `deg`),
+    /// beside the raw value, by the family's unit law.
+    Axis,
 }
 
 impl Units {
@@ -185,16 +189,34 @@ impl Units {
             Units::Raw => "raw",
             Units::Real(SpeedUnit::Pps) => "pps",
             Units::Real(SpeedUnit::Rpm) => "rpm",
+            Units::Axis => "axis units",
         }
     }
 
-    /// What the units key switches to: raw, pps, rpm, raw…
-    fn next(self) -> Units {
-        match self {
-            Units::Raw => Units::Real(SpeedUnit::Pps),
-            Units::Real(SpeedUnit::Pps) => Units::Real(SpeedUnit::Rpm),
-            Units::Real(SpeedUnit::Rpm) => Units::Raw,
-        }
+    /// What the units key switches to: raw, pps, rpm (where the family
+    /// converts to them), the axes' own units (where mechanics are in
+    /// force), raw…
+    fn next(self, real: bool, axis: bool) -> Units {
+        let order = [
+            Units::Raw,
+            Units::Real(SpeedUnit::Pps),
+            Units::Real(SpeedUnit::Rpm),
+            Units::Axis,
+        ];
+        let offered = |u: &Units| match u {
+            Units::Raw => true,
+            Units::Real(_) => real,
+            Units::Axis => axis,
+        };
+        let at = order.iter().position(|u| *u == self).unwrap_or(0);
+        order
+            .iter()
+            .cycle()
+            .skip(at + 1)
+            .take(order.len())
+            .find(|u| offered(u))
+            .copied()
+            .unwrap_or(Units::Raw)
     }
 }
 
@@ -359,24 +381,54 @@ impl AxesPane {
     /// The units key: raw, pps, rpm, raw… where the family converts;
     /// otherwise it says so.
     fn toggle_units(&mut self, session: &Snapshot) -> Outcome {
-        let Some(params) = session
-            .family
-            .console
-            .parameters()
-            .filter(|p| !p.status_inputs().is_empty())
-        else {
+        let params = session.family.console.parameters();
+        let real = params.is_some_and(|p| !p.status_inputs().is_empty());
+        let axis = session.family.console.units().is_some() && !session.mechanics.is_empty();
+        let Some(params) = params.filter(|_| real || axis) else {
             self.units = Units::Raw;
+            // Axis units need mechanics: `:mechanics FILE` gives them.
             self.note = Some(format!(
-                "{} has no real-world units: raw only",
-                session.family.name
+                "{} has no real-world units: raw only{}",
+                session.family.name,
+                if session.family.console.units().is_some() {
+                    " (:mechanics FILE)"
+                } else {
+                    ""
+                }
             ));
             return Outcome::redraw();
         };
-        self.units = self.units.next();
+        self.units = self.units.next(real, axis);
         if self.units == Units::Raw {
             return Outcome::redraw();
         }
         Outcome::Handled(self.read_inputs(session, params))
+    }
+
+    /// The axis parameters of `axis` the units shown now convert with:
+    /// the family's status inputs, or its unit law's (those the module
+    /// can be asked for; the others come from what this session wrote).
+    fn inputs_wanted(&self, session: &Snapshot, params: &dyn ParameterSet, axis: u8) -> Vec<u16> {
+        match self.units {
+            Units::Axis => {
+                let Some(law) = session.family.console.units() else {
+                    return Vec::new();
+                };
+                let readable: Vec<(Scope, u16)> = params
+                    .tables(axis)
+                    .iter()
+                    .flat_map(|t| t.rows.iter())
+                    .filter(|r| r.access.read)
+                    .map(|r| (r.scope, r.number))
+                    .collect();
+                law.inputs(axis)
+                    .into_iter()
+                    .filter(|input| input.0 == Scope::Axis(axis) && readable.contains(input))
+                    .map(|(_, number)| number)
+                    .collect()
+            }
+            _ => params.status_inputs().to_vec(),
+        }
     }
 
     /// Ask the module for what the conversions need, for every axis.
@@ -387,7 +439,7 @@ impl AxesPane {
         let mut requests = Vec::new();
         for (index, axis) in session.axes.iter().enumerate() {
             let tables = params.tables(axis.number);
-            for &number in params.status_inputs() {
+            for number in self.inputs_wanted(session, params, axis.number) {
                 let row = tables
                     .iter()
                     .flat_map(|t| t.rows.iter())
@@ -429,6 +481,9 @@ impl AxesPane {
         let Some(value) = value else {
             return number(None);
         };
+        if self.units == Units::Axis {
+            return self.in_axis_units(index, quantity, value, view);
+        }
         let Units::Real(unit) = self.units else {
             return value.to_string();
         };
@@ -438,6 +493,60 @@ impl AxesPane {
             .and_then(|s| s.family.console.parameters())
             .and_then(|p| p.status_physical(quantity, value, unit, &axis_value))
             .map_or_else(|| format!("{value} raw"), |p| p.to_string())
+    }
+
+    /// `value` beside itself in the axis's own unit (`102400 = 20.00 mm`);
+    /// raw alone, marked, where the axis has no mechanics or a setting the
+    /// law needs is not known.
+    fn in_axis_units(
+        &self,
+        index: usize,
+        quantity: StatusQuantity,
+        value: i64,
+        view: &View,
+    ) -> String {
+        let Some(session) = view.session else {
+            return value.to_string();
+        };
+        let Some(axis) = session.axes.get(index) else {
+            return value.to_string();
+        };
+        let (Some(law), Some(mechanics)) = (
+            session.family.console.units(),
+            session.mechanics.get(axis.number),
+        ) else {
+            return format!("{value} raw");
+        };
+        let quantity = match quantity {
+            StatusQuantity::Position => UnitQuantity::Position,
+            StatusQuantity::Speed => UnitQuantity::Speed,
+        };
+        let inputs = self.inputs.get(index);
+        let value_of = |scope: Scope, number: u16| {
+            let read = match scope {
+                Scope::Axis(a) if a == axis.number => inputs.and_then(|m| m.get(&number)).copied(),
+                _ => None,
+            };
+            read.or_else(|| session.settings.value(scope, number))
+        };
+        match to_units(
+            law,
+            mechanics,
+            axis.number,
+            quantity,
+            value as f64,
+            &value_of,
+        ) {
+            Ok(converted) => format!(
+                "{value} = {}",
+                InUnits {
+                    value: converted,
+                    quantity,
+                    unit: &mechanics.unit
+                }
+            ),
+            Err(_) => format!("{value} raw"),
+        }
     }
 
     fn shown_values(&self, index: usize, status: &AxisStatus, view: &View) -> ShownValues {
@@ -1337,7 +1446,14 @@ impl Pane for AxesPane {
                     && !self.inputs_of.as_ref().is_some_and(|k| k.is(session))
                 {
                     let params = session.family.console.parameters();
-                    match params.filter(|p| !p.status_inputs().is_empty()) {
+                    let convertible = |p: &&dyn ParameterSet| match self.units {
+                        Units::Axis => {
+                            session.family.console.units().is_some()
+                                && !session.mechanics.is_empty()
+                        }
+                        _ => !p.status_inputs().is_empty(),
+                    };
+                    match params.filter(convertible) {
                         Some(params) => requests.extend(self.read_inputs(session, params)),
                         None => self.units = Units::Raw,
                     }
@@ -1451,6 +1567,7 @@ mod tests {
             identity: None,
             poll: None,
             settings: Default::default(),
+            mechanics: Default::default(),
             axis: 0,
         };
         let mut step = |speed: i64, pane: &mut AxesPane| {
@@ -1601,6 +1718,7 @@ mod tests {
                     identity: None,
                     poll: None,
                     settings: Default::default(),
+                    mechanics: Default::default(),
                     axis: 0,
                 },
                 theme: Theme::builtin("dark").expect("dark"),

@@ -33,6 +33,7 @@ use super::theme::Role;
 use crate::device::{Busy, DeviceEvent, LinkState};
 use crate::protocol::console::{Candidate, Completions, PreparedLine};
 use crate::protocol::program::{HostStart, ProgramTool};
+use crate::protocol::units::{MechanicsTable, has_units};
 use crate::protocol::{FAMILIES, Family, find_family};
 use crate::session::run_end::{AtTheEnd, RunAftermath, RunEnding, StopOnFailure};
 use crate::session::{LineResult, SessionError};
@@ -131,6 +132,10 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
     (
         ":sim-input SETTING",
         "drive an input of the simulator (--sim) as if wired: IO5=1, DI4=1, AI1=1650, EMG=1, ALMX=1 (`:help :sim-input` lists them)",
+    ),
+    (
+        ":mechanics [FILE | off]",
+        "take the axes' mechanics ([mechanics.N] of a parameter file): values may then be typed in an axis's unit (MVP ABS, 0, 12.5mm) and the axes pane's units key shows them; without FILE: list those in force",
     ),
     (":sleep D", "wait (500ms, 2s, 1m)"),
     (":echo TEXT", "show TEXT"),
@@ -548,6 +553,33 @@ impl CommandPane {
                 return self
                     .with_run_policy(policy, |pane| pane.start_host_run(command, rest, view));
             }
+            "mechanics" => match rest {
+                "" => {
+                    let Some(session) = session else {
+                        return self.fail(not_connected());
+                    };
+                    if session.mechanics.is_empty() {
+                        self.say(
+                            Role::Muted,
+                            "no mechanics in force: raw values only (:mechanics FILE)",
+                        );
+                    }
+                    for (axis, m) in &session.mechanics.axes {
+                        self.say(Role::Normal, format!("axis {axis}: {} ({m})", m.unit));
+                    }
+                    return Outcome::redraw();
+                }
+                "off" => Request::Mechanics(MechanicsTable::default()),
+                file => {
+                    let read = crate::files::read_text(file)
+                        .map_err(|e| e.to_string())
+                        .and_then(|text| MechanicsTable::parse_file(&text));
+                    match read {
+                        Ok((table, _)) => Request::Mechanics(table),
+                        Err(message) => return self.fail(format!(":mechanics {file}: {message}")),
+                    }
+                }
+            },
             "sim-input" => {
                 if session.is_none() {
                     return self.fail(not_connected());
@@ -1075,6 +1107,12 @@ impl Pane for CommandPane {
                     {
                         self.say(Role::Normal, format!("{PROMPT}{}", r.line));
                     }
+                    // A line in an axis's unit: the raw line it became.
+                    if let (Ok(r), Some(f)) = (result, family)
+                        && has_units(f.console.units(), line)
+                    {
+                        self.say(Role::Muted, format!("  in raw: {}", r.line));
+                    }
                     self.show_reply(family, result);
                 }
                 if origin == Origin::Batch {
@@ -1299,6 +1337,7 @@ mod tests {
             identity: None,
             poll: None,
             settings: Default::default(),
+            mechanics: Default::default(),
             axis: 0,
         }
     }

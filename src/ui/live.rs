@@ -21,6 +21,7 @@ use crate::link::SharedSim;
 use crate::protocol::Family;
 use crate::protocol::program::{Progress, TransferFailure, TransferJob, TransferReport};
 use crate::protocol::settings::SettingsCache;
+use crate::protocol::units::{MechanicsTable, SharedMechanics};
 use crate::session::Cancel;
 use crate::session::run_end::{AtTheEnd, EndCheck, RunAftermath, RunEnding, StopOnFailure};
 use crate::session::{
@@ -38,6 +39,8 @@ pub struct SessionController {
     /// The other module addresses on the link opened with this one
     /// ([`Controller::other_modules`]).
     others: Vec<u8>,
+    /// The mechanics in force, shared with every controller of the console.
+    mechanics: SharedMechanics,
 }
 
 impl SessionController {
@@ -48,7 +51,14 @@ impl SessionController {
             options,
             simulator: None,
             others: Vec::new(),
+            mechanics: SharedMechanics::default(),
         }
+    }
+
+    /// The same, converting with the console's shared mechanics.
+    pub fn with_mechanics(mut self, mechanics: SharedMechanics) -> SessionController {
+        self.mechanics = mechanics;
+        self
     }
 
     /// The same, with more modules on its link at `addresses` (a bus):
@@ -109,7 +119,66 @@ impl Controller for SessionController {
 
     fn execute(&self, line: String) -> Pending<Result<LineResult, SessionError>> {
         let session = self.session.clone();
-        Box::pin(async move { session.execute_line(&line).await })
+        let law = session.family().console.units();
+        if !crate::protocol::units::has_units(law, &line) {
+            return Box::pin(async move { session.execute_line(&line).await });
+        }
+        // Values in an axis's unit: converted with the module's settings,
+        // read now; one that does not convert sends nothing.
+        let mechanics = self
+            .mechanics
+            .read()
+            .map(|m| m.clone())
+            .unwrap_or_else(|e| e.into_inner().clone());
+        Box::pin(async move {
+            let known = session.settings().borrow().clone();
+            let converted = session
+                .convert_units(&line, &mechanics, &known)
+                .await
+                .map_err(|message| SessionError::Refused {
+                    line: line.trim().to_string(),
+                    message,
+                })?;
+            session
+                .execute_line(&converted.line)
+                .await
+                .map_err(|e| match e {
+                    SessionError::Refused { line, message } => SessionError::Refused {
+                        line,
+                        message: format!(
+                            "{}, which the line does not take: {message}",
+                            converted.notes.join(", ")
+                        ),
+                    },
+                    other => other,
+                })
+        })
+    }
+
+    fn mechanics(&self) -> MechanicsTable {
+        self.mechanics
+            .read()
+            .map(|m| m.clone())
+            .unwrap_or_else(|e| e.into_inner().clone())
+    }
+
+    fn set_mechanics(&self, table: MechanicsTable) -> Result<(), String> {
+        let axes = self.session.axes();
+        if let Some(axis) = table
+            .axes
+            .keys()
+            .find(|a| !axes.iter().any(|i| i.number == **a))
+        {
+            return Err(format!(
+                "the mechanics give axis {axis}, which {} does not have",
+                self.session.family().name
+            ));
+        }
+        match self.mechanics.write() {
+            Ok(mut m) => *m = table,
+            Err(e) => *e.into_inner() = table,
+        }
+        Ok(())
     }
 
     fn read_agreed(&self, line: String) -> Pending<Result<LineResult, SessionError>> {
@@ -193,6 +262,7 @@ impl Controller for SessionController {
             options,
             simulator: self.simulator.clone(),
             others: Vec::new(),
+            mechanics: self.mechanics.clone(),
         })
     }
 

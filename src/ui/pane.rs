@@ -60,6 +60,9 @@ pub struct Snapshot {
     /// The settings written this session, for a module that cannot be
     /// asked for them (empty when it keeps none).
     pub settings: Arc<SettingsCache>,
+    /// The axes' mechanics in force (`--mechanics`, `:mechanics`): values
+    /// typed and shown in an axis's own units.
+    pub mechanics: Arc<crate::protocol::units::MechanicsTable>,
     /// The axis the user works with (`:axis N`): index into `axes`.
     pub axis: usize,
 }
@@ -76,6 +79,7 @@ impl std::fmt::Debug for Snapshot {
             .field("identity", &self.identity)
             .field("poll", &self.poll)
             .field("settings", &self.settings)
+            .field("mechanics", &self.mechanics)
             .field("axis", &self.axis)
             .finish()
     }
@@ -302,6 +306,9 @@ pub enum Request {
     /// Connect (or reconnect) with these connection options
     /// (`--sim tmcm1110`, `--port /dev/ttyUSB0 --baud 115200`).
     Connect(Vec<String>),
+    /// Take these axis mechanics as those in force (`:mechanics FILE`;
+    /// an empty table: none).
+    Mechanics(crate::protocol::units::MechanicsTable),
     /// Give the keyboard to the pane called this ([`Pane::name`]).
     Focus(&'static str),
     /// The protocol family (its [`Family::name`]) of the connection being

@@ -164,6 +164,9 @@ pub struct ParamsPane {
     mode: Mode,
     message: Option<(Role, String)>,
     unit: SpeedUnit,
+    /// The real column shows each axis's own unit (mechanics in force)
+    /// instead of pps or rpm.
+    axis_units: bool,
     /// Where to write an export once its reads are done.
     export: Option<(PathBuf, Existing)>,
     comparing: Option<Comparing>,
@@ -215,6 +218,7 @@ impl ParamsPane {
             mode: Mode::Browse,
             message: None,
             unit: SpeedUnit::Pps,
+            axis_units: false,
             export: None,
             comparing: None,
             last_file: DEFAULT_FILE.to_string(),
@@ -881,9 +885,15 @@ impl ParamsPane {
                 }
             }
             Action::ToggleUnits => {
-                self.unit = match self.unit {
-                    SpeedUnit::Pps => SpeedUnit::Rpm,
-                    SpeedUnit::Rpm => SpeedUnit::Pps,
+                // pps → rpm → the axes' own units (with mechanics in
+                // force and a family that converts) → pps…
+                let axis = view
+                    .session
+                    .is_some_and(|s| s.family.console.units().is_some() && !s.mechanics.is_empty());
+                (self.unit, self.axis_units) = match (self.unit, self.axis_units) {
+                    (_, true) => (SpeedUnit::Pps, false),
+                    (SpeedUnit::Pps, false) => (SpeedUnit::Rpm, false),
+                    (SpeedUnit::Rpm, false) => (SpeedUnit::Pps, axis),
                 };
             }
             Action::ParameterExport | Action::ParameterImport | Action::ParameterDiff => {

@@ -445,9 +445,12 @@ impl PlotPane {
                 other => other.label(),
             })
             .collect();
+        let unit = self
+            .chart_unit(members, view)
+            .unwrap_or_else(|| "raw".to_string());
         let title = match labels_of.first() {
-            Some(first) if labels_of.iter().all(|l| l == first) => format!("{first} (raw)"),
-            _ => "raw".to_string(),
+            Some(first) if labels_of.iter().all(|l| l == first) => format!("{first} ({unit})"),
+            _ => unit,
         };
         let y_labels: Vec<Span> = labels
             .iter()
@@ -604,18 +607,68 @@ impl PlotPane {
             .any(|s| s.axis == axis && &s.quantity == quantity)
     }
 
+    /// A status series in its axis's own unit, where mechanics are in
+    /// force and the family's law converts it with what is known without
+    /// reading (positions: microsteps from the mechanics; SIXpack 2 speeds:
+    /// the settings written): the factor from raw and the unit (`mm/s`).
+    fn axis_unit_of(&self, series: &Series, view: &View) -> Option<(f64, String)> {
+        let session = view.session?;
+        let quantity = match series.quantity {
+            Quantity::Status(StatusValue::Position | StatusValue::Target) => {
+                crate::protocol::units::Quantity::Position
+            }
+            Quantity::Status(StatusValue::Speed) => crate::protocol::units::Quantity::Speed,
+            _ => return None,
+        };
+        let law = session.family.console.units()?;
+        let axis = session.axes.get(series.axis)?.number;
+        let mechanics = session.mechanics.get(axis)?;
+        let value_of = |scope: Scope, number: u16| session.settings.value(scope, number);
+        let factor =
+            crate::protocol::units::to_units(law, mechanics, axis, quantity, 1.0, &value_of)
+                .ok()?;
+        Some((factor, quantity.unit_text(&mechanics.unit)))
+    }
+
+    /// The unit every series of a chart shows in, when all can be in the
+    /// same axis unit (else the chart stays raw).
+    fn chart_unit(&self, members: &[usize], view: &View) -> Option<String> {
+        let units: Vec<Option<(f64, String)>> = members
+            .iter()
+            .filter_map(|&i| self.series.get(i))
+            .map(|s| self.axis_unit_of(s, view))
+            .collect();
+        let first = units.first()?.as_ref()?.1.clone();
+        units
+            .iter()
+            .all(|u| u.as_ref().is_some_and(|(_, unit)| *unit == first))
+            .then_some(first)
+    }
+
     /// The charts of the series in `body` (under the head line).
     fn draw_charts(&self, frame: &mut Frame, body: Rect, view: &View, now: Instant) {
         if body.height < 4 || self.series.is_empty() {
             return;
         }
+        let (upper, lower): (Vec<usize>, Vec<usize>) =
+            (0..self.series.len()).partition(|&i| self.series[i].in_upper_chart());
+        // A chart whose series all have their axis's unit is drawn in it.
+        let in_units = [self.chart_unit(&upper, view), self.chart_unit(&lower, view)];
         let points: Vec<Vec<(f64, f64)>> = self
             .series
             .iter()
-            .map(|s| self.points(now, &s.samples))
+            .map(|s| {
+                let chart = usize::from(!s.in_upper_chart());
+                let factor = in_units[chart]
+                    .as_ref()
+                    .and_then(|_| self.axis_unit_of(s, view))
+                    .map_or(1.0, |(factor, _)| factor);
+                self.points(now, &s.samples)
+                    .into_iter()
+                    .map(|(t, y)| (t, y * factor))
+                    .collect()
+            })
             .collect();
-        let (upper, lower): (Vec<usize>, Vec<usize>) =
-            (0..self.series.len()).partition(|&i| self.series[i].in_upper_chart());
         let label_width = [&upper, &lower]
             .iter()
             .filter(|m| !m.is_empty())
@@ -1035,6 +1088,7 @@ mod tests {
             identity: None,
             poll: None,
             settings: Default::default(),
+            mechanics: Default::default(),
             axis: 0,
         }
     }
@@ -1103,6 +1157,7 @@ mod tests {
                     identity: None,
                     poll: None,
                     settings: Default::default(),
+                    mechanics: Default::default(),
                     axis: 0,
                 },
                 theme: Theme::builtin("dark").expect("theme"),

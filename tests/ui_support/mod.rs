@@ -55,6 +55,7 @@ pub fn snapshot(axes: Vec<AxisInfo>) -> Snapshot {
         identity: None,
         poll: Some(PollCadence::default()),
         settings: Default::default(),
+        mechanics: Default::default(),
         axis: 0,
     }
 }

@@ -499,6 +499,10 @@ impl FamilyConsole for Cmd4crConsole {
         &LAMPS
     }
 
+    fn units(&self) -> Option<&'static dyn crate::protocol::units::UnitLaw> {
+        Some(&super::units::Cmd4crUnits)
+    }
+
     fn parameters(&self) -> Option<&'static dyn ParameterSet> {
         Some(&super::parameter_set::Cmd4crParameters)
     }

@@ -19,6 +19,7 @@ pub mod program_control;
 pub mod reply;
 pub mod tool;
 pub mod traffic;
+pub mod units;
 pub mod wire;
 
 use std::fmt;

@@ -712,6 +712,10 @@ impl FamilyConsole for MclConsole {
         &LAMPS
     }
 
+    fn units(&self) -> Option<&'static dyn crate::protocol::units::UnitLaw> {
+        Some(&super::units::MclUnits)
+    }
+
     fn parameters(&self) -> Option<&'static dyn ParameterSet> {
         Some(self.parameters)
     }

@@ -232,6 +232,16 @@ fn user_setting(
     Some(raw as f64 / scale(setting.decimals))
 }
 
+/// The row number of the user-scaling setting `command` (US, UR) and the
+/// factor its value is held scaled by, for the unit law.
+pub(crate) fn user_setting_row(command: &str) -> Option<(u16, f64)> {
+    let (number, setting) = SETTINGS
+        .iter()
+        .enumerate()
+        .find(|(_, s)| s.command == Some(command))?;
+    Some((u16::try_from(number).ok()?, scale(setting.decimals)))
+}
+
 fn setting_of(row: &ParamRow) -> Option<&'static Setting> {
     SETTINGS.get(usize::from(row.number))
 }

@@ -621,6 +621,10 @@ impl FamilyConsole for Sixpack2Console {
         &ACTION_LAMPS
     }
 
+    fn units(&self) -> Option<&'static dyn crate::protocol::units::UnitLaw> {
+        Some(&super::units::Sixpack2Units)
+    }
+
     fn parameters(&self) -> Option<&'static dyn ParameterSet> {
         Some(&super::parameter_set::Sixpack2Parameters)
     }

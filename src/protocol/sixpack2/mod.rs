@@ -23,6 +23,7 @@ pub mod parameter_set;
 pub mod reply;
 pub mod tool;
 pub mod traffic;
+pub mod units;
 pub mod wire;
 
 pub use catalog::{COMMANDS, CommandSpec, Field, FieldKind, MOTORS};

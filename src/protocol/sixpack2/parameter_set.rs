@@ -26,7 +26,7 @@ use crate::protocol::parameters::{
 use crate::protocol::settings::SettingWrite;
 
 /// A row's number: the command and the field's index in it.
-fn number_of(code: u8, index: usize) -> u16 {
+pub(crate) fn number_of(code: u8, index: usize) -> u16 {
     u16::from(code) << 8 | u16::try_from(index).unwrap_or(0xFF)
 }
 

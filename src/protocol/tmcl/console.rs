@@ -434,6 +434,10 @@ impl FamilyConsole for TmclConsole {
         Some(super::frame::Status(status).meaning().to_string())
     }
 
+    fn units(&self) -> Option<&'static dyn crate::protocol::units::UnitLaw> {
+        Some(&super::units::TmclUnits)
+    }
+
     fn parameters(&self) -> Option<&'static dyn ParameterSet> {
         Some(&super::parameter_set::TmclParameters)
     }

@@ -38,8 +38,20 @@ pub trait Controller: Send + Sync {
     }
     fn traffic(&self) -> Option<broadcast::Receiver<TrafficRecord>>;
     fn events(&self) -> Option<broadcast::Receiver<DeviceEvent>>;
-    /// Send one line at user priority.
+    /// Send one line at user priority (values in an axis's unit
+    /// converted with the mechanics in force and the module's settings
+    /// first, where the controller converts).
     fn execute(&self, line: String) -> Pending<Result<LineResult, SessionError>>;
+    /// The axes' mechanics in force (none by default).
+    fn mechanics(&self) -> crate::protocol::units::MechanicsTable {
+        crate::protocol::units::MechanicsTable::default()
+    }
+    /// Take `table` as the mechanics in force, for every module of the
+    /// console; refused by default (a controller that converts nothing).
+    fn set_mechanics(&self, table: crate::protocol::units::MechanicsTable) -> Result<(), String> {
+        let _ = table;
+        Err(format!("{} converts no units", self.link_name()))
+    }
     /// Read `line` at user priority until two answers agree where the
     /// family's answers carry no check
     /// ([`crate::session::Session::read_agreed`]). By default: once.

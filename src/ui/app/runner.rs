@@ -205,6 +205,7 @@ impl Connection {
                     .map(|s| s.borrow_and_update().clone())
                     .unwrap_or_default(),
             ),
+            mechanics: Arc::new(c.mechanics()),
         }
     }
 }
@@ -1002,6 +1003,24 @@ impl Runner {
                     None => Err("not connected: nothing to load into".to_string()),
                 };
                 queue.push(AppEvent::ProgramLoaded { pane, tag, result });
+            }
+            Effect::Mechanics(table) => {
+                let Some(c) = self.selected(app) else {
+                    queue.push(not_connected());
+                    return;
+                };
+                let axes: Vec<String> = table.axes.keys().map(u8::to_string).collect();
+                let notice = match c.controller.set_mechanics(table) {
+                    Ok(()) if axes.is_empty() => {
+                        Notice::info("no mechanics in force: raw values only")
+                    }
+                    Ok(()) => Notice::info(format!(
+                        "mechanics of axis {} in force: values may be given and are shown in their units",
+                        axes.join(", ")
+                    )),
+                    Err(message) => Notice::error(format!(":mechanics: {message}")),
+                };
+                queue.push(AppEvent::Notice(notice));
             }
             Effect::DriveSimInput(setting) => {
                 let Some(c) = self.selected(app) else {

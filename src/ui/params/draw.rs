@@ -36,16 +36,55 @@ impl ParamsPane {
     /// The real-world value of a row, else its note if that fits `width`
     /// (a longer one shows under the table for the selected row).
     fn physical_text(&self, row: &ParamRow, view: &View, width: usize) -> String {
-        let (Some(parameters), Some(Cell::Value(v))) = (Self::parameters(view), self.cell(row))
-        else {
+        let Some(Cell::Value(v)) = self.cell(row) else {
             return String::new();
         };
-        if let Some(p) = parameters.physical(row, v, self.unit, &self.axis_value(row.scope)) {
-            return p.to_string();
+        if let Some(text) = self.real_text(row, v, view) {
+            return text;
         }
         self.note(row, view)
             .filter(|note| note.chars().count() <= width)
             .unwrap_or_default()
+    }
+
+    /// A row's value in real-world units: pps or rpm, or in the axis's
+    /// own unit when those are shown (its mechanics and the family's unit
+    /// law, with the values read of the other rows).
+    fn real_text(&self, row: &ParamRow, value: i64, view: &View) -> Option<String> {
+        let parameters = Self::parameters(view)?;
+        if !self.axis_units {
+            return parameters
+                .physical(row, value, self.unit, &self.axis_value(row.scope))
+                .map(|p| p.to_string());
+        }
+        let session = view.session?;
+        let law = session.family.console.units()?;
+        let quantity = law.row_quantity(row)?;
+        let Scope::Axis(axis) = row.scope else {
+            return None;
+        };
+        let mechanics = session.mechanics.get(axis)?;
+        let value_of = |scope: Scope, number: u16| {
+            self.value(scope, number)
+                .or_else(|| session.settings.value(scope, number))
+        };
+        let converted = crate::protocol::units::to_units(
+            law,
+            mechanics,
+            axis,
+            quantity,
+            value as f64,
+            &value_of,
+        )
+        .ok()?;
+        Some(
+            crate::protocol::units::InUnits {
+                value: converted,
+                quantity,
+                unit: &mechanics.unit,
+            }
+            .to_string(),
+        )
     }
 
     /// What the family says a row's value means beyond its number (a
@@ -66,13 +105,10 @@ impl ParamsPane {
             texts.map(|t| t.chars().count()).max().unwrap_or(0)
         };
         let real = |row: &ParamRow| {
-            let (Some(parameters), Some(Cell::Value(v))) = (Self::parameters(view), self.cell(row))
-            else {
+            let Some(Cell::Value(v)) = self.cell(row) else {
                 return None;
             };
-            parameters
-                .physical(row, v, self.unit, &self.axis_value(row.scope))
-                .map(|p| p.to_string())
+            self.real_text(row, v, view)
         };
         Widest {
             number: widest(&mut rows().map(|r| r.number.to_string())),
@@ -197,9 +233,10 @@ impl ParamsPane {
                 self.progress.done, self.progress.total
             ));
         }
-        parts.push(match self.unit {
-            SpeedUnit::Pps => "real: pps".into(),
-            SpeedUnit::Rpm => "real: rpm".into(),
+        parts.push(match (self.axis_units, self.unit) {
+            (true, _) => "real: axis units".into(),
+            (false, SpeedUnit::Pps) => "real: pps".into(),
+            (false, SpeedUnit::Rpm) => "real: rpm".into(),
         });
         parts.join(" · ")
     }
