@@ -843,9 +843,10 @@ async fn losing_the_link_fails_everything_and_it_is_reopened_with_backoff() {
     let spares = Spares::default();
     let (link, mut script) = scripted("first", at_9600());
     let (second, mut script2) = scripted("second", at_9600());
+    // Its advice is for a first opening: the state keeps one line.
     spares.push(Err(LinkError {
-        link: "second".into(),
-        reason: "still unplugged".into(),
+        advice: vec!["plug it back in".into()],
+        ..LinkError::new("second", "still unplugged")
     }));
     spares.push(Ok(second));
     let options = DeviceOptions {

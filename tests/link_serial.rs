@@ -70,16 +70,20 @@ async fn bytes_pass_both_ways() {
 async fn closing_the_far_end_is_a_loss_reported_once() {
     let (master, path) = pty();
     let mut link = LinkSpec::Serial {
-        path,
+        path: path.clone(),
         baud: 115_200,
     }
     .open()
     .await
     .expect("opens");
+    // Closing the master removes the slave's node before close() returns;
+    // the reader (on this test's one thread) only looks after that.
     drop(master);
     assert_eq!(
         next_input(&mut link).await,
-        Some(LinkInput::Lost("the port was hung up (unplugged?)".into()))
+        Some(LinkInput::Lost(format!(
+            "the port vanished: {path} is gone (unplugged?)"
+        )))
     );
     assert!(link.outgoing.send(b"x").is_err(), "writes fail too");
     assert!(
@@ -117,8 +121,22 @@ async fn a_missing_port_is_named_in_the_error() {
     .await
     .expect_err("no such port");
     assert_eq!(
-        error.to_string(),
-        format!("cannot open {path} at 9600 Bd: No such file or directory")
+        error.headline(),
+        format!("cannot open {path} at 9600 Bd: no such port (not plugged in? a wrong name?)")
+    );
+    // Then the ports there are (none in a container, some on a PC).
+    assert!(
+        error.advice.first().is_some_and(|line| {
+            line.starts_with("no serial port is here at all")
+                || line == &format!("{path} is not among the serial ports here (`axterm ports`):")
+        }),
+        "{error}"
+    );
+    assert!(
+        error
+            .to_string()
+            .starts_with(&format!("{}\n  ", error.headline())),
+        "the advice follows, indented: {error}"
     );
 }
 
@@ -127,9 +145,15 @@ async fn a_port_in_use_is_refused_plainly() {
     let (_master, path) = pty();
     let spec = LinkSpec::Serial { path, baud: 9600 };
     let _first = spec.open().await.expect("opens");
+    // Refused even as root: TIOCEXCL does not bind root, but serialport
+    // also takes an exclusive flock, which does.
     let error = spec.open().await.expect_err("already open");
-    assert!(
-        error.to_string().ends_with("in use by another program"),
+    assert_eq!(
+        error.reason, "the port is in use by another program",
         "{error}"
     );
+    // The holder is this very process (the first link), found in /proc.
+    let comm = std::fs::read_to_string("/proc/self/comm").expect("own comm");
+    let held_by = format!("held by {} (pid {})", comm.trim(), std::process::id());
+    assert!(error.advice.contains(&held_by), "{error}");
 }

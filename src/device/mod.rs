@@ -624,10 +624,7 @@ pub type Reopen = Box<dyn FnMut() -> OpenFuture + Send>;
 /// A [`Reopen`] for a link that cannot be opened again: every attempt fails
 /// with `reason`.
 pub fn never_reopen(link: impl Into<String>, reason: impl Into<String>) -> Reopen {
-    let error = LinkError {
-        link: link.into(),
-        reason: reason.into(),
-    };
+    let error = LinkError::new(link, reason);
     Box::new(move || {
         let error = error.clone();
         Box::pin(async move { Err(error) })

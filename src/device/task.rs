@@ -1458,7 +1458,9 @@ impl Task {
                     return Some(link);
                 }
                 Err(error) => {
-                    reason = error.to_string();
+                    // One line: the state is shown in status bars; the
+                    // advice under it was for the first opening.
+                    reason = error.headline();
                     wait = wait.saturating_mul(2).min(longest);
                 }
             }

@@ -14,6 +14,7 @@ use tokio::sync::mpsc;
 use crate::sim::SimulatedController;
 use crate::sim::faults::FaultPlan;
 
+pub mod port_trouble;
 pub mod ports;
 pub mod rfc2217;
 mod serial;
@@ -166,13 +167,40 @@ impl LinkSpec {
     }
 }
 
-/// Why a link could not be opened.
+/// Why a link could not be opened: a one-line reason, and what to do
+/// about it on lines of their own (who owns the port, who holds it,
+/// which ports there are). Shown whole, the advice follows the reason
+/// indented; [`LinkError::headline`] is the one line for places that have
+/// one (a status bar, a table cell).
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("cannot open {link}: {reason}")]
+#[error("{}{}", self.headline(), indented(&self.advice))]
 pub struct LinkError {
     /// The link, as [`LinkSpec::describe`] names it.
     pub link: String,
     pub reason: String,
+    /// Lines that explain the reason and say how to fix it; may be empty.
+    pub advice: Vec<String>,
+}
+
+impl LinkError {
+    /// A failure with nothing to add to its reason.
+    pub fn new(link: impl Into<String>, reason: impl Into<String>) -> LinkError {
+        LinkError {
+            link: link.into(),
+            reason: reason.into(),
+            advice: Vec::new(),
+        }
+    }
+
+    /// `cannot open LINK: REASON`, without the advice.
+    pub fn headline(&self) -> String {
+        format!("cannot open {}: {}", self.link, self.reason)
+    }
+}
+
+/// Each line on a line of its own, indented under the headline.
+fn indented(lines: &[String]) -> String {
+    lines.iter().map(|line| format!("\n  {line}")).collect()
 }
 
 impl LinkSpec {
