@@ -879,6 +879,7 @@ async fn losing_the_link_fails_everything_and_it_is_reopened_with_backoff() {
         *device.state().borrow(),
         LinkState::Disconnected {
             reason: "first: cable pulled".into(),
+            attempts: 0,
             retry_in: Duration::from_millis(100),
         }
     );
@@ -917,10 +918,12 @@ async fn losing_the_link_fails_everything_and_it_is_reopened_with_backoff() {
         [
             LinkState::Disconnected {
                 reason: "first: cable pulled".into(),
+                attempts: 0,
                 retry_in: Duration::from_millis(100),
             },
             LinkState::Disconnected {
                 reason: "cannot open second: still unplugged".into(),
+                attempts: 1,
                 retry_in: Duration::from_millis(200),
             },
             LinkState::Connected {

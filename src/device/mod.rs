@@ -308,10 +308,13 @@ pub enum LinkState {
     Connected {
         link: String,
     },
-    /// Lost or not (yet) reopened; `reason` says why, and another attempt
-    /// follows after `retry_in`.
+    /// Lost or not (yet) reopened; `reason` says why (the loss, then
+    /// the last failed reopening), `attempts` how many reopenings have
+    /// failed since the loss, and another attempt follows after
+    /// `retry_in`.
     Disconnected {
         reason: String,
+        attempts: u32,
         retry_in: Duration,
     },
     /// Shut down on request.
