@@ -248,8 +248,8 @@ async fn a_vanished_port_is_said_so_and_reopened_when_it_returns() {
         );
         assert_eq!(
             reason,
-            &format!("cannot open {link}: no such port (not plugged in? a wrong name?)"),
-            "one line, without the advice"
+            &format!("cannot open {link}: the port vanished: {name} is not there (unplugged?)"),
+            "one line, without the port list"
         );
     }
     assert_eq!(changes.last(), Some(&LinkState::Connected { link }));

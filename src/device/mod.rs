@@ -644,7 +644,7 @@ pub async fn connect(
     let link = spec.open().await?;
     let reopen: Reopen = Box::new(move || {
         let spec = spec.clone();
-        Box::pin(async move { spec.open().await })
+        Box::pin(async move { spec.reopen().await })
     });
     Ok(spawn(link, reopen, wire, options))
 }

@@ -13,6 +13,7 @@ use tokio::sync::mpsc;
 
 use crate::sim::SimulatedController;
 use crate::sim::faults::FaultPlan;
+use port_trouble::Opening;
 
 pub mod port_trouble;
 pub mod ports;
@@ -208,8 +209,20 @@ impl LinkSpec {
     /// async runtime; must be called within a tokio runtime, which then
     /// runs the link's reader.
     pub async fn open(&self) -> Result<Link, LinkError> {
+        self.open_as(Opening::First).await
+    }
+
+    /// Open the link again after it was lost: as [`LinkSpec::open`], but
+    /// a serial port that is not there has vanished.
+    pub async fn reopen(&self) -> Result<Link, LinkError> {
+        self.open_as(Opening::Again).await
+    }
+
+    async fn open_as(&self, opening: Opening) -> Result<Link, LinkError> {
         match self {
-            LinkSpec::Serial { path, baud } => serial::open(path, *baud, self.describe()).await,
+            LinkSpec::Serial { path, baud } => {
+                serial::open(path, *baud, self.describe(), opening).await
+            }
             LinkSpec::Tcp { address, .. } => tcp::open(address, None, self.describe()).await,
             LinkSpec::Rfc2217 { address, baud } => {
                 tcp::open(address, Some(*baud), self.describe()).await

@@ -335,11 +335,29 @@ pub fn holders(device: &Path, proc_root: &Path) -> Vec<Holder> {
     found
 }
 
+/// Whether a port is opened for the first time or again after the link
+/// was lost.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Opening {
+    First,
+    /// A reopening after a loss: a port not there has vanished, whatever
+    /// the hang-up managed to see ([`vanished`]).
+    Again,
+}
+
+/// Why a reopening found nothing at `path`.
+pub fn vanished(path: &str) -> String {
+    format!("the port vanished: {path} is not there (unplugged?)")
+}
+
 /// The reason (one line) and the advice (lines to show under it) for a
 /// failed opening of `path`. Looks at the system: the device's metadata,
 /// the accounts, `/proc`, the port list.
-pub fn explain(path: &str, e: &serialport::Error) -> (String, Vec<String>) {
+pub fn explain(path: &str, e: &serialport::Error, opening: Opening) -> (String, Vec<String>) {
     match PortTrouble::of(e) {
+        // The port list is for someone choosing a port; the reconnect
+        // line that shows this has room for one line only.
+        PortTrouble::Missing if opening == Opening::Again => (vanished(path), Vec::new()),
         PortTrouble::PermissionDenied => (
             "permission denied".to_string(),
             permission_advice(
@@ -600,6 +618,24 @@ mod tests {
             of(ErrorKind::Unknown, "Input/output error"),
             PortTrouble::Other
         );
+    }
+
+    #[test]
+    fn a_port_missing_at_a_reopening_has_vanished() {
+        let e = serialport::Error::new(
+            serialport::ErrorKind::Io(std::io::ErrorKind::NotFound),
+            "No such file or directory",
+        );
+        assert_eq!(
+            explain("/nonexistent/ttyUSB0", &e, Opening::Again),
+            (
+                "the port vanished: /nonexistent/ttyUSB0 is not there (unplugged?)".to_string(),
+                Vec::new()
+            )
+        );
+        let (reason, advice) = explain("/nonexistent/ttyUSB0", &e, Opening::First);
+        assert_eq!(reason, "no such port (not plugged in? a wrong name?)");
+        assert_eq!(advice.len().min(1), 1, "the ports there are (or none)");
     }
 
     #[test]

@@ -23,7 +23,7 @@ use std::time::{Duration, Instant};
 
 use serialport::{DataBits, FlowControl, Parity, SerialPort, StopBits};
 
-use super::port_trouble;
+use super::port_trouble::{self, Opening};
 use super::rfc2217::{ComParity, ComStopBits};
 use super::{Inbox, LINE_FRAMING, Link, LinkError, LinkWriter, byte_time, io_reason};
 
@@ -54,7 +54,12 @@ fn hung_up(path: Option<&str>) -> String {
     }
 }
 
-pub(super) async fn open(path: &str, baud: u32, name: String) -> Result<Link, LinkError> {
+pub(super) async fn open(
+    path: &str,
+    baud: u32,
+    name: String,
+    opening: Opening,
+) -> Result<Link, LinkError> {
     let fail = |reason: String| LinkError::new(name.clone(), reason);
     let builder = serialport::new(path, baud)
         .data_bits(data_bits(LINE_FRAMING.data_bits))
@@ -68,7 +73,7 @@ pub(super) async fn open(path: &str, baud: u32, name: String) -> Result<Link, Li
     let opened = tokio::task::spawn_blocking(move || {
         builder
             .open_native()
-            .map_err(|e| port_trouble::explain(&node, &e))
+            .map_err(|e| port_trouble::explain(&node, &e, opening))
     })
     .await
     .map_err(|e| fail(format!("the opening task failed: {e}")))?;
