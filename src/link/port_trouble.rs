@@ -358,15 +358,21 @@ pub fn explain(path: &str, e: &serialport::Error, opening: Opening) -> (String, 
         // The port list is for someone choosing a port; the reconnect
         // line that shows this has room for one line only.
         PortTrouble::Missing if opening == Opening::Again => (vanished(path), Vec::new()),
-        PortTrouble::PermissionDenied => (
-            "permission denied".to_string(),
-            permission_advice(
-                path,
-                node_facts(path).as_ref(),
-                &Accounts::read(),
-                &caller(),
-            ),
-        ),
+        PortTrouble::PermissionDenied => {
+            // A by-id name is a symbolic link: `ls -l` of it shows the
+            // link's own mode, so the device it leads to is the one named.
+            let device = fs::canonicalize(path)
+                .map_or_else(|_| path.to_string(), |p| p.to_string_lossy().into_owned());
+            (
+                "permission denied".to_string(),
+                permission_advice(
+                    &device,
+                    node_facts(&device).as_ref(),
+                    &Accounts::read(),
+                    &caller(),
+                ),
+            )
+        }
         PortTrouble::Busy => (
             "the port is in use by another program".to_string(),
             busy_advice(path, &holders(Path::new(path), Path::new("/proc"))),
@@ -617,6 +623,34 @@ mod tests {
         assert_eq!(
             of(ErrorKind::Unknown, "Input/output error"),
             PortTrouble::Other
+        );
+    }
+
+    /// A by-id name is explained by the device it leads to.
+    #[cfg(unix)]
+    #[test]
+    fn a_refused_link_name_shows_the_device_behind_it() {
+        use std::os::unix::fs::{PermissionsExt, symlink};
+        let dir = tempfile::tempdir().expect("temp dir");
+        let device = dir.path().join("ttyUSB0");
+        fs::write(&device, "").expect("device stand-in");
+        fs::set_permissions(&device, fs::Permissions::from_mode(0o660)).expect("chmod");
+        let device = device.canonicalize().expect("real path");
+        let link = dir
+            .path()
+            .join("usb-FTDI_FT232R_USB_UART_A50285BI-if00-port0");
+        symlink(&device, &link).expect("by-id link");
+        let e = serialport::Error::new(
+            serialport::ErrorKind::Io(std::io::ErrorKind::PermissionDenied),
+            "Permission denied",
+        );
+        let (reason, advice) = explain(&link.to_string_lossy(), &e, Opening::First);
+        assert_eq!(reason, "permission denied");
+        let shown = device.to_string_lossy();
+        assert!(
+            advice[0].starts_with("-rw-rw---- ")
+                && advice[0].ends_with(&format!(" {shown}   (`ls -l {shown}`)")),
+            "{advice:?}"
         );
     }
 
