@@ -78,10 +78,103 @@ fn a_port_that_cannot_be_opened_exits_3_with_the_reason() {
     let out = axterm(&["exec", "--port", "/nonexistent/tty", "GAP 1, 0"]);
     assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
     assert_eq!(stdout(&out), "");
+    let said = stderr(&out);
     assert!(
-        stderr(&out).contains("cannot open /nonexistent/tty at 9600 Bd"),
-        "{}",
-        stderr(&out)
+        said.contains(
+            "cannot open /nonexistent/tty at 9600 Bd: no such port (not plugged in? a wrong name?)"
+        ),
+        "{said}"
+    );
+    // What there is instead (no port at all in a container, some on a PC).
+    assert!(
+        said.contains("\n  no serial port is here at all")
+            || said.contains("\n  /nonexistent/tty is not among the serial ports here"),
+        "{said}"
+    );
+}
+
+/// A pseudo-terminal held by this test (an exclusive open, as minicom or
+/// another axterm would), and its path.
+fn held_pty() -> (serialport::TTYPort, serialport::TTYPort, String) {
+    use serialport::SerialPort;
+    let (master, slave) = serialport::TTYPort::pair().expect("a pseudo-terminal");
+    let path = slave.name().expect("the slave has a path");
+    drop(slave);
+    let held = serialport::new(&path, 9600)
+        .open_native()
+        .expect("the test holds it");
+    (master, held, path)
+}
+
+#[test]
+fn a_busy_port_names_the_program_that_holds_it() {
+    let (_master, _held, path) = held_pty();
+    let out = axterm(&["exec", "--port", &path, "GAP 1, 0"]);
+    assert_eq!(out.status.code(), Some(3), "a link error: {}", stderr(&out));
+    assert_eq!(stdout(&out), "");
+    let comm = std::fs::read_to_string("/proc/self/comm").expect("own comm");
+    assert_eq!(
+        stderr(&out),
+        format!(
+            "axterm exec: cannot open {path} at 9600 Bd: the port is in use by another program\n  \
+             held by {} (pid {})\n  \
+             close it there, then try again\n",
+            comm.trim(),
+            std::process::id()
+        )
+    );
+}
+
+/// The port given to group dialout (gid 20, as udev does), and axterm run
+/// as nobody: refused, with the device as `ls -l` shows it and the fix.
+/// Needs root, to hand the port over and to start axterm as nobody (CI
+/// runs as root); elsewhere it says so and checks nothing.
+#[test]
+fn a_port_refused_by_its_mode_says_who_may_use_it_and_the_fix() {
+    use std::os::unix::fs::PermissionsExt;
+    use std::os::unix::process::CommandExt;
+    // SAFETY: geteuid only returns this process's id.
+    if unsafe { libc::geteuid() } != 0 {
+        eprintln!("not root: cannot start axterm as another user; not checked");
+        return;
+    }
+    let (_master, slave) = serialport::TTYPort::pair().expect("a pseudo-terminal");
+    let path = serialport::SerialPort::name(&slave).expect("the slave has a path");
+    std::os::unix::fs::chown(&path, Some(0), Some(20)).expect("chown");
+    std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o660)).expect("chmod");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_axterm"))
+        .args(["exec", "--port", &path, "GAP 1, 0"])
+        .uid(65534)
+        .gid(65534)
+        .output()
+        .expect("run axterm as nobody");
+    assert_eq!(out.status.code(), Some(3), "a link error: {}", stderr(&out));
+    let said = stderr(&out);
+    let lines: Vec<&str> = said.lines().collect();
+    assert_eq!(
+        lines.first().copied(),
+        Some(format!("axterm exec: cannot open {path} at 9600 Bd: permission denied").as_str()),
+        "{said}"
+    );
+    assert!(
+        lines
+            .get(1)
+            .is_some_and(|l| l.starts_with("  crw-rw---- root ")
+                && l.ends_with(&format!(" {path}   (`ls -l {path}`)"))),
+        "{said}"
+    );
+    assert!(
+        lines
+            .get(2)
+            .is_some_and(|l| l.contains(" are not in group ")),
+        "{said}"
+    );
+    assert!(
+        lines
+            .get(3)
+            .is_some_and(|l| l.starts_with("  fix: `sudo usermod -aG ")
+                && l.ends_with("$USER`, then log out and in again")),
+        "{said}"
     );
 }
 

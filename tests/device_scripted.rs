@@ -843,9 +843,10 @@ async fn losing_the_link_fails_everything_and_it_is_reopened_with_backoff() {
     let spares = Spares::default();
     let (link, mut script) = scripted("first", at_9600());
     let (second, mut script2) = scripted("second", at_9600());
+    // Its advice is for a first opening: the state keeps one line.
     spares.push(Err(LinkError {
-        link: "second".into(),
-        reason: "still unplugged".into(),
+        advice: vec!["plug it back in".into()],
+        ..LinkError::new("second", "still unplugged")
     }));
     spares.push(Ok(second));
     let options = DeviceOptions {
@@ -878,6 +879,7 @@ async fn losing_the_link_fails_everything_and_it_is_reopened_with_backoff() {
         *device.state().borrow(),
         LinkState::Disconnected {
             reason: "first: cable pulled".into(),
+            attempts: 0,
             retry_in: Duration::from_millis(100),
         }
     );
@@ -916,10 +918,12 @@ async fn losing_the_link_fails_everything_and_it_is_reopened_with_backoff() {
         [
             LinkState::Disconnected {
                 reason: "first: cable pulled".into(),
+                attempts: 0,
                 retry_in: Duration::from_millis(100),
             },
             LinkState::Disconnected {
                 reason: "cannot open second: still unplugged".into(),
+                attempts: 1,
                 retry_in: Duration::from_millis(200),
             },
             LinkState::Connected {

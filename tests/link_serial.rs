@@ -70,16 +70,20 @@ async fn bytes_pass_both_ways() {
 async fn closing_the_far_end_is_a_loss_reported_once() {
     let (master, path) = pty();
     let mut link = LinkSpec::Serial {
-        path,
+        path: path.clone(),
         baud: 115_200,
     }
     .open()
     .await
     .expect("opens");
+    // Closing the master removes the slave's node before close() returns;
+    // the reader (on this test's one thread) only looks after that.
     drop(master);
     assert_eq!(
         next_input(&mut link).await,
-        Some(LinkInput::Lost("the port was hung up (unplugged?)".into()))
+        Some(LinkInput::Lost(format!(
+            "the port vanished: {path} is gone (unplugged?)"
+        )))
     );
     assert!(link.outgoing.send(b"x").is_err(), "writes fail too");
     assert!(
@@ -117,8 +121,22 @@ async fn a_missing_port_is_named_in_the_error() {
     .await
     .expect_err("no such port");
     assert_eq!(
-        error.to_string(),
-        format!("cannot open {path} at 9600 Bd: No such file or directory")
+        error.headline(),
+        format!("cannot open {path} at 9600 Bd: no such port (not plugged in? a wrong name?)")
+    );
+    // Then the ports there are (none in a container, some on a PC).
+    assert!(
+        error.advice.first().is_some_and(|line| {
+            line.starts_with("no serial port is here at all")
+                || line == &format!("{path} is not among the serial ports here (`axterm ports`):")
+        }),
+        "{error}"
+    );
+    assert!(
+        error
+            .to_string()
+            .starts_with(&format!("{}\n  ", error.headline())),
+        "the advice follows, indented: {error}"
     );
 }
 
@@ -127,9 +145,113 @@ async fn a_port_in_use_is_refused_plainly() {
     let (_master, path) = pty();
     let spec = LinkSpec::Serial { path, baud: 9600 };
     let _first = spec.open().await.expect("opens");
+    // Refused even as root: TIOCEXCL does not bind root, but serialport
+    // also takes an exclusive flock, which does.
     let error = spec.open().await.expect_err("already open");
-    assert!(
-        error.to_string().ends_with("in use by another program"),
+    assert_eq!(
+        error.reason, "the port is in use by another program",
         "{error}"
     );
+    // The holder is this very process (the first link), found in /proc.
+    let comm = std::fs::read_to_string("/proc/self/comm").expect("own comm");
+    let held_by = format!("held by {} (pid {})", comm.trim(), std::process::id());
+    assert!(error.advice.contains(&held_by), "{error}");
+}
+
+/// The link states the device task tells, up to the first that `last`
+/// accepts.
+async fn changes_until(
+    events: &mut tokio::sync::broadcast::Receiver<axterm::device::DeviceEvent>,
+    last: impl Fn(&axterm::device::LinkState) -> bool,
+) -> Vec<axterm::device::LinkState> {
+    let mut changes = Vec::new();
+    loop {
+        let event = tokio::time::timeout(GIVE_UP_AFTER, events.recv())
+            .await
+            .expect("news within the guard time")
+            .expect("the task runs");
+        if let axterm::device::DeviceEvent::StateChanged(change) = event {
+            let done = last(&change);
+            changes.push(change);
+            if done {
+                return changes;
+            }
+        }
+    }
+}
+
+/// A port that vanishes (its by-id link removed and its tty hung up, as
+/// when a USB adapter is pulled) says so; the device task's reopenings
+/// fail, each counted, until the port is back under the same name.
+#[tokio::test]
+async fn a_vanished_port_is_said_so_and_reopened_when_it_returns() {
+    use axterm::device::{DeviceOptions, LinkState, connect};
+    use axterm::protocol::tmcl::TmclWire;
+    use std::os::unix::fs::symlink;
+    use std::sync::Arc;
+
+    let dir = tempfile::tempdir().expect("temp dir");
+    let stable = dir.path().join("usb-Trinamic_StepRocker-if00");
+    let name = stable.to_string_lossy().into_owned();
+    let (master, first) = pty();
+    symlink(&first, &stable).expect("by-id link");
+    let options = DeviceOptions {
+        reconnect_initial: Duration::from_millis(5),
+        reconnect_max: Duration::from_millis(20),
+        ..DeviceOptions::default()
+    };
+    let spec = LinkSpec::Serial {
+        path: name.clone(),
+        baud: 9600,
+    };
+    let device = connect(spec, Arc::new(TmclWire::default()), options)
+        .await
+        .expect("opens");
+    let mut events = device.events();
+
+    // Unplugged: udev removes the link, the kernel hangs the tty up.
+    std::fs::remove_file(&stable).expect("unlink");
+    drop(master);
+    let mut changes = changes_until(&mut events, |s| {
+        matches!(s, LinkState::Disconnected { attempts: 2, .. })
+    })
+    .await;
+
+    // Plugged back in: a new tty under the same stable name.
+    let (_master, second) = pty();
+    symlink(&second, &stable).expect("by-id link again");
+    changes.extend(changes_until(&mut events, |s| matches!(s, LinkState::Connected { .. })).await);
+
+    let link = format!("{name} at 9600 Bd");
+    assert_eq!(
+        changes.first(),
+        Some(&LinkState::Disconnected {
+            reason: format!("{link}: the port vanished: {name} is gone (unplugged?)"),
+            attempts: 0,
+            retry_in: Duration::from_millis(5),
+        }),
+        "{changes:#?}"
+    );
+    let failures: Vec<&LinkState> = changes[1..changes.len() - 1].iter().collect();
+    assert!(failures.len() >= 2, "{changes:#?}");
+    for (n, failure) in failures.iter().enumerate() {
+        let LinkState::Disconnected {
+            reason, attempts, ..
+        } = failure
+        else {
+            panic!("not a failed attempt: {failure:?}");
+        };
+        assert_eq!(
+            usize::try_from(*attempts).ok(),
+            Some(n + 1),
+            "counted in order"
+        );
+        assert_eq!(
+            reason,
+            &format!("cannot open {link}: the port vanished: {name} is not there (unplugged?)"),
+            "one line, without the port list"
+        );
+    }
+    assert_eq!(changes.last(), Some(&LinkState::Connected { link }));
+    assert_eq!(device.counters().borrow().reconnects, 1);
 }

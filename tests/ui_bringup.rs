@@ -192,6 +192,7 @@ fn a_lost_link_while_jogging_ends_it_through_the_session() {
     });
     shot.link = LinkState::Disconnected {
         reason: "the cable".into(),
+        attempts: 0,
         retry_in: Duration::from_millis(100),
     };
     let effects = app.handle(AppEvent::Snapshot(shot));

@@ -562,6 +562,7 @@ fn news_from_the_module_and_the_link_is_shown() {
     app.handle(AppEvent::Device(axterm::device::DeviceEvent::StateChanged(
         axterm::device::LinkState::Disconnected {
             reason: "/dev/ttyUSB0 unplugged".into(),
+            attempts: 0,
             retry_in: Duration::from_millis(400),
         },
     )));
@@ -573,6 +574,71 @@ fn news_from_the_module_and_the_link_is_shown() {
     assert!(
         screen.contains("link lost: /dev/ttyUSB0 unplugged; trying again in 400 ms"),
         "{screen}"
+    );
+}
+
+/// A port that vanishes says so, each failed reopening rewrites one line
+/// (not a line per attempt), and the reconnection is told apart from a
+/// first opening.
+#[test]
+fn a_vanished_port_and_its_reconnection_are_shown() {
+    use axterm::device::{DeviceEvent, LinkState};
+    let mut app = connected();
+    let state = |state| AppEvent::Device(DeviceEvent::StateChanged(state));
+    app.handle(state(LinkState::Disconnected {
+        reason: "/dev/ttyUSB0 at 9600 Bd: the port vanished: /dev/ttyUSB0 is gone (unplugged?)"
+            .into(),
+        attempts: 0,
+        retry_in: Duration::from_millis(100),
+    }));
+    for (attempts, retry_in) in [(1, 200), (2, 400)] {
+        app.handle(state(LinkState::Disconnected {
+            reason: "cannot open /dev/ttyUSB0 at 9600 Bd: no such port".into(),
+            attempts,
+            retry_in: Duration::from_millis(retry_in),
+        }));
+    }
+    let screen = text(&mut app, 120, 30);
+    assert!(
+        screen.contains("link lost: /dev/ttyUSB0 at 9600 Bd: the port vanished"),
+        "{screen}"
+    );
+    assert!(
+        screen.contains(
+            "reconnect attempt 2 failed: cannot open /dev/ttyUSB0 at 9600 Bd: no such port; \
+             trying again in 400 ms"
+        ),
+        "{screen}"
+    );
+    assert!(
+        !screen.contains("reconnect attempt 1"),
+        "rewritten: {screen}"
+    );
+    // The status bar, from the session's snapshot.
+    app.handle(AppEvent::Snapshot(axterm::ui::pane::Snapshot {
+        link: LinkState::Disconnected {
+            reason: "cannot open /dev/ttyUSB0 at 9600 Bd: no such port".into(),
+            attempts: 2,
+            retry_in: Duration::from_millis(400),
+        },
+        ..snapshot(axes(&["motor 0"]))
+    }));
+    let screen = text(&mut app, 160, 30);
+    assert!(
+        screen.contains("LOST, reconnecting (attempt 2 failed): cannot open /dev/ttyUSB0"),
+        "the status bar: {screen}"
+    );
+    app.handle(state(LinkState::Connected {
+        link: "/dev/ttyUSB0 at 9600 Bd".into(),
+    }));
+    let screen = text(&mut app, 120, 30);
+    assert!(
+        screen.contains("reconnected: link /dev/ttyUSB0 at 9600 Bd open again (attempt 3)"),
+        "{screen}"
+    );
+    assert!(
+        screen.contains("reconnect attempt 2 failed"),
+        "the attempts stay in the history: {screen}"
     );
 }
 

@@ -366,11 +366,23 @@ fn a_failed_connection_is_shown_and_not_remembered() {
     past_the_other_simulators(&mut app);
     app.handle(key(KeyCode::Down));
     app.handle(key(KeyCode::Enter));
+    // The reason and its advice, as a failed opening gives them.
     app.handle(AppEvent::Notice(Notice::error(
-        ":connect: cannot open /dev/ttyACM0 at 9600 Bd: permission denied",
+        ":connect: cannot open /dev/ttyACM0 at 9600 Bd: permission denied\n  \
+         crw-rw---- root dialout /dev/ttyACM0   (`ls -l /dev/ttyACM0`)\n  \
+         you (alice) are not in group dialout, which may read and write it\n  \
+         fix: `sudo usermod -aG dialout $USER`, then log out and in again",
     )));
     let all = text(&mut app, 100, 24);
     assert!(all.contains("permission denied"), "{all}");
+    // Each line of the advice on a line of its own.
+    for line in [
+        "  crw-rw---- root dialout /dev/ttyACM0   (`ls -l /dev/ttyACM0`)",
+        "  you (alice) are not in group dialout, which may read and write it",
+        "  fix: `sudo usermod -aG dialout $USER`, then log out and in again",
+    ] {
+        assert!(all.contains(&format!("│{line}")), "{line}: {all}");
+    }
     assert_eq!(app.focused(), Some("connect"));
     assert!(!dir.path().join(RECENT_FILE).exists());
 }

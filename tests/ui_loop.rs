@@ -171,6 +171,7 @@ async fn the_screen_follows_the_controller_s_snapshots() {
         assert!(frame.contains("ERR stall"), "{frame}");
         fake.link.send_replace(LinkState::Disconnected {
             reason: "cable pulled".into(),
+            attempts: 0,
             retry_in: Duration::from_secs(1),
         });
         rig.screens.until("LOST: cable pulled").await;

@@ -271,7 +271,9 @@ impl<'a> Walk<'a> {
                     let label = link.name.as_ref().map_or("the link", |n| n.label.as_str());
                     let connection = link.name.as_ref().map_or("", |n| n.connection.as_str());
                     eprintln!("axterm {}: {label} ({connection}): {error}", self.command);
-                    let note = format!("{label} cannot be opened: {error}");
+                    // A table cell has one line: the reason without its advice
+                    // (printed whole just above).
+                    let note = format!("{label} cannot be opened: {}", error.headline());
                     self.rows
                         .extend(link.rows_unworked("(no link)", &note, true));
                     if self.stop_on_failure {

@@ -308,10 +308,13 @@ pub enum LinkState {
     Connected {
         link: String,
     },
-    /// Lost or not (yet) reopened; `reason` says why, and another attempt
-    /// follows after `retry_in`.
+    /// Lost or not (yet) reopened; `reason` says why (the loss, then
+    /// the last failed reopening), `attempts` how many reopenings have
+    /// failed since the loss, and another attempt follows after
+    /// `retry_in`.
     Disconnected {
         reason: String,
+        attempts: u32,
         retry_in: Duration,
     },
     /// Shut down on request.
@@ -624,10 +627,7 @@ pub type Reopen = Box<dyn FnMut() -> OpenFuture + Send>;
 /// A [`Reopen`] for a link that cannot be opened again: every attempt fails
 /// with `reason`.
 pub fn never_reopen(link: impl Into<String>, reason: impl Into<String>) -> Reopen {
-    let error = LinkError {
-        link: link.into(),
-        reason: reason.into(),
-    };
+    let error = LinkError::new(link, reason);
     Box::new(move || {
         let error = error.clone();
         Box::pin(async move { Err(error) })
@@ -644,7 +644,7 @@ pub async fn connect(
     let link = spec.open().await?;
     let reopen: Reopen = Box::new(move || {
         let spec = spec.clone();
-        Box::pin(async move { spec.open().await })
+        Box::pin(async move { spec.reopen().await })
     });
     Ok(spawn(link, reopen, wire, options))
 }

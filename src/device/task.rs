@@ -1464,9 +1464,11 @@ impl Task {
         let initial = self.options.reconnect_initial.max(MIN_RECONNECT_WAIT);
         let longest = self.options.reconnect_max.max(initial);
         let mut wait = initial;
+        let mut attempts = 0u32;
         loop {
             self.set_state(LinkState::Disconnected {
                 reason: reason.clone(),
+                attempts,
                 retry_in: wait,
             });
             self.while_down(sleep(wait), &reason).await?;
@@ -1478,7 +1480,10 @@ impl Task {
                     return Some(link);
                 }
                 Err(error) => {
-                    reason = error.to_string();
+                    // One line: the state is shown in status bars; the
+                    // advice under it was for the first opening.
+                    reason = error.headline();
+                    attempts = attempts.saturating_add(1);
                     wait = wait.saturating_mul(2).min(longest);
                 }
             }

@@ -13,7 +13,9 @@ use tokio::sync::mpsc;
 
 use crate::sim::SimulatedController;
 use crate::sim::faults::FaultPlan;
+use port_trouble::Opening;
 
+pub mod port_trouble;
 pub mod ports;
 pub mod rfc2217;
 mod serial;
@@ -166,13 +168,40 @@ impl LinkSpec {
     }
 }
 
-/// Why a link could not be opened.
+/// Why a link could not be opened: a one-line reason, and what to do
+/// about it on lines of their own (who owns the port, who holds it,
+/// which ports there are). Shown whole, the advice follows the reason
+/// indented; [`LinkError::headline`] is the one line for places that have
+/// one (a status bar, a table cell).
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("cannot open {link}: {reason}")]
+#[error("{}{}", self.headline(), indented(&self.advice))]
 pub struct LinkError {
     /// The link, as [`LinkSpec::describe`] names it.
     pub link: String,
     pub reason: String,
+    /// Lines that explain the reason and say how to fix it; may be empty.
+    pub advice: Vec<String>,
+}
+
+impl LinkError {
+    /// A failure with nothing to add to its reason.
+    pub fn new(link: impl Into<String>, reason: impl Into<String>) -> LinkError {
+        LinkError {
+            link: link.into(),
+            reason: reason.into(),
+            advice: Vec::new(),
+        }
+    }
+
+    /// `cannot open LINK: REASON`, without the advice.
+    pub fn headline(&self) -> String {
+        format!("cannot open {}: {}", self.link, self.reason)
+    }
+}
+
+/// Each line on a line of its own, indented under the headline.
+fn indented(lines: &[String]) -> String {
+    lines.iter().map(|line| format!("\n  {line}")).collect()
 }
 
 impl LinkSpec {
@@ -180,8 +209,20 @@ impl LinkSpec {
     /// async runtime; must be called within a tokio runtime, which then
     /// runs the link's reader.
     pub async fn open(&self) -> Result<Link, LinkError> {
+        self.open_as(Opening::First).await
+    }
+
+    /// Open the link again after it was lost: as [`LinkSpec::open`], but
+    /// a serial port that is not there has vanished.
+    pub async fn reopen(&self) -> Result<Link, LinkError> {
+        self.open_as(Opening::Again).await
+    }
+
+    async fn open_as(&self, opening: Opening) -> Result<Link, LinkError> {
         match self {
-            LinkSpec::Serial { path, baud } => serial::open(path, *baud, self.describe()).await,
+            LinkSpec::Serial { path, baud } => {
+                serial::open(path, *baud, self.describe(), opening).await
+            }
             LinkSpec::Tcp { address, .. } => tcp::open(address, None, self.describe()).await,
             LinkSpec::Rfc2217 { address, baud } => {
                 tcp::open(address, Some(*baud), self.describe()).await

@@ -18,10 +18,12 @@
 //! [`LinkInput::Lost`]: super::LinkInput::Lost
 
 use std::io::{self, Read, Write};
+use std::path::Path;
 use std::time::{Duration, Instant};
 
 use serialport::{DataBits, FlowControl, Parity, SerialPort, StopBits};
 
+use super::port_trouble::{self, Opening};
 use super::rfc2217::{ComParity, ComStopBits};
 use super::{Inbox, LINE_FRAMING, Link, LinkError, LinkWriter, byte_time, io_reason};
 
@@ -38,21 +40,48 @@ const READ_POLL: Duration = Duration::from_millis(20);
 /// Why the link is gone when a read returned 0 bytes or poll said POLLHUP.
 const HUNG_UP: &str = "the port was hung up (unplugged?)";
 
-pub(super) async fn open(path: &str, baud: u32, name: String) -> Result<Link, LinkError> {
-    let fail = |reason: String| LinkError {
-        link: name.clone(),
-        reason,
-    };
+/// Why the link is gone after a hang-up: the port vanished when its
+/// device node went with it (a USB adapter pulled, a pty's master
+/// closed), else [`HUNG_UP`]. The kernel hangs the tty up a moment
+/// before it removes the node, so a node still there is not proof the
+/// port stays: the first reopening then says what became of it.
+fn hung_up(path: Option<&str>) -> String {
+    match path {
+        Some(path) if !Path::new(path).exists() => {
+            format!("the port vanished: {path} is gone (unplugged?)")
+        }
+        _ => HUNG_UP.to_string(),
+    }
+}
+
+pub(super) async fn open(
+    path: &str,
+    baud: u32,
+    name: String,
+    opening: Opening,
+) -> Result<Link, LinkError> {
+    let fail = |reason: String| LinkError::new(name.clone(), reason);
     let builder = serialport::new(path, baud)
         .data_bits(data_bits(LINE_FRAMING.data_bits))
         .parity(parity(LINE_FRAMING.parity))
         .stop_bits(stop_bits(LINE_FRAMING.stop_bits))
         .flow_control(FlowControl::None)
         .timeout(WRITE_TIMEOUT);
-    let port = tokio::task::spawn_blocking(move || builder.open_native())
-        .await
-        .map_err(|e| fail(format!("the opening task failed: {e}")))?
-        .map_err(|e| fail(open_reason(&e)))?;
+    let node = path.to_string();
+    // A failure is explained where it happened, off the runtime too: the
+    // explanation looks at the device, the accounts and /proc.
+    let opened = tokio::task::spawn_blocking(move || {
+        builder
+            .open_native()
+            .map_err(|e| port_trouble::explain(&node, &e, opening))
+    })
+    .await
+    .map_err(|e| fail(format!("the opening task failed: {e}")))?;
+    let port = opened.map_err(|(reason, advice)| LinkError {
+        link: name.clone(),
+        reason,
+        advice,
+    })?;
     let writer = port.try_clone_native().map_err(|e| {
         fail(format!(
             "cannot share the port between reader and writer: {e}"
@@ -60,15 +89,17 @@ pub(super) async fn open(path: &str, baud: u32, name: String) -> Result<Link, Li
     })?;
     let (inbox, incoming) = Inbox::new();
     #[cfg(unix)]
-    spawn_reader(port, inbox.clone()).map_err(|e| fail(io_reason(&e)))?;
+    spawn_reader(port, inbox.clone(), path.to_string()).map_err(|e| fail(io_reason(&e)))?;
     #[cfg(not(unix))]
-    spawn_thread_reader(port, inbox.clone(), &name).map_err(|e| fail(io_reason(&e)))?;
+    spawn_thread_reader(port, inbox.clone(), &name, Some(path.to_string()))
+        .map_err(|e| fail(io_reason(&e)))?;
     Ok(Link {
         name,
         incoming,
         outgoing: Box::new(SerialWriter {
             port: writer,
             inbox,
+            path: path.to_string(),
         }),
         byte_time: Some(byte_time(baud)),
     })
@@ -100,26 +131,16 @@ fn stop_bits(stop: ComStopBits) -> StopBits {
     }
 }
 
-/// serialport's words for a failed opening, made plain where they are not.
-fn open_reason(e: &serialport::Error) -> String {
-    let text = e.to_string();
-    if text.contains("exclusive lock") || text.contains("Device or resource busy") {
-        "the port is in use by another program".into()
-    } else {
-        text
-    }
-}
-
 /// What a failed read means for the link.
-fn read_loss(e: &io::Error) -> String {
+fn read_loss(e: &io::Error, path: Option<&str>) -> String {
     match e.kind() {
-        io::ErrorKind::BrokenPipe => HUNG_UP.into(),
+        io::ErrorKind::BrokenPipe => hung_up(path),
         _ => format!("read failed: {}", io_reason(e)),
     }
 }
 
 #[cfg(unix)]
-fn spawn_reader(port: serialport::TTYPort, inbox: Inbox) -> io::Result<()> {
+fn spawn_reader(port: serialport::TTYPort, inbox: Inbox, path: String) -> io::Result<()> {
     use std::os::fd::AsRawFd;
     use tokio::io::Interest;
     use tokio::io::unix::AsyncFd;
@@ -139,7 +160,7 @@ fn spawn_reader(port: serialport::TTYPort, inbox: Inbox) -> io::Result<()> {
             };
             let mut guard = match ready {
                 Ok(guard) => guard,
-                Err(e) => return inbox.lost(read_loss(&e)),
+                Err(e) => return inbox.lost(read_loss(&e, Some(&path))),
             };
             match read_fd(guard.get_inner().as_raw_fd(), &mut buf) {
                 Err(e) if e.kind() == io::ErrorKind::WouldBlock => guard.clear_ready(),
@@ -149,12 +170,12 @@ fn spawn_reader(port: serialport::TTYPort, inbox: Inbox) -> io::Result<()> {
                     // Close our end before saying so, so that a reopening
                     // finds the port free.
                     drop(fd);
-                    return inbox.lost(HUNG_UP);
+                    return inbox.lost(hung_up(Some(&path)));
                 }
                 Err(e) => {
                     drop(guard);
                     drop(fd);
-                    return inbox.lost(read_loss(&e));
+                    return inbox.lost(read_loss(&e, Some(&path)));
                 }
                 Ok(n) => {
                     // A short read emptied the driver's buffer: wait for
@@ -196,7 +217,12 @@ fn read_fd(fd: std::os::fd::RawFd, buf: &mut [u8]) -> io::Result<usize> {
 /// The reader where there is no fd to poll: a thread doing blocking reads
 /// with a short timeout, so that it notices a dropped link promptly.
 #[cfg_attr(unix, allow(dead_code))]
-fn spawn_thread_reader<P>(mut port: P, inbox: Inbox, name: &str) -> io::Result<()>
+fn spawn_thread_reader<P>(
+    mut port: P,
+    inbox: Inbox,
+    name: &str,
+    path: Option<String>,
+) -> io::Result<()>
 where
     P: SerialPort + Read + 'static,
 {
@@ -210,7 +236,7 @@ where
                     return;
                 }
                 match port.read(&mut buf) {
-                    Ok(0) => break HUNG_UP.to_string(),
+                    Ok(0) => break hung_up(path.as_deref()),
                     Ok(n) => {
                         if !inbox.bytes(buf.get(..n).unwrap_or_default()) {
                             return;
@@ -221,7 +247,7 @@ where
                             e.kind(),
                             io::ErrorKind::TimedOut | io::ErrorKind::Interrupted
                         ) => {}
-                    Err(e) => break read_loss(&e),
+                    Err(e) => break read_loss(&e, path.as_deref()),
                 }
             };
             // Close our end before saying so, so that a reopening finds
@@ -235,6 +261,8 @@ where
 struct SerialWriter<P> {
     port: P,
     inbox: Inbox,
+    /// The port's path, to tell a vanished port from a hung-up one.
+    path: String,
 }
 
 impl<P: Write + Send> LinkWriter for SerialWriter<P> {
@@ -242,7 +270,7 @@ impl<P: Write + Send> LinkWriter for SerialWriter<P> {
         let result = write_all(&mut self.port, bytes);
         if let Err(e) = &result {
             let reason = match e.kind() {
-                io::ErrorKind::BrokenPipe => HUNG_UP.to_string(),
+                io::ErrorKind::BrokenPipe => hung_up(Some(&self.path)),
                 _ => format!("write failed: {}", io_reason(e)),
             };
             self.inbox.lost(reason);
@@ -283,7 +311,9 @@ mod tests {
     async fn the_thread_reader_forwards_bytes_and_reports_a_hangup() {
         let (mut master, slave) = serialport::TTYPort::pair().expect("pty");
         let (inbox, mut incoming) = Inbox::new();
-        spawn_thread_reader(slave, inbox, "pty").expect("reader");
+        // No path: whether the pty's node is gone yet when this thread
+        // sees the hang-up is a race with the kernel ([`hung_up`]).
+        spawn_thread_reader(slave, inbox, "pty", None).expect("reader");
         master.write_all(b"hello").expect("write");
         let mut got = Vec::new();
         while got.len() < 5 {
@@ -299,11 +329,17 @@ mod tests {
     }
 
     #[test]
-    fn busy_ports_are_named_plainly() {
-        let e = serialport::Error::new(
-            serialport::ErrorKind::NoDevice,
-            "Unable to acquire exclusive lock on serial port",
+    fn a_hang_up_whose_node_is_gone_is_a_vanished_port() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let there = dir.path().join("ttyUSB0");
+        std::fs::write(&there, "").expect("node stand-in");
+        let there = there.to_string_lossy().into_owned();
+        assert_eq!(hung_up(Some(&there)), HUNG_UP);
+        let gone = dir.path().join("ttyUSB1").to_string_lossy().into_owned();
+        assert_eq!(
+            hung_up(Some(&gone)),
+            format!("the port vanished: {gone} is gone (unplugged?)")
         );
-        assert_eq!(open_reason(&e), "the port is in use by another program");
+        assert_eq!(hung_up(None), HUNG_UP);
     }
 }

@@ -31,10 +31,7 @@ pub(super) async fn open(
     rfc2217_baud: Option<u32>,
     name: String,
 ) -> Result<Link, LinkError> {
-    let fail = |reason: String| LinkError {
-        link: name.clone(),
-        reason,
-    };
+    let fail = |reason: String| LinkError::new(name.clone(), reason);
     let stream = match tokio::time::timeout(CONNECT_TIMEOUT, TcpStream::connect(address)).await {
         Ok(Ok(stream)) => stream,
         Ok(Err(e)) => return Err(fail(io_reason(&e))),

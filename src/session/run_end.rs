@@ -423,7 +423,19 @@ fn not_sent_for_the_link(result: &Result<LineResult, SessionError>) -> bool {
 /// Why the link is not up, for the report.
 fn down_because(state: &LinkState) -> String {
     match state {
-        LinkState::Disconnected { reason, .. } => reason.clone(),
+        LinkState::Disconnected {
+            reason,
+            attempts: 0,
+            ..
+        } => reason.clone(),
+        // The reopenings tried meanwhile, so that a port gone for good
+        // is told from one that was never tried again.
+        LinkState::Disconnected {
+            reason, attempts, ..
+        } => format!(
+            "{reason}; {attempts} reconnect attempt{} failed",
+            if *attempts == 1 { "" } else { "s" }
+        ),
         LinkState::Closed => "the connection was closed".to_string(),
         LinkState::Connected { .. } => "it went again".to_string(),
     }
@@ -547,6 +559,27 @@ mod tests {
         let unread = EndCheck::judge(AtTheEnd::StopIfMoving, Err("timeout".into()));
         assert_eq!(unread.ending, RunEnding::Completed);
         assert!(unread.said.is_some_and(|s| s.contains("timeout")));
+    }
+
+    #[test]
+    fn a_link_still_down_counts_the_reconnect_attempts() {
+        let down = |attempts| LinkState::Disconnected {
+            reason: "cannot open /dev/ttyUSB0 at 9600 Bd: no such port".into(),
+            attempts,
+            retry_in: Duration::from_secs(5),
+        };
+        assert_eq!(
+            down_because(&down(0)),
+            "cannot open /dev/ttyUSB0 at 9600 Bd: no such port"
+        );
+        assert_eq!(
+            down_because(&down(1)),
+            "cannot open /dev/ttyUSB0 at 9600 Bd: no such port; 1 reconnect attempt failed"
+        );
+        assert_eq!(
+            down_because(&down(7)),
+            "cannot open /dev/ttyUSB0 at 9600 Bd: no such port; 7 reconnect attempts failed"
+        );
     }
 
     fn ok(line: &str) -> Result<LineResult, SessionError> {

@@ -99,6 +99,7 @@ mod tests {
         settings.borrow_and_update();
         state.send_replace(LinkState::Disconnected {
             reason: "unplugged".into(),
+            attempts: 0,
             retry_in: Duration::from_millis(100),
         });
         settings.changed().await.expect("the cache is told");

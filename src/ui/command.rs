@@ -225,6 +225,9 @@ pub struct CommandPane {
     busy_family: Option<&'static str>,
     /// The `:programs` or `:tasks` job under way.
     store_job: Option<store::StoreJob>,
+    /// Reopenings of a lost link that have failed so far; `None` while
+    /// the link is up. Tells a reconnection from a first opening.
+    reconnecting: Option<u32>,
 }
 
 impl Default for CommandPane {
@@ -262,6 +265,7 @@ impl CommandPane {
             busy: None,
             busy_family: None,
             store_job: None,
+            reconnecting: None,
         }
     }
 
@@ -1258,17 +1262,50 @@ impl Pane for CommandPane {
             }
             PaneEvent::Device(DeviceEvent::StateChanged(state)) => {
                 match state {
-                    LinkState::Connected { link } => {
-                        self.say(Role::Ok, format!("link {link} open"))
-                    }
-                    LinkState::Disconnected { reason, retry_in } => self.say(
-                        Role::Error,
-                        format!(
-                            "link lost: {reason}; trying again in {} ms",
-                            retry_in.as_millis()
+                    LinkState::Connected { link } => match self.reconnecting.take() {
+                        Some(failed) => self.say(
+                            Role::Ok,
+                            format!(
+                                "reconnected: link {link} open again (attempt {})",
+                                failed.saturating_add(1)
+                            ),
                         ),
-                    ),
-                    LinkState::Closed => self.say(Role::Warning, "link closed"),
+                        None => self.say(Role::Ok, format!("link {link} open")),
+                    },
+                    LinkState::Disconnected {
+                        reason,
+                        attempts: 0,
+                        retry_in,
+                    } => {
+                        self.reconnecting = Some(0);
+                        self.say(
+                            Role::Error,
+                            format!(
+                                "link lost: {reason}; trying again in {} ms",
+                                retry_in.as_millis()
+                            ),
+                        );
+                    }
+                    LinkState::Disconnected {
+                        reason,
+                        attempts,
+                        retry_in,
+                    } => {
+                        self.reconnecting = Some(*attempts);
+                        // One line for every attempt, rewritten in place:
+                        // a port gone for an hour is not a screen of lines.
+                        self.say_live(
+                            Role::Error,
+                            format!(
+                                "reconnect attempt {attempts} failed: {reason}; trying again in {} ms",
+                                retry_in.as_millis()
+                            ),
+                        );
+                    }
+                    LinkState::Closed => {
+                        self.reconnecting = None;
+                        self.say(Role::Warning, "link closed");
+                    }
                 }
                 Outcome::redraw()
             }

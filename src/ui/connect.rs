@@ -674,7 +674,12 @@ impl Pane for ConnectPane {
             theme.style(Role::Muted),
         )]);
         if let Some((role, text)) = &self.message {
-            footer.push(Line::styled(fit(text, width), theme.style(*role)));
+            // A port that would not open explains itself over several
+            // lines (who owns it, who holds it, what to do): each its own.
+            footer.extend(
+                text.lines()
+                    .map(|line| Line::styled(fit(line, width), theme.style(*role))),
+            );
         }
         // The list, in sections, scrolled to keep the selection in view.
         let choices = self.choices();

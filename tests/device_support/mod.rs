@@ -114,12 +114,7 @@ impl Spares {
                 .push(Instant::now());
             let next = spares.links.lock().expect("spares").pop_front();
             Box::pin(async move {
-                next.unwrap_or_else(|| {
-                    Err(LinkError {
-                        link: "scripted".into(),
-                        reason: "no spare link".into(),
-                    })
-                })
+                next.unwrap_or_else(|| Err(LinkError::new("scripted", "no spare link")))
             })
         })
     }

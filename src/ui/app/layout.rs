@@ -242,7 +242,14 @@ impl App {
             Some(s) => {
                 let state = match &s.link {
                     LinkState::Connected { .. } => "connected".to_string(),
-                    LinkState::Disconnected { reason, .. } => format!("LOST: {reason}"),
+                    LinkState::Disconnected {
+                        reason,
+                        attempts: 0,
+                        ..
+                    } => format!("LOST: {reason}"),
+                    LinkState::Disconnected {
+                        reason, attempts, ..
+                    } => format!("LOST, reconnecting (attempt {attempts} failed): {reason}"),
                     LinkState::Closed => "closed".to_string(),
                 };
                 // With several modules, which one lines go to.
