@@ -17,6 +17,7 @@ pub mod plan;
 pub mod tool;
 pub mod traffic;
 pub mod transfer;
+pub mod tune;
 pub mod units;
 pub mod validate;
 pub mod wire;

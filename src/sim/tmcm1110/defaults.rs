@@ -43,13 +43,11 @@ const fn bank0(number: u8, value: i32, why: &'static str) -> SimDefault {
 
 /// The simulator's choices (GP66 comes from `SimConfig::address`).
 pub const SIM_DEFAULTS: &[SimDefault] = &[
-    axis(6, 128, "run current, half scale"),
     axis(7, 8, "standby current, §4 says keep it low"),
     axis(162, 2, "chopper blank time"),
     axis(165, 3, "hysteresis end"),
     axis(166, 3, "hysteresis start"),
     axis(167, 5, "off time (0 would switch the driver off)"),
-    axis(180, 31, "CoolStep off: full current scale"),
     bank0(76, 2, "host address of every manual example"),
 ];
 

@@ -8,7 +8,10 @@
 //! or by the line's name in the manual's table (`PWMD2`); `open` leaves a
 //! line unconnected, to its pull-up (§3.6.14). AIN0 is the ADC value,
 //! 0..65535: the manual's "16 bit result in the range of 0...65535"
-//! (§3.6.15, bank 1), not a 12-bit 0..4095.
+//! (§3.6.15, bank 1), not a 12-bit 0..4095. LOAD is the mechanical load on
+//! the simulated motor, 0..100 % of the torque it has at the AP6 run
+//! current: the StallGuard2 reading AP206 falls with it and reaches 0 at
+//! 100 % (§1.1, §7.2; the law is in [`super::motion::stallguard`]).
 
 use super::io::IO_LINES;
 use crate::sim::inputs::{self, InputRow, Names, Setting, SettingError, Values};
@@ -28,6 +31,8 @@ pub enum Input {
     Line,
     /// AIN0's ADC value.
     Analog,
+    /// The motor's load, percent of its torque at the AP6 current.
+    Load,
 }
 
 /// Every input a setting can drive.
@@ -57,6 +62,15 @@ pub const INPUTS: &[InputRow<Input>] = &[
         },
         what: "analog input AIN0, GIO 0, 1 (§3.6.15); GIO 0, 0 reads 1 from 32768",
     },
+    InputRow {
+        input: Input::Load,
+        names: Names::Listed(&["LOAD"]),
+        values: Values::Number {
+            max: 100,
+            unit: "% of the torque at the AP6 current",
+        },
+        what: "the motor's load: StallGuard2 (AP206) falls linearly with it, 0 at 100 % (a stall; §1.1, §7.2)",
+    },
 ];
 
 /// Read a setting (`IN3=open`) against [`INPUTS`].
@@ -75,7 +89,7 @@ pub fn port_of(setting: &Setting<Input>) -> Option<u8> {
                 .find(|line| line.name == name)
                 .and_then(|line| line.input_port)
         }
-        Input::Analog => None,
+        Input::Analog | Input::Load => None,
     }
 }
 
@@ -116,7 +130,7 @@ mod tests {
         assert!(
             e.ends_with(
                 "IN1..IN6=0|1|open, PWMD0|PWMD1|PWMD2|PWMU0|PWMU1|PWMU2=0|1|open, \
-                 AIN0=<ADC counts 0..65535>"
+                 AIN0=<ADC counts 0..65535>, LOAD=<% of the torque at the AP6 current 0..100>"
             ),
             "{e}"
         );
@@ -131,7 +145,9 @@ mod tests {
             parse("IN2=high").expect_err("a word").to_string(),
             "IN2 takes 1 (on), 0 (off) or open (nothing connected), not `high`"
         );
-        assert_eq!(inputs::names(INPUTS).len(), 6 + 6 + 1);
+        assert_eq!(inputs::names(INPUTS).len(), 6 + 6 + 1 + 1);
+        let e = parse("LOAD=101").expect_err("over 100 %").to_string();
+        assert!(e.starts_with("LOAD takes a whole number of"), "{e}");
     }
 
     fn gio(sim: &mut Tmcm1110, port: u8, bank: u8) -> i32 {

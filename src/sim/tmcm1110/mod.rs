@@ -366,6 +366,21 @@ impl Tmcm1110 {
     pub fn drive_input(&mut self, text: &str) -> Result<String, crate::sim::inputs::SettingError> {
         use crate::sim::inputs::{Level, SettingError};
         let setting = inputs::parse(text)?;
+        if setting.row.input == inputs::Input::Load {
+            let percent = match setting.level {
+                Level::Number(n) => u8::try_from(n.min(100)).unwrap_or(100),
+                _ => 0,
+            };
+            self.axis.set_load_percent(percent);
+            return Ok(format!(
+                "LOAD {percent} % of the torque at the AP6 current{}",
+                if percent >= 100 {
+                    ": the motor stalls"
+                } else {
+                    ""
+                }
+            ));
+        }
         let Some(port) = inputs::port_of(&setting) else {
             let value = match setting.level {
                 Level::Number(n) => u16::try_from(n).unwrap_or(u16::MAX),
@@ -393,6 +408,14 @@ impl Tmcm1110 {
             ),
             _ => said,
         })
+    }
+
+    /// The load on the simulated motor, percent of its torque at the AP6
+    /// run current (clamped to 100, a stall): what `LOAD=` sets. AP206,
+    /// AP208 bit 0, the stop on stall and CoolStep follow it
+    /// ([`motion::stallguard`]).
+    pub fn set_load_percent(&mut self, percent: u8) {
+        self.axis.set_load_percent(percent);
     }
 
     /// Set the AIN0 ADC value (GIO 0, 1; also read digitally as GIO 0, 0).
@@ -730,7 +753,9 @@ pub fn help_line(config: &SimConfig) -> String {
     format!(
         "TMCM-1110 simulator (firmware {}): address {}, {}, program memory {} commands, \
          {} µs per program command, frame gap {} ms, read-only writes answer {}, \
-         GP68 heartbeat in ms, AIN0 digital from {}",
+         GP68 heartbeat in ms, AIN0 digital from {}, StallGuard2 AP206 = |AP3|/2 × (1 − load) \
+         + {} × AP174 (load as a fraction of the torque at the actual current; 0 at a stall), \
+         CoolStep lower threshold 32 × AP172, upper + 32 × (AP170 + 1), one measurement per {} ms",
         String::from_utf8_lossy(FIRMWARE_VERSION_STRING),
         config.address,
         chosen.join(", "),
@@ -742,6 +767,8 @@ pub fn help_line(config: &SimConfig) -> String {
         config.frame_gap.as_millis(),
         config.read_only_write.status().0,
         io::AIN0_DIGITAL_THRESHOLD,
+        motion::stallguard::THRESHOLD_STEP,
+        motion::TICK.as_millis(),
     )
 }
 

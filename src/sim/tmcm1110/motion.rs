@@ -1,6 +1,7 @@
 //! The StepRocker's single axis: ramp generator (TMC429, manual §6.1),
 //! limit and home switches, reference search (§7.1), encoder (§6.3) and
-//! StallGuard stop (§7.2), on virtual time.
+//! StallGuard2 load reading, stop on stall (§7.2) and CoolStep current
+//! regulation (§7.3) ([`stallguard`]), on virtual time.
 //!
 //! Motion is planned as exact piecewise kinematics ([`profile`]): a command
 //! produces a list of ramp segments, and [`Axis::advance`] walks along them,
@@ -18,6 +19,7 @@
 
 mod profile;
 mod reference;
+pub mod stallguard;
 #[cfg(test)]
 mod tests;
 
@@ -29,6 +31,7 @@ use crate::protocol::tmcl::units::{
 };
 use profile::{Builder, Segment, seconds_to_ns_ceil};
 use reference::{Search, Step};
+use stallguard::CoolStep;
 
 pub use reference::{
     INVERT_HOME_FLAG, MIRROR_FLAG, REFERENCE_MODES, ReferenceAbort, ReferenceMode,
@@ -161,8 +164,8 @@ impl SwitchLayout {
 /// Axis parameters whose values the motion model owns (others are plain
 /// storage in the module).
 pub const MOTION_PARAMS: &[u8] = &[
-    0, 1, 2, 3, 4, 5, 8, 9, 10, 11, 12, 13, 130, 135, 138, 140, 149, 153, 154, 174, 181, 193, 194,
-    195, 196, 197, 206, 207, 209, 210, 212,
+    0, 1, 2, 3, 4, 5, 6, 8, 9, 10, 11, 12, 13, 130, 135, 138, 140, 149, 153, 154, 168, 169, 170,
+    171, 172, 173, 174, 180, 181, 182, 183, 193, 194, 195, 196, 197, 206, 207, 208, 209, 210, 212,
 ];
 
 /// A power-up value of a motion parameter.
@@ -202,6 +205,12 @@ pub const MOTION_DEFAULTS: &[MotionDefault] = &[
         value: 100,
         from_manual: false,
         why: "46566 pps² with divisors 7/3, the §6.1.2 example",
+    },
+    MotionDefault {
+        number: 6,
+        value: 128,
+        from_manual: false,
+        why: "run current, half scale",
     },
     MotionDefault {
         number: 12,
@@ -252,6 +261,42 @@ pub const MOTION_DEFAULTS: &[MotionDefault] = &[
         why: "pulse divisor of the §6.1.1 example",
     },
     MotionDefault {
+        number: 168,
+        value: 0,
+        from_manual: false,
+        why: "CoolStep minimum 1/2 of the run current",
+    },
+    MotionDefault {
+        number: 169,
+        value: 0,
+        from_manual: false,
+        why: "CoolStep slowest decrement",
+    },
+    MotionDefault {
+        number: 170,
+        value: 0,
+        from_manual: false,
+        why: "CoolStep narrowest hysteresis",
+    },
+    MotionDefault {
+        number: 171,
+        value: 0,
+        from_manual: false,
+        why: "CoolStep slowest increment",
+    },
+    MotionDefault {
+        number: 172,
+        value: 0,
+        from_manual: true,
+        why: "§4: \"Setting this to 0 (default) turns off CoolStep\"",
+    },
+    MotionDefault {
+        number: 173,
+        value: 0,
+        from_manual: false,
+        why: "StallGuard2 filter off (standard mode)",
+    },
+    MotionDefault {
         number: 174,
         value: 0,
         from_manual: true,
@@ -262,6 +307,18 @@ pub const MOTION_DEFAULTS: &[MotionDefault] = &[
         value: 0,
         from_manual: false,
         why: "stop on stall off",
+    },
+    MotionDefault {
+        number: 182,
+        value: 0,
+        from_manual: false,
+        why: "CoolStep at any speed once AP172 turns it on",
+    },
+    MotionDefault {
+        number: 183,
+        value: 128,
+        from_manual: false,
+        why: "slow run current = run current",
     },
     MotionDefault {
         number: 193,
@@ -323,11 +380,9 @@ const TICK_NS: u64 = 1_000_000;
 /// 328 turns at 256 µsteps) without meeting its switch gives up.
 pub const REFERENCE_SEARCH_MAX_TRAVEL: i64 = 1 << 24;
 
-/// The StallGuard2 reading (AP206) of an unloaded simulated motor.
+/// AP206 before the motor has turned: the unloaded reading at the default
+/// positioning speed AP4 = 1000 ([`stallguard::reading`]).
 pub const DEFAULT_LOAD: i32 = 500;
-
-/// Largest StallGuard2 reading (§4 AP206: 0..1023).
-const MAX_LOAD: i32 = 1023;
 
 /// §6.3: bits 2, 3 and 4 of AP210 select encoder functions (null channel
 /// zeroing, Z polarity), not the prescaler.
@@ -409,7 +464,14 @@ pub struct Axis {
     /// The end-switch blocks the plan was made with.
     plan_blocks: Blocks,
 
-    load: i32,
+    /// `LOAD=`: percent of the torque at the AP6 current, 0..100.
+    load_percent: u8,
+    /// AP206 at standstill: the last measurement while the motor turned.
+    held_reading: i32,
+    /// CoolStep's current scale (AP180 while CoolStep regulates).
+    coolstep_scale: i32,
+    /// Consecutive readings at or above CoolStep's upper threshold.
+    coolstep_above: u32,
     encoder: Encoder,
 
     pending: Vec<AxisEvent>,
@@ -450,7 +512,10 @@ impl Axis {
             counter_offset: 0,
             clock_ns: 0,
             plan_blocks: Blocks::default(),
-            load: DEFAULT_LOAD,
+            load_percent: 0,
+            held_reading: DEFAULT_LOAD,
+            coolstep_scale: stallguard::current_scale(128),
+            coolstep_above: 0,
             encoder: Encoder::default(),
             pending: Vec::new(),
             last_switches: [false; 3],
@@ -490,14 +555,20 @@ impl Axis {
                     MODE_VELOCITY
                 }
             }
-            206 => self.load,
+            180 => self.current_scale(),
+            206 => self.load_reading(),
+            // §4 AP208 bit 0: "StallGuard2 status (1: threshold reached)";
+            // measured only while the motor turns. The other bits (driver
+            // temperature, shorts, open load, standstill) are not simulated.
+            208 => i32::from(self.is_moving() && self.load_reading() == 0),
             209 => self.encoder_count() as i32,
             _ => self.stored(number),
         }
     }
 
     /// Writes a parameter the module has already validated. Writes to the
-    /// read-only values (AP3, 8..11, 135, 196, 197, 206, 207) are ignored.
+    /// read-only values (AP3, 8..11, 135, 180, 196, 197, 206..208) are
+    /// ignored.
     pub fn set_param(&mut self, number: u8, value: i32) {
         match number {
             // SAP 0 moves like MVP ABS (position mode, §4 "target position")
@@ -533,7 +604,7 @@ impl Axis {
             }
             // Switch settings take effect at the next advance, where edges
             // and limit stops are reported.
-            12 | 13 | 140 | 149 | 174 | 181 | 193 | 212 => {
+            6 | 12 | 13 | 140 | 149 | 168..=174 | 181 | 182 | 183 | 193 | 212 => {
                 self.stored.insert(number, value);
             }
             194 | 195 => {
@@ -676,10 +747,89 @@ impl Axis {
         self.stored.insert(207, 0);
     }
 
-    /// Simulated StallGuard2 reading (AP206), 0 = motor stalled; clamped to
-    /// 0..1023.
-    pub fn set_load(&mut self, load: i32) {
-        self.load = load.clamp(0, MAX_LOAD);
+    /// The load on the simulated motor (`LOAD=`), in percent of the torque
+    /// the motor has at the AP6 run current; 100 and more stall it at that
+    /// current (clamped to 100).
+    pub fn set_load_percent(&mut self, percent: u8) {
+        self.load_percent = percent.min(100);
+    }
+
+    /// The load set by [`Axis::set_load_percent`].
+    pub fn load_percent(&self) -> u8 {
+        self.load_percent
+    }
+
+    /// AP180: the current scale (0..31, (n + 1)/32 of the module maximum) the
+    /// driver runs the motor with now. While the motor turns: AP183's scale
+    /// at or below the AP182 speed (when AP182 > 0), else CoolStep's when
+    /// AP172 turns it on, else AP6's. At standstill AP6's (the standby
+    /// current AP7 is not simulated).
+    pub fn current_scale(&self) -> i32 {
+        let run = stallguard::current_scale(self.stored(6));
+        if !self.is_moving() {
+            return run;
+        }
+        if self.below_coolstep_speed() {
+            return stallguard::current_scale(self.stored(183));
+        }
+        let coolstep = self.coolstep();
+        if coolstep.enabled() {
+            self.coolstep_scale
+                .clamp(coolstep.min_scale, coolstep.max_scale)
+        } else {
+            run
+        }
+    }
+
+    /// AP206: the StallGuard2 reading ([`stallguard::reading`]) now, or the
+    /// last one while the motor turned (so after a ramp down to 0 or a stall
+    /// stop it is that of the last moment in motion, near 0; before the
+    /// first motion [`DEFAULT_LOAD`]).
+    pub fn load_reading(&self) -> i32 {
+        if !self.is_moving() {
+            return self.held_reading;
+        }
+        let fraction = stallguard::torque_fraction(
+            self.load_percent,
+            stallguard::current_scale(self.stored(6)),
+            self.current_scale(),
+        );
+        stallguard::reading(self.param(3), fraction, self.stored(174))
+    }
+
+    /// §4 AP182: "Above this speed CoolStep becomes enabled"; below it the
+    /// slow run current AP183 applies. AP182 = 0: no slow range.
+    fn below_coolstep_speed(&self) -> bool {
+        let threshold = self.stored(182);
+        threshold > 0 && self.param(3).abs() <= threshold
+    }
+
+    fn coolstep(&self) -> CoolStep {
+        CoolStep::from_params(
+            self.stored(6),
+            self.stored(168),
+            self.stored(169),
+            self.stored(170),
+            self.stored(171),
+            self.stored(172),
+        )
+    }
+
+    /// One StallGuard2 measurement (every [`TICK`] while the motor turns
+    /// and something uses it), fed to CoolStep when it regulates.
+    fn measure(&mut self) -> i32 {
+        let reading = self.load_reading();
+        let coolstep = self.coolstep();
+        if coolstep.enabled() && !self.below_coolstep_speed() {
+            (self.coolstep_scale, self.coolstep_above) =
+                coolstep.regulate(self.coolstep_scale, self.coolstep_above, reading);
+        } else {
+            // Off or in the slow range: CoolStep starts again from AP6's
+            // current when it takes over.
+            self.coolstep_scale = coolstep.max_scale;
+            self.coolstep_above = 0;
+        }
+        reading
     }
 
     /// The shaft (and with it the encoder) falls `microsteps` behind the
@@ -723,6 +873,15 @@ impl Axis {
             }
             self.pass_time(slice);
             remaining -= slice;
+            if self.is_moving() {
+                // AP206 at standstill is the last reading while turning.
+                self.held_reading = self.load_reading();
+            } else {
+                // At standstill the driver runs on AP6; CoolStep starts
+                // from there when the motor turns again.
+                self.coolstep_scale = self.coolstep().max_scale;
+                self.coolstep_above = 0;
+            }
             match cause {
                 Cause::Budget => {
                     if remaining == 0 {
@@ -829,20 +988,26 @@ impl Axis {
         i64::from(self.actual_position().wrapping_sub(encoder)).abs()
     }
 
+    /// Sampling is needed while the motor turns with a stop on stall
+    /// (AP181), a deviation stop (AP212) or CoolStep (AP172) set.
     fn supervision_armed(&self) -> bool {
-        self.is_moving() && (self.stored(212) > 0 || (self.stored(181) > 0 && self.load == 0))
+        self.is_moving()
+            && (self.stored(212) > 0 || self.stored(181) > 0 || self.coolstep().enabled())
     }
 
-    /// §7.2 / AP181: stall stop above the AP181 speed when the load reading
-    /// is 0; AP212: deviation stop. Both stop the motor at once, like the
-    /// TMCL firmware's hard stop (velocity mode, target speed 0).
+    /// Every [`TICK`] while armed: a StallGuard2 measurement (and CoolStep's
+    /// reaction to it); §7.2 / AP181: stall stop at or above the
+    /// AP181 speed when the load reading is 0; AP212: deviation stop. Both
+    /// stop the motor at once, like the TMCL firmware's hard stop (velocity
+    /// mode, target speed 0).
     fn supervise(&mut self) {
         if !self.is_moving() {
             return;
         }
+        let reading = self.measure();
         let threshold = self.stored(181);
         let speed = self.param(3).abs();
-        let stall = threshold > 0 && speed >= threshold && self.load == 0;
+        let stall = threshold > 0 && speed >= threshold && reading == 0;
         let max_deviation = self.stored(212);
         let deviation = max_deviation > 0 && self.deviation() > i64::from(max_deviation);
         if !stall && !deviation {

@@ -1222,7 +1222,7 @@ fn a_stall_stop_fires_interrupt_15() {
     run(&mut sim);
     sim.advance(ms(500));
     assert_eq!(var(&sim, 0), 0);
-    sim.axis.set_load(0);
+    sim.axis.set_load_percent(100);
     sim.advance(ms(10));
     assert_eq!(var(&sim, 0), 1);
     assert_eq!(sim.axis.param(2), 0, "the motor was stopped");

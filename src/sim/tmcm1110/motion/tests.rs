@@ -1151,8 +1151,7 @@ fn encoder_deviation_stops_the_motor_within_a_tick() {
 fn stall_stops_once_the_speed_reaches_ap181() {
     let mut axis = quiet_axis();
     axis.set_param(181, 500);
-    axis.set_load(0);
-    assert_eq!(axis.param(206), 0);
+    axis.set_load_percent(100);
     let mut events = Vec::new();
     axis.rotate(1000);
     let ticks = run_until(&mut axis, TICK, 10_000, &mut events, |a| !a.is_moving());
@@ -1166,10 +1165,10 @@ fn stall_stops_once_the_speed_reaches_ap181() {
     assert!(t >= reach && t < reach + TICK_S, "{t} vs {reach}");
 
     // A loaded motor or AP181 = 0 doesn't stall.
-    for (threshold, load) in [(500, 1), (0, 0)] {
+    for (threshold, load) in [(500, 99), (0, 100)] {
         let mut axis = quiet_axis();
         axis.set_param(181, threshold);
-        axis.set_load(load);
+        axis.set_load_percent(load);
         axis.rotate(1000);
         let mut events = Vec::new();
         axis.advance(Duration::from_secs(2), &mut events);
@@ -1182,7 +1181,7 @@ fn stall_during_a_search_aborts_it() {
     let mut axis = Axis::new();
     place(&mut axis, 50_000);
     axis.set_param(181, 100);
-    axis.set_load(0);
+    axis.set_load_percent(100);
     axis.start_reference_search();
     let mut events = Vec::new();
     axis.advance(Duration::from_secs(1), &mut events);
@@ -1218,7 +1217,7 @@ enum Op {
     StopSearch,
     Advance(u64),
     Slip(i64),
-    Load(i32),
+    Load(u8),
     Polarity(bool),
     Layout(Option<i64>, Option<i64>, i64, Option<(i64, i64)>),
 }
@@ -1256,7 +1255,7 @@ fn op() -> impl Strategy<Value = Op> {
         prop_oneof![1u64..2_000, 1_000u64..3_000_000, 1_000_000u64..60_000_000]
             .prop_map(Op::Advance),
         (-500i64..500).prop_map(Op::Slip),
-        (0i32..=1023).prop_map(Op::Load),
+        (0u8..=100).prop_map(Op::Load),
         any::<bool>().prop_map(Op::Polarity),
         (
             prop::option::of(-400_000i64..0),
@@ -1315,7 +1314,7 @@ proptest! {
                         }
                         Op::StopSearch => axis.stop_reference_search(),
                         Op::Slip(s) => axis.inject_slip(s),
-                        Op::Load(l) => axis.set_load(l),
+                        Op::Load(l) => axis.set_load_percent(l),
                         Op::Polarity(p) => axis.set_end_switch_polarity_reversed(p),
                         Op::Layout(l, r, width, h) => {
                             *axis.layout_mut() = SwitchLayout {
