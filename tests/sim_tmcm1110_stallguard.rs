@@ -156,6 +156,8 @@ fn a_stall_stops_the_motor_above_ap181_only() {
     wait(&mut sim, 2000);
     assert_eq!(gap(&mut sim, 3), 0);
     assert_eq!(gap(&mut sim, 207) & 1, 1);
+    // At standstill AP206 keeps the last reading; no measurement, no flag.
+    assert_eq!((gap(&mut sim, 206), gap(&mut sim, 208) & 1), (0, 0));
 
     // Above AP181 without a stall it turns on.
     let mut free = Tmcm1110::new(SimConfig::default());
