@@ -6,6 +6,7 @@
 use std::time::Duration;
 
 use axterm::sim::SimulatedController;
+use axterm::sim::tmcm1110::motion::SwitchLayout;
 use axterm::sim::tmcm1110::{SimConfig, Tmcm1110};
 
 const ROR: u8 = 1;
@@ -256,4 +257,120 @@ fn load_settings_are_checked() {
         sim.help()
             .contains("StallGuard2 AP206 = |AP3|/2 × (1 − load) + 16 × AP174")
     );
+}
+
+#[test]
+fn a_threshold_below_zero_stops_the_motor_before_it_stalls() {
+    // 60 % load reads 0.2 × |AP3|, never 0 on the way to 1000: AP174 0 and
+    // AP181 500 let it turn.
+    let mut sim = Tmcm1110::new(SimConfig::default());
+    sap(&mut sim, 181, 500);
+    load(&mut sim, 60);
+    ror(&mut sim, 1000);
+    wait(&mut sim, 2000);
+    assert_eq!(gap(&mut sim, 3), 1000);
+    // AP174 −13 takes 208 off: 0 at every speed up to 1000, and the stop on
+    // stall acts on that reading.
+    sap(&mut sim, 174, -13);
+    wait(&mut sim, 5);
+    assert_eq!(gap(&mut sim, 3), 0, "stopped");
+    assert_eq!(gap(&mut sim, 207) & 1, 1);
+}
+
+mod tuning {
+    //! The pure tuning plans carried out against the simulator by a small
+    //! driver of the test's own: sweep without and with load, suggest,
+    //! apply, and the suggestion stops the loaded motor and not the free one.
+    use super::*;
+    use axterm::protocol::tmcl::tune::{
+        Direction, SpeedReadings, SuggestRules, SweepInstruction, SweepPlan, SweepSpec,
+        speed_reached, suggest,
+    };
+    use axterm::protocol::tmcl::{Command, Reply};
+
+    fn send(sim: &mut Tmcm1110, command: Command) -> i32 {
+        sim.feed(&command.to_request(1).to_bytes());
+        let out = sim.take_output();
+        let bytes: [u8; 9] = out.as_slice().try_into().expect("one reply");
+        let reply = Reply::from_bytes(&bytes).expect("a reply");
+        assert_eq!(reply.status.0, 100, "{command:?}");
+        reply.value
+    }
+
+    /// Readings per speed of one sweep.
+    fn sweep(sim: &mut Tmcm1110, plan: &SweepPlan) -> Vec<Vec<i32>> {
+        let mut readings = vec![Vec::new(); plan.points.len()];
+        for step in plan.instructions() {
+            match step {
+                SweepInstruction::Send(command) => {
+                    send(sim, command);
+                }
+                SweepInstruction::WaitForSpeed { poll, speed } => {
+                    let mut polls = 0;
+                    while !speed_reached(send(sim, poll), speed) {
+                        polls += 1;
+                        assert!(polls < 1000, "speed {speed} not reached");
+                        wait(sim, 10);
+                    }
+                }
+                SweepInstruction::Sample { point, read, .. } => {
+                    wait(sim, 5);
+                    readings[point].push(send(sim, read));
+                }
+            }
+        }
+        wait(sim, 2000);
+        assert_eq!(gap(sim, 3), 0, "the sweep ends with the motor stopped");
+        readings
+    }
+
+    #[test]
+    fn a_suggestion_from_two_sweeps_stops_the_loaded_motor_only() {
+        let plan = SweepPlan::new(&SweepSpec {
+            motor: 0,
+            direction: Direction::Right,
+            from: 200,
+            to: 1200,
+            steps: 6,
+            samples: 3,
+        })
+        .unwrap();
+        let mut sim = Tmcm1110::new(SimConfig::default());
+        // A machine without end switches: the sweeps turn for many turns.
+        *sim.switch_layout_mut() = SwitchLayout::default();
+        let free = sweep(&mut sim, &plan);
+        load(&mut sim, 60);
+        let loaded = sweep(&mut sim, &plan);
+        let readings: Vec<SpeedReadings> = plan
+            .velocities()
+            .into_iter()
+            .zip(free.into_iter().zip(loaded))
+            .map(|(velocity, (unloaded, loaded))| SpeedReadings {
+                velocity,
+                unloaded,
+                loaded,
+            })
+            .collect();
+        let s = suggest(&readings, &SuggestRules::default());
+        let (Some(threshold), Some(speed)) = (s.threshold, s.stop_on_stall_speed) else {
+            panic!("no suggestion: {:?}", s.reasons);
+        };
+        for command in s.commands(0) {
+            send(&mut sim, command);
+        }
+        assert_eq!(gap(&mut sim, 174), threshold);
+        assert_eq!(gap(&mut sim, 181), speed);
+        // Loaded at the top speed: stopped.
+        ror(&mut sim, 1200);
+        wait(&mut sim, 3000);
+        assert_eq!(gap(&mut sim, 3), 0, "{:?}", s.reasons);
+        assert_eq!(gap(&mut sim, 207) & 1, 1);
+        // Unloaded: it turns at every speed of the working range.
+        load(&mut sim, 0);
+        for v in plan.velocities().into_iter().filter(|v| *v >= speed) {
+            ror(&mut sim, v);
+            wait(&mut sim, 3000);
+            assert_eq!(gap(&mut sim, 3), v, "{:?}", s.reasons);
+        }
+    }
 }
