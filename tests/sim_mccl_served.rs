@@ -74,6 +74,59 @@ fn echo_prompt_and_a_tell_of_the_move() {
     assert_eq!(port.line("1XX"), "1XX\r\n?1 1XX\r\n>");
 }
 
+/// The values of the Tell lines in a reply (`03 1234` each, Ch8), after
+/// the echo and before the prompt.
+fn told_values(reply: &str, echo: &str) -> Vec<f64> {
+    let body = reply
+        .strip_prefix(&format!("{echo}\r\n"))
+        .and_then(|r| r.strip_suffix(">"))
+        .unwrap_or_else(|| panic!("no echo and prompt in {reply:?}"));
+    body.split("\r\n")
+        .filter(|l| !l.is_empty())
+        .map(|l| {
+            l.strip_prefix("03 ")
+                .and_then(|v| v.parse().ok())
+                .unwrap_or_else(|| panic!("not an axis-3 Tell line: {l:?}"))
+        })
+        .collect()
+}
+
+#[test]
+fn pr_then_a_move_then_dr_reads_the_recording_back() {
+    // Ch7 PR's own example: record 10 samples of a move of servo axis 3,
+    // then display them through register 100 as the pointer. The 10
+    // samples span 2.5 ms at the default 4 kHz loop (Ch5 HS): a steep
+    // ramp (Ch5 SA, DS) makes them show motion.
+    let served = Served::start("mccl", &[]);
+    let mut port = Port::open(&served.pty);
+    assert_eq!(
+        port.line("3SA20000000,3DS20000000"),
+        "3SA20000000,3DS20000000\r\n>"
+    );
+    assert_eq!(port.line("3DH0,3MN"), "3DH0,3MN\r\n>");
+    assert_eq!(port.line("3PR10,3MA5000,3WS.1"), "3PR10,3MA5000,3WS.1\r\n>");
+    assert_eq!(port.line("AL0,AR100"), "AL0,AR100\r\n>");
+    let line = "3DR@100,AL@100,AA1,AR100,RP9";
+    let actual = told_values(&port.line(line), line);
+    assert_eq!(actual.len(), 10, "the first 10 recorded positions");
+    assert!(actual.windows(2).all(|w| w[0] <= w[1]), "{actual:?}");
+    // Ch7 DO and DQ (the DQ example's form): optimal positions lead the
+    // actual ones; the output pushes forward.
+    assert_eq!(port.line("AL0,AR100"), "AL0,AR100\r\n>");
+    let line = "3DO@100,AL@100,AA1,AR100,RP9";
+    let optimal = told_values(&port.line(line), line);
+    assert_eq!(optimal.len(), 10);
+    assert!(
+        optimal.iter().zip(&actual).all(|(o, a)| o >= a) && optimal[9] > actual[9],
+        "{optimal:?} vs {actual:?}"
+    );
+    let output = told_values(&port.line("3DQ9"), "3DQ9");
+    assert!(output.len() == 1 && output[0] > 0.0, "{output:?}");
+    // The move itself ended at its target (DB 5).
+    let position = told_values(&port.line("3TP"), "3TP");
+    assert!((position[0] - 5000.0).abs() <= 5.0, "{position:?}");
+}
+
 #[test]
 fn the_repeat_line_runs_seven_cycles_and_escape_aborts_it() {
     let served = Served::start("mccl", &[]);

@@ -14,6 +14,7 @@ pub mod plausible;
 pub mod program;
 pub mod settings;
 pub mod sixpack2;
+pub mod step_response;
 pub mod tmcl;
 pub mod units;
 pub mod wire;

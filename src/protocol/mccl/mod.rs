@@ -30,6 +30,7 @@ pub mod reply;
 pub mod status;
 pub mod tool;
 pub mod traffic;
+pub mod tune;
 pub mod units;
 pub mod wire;
 

@@ -1,16 +1,19 @@
 //! One simulated axis: its settings, the trajectory generator's optimal
-//! position, the motor behind it (a servo with a simple lag, or a stepper
-//! open or closed loop), limits, homing captures and the status words.
+//! position, the motor behind it (a servo under its PID-FF loop, or a
+//! stepper open or closed loop), limits, homing captures and the status
+//! words.
 //!
 //! Positions inside are encoder counts (servo, closed-loop stepper) or
 //! steps (open-loop stepper), as `f64`; the commands convert from and to
 //! user units ([`settings::Units`]). Time is the trajectory generator's
-//! 1 kHz tick ([`tick`]).
+//! 1 kHz tick ([`tick`]); a servo's loop runs inside it at its HS/MS/LS
+//! rate ([`servo`]).
 //!
-//! The motor models (the manual gives no PID or motor equations; the
-//! choices are listed in [`crate::sim::mccl::choices`]):
-//! - a servo's shaft follows the optimal position with a first-order lag
-//!   whose time constant is 1 ms at SG 0.04 and shrinks as SG grows, so it
+//! The motor models (the manual gives no motor equations; the choices are
+//! listed in [`crate::sim::mccl::choices`]):
+//! - a servo's shaft is a [`servo::Plant`] (inertia, viscous and Coulomb
+//!   friction, ±10 V amplifier) driven by the manual's PID-FF law (Ch5 SG,
+//!   SD, FR, SI, IL, IO, VG, AG, DG) at 4, 2 or 1 kHz (Ch5 HS, MS, LS); it
 //!   trails a move (TF, SE trips) and settles into DB after it (WT, DT);
 //!   the encoder reads the shaft rounded to a count;
 //! - a stepper's shaft turns with every step unless it is stalled (an
@@ -20,6 +23,7 @@
 
 pub mod capture;
 pub mod profile;
+pub mod servo;
 pub mod settings;
 pub mod status;
 pub mod tick;
@@ -28,9 +32,6 @@ use profile::{Phase, Plan, Rates, Shape};
 use settings::{AxisKind, Settings, Units};
 
 pub use capture::{Compare, Record};
-
-/// The servo lag's time constant at the default gain, seconds.
-pub const SERVO_LAG: f64 = 0.001;
 
 /// Torque mode: the unloaded servo runs at this many counts per second per
 /// volt of SQ (the manual gives no load model).
@@ -164,6 +165,8 @@ pub struct Axis {
     pub compare: Compare,
     /// Contour count (TX) of a controlling axis.
     pub contour_count: u32,
+    /// The servo loop and its motor (servos only).
+    pub servo: servo::Servo,
 }
 
 impl Axis {
@@ -206,6 +209,7 @@ impl Axis {
             record: Record::default(),
             compare: Compare::default(),
             contour_count: 0,
+            servo: servo::Servo::new(),
         }
     }
 
@@ -215,6 +219,7 @@ impl Axis {
     pub fn reset(&mut self) {
         let fresh = Axis::new(self.number, self.kind);
         let (shaft, steps, position) = (self.shaft, self.steps, self.position());
+        let plant = self.servo.plant;
         let (stalled, fault, index_phase, index_period) = (
             self.stalled,
             self.encoder_fault,
@@ -230,6 +235,8 @@ impl Axis {
         self.index_period = index_period;
         self.optimal = position;
         self.target = position;
+        self.servo.plant = plant;
+        self.servo.setpoint = position;
     }
 
     pub fn is_servo(&self) -> bool {
@@ -361,6 +368,7 @@ impl Axis {
             self.running = false;
             self.stopping = false;
             self.phase = Phase::Idle;
+            self.servo.clear(position);
             if self.kind == AxisKind::Stepper {
                 self.steps = (position * self.step_scale()).round();
                 if self.is_closed_loop_stepper() {
@@ -384,6 +392,9 @@ impl Axis {
         self.optimal = self.position();
         self.settled = None;
         self.index_latched = false;
+        // The simulator holds the shaft where the amplifier let go (no
+        // coasting), as its earlier model did.
+        self.servo.clear(self.optimal);
     }
 
     /// A new target (MA, MR, MP, GH): only the target if the motor is off
@@ -442,6 +453,7 @@ impl Axis {
         self.phase = Phase::Idle;
         self.target = here;
         self.optimal = here;
+        self.servo.setpoint = here;
         if self.kind == AxisKind::Stepper && !self.is_closed_loop_stepper() {
             self.steps = here;
         }
@@ -468,6 +480,7 @@ impl Axis {
         }
         self.optimal += offset;
         self.target += offset;
+        self.servo.setpoint += offset;
         self.index_phase += offset;
         self.index_position += offset;
         if let Some(b) = &mut self.breakpoint {
@@ -527,26 +540,50 @@ impl Axis {
         }
     }
 
-    /// Output voltage (DQ, ID4): the PID's proportional and velocity terms,
-    /// the offset and deadband, limited by SQ; SQ itself in torque mode.
+    /// Output voltage (DQ, ID4): the servo loop's last output
+    /// ([`servo`]); SQ itself in torque mode.
     pub fn output_voltage(&self) -> f64 {
         if !self.motor_on || self.kind != AxisKind::Servo {
             return 0.0;
         }
-        let s = &self.settings;
         if self.mode == Mode::Torque {
-            return s.torque;
+            return self.settings.torque;
         }
-        let mut volts = s.proportional_gain * self.following_error()
-            + s.velocity_gain * self.velocity / s.output_constant.max(1e-9);
+        self.servo.output
+    }
+
+    /// The PID-FF law's volts after PH, OB and OO, limited to SQ and the
+    /// amplifier's ±10 V (Ch5 PH, OB, OO, SQ).
+    pub fn shape_output(&self, volts: f64) -> f64 {
+        let s = &self.settings;
+        let mut volts = volts;
         if s.reverse_phase {
             volts = -volts;
         }
         if volts != 0.0 {
             volts += volts.signum() * s.output_deadband;
         }
-        let limit = s.torque.abs();
+        let limit = s.torque.abs().min(servo::AMPLIFIER_VOLTS);
         (volts + s.output_offset).clamp(-limit, limit)
+    }
+
+    /// The gains of Ch5 as the loop reads them.
+    pub fn gains(&self) -> servo::Gains {
+        let s = &self.settings;
+        let contour = matches!(self.mode, Mode::Contour(_));
+        let per_speed = 1.0 / s.output_constant.max(1e-9);
+        servo::Gains {
+            proportional: s.proportional_gain,
+            derivative: s.derivative_gain,
+            derivative_period: usize::try_from(s.derivative_period.max(0)).unwrap_or(0),
+            integral: s.integral_gain,
+            integration_limit: s.integration_limit,
+            integral_option: s.integral_option,
+            velocity: s.velocity_gain * per_speed,
+            // Ch5 AG/DG: "not calculated when a motor is in contour mode".
+            acceleration: if contour { 0.0 } else { s.acceleration_gain },
+            deceleration: if contour { 0.0 } else { s.deceleration_gain },
+        }
     }
 }
 

@@ -1,4 +1,4 @@
-//! One axis on its own, tick by tick: the servo lag, the following-error
+//! One axis on its own, tick by tick: the servo loop, the following-error
 //! trip, motor on and off, abort, the stepper's steps and stall.
 
 use super::settings::AxisKind;
@@ -25,20 +25,19 @@ fn servo() -> Axis {
 }
 
 #[test]
-fn the_servo_shaft_closes_on_a_step_with_its_time_constant() {
+fn the_servo_shaft_closes_on_a_step_under_its_pid() {
     let mut axis = servo();
     axis.settings.following_limit = 0.0;
     axis.mode = Mode::Gain;
-    axis.move_to(1000.0);
+    axis.record.start_recording(8);
+    axis.move_to(20.0);
     tick(&mut axis, 1);
-    // After one time constant (1 ms) a first-order lag has covered 1 − 1/e.
-    let covered = axis.shaft / 1000.0;
-    assert!(
-        (covered - (1.0 - (-1.0f64).exp())).abs() < 0.01,
-        "{covered}"
-    );
+    // Four loop samples at 4 kHz (HS); the first drives SG × 20 = 0.8 V.
+    assert_eq!(axis.record.samples.len(), 4);
+    assert!((axis.record.samples[0].output - 0.8).abs() < 1e-12);
+    assert!(axis.shaft > 0.0 && axis.shaft < 20.0, "{}", axis.shaft);
     tick(&mut axis, 100);
-    assert_eq!(axis.position(), 1000.0);
+    assert_eq!(axis.position(), 20.0);
     assert_eq!(axis.following_error(), 0.0);
 }
 

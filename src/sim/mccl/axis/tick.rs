@@ -1,12 +1,13 @@
-//! One 1 kHz tick of an axis: the trajectory generator, the motor, then
-//! what is watched (captures, breakpoint, limits, following error, faults,
+//! One 1 kHz tick of an axis: the trajectory generator, the motor (a
+//! servo's loop samples at its own rate inside the tick), then what is
+//! watched (captures, breakpoint, limits, following error, faults,
 //! at target, recording, compare).
 
 use super::capture::Sample;
 use super::profile::{Phase, ramp_velocity, trapezoid_step};
+use super::servo::{Demand, loop_rate};
 use super::settings::AxisKind;
-use super::{Axis, AxisInputs, CaptureKind, Mode, SERVO_LAG, TORQUE_SPEED_PER_VOLT, status};
-use crate::sim::mccl::axis::settings::DEFAULT_GAIN;
+use super::{Axis, AxisInputs, CaptureKind, Mode, TORQUE_SPEED_PER_VOLT, status};
 
 /// Why an axis tripped (its status bits and the reaction).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -142,35 +143,93 @@ impl Axis {
         }
     }
 
-    /// The motor: the servo's shaft lags the optimal position; a stepper's
-    /// turns with its steps unless stalled.
+    /// The motor: a servo's loop runs its samples of this tick (and PR
+    /// records each); a stepper's shaft turns with its steps unless stalled.
     pub fn drive_tick(&mut self, dt: f64) {
+        if self.kind == AxisKind::Servo {
+            self.servo_tick(dt);
+            return;
+        }
         if !self.motor_on {
             return;
         }
-        match self.kind {
-            AxisKind::Servo if self.stalled => {}
-            AxisKind::Servo if self.mode == Mode::Torque => {
-                self.shaft += self.settings.torque * TORQUE_SPEED_PER_VOLT * dt;
-            }
-            AxisKind::Servo => {
-                let gain = self.settings.proportional_gain.max(1e-6);
-                let lag = (SERVO_LAG * DEFAULT_GAIN / gain).clamp(0.0005, 1.0);
-                self.shaft += (self.optimal - self.shaft) * (1.0 - (-dt / lag).exp());
-            }
-            AxisKind::Stepper => {
-                let scale = if self.is_closed_loop_stepper() {
-                    self.settings.steps_per_count.max(1e-9)
-                } else {
-                    1.0
+        let scale = if self.is_closed_loop_stepper() {
+            self.settings.steps_per_count.max(1e-9)
+        } else {
+            1.0
+        };
+        let steps = (self.optimal * scale).round();
+        let delta = steps - self.steps;
+        self.steps = steps;
+        if !self.stalled {
+            self.shaft += delta;
+        }
+    }
+
+    /// The loop samples of one trajectory tick (Ch5 HS/MS/LS): the
+    /// set-point steps from the last tick's optimal position to this one's
+    /// (in gain mode it jumps: no profile), the PID-FF law drives the
+    /// plant, PR takes a sample. A following error beyond SE ends the
+    /// samples; [`Axis::check_tick`] then trips the axis.
+    fn servo_tick(&mut self, dt: f64) {
+        let rate = loop_rate(self.settings.speed);
+        let samples = ((rate * dt).round() as usize).max(1);
+        let period = dt / samples as f64;
+        let from = if self.mode == Mode::Gain {
+            self.optimal
+        } else {
+            self.servo.setpoint
+        };
+        let acceleration = (self.velocity - self.servo.last_velocity) / dt;
+        self.servo.last_velocity = self.velocity;
+        let gains = self.gains();
+        let limit = self.units.distance_to_counts(self.settings.following_limit);
+        let complete = self.trajectory_complete();
+        let step = (self.optimal - from) / samples as f64;
+        for k in 1..=samples {
+            // The encoder is read at the start of the sample, against the
+            // set-point of that instant; the sample ends one step on.
+            let read_at = from + step * (k - 1) as f64;
+            let setpoint = from + step * k as f64;
+            self.servo.setpoint = setpoint;
+            let closed = self.motor_on && self.mode != Mode::Torque;
+            if closed {
+                let demand = Demand {
+                    error: read_at - self.position(),
+                    velocity: self.velocity,
+                    acceleration,
+                    complete,
                 };
-                let steps = (self.optimal * scale).round();
-                let delta = steps - self.steps;
-                self.steps = steps;
+                let volts = self.servo.law(&gains, &demand);
+                self.servo.output = self.shape_output(volts);
+                let plant = self.servo.plant;
+                // A stalled shaft (an input) does not turn, whatever the
+                // amplifier asks.
                 if !self.stalled {
-                    self.shaft += delta;
+                    plant.advance(
+                        &mut self.shaft,
+                        &mut self.servo.speed,
+                        self.servo.output,
+                        period,
+                    );
                 }
+            } else if self.motor_on && self.mode == Mode::Torque && !self.stalled {
+                self.shaft += self.settings.torque * TORQUE_SPEED_PER_VOLT * period;
             }
+            let sample = Sample {
+                actual: self.position(),
+                optimal: setpoint,
+                output: self.output_voltage(),
+                aux: self.aux_position(),
+            };
+            self.record.tick(sample);
+            let error = setpoint - self.position();
+            if closed && limit > 0.0 && error.abs() > limit {
+                break;
+            }
+        }
+        if self.stalled {
+            self.servo.speed = 0.0;
         }
     }
 
@@ -194,7 +253,10 @@ impl Axis {
             }
         }
         let sample = self.sample();
-        self.record.tick(sample);
+        // A servo records at its loop rate in [`Axis::servo_tick`].
+        if self.kind != AxisKind::Servo {
+            self.record.tick(sample);
+        }
         if inputs.capture && !self.previous_inputs.capture && self.record.capture(sample) {
             self.latched |= status::CAPTURED;
         }

@@ -9,6 +9,7 @@ mod macros;
 mod motion;
 mod props;
 mod reports;
+mod servo;
 mod tasks;
 mod wire;
 

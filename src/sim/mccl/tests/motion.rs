@@ -1,4 +1,4 @@
-//! Axes on virtual time: the servo's lag, following-error trips, at
+//! Axes on virtual time: the servo's trailing, following-error trips, at
 //! target, the profiles against the manual's numbers, velocity and gain
 //! mode, limits, homing, steppers open and closed loop, contour, gearing.
 
@@ -32,27 +32,26 @@ fn the_manuals_half_second_ramps_on_a_servo() {
 }
 
 #[test]
-fn the_servo_lags_its_trajectory_by_its_time_constant() {
+fn the_servo_trails_at_cruise_by_its_friction_over_sg() {
     let mut s = Session::new();
     s.quiet(&["1SV100000,1SA10000000,1DS10000000,1MN", "1MR1000000"]);
     s.advance_ms(300);
-    // At 100000 c/s a 1 ms lag, sampled each 1 ms tick, trails by
-    // v·dt / (e^(dt/τ) − 1) ≈ 58 counts.
-    let lag = |tau: f64| 100.0 / ((0.001f64 / tau).exp() - 1.0);
+    // At 100000 c/s the plant's viscous friction (400/s) and Coulomb
+    // friction (5 mV) ask 4.005 V: SG 0.04 gives that at 100.1 counts.
     let error = s.tell("1TF");
-    assert!((error - lag(0.001)).abs() <= 1.0, "TF {error}");
-    // A stiffer gain shortens the lag (SG 0.08: 0.5 ms).
+    assert!((error - 100.0).abs() <= 1.0, "TF {error}");
+    // A stiffer gain halves it (SG 0.08: 50 counts).
     s.quiet(&["1SG.08"]);
     s.advance_ms(50);
     let error = s.tell("1TF");
-    assert!((error - lag(0.0005)).abs() <= 1.0, "TF {error}");
+    assert!((error - 50.0).abs() <= 1.0, "TF {error}");
 }
 
 #[test]
 fn a_servo_lands_within_a_count_when_its_trajectory_completes() {
-    // The acceptance's `1MN`, `1MA1000`, `1WS`, `1TP`: a lag of 1 ms at the
-    // default deceleration leaves a·τ² = 0.2 counts when the trajectory
-    // completes.
+    // The acceptance's `1MN`, `1MA1000`, `1WS`, `1TP`: at the default
+    // deceleration the loop trails by a / (gain·SG) = 0.5 counts when the
+    // trajectory completes.
     let mut s = Session::new();
     s.quiet(&["1MN", "1MA1000", "1WS"]);
     assert_eq!(s.tell("1TP"), 1000.0);

@@ -41,9 +41,24 @@ fn tell_replies_as_the_manual_prints_them() {
         ("TL", "1TL.1", &["1IL5"], None),
         ("TQ", "1TQ.1", &[], None),
         ("TR", "TR0", &["AL15"], None),
-        ("TO", "1TO.3", &["1US1000,1MN,1MA121.025,1WS0.2"], None),
-        ("TP", "1TP.3", &["1US1000,1MN,1MA121.025,1WS0.2"], None),
-        ("TT", "1TT.3", &["1US1000,1MN,1MA121.025,1WS0.2"], None),
+        (
+            "TO",
+            "1TO.3",
+            &["1US1000,1SV100,1SA200,1DS200,1MN,1MA121.025,1WS0.2"],
+            None,
+        ),
+        (
+            "TP",
+            "1TP.3",
+            &["1US1000,1SV100,1SA200,1DS200,1MN,1MA121.025,1WS0.2"],
+            None,
+        ),
+        (
+            "TT",
+            "1TT.3",
+            &["1US1000,1SV100,1SA200,1DS200,1MN,1MA121.025,1WS0.2"],
+            None,
+        ),
         ("TV", "1TV.2", &["1MN,1VM,1SV10,1GO,WA0.1"], None),
         ("TE", "TE", &["5SG.1"], None),
         (
@@ -79,7 +94,9 @@ fn the_precision_example_with_bare_values() {
     // the axis field there: the TELLAXIS setting).
     let mut s = Session::new();
     s.drive("TELLAXIS=0");
-    s.quiet(&["1US10000,1SE0,1MN,1MA123.4567,1WS0.2"]);
+    // SV/SA/DS are in user units too: 100000 counts/s, 200000 counts/s²,
+    // what the simulated motor can follow (the defaults would be 10⁹).
+    s.quiet(&["1US10000,1SV10,1SA20,1DS20,1SE0,1MN,1MA123.4567,1WS0.2"]);
     for send in ["1TP", "1TP0", "1TP.1", "1TP.3"] {
         assert_eq!(
             s.one(send),
