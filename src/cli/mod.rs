@@ -2,12 +2,14 @@
 
 pub mod asm;
 pub mod bench;
+pub mod completions;
 pub mod confirm;
 pub mod connection;
 pub mod console;
 pub mod exec;
 pub mod fleet;
 pub mod links;
+pub mod man_pages;
 pub mod mechanics;
 pub mod output;
 pub mod params;
@@ -183,8 +185,9 @@ pub struct ConnectionArgs {
     /// With --sim (and `axterm sim`): faults to inject (repeatable). SPEC
     /// for the whole line, ADDRESS:SPEC for one module of a simulated bus
     /// (its answers only; disconnect-after=N takes it off the bus after N
-    /// answers), e.g. --fault 3:drop=1. SPEC:
-    /// drop=P,corrupt=P,garbage=P,delay=P:MS,disconnect-after=N,corrupt-store=N,seed=N.
+    /// answers), e.g. --fault 3:drop=1. SPEC is NAME=VALUE items joined
+    /// by commas (drop=0.1,seed=7), of drop=P, corrupt=P, garbage=P,
+    /// delay=P:MS, disconnect-after=N, corrupt-store=N, seed=N.
     #[arg(long = "fault", global = true, value_name = "[ADDRESS:]SPEC")]
     pub fault: Vec<String>,
     /// A choice about reading the link that the family's manual leaves
@@ -381,6 +384,21 @@ pub enum Command {
         #[command(subcommand)]
         command: params::ParamsCommand,
     },
+    /// Print a shell's completion script for axterm.
+    ///
+    /// bash, zsh, fish, elvish or powershell; made from the same
+    /// definitions as --help. Where each shell looks for it:
+    /// docs/install.md (e.g. `axterm completions bash >
+    /// ~/.local/share/bash-completion/completions/axterm`).
+    Completions(completions::CompletionsArgs),
+    /// Print or write the manual pages (roff).
+    ///
+    /// One page per subcommand: axterm.1, axterm-run.1, axterm-params-diff.1
+    /// and so on. Without --dir the program's page is printed (or the page
+    /// of the subcommand named: `axterm man params diff`), e.g. for `man
+    /// -l -`; --dir DIR writes every page into DIR, a path a line on
+    /// standard output.
+    Man(man_pages::ManArgs),
 }
 
 impl Command {
@@ -417,6 +435,8 @@ impl Command {
             Command::Upload(_) => "upload",
             Command::Bench(_) => "bench",
             Command::Params { .. } => "params",
+            Command::Completions(_) => "completions",
+            Command::Man(_) => "man",
         }
     }
 }
@@ -471,6 +491,8 @@ pub fn run(cli: Cli) -> i32 {
             asm::run_disasm(file.as_deref(), &cli.connection, &extent)
         }
         Some(Command::Download(args)) => transfer::run_download(&cli.connection, &args),
+        Some(Command::Completions(args)) => completions::run(&args),
+        Some(Command::Man(args)) => man_pages::run(&args),
         Some(Command::Upload(args)) => transfer::run_upload(&cli.connection, &args),
         None => console::run(
             &cli.connection,
