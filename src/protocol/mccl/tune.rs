@@ -17,6 +17,12 @@
 //! and reads the reply lines with [`parse_readback`] into samples for
 //! [`crate::protocol::step_response::step_figures`].
 //!
+//! Around it: [`read_gains_line`] / [`parse_gains`] read the axis' own
+//! gains first (the Tell commands of Ch8: TG, TD, TI, TL, TK), and
+//! [`StepTest::restore_lines`] puts them back with position mode (Ch6 PM);
+//! [`StepTest::stop_line`] (Ch7 MF, motor off) is for a run that fails or
+//! is cancelled, so that no axis is left moving.
+//!
 //! The sample period is the loop's: 0.25 ms after HS (4 kHz), 0.5 ms after
 //! MS (2 kHz), 1 ms after LS (1 kHz) (Ch5 HS/MS/LS; FR's default period of
 //! 0.00025 s is one HS sample).
@@ -136,6 +142,24 @@ fn finite(name: &str, mnemonic: &str, value: Option<f64>) -> Result<(), String> 
     }
 }
 
+/// `aSGn,aSDn,…` for the gains given, in Ch5's order; empty if none.
+fn gains_commands(a: u8, g: &Gains) -> String {
+    [
+        ("SG", g.proportional),
+        ("SD", g.derivative),
+        ("FR", g.derivative_period.map(f64::from)),
+        ("SI", g.integral),
+        ("IL", g.integration_limit),
+        ("VG", g.velocity_feed_forward),
+        ("AG", g.acceleration_feed_forward),
+        ("DG", g.deceleration_feed_forward),
+    ]
+    .iter()
+    .filter_map(|(m, v)| v.map(|v| format!("{a}{m}{}", real(v))))
+    .collect::<Vec<_>>()
+    .join(",")
+}
+
 impl StepTest {
     /// Every value within what the manual allows (Ch5, Ch7), and the step
     /// possible: a gain-mode step beyond SE would trip at once.
@@ -218,23 +242,10 @@ impl StepTest {
     pub fn setup_lines(&self) -> Result<Vec<String>, String> {
         self.validate()?;
         let a = self.axis;
-        let g = &self.gains;
-        let gains: Vec<String> = [
-            ("SG", g.proportional),
-            ("SD", g.derivative),
-            ("FR", g.derivative_period.map(f64::from)),
-            ("SI", g.integral),
-            ("IL", g.integration_limit),
-            ("VG", g.velocity_feed_forward),
-            ("AG", g.acceleration_feed_forward),
-            ("DG", g.deceleration_feed_forward),
-        ]
-        .iter()
-        .filter_map(|(m, v)| v.map(|v| format!("{a}{m}{}", real(v))))
-        .collect();
+        let gains = gains_commands(a, &self.gains);
         let mut lines = Vec::new();
         if !gains.is_empty() {
-            lines.push(gains.join(","));
+            lines.push(gains);
         }
         lines.push(format!("{a}{}", self.rate.mnemonic()));
         if let Some(limit) = self.following_limit {
@@ -295,6 +306,29 @@ impl StepTest {
             .collect()
     }
 
+    /// Back to position mode with `previous` gains (as [`parse_gains`]
+    /// read them): the gains line if any, then `aPM`. A gain of SG below
+    /// the manual's 0.000153 (a 5-decimal read of a smaller one) is left
+    /// out rather than sent out of range.
+    pub fn restore_lines(&self, previous: &Gains) -> Vec<String> {
+        let a = self.axis;
+        let mut kept = *previous;
+        kept.proportional = kept.proportional.filter(|&sg| sg >= 0.000153);
+        let mut lines = Vec::new();
+        let gains = gains_commands(a, &kept);
+        if !gains.is_empty() {
+            lines.push(gains);
+        }
+        lines.push(format!("{a}PM"));
+        lines
+    }
+
+    /// Motor off (Ch7 MF): what a failed or cancelled run sends, so that no
+    /// axis is left moving (a tripped axis is off already).
+    pub fn stop_line(&self) -> String {
+        format!("{}MF", self.axis)
+    }
+
     /// Read the replies of [`StepTest::readback_lines`] (their reply lines,
     /// in order, prompts and echoes removed).
     pub fn parse_readback<S: AsRef<str>>(
@@ -304,6 +338,52 @@ impl StepTest {
     ) -> Result<Vec<StepSample>, String> {
         parse_readback(replies, self.samples, self.rate, base)
     }
+}
+
+/// The Tell precision used to read gains back: 5 decimals (Ch8 `p` = .5,
+/// the most the manual shows).
+pub const GAIN_PRECISION: &str = ".5";
+
+/// `aTG.5,aTD.5,aTI.5,aTL.5,aTK.5`: the gains a Tell command reports (Ch8:
+/// FR, AG and DG have none).
+pub fn read_gains_line(axis: u8) -> String {
+    ["TG", "TD", "TI", "TL", "TK"]
+        .iter()
+        .map(|m| format!("{axis}{m}{GAIN_PRECISION}"))
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+/// The five replies of [`read_gains_line`], in its order.
+pub fn parse_gains<S: AsRef<str>>(replies: &[S], base: NumberBase) -> Result<Gains, String> {
+    const WHAT: [&str; 5] = [
+        "TG (proportional gain)",
+        "TD (derivative gain)",
+        "TI (integral gain)",
+        "TL (integration limit)",
+        "TK (velocity gain)",
+    ];
+    if replies.len() != WHAT.len() {
+        return Err(format!(
+            "reading the gains back needs 5 reply lines (TG, TD, TI, TL, TK), got {}",
+            replies.len()
+        ));
+    }
+    let mut values = [0.0; 5];
+    for (k, reply) in replies.iter().enumerate() {
+        values[k] = parse_told(reply.as_ref(), base)
+            .map_err(|e| format!("{}: {e}", WHAT[k]))?
+            .value
+            .as_f64();
+    }
+    Ok(Gains {
+        proportional: Some(values[0]),
+        derivative: Some(values[1]),
+        integral: Some(values[2]),
+        integration_limit: Some(values[3]),
+        velocity_feed_forward: Some(values[4]),
+        ..Gains::default()
+    })
 }
 
 /// `count` samples from reply lines in the order DR i, DO i, DQ i for i =
@@ -552,6 +632,35 @@ mod tests {
             t.parse_readback(&hex, NumberBase::Hex).expect("samples")[1].commanded,
             20.0
         );
+    }
+
+    #[test]
+    fn the_gains_are_read_back_and_restored() {
+        assert_eq!(read_gains_line(2), "2TG.5,2TD.5,2TI.5,2TL.5,2TK.5");
+        // Ch8's Tell form with 5 decimals, the values of Ch5's examples.
+        let replies = [
+            "02 0.04000",
+            "02 0.20000",
+            "02 0.00650",
+            "02 50.00000",
+            "02 -0.00009",
+        ];
+        let gains = parse_gains(&replies, NumberBase::Decimal).expect("gains");
+        assert_eq!(gains.proportional, Some(0.04));
+        assert_eq!(gains.integration_limit, Some(50.0));
+        assert_eq!(gains.velocity_feed_forward, Some(-0.00009));
+        assert_eq!(gains.derivative_period, None, "FR has no Tell");
+        let t = StepTest { axis: 2, ..test() };
+        assert_eq!(
+            t.restore_lines(&gains),
+            ["2SG0.04,2SD0.2,2SI0.0065,2IL50,2VG-0.00009", "2PM"]
+        );
+        assert_eq!(t.stop_line(), "2MF");
+        let err = parse_gains(&replies[..4], NumberBase::Decimal).expect_err("short");
+        assert!(err.contains("5 reply lines"), "{err}");
+        let bad = ["02 0.04", "?-2 2TD", "0", "0", "0"];
+        let err = parse_gains(&bad, NumberBase::Decimal).expect_err("bad");
+        assert!(err.contains("TD"), "{err}");
     }
 
     #[test]
