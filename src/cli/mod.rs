@@ -26,6 +26,7 @@ pub use crate::script;
 pub mod sim_program;
 pub mod sim_serve;
 pub mod transfer;
+pub mod tune;
 pub mod wiring;
 
 use std::io::Write;
@@ -335,6 +336,12 @@ pub enum Command {
     /// and stopped the axis, 1 otherwise. Needs --yes: it moves the axis to
     /// both ends of its travel.
     Wiring(wiring::WiringArgs),
+    /// Tune an axis: a servo step response the controller records
+    /// (MCCL), or a StallGuard2 sweep with a suggested threshold (TMCL).
+    Tune {
+        #[command(subcommand)]
+        command: tune::TuneCommand,
+    },
     /// Assemble a program (TMCL): print its image, or its listing.
     Asm {
         /// The program source (- for standard input).
@@ -429,6 +436,7 @@ impl Command {
             Command::Profiles => "profiles",
             Command::Scan(_) => "scan",
             Command::Wiring(_) => "wiring",
+            Command::Tune { .. } => "tune",
             Command::Asm { .. } => "asm",
             Command::Disasm { .. } => "disasm",
             Command::Download(_) => "download",
@@ -471,6 +479,7 @@ pub fn run(cli: Cli) -> i32 {
         Some(Command::RunMacro(args)) => run_macro::run(&cli.connection, &args),
         Some(Command::Scan(args)) => scan::run(&cli.connection, &args),
         Some(Command::Wiring(args)) => wiring::run(&cli.connection, &args),
+        Some(Command::Tune { command }) => tune::run(&cli.connection, &command),
         Some(Command::Bench(args)) => bench::run(&cli.connection, &args),
         Some(Command::Params { command }) => {
             params::run(&cli.connection, &command, cli.mechanics.as_deref())

@@ -706,6 +706,18 @@ pub trait FamilyConsole: Send + Sync {
         None
     }
 
+    /// A servo step-response test the controller records itself (the
+    /// tuning pane, `axterm tune step`); `None` where the family has none.
+    fn step_response(&self) -> Option<&'static dyn crate::protocol::tuning::StepResponsePlan> {
+        None
+    }
+
+    /// A StallGuard2-style load sweep (the tuning pane, `axterm tune
+    /// stallguard`); `None` where the family has none.
+    fn stall_sweep(&self) -> Option<&'static dyn crate::protocol::tuning::StallSweepPlan> {
+        None
+    }
+
     /// The family's parameter tables and how to read, write, store and
     /// restore one, for the parameter table; `None` if it has none.
     fn parameters(&self) -> Option<&'static dyn ParameterSet> {

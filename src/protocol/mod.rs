@@ -16,6 +16,7 @@ pub mod settings;
 pub mod sixpack2;
 pub mod step_response;
 pub mod tmcl;
+pub mod tuning;
 pub mod units;
 pub mod wire;
 

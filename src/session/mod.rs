@@ -29,6 +29,7 @@ pub mod run_end;
 pub mod settings;
 mod status;
 pub mod transfer;
+pub mod tuning;
 mod units;
 pub mod wiring;
 

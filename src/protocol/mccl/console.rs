@@ -728,6 +728,10 @@ impl FamilyConsole for MclConsole {
         Some(&super::io::McclIo)
     }
 
+    fn step_response(&self) -> Option<&'static dyn crate::protocol::tuning::StepResponsePlan> {
+        Some(&super::tuning::McclStepResponse)
+    }
+
     fn program(&self) -> Option<&'static dyn crate::protocol::program::ProgramTool> {
         Some(&super::tool::MclTool)
     }

@@ -31,6 +31,7 @@ pub mod status;
 pub mod tool;
 pub mod traffic;
 pub mod tune;
+pub mod tuning;
 pub mod units;
 pub mod wire;
 

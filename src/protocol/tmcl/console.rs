@@ -450,6 +450,10 @@ impl FamilyConsole for TmclConsole {
         Some(&super::io::TmclIo)
     }
 
+    fn stall_sweep(&self) -> Option<&'static dyn crate::protocol::tuning::StallSweepPlan> {
+        Some(&super::tuning::TmclStallSweep)
+    }
+
     fn program(&self) -> Option<&'static dyn crate::protocol::program::ProgramTool> {
         Some(&super::tool::TmclTool)
     }

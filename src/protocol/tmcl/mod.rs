@@ -18,6 +18,7 @@ pub mod tool;
 pub mod traffic;
 pub mod transfer;
 pub mod tune;
+pub mod tuning;
 pub mod units;
 pub mod validate;
 pub mod wire;

@@ -1,0 +1,562 @@
+//! `axterm tune step|stallguard CONNECTION`: the tuning tools from a batch
+//! file ([`crate::session::tuning`]). `step` makes a servo step the
+//! controller records itself and prints the samples and figures; a step
+//! whose axis trips says so, and the axis is stopped. `stallguard` sweeps
+//! the motor's speed and prints the load reading at each; with `--compare`
+//! a sweep saved before (`--format json`, without the load) it suggests a
+//! threshold and a stop-on-stall speed. Exit 0 on a result, 1 when the
+//! axis tripped or a line failed, 2 for bad input (nothing sent), 3 when
+//! the link does not open.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use clap::{Args, Subcommand, ValueEnum};
+
+use super::connection::{Target, run_to_exit};
+use super::output::Format;
+use super::run_end::{AtTheEnd, Interrupt, RunReport, exit_or_stop_on_signal};
+use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
+use crate::protocol::console::AxisInfo;
+use crate::protocol::tuning::{StepAsk, StepSpec, SweepAsk, SweepPoint};
+use crate::session::tuning::{StepRun, SweepRun};
+
+#[derive(Debug, Clone, Subcommand)]
+pub enum TuneCommand {
+    /// A servo step response, recorded by the controller at its loop rate
+    /// (MCCL: PR, then DR/DO/DQ): rise time, overshoot, settling,
+    /// following error, output and saturation.
+    Step(StepArgs),
+    /// A StallGuard2 velocity sweep (TMCL AP206 at each speed); with
+    /// --compare a sweep saved without load, a suggested threshold (AP174)
+    /// and stop-on-stall speed (AP181).
+    Stallguard(SweepArgs),
+}
+
+/// How the result is printed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum)]
+pub enum TuneFormat {
+    /// Figures and readings as lines to read.
+    #[default]
+    Text,
+    /// One JSON object: the samples or readings and the figures.
+    Json,
+    /// The samples or readings as comma-separated values, a header first.
+    Csv,
+}
+
+#[derive(Debug, Clone, Args)]
+pub struct StepArgs {
+    /// The axis, as the family numbers it (MCCL axis 1 is 1).
+    #[arg(long)]
+    pub axis: Option<u8>,
+    /// The step, in position counts (negative: the other way).
+    #[arg(long, allow_negative_numbers = true)]
+    pub distance: i64,
+    /// Samples the controller records (MCCL: 1..1024).
+    #[arg(long, default_value_t = 400)]
+    pub samples: usize,
+    /// Gains to set first, NAME=VALUE separated by commas (SG=0.05,SD=0.3);
+    /// they stay set after the test.
+    #[arg(long, value_name = "NAME=VALUE,…")]
+    pub set: Option<String>,
+    /// The settling band, in counts either side of the target.
+    #[arg(long, default_value_t = 2.0)]
+    pub band: f64,
+    #[arg(long, value_enum, default_value_t)]
+    pub format: TuneFormat,
+}
+
+#[derive(Debug, Clone, Args)]
+pub struct SweepArgs {
+    /// The axis, as the family numbers it (TMCL motor 0 is 0).
+    #[arg(long)]
+    pub axis: Option<u8>,
+    /// The first speed, in the family's velocity unit (negative turns the
+    /// other way).
+    #[arg(long, allow_negative_numbers = true)]
+    pub from: i64,
+    /// The last speed.
+    #[arg(long, allow_negative_numbers = true)]
+    pub to: i64,
+    /// How many speeds, both ends included.
+    #[arg(long, default_value_t = 5)]
+    pub steps: u32,
+    /// Readings taken at each speed.
+    #[arg(long, default_value_t = 4)]
+    pub samples: u32,
+    /// A sweep of the same speeds saved before without the load (this
+    /// command's --format json): suggest a threshold and a stop-on-stall
+    /// speed from the two.
+    #[arg(long, value_name = "FILE")]
+    pub compare: Option<PathBuf>,
+    #[arg(long, value_enum, default_value_t)]
+    pub format: TuneFormat,
+}
+
+pub fn run(connection: &ConnectionArgs, command: &TuneCommand) -> i32 {
+    match command {
+        TuneCommand::Step(args) => run_step(connection, args),
+        TuneCommand::Stallguard(args) => run_sweep(connection, args),
+    }
+}
+
+/// The axis `number` of the family (its first by default), and its index.
+fn axis_of(target: &Target, number: Option<u8>) -> Result<(usize, AxisInfo), String> {
+    let axes = target.family.console.axes();
+    let found = match number {
+        None => axes.first().map(|a| (0, *a)),
+        Some(n) => axes
+            .iter()
+            .enumerate()
+            .find(|(_, a)| a.number == n)
+            .map(|(i, a)| (i, *a)),
+    };
+    found.ok_or_else(|| {
+        format!(
+            "--axis {}: the {} family's axes are {}",
+            number.map_or_else(|| "?".to_string(), |n| n.to_string()),
+            target.family.name,
+            axes.iter()
+                .map(|a| a.number.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    })
+}
+
+/// `SG=0.05,SD=0.3` as names and values.
+pub fn parse_settings(text: &str) -> Result<Vec<(String, f64)>, String> {
+    text.split(',')
+        .map(str::trim)
+        .filter(|item| !item.is_empty())
+        .map(|item| {
+            let (name, value) = item
+                .split_once('=')
+                .ok_or_else(|| format!("--set {item}: write NAME=VALUE (SG=0.05)"))?;
+            let number: f64 = value
+                .trim()
+                .parse()
+                .ok()
+                .filter(|v: &f64| v.is_finite())
+                .ok_or_else(|| format!("--set {item}: {} is not a number", value.trim()))?;
+            Ok((name.trim().to_string(), number))
+        })
+        .collect()
+}
+
+fn run_step(connection: &ConnectionArgs, args: &StepArgs) -> i32 {
+    let target = match Target::resolve(connection) {
+        Ok(target) => target,
+        Err(message) => {
+            eprintln!("axterm tune step: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    let Some(plan) = target.family.console.step_response() else {
+        eprintln!(
+            "axterm tune step: the {} family has no servo step-response test (MCCL has)",
+            target.family.name
+        );
+        return EXIT_USAGE;
+    };
+    let (index, axis) = match axis_of(&target, args.axis) {
+        Ok(found) => found,
+        Err(message) => {
+            eprintln!("axterm tune step: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    let set = match args.set.as_deref().map(parse_settings).transpose() {
+        Ok(set) => set.unwrap_or_default(),
+        Err(message) => {
+            eprintln!("axterm tune step: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    if !(args.band.is_finite() && args.band > 0.0) {
+        eprintln!(
+            "axterm tune step: --band {}: a band is a number of counts > 0",
+            args.band
+        );
+        return EXIT_USAGE;
+    }
+    let ask = StepAsk {
+        distance: args.distance,
+        samples: args.samples,
+        set,
+    };
+    // Everything the plan refuses is refused before the link opens.
+    if let Err(why) = plan.script(&axis, &ask) {
+        eprintln!("axterm tune step: {why} (nothing was sent)");
+        return EXIT_USAGE;
+    }
+    let spec = StepSpec {
+        band: args.band,
+        ..StepSpec::default()
+    };
+    let format = args.format;
+    run_to_exit("tune step", async move {
+        let session = match target.open().await {
+            Ok(session) => session,
+            Err(e) => {
+                eprintln!("axterm tune step: {e}");
+                return EXIT_CONNECTION;
+            }
+        };
+        let interrupt = match Interrupt::watch() {
+            Ok(interrupt) => interrupt,
+            Err(e) => {
+                eprintln!("axterm tune step: cannot watch for Ctrl-C: {e}");
+                return EXIT_DEVICE;
+            }
+        };
+        let work = async {
+            match session.step_response(plan, index, &ask, &spec).await {
+                Ok(run) => {
+                    print!("{}", show_step(&axis, &run, format));
+                    if run.tripped.is_empty() {
+                        EXIT_OK
+                    } else {
+                        EXIT_DEVICE
+                    }
+                }
+                Err(error) => {
+                    eprintln!("axterm tune step: {error}");
+                    EXIT_DEVICE
+                }
+            }
+        };
+        let report = RunReport {
+            prefix: "axterm tune step: ",
+            format: Format::Text,
+            at_the_end: AtTheEnd::Nothing,
+        };
+        exit_or_stop_on_signal(&session, interrupt, &report, work).await
+    })
+}
+
+fn number(value: Option<f64>) -> serde_json::Value {
+    value.map_or(serde_json::Value::Null, serde_json::Value::from)
+}
+
+/// A step test's result in `format`.
+pub fn show_step(axis: &AxisInfo, run: &StepRun, format: TuneFormat) -> String {
+    let mut out = String::new();
+    match format {
+        TuneFormat::Csv => {
+            out.push_str("time_s,commanded,actual,following_error,output_v\n");
+            for s in &run.samples {
+                let _ = writeln!(
+                    out,
+                    "{},{},{},{},{}",
+                    s.time,
+                    s.commanded,
+                    s.actual,
+                    s.commanded - s.actual,
+                    s.output
+                );
+            }
+        }
+        TuneFormat::Json => {
+            let figures = run.figures.as_ref().map(|f| {
+                serde_json::json!({
+                    "target": f.target,
+                    "rise_time_s": number(f.rise_time),
+                    "overshoot_percent": f.overshoot_percent,
+                    "settling_time_s": number(f.settling_time),
+                    "peak_following_error": f.peak_following_error,
+                    "final_following_error": f.final_following_error,
+                    "peak_output_v": f.peak_output,
+                    "saturated": f.saturated,
+                })
+            });
+            let object = serde_json::json!({
+                "axis": axis.number,
+                "sample_period_s": run.sample_period,
+                "gains": run
+                    .gains
+                    .iter()
+                    .map(|(name, value)| ((*name).to_string(), number(*value)))
+                    .collect::<serde_json::Map<_, _>>(),
+                "samples": run
+                    .samples
+                    .iter()
+                    .map(|s| serde_json::json!({
+                        "time_s": s.time,
+                        "commanded": s.commanded,
+                        "actual": s.actual,
+                        "output_v": s.output,
+                    }))
+                    .collect::<Vec<_>>(),
+                "figures": figures,
+                "figures_missing": run.figures_missing,
+                "tripped": run.tripped.iter().map(|f| f.name).collect::<Vec<_>>(),
+                "ok": run.tripped.is_empty(),
+            });
+            let _ = writeln!(out, "{object}");
+        }
+        TuneFormat::Text => {
+            for line in step_lines(axis, run) {
+                let _ = writeln!(out, "{line}");
+            }
+        }
+    }
+    out
+}
+
+/// The figures of a step test as lines to read (the CLI's text, the
+/// tuning pane's figures).
+pub fn step_lines(axis: &AxisInfo, run: &StepRun) -> Vec<String> {
+    let mut lines = Vec::new();
+    let gains: Vec<String> = run
+        .gains
+        .iter()
+        .filter_map(|(name, value)| value.map(|v| format!("{name} {v}")))
+        .collect();
+    lines.push(format!(
+        "{}: {} samples every {} ms; gains {}",
+        axis.name,
+        run.samples.len(),
+        run.sample_period * 1000.0,
+        if gains.is_empty() {
+            "not read".to_string()
+        } else {
+            gains.join(", ")
+        }
+    ));
+    if !run.tripped.is_empty() {
+        lines.push(format!(
+            "TRIPPED: {} — the axis was stopped",
+            run.tripped
+                .iter()
+                .map(|f| format!("{} ({})", f.name, f.description))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    }
+    match &run.figures {
+        Some(f) => {
+            let ms = |t: Option<f64>| {
+                t.map_or_else(|| "never".to_string(), |t| format!("{:.2} ms", t * 1000.0))
+            };
+            lines.push(format!("rise time (10-90 %): {}", ms(f.rise_time)));
+            lines.push(format!("overshoot: {:.1} %", f.overshoot_percent));
+            lines.push(format!("settling time: {}", ms(f.settling_time)));
+            lines.push(format!(
+                "following error: peak {:.0}, final {:.0} counts",
+                f.peak_following_error, f.final_following_error
+            ));
+            lines.push(format!(
+                "output: peak {:.2} V{}",
+                f.peak_output,
+                if f.saturated { ", SATURATED" } else { "" }
+            ));
+        }
+        None => lines.push(format!(
+            "no figures: {}",
+            run.figures_missing
+                .as_deref()
+                .unwrap_or("no step in the samples")
+        )),
+    }
+    lines
+}
+
+fn run_sweep(connection: &ConnectionArgs, args: &SweepArgs) -> i32 {
+    let target = match Target::resolve(connection) {
+        Ok(target) => target,
+        Err(message) => {
+            eprintln!("axterm tune stallguard: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    let Some(plan) = target.family.console.stall_sweep() else {
+        eprintln!(
+            "axterm tune stallguard: the {} family has no StallGuard2 sweep (TMCL has)",
+            target.family.name
+        );
+        return EXIT_USAGE;
+    };
+    let (index, axis) = match axis_of(&target, args.axis) {
+        Ok(found) => found,
+        Err(message) => {
+            eprintln!("axterm tune stallguard: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    let ask = SweepAsk {
+        from: args.from,
+        to: args.to,
+        steps: args.steps,
+        samples: args.samples,
+    };
+    if let Err(why) = plan.script(&axis, &ask) {
+        eprintln!("axterm tune stallguard: {why} (nothing was sent)");
+        return EXIT_USAGE;
+    }
+    let free = match &args.compare {
+        None => None,
+        Some(path) => match read_sweep(path) {
+            Ok(points) => Some(points),
+            Err(message) => {
+                eprintln!(
+                    "axterm tune stallguard: --compare {}: {message}",
+                    path.display()
+                );
+                return EXIT_USAGE;
+            }
+        },
+    };
+    let format = args.format;
+    run_to_exit("tune stallguard", async move {
+        let session = match target.open().await {
+            Ok(session) => session,
+            Err(e) => {
+                eprintln!("axterm tune stallguard: {e}");
+                return EXIT_CONNECTION;
+            }
+        };
+        let interrupt = match Interrupt::watch() {
+            Ok(interrupt) => interrupt,
+            Err(e) => {
+                eprintln!("axterm tune stallguard: cannot watch for Ctrl-C: {e}");
+                return EXIT_DEVICE;
+            }
+        };
+        let work = async {
+            match session.stall_sweep(plan, index, &ask).await {
+                Ok(run) => {
+                    let suggestion = free.as_ref().map(|free| {
+                        plan.suggest(&axis, free, &run.points, run.threshold.unwrap_or(0))
+                    });
+                    print!(
+                        "{}",
+                        show_sweep(plan.reading(), &run, suggestion.as_ref(), format)
+                    );
+                    EXIT_OK
+                }
+                Err(error) => {
+                    eprintln!("axterm tune stallguard: {error}");
+                    EXIT_DEVICE
+                }
+            }
+        };
+        let report = RunReport {
+            prefix: "axterm tune stallguard: ",
+            format: Format::Text,
+            at_the_end: AtTheEnd::Nothing,
+        };
+        exit_or_stop_on_signal(&session, interrupt, &report, work).await
+    })
+}
+
+/// The points of a sweep saved with `--format json`.
+fn read_sweep(path: &std::path::Path) -> Result<Vec<SweepPoint>, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| e.to_string())?;
+    if text.trim().is_empty() {
+        return Err("the file is empty: it holds no sweep".into());
+    }
+    let value: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| format!("not a sweep saved as JSON: {e}"))?;
+    let points: Vec<SweepPoint> = serde_json::from_value(value["points"].clone())
+        .map_err(|e| format!("no \"points\" of a sweep: {e}"))?;
+    if points.is_empty() || points.iter().any(|p| p.readings.is_empty()) {
+        return Err("the sweep holds no readings".into());
+    }
+    Ok(points)
+}
+
+/// A sweep's result in `format`.
+pub fn show_sweep(
+    reading: &str,
+    run: &SweepRun,
+    suggestion: Option<&crate::protocol::tuning::SweepSuggestion>,
+    format: TuneFormat,
+) -> String {
+    let mut out = String::new();
+    match format {
+        TuneFormat::Csv => {
+            out.push_str("speed,mean,readings\n");
+            for p in &run.points {
+                let readings: Vec<String> = p.readings.iter().map(i64::to_string).collect();
+                let _ = writeln!(
+                    out,
+                    "{},{},{}",
+                    p.speed,
+                    p.mean().map_or_else(String::new, |m| m.to_string()),
+                    readings.join(" ")
+                );
+            }
+        }
+        TuneFormat::Json => {
+            let object = serde_json::json!({
+                "reading": reading,
+                "threshold": run.threshold,
+                "points": run
+                    .points
+                    .iter()
+                    .map(|p| serde_json::json!({
+                        "speed": p.speed,
+                        "readings": p.readings,
+                        "mean": p.mean(),
+                    }))
+                    .collect::<Vec<_>>(),
+                "suggestion": suggestion.map(|s| serde_json::json!({
+                    "reasons": s.reasons,
+                    "lines": s.lines,
+                })),
+            });
+            let _ = writeln!(out, "{object}");
+        }
+        TuneFormat::Text => {
+            let _ = writeln!(
+                out,
+                "{reading}; threshold during the sweep: {}",
+                run.threshold
+                    .map_or_else(|| "not read".to_string(), |t| t.to_string())
+            );
+            for p in &run.points {
+                let readings: Vec<String> = p.readings.iter().map(i64::to_string).collect();
+                let _ = writeln!(
+                    out,
+                    "speed {}: {} (readings {})",
+                    p.speed,
+                    p.mean().map_or_else(|| "-".to_string(), |m| m.to_string()),
+                    readings.join(" ")
+                );
+            }
+            if let Some(s) = suggestion {
+                for reason in &s.reasons {
+                    let _ = writeln!(out, "{reason}");
+                }
+                if s.lines.is_empty() {
+                    let _ = writeln!(out, "no suggestion to set");
+                } else {
+                    let _ = writeln!(out, "to set it: {}", s.lines.join("; "));
+                }
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn settings_read_as_names_and_numbers_and_bad_ones_are_named() {
+        assert_eq!(
+            parse_settings("SG=0.05, SD=0.3,").unwrap(),
+            [("SG".to_string(), 0.05), ("SD".to_string(), 0.3)]
+        );
+        assert!(parse_settings("SG").unwrap_err().contains("NAME=VALUE"));
+        assert!(
+            parse_settings("SG=fast")
+                .unwrap_err()
+                .contains("fast is not a number")
+        );
+        assert!(parse_settings("SG=inf").unwrap_err().contains("inf"));
+    }
+}

@@ -1,0 +1,263 @@
+//! The runner of the tuning tools: it sends a family's tuning plan
+//! ([`crate::protocol::tuning`]) line by line, each on its own success, and
+//! reads the answers back into samples, figures and readings. Generic over
+//! the family; it never says ok for what did not happen: a test whose axis
+//! tripped says so, and a test that fails or is cancelled sends the plan's
+//! stop lines so that no axis is left moving.
+
+use std::time::Duration;
+
+use tokio::time::Instant;
+
+use super::{Session, SessionError};
+use crate::protocol::console::{AxisFlag, ReplyValue};
+use crate::protocol::tuning::{
+    StallSweepPlan, StepAsk, StepFigures, StepResponsePlan, StepSample, StepSpec, SweepAction,
+    SweepAsk, SweepPoint, TuneError, step_figures,
+};
+
+/// How long a sweep waits for the motor to reach one of its speeds.
+const SPEED_WAIT: Duration = Duration::from_secs(20);
+
+/// How often the speed is read while waiting for it.
+const SPEED_LOOK_EVERY: Duration = Duration::from_millis(20);
+
+/// Why a tuning run ended without a result.
+#[derive(Debug, thiserror::Error)]
+pub enum TuningError {
+    /// The plan refused what it was asked (nothing was sent).
+    #[error("{0}")]
+    Plan(#[from] TuneError),
+    /// A line failed.
+    #[error("{0}")]
+    Line(#[from] SessionError),
+    /// The family has no such tool for this axis.
+    #[error("{0}")]
+    Unavailable(String),
+    /// The motor did not reach a sweep's speed.
+    #[error("the motor did not reach {speed} within {seconds} s (it reads {last:?})")]
+    SpeedNotReached {
+        speed: i64,
+        seconds: u64,
+        last: Option<i64>,
+    },
+}
+
+/// What a step-response test gave.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepRun {
+    /// The gains as read after the test's setup, by name.
+    pub gains: Vec<(&'static str, Option<f64>)>,
+    pub samples: Vec<StepSample>,
+    /// `None` when the samples hold no step to judge (a trip at once).
+    pub figures: Option<StepFigures>,
+    /// Why no figures, if none.
+    pub figures_missing: Option<String>,
+    /// Error flags the axis showed after the step (a following error,
+    /// an amplifier fault): the test tripped, and the axis was stopped.
+    pub tripped: Vec<AxisFlag>,
+    pub sample_period: f64,
+}
+
+/// What a sweep gave.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SweepRun {
+    pub points: Vec<SweepPoint>,
+    /// The threshold in force during the sweep, as read.
+    pub threshold: Option<i64>,
+}
+
+/// The text of a line's answer, as a plan reads it.
+fn answer_text(value: &ReplyValue) -> String {
+    match value {
+        ReplyValue::None => String::new(),
+        ReplyValue::Number(n) => n.to_string(),
+        ReplyValue::Text(text) => text.clone(),
+    }
+}
+
+impl Session {
+    /// Send `lines` in order, each on the success of the one before; the
+    /// answers' text.
+    async fn send_all(&self, lines: &[String]) -> Result<Vec<String>, SessionError> {
+        let mut answers = Vec::with_capacity(lines.len());
+        for line in lines {
+            answers.push(answer_text(&self.execute_line(line).await?.value));
+        }
+        Ok(answers)
+    }
+
+    /// The axis's gains as `plan` reads them.
+    pub async fn read_gains(
+        &self,
+        plan: &dyn StepResponsePlan,
+        axis: usize,
+    ) -> Result<Vec<(&'static str, Option<f64>)>, TuningError> {
+        let info = self.axis_info(axis)?;
+        let answers = self.send_all(&plan.read_gains(&info)).await?;
+        let values = plan.parse_gains(&answers)?;
+        Ok(plan
+            .gains()
+            .iter()
+            .map(|g| g.name)
+            .zip(values.into_iter().chain(std::iter::repeat(None)))
+            .collect())
+    }
+
+    /// A step-response test of axis `axis`: set up, step, wait while the
+    /// controller records, read the samples back, restore the mode; the
+    /// figures judged with `spec`. A trip seen after the step stops the
+    /// axis with the plan's stop lines and is reported in the result; a
+    /// failed line stops it too and is the error.
+    pub async fn step_response(
+        &self,
+        plan: &dyn StepResponsePlan,
+        axis: usize,
+        ask: &StepAsk,
+        spec: &StepSpec,
+    ) -> Result<StepRun, TuningError> {
+        let info = self.axis_info(axis)?;
+        let script = plan.script(&info, ask)?;
+        let run = async {
+            self.send_all(&script.setup).await?;
+            let gains = self.read_gains(plan, axis).await?;
+            // Flags the axis showed before the step are not the step's.
+            let before = self.axis_errors(axis).await?;
+            self.send_all(&script.step).await?;
+            tokio::time::sleep(script.recording).await;
+            let answers = self.send_all(&script.readback).await?;
+            let samples = plan.samples(&script, ask, &answers)?;
+            let mut tripped = self.axis_errors(axis).await?;
+            tripped.retain(|flag| !before.contains(flag));
+            if tripped.is_empty() {
+                self.send_all(&script.restore).await?;
+            }
+            Ok::<_, TuningError>((gains, samples, tripped))
+        };
+        let (gains, samples, tripped) = match run.await {
+            Ok(done) => done,
+            Err(error) => {
+                let _ = self.send_all(&script.stop).await;
+                return Err(error);
+            }
+        };
+        if !tripped.is_empty() {
+            self.send_all(&script.stop).await?;
+        }
+        let spec = StepSpec {
+            output_limit: script.output_limit,
+            ..*spec
+        };
+        let (figures, figures_missing) = match step_figures(&samples, &spec) {
+            Ok(figures) => (Some(figures), None),
+            Err(why) => (None, Some(why.to_string())),
+        };
+        Ok(StepRun {
+            gains,
+            samples,
+            figures,
+            figures_missing,
+            tripped,
+            sample_period: script.sample_period,
+        })
+    }
+
+    /// A load sweep of axis `axis`: each speed in turn, wait until the
+    /// motor turns at it, take the readings; the plan's stop at the end,
+    /// however the sweep ends.
+    pub async fn stall_sweep(
+        &self,
+        plan: &dyn StallSweepPlan,
+        axis: usize,
+        ask: &SweepAsk,
+    ) -> Result<SweepRun, TuningError> {
+        let info = self.axis_info(axis)?;
+        let script = plan.script(&info, ask)?;
+        let run = async {
+            let threshold = match self.execute_line(&plan.read_threshold(&info)).await?.value {
+                ReplyValue::Number(n) => Some(n),
+                _ => None,
+            };
+            let mut points: Vec<SweepPoint> = script
+                .speeds
+                .iter()
+                .map(|&speed| SweepPoint {
+                    speed,
+                    readings: Vec::new(),
+                })
+                .collect();
+            for action in &script.actions {
+                match action {
+                    SweepAction::Send(line) => {
+                        self.execute_line(line).await?;
+                    }
+                    SweepAction::WaitForSpeed { read, speed } => {
+                        self.wait_for_speed(plan, read, *speed).await?;
+                    }
+                    SweepAction::Sample { point, read } => {
+                        let value = self.execute_line(read).await?.value;
+                        let ReplyValue::Number(n) = value else {
+                            return Err(TuningError::Plan(TuneError::Answer {
+                                line: read.clone(),
+                                reason: format!("{value} is not a number"),
+                            }));
+                        };
+                        if let Some(p) = points.get_mut(*point) {
+                            p.readings.push(n);
+                        }
+                    }
+                }
+            }
+            Ok::<_, TuningError>(SweepRun { points, threshold })
+        };
+        let result = run.await;
+        let stopped = self.send_all(&script.stop).await;
+        let done = result?;
+        stopped?;
+        Ok(done)
+    }
+
+    async fn wait_for_speed(
+        &self,
+        plan: &dyn StallSweepPlan,
+        read: &str,
+        speed: i64,
+    ) -> Result<(), TuningError> {
+        let asked = Instant::now();
+        let mut last = None;
+        loop {
+            if let ReplyValue::Number(n) = self.execute_line(read).await?.value {
+                if plan.speed_reached(n, speed) {
+                    return Ok(());
+                }
+                last = Some(n);
+            }
+            if asked.elapsed() >= SPEED_WAIT {
+                return Err(TuningError::SpeedNotReached {
+                    speed,
+                    seconds: SPEED_WAIT.as_secs(),
+                    last,
+                });
+            }
+            tokio::time::sleep(SPEED_LOOK_EVERY).await;
+        }
+    }
+
+    fn axis_info(&self, axis: usize) -> Result<crate::protocol::console::AxisInfo, TuningError> {
+        self.axes().get(axis).copied().ok_or_else(|| {
+            TuningError::Unavailable(format!(
+                "the module has no axis {axis} (it has 0..{})",
+                self.axes().len().saturating_sub(1)
+            ))
+        })
+    }
+
+    /// The error flags axis `axis` shows now (read afresh).
+    async fn axis_errors(&self, axis: usize) -> Result<Vec<AxisFlag>, SessionError> {
+        let status = self.read_status_polls(false).await?;
+        Ok(status
+            .get(axis)
+            .map(|s| s.errors.clone())
+            .unwrap_or_default())
+    }
+}
