@@ -9,7 +9,7 @@ rotating, and at `:poll 1000` (as fast as the line goes).
 
 A full refresh is twelve exchanges ($20 and $21 for each motor), each
 9 bytes out and 8 back plus the unit's 6 ms switch-over delay before it
-answers (§6.1.1); the slow $30 (reference inputs) takes at most a tenth
+answers (§6.1.1); the slow $30 (reference inputs) takes at most a fortieth
 of the line. For each baud rate and phase it prints the refresh rate the
 console shows (`poll 20 Hz → 5.3/s`), the rate the wire allows for the
 twelve exchanges alone (1 / (12 × (17 × 10 / baud + 6 ms))) and the share

@@ -100,7 +100,7 @@ async fn four_axes_are_polled_within_a_9600_baud_line() {
         .filter(|(c, _)| c.starts_with("HSPD"))
         .map(|(_, bytes)| bytes)
         .sum();
-    // The slow items (HSPD, HSPDX..U) keep to their tenth of the line.
+    // The slow items (HSPD, HSPDX..U) keep to their share of the line.
     assert!(
         slow * SLOW_SHARE_DIVISOR as usize <= total,
         "HSPD polls took {slow} of {total} bytes: {by_command:?}"
@@ -175,22 +175,63 @@ async fn a_typed_line_waits_for_at_most_the_poll_on_the_wire() {
 }
 
 #[test]
-fn the_slow_items_take_a_tenth_of_a_slow_line_and_their_cadence_on_a_fast_one() {
-    let polls = find_family("cmd4cr")
-        .expect("registered")
-        .console
-        .status_queries(1);
+fn the_slow_items_take_a_fortieth_of_a_slow_line_and_their_cadence_on_a_fast_one() {
+    let family = find_family("cmd4cr").expect("registered");
+    let polls = family.console.status_queries(1);
+    let wire = family.console.wire();
     let cadence = PollCadence::default();
-    let at = |baud| slow_period(cadence, Some(axterm::link::byte_time(baud)), &polls);
+    let at = |baud| {
+        slow_period(
+            cadence,
+            Some(axterm::link::byte_time(baud)),
+            wire.as_ref(),
+            &polls,
+        )
+    };
     // MM, HSPD, HSPDX..U: 50 request bytes, counted twice: 100 × 1.04 ms
-    // × 10.
-    assert_eq!(at(9600), axterm::link::byte_time(9600) * 100 * 10);
-    assert!(at(19_200) > cadence.slow);
-    assert_eq!(at(115_200), cadence.slow);
+    // × 40.
+    assert_eq!(at(9600), axterm::link::byte_time(9600) * 100 * 40);
+    assert!(at(115_200) > cadence.slow);
+    assert_eq!(at(921_600), cadence.slow);
     assert_eq!(
-        slow_period(cadence, None, &polls),
+        slow_period(cadence, None, wire.as_ref(), &polls),
         cadence.slow,
         "TCP: as asked"
+    );
+}
+
+#[test]
+fn a_slow_items_share_counts_an_echo_and_a_turnaround() {
+    let byte = axterm::link::byte_time(9600);
+    let cadence = PollCadence {
+        fast: Duration::ZERO,
+        slow: Duration::ZERO,
+    };
+    let slow_of = |kind: &str| {
+        let family = find_family(kind).expect("registered");
+        let polls = family.console.status_queries(1);
+        let period = slow_period(cadence, Some(byte), family.console.wire().as_ref(), &polls);
+        let slow: Vec<Vec<u8>> = polls
+            .into_iter()
+            .filter(|p| !p.fast)
+            .map(|p| p.line.bytes)
+            .collect();
+        (period, slow)
+    };
+    // MultiFlex, echo on (Ch2): `2TT,TF` comes back as its echo and CR LF
+    // (8), `02 0` CR LF twice (12) and the prompt (1): three times the 7
+    // bytes sent, not twice.
+    let (period, slow) = slow_of("mccl");
+    assert!(slow.iter().any(|l| l == b"2TT,TF\r"), "{slow:?}");
+    let bytes: u32 = slow.iter().map(|l| 3 * l.len() as u32).sum();
+    assert_eq!(period, byte * bytes * SLOW_SHARE_DIVISOR);
+    // SIXpack 2: `$30` is 9 bytes out, 8 back, after the 6 ms switch-over
+    // delay (§6.1.1); counted as 18 bytes and the delay.
+    let (period, slow) = slow_of("sixpack2");
+    assert_eq!(slow.len(), 1);
+    assert_eq!(
+        period,
+        (byte * 18 + Duration::from_millis(6)) * SLOW_SHARE_DIVISOR
     );
 }
 

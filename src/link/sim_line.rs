@@ -177,6 +177,10 @@ pub struct SimLine {
     held: VecDeque<(Duration, Vec<u8>)>,
     to_host: Wire,
     handover: Handover,
+    /// Advance the controller this far at a time while catching up with
+    /// the caller's clock, taking what it said after each step (`None`:
+    /// all at once).
+    stamp_step: Option<Duration>,
     /// A request cut the line (`disconnect-after`) when it would have
     /// arrived: then, and why. The host learns of it at that time.
     cut_at: Option<(Duration, String)>,
@@ -197,6 +201,7 @@ impl SimLine {
             held: VecDeque::new(),
             to_host: Wire::new(each),
             handover: Handover::EachByte,
+            stamp_step: None,
             cut_at: None,
             cut: None,
         }
@@ -205,6 +210,18 @@ impl SimLine {
     /// The same line, handing bytes to the host as `handover` says.
     pub fn handing_over(mut self, handover: Handover) -> SimLine {
         self.handover = handover;
+        self
+    }
+
+    /// The same line, advancing the controller at most `step` at a time
+    /// when it catches up with the caller's clock, so that an answer the
+    /// controller makes on its own clock (the SIXpack 2's after its 6 ms
+    /// switch-over delay, §6.1.1; a MultiFlex's at its next millisecond
+    /// tick) is stamped within `step` of when it was made, not with the
+    /// time the caller next looked: a real-time caller looks only every
+    /// millisecond or so, and the answer went on the wire that much late.
+    pub fn stamping_every(mut self, step: Duration) -> SimLine {
+        self.stamp_step = (!step.is_zero()).then_some(step);
         self
     }
 
@@ -275,7 +292,7 @@ impl SimLine {
             let Some((at, group)) = self.to_controller.take_next_group(horizon) else {
                 break;
             };
-            self.advance_to(sim, at);
+            self.advance_stamping(sim, at);
             if self.injector.to_controller(&group) == Passage::Cut {
                 self.cut_at = Some((at, self.cut_reason()));
                 self.to_controller.clear();
@@ -294,7 +311,7 @@ impl SimLine {
         }
         // Ahead of `now`, the controller has been heard already.
         if now > self.sim_time {
-            self.advance_to(sim, now);
+            self.advance_stamping(sim, now);
             self.collect(sim, now);
         }
         let to_host = match self.handover {
@@ -340,6 +357,19 @@ impl SimLine {
             sim.advance(at - self.sim_time);
             self.sim_time = at;
         }
+    }
+
+    /// Advance the controller to `at`, by [`SimLine::stamping_every`]'s
+    /// steps where one was given, taking what it said after each.
+    fn advance_stamping(&mut self, sim: &mut dyn SimulatedController, at: Duration) {
+        if let Some(step) = self.stamp_step {
+            while self.sim_time + step < at {
+                let next = self.sim_time + step;
+                self.advance_to(sim, next);
+                self.collect(sim, next);
+            }
+        }
+        self.advance_to(sim, at);
     }
 
     /// Whatever the controller said by `at`, through the injector.
@@ -393,6 +423,73 @@ mod tests {
     }
 
     const MS: Duration = Duration::from_millis(1);
+
+    /// Answers what it is fed with `b"ok"` 6 ms later on its own clock, as
+    /// a SIXpack 2 after its switch-over delay (§6.1.1).
+    #[derive(Default)]
+    struct Delayed {
+        clock: Duration,
+        due: Option<Duration>,
+        output: Vec<u8>,
+    }
+
+    impl SimulatedController for Delayed {
+        fn feed(&mut self, _bytes: &[u8]) {
+            self.due = Some(self.clock + 6 * MS);
+        }
+        fn advance(&mut self, dt: Duration) {
+            self.clock += dt;
+            if self.due.is_some_and(|due| due <= self.clock) {
+                self.due = None;
+                self.output.extend_from_slice(b"ok");
+            }
+        }
+        fn take_output(&mut self) -> Vec<u8> {
+            std::mem::take(&mut self.output)
+        }
+        fn help(&self) -> String {
+            "delayed".into()
+        }
+    }
+
+    /// When the host has the answer, the line run every `every` of the
+    /// caller's clock after the request (sent at zero, one byte).
+    fn answered_at(line: SimLine, every: Duration) -> Duration {
+        let mut line = line;
+        let mut sim = Delayed::default();
+        line.host_wrote(Duration::ZERO, b"?");
+        let mut now = Duration::ZERO;
+        let mut got = Vec::new();
+        while got.len() < 2 {
+            got.extend(line.run(&mut sim, now).to_host);
+            if got.len() < 2 {
+                now = (now + every).min(line.next_due().unwrap_or(now + every));
+            }
+        }
+        now
+    }
+
+    #[test]
+    fn an_answer_made_on_the_controllers_clock_leaves_on_time_when_stamped_finely() {
+        let each = byte_time(9600);
+        // The request's byte arrives after one byte time, the answer is
+        // made 6 ms later and takes two byte times back.
+        let on_time = each + 6 * MS + 2 * each;
+        // Looked at every 1.3 ms, the answer was stamped at the next look
+        // and left that late.
+        let coarse = answered_at(SimLine::new(Some(9600), &FaultPlan::none()), 1300 * MICRO);
+        assert!(coarse > on_time + 100 * MICRO, "{coarse:?}");
+        let fine = answered_at(
+            SimLine::new(Some(9600), &FaultPlan::none()).stamping_every(50 * MICRO),
+            1300 * MICRO,
+        );
+        assert!(
+            fine >= on_time && fine <= on_time + 50 * MICRO,
+            "{fine:?} of {on_time:?}"
+        );
+    }
+
+    const MICRO: Duration = Duration::from_micros(1);
 
     #[test]
     fn without_a_baud_rate_bytes_pass_at_once() {

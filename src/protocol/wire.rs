@@ -108,6 +108,15 @@ pub trait WireFormat: Send + Sync {
         Duration::ZERO
     }
 
+    /// Bytes an exchange of `request` puts on the busier direction of the
+    /// line, for sharing out the line's time between poll items: the
+    /// request and an answer as long again by default (TMCL: 9 and 9; a
+    /// CMD-4CR read like `@01HSPDX` is answered with fewer). Counted with
+    /// [`WireFormat::turnaround`] beside it.
+    fn exchange_bytes(&self, request: &[u8]) -> usize {
+        request.len().saturating_mul(2)
+    }
+
     /// How long the line must stay quiet after a frame that completes an
     /// answer only if nothing more comes ([`Verdict::CompleteIfQuiet`]), and
     /// after the last byte of an [`Expect::UntilQuiet`](crate::device::Expect)

@@ -54,6 +54,7 @@ use crate::protocol::console::{
     adapt_line, interpret_line,
 };
 use crate::protocol::plausible::{self, PositionRead, Sighting};
+use crate::protocol::wire::WireFormat;
 use status::{StatusBoard, StatusSink};
 
 /// Further attempts for a read whose reply was lost or garbled.
@@ -90,7 +91,7 @@ impl Default for SessionOptions {
 /// task polls only when nothing else waits, one poll at a time, so a
 /// user's line waits for at most the poll on the wire). The slow items
 /// would take their share of it too: on a line with a known speed their
-/// period is stretched so that they take at most a tenth of it
+/// period is stretched so that they take at most a fortieth of it
 /// ([`slow_period`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct PollCadence {
@@ -112,39 +113,41 @@ impl Default for PollCadence {
 }
 
 /// At most this share of a line's time (1 / N) goes to the slow status
-/// items (switches, load, error flags, maximum speeds): on a CMD-4CR at
-/// 9600 Bd the five HSPD reads at 5 Hz took about a quarter of the line
-/// from the positions and speeds.
-pub const SLOW_SHARE_DIVISOR: u32 = 10;
-
-/// Bytes a status exchange is counted as on the wire: the request and an
-/// answer as long again (TMCL: 9 and 9; a CMD-4CR read like `@01HSPDX`
-/// is answered with fewer, so this errs on the side of the fast items).
-fn exchange_bytes(poll: &StatusPoll) -> u32 {
-    u32::try_from(poll.line.bytes.len())
-        .unwrap_or(u32::MAX)
-        .saturating_mul(2)
-}
+/// items (switches, load, error flags, maximum speeds) and watched lines:
+/// on a CMD-4CR at 9600 Bd the five HSPD reads at 5 Hz took about a
+/// quarter of the line from the positions and speeds, and at a tenth the
+/// fast items could reach at most nine tenths of what the wire allows them
+/// (`bench/*_refresh.py`: 93 % on a CMD-4CR, 82 % on a MultiFlex at
+/// 9600 Bd). A fortieth leaves them 97.5 %; the slow items still come at
+/// their cadence on a fast line (at 9600 Bd a CMD-4CR's six take 4 s).
+pub const SLOW_SHARE_DIVISOR: u32 = 40;
 
 /// How often the slow items of `polls` are polled at most: as `cadence`
 /// asks, or less often where one pass over them would take more than
 /// 1/[`SLOW_SHARE_DIVISOR`] of the line (`byte_time`: one byte's wire
-/// time, `None` when the link does not say, as over TCP).
+/// time, `None` when the link does not say, as over TCP). `wire` says what
+/// an exchange costs: its bytes on the busier direction
+/// ([`WireFormat::exchange_bytes`]) and the module's turnaround.
 pub fn slow_period(
     cadence: PollCadence,
     byte_time: Option<Duration>,
+    wire: &dyn WireFormat,
     polls: &[StatusPoll],
 ) -> Duration {
     let Some(byte_time) = byte_time else {
         return cadence.slow;
     };
-    let bytes = polls
+    let pass = polls
         .iter()
         .filter(|p| !p.fast)
-        .map(exchange_bytes)
-        .fold(0u32, u32::saturating_add);
-    let wire = byte_time.saturating_mul(bytes);
-    cadence.slow.max(wire.saturating_mul(SLOW_SHARE_DIVISOR))
+        .map(|p| {
+            let bytes = u32::try_from(wire.exchange_bytes(&p.line.bytes)).unwrap_or(u32::MAX);
+            byte_time
+                .saturating_mul(bytes)
+                .saturating_add(wire.turnaround())
+        })
+        .fold(Duration::ZERO, Duration::saturating_add);
+    cadence.slow.max(pass.saturating_mul(SLOW_SHARE_DIVISOR))
 }
 
 /// What came back for one line.
@@ -1011,7 +1014,7 @@ impl Session {
                 None => polls.push(watch),
             }
         }
-        let slow = slow_period(cadence, self.byte_time, &polls);
+        let slow = slow_period(cadence, self.byte_time, console.wire().as_ref(), &polls);
         let items = polls
             .iter()
             .map(|poll| PollItem {

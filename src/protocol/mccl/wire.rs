@@ -72,6 +72,17 @@ impl WireFormat for MclWire {
         self.quiet_guard.max(self.silence(byte_time))
     }
 
+    /// With echo on, the answer direction carries the line's echo (its CR
+    /// echoed as CR LF, Ch2) beside the answer: `1TP,TV,TS` comes back as
+    /// 30 bytes (11 of echo, three `01 0` lines and the prompt), three
+    /// times the line. Without echo, the default.
+    fn exchange_bytes(&self, request: &[u8]) -> usize {
+        match self.echo {
+            Echo::Line => request.len().saturating_mul(3),
+            _ => request.len().saturating_mul(2),
+        }
+    }
+
     /// With echo on, an answer starts with the echo of its own line: the
     /// answers to two different lines cannot be taken for each other.
     fn answers_apart(&self, earlier: &[u8], next: &[u8]) -> bool {

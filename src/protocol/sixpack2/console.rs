@@ -447,8 +447,8 @@ impl FamilyConsole for Sixpack2Console {
     /// action), fast; and one `$30`, whose P4 carries the reference inputs
     /// of all six motors (§7.3), slow. At 19200 Bd an exchange is 17 bytes
     /// plus the 6 ms switch-over delay, about 15 ms, so the twelve fast
-    /// queries refresh all six motors at most 5.6 times a second (4.9
-    /// measured against the served simulator; 3.2 of 3.5 at 9600 Bd).
+    /// queries refresh all six motors at most 5.6 times a second (5.3 to
+    /// 5.5 measured against the served simulator).
     fn status_queries(&self, address: u8) -> Vec<StatusPoll> {
         let mut polls = Vec::new();
         for mnemonic in ["GetPositionAndActivity", "GetVelocityAndActivity"] {
