@@ -375,4 +375,21 @@ mod tests {
         assert!(said[1].contains("did NOT stop the axis"), "{said:?}");
         assert!(said[2].contains("read up to 1500 apart"), "{said:?}");
     }
+
+    #[test]
+    fn a_refused_jog_is_said_with_the_modules_answer() {
+        let mut refused = leg(Direction::Negative, None, false);
+        refused.refused = Some("?Error -Limit".into());
+        let legs = [
+            leg(Direction::Positive, Some(Limit::Negative), false),
+            refused,
+        ];
+        assert!(!wired_right(&legs));
+        let said = findings("X", &legs);
+        assert_eq!(
+            said[1],
+            "X, moving -: the module refused to move (?Error -Limit): is a switch of this \
+             direction on where it should not be?"
+        );
+    }
 }
