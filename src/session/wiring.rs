@@ -74,6 +74,9 @@ pub struct Leg {
     /// The farthest the axis went between two reads of the switches: a
     /// switch narrower than that may pass unseen.
     pub read_spacing: Option<i64>,
+    /// The module refused the jog (its answer): a module that will not
+    /// move toward a limit switch that is on (CMD-4CR `?Error -Limit`).
+    pub refused: Option<String>,
 }
 
 /// Plain lines of what the legs show, one each, for the axis `axis`:
@@ -89,6 +92,13 @@ pub fn findings(axis: &str, legs: &[Leg]) -> Vec<String> {
                  normally-closed switch read with the wrong polarity)",
                 limit.name()
             ));
+        }
+        if let Some(why) = &leg.refused {
+            lines.push(format!(
+                "{going}: the module refused to move ({why}): is a switch of this direction on \
+                 where it should not be?"
+            ));
+            continue;
         }
         match leg.fired {
             None => lines.push(format!(
@@ -142,6 +152,7 @@ pub fn findings(axis: &str, legs: &[Leg]) -> Vec<String> {
 pub fn wired_right(legs: &[Leg]) -> bool {
     legs.iter().all(|leg| {
         leg.active_at_start.is_empty()
+            && leg.refused.is_none()
             && leg.stopped_by_module
             && leg
                 .fired
@@ -207,6 +218,7 @@ impl Session {
             rest: None,
             home_seen: None,
             read_spacing: None,
+            refused: None,
         };
         let mut last_position = status.position;
         let lines = plan
@@ -216,7 +228,16 @@ impl Session {
                 message,
             })?;
         for line in &lines {
-            self.execute_line(line).await?;
+            match self.execute_line(line).await {
+                Ok(_) => {}
+                // The module's own no: a finding, not a failure of the check.
+                Err(SessionError::Reply { error, .. }) => {
+                    leg.refused = Some(error.to_string());
+                    leg.rest = last_position;
+                    return Ok(leg);
+                }
+                Err(other) => return Err(other),
+            }
         }
         let started = Instant::now();
         loop {
@@ -311,6 +332,7 @@ mod tests {
             rest: Some(200_010),
             home_seen: None,
             read_spacing: Some(1500),
+            refused: None,
         }
     }
 
@@ -352,5 +374,22 @@ mod tests {
         assert!(said[0].contains("no limit switch fired"), "{said:?}");
         assert!(said[1].contains("did NOT stop the axis"), "{said:?}");
         assert!(said[2].contains("read up to 1500 apart"), "{said:?}");
+    }
+
+    #[test]
+    fn a_refused_jog_is_said_with_the_modules_answer() {
+        let mut refused = leg(Direction::Negative, None, false);
+        refused.refused = Some("?Error -Limit".into());
+        let legs = [
+            leg(Direction::Positive, Some(Limit::Negative), false),
+            refused,
+        ];
+        assert!(!wired_right(&legs));
+        let said = findings("X", &legs);
+        assert_eq!(
+            said[1],
+            "X, moving -: the module refused to move (?Error -Limit): is a switch of this \
+             direction on where it should not be?"
+        );
     }
 }

@@ -319,6 +319,17 @@ fn example<T>(table: &[InputRow<T>]) -> String {
     }
 }
 
+/// The values of the `LIMITS` setting every simulator with a stage has:
+/// its end switches wired the right way (the + end closes the input the
+/// controller reads as its + limit) or swapped (the + end closes the −
+/// input and the − end the + one), to try the wiring check on.
+pub const LIMITS_WIRING: Values = Values::Choice(&["right", "swapped"]);
+
+/// The `LIMITS` setting's value as "swapped": `Level::Choice(1)`.
+pub fn limits_swapped(level: Level) -> bool {
+    level == Level::Choice(1)
+}
+
 /// Every input name of `table`, for completion.
 pub fn names<T>(table: &[InputRow<T>]) -> Vec<String> {
     table.iter().flat_map(InputRow::names).collect()

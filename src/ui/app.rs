@@ -15,7 +15,7 @@ mod layout;
 mod runner;
 mod traffic_log;
 
-pub use controller::{Connector, Controller, Pending, no_simulator_to_drive};
+pub use controller::{Connector, Controller, Pending, WiringFindings, no_simulator_to_drive};
 pub use layout::{SIDE_MIN_WIDTH, TILE_MIN_HEIGHT, TILE_MIN_WIDTH};
 pub use runner::{
     TRAFFIC_BATCH, TRAFFIC_BATCH_HIDDEN, TRAFFIC_HEADROOM, join_all, run, run_links, traffic_pause,
@@ -109,6 +109,12 @@ pub enum AppEvent {
         tag: u64,
         result: Result<String, String>,
     },
+    /// A pane's wiring check ended.
+    WiringChecked {
+        pane: usize,
+        tag: u64,
+        result: Result<WiringFindings, String>,
+    },
     /// SIGTERM, SIGHUP: leave now.
     Terminate,
 }
@@ -186,6 +192,16 @@ pub enum Effect {
     /// Drive an input of the connected simulator; the answer back as an
     /// [`AppEvent::Notice`].
     DriveSimInput(String),
+    /// Run the wiring check for a pane; the findings back as
+    /// [`AppEvent::WiringChecked`].
+    CheckWiring {
+        pane: usize,
+        tag: u64,
+        axis: usize,
+        speed: i64,
+    },
+    /// End the running wiring check where it is.
+    CancelWiring,
     /// Take these mechanics as those in force, on every module.
     Mechanics(crate::protocol::units::MechanicsTable),
     /// Poll a read line with the status, or no longer
@@ -507,6 +523,10 @@ impl App {
                     self.last_stop = None;
                     self.dirty = true;
                 }
+            }
+            AppEvent::WiringChecked { pane, tag, result } => {
+                let event = PaneEvent::WiringChecked { tag, result };
+                self.deliver(pane, &event, &mut effects);
             }
             AppEvent::ProgramLoaded { pane, tag, result } => {
                 let event = PaneEvent::ProgramLoaded { tag, result };
@@ -897,6 +917,13 @@ impl App {
                 effects.push(Effect::LoadProgram { pane, tag, source })
             }
             Request::DriveSimInput(setting) => effects.push(Effect::DriveSimInput(setting)),
+            Request::CheckWiring { axis, speed, tag } => effects.push(Effect::CheckWiring {
+                pane,
+                tag,
+                axis,
+                speed,
+            }),
+            Request::CancelWiring => effects.push(Effect::CancelWiring),
             Request::Mechanics(table) => effects.push(Effect::Mechanics(table)),
             Request::Watch {
                 axis,

@@ -34,6 +34,16 @@
 //! and outputs with the slow ones. An output is chosen with its keys and
 //! switched with Enter after a y/n question (an output can move
 //! machinery); its read line then goes at once and says what it reads.
+//!
+//! # The wiring check
+//!
+//! A key (`w`) asks y/n, then runs the session's wiring check on the
+//! selected axis ([`crate::session::Session::check_wiring`], the same as
+//! `axterm wiring`) at the jog speed shown: it jogs toward + until a limit
+//! switch fires, then toward −, and its findings stand in the pane, a
+//! plain line each. While it runs the jog keys are refused; Esc or Space
+//! ends it and sends the axis's stop lines, as does losing the keyboard
+//! or choosing another axis; F12 stops everything as everywhere.
 
 use std::time::Duration;
 
@@ -46,7 +56,7 @@ use tokio::time::Instant;
 
 use super::keymap::{Action, Context};
 use super::pane::{Input, Outcome, Pane, PaneEvent, Region, Request, View, key_label};
-use super::text::fit;
+use super::text::{fit, wrap};
 use super::theme::Role;
 use crate::device::LinkState;
 use crate::protocol::io::{IoKind, IoPlan, IoPoint};
@@ -132,6 +142,12 @@ pub struct BringUpPane {
     /// change only when switched: polling them would hold up the lamps),
     /// under this tag; `None` until sent.
     outputs_read: Option<u64>,
+    /// The wiring check was asked for and awaits its y/n.
+    wiring_confirm: bool,
+    /// The wiring check running: its tag and the stop lines of its axis.
+    wiring: Option<(u64, Vec<String>)>,
+    /// What the last wiring check found, a line each.
+    findings: Vec<(Role, String)>,
 }
 
 impl Default for BringUpPane {
@@ -160,6 +176,9 @@ impl BringUpPane {
             set_states: Vec::new(),
             read_states: Vec::new(),
             outputs_read: None,
+            wiring_confirm: false,
+            wiring: None,
+            findings: Vec::new(),
         }
     }
 
@@ -796,9 +815,10 @@ impl BringUpPane {
 
     /// The link went: the session stops every axis once it is back.
     fn link_lost(&mut self) -> Outcome {
-        if matches!(self.jog, Jog::Idle | Jog::Armed { .. }) {
+        if matches!(self.jog, Jog::Idle | Jog::Armed { .. }) && self.wiring.is_none() {
             return Outcome::Ignored;
         }
+        self.wiring = None;
         self.jog = Jog::Idle;
         self.deadman_tag = None;
         self.say(
@@ -812,6 +832,17 @@ impl BringUpPane {
     }
 
     fn key(&mut self, key: &KeyEvent, view: &View) -> Outcome {
+        if self.wiring_confirm {
+            self.wiring_confirm = false;
+            if key.code == ratatui::crossterm::event::KeyCode::Char('y') {
+                return self.start_wiring(view);
+            }
+            self.say(Role::Muted, "wiring check not run: nothing moved");
+            return Outcome::redraw();
+        }
+        if self.wiring.is_some() {
+            return self.key_while_checking(key, view);
+        }
         if self.confirm.is_some() {
             // Only y switches; any other key answers no (and does
             // nothing else).
@@ -825,6 +856,7 @@ impl BringUpPane {
             Action::OutputNext => self.choose_output(true, view),
             Action::OutputPrevious => self.choose_output(false, view),
             Action::OutputToggle => self.ask_output(view),
+            Action::WiringCheck => self.ask_wiring(view),
             Action::JogPositive => self.jog_key(Direction::Positive, view),
             Action::JogNegative => self.jog_key(Direction::Negative, view),
             Action::StepPositive => self.step(Direction::Positive, view),
@@ -874,7 +906,140 @@ impl BringUpPane {
         }
     }
 
+    /// `w`: ask before the wiring check moves the axis.
+    fn ask_wiring(&mut self, view: &View) -> Outcome {
+        let (Some(_), Some(session)) = (Self::plan(view), view.session) else {
+            return self.not_connected();
+        };
+        if !matches!(self.jog, Jog::Idle | Jog::Armed { .. }) {
+            self.say(Role::Error, "a jog is going: stop it first");
+            return Outcome::redraw();
+        }
+        let Some(axis) = session.selected_axis() else {
+            self.say(Role::Error, "this module has no axes");
+            return Outcome::redraw();
+        };
+        self.jog = Jog::Idle;
+        self.wiring_confirm = true;
+        self.say(
+            Role::Warning,
+            format!(
+                "wiring check: jog {} toward + and then − until a limit switch fires? it moves \
+                 the axis to both ends: y/n",
+                axis.name
+            ),
+        );
+        Outcome::redraw()
+    }
+
+    /// The y: the check goes, at the jog speed shown.
+    fn start_wiring(&mut self, view: &View) -> Outcome {
+        let (Some(plan), Some(session)) = (Self::plan(view), view.session) else {
+            return self.not_connected();
+        };
+        let Some(axis) = session.selected_axis().copied() else {
+            return Outcome::Ignored;
+        };
+        let tag = self.tag();
+        self.wiring = Some((tag, plan.stop(&axis)));
+        self.jog_axis = Some(session.axis);
+        self.findings.clear();
+        self.say(
+            Role::Accent,
+            format!(
+                "wiring check on {}: jogging to its ends (Esc stops)",
+                axis.name
+            ),
+        );
+        Outcome::request(Request::CheckWiring {
+            axis: session.axis,
+            speed: self.speed(plan),
+            tag,
+        })
+    }
+
+    /// A key while the check runs: Esc or Space ends it, another axis
+    /// ends it; the jog and step keys are refused.
+    fn key_while_checking(&mut self, key: &KeyEvent, view: &View) -> Outcome {
+        let Some(action) = view.keymap.action_for(Context::BringUp, key) else {
+            return Outcome::Ignored;
+        };
+        match action {
+            Action::Cancel | Action::AxisStop => self.cancel_wiring("stopped by key"),
+            Action::SelectPrevious | Action::SelectNext => {
+                self.cancel_wiring("another axis chosen")
+            }
+            Action::JogPositive
+            | Action::JogNegative
+            | Action::StepPositive
+            | Action::StepNegative
+            | Action::WiringCheck
+            | Action::OutputToggle => {
+                self.say(
+                    Role::Error,
+                    "the wiring check is running: Esc stops it (nothing sent)",
+                );
+                Outcome::redraw()
+            }
+            _ => Outcome::Ignored,
+        }
+    }
+
+    /// End the running check where it is and stop its axis.
+    fn cancel_wiring(&mut self, why: &str) -> Outcome {
+        let Some((_, stop)) = self.wiring.take() else {
+            return Outcome::Ignored;
+        };
+        let mut requests = vec![Request::CancelWiring];
+        if !stop.is_empty() {
+            let left = stop.len();
+            let (tag, send) = self.send(stop);
+            self.jog = Jog::Stopping { tag, left };
+            requests.push(send);
+        }
+        self.say(
+            Role::Warning,
+            format!("wiring check ended, stopping ({why})"),
+        );
+        Outcome::Handled(requests)
+    }
+
+    /// The check's end: its findings, or why it could not finish.
+    fn wiring_checked(
+        &mut self,
+        tag: u64,
+        result: &Result<crate::ui::app::WiringFindings, String>,
+    ) -> Outcome {
+        if self.wiring.as_ref().is_none_or(|(t, _)| *t != tag) {
+            return Outcome::Ignored;
+        }
+        self.wiring = None;
+        match result {
+            Ok(found) => {
+                self.findings = found
+                    .lines
+                    .iter()
+                    .map(|line| (Role::Normal, line.clone()))
+                    .collect();
+                if found.wired_right {
+                    self.say(
+                        Role::Ok,
+                        "wiring check: each limit switch fired for its own direction and stopped \
+                         the axis",
+                    );
+                } else {
+                    self.say(Role::Error, "wiring check: something is wrong, see below");
+                }
+            }
+            Err(why) => self.say(Role::Error, format!("wiring check failed: {why}")),
+        }
+        Outcome::redraw()
+    }
+
     fn state_text(&self) -> &'static str {
+        if self.wiring.is_some() {
+            return "WIRING CHECK";
+        }
         match self.jog {
             Jog::Idle => "standing by",
             Jog::Armed { .. } => "hold the key to jog",
@@ -1068,6 +1233,7 @@ impl Pane for BringUpPane {
             .unwrap_or_default();
         let axis = session.selected_axis().map_or("—", |a| a.name);
         let state_role = match self.jog {
+            _ if self.wiring.is_some() => Role::Emergency,
             Jog::Starting { .. } | Jog::Running { .. } => Role::Emergency,
             _ => Role::Normal,
         };
@@ -1127,7 +1293,7 @@ impl Pane for BringUpPane {
         lines.push(Line::styled(
             fit(
                 &format!(
-                    "hold {}/{} jog · {}/{} step · {}{} size · {}{} speed · {} stop",
+                    "hold {}/{} jog · {}/{} step · {}{} size · {}{} speed · {} stop · {} wiring check",
                     keys(Action::JogNegative),
                     keys(Action::JogPositive),
                     keys(Action::StepNegative),
@@ -1137,6 +1303,7 @@ impl Pane for BringUpPane {
                     keys(Action::JogSlower),
                     keys(Action::JogFaster),
                     keys(Action::Cancel),
+                    keys(Action::WiringCheck),
                 ),
                 width,
             ),
@@ -1155,6 +1322,11 @@ impl Pane for BringUpPane {
         if let Some((role, text)) = &self.message {
             lines.push(Line::styled(fit(text, width), theme.style(*role)));
         }
+        for (role, finding) in &self.findings {
+            for part in wrap(finding, width) {
+                lines.push(Line::styled(part, theme.style(*role)));
+            }
+        }
         if let Some(io) = Self::io(view) {
             self.io_lines(&mut lines, io, session, width, view);
         }
@@ -1172,6 +1344,9 @@ impl Pane for BringUpPane {
     }
 
     fn activity(&self) -> Option<String> {
+        if self.wiring.is_some() {
+            return Some("WIRING CHECK".to_string());
+        }
         matches!(self.jog, Jog::Starting { .. } | Jog::Running { .. })
             .then(|| "JOGGING".to_string())
     }
@@ -1189,6 +1364,7 @@ impl Pane for BringUpPane {
             PaneEvent::Reply { tag, result, .. } => {
                 self.answer(*tag, result.as_ref().err().map(|e| e.to_string()))
             }
+            PaneEvent::WiringChecked { tag, result } => self.wiring_checked(*tag, result),
             PaneEvent::Focused => {
                 let mut requests = self.sync_watches(view, true);
                 requests.extend(self.read_outputs(view));
@@ -1206,9 +1382,15 @@ impl Pane for BringUpPane {
             }
             PaneEvent::Unfocused => {
                 self.confirm = None;
+                self.wiring_confirm = false;
                 self.outputs_read = None;
                 let watches = self.sync_watches(view, false);
-                match self.stop("the pane lost the keyboard") {
+                let stopped = if self.wiring.is_some() {
+                    self.cancel_wiring("the pane lost the keyboard")
+                } else {
+                    self.stop("the pane lost the keyboard")
+                };
+                match stopped {
                     Outcome::Handled(mut requests) => {
                         requests.extend(watches);
                         Outcome::Handled(requests)
@@ -1220,8 +1402,10 @@ impl Pane for BringUpPane {
             PaneEvent::Stopping => {
                 // F12: the emergency stop goes ahead of everything; our
                 // lines still waiting were dropped.
-                let was = !matches!(self.jog, Jog::Idle);
+                let was = !matches!(self.jog, Jog::Idle) || self.wiring.is_some();
                 self.jog = Jog::Idle;
+                // The emergency stop ended the check's task too.
+                self.wiring = None;
                 self.deadman_tag = None;
                 self.steps.clear();
                 if was {
@@ -1269,10 +1453,13 @@ impl BringUpPane {
                 ) {
                     return self.link_lost();
                 }
-                if self.jog_axis.is_some_and(|axis| axis != session.axis)
-                    && !matches!(self.jog, Jog::Idle | Jog::Stopping { .. })
-                {
-                    return self.stop("another axis chosen");
+                if self.jog_axis.is_some_and(|axis| axis != session.axis) {
+                    if self.wiring.is_some() {
+                        return self.cancel_wiring("another axis chosen");
+                    }
+                    if !matches!(self.jog, Jog::Idle | Jog::Stopping { .. }) {
+                        return self.stop("another axis chosen");
+                    }
                 }
                 // The lamps and numbers follow the poll.
                 if view.shown {

@@ -174,6 +174,7 @@ pub enum Action {
     OutputNext,
     OutputPrevious,
     OutputToggle,
+    WiringCheck,
 }
 
 /// An action's name in keymap files, its word in the status bar, what it
@@ -303,6 +304,7 @@ pub const ACTIONS: &[ActionInfo] = &[
     info(Action::OutputNext, "output_next", "Next output", "choose the next output of the module", JOGGING),
     info(Action::OutputPrevious, "output_previous", "Previous output", "choose the previous output of the module", JOGGING),
     info(Action::OutputToggle, "output_toggle", "Switch output", "switch the chosen output on or off, after a y/n question (an output can move machinery)", JOGGING),
+    info(Action::WiringCheck, "wiring_check", "Wiring check", "jog the axis toward + and then - until a limit switch fires, after a y/n question, and say which switch fired where (Esc stops it)", JOGGING),
 ];
 
 impl Action {

@@ -204,6 +204,38 @@ impl Controller for SessionController {
         Box::pin(async move { session.check_run_end(check).await })
     }
 
+    fn check_wiring(
+        &self,
+        axis: usize,
+        speed: i64,
+        give_up: std::time::Duration,
+    ) -> Pending<Result<app::WiringFindings, String>> {
+        let session = self.session.clone();
+        Box::pin(async move {
+            let plan = session
+                .family()
+                .console
+                .jog()
+                .ok_or_else(|| format!("the {} family has no jog", session.family().name))?;
+            let name = session
+                .axes()
+                .get(axis)
+                .map_or_else(|| format!("axis {axis}"), |a| a.name.to_string());
+            match session.check_wiring(plan, axis, speed, give_up).await {
+                Ok(legs) => Ok(app::WiringFindings {
+                    lines: crate::session::wiring::findings(&name, &legs),
+                    wired_right: crate::session::wiring::wired_right(&legs),
+                }),
+                Err(error) => {
+                    // The axis may still move: stop everything, as the
+                    // command line's check does.
+                    let _ = session.emergency_stop_lines().await;
+                    Err(error.to_string())
+                }
+            }
+        })
+    }
+
     fn set_polling(&self, cadence: Option<PollCadence>) {
         match cadence {
             Some(cadence) => self.session.start_polling(cadence),

@@ -205,6 +205,12 @@ pub enum PaneEvent {
         tag: u64,
         result: Result<String, String>,
     },
+    /// The [`Request::CheckWiring`] under `tag` ended: what it found, or
+    /// why it could not run to its end.
+    WiringChecked {
+        tag: u64,
+        result: Result<super::app::WiringFindings, String>,
+    },
 }
 
 /// A console message and how it should look.
@@ -330,6 +336,14 @@ pub enum Request {
     /// CMD-4CR manual gives no wire format for it). The answer comes back
     /// as [`PaneEvent::ProgramLoaded`] under `tag`.
     LoadProgram { source: String, tag: u64 },
+    /// Run the wiring check on axis `axis` at jog speed `speed`
+    /// ([`crate::session::Session::check_wiring`]); what it found comes
+    /// back as [`PaneEvent::WiringChecked`] under `tag`. One at a time;
+    /// the emergency stop ends it.
+    CheckWiring { axis: usize, speed: i64, tag: u64 },
+    /// End the running wiring check where it is (its moves are the
+    /// pane's to stop: send the stop lines after this).
+    CancelWiring,
     /// Drive an input of the connected simulator by a setting (`IO5=1`),
     /// as if wired (only an in-process simulator can); what now holds, or
     /// why not, comes back as a [`PaneEvent::Notice`].

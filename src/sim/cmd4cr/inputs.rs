@@ -47,6 +47,8 @@ pub enum Input {
     Missed,
     /// The motor of axis X, Y, Z, U misses a share of every move's steps.
     Slip,
+    /// How every stage's end limits are wired to L+ and L-.
+    Limits,
 }
 
 /// The most steps one `MISS…` setting makes a motor miss: far more than
@@ -157,6 +159,13 @@ pub const INPUTS: &[InputRow<Input>] = &[
         what: "from now on the motor misses that share of the steps of every move \
                (1000: it does not turn, a stall); 0 ends it",
     },
+    InputRow {
+        input: Input::Limits,
+        names: Names::Listed(&["LIMITS"]),
+        values: inputs::LIMITS_WIRING,
+        what: "every stage's end limits wired right, or swapped: the + end turns L- on, the - end \
+               L+; each still stops only its own direction (§2.1.3.1.1)",
+    },
 ];
 
 /// Read a setting (`IO5=1`) against [`INPUTS`].
@@ -198,7 +207,7 @@ mod tests {
                      EMG=0|1, STA=0|1, ALMX|ALMY|ALMZ|ALMU=0|1, L+X|L+Y|L+Z|L+U=0|1|stage, \
                      L-X|L-Y|L-Z|L-U=0|1|stage, HOMEX|HOMEY|HOMEZ|HOMEU=0|1|stage, \
                      SDX|SDY|SDZ|SDU=0|1|stage, MISSX|MISSY|MISSZ|MISSU=<steps 0..1000000>, \
-                     SLIPX|SLIPY|SLIPZ|SLIPU=<per mille 0..1000>"
+                     SLIPX|SLIPY|SLIPZ|SLIPU=<per mille 0..1000>, LIMITS=right|swapped"
                 ),
                 "{e}"
             );
@@ -214,7 +223,7 @@ mod tests {
     #[test]
     fn every_name_is_offered_for_completion() {
         let names = inputs::names(INPUTS);
-        assert_eq!(names.len(), 4 + 32 + 2 + 1 + 1 + 4 * 7);
+        assert_eq!(names.len(), 4 + 32 + 2 + 1 + 1 + 4 * 7 + 1);
         assert_eq!(names.first().map(String::as_str), Some("DI1"));
         assert!(names.iter().any(|n| n == "IO19"));
         assert!(names.iter().any(|n| n == "MISSU"));
@@ -319,6 +328,41 @@ mod tests {
         sim.advance(std::time::Duration::from_secs(1));
         assert_eq!(ask(&mut sim, "CLRY"), "OK");
         assert_eq!(ask(&mut sim, "Y1000"), "OK");
+    }
+
+    /// LIMITS=swapped: at the stage's + end the -limit input comes on
+    /// (MST bit 5, §2.1.3.1.1), which stops only motion toward -: the jog
+    /// runs on into the end stop, where the carriage stalls while the
+    /// pulse counter counts on; a jog toward - is then refused.
+    #[test]
+    fn swapped_limits_turn_on_l_minus_at_the_plus_end_and_a_plus_jog_runs_on() {
+        let mut sim = Cmd4cr::new(SimConfig::default());
+        assert_eq!(
+            drive(&mut sim, "LIMITS=swapped"),
+            "LIMITS swapped: on every axis the + end turns L- on, the - end L+"
+        );
+        for line in ["EO=15", "HSPD=50000", "JX+"] {
+            assert_eq!(ask(&mut sim, line), "OK", "{line}");
+        }
+        sim.advance(std::time::Duration::from_secs(3));
+        let mst: u32 = ask(&mut sim, "MSTX").parse().expect("a number");
+        assert_eq!(mst & (16 | 32), 32, "-limit input on, +limit off: {mst}");
+        assert_ne!(ask(&mut sim, "PSX"), "0", "still pulsing");
+        let encoder: i64 = ask(&mut sim, "EX").parse().expect("a number");
+        assert_eq!(
+            encoder,
+            crate::sim::cmd4cr::motion::stage::DEMO_END_STOP,
+            "held at the end stop"
+        );
+        let counter: i64 = ask(&mut sim, "PX").parse().expect("a number");
+        assert!(counter > encoder, "P counts the lost pulses: {counter}");
+        assert_eq!(ask(&mut sim, "STOPX"), "OK");
+        sim.advance(std::time::Duration::from_secs(1));
+        assert_eq!(ask(&mut sim, "JX-"), "?Error -Limit");
+        assert_eq!(
+            drive(&mut sim, "LIMITS=right"),
+            "LIMITS right: on every axis the + end turns L+ on, the - end L-"
+        );
     }
 
     #[test]

@@ -468,6 +468,17 @@ impl Cmd4cr {
                     _ => format!("{name} {level}"),
                 }
             }
+            (Input::Limits, level) => {
+                let swapped = crate::sim::inputs::limits_swapped(level);
+                for axis in motion::Axis::ALL {
+                    self.motion.axis_mut(axis).stage.limits_swapped = swapped;
+                }
+                if swapped {
+                    "LIMITS swapped: on every axis the + end turns L- on, the - end L+".into()
+                } else {
+                    "LIMITS right: on every axis the + end turns L+ on, the - end L-".into()
+                }
+            }
             (Input::Missed, level) => {
                 let axis = self.axis_of(&setting)?;
                 let letter = axis.letter();
@@ -583,13 +594,14 @@ impl Cmd4cr {
     /// One line for the user: what is simulated and our choices where the
     /// manual gives none.
     pub fn help_line(&self) -> String {
-        use motion::stage::{DEMO_HOME, DEMO_LIMIT, DEMO_Z_INDEX};
+        use motion::stage::{DEMO_END_STOP, DEMO_HOME, DEMO_LIMIT, DEMO_Z_INDEX};
         format!(
             "CMD-4CR simulator (firmware {FIRMWARE_VERSION}): ID {:02}, answers only its own ID (00 is no broadcast), \
              writes answer {:?}; defaults chosen: HSPD {} pps, LSPD {} pps, ACC {} ms, DEC {} ms, \
              POL {} on every axis, IOCFG 0x{:08X} (IO17..32 outputs), PWM {} %, \
              SYNC word bits 0-2 condition (1 =, 2 >, 3 <, 4 continuous) bit 3 encoder source; \
-             each axis a stage with end limits at ±{DEMO_LIMIT}, home switch {}..{}, \
+             each axis a stage with end limits at ±{DEMO_LIMIT} (LIMITS=swapped wires them the wrong way round) \
+             and end stops at ±{DEMO_END_STOP} where the motor stalls, home switch {}..{}, \
              Z index every {} pulses at {}, encoder 1 count per pulse; \
              limits and ALM stop at once; HSPD is the arc speed of circles; \
              StepNLoop defaults SLR 1.000 SLT 10 SLE 1000 SLA 3, interpolated moves (circle centres too) in encoder counts at pulse speeds, \

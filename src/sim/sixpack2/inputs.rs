@@ -41,6 +41,7 @@ pub enum Input {
     RefAt,
     RefWidth,
     Opener,
+    Limits,
     Addr9,
     Fill,
     Second28,
@@ -201,6 +202,13 @@ pub const INPUTS: &[InputRow<Input>] = &[
         values: Values::OnOff,
         what: "the reference switch is an opener (normally closed, §5.5.2.1: pin high while actuated; \
                needs NullPositive) rather than a closer",
+    },
+    InputRow {
+        input: Input::Limits,
+        names: one(&["LIMITS"]),
+        values: inputs::LIMITS_WIRING,
+        what: "every motor's A_In end switches wired right, or swapped: the switch at the left stop \
+               pulls A_In up (1023, stopped by MaxRight), the right one down (0, MinLeft) (§5.5.2.2, $31)",
     },
     InputRow {
         input: Input::Addr9,

@@ -941,6 +941,22 @@ impl Sixpack2 {
                 m.mechanics.place(carriage);
                 format!("{name} {level}: {}", describe_stage(&m.mechanics.stage))
             }
+            Input::Limits => {
+                let swapped = crate::sim::inputs::limits_swapped(level);
+                for (m, stage) in self.motors.iter_mut().zip(self.config.stages.iter_mut()) {
+                    m.mechanics.stage.limits_swapped = swapped;
+                    stage.limits_swapped = swapped;
+                }
+                if swapped {
+                    "LIMITS swapped: on every motor the switch at the left stop pulls A_In up, \
+                     the right one down"
+                        .into()
+                } else {
+                    "LIMITS right: on every motor the switch at the left stop pulls A_In down, \
+                     the right one up"
+                        .into()
+                }
+            }
             Input::Addr9 => {
                 c.framing = if on {
                     ReplyFraming::Addr9

@@ -32,6 +32,10 @@ pub struct Stage {
     pub end_zone: u32,
     /// Where the carriage stands at power-on.
     pub start: u32,
+    /// The A_In end switches are wired the wrong way round: the one at
+    /// the left stop pulls A_In up (what the firmware takes for the right
+    /// end), the one at the right stop down.
+    pub limits_swapped: bool,
 }
 
 /// The demo stage's travel between its stops: 200000 µsteps, 12500 full
@@ -63,6 +67,7 @@ impl Default for Stage {
             opener: true,
             end_zone: DEMO_END_ZONE,
             start: DEMO_START,
+            limits_swapped: false,
         }
     }
 }
@@ -187,10 +192,15 @@ impl Mechanics {
         if let Some(value) = self.forced.analog {
             return value;
         }
+        let (left, right) = if self.stage.limits_swapped {
+            (AIN_RIGHT_END, AIN_LEFT_END)
+        } else {
+            (AIN_LEFT_END, AIN_RIGHT_END)
+        };
         if self.left_end_actuated() {
-            AIN_LEFT_END
+            left
         } else if self.right_end_actuated() {
-            AIN_RIGHT_END
+            right
         } else {
             AIN_FREE
         }
@@ -237,6 +247,19 @@ mod tests {
         assert_eq!(m.analog(), AIN_RIGHT_END);
         m.forced.analog = Some(700);
         assert_eq!(m.analog(), 700);
+    }
+
+    #[test]
+    fn swapped_end_switches_pull_a_in_the_other_way() {
+        let mut m = Mechanics::new(Stage {
+            limits_swapped: true,
+            ..Stage::default()
+        });
+        m.place(i64::from(DEMO_TRAVEL) - 99);
+        assert!(m.right_end_actuated());
+        assert_eq!(m.analog(), AIN_LEFT_END, "the right end reads as the left");
+        m.place(99);
+        assert_eq!(m.analog(), AIN_RIGHT_END);
     }
 
     #[test]

@@ -971,6 +971,28 @@ fn the_a_in_limits_depend_on_the_direction() {
     assert_eq!(position(&mut sim, 0), (0, 0, 0));
 }
 
+/// `LIMITS=swapped`: at the right end the stop switch pulls A_In down
+/// (0), which MinLeft checks only moving left (§7.3 $31, "dependent on
+/// the motor direction"): the move right ends on its target; a move left
+/// from there stops at once.
+#[test]
+fn swapped_limits_read_the_right_end_as_the_left() {
+    let mut sim = sim();
+    sim.drive_input("LIMITS=swapped").expect("an input");
+    tell(&mut sim, "00 15 00 00 19 00 00 00 20"); // StopNoRef
+    tell(&mut sim, "00 31 00 64 00 FF 03 00 00"); // MinLeft 100, MaxRight off
+    tell(&mut sim, "00 23 00 3C 0B 03 00 00 00"); // 199484: into the right zone
+    ticks_until_idle(&mut sim, 0, 2_000_000);
+    assert_eq!(position(&mut sim, 0), (199_484, 0, 0));
+    assert!(carriage(&sim, 0) > 199_900, "on the right stop switch");
+    assert_eq!(ask(&mut sim, "00 30 00 00 00 00 00 00 00")[2..4], [0, 0]);
+    tell(&mut sim, "00 23 00 00 00 00 00 00 00"); // left: stops at once
+    sim.advance(ms(10));
+    let (pos, action, stop) = position(&mut sim, 0);
+    assert_eq!((action, stop), (0, 1));
+    assert!(pos > 199_400, "{pos}");
+}
+
 #[test]
 fn stop_soft_decelerates_instead() {
     let mut sim = sim();

@@ -33,6 +33,8 @@ pub enum Input {
     Analog,
     /// The motor's load, percent of its torque at the AP6 current.
     Load,
+    /// How the simulated stage's end switches are wired to the left and right limit inputs.
+    Limits,
 }
 
 /// Every input a setting can drive.
@@ -71,6 +73,13 @@ pub const INPUTS: &[InputRow<Input>] = &[
         },
         what: "the motor's load: StallGuard2 (AP206) falls linearly with it, 0 at 100 % (a stall; §1.1, §7.2)",
     },
+    InputRow {
+        input: Input::Limits,
+        names: Names::Listed(&["LIMITS"]),
+        values: inputs::LIMITS_WIRING,
+        what: "the stage's end switches wired right, or swapped: the + end closes the left limit input (AP11), \
+               the − end the right one (AP10); each still stops only its own direction (AP12/AP13)",
+    },
 ];
 
 /// Read a setting (`IN3=open`) against [`INPUTS`].
@@ -89,7 +98,7 @@ pub fn port_of(setting: &Setting<Input>) -> Option<u8> {
                 .find(|line| line.name == name)
                 .and_then(|line| line.input_port)
         }
-        Input::Analog | Input::Load => None,
+        Input::Analog | Input::Load | Input::Limits => None,
     }
 }
 
@@ -130,7 +139,8 @@ mod tests {
         assert!(
             e.ends_with(
                 "IN1..IN6=0|1|open, PWMD0|PWMD1|PWMD2|PWMU0|PWMU1|PWMU2=0|1|open, \
-                 AIN0=<ADC counts 0..65535>, LOAD=<% of the torque at the AP6 current 0..100>"
+                 AIN0=<ADC counts 0..65535>, LOAD=<% of the torque at the AP6 current 0..100>, \
+                 LIMITS=right|swapped"
             ),
             "{e}"
         );
@@ -145,7 +155,7 @@ mod tests {
             parse("IN2=high").expect_err("a word").to_string(),
             "IN2 takes 1 (on), 0 (off) or open (nothing connected), not `high`"
         );
-        assert_eq!(inputs::names(INPUTS).len(), 6 + 6 + 1 + 1);
+        assert_eq!(inputs::names(INPUTS).len(), 6 + 6 + 1 + 1 + 1);
         let e = parse("LOAD=101").expect_err("over 100 %").to_string();
         assert!(e.starts_with("LOAD takes a whole number of"), "{e}");
     }
@@ -198,6 +208,72 @@ mod tests {
         assert_eq!(
             drive(&mut sim, "IN4=0"),
             "IN4 (PWMU0) off; an output now (GP78 bit 0): GIO reads its latch until it is an input again"
+        );
+    }
+
+    /// §3.6.2 ROR and §3.6.6 GAP frames written out by hand (address 1,
+    /// command, type, motor, value MSB first, checksum = byte sum):
+    /// with the limits swapped, ROR 0, 2047 carries the carriage onto the
+    /// switch at the plus end, which now closes the left input (AP11); the
+    /// right switch (AP10) stops positive motion (AP12), so the motor runs
+    /// on until the end stop holds it.
+    #[test]
+    fn swapped_limits_close_the_left_input_at_the_plus_end_and_do_not_stop_the_motor() {
+        let mut sim = Tmcm1110::new(SimConfig::default());
+        assert_eq!(
+            SimulatedController::drive_input(&mut sim, "LIMITS=swapped"),
+            Ok(
+                "LIMITS swapped: the + end closes the left limit input, the − end the right one"
+                    .into()
+            )
+        );
+        let ror = [0x01, 0x01, 0x00, 0x00, 0x00, 0x00, 0x07, 0xFF, 0x08];
+        sim.feed(&ror);
+        let _ = sim.take_output();
+        let gap = |sim: &mut Tmcm1110, kind: u8| {
+            let sum = 0x01u8.wrapping_add(0x06).wrapping_add(kind);
+            sim.feed(&[0x01, 0x06, kind, 0x00, 0x00, 0x00, 0x00, 0x00, sum]);
+            let out = sim.take_output();
+            let bytes: [u8; 9] = out.as_slice().try_into().expect("one reply");
+            i32::from_be_bytes([bytes[4], bytes[5], bytes[6], bytes[7]])
+        };
+        // 2047 at pulse divisor 3 is about 62,500 µsteps/s: past the +
+        // switching point (200000) in under 4 s.
+        for _ in 0..40 {
+            sim.advance(std::time::Duration::from_millis(100));
+            if gap(&mut sim, 1) >= 200_000 {
+                break;
+            }
+        }
+        assert!(gap(&mut sim, 1) >= 200_000);
+        assert_eq!(
+            (gap(&mut sim, 11), gap(&mut sim, 10)),
+            (1, 0),
+            "AP11 left, AP10 right"
+        );
+        assert_ne!(
+            gap(&mut sim, 3),
+            0,
+            "still running: only AP10 stops + motion"
+        );
+        // It runs on to the end stop and stands there.
+        sim.advance(std::time::Duration::from_secs(10));
+        assert_eq!(
+            gap(&mut sim, 1),
+            200_000 + 2 * super::super::motion::DEFAULT_END_SWITCH_WIDTH as i32
+        );
+        assert_eq!(gap(&mut sim, 3), 0);
+        assert_eq!(
+            SimulatedController::drive_input(&mut sim, "LIMITS=right"),
+            Ok(
+                "LIMITS right: the + end closes the right limit input, the − end the left one"
+                    .into()
+            )
+        );
+        assert!(
+            sim.help().contains("LIMITS=right|swapped"),
+            "{}",
+            sim.help()
         );
     }
 }

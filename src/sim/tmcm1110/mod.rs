@@ -381,6 +381,17 @@ impl Tmcm1110 {
                 }
             ));
         }
+        if setting.row.input == inputs::Input::Limits {
+            let swapped = crate::sim::inputs::limits_swapped(setting.level);
+            self.axis.set_limits_swapped(swapped);
+            return Ok(if swapped {
+                "LIMITS swapped: the + end closes the left limit input, the − end the right one"
+                    .into()
+            } else {
+                "LIMITS right: the + end closes the right limit input, the − end the left one"
+                    .into()
+            });
+        }
         let Some(port) = inputs::port_of(&setting) else {
             let value = match setting.level {
                 Level::Number(n) => u16::try_from(n).unwrap_or(u16::MAX),
@@ -726,9 +737,18 @@ fn describe_layout(layout: &SwitchLayout) -> String {
     let home = layout
         .home
         .map_or_else(|| "none".to_string(), |(from, to)| format!("{from}..{to}"));
+    let stops = layout.end_stops.map_or_else(
+        || "none".to_string(),
+        |(low, high)| format!("{low} and {high}"),
+    );
+    let wired = if layout.limits_swapped {
+        "swapped (the + end closes the left limit input)"
+    } else {
+        "right"
+    };
     format!(
         "left limit at {}, right limit at {}, end switches actuated for {} beyond that, \
-         home switch over {} (µsteps)",
+         home switch over {}, end stops at {stops} (µsteps); limit switches wired {wired}",
         place(layout.left_limit),
         place(layout.right_limit),
         layout.end_switch_width.max(0),

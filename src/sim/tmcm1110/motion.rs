@@ -101,6 +101,14 @@ pub struct SwitchLayout {
     pub end_switch_width: i64,
     /// Home switch is active inside this window (inclusive).
     pub home: Option<(i64, i64)>,
+    /// Mechanical end stops (lowest, highest machine position): the
+    /// carriage goes no further whatever the switches say. The simulator
+    /// stands the motor there at once, without a limit-stop event (a real
+    /// stepper would stall against the stop and lose steps).
+    pub end_stops: Option<(i64, i64)>,
+    /// The end switches are wired to each other's input: the + end closes
+    /// the left limit input (AP11), the − end the right one.
+    pub limits_swapped: bool,
 }
 
 impl Default for SwitchLayout {
@@ -112,6 +120,8 @@ impl Default for SwitchLayout {
             right_limit: None,
             end_switch_width: DEFAULT_END_SWITCH_WIDTH,
             home: None,
+            end_stops: None,
+            limits_swapped: false,
         }
     }
 }
@@ -120,12 +130,20 @@ impl SwitchLayout {
     /// The simulated machine a new [`Axis`] starts with: a linear stage with
     /// end switches closing at ±200000 µsteps (≈ ±3.9 turns at 256 µsteps)
     /// and actuated for [`DEFAULT_END_SWITCH_WIDTH`] beyond, and a home
-    /// switch over −1000..1000, so the carriage starts on home.
+    /// switch over −1000..1000, so the carriage starts on home; its end
+    /// stops one switch width beyond each switch's far end (±302400), so
+    /// that a carriage whose switch does not stop it (disabled, or wired
+    /// to the other input) does not run off forever.
     pub const DEMO_STAGE: SwitchLayout = SwitchLayout {
         left_limit: Some(-200_000),
         right_limit: Some(200_000),
         end_switch_width: DEFAULT_END_SWITCH_WIDTH,
         home: Some((-1_000, 1_000)),
+        end_stops: Some((
+            -200_000 - 2 * DEFAULT_END_SWITCH_WIDTH,
+            200_000 + 2 * DEFAULT_END_SWITCH_WIDTH,
+        )),
+        limits_swapped: false,
     };
 
     /// The machine positions (lowest, highest) where the left end switch is
@@ -404,11 +422,22 @@ const MODE_VELOCITY: i32 = 2;
 struct Blocks {
     positive: bool,
     negative: bool,
+    /// The carriage stands against an end stop on that side.
+    positive_end: bool,
+    negative_end: bool,
 }
 
 impl Blocks {
     fn contains(self, direction: i8) -> bool {
+        self.switch(direction) || self.end_stop(direction)
+    }
+
+    fn switch(self, direction: i8) -> bool {
         (direction > 0 && self.positive) || (direction < 0 && self.negative)
+    }
+
+    fn end_stop(self, direction: i8) -> bool {
+        (direction > 0 && self.positive_end) || (direction < 0 && self.negative_end)
     }
 }
 
@@ -726,6 +755,15 @@ impl Axis {
         self.home_input_inverted = inverted;
     }
 
+    /// The simulated machine's end switches are wired the wrong way round
+    /// (true): the carriage at the + end closes the left limit input (AP11) and
+    /// at the − end the right one; the module stops on each input as
+    /// always (§4 AP12/AP13: the right switch stops positive motion).
+    pub fn set_limits_swapped(&mut self, swapped: bool) {
+        self.layout.limits_swapped = swapped;
+        self.settle();
+    }
+
     /// The simulated machine's switch positions.
     pub fn layout(&self) -> &SwitchLayout {
         &self.layout
@@ -1038,8 +1076,13 @@ impl Axis {
 
     fn physical(&self, which: Switch) -> bool {
         let at = self.steps;
+        let wired = match which {
+            Switch::Left if self.layout.limits_swapped => Switch::Right,
+            Switch::Right if self.layout.limits_swapped => Switch::Left,
+            other => other,
+        };
         self.layout
-            .span(which)
+            .span(wired)
             .is_some_and(|(low, high)| (low..=high).contains(&at))
     }
 
@@ -1071,12 +1114,22 @@ impl Axis {
     /// 1 disable them); the reference search handles the switches itself
     /// (§7.1: AP12/AP13 don't influence it).
     fn blocks(&self) -> Blocks {
+        let (positive_end, negative_end) =
+            self.layout.end_stops.map_or((false, false), |(low, high)| {
+                (self.steps >= high, self.steps <= low)
+            });
         if self.search.is_some() {
-            return Blocks::default();
+            return Blocks {
+                positive_end,
+                negative_end,
+                ..Blocks::default()
+            };
         }
         Blocks {
             positive: self.switch(Switch::Right) && self.stored(12) == 0,
             negative: self.switch(Switch::Left) && self.stored(13) == 0,
+            positive_end,
+            negative_end,
         }
     }
 
@@ -1096,6 +1149,9 @@ impl Axis {
                     candidates.extend([high, low.saturating_sub(1)]);
                 }
             }
+        }
+        if let Some((low, high)) = self.layout.end_stops {
+            candidates.push(if up { high } else { low });
         }
         if let Some(search) = &self.search {
             let bound = REFERENCE_SEARCH_MAX_TRAVEL * i64::from(direction);
@@ -1285,7 +1341,12 @@ impl Axis {
         } else {
             0
         };
-        if blocks.contains(heading) {
+        if blocks.end_stop(heading) {
+            // Against a mechanical end stop: the carriage stands at once.
+            builder = Builder::new(0.0);
+            self.anchor = self.steps;
+            self.anchor_frac = 0.0;
+        } else if blocks.switch(heading) {
             // Running into an active end switch: AP149 chooses between a
             // hard stop and a deceleration ramp.
             if self.stored(149) == 1 {

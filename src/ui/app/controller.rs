@@ -17,6 +17,14 @@ use crate::session::run_end::{
 use crate::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
 
 /// A future the loop can spawn.
+/// What the wiring check found: its lines, and whether each switch fired
+/// for its own direction and stopped the axis.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct WiringFindings {
+    pub lines: Vec<String>,
+    pub wired_right: bool,
+}
+
 pub type Pending<T> = Pin<Box<dyn Future<Output = T> + Send>>;
 
 /// The controller as the console drives it: a [`crate::session::Session`],
@@ -83,6 +91,19 @@ pub trait Controller: Send + Sync {
     fn check_run_end(&self, check: AtTheEnd) -> Pending<EndCheck> {
         let _ = check;
         Box::pin(async { EndCheck::completed() })
+    }
+    /// The wiring check of axis `axis` ([`crate::session::Session::check_wiring`]
+    /// with the family's jog plan at `speed`): its findings, a plain line
+    /// each, and whether they found the axis wired right. By default the
+    /// connection cannot.
+    fn check_wiring(
+        &self,
+        axis: usize,
+        speed: i64,
+        give_up: std::time::Duration,
+    ) -> Pending<Result<WiringFindings, String>> {
+        let _ = (axis, speed, give_up);
+        Box::pin(async { Err("this connection cannot run the wiring check".to_string()) })
     }
     fn set_polling(&self, cadence: Option<PollCadence>);
     /// The line the controller is busy with, if any: a line that runs until

@@ -277,6 +277,10 @@ pub async fn join_all<T>(futures: Vec<Pending<T>>) -> Vec<T> {
         .collect()
 }
 
+/// How long the console's wiring check jogs in one direction without a
+/// limit switch before it gives up (as `axterm wiring`'s default).
+const WIRING_GIVE_UP: Duration = Duration::from_secs(30);
+
 /// The loop's side of the console: the connection and everything in
 /// flight for the app.
 struct Runner {
@@ -295,6 +299,9 @@ struct Runner {
     /// the session refuses a second). Not aborted by the emergency stop:
     /// the session cancels it, and its end is still reported.
     transfer: Option<Cancel>,
+    /// The running wiring check, which [`Effect::CancelWiring`] ends (its
+    /// task is in `sending` too, so the emergency stop ends it as well).
+    wiring: Option<tokio::task::AbortHandle>,
 }
 
 /// Drives an [`App`] until it quits: `input` carries terminal events,
@@ -356,6 +363,7 @@ pub async fn run_links(
         connector,
         log: None,
         transfer: None,
+        wiring: None,
     };
     for index in 0..runner.connections.len() {
         let Some(c) = runner.connections.get_mut(index) else {
@@ -1021,6 +1029,42 @@ impl Runner {
                     Err(message) => Notice::error(format!(":mechanics: {message}")),
                 };
                 queue.push(AppEvent::Notice(notice));
+            }
+            Effect::CheckWiring {
+                pane,
+                tag,
+                axis,
+                speed,
+            } => {
+                let Some(c) = self.selected(app) else {
+                    queue.push(AppEvent::WiringChecked {
+                        pane,
+                        tag,
+                        result: Err("not connected: nothing to check".into()),
+                    });
+                    return;
+                };
+                if self.wiring.as_ref().is_some_and(|w| !w.is_finished()) {
+                    queue.push(AppEvent::WiringChecked {
+                        pane,
+                        tag,
+                        result: Err("a wiring check is running already".into()),
+                    });
+                    return;
+                }
+                let check = c.controller.check_wiring(axis, speed, WIRING_GIVE_UP);
+                let tx = self.internal.clone();
+                let job = tokio::spawn(async move {
+                    let result = check.await;
+                    let _ = tx.send(AppEvent::WiringChecked { pane, tag, result });
+                });
+                self.wiring = Some(job.abort_handle());
+                self.sending.push(job);
+            }
+            Effect::CancelWiring => {
+                if let Some(wiring) = self.wiring.take() {
+                    wiring.abort();
+                }
             }
             Effect::DriveSimInput(setting) => {
                 let Some(c) = self.selected(app) else {

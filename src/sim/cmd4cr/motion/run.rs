@@ -227,6 +227,13 @@ impl Run {
         let missed = axis.slip_tick(old, sent);
         self.shift(-missed);
         let new = sent - missed;
+        // An end stop holds the carriage; the pulses past it are lost as
+        // missed ones are: P counts them, the carriage and encoder don't.
+        let held = axis.stage.within_stops(new);
+        let lost = new - held;
+        axis.counter_offset -= lost;
+        self.shift(-lost);
+        let new = held;
         axis.position = new;
         for (at, mark) in marks(axis, old, new) {
             match self.on_mark(axis, at, mark, ignore_errors) {

@@ -77,11 +77,22 @@ pub struct Stage {
     /// Encoder counts per motor pulse (1 on a stepper whose encoder matches
     /// its pulses, as homing modes 9..12 require, App. A.13).
     pub encoder_ratio: f64,
+    /// The end limits are wired to each other's input: the carriage at
+    /// the + end turns the −limit input on, at the − end the +limit one.
+    pub limits_swapped: bool,
+    /// Mechanical end stops (lowest, highest machine position): the
+    /// carriage goes no further; the motor's further pulses are lost (a
+    /// stall), as a missed step is.
+    pub end_stops: Option<(i64, i64)>,
 }
 
 /// Where the demo stage's end limits close, in pulses from the power-up
 /// position: 100,000 pulses, 20 s of travel at the §4.3 examples' 5,000 pps.
 pub const DEMO_LIMIT: i64 = 100_000;
+/// The demo stage's mechanical end stops: 10,000 pulses beyond each end
+/// limit, where a carriage that no limit stops (disabled, or wired to the
+/// other input) comes to a stand.
+pub const DEMO_END_STOP: i64 = DEMO_LIMIT + 10_000;
 /// The demo stage's home switch: 1,000 pulses wide, its edge 1,000 pulses on
 /// the − side of the power-up position, so that the §4.3.4 example (`HY-1`,
 /// homing towards −) finds it without starting on it.
@@ -107,6 +118,8 @@ impl Stage {
             slowdown: Vec::new(),
             z_index: Some(DEMO_Z_INDEX),
             encoder_ratio: 1.0,
+            limits_swapped: false,
+            end_stops: Some((-DEMO_END_STOP, DEMO_END_STOP)),
         }
     }
 
@@ -119,15 +132,45 @@ impl Stage {
             slowdown: Vec::new(),
             z_index: None,
             encoder_ratio: 1.0,
+            limits_swapped: false,
+            end_stops: None,
         }
     }
 
+    /// The +limit input at `position` (the switch at the − end when the
+    /// limits are swapped).
     pub fn plus_limit_at(&self, position: i64) -> bool {
+        if self.limits_swapped {
+            self.minus_end_at(position)
+        } else {
+            self.plus_end_at(position)
+        }
+    }
+
+    /// The −limit input at `position`.
+    pub fn minus_limit_at(&self, position: i64) -> bool {
+        if self.limits_swapped {
+            self.plus_end_at(position)
+        } else {
+            self.minus_end_at(position)
+        }
+    }
+
+    fn plus_end_at(&self, position: i64) -> bool {
         self.plus_limit.is_some_and(|l| position >= l)
     }
 
-    pub fn minus_limit_at(&self, position: i64) -> bool {
+    fn minus_end_at(&self, position: i64) -> bool {
         self.minus_limit.is_some_and(|l| position <= l)
+    }
+
+    /// Where the carriage heading for `position` ends up: there, or at the
+    /// end stop in the way.
+    pub fn within_stops(&self, position: i64) -> i64 {
+        match self.end_stops {
+            Some((low, high)) => position.clamp(low, high),
+            None => position,
+        }
     }
 
     pub fn home_at(&self, position: i64) -> bool {
@@ -161,13 +204,19 @@ impl Stage {
             return marks;
         }
         let mut edges = Vec::new();
+        type Edge = fn(bool) -> Mark;
+        let (plus_end, minus_end): (Edge, Edge) = if self.limits_swapped {
+            (Mark::MinusLimit, Mark::PlusLimit)
+        } else {
+            (Mark::PlusLimit, Mark::MinusLimit)
+        };
         if let Some(l) = self.plus_limit {
             Window::new(l, i64::MAX).edges(from, to, &mut edges);
-            marks.extend(edges.drain(..).map(|(p, on)| (p, Mark::PlusLimit(on))));
+            marks.extend(edges.drain(..).map(|(p, on)| (p, plus_end(on))));
         }
         if let Some(l) = self.minus_limit {
             Window::new(i64::MIN, l).edges(from, to, &mut edges);
-            marks.extend(edges.drain(..).map(|(p, on)| (p, Mark::MinusLimit(on))));
+            marks.extend(edges.drain(..).map(|(p, on)| (p, minus_end(on))));
         }
         if let Some(w) = self.home {
             w.edges(from, to, &mut edges);
@@ -244,6 +293,21 @@ mod tests {
             stage.marks(-100_005, -99_000),
             vec![(-99_999, Mark::MinusLimit(false)), (-99_750, Mark::Index)]
         );
+    }
+
+    #[test]
+    fn swapped_limits_turn_on_the_other_input_at_each_end() {
+        let mut stage = Stage::demo();
+        stage.limits_swapped = true;
+        assert!(stage.minus_limit_at(100_000) && !stage.plus_limit_at(100_000));
+        assert!(stage.plus_limit_at(-100_000) && !stage.minus_limit_at(-100_000));
+        assert_eq!(
+            stage.marks(99_990, 100_010),
+            vec![(100_000, Mark::MinusLimit(true))]
+        );
+        assert_eq!(stage.within_stops(200_000), DEMO_END_STOP);
+        assert_eq!(stage.within_stops(-200_000), -DEMO_END_STOP);
+        assert_eq!(Stage::bare().within_stops(200_000), 200_000);
     }
 
     #[test]

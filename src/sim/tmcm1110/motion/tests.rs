@@ -521,6 +521,7 @@ fn stage_with_right_limit_at(right: i64) -> Axis {
         right_limit: Some(right),
         end_switch_width: DEFAULT_END_SWITCH_WIDTH,
         home: None,
+        ..SwitchLayout::default()
     };
     let mut events = Vec::new();
     axis.advance(Duration::ZERO, &mut events);
@@ -877,6 +878,7 @@ fn mode_2_zeroes_on_the_left_switch_and_measures_the_distance() {
         right_limit: Some(67_890),
         end_switch_width: 1_000,
         home: None,
+        ..SwitchLayout::default()
     };
     let r = search_from(2, 0, asymmetric, false);
     assert_found(&r, -12_345);
@@ -901,6 +903,7 @@ fn mode_3_zeroes_on_the_middle_of_the_left_switch_and_measures_from_the_right() 
         right_limit: Some(67_890),
         end_switch_width: 1_000,
         home: None,
+        ..SwitchLayout::default()
     };
     let r = search_from(3, 0, asymmetric, false);
     assert_found(&r, -12_845);
@@ -1322,6 +1325,7 @@ proptest! {
                                 right_limit: r,
                                 end_switch_width: width,
                                 home: h,
+                                ..SwitchLayout::default()
                             };
                         }
                         Op::Advance(_) => {}
