@@ -17,6 +17,7 @@ pub mod run_ascript;
 pub mod run_end;
 pub mod run_host;
 pub mod run_macro;
+pub mod run_sheet;
 pub mod scan;
 /// The batch file syntax, shared with the console's `:run` (moved to
 /// [`crate::script`]; the old path stays for the front ends).

@@ -165,7 +165,8 @@ pub struct RunEnd {
     pub ending: Ending,
     /// What was said of the end (the axes left as they were, stopped…).
     pub summary: String,
-    /// The axes stopped at the end.
+    /// The stop lines that answered ok at the end (each stops an axis or
+    /// a program), empty when no stop was sent.
     pub stopped_axes: Vec<String>,
 }
 
