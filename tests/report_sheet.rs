@@ -325,7 +325,7 @@ fn several_modules_get_a_section_each_and_the_verdict_names_the_module() {
     let verdict = sheet.verdict();
     assert_eq!((verdict.failed, verdict.checks), (2, 8));
     assert!(
-        verdict.failures[0].starts_with("module 2: line 4"),
+        verdict.failures[0].starts_with("module 2 on --sim tmcm1110: line 4"),
         "{:?}",
         verdict.failures
     );

@@ -657,6 +657,19 @@ impl FleetRun {
         }
     }
 
+    /// A module the run never reached, on the sheet as a failed run that
+    /// sent nothing, saying `why`.
+    fn unreached(&self, session: &Session, link: &str, identity: &Identity, why: &str) {
+        if let Some((_, modules)) = &self.sheet {
+            let section =
+                ModuleRecord::unreached(&self.text, sheet_identity(session, link, identity), why);
+            modules
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .push(section);
+        }
+    }
+
     /// The whole file on one module, ended as a single run is.
     async fn on_module(
         &self,
@@ -668,14 +681,19 @@ impl FleetRun {
         let who = module.who();
         let identity = Identity::ask(session).await;
         let mut row = module.row(identity.shown());
-        if let Identity::Silent(why) = identity {
+        let link = module
+            .link
+            .as_ref()
+            .map_or(self.link.clone(), |l| l.label.clone());
+        if let Identity::Silent(why) = &identity {
             let on = module
                 .link
                 .as_ref()
                 .map_or(String::new(), |l| format!("{}: ", l.label));
             eprintln!("axterm run: {on}{}: {why}", self.name);
             row.failed = 1;
-            row.note = why;
+            row.note = why.clone();
+            self.unreached(session, &link, &identity, why);
             return (row, RunEnding::Failed);
         }
         let checked = match check_script(&self.name, &self.text, session.family(), address) {
@@ -686,6 +704,7 @@ impl FleetRun {
                 }
                 row.failed = problems.len();
                 row.note = "the file does not check for this address: nothing sent".into();
+                self.unreached(session, &link, &identity, &row.note);
                 return (row, RunEnding::Failed);
             }
         };
@@ -724,10 +743,6 @@ impl FleetRun {
         row.written = done.load(Ordering::Relaxed);
         row.failed = failed.load(Ordering::Relaxed);
         if let (Some((_, modules)), Some(record)) = (&self.sheet, record) {
-            let link = module
-                .link
-                .as_ref()
-                .map_or(self.link.clone(), |l| l.label.clone());
             let section = record
                 .finish(
                     session,

@@ -190,6 +190,27 @@ impl ModuleRecord {
         }
     }
 
+    /// The section of a module the run never reached (it did not answer,
+    /// the file does not check for its address): every line not run, the
+    /// run failed for `why`, no setting read.
+    pub fn unreached(text: &str, identity: Identity, why: &str) -> ModuleSheet {
+        let mut checks = ModuleRecord::new(text, &[])
+            .facts
+            .into_inner()
+            .unwrap_or_else(|e| e.into_inner());
+        checks.run_end = RunEnd {
+            ending: Ending::Failed,
+            summary: format!("nothing was sent: {why}"),
+            stopped_axes: Vec::new(),
+        };
+        ModuleSheet {
+            identity,
+            settings: Settings::default(),
+            checks,
+            tuning: None,
+        }
+    }
+
     fn with<T>(&self, f: impl FnOnce(&mut Checks) -> T) -> T {
         let mut facts = self.facts.lock().unwrap_or_else(|e| e.into_inner());
         f(&mut facts)

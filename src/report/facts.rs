@@ -252,9 +252,14 @@ impl ModuleSheet {
             failures.push("the wiring check found a fault".into());
         }
         if checks.run_end.ending != Ending::Completed {
-            failures.push(match checks.run_end.ending {
-                Ending::Cancelled => "the run was cancelled".into(),
-                _ => "the run did not complete".into(),
+            let said = match checks.run_end.ending {
+                Ending::Cancelled => "the run was cancelled",
+                _ => "the run did not complete",
+            };
+            failures.push(if checks.run_end.summary.is_empty() {
+                said.to_string()
+            } else {
+                format!("{said} ({})", checks.run_end.summary)
             });
         }
         failures
@@ -290,7 +295,10 @@ impl Sheet {
             checks += module.check_count();
             for failure in module.failures() {
                 failures.push(if several {
-                    format!("module {}: {failure}", module.identity.address)
+                    format!(
+                        "module {} on {}: {failure}",
+                        module.identity.address, module.identity.link
+                    )
                 } else {
                     failure
                 });

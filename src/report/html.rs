@@ -74,8 +74,8 @@ pub fn sheet_html(sheet: &Sheet) -> String {
     }
     page += &row_th("Modules", &sheet.modules.len().to_string());
     page += "</tbody>\n</table>\n</section>\n";
-    for module in &sheet.modules {
-        page += &module_section(module, sheet.modules.len() > 1);
+    for (index, module) in sheet.modules.iter().enumerate() {
+        page += &module_section(index + 1, module, sheet.modules.len() > 1);
     }
     page += "</body>\n</html>\n";
     page
@@ -112,13 +112,17 @@ fn verdict_section(verdict: &Verdict) -> String {
     html
 }
 
-fn module_section(module: &ModuleSheet, several: bool) -> String {
+/// Module `position` (1-based) of the sheet: its section's id is
+/// `module-POSITION` (addresses repeat across links).
+fn module_section(position: usize, module: &ModuleSheet, several: bool) -> String {
     let id = &module.identity;
     let mut html = format!(
-        "<section class=\"module\" id=\"module-{}\">\n<h2>Module {} ({})</h2>\n",
+        "<section class=\"module\" id=\"module-{position}\" data-address=\"{}\">\n\
+         <h2>Module {} ({}, {})</h2>\n",
         id.address,
         id.address,
-        escape(&id.family)
+        escape(&id.family),
+        escape(&id.link)
     );
     if several {
         html += &verdict_section(&module.verdict());
