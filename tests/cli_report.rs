@@ -266,3 +266,45 @@ fn every_module_of_a_bus_gets_its_section_and_a_silent_one_fails_the_sheet() {
     assert_eq!(json["modules"][1]["identity"]["address"], 2);
     assert_eq!(json["verdict"]["passed"], false);
 }
+
+#[test]
+fn the_cmd4cr_commissioning_example_passes_and_a_limit_switch_on_fails_it() {
+    let example = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/cmd4cr/commission.txt"
+    );
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (html, json) = (dir.path().join("s.html"), dir.path().join("s.json"));
+    let (html_arg, json_arg) = (text(&html), text(&json));
+    let args = [
+        "run",
+        "--sim",
+        "cmd4cr",
+        "--yes",
+        example,
+        "--report",
+        &html_arg,
+        "--report-json",
+        &json_arg,
+        "--force",
+    ];
+    let out = axterm(&args);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let (page, value) = sheet(&html, &json);
+    let headline = &select_text(&page, "#verdict .headline")[0];
+    assert!(
+        headline.contains("✓ PASS") && headline.contains("All 5 checks passed"),
+        "{headline}"
+    );
+    assert_eq!(value["modules"][0]["identity"]["family"], "cmd4cr");
+    // The −limit switch of X on (MSTX bit 5, Table 2-28): the switch check
+    // fails and the verdict says which line and what was read.
+    let mut failing = args.to_vec();
+    failing.extend(["--input", "L-X=1"]);
+    let out = axterm(&failing);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let (page, _) = sheet(&html, &json);
+    let headline = &select_text(&page, "#verdict .headline")[0];
+    assert!(headline.contains("✗ FAIL"), "{headline}");
+    assert!(headline.contains("`MSTX` expected 0, got 32"), "{headline}");
+}
