@@ -298,7 +298,12 @@ impl ModuleRecord {
                     .collect(),
             });
         }
-        let settings = settings_of(session, &sent).await;
+        // After a second Ctrl-C gave up the stop the user wants out: the
+        // module is not asked anything more.
+        let settings = match aftermath {
+            Some(_) => settings_of(session, &sent).await,
+            None => Settings::default(),
+        };
         ModuleSheet {
             identity,
             settings,
