@@ -378,3 +378,94 @@ async fn settings_of(session: &Session, sent: &[String]) -> Settings {
         eeprom_stored: sent.iter().any(|line| store_lines.contains(line)),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::protocol::find_family;
+    use crate::script::check_script;
+
+    const FILE: &str =
+        "# set up\n\nSAP 4, 0, 1000\n:expect GAP 4, 0 == 1000\n// the end\n:echo done\n";
+
+    fn record() -> ModuleRecord {
+        let checked = check_script("f.txt", FILE, find_family("tmcl").unwrap(), 1).unwrap();
+        ModuleRecord::new(FILE, &checked)
+    }
+
+    #[test]
+    fn every_line_but_blanks_is_on_the_sheet_classed_and_not_run_until_done() {
+        let record = record();
+        let facts = record.facts.lock().unwrap();
+        let kinds: Vec<(usize, LineKind, LineOutcome)> = facts
+            .lines
+            .iter()
+            .map(|l| (l.number, l.kind, l.outcome))
+            .collect();
+        assert_eq!(
+            kinds,
+            [
+                (1, LineKind::Comment, LineOutcome::Nothing),
+                (3, LineKind::ConsoleLine, LineOutcome::NotRun),
+                (4, LineKind::Directive, LineOutcome::NotRun),
+                (5, LineKind::Comment, LineOutcome::Nothing),
+                (6, LineKind::Directive, LineOutcome::NotRun),
+            ]
+        );
+        assert_eq!(facts.expectations.len(), 1);
+        assert_eq!(facts.expectations[0].outcome, CheckOutcome::NotRun);
+    }
+
+    #[test]
+    fn a_check_marks_its_expectation_and_its_line() {
+        let record = record();
+        record.line(3, Some("ok".into()), true, Some("SAP 4, 0, 1000"));
+        record.check(4, "999".into(), false);
+        let facts = record.facts.lock().unwrap();
+        assert_eq!(facts.lines[1].outcome, LineOutcome::Ok);
+        assert_eq!(facts.lines[2].outcome, LineOutcome::Failed);
+        assert_eq!(facts.lines[2].answer.as_deref(), Some("999"));
+        let e = &facts.expectations[0];
+        assert_eq!(
+            (e.outcome, e.actual.as_deref()),
+            (CheckOutcome::Fail, Some("999"))
+        );
+        assert_eq!(*record.sent.lock().unwrap(), ["SAP 4, 0, 1000"]);
+    }
+
+    #[test]
+    fn a_module_never_reached_is_a_failed_section_that_says_why() {
+        let identity = Identity {
+            family: "tmcl".into(),
+            link: "--sim tmcm1110".into(),
+            address: 2,
+            firmware: "(no firmware answer: module 2 does not answer)".into(),
+        };
+        let section = ModuleRecord::unreached(FILE, identity, "module 2 does not answer");
+        let verdict = section.verdict();
+        assert!(!verdict.passed);
+        assert!(
+            verdict.failures[0].contains("nothing was sent: module 2 does not answer"),
+            "{:?}",
+            verdict.failures
+        );
+    }
+
+    #[test]
+    fn a_sheet_needs_a_file_and_refuses_one_name_for_both() {
+        let none = ReportArgs::default();
+        assert!(SheetRequest::from_args(&none).unwrap().is_none());
+        let orphan = ReportArgs {
+            operator: Some("Ada".into()),
+            ..ReportArgs::default()
+        };
+        assert!(SheetRequest::from_args(&orphan).is_err());
+        let same = ReportArgs {
+            report: Some("s".into()),
+            report_json: Some("s".into()),
+            ..ReportArgs::default()
+        };
+        let error = SheetRequest::from_args(&same).err().unwrap();
+        assert!(error.contains("the same file"), "{error}");
+    }
+}
