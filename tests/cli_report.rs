@@ -76,6 +76,10 @@ fn the_tmcl_commissioning_example_hands_over_a_passing_sheet() {
     assert!(identity.contains("1110V112"), "{identity}");
     assert!(identity.contains("--sim tmcm1110"), "{identity}");
     let settings = &select_text(&page, "#module-1 .settings")[0];
+    assert!(
+        settings.contains("Parameter file appliedaxis.toml"),
+        "{settings}"
+    );
     assert!(settings.contains("Stored to EEPROMyes"), "{settings}");
     // Power down delay (axis parameter 214) set to 100 against its
     // factory default 200: the only setting flagged.
@@ -87,9 +91,9 @@ fn the_tmcl_commissioning_example_hands_over_a_passing_sheet() {
     assert!(checks.iter().all(|c| c.contains("✓ PASS")), "{checks:?}");
     let lines = select_text(&page, "#module-1 .lines tbody tr");
     assert!(
-        lines
-            .iter()
-            .any(|l| l.contains("SAP 214, 0, 100") && l.contains("ok")),
+        lines.iter().any(|l| l.contains(":params axis.toml --store")
+            && l.contains("2 written, 2 verified")
+            && l.contains("✓ ok")),
         "{lines:?}"
     );
     let end = &select_text(&page, "#module-1 .run-end")[0];
@@ -105,13 +109,13 @@ fn the_tmcl_commissioning_example_hands_over_a_passing_sheet() {
 #[test]
 fn a_check_that_fails_is_named_in_the_verdict_with_the_emergency_stop() {
     // The enable input IN1 held low: the file's `:expect GIO 1, 0 == 1`
-    // (line 19) fails, and the run ends with the stop sequence.
+    // (line 14) fails, and the run ends with the stop sequence.
     let (out, page, json) = run_example(&["--input", "IN1=0"]);
     assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
     let headline = &select_text(&page, "#verdict .headline")[0];
     assert!(headline.contains("✗ FAIL"), "{headline}");
     assert!(
-        headline.contains("line 19 `GIO 1, 0` expected 1, got 0"),
+        headline.contains("line 14 `GIO 1, 0` expected 1, got 0"),
         "{headline}"
     );
     let failed = select_text(&page, "#module-1 .expectations tr.fail");
@@ -307,4 +311,37 @@ fn the_cmd4cr_commissioning_example_passes_and_a_limit_switch_on_fails_it() {
     let headline = &select_text(&page, "#verdict .headline")[0];
     assert!(headline.contains("✗ FAIL"), "{headline}");
     assert!(headline.contains("`MSTX` expected 0, got 32"), "{headline}");
+}
+
+#[test]
+fn a_parameter_file_that_does_not_check_sends_nothing() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    std::fs::write(
+        dir.path().join("bad.toml"),
+        "family = \"tmcl\"\n[axis.0]\n6 = 300\n",
+    )
+    .expect("write");
+    let file = dir.path().join("f.txt");
+    // The first line would fail if it were sent: nothing may be.
+    std::fs::write(&file, ":expect GAP 4, 0 == 12345\n:params bad.toml\n").expect("write");
+    let json = dir.path().join("s.json");
+    let out = axterm(&[
+        "run",
+        "--sim",
+        "tmcm1110",
+        &text(&file),
+        "--report-json",
+        &text(&json),
+    ]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("f.txt:2: ") && err.contains("bad.toml"),
+        "{err}"
+    );
+    assert!(
+        err.contains("nothing was sent") && !err.contains("12345"),
+        "{err}"
+    );
+    assert!(!json.exists(), "a sheet of a run that never ran");
 }

@@ -22,8 +22,10 @@ use super::run_end::{AtTheEnd, Interrupt, RunReport, run_then_end_with};
 use super::run_sheet::{ModuleRecord, ReportArgs, SheetRequest};
 use super::script::{self, Action, CheckedStep, WAIT_INTERVAL, check_script, result_matches};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
+use crate::protocol::parameters::ParamRow;
 use crate::protocol::settings::SettingsCache;
 use crate::protocol::units::{MechanicsTable, check_line};
+use crate::session::params::ApplyOptions;
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -270,6 +272,60 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs, mechanics: Option<&Path>
     })
 }
 
+/// The parameter files a run file applies (`:params`), by line number,
+/// each read and checked against the family's tables.
+type ParamFiles = HashMap<usize, Vec<(ParamRow, i64)>>;
+
+/// Read and check every parameter file `checked` applies, a path
+/// relative to the run file's folder (standard input: the working
+/// folder); every problem as `NAME:LINE: message`. Called before
+/// anything of the file is sent to a module.
+fn load_params(
+    name: &str,
+    checked: &[CheckedStep],
+    family: &Family,
+) -> Result<ParamFiles, Vec<String>> {
+    let mut files = ParamFiles::new();
+    let mut problems = Vec::new();
+    let folder = match name {
+        "<stdin>" => None,
+        name => Path::new(name).parent(),
+    };
+    for item in checked {
+        let Action::ApplyParams { file, store } = &item.step.action else {
+            continue;
+        };
+        let at = format!("{name}:{}: ", item.step.line_number);
+        let Some(parameters) = family.console.parameters() else {
+            problems.push(format!(
+                "{at}the {} family has no parameter tables",
+                family.name
+            ));
+            continue;
+        };
+        let axes: Vec<u8> = family.console.axes().iter().map(|a| a.number).collect();
+        if *store && let Err(why) = super::params::refuse_store_without_place(parameters, &axes) {
+            problems.push(format!("{at}{why}"));
+            continue;
+        }
+        let path = match folder {
+            Some(folder) if Path::new(file).is_relative() => folder.join(file),
+            _ => Path::new(file).to_path_buf(),
+        };
+        match super::params::read_file(&path, family.name, parameters, &axes) {
+            Ok((entries, _mechanics)) => {
+                files.insert(item.step.line_number, entries);
+            }
+            Err(message) => problems.extend(message.lines().map(|l| format!("{at}{l}"))),
+        }
+    }
+    if problems.is_empty() {
+        Ok(files)
+    } else {
+        Err(problems)
+    }
+}
+
 /// The sheet asked for, if any; the exit code when it cannot be (a file
 /// that cannot be written, a dry run: nothing is sent).
 fn sheet_request(args: &RunArgs) -> Result<Option<SheetRequest>, i32> {
@@ -324,6 +380,16 @@ impl CheckedRun<'_> {
             policy,
             ..
         } = *self;
+        let params = match load_params(name, checked, session.family()) {
+            Ok(params) => params,
+            Err(problems) => {
+                for problem in problems {
+                    eprintln!("{problem}");
+                }
+                eprintln!("axterm run: {name}: nothing was sent");
+                return EXIT_USAGE;
+            }
+        };
         // Watched from before the first line goes, so that a Ctrl-C as
         // soon as the run starts still ends it properly.
         let mut interrupt = match Interrupt::watch() {
@@ -345,6 +411,7 @@ impl CheckedRun<'_> {
             format,
             module: None,
             record: record.as_ref(),
+            params: &params,
         };
         // With --keep-going a failed step does not end the run; the run
         // still failed, and ends as one that did.
@@ -708,6 +775,18 @@ impl FleetRun {
                 return (row, RunEnding::Failed);
             }
         };
+        let params = match load_params(&self.name, &checked, session.family()) {
+            Ok(params) => params,
+            Err(problems) => {
+                for problem in &problems {
+                    eprintln!("{who}: {problem}");
+                }
+                row.failed = problems.len();
+                row.note = "a parameter file does not check: nothing sent".into();
+                self.unreached(session, &link, &identity, &row.note);
+                return (row, RunEnding::Failed);
+            }
+        };
         let record = self
             .sheet
             .as_ref()
@@ -718,6 +797,7 @@ impl FleetRun {
             format: self.format,
             module: Some(module),
             record: record.as_ref(),
+            params: &params,
         };
         // Counted by the work, read after it ended (or was dropped).
         let (done, failed) = (AtomicUsize::new(0), AtomicUsize::new(0));
@@ -772,6 +852,8 @@ struct Runner<'a> {
     module: Option<&'a FleetModule>,
     /// The facts for the commissioning sheet, when one was asked for.
     record: Option<&'a ModuleRecord>,
+    /// The parameter files the file applies, checked.
+    params: &'a ParamFiles,
 }
 
 impl Runner<'_> {
@@ -882,6 +964,10 @@ impl Runner<'_> {
                 }
                 true
             }
+            (Action::ApplyParams { file, store }, _) => {
+                self.apply_params(&at, item.step.line_number, file, *store)
+                    .await
+            }
             // Said of the file as a whole (see `run_then_end_on`).
             (Action::LeaveMoving, _) => {
                 if let Some(record) = self.record {
@@ -895,6 +981,62 @@ impl Runner<'_> {
                 false
             }
         }
+    }
+
+    /// Apply the checked parameter file of line `number` as `params
+    /// apply` does (only values that differ written, each read back where
+    /// the family can; with `store` stored afterwards): one line saying
+    /// what was done; false if anything failed or reads back otherwise.
+    async fn apply_params(&self, at: &str, number: usize, file: &str, store: bool) -> bool {
+        let family = self.session.family();
+        let (Some(entries), Some(parameters)) =
+            (self.params.get(&number), family.console.parameters())
+        else {
+            eprintln!("{at}internal error: the parameter file was not checked");
+            return false;
+        };
+        let options = ApplyOptions {
+            store,
+            dry_run: false,
+        };
+        let report =
+            crate::session::params::apply(self.session, parameters, entries, options).await;
+        let ok = report.succeeded();
+        let stored = store && ok && report.stored.iter().all(|s| s.result.is_ok());
+        let mut said = format!(
+            "{file}: {} written, {} verified",
+            report.written(),
+            report.verified()
+        );
+        if store {
+            said += &format!(
+                ", {} stored",
+                report.stored.iter().filter(|s| s.result.is_ok()).count()
+            );
+        }
+        if !ok {
+            said += &format!(
+                ", {} failed, {} read back otherwise",
+                report.failed(),
+                report.differs()
+            );
+            eprintln!("{at}{said}");
+        }
+        match (self.format, self.module) {
+            (Format::Text, None) => println!("{said}"),
+            (Format::Text, Some(module)) => println!("{}: {said}", module.who()),
+            (Format::Json, module) => {
+                let mut object = json!({ "params": file, "said": said, "ok": ok });
+                if let Some(module) = module {
+                    module.mark(&mut object);
+                }
+                println!("{object}");
+            }
+        }
+        if let Some(record) = self.record {
+            record.params_applied(number, file, said, ok, stored);
+        }
+        ok
     }
 
     /// A check's reading for the sheet: the value read, or the error.

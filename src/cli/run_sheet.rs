@@ -125,6 +125,9 @@ pub struct ModuleRecord {
     /// The canonical form of each console line that succeeded, to find a
     /// store among them.
     sent: Mutex<Vec<String>>,
+    /// The parameter file applied (the last one), and whether a
+    /// parameter file's settings were stored.
+    applied: Mutex<(Option<String>, bool)>,
 }
 
 /// How a file's line is classed on the sheet (the syntax of
@@ -187,7 +190,17 @@ impl ModuleRecord {
                 ..Checks::default()
             }),
             sent: Mutex::new(Vec::new()),
+            applied: Mutex::new((None, false)),
         }
+    }
+
+    /// The parameter file of line `number` was applied: what was said of
+    /// it, whether it went well, whether its settings were stored.
+    pub fn params_applied(&self, number: usize, file: &str, said: String, ok: bool, stored: bool) {
+        self.line(number, Some(said), ok, None);
+        let mut applied = self.applied.lock().unwrap_or_else(|e| e.into_inner());
+        applied.0 = Some(file.to_string());
+        applied.1 |= stored;
     }
 
     /// The section of a module the run never reached (it did not answer,
@@ -262,6 +275,7 @@ impl ModuleRecord {
         aftermath: Option<&RunAftermath>,
     ) -> ModuleSheet {
         let sent = self.sent.into_inner().unwrap_or_else(|e| e.into_inner());
+        let (parameter_file, stored) = self.applied.into_inner().unwrap_or_else(|e| e.into_inner());
         let mut checks = self.facts.into_inner().unwrap_or_else(|e| e.into_inner());
         checks.run_end = RunEnd {
             ending: match ending {
@@ -300,10 +314,12 @@ impl ModuleRecord {
         }
         // After a second Ctrl-C gave up the stop the user wants out: the
         // module is not asked anything more.
-        let settings = match aftermath {
+        let mut settings = match aftermath {
             Some(_) => settings_of(session, &sent).await,
             None => Settings::default(),
         };
+        settings.parameter_file = parameter_file;
+        settings.eeprom_stored |= stored;
         ModuleSheet {
             identity,
             settings,

@@ -167,6 +167,14 @@ impl Batch {
                 }
                 // Said of the file as a whole: nothing to do where it stands.
                 Action::LeaveMoving => self.next += 1,
+                Action::ApplyParams { .. } => {
+                    out.push(BatchStep::Failed(format!(
+                        "{}:params applies a parameter file in `axterm run` only; in the \
+                         console use the parameter pane's import",
+                        self.at()
+                    )));
+                    return out;
+                }
                 Action::Line(line) | Action::Expect { line, .. } => {
                     out.push(BatchStep::Send(line.clone()));
                     return out;
