@@ -12,6 +12,7 @@ pub mod device;
 pub mod files;
 pub mod link;
 pub mod protocol;
+pub mod report;
 pub mod run_recording;
 pub mod script;
 pub mod session;

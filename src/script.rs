@@ -60,6 +60,14 @@ pub enum Action {
     /// The file means to leave an axis moving when it ends: the run is not
     /// stopped for that ([`LEAVE_MOVING`]). Does nothing where it stands.
     LeaveMoving,
+    /// Apply a parameter file (as `axterm params apply`), with `store`
+    /// storing its settings to EEPROM/flash afterwards. The path is as
+    /// written; a front end resolves it (`axterm run`: beside the run
+    /// file) and checks the file before anything is sent.
+    ApplyParams {
+        file: String,
+        store: bool,
+    },
 }
 
 /// The directive by which a file says it means to leave an axis moving at
@@ -109,7 +117,10 @@ pub fn check_script(
         let (line, must_only_read) = match &action {
             Action::Line(line) | Action::Expect { line, .. } => (Some(line), false),
             Action::WaitUntil { line, .. } => (Some(line), true),
-            Action::Sleep(_) | Action::Echo(_) | Action::LeaveMoving => (None, false),
+            Action::Sleep(_)
+            | Action::Echo(_)
+            | Action::LeaveMoving
+            | Action::ApplyParams { .. } => (None, false),
         };
         let prepared = match line.map(|l| family.console.prepare(l, address)) {
             None => None,
@@ -266,12 +277,29 @@ pub fn parse_script_line(raw: &str) -> Result<Option<Action>, String> {
             Action::Sleep(parse_duration(rest)?)
         }
         "echo" => Action::Echo(rest.to_string()),
+        "params" => {
+            let (file, store) = match rest.strip_suffix("--store") {
+                Some(file) if file.is_empty() || file.ends_with(char::is_whitespace) => {
+                    (file.trim(), true)
+                }
+                _ => (rest, false),
+            };
+            if file.is_empty() {
+                return Err(
+                    ":params needs a parameter file, e.g. `:params axis.toml --store`".into(),
+                );
+            }
+            Action::ApplyParams {
+                file: file.to_string(),
+                store,
+            }
+        }
         "leave-moving" if rest.is_empty() => Action::LeaveMoving,
         "leave-moving" => return Err(format!("{LEAVE_MOVING} takes nothing after it")),
         _ => {
             return Err(format!(
                 "unknown directive `:{name}` (known: :expect, :wait-until, :sleep, :echo, \
-                 {LEAVE_MOVING})"
+                 :params, {LEAVE_MOVING})"
             ));
         }
     };
@@ -475,6 +503,29 @@ mod tests {
     }
 
     #[test]
+    fn params_takes_a_file_and_maybe_store() {
+        let params = |file: &str, store| {
+            Ok(Some(Action::ApplyParams {
+                file: file.into(),
+                store,
+            }))
+        };
+        assert_eq!(
+            parse_script_line(":params axis.toml"),
+            params("axis.toml", false)
+        );
+        assert_eq!(
+            parse_script_line(":params my axis.toml --store"),
+            params("my axis.toml", true)
+        );
+        // `--store` only as a word of its own.
+        assert_eq!(
+            parse_script_line(":params a--store"),
+            params("a--store", false)
+        );
+    }
+
+    #[test]
     fn directives_parse() {
         assert_eq!(
             parse_script_line(":expect GAP 4, 0 == 1000"),
@@ -528,6 +579,8 @@ mod tests {
             (":sleep", "needs a duration"),
             (":sleep soon", "not a duration"),
             (":pause 5s", "unknown directive `:pause`"),
+            (":params", "needs a parameter file"),
+            (":params --store", "needs a parameter file"),
         ] {
             let error = parse_script_line(line).unwrap_err();
             assert!(error.contains(needle), "{line}: {error}");

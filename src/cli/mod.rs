@@ -19,6 +19,7 @@ pub mod run_ascript;
 pub mod run_end;
 pub mod run_host;
 pub mod run_macro;
+pub mod run_sheet;
 pub mod scan;
 /// The batch file syntax, shared with the console's `:run` (moved to
 /// [`crate::script`]; the old path stays for the front ends).
@@ -274,7 +275,8 @@ pub enum Command {
     /// One console line per line; blank lines and lines starting with # or
     /// // are comments. Directives: `:expect LINE == VALUE`, `:wait-until
     /// LINE == VALUE [timeout DURATION]` (re-reads every 20 ms; default
-    /// timeout 10s), `:sleep DURATION`, `:echo TEXT`; DURATION as 500ms, 2s,
+    /// timeout 10s), `:sleep DURATION`, `:echo TEXT`, `:params FILE
+    /// [--store]` (a parameter file applied); DURATION as 500ms, 2s,
     /// 1.5s, 1m. The whole file is checked before anything is sent. A run
     /// that fails, is cancelled with Ctrl-C or loses its link ends with
     /// the stop-everything sequence (the console's emergency stop), each

@@ -429,7 +429,10 @@ fn compare_or_apply(
 
 /// `--store` where the family stores nothing (MCCL, SIXpack 2): refused
 /// with the family's reason before anything is sent.
-fn refuse_store_without_place(parameters: &dyn ParameterSet, axes: &[u8]) -> Result<(), String> {
+pub(super) fn refuse_store_without_place(
+    parameters: &dyn ParameterSet,
+    axes: &[u8],
+) -> Result<(), String> {
     let rows = parameter_file::setting_rows(parameters, axes);
     let (lines, without) = shared::plan_store(parameters, &rows);
     match (lines.is_empty(), without.first()) {
@@ -440,7 +443,7 @@ fn refuse_store_without_place(parameters: &dyn ParameterSet, axes: &[u8]) -> Res
 
 /// Read, parse and check the file: every problem is an error naming the
 /// parameter (nothing is sent then).
-fn read_file(
+pub(super) fn read_file(
     path: &std::path::Path,
     family: &str,
     parameters: &dyn ParameterSet,

@@ -7,6 +7,7 @@
 //! `--no-stop-on-failure` (see [`super::run_end`]). A line the family
 //! wants confirmed is refused when `--yes` is not given.
 
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
 
@@ -17,11 +18,14 @@ use super::confirm::{after_line, cautions};
 use super::connection::{Target, family_of, names_a_connection, run_to_exit};
 use super::fleet::{self, FleetArgs, FleetLink, FleetModule, Identity, ModuleRow, Modules, Walk};
 use super::output::{CheckOutcome, Format, json_check, print_outcome};
-use super::run_end::{AtTheEnd, Interrupt, RunReport, run_then_end, run_then_end_on};
+use super::run_end::{AtTheEnd, Interrupt, RunReport, run_then_end_with};
+use super::run_sheet::{ModuleRecord, ReportArgs, SheetRequest};
 use super::script::{self, Action, CheckedStep, WAIT_INTERVAL, check_script, result_matches};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
+use crate::protocol::parameters::ParamRow;
 use crate::protocol::settings::SettingsCache;
 use crate::protocol::units::{MechanicsTable, check_line};
+use crate::session::params::ApplyOptions;
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -65,6 +69,8 @@ pub struct RunArgs {
     /// module is tried all the same unless --stop-on-failure.
     #[command(flatten)]
     pub fleet: FleetArgs,
+    #[command(flatten)]
+    pub sheet: ReportArgs,
 }
 
 /// The file's name as messages give it (`<stdin>` for `-`) and its text.
@@ -103,6 +109,11 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs, mechanics: Option<&Path>
             return EXIT_USAGE;
         }
     };
+    let sheet = match sheet_request(args) {
+        Ok(sheet) => sheet,
+        Err(code) => return code,
+    };
+    let link = super::links::describe_link(connection);
     let (name, text) = match read_source(&args.file) {
         Ok(source) => source,
         Err(message) => {
@@ -156,6 +167,8 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs, mechanics: Option<&Path>
                 let run = UnitRun {
                     name,
                     text,
+                    sheet,
+                    link,
                     unit_lines,
                     mechanics: mechanics.table,
                     yes: args.yes,
@@ -227,6 +240,8 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs, mechanics: Option<&Path>
             keep_going,
             policy,
             stop_on_failure: args.fleet.stop_on_failure,
+            sheet: sheet.map(|request| (request, Mutex::new(Vec::new()))),
+            link,
         };
         let links = vec![FleetLink {
             name: None,
@@ -243,55 +258,213 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs, mechanics: Option<&Path>
                 return EXIT_CONNECTION;
             }
         };
-        run_checked(&session, &name, &checked, format, keep_going, policy).await
+        let run = CheckedRun {
+            name: &name,
+            text: &text,
+            checked: &checked,
+            format,
+            keep_going,
+            policy,
+            sheet: sheet.as_ref(),
+            link: &link,
+        };
+        run.run(&session).await
     })
 }
 
-/// The checked file on one module's session, ended as a run is.
-async fn run_checked(
-    session: &Session,
+/// The parameter files a run file applies (`:params`), by line number,
+/// each read and checked against the family's tables.
+type ParamFiles = HashMap<usize, Vec<(ParamRow, i64)>>;
+
+/// Read and check every parameter file `checked` applies, a path
+/// relative to the run file's folder (standard input: the working
+/// folder); every problem as `NAME:LINE: message`. Called before
+/// anything of the file is sent to a module.
+fn load_params(
     name: &str,
     checked: &[CheckedStep],
+    family: &Family,
+) -> Result<ParamFiles, Vec<String>> {
+    let mut files = ParamFiles::new();
+    let mut problems = Vec::new();
+    let folder = match name {
+        "<stdin>" => None,
+        name => Path::new(name).parent(),
+    };
+    for item in checked {
+        let Action::ApplyParams { file, store } = &item.step.action else {
+            continue;
+        };
+        let at = format!("{name}:{}: ", item.step.line_number);
+        let Some(parameters) = family.console.parameters() else {
+            problems.push(format!(
+                "{at}the {} family has no parameter tables",
+                family.name
+            ));
+            continue;
+        };
+        let axes: Vec<u8> = family.console.axes().iter().map(|a| a.number).collect();
+        if *store && let Err(why) = super::params::refuse_store_without_place(parameters, &axes) {
+            problems.push(format!("{at}{why}"));
+            continue;
+        }
+        let path = match folder {
+            Some(folder) if Path::new(file).is_relative() => folder.join(file),
+            _ => Path::new(file).to_path_buf(),
+        };
+        match super::params::read_file(&path, family.name, parameters, &axes) {
+            Ok((entries, _mechanics)) => {
+                files.insert(item.step.line_number, entries);
+            }
+            Err(message) => problems.extend(message.lines().map(|l| format!("{at}{l}"))),
+        }
+    }
+    if problems.is_empty() {
+        Ok(files)
+    } else {
+        Err(problems)
+    }
+}
+
+/// The sheet asked for, if any; the exit code when it cannot be (a file
+/// that cannot be written, a dry run: nothing is sent).
+fn sheet_request(args: &RunArgs) -> Result<Option<SheetRequest>, i32> {
+    let sheet = SheetRequest::from_args(&args.sheet).map_err(|message| {
+        eprintln!("axterm run: {message}");
+        eprintln!("axterm run: nothing was sent");
+        EXIT_USAGE
+    })?;
+    if args.dry_run && sheet.is_some() {
+        eprintln!("axterm run: a dry run sends nothing and has no sheet: drop --report");
+        return Err(EXIT_USAGE);
+    }
+    Ok(sheet)
+}
+
+/// A sheet's files written, or the exit code made 1 when they could not
+/// be (said on standard error).
+fn sheet_written(
+    sheet: &SheetRequest,
+    name: &str,
+    modules: Vec<crate::report::ModuleSheet>,
+    code: i32,
+) -> i32 {
+    match sheet.write(name, modules) {
+        Ok(()) => code,
+        Err(message) => {
+            eprintln!("axterm run: {message}");
+            if code == EXIT_OK { EXIT_DEVICE } else { code }
+        }
+    }
+}
+
+/// The checked file on one module's session, ended as a run is.
+struct CheckedRun<'a> {
+    name: &'a str,
+    text: &'a str,
+    checked: &'a [CheckedStep],
     format: Format,
     keep_going: bool,
     policy: StopOnFailure,
-) -> i32 {
-    // Watched from before the first line goes, so that a Ctrl-C as
-    // soon as the run starts still ends it properly.
-    let interrupt = match Interrupt::watch() {
-        Ok(interrupt) => interrupt,
-        Err(e) => {
-            eprintln!("axterm run: cannot watch for Ctrl-C: {e}");
-            return EXIT_DEVICE;
-        }
-    };
-    let runner = Runner {
-        session,
-        name,
-        format,
-        module: None,
-    };
-    // With --keep-going a failed step does not end the run; the run
-    // still failed, and ends as one that did.
-    let work = async {
-        let mut failed = false;
-        for item in checked {
-            if !runner.step(item).await {
-                failed = true;
-                if !keep_going {
-                    break;
+    sheet: Option<&'a SheetRequest>,
+    link: &'a str,
+}
+
+impl CheckedRun<'_> {
+    async fn run(&self, session: &Session) -> i32 {
+        let Self {
+            name,
+            checked,
+            format,
+            keep_going,
+            policy,
+            ..
+        } = *self;
+        let params = match load_params(name, checked, session.family()) {
+            Ok(params) => params,
+            Err(problems) => {
+                for problem in problems {
+                    eprintln!("{problem}");
+                }
+                eprintln!("axterm run: {name}: nothing was sent");
+                return EXIT_USAGE;
+            }
+        };
+        // Watched from before the first line goes, so that a Ctrl-C as
+        // soon as the run starts still ends it properly.
+        let mut interrupt = match Interrupt::watch() {
+            Ok(interrupt) => interrupt,
+            Err(e) => {
+                eprintln!("axterm run: cannot watch for Ctrl-C: {e}");
+                return EXIT_DEVICE;
+            }
+        };
+        // The sheet's identity is asked before the first line.
+        let identity = match self.sheet {
+            Some(_) => Some(Identity::ask(session).await),
+            None => None,
+        };
+        let record = self.sheet.map(|_| ModuleRecord::new(self.text, checked));
+        let runner = Runner {
+            session,
+            name,
+            format,
+            module: None,
+            record: record.as_ref(),
+            params: &params,
+        };
+        // With --keep-going a failed step does not end the run; the run
+        // still failed, and ends as one that did.
+        let work = async {
+            let mut failed = false;
+            for item in checked {
+                if !runner.step(item).await {
+                    failed = true;
+                    if !keep_going {
+                        break;
+                    }
                 }
             }
-        }
-        !failed
-    };
-    let prefix = format!("axterm run: {name}: ");
-    let report = RunReport {
-        prefix: &prefix,
-        format,
-        at_the_end: AtTheEnd::of_script(checked),
-    };
-    run_then_end(session, interrupt, policy, &report, work).await
+            !failed
+        };
+        let prefix = format!("axterm run: {name}: ");
+        let report = RunReport {
+            prefix: &prefix,
+            format,
+            at_the_end: AtTheEnd::of_script(checked),
+        };
+        let (ending, aftermath) =
+            run_then_end_with(session, &mut interrupt, policy, &report, work).await;
+        let code = match ending {
+            RunEnding::Completed => EXIT_OK,
+            RunEnding::Failed | RunEnding::Cancelled => EXIT_DEVICE,
+        };
+        let (Some(sheet), Some(record), Some(identity)) = (self.sheet, record, identity) else {
+            return code;
+        };
+        let module = record
+            .finish(
+                session,
+                sheet_identity(session, self.link, &identity),
+                ending,
+                aftermath.as_ref(),
+            )
+            .await;
+        sheet_written(sheet, name, vec![module], code)
+    }
+}
+
+/// The sheet's identity of the module on `session`.
+fn sheet_identity(session: &Session, link: &str, identity: &Identity) -> crate::report::Identity {
+    crate::report::Identity {
+        family: session.family().name.to_string(),
+        link: link.to_string(),
+        address: session.address(),
+        firmware: match identity {
+            Identity::Firmware(firmware) => firmware.clone(),
+            Identity::Odd(why) | Identity::Silent(why) => format!("(no firmware answer: {why})"),
+        },
+    }
 }
 
 /// A file with values in an axis's unit on one module: connected first,
@@ -301,6 +474,8 @@ async fn run_checked(
 struct UnitRun {
     name: String,
     text: String,
+    sheet: Option<SheetRequest>,
+    link: String,
     unit_lines: Vec<(usize, String)>,
     mechanics: MechanicsTable,
     yes: bool,
@@ -374,15 +549,17 @@ impl UnitRun {
             eprintln!("axterm run: {name}: nothing was sent");
             return EXIT_USAGE;
         }
-        run_checked(
-            &session,
+        let run = CheckedRun {
             name,
-            &checked,
-            self.format,
-            self.keep_going,
-            self.policy,
-        )
-        .await
+            text: &text,
+            checked: &checked,
+            format: self.format,
+            keep_going: self.keep_going,
+            policy: self.policy,
+            sheet: self.sheet.as_ref(),
+            link: &self.link,
+        };
+        run.run(&session).await
     }
 }
 
@@ -411,6 +588,10 @@ fn run_on_links(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
             eprintln!("axterm run: {message}");
             return EXIT_USAGE;
         }
+    };
+    let sheet = match sheet_request(args) {
+        Ok(sheet) => sheet,
+        Err(code) => return code,
     };
     let (name, text) = match read_source(&args.file) {
         Ok(source) => source,
@@ -465,6 +646,8 @@ fn run_on_links(connection: &ConnectionArgs, args: &RunArgs) -> i32 {
         keep_going: args.keep_going,
         policy: StopOnFailure::from_flag(args.no_stop_on_failure),
         stop_on_failure: args.fleet.stop_on_failure,
+        sheet: sheet.map(|request| (request, Mutex::new(Vec::new()))),
+        link: super::links::describe_links(connection),
     };
     run_to_exit("run", async move { fleet_run.run(&links).await })
 }
@@ -499,6 +682,10 @@ struct FleetRun {
     keep_going: bool,
     policy: StopOnFailure,
     stop_on_failure: bool,
+    /// The sheet asked for, and each module's section as it ends.
+    sheet: Option<(SheetRequest, Mutex<Vec<crate::report::ModuleSheet>>)>,
+    /// The link as given, for a module of a single link.
+    link: String,
 }
 
 impl FleetRun {
@@ -526,7 +713,28 @@ impl FleetRun {
             }
             walk.record(&module, row);
         }
-        fleet::finish(&walk.rows(), &["lines", "failed"], self.format)
+        let code = fleet::finish(&walk.rows(), &["lines", "failed"], self.format);
+        match &self.sheet {
+            Some((request, modules)) => {
+                let modules =
+                    std::mem::take(&mut *modules.lock().unwrap_or_else(|e| e.into_inner()));
+                sheet_written(request, &self.name, modules, code)
+            }
+            None => code,
+        }
+    }
+
+    /// A module the run never reached, on the sheet as a failed run that
+    /// sent nothing, saying `why`.
+    fn unreached(&self, session: &Session, link: &str, identity: &Identity, why: &str) {
+        if let Some((_, modules)) = &self.sheet {
+            let section =
+                ModuleRecord::unreached(&self.text, sheet_identity(session, link, identity), why);
+            modules
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .push(section);
+        }
     }
 
     /// The whole file on one module, ended as a single run is.
@@ -540,14 +748,19 @@ impl FleetRun {
         let who = module.who();
         let identity = Identity::ask(session).await;
         let mut row = module.row(identity.shown());
-        if let Identity::Silent(why) = identity {
+        let link = module
+            .link
+            .as_ref()
+            .map_or(self.link.clone(), |l| l.label.clone());
+        if let Identity::Silent(why) = &identity {
             let on = module
                 .link
                 .as_ref()
                 .map_or(String::new(), |l| format!("{}: ", l.label));
             eprintln!("axterm run: {on}{}: {why}", self.name);
             row.failed = 1;
-            row.note = why;
+            row.note = why.clone();
+            self.unreached(session, &link, &identity, why);
             return (row, RunEnding::Failed);
         }
         let checked = match check_script(&self.name, &self.text, session.family(), address) {
@@ -558,14 +771,33 @@ impl FleetRun {
                 }
                 row.failed = problems.len();
                 row.note = "the file does not check for this address: nothing sent".into();
+                self.unreached(session, &link, &identity, &row.note);
                 return (row, RunEnding::Failed);
             }
         };
+        let params = match load_params(&self.name, &checked, session.family()) {
+            Ok(params) => params,
+            Err(problems) => {
+                for problem in &problems {
+                    eprintln!("{who}: {problem}");
+                }
+                row.failed = problems.len();
+                row.note = "a parameter file does not check: nothing sent".into();
+                self.unreached(session, &link, &identity, &row.note);
+                return (row, RunEnding::Failed);
+            }
+        };
+        let record = self
+            .sheet
+            .as_ref()
+            .map(|_| ModuleRecord::new(&self.text, &checked));
         let runner = Runner {
             session,
             name: &self.name,
             format: self.format,
             module: Some(module),
+            record: record.as_ref(),
+            params: &params,
         };
         // Counted by the work, read after it ended (or was dropped).
         let (done, failed) = (AtomicUsize::new(0), AtomicUsize::new(0));
@@ -586,9 +818,24 @@ impl FleetRun {
             format: self.format,
             at_the_end: AtTheEnd::of_script(&checked),
         };
-        let ending = run_then_end_on(session, interrupt, self.policy, &report, work).await;
+        let (ending, aftermath) =
+            run_then_end_with(session, interrupt, self.policy, &report, work).await;
         row.written = done.load(Ordering::Relaxed);
         row.failed = failed.load(Ordering::Relaxed);
+        if let (Some((_, modules)), Some(record)) = (&self.sheet, record) {
+            let section = record
+                .finish(
+                    session,
+                    sheet_identity(session, &link, &identity),
+                    ending,
+                    aftermath.as_ref(),
+                )
+                .await;
+            modules
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .push(section);
+        }
         row.ok = ending == RunEnding::Completed;
         if ending == RunEnding::Cancelled {
             row.note = "cancelled (Ctrl-C)".into();
@@ -603,6 +850,10 @@ struct Runner<'a> {
     format: Format,
     /// The module, when the file runs on several: its results say which.
     module: Option<&'a FleetModule>,
+    /// The facts for the commissioning sheet, when one was asked for.
+    record: Option<&'a ModuleRecord>,
+    /// The parameter files the file applies, checked.
+    params: &'a ParamFiles,
 }
 
 impl Runner<'_> {
@@ -626,6 +877,18 @@ impl Runner<'_> {
                     Some(module) => {
                         print_module_outcome(self.format, family, module, text, &at, &outcome)
                     }
+                }
+                if let Some(record) = self.record {
+                    let (answer, canonical) = match &outcome {
+                        Ok(result) => (result.value.to_string(), Some(line.canonical.as_str())),
+                        Err(e) => (e.to_string(), None),
+                    };
+                    record.line(
+                        item.step.line_number,
+                        Some(answer),
+                        outcome.is_ok(),
+                        canonical,
+                    );
                 }
                 outcome.is_ok()
             }
@@ -655,6 +918,7 @@ impl Runner<'_> {
                     Ok(_) => {}
                     Err(e) => eprintln!("{at}{e}"),
                 }
+                self.record_check(item, &outcome, ok);
                 ok
             }
             (
@@ -666,6 +930,7 @@ impl Runner<'_> {
                 Some(line),
             ) => {
                 let (last, ok) = self.wait_until(&at, line, value, *timeout).await;
+                self.record_check(item, &last, ok);
                 self.print_check(&CheckOutcome {
                     directive: "wait-until",
                     line: text,
@@ -678,9 +943,15 @@ impl Runner<'_> {
             }
             (Action::Sleep(duration), _) => {
                 tokio::time::sleep(*duration).await;
+                if let Some(record) = self.record {
+                    record.line(item.step.line_number, None, true, None);
+                }
                 true
             }
             (Action::Echo(text), _) => {
+                if let Some(record) = self.record {
+                    record.line(item.step.line_number, Some(text.clone()), true, None);
+                }
                 match (self.format, self.module) {
                     (Format::Text, None) => println!("{text}"),
                     (Format::Text, Some(module)) => println!("{}: {text}", module.who()),
@@ -693,13 +964,94 @@ impl Runner<'_> {
                 }
                 true
             }
+            (Action::ApplyParams { file, store }, _) => {
+                self.apply_params(&at, item.step.line_number, file, *store)
+                    .await
+            }
             // Said of the file as a whole (see `run_then_end_on`).
-            (Action::LeaveMoving, _) => true,
+            (Action::LeaveMoving, _) => {
+                if let Some(record) = self.record {
+                    record.line(item.step.line_number, None, true, None);
+                }
+                true
+            }
             // check_script prepares a line for every step that has one.
             (_, None) => {
                 eprintln!("{at}internal error: the line was not checked");
                 false
             }
+        }
+    }
+
+    /// Apply the checked parameter file of line `number` as `params
+    /// apply` does (only values that differ written, each read back where
+    /// the family can; with `store` stored afterwards): one line saying
+    /// what was done; false if anything failed or reads back otherwise.
+    async fn apply_params(&self, at: &str, number: usize, file: &str, store: bool) -> bool {
+        let family = self.session.family();
+        let (Some(entries), Some(parameters)) =
+            (self.params.get(&number), family.console.parameters())
+        else {
+            eprintln!("{at}internal error: the parameter file was not checked");
+            return false;
+        };
+        let options = ApplyOptions {
+            store,
+            dry_run: false,
+        };
+        let report =
+            crate::session::params::apply(self.session, parameters, entries, options).await;
+        let ok = report.succeeded();
+        let stored = store && ok && report.stored.iter().all(|s| s.result.is_ok());
+        let mut said = format!(
+            "{file}: {} written, {} verified",
+            report.written(),
+            report.verified()
+        );
+        if store {
+            said += &format!(
+                ", {} stored",
+                report.stored.iter().filter(|s| s.result.is_ok()).count()
+            );
+        }
+        if !ok {
+            said += &format!(
+                ", {} failed, {} read back otherwise",
+                report.failed(),
+                report.differs()
+            );
+            eprintln!("{at}{said}");
+        }
+        match (self.format, self.module) {
+            (Format::Text, None) => println!("{said}"),
+            (Format::Text, Some(module)) => println!("{}: {said}", module.who()),
+            (Format::Json, module) => {
+                let mut object = json!({ "params": file, "said": said, "ok": ok });
+                if let Some(module) = module {
+                    module.mark(&mut object);
+                }
+                println!("{object}");
+            }
+        }
+        if let Some(record) = self.record {
+            record.params_applied(number, file, said, ok, stored);
+        }
+        ok
+    }
+
+    /// A check's reading for the sheet: the value read, or the error.
+    fn record_check(
+        &self,
+        item: &CheckedStep,
+        outcome: &Result<LineResult, SessionError>,
+        ok: bool,
+    ) {
+        if let Some(record) = self.record {
+            let actual = match outcome {
+                Ok(result) => result.value.to_string(),
+                Err(e) => e.to_string(),
+            };
+            record.check(item.step.line_number, actual, ok);
         }
     }
 

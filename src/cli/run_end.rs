@@ -133,6 +133,20 @@ pub async fn run_then_end_on(
     report: &RunReport<'_>,
     work: impl Future<Output = bool>,
 ) -> RunEnding {
+    run_then_end_with(session, interrupt, policy, report, work)
+        .await
+        .0
+}
+
+/// [`run_then_end_on`], also giving what was done about the axes (for the
+/// commissioning sheet): `None` when a second signal gave up the stop.
+pub async fn run_then_end_with(
+    session: &Session,
+    interrupt: &mut Interrupt,
+    policy: StopOnFailure,
+    report: &RunReport<'_>,
+    work: impl Future<Output = bool>,
+) -> (RunEnding, Option<RunAftermath>) {
     let ending = tokio::select! {
         ok = work => RunEnding::from_success(ok),
         signal = interrupt.received() => {
@@ -154,7 +168,7 @@ pub async fn run_then_end_on(
         other => other,
     };
     if ending == RunEnding::Completed {
-        return ending;
+        return (ending, Some(RunAftermath::Completed));
     }
     let aftermath = tokio::select! {
         aftermath = session.end_run(ending, policy) => aftermath,
@@ -164,11 +178,11 @@ pub async fn run_then_end_on(
                 report.prefix,
                 signal.name()
             );
-            return RunEnding::Cancelled;
+            return (RunEnding::Cancelled, None);
         }
     };
     print_aftermath(session, report, &aftermath);
-    ending
+    (ending, Some(aftermath))
 }
 
 /// `work` (one-shot lines, `axterm exec`: its exit code) to its end, or to

@@ -27,6 +27,11 @@ pub fn run_options(rest: &str) -> (StopOnFailure, &str) {
     }
 }
 
+/// Why the console's `:run` refuses `:params`: applying a parameter file
+/// is `axterm run`'s; the console has the parameter pane's import.
+const PARAMS_IN_RUN_ONLY: &str = ":params applies a parameter file in `axterm run` only; in \
+     the console use the parameter pane's import";
+
 /// What the batch needs done next.
 #[derive(Debug, Clone, PartialEq)]
 pub enum BatchStep {
@@ -85,6 +90,15 @@ impl Batch {
         address: u8,
     ) -> Result<Batch, Vec<String>> {
         let checked = check_script(name, text, family, address)?;
+        // Refused with the file, before anything is sent.
+        let only_in_run: Vec<String> = checked
+            .iter()
+            .filter(|c| matches!(c.step.action, Action::ApplyParams { .. }))
+            .map(|c| format!("{name}:{}: {PARAMS_IN_RUN_ONLY}", c.step.line_number))
+            .collect();
+        if !only_in_run.is_empty() {
+            return Err(only_in_run);
+        }
         let confirm = checked
             .iter()
             .filter_map(|c| {
@@ -167,6 +181,14 @@ impl Batch {
                 }
                 // Said of the file as a whole: nothing to do where it stands.
                 Action::LeaveMoving => self.next += 1,
+                // Refused by `Batch::check`.
+                Action::ApplyParams { .. } => {
+                    out.push(BatchStep::Failed(format!(
+                        "{}{PARAMS_IN_RUN_ONLY}",
+                        self.at()
+                    )));
+                    return out;
+                }
                 Action::Line(line) | Action::Expect { line, .. } => {
                     out.push(BatchStep::Send(line.clone()));
                     return out;
@@ -350,6 +372,13 @@ mod tests {
             run_options("--no-stop-on-failure.txt"),
             (StopOnFailure::Stop, "--no-stop-on-failure.txt")
         );
+    }
+
+    #[test]
+    fn a_file_that_applies_a_parameter_file_is_refused_before_anything_is_sent() {
+        let problems =
+            Batch::check("f.txt", "GAP 4, 0\n:params axis.toml\n", tmcl(), 1).expect_err("refused");
+        assert_eq!(problems, [format!("f.txt:2: {PARAMS_IN_RUN_ONLY}")]);
     }
 
     #[test]

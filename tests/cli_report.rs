@@ -1,0 +1,347 @@
+//! `axterm run FILE --report SHEET.html --report-json SHEET.json` against
+//! the simulators: the commissioning example of a family run end to end,
+//! the page parsed with a real HTML parser and the JSON validated against
+//! the schema; a failing check named in the verdict; hostile text from a
+//! run file shown as text; an existing sheet never replaced without
+//! --force (and then nothing is sent); one section per module of a bus.
+
+mod cli_support;
+mod report_support;
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use cli_support::{axterm, stderr};
+use scraper::{Html, Selector};
+use serde_json::Value;
+
+const TMCL_EXAMPLE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/tmcl/commission.txt");
+
+fn text(path: &Path) -> String {
+    path.to_string_lossy().into_owned()
+}
+
+fn select_text(page: &Html, css: &str) -> Vec<String> {
+    let selector = Selector::parse(css).expect("selector");
+    page.select(&selector)
+        .map(|e| e.text().collect::<String>())
+        .collect()
+}
+
+/// The sheet's page and JSON after a run, the JSON checked against the
+/// schema.
+fn sheet(html: &Path, json: &Path) -> (Html, Value) {
+    let page = Html::parse_document(&std::fs::read_to_string(html).expect("the page"));
+    let json: Value =
+        serde_json::from_str(&std::fs::read_to_string(json).expect("the JSON")).expect("JSON");
+    let problems = report_support::validate(&report_support::schema(), &json);
+    assert!(problems.is_empty(), "{problems:#?}");
+    (page, json)
+}
+
+fn run_example(extra: &[&str]) -> (Output, Html, Value) {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (html, json) = (dir.path().join("s.html"), dir.path().join("s.json"));
+    let mut args = vec![
+        "run",
+        "--sim",
+        "tmcm1110",
+        "--yes",
+        TMCL_EXAMPLE,
+        "--report",
+    ];
+    let (html_arg, json_arg) = (text(&html), text(&json));
+    args.extend([html_arg.as_str(), "--report-json", json_arg.as_str()]);
+    args.extend(extra);
+    let out = axterm(&args);
+    let (page, json) = sheet(&html, &json);
+    (out, page, json)
+}
+
+#[test]
+fn the_tmcl_commissioning_example_hands_over_a_passing_sheet() {
+    let (out, page, json) = run_example(&["--operator", "Ada Lovelace"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let headline = &select_text(&page, "#verdict .headline")[0];
+    assert!(headline.contains("✓ PASS"), "{headline}");
+    // Seven :expect/:wait-until lines and the run's end.
+    assert!(headline.contains("All 8 checks passed"), "{headline}");
+    let run = &select_text(&page, "#run")[0];
+    assert!(
+        run.contains("Ada Lovelace") && run.contains("commission.txt"),
+        "{run}"
+    );
+    let identity = &select_text(&page, "#module-1 .identity")[0];
+    // The simulator's answer to TMCL 136 (firmware version string).
+    assert!(identity.contains("1110V112"), "{identity}");
+    assert!(identity.contains("--sim tmcm1110"), "{identity}");
+    let settings = &select_text(&page, "#module-1 .settings")[0];
+    assert!(
+        settings.contains("Parameter file appliedaxis.toml"),
+        "{settings}"
+    );
+    assert!(settings.contains("Stored to EEPROMyes"), "{settings}");
+    // Power down delay (axis parameter 214) set to 100 against its
+    // factory default 200: the only setting flagged.
+    let differs = select_text(&page, "#module-1 .settings-table tr.differs");
+    assert_eq!(differs.len(), 1, "{differs:?}");
+    assert!(differs[0].contains("Power down delay") && differs[0].contains("100"));
+    let checks = select_text(&page, "#module-1 .expectations tbody tr");
+    assert_eq!(checks.len(), 7, "{checks:?}");
+    assert!(checks.iter().all(|c| c.contains("✓ PASS")), "{checks:?}");
+    let lines = select_text(&page, "#module-1 .lines tbody tr");
+    assert!(
+        lines.iter().any(|l| l.contains(":params axis.toml --store")
+            && l.contains("2 written, 2 verified")
+            && l.contains("✓ ok")),
+        "{lines:?}"
+    );
+    let end = &select_text(&page, "#module-1 .run-end")[0];
+    assert!(
+        end.contains("completed") && end.contains("No emergency stop"),
+        "{end}"
+    );
+    assert_eq!(json["verdict"]["passed"], true);
+    assert_eq!(json["operator"], "Ada Lovelace");
+    assert_eq!(json["modules"][0]["identity"]["firmware"], "1110V112");
+}
+
+#[test]
+fn a_check_that_fails_is_named_in_the_verdict_with_the_emergency_stop() {
+    // The enable input IN1 held low: the file's `:expect GIO 1, 0 == 1`
+    // (line 14) fails, and the run ends with the stop sequence.
+    let (out, page, json) = run_example(&["--input", "IN1=0"]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let headline = &select_text(&page, "#verdict .headline")[0];
+    assert!(headline.contains("✗ FAIL"), "{headline}");
+    assert!(
+        headline.contains("line 14 `GIO 1, 0` expected 1, got 0"),
+        "{headline}"
+    );
+    let failed = select_text(&page, "#module-1 .expectations tr.fail");
+    assert!(failed[0].contains("GIO 1, 0") && failed[0].contains("✗ FAIL"));
+    // The homing checks after it never ran, and say so.
+    assert!(failed.iter().filter(|f| f.contains("NOT RUN")).count() == 2);
+    let stop = &select_text(&page, "#module-1 .emergency-stop")[0];
+    assert!(
+        stop.contains("EMERGENCY STOP") && stop.contains("MST 0"),
+        "{stop}"
+    );
+    assert_eq!(json["verdict"]["passed"], false);
+    assert_eq!(json["modules"][0]["checks"]["run_end"]["ending"], "failed");
+}
+
+#[test]
+fn a_hostile_comment_shows_as_text() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("hostile.txt");
+    std::fs::write(
+        &file,
+        "# <script>alert(1)</script> & co\n:echo <b>bold</b> & \"quoted\"\nGAP 4, 0\n",
+    )
+    .expect("write");
+    let (html, json) = (dir.path().join("s.html"), dir.path().join("s.json"));
+    let out = axterm(&[
+        "run",
+        "--sim",
+        "tmcm1110",
+        &text(&file),
+        "--report",
+        &text(&html),
+        "--report-json",
+        &text(&json),
+        "--operator",
+        "<i>root</i>",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let (page, _) = sheet(&html, &json);
+    for element in ["script", "b", "i"] {
+        let selector = Selector::parse(element).expect("selector");
+        assert!(
+            page.select(&selector).next().is_none(),
+            "a <{element}> got in"
+        );
+    }
+    let lines = select_text(&page, "#module-1 .lines");
+    assert!(
+        lines[0].contains("# <script>alert(1)</script> & co"),
+        "{lines:?}"
+    );
+    assert!(lines[0].contains("<b>bold</b> & \"quoted\""), "{lines:?}");
+    assert!(select_text(&page, "#run")[0].contains("<i>root</i>"));
+}
+
+#[test]
+fn an_existing_sheet_is_refused_without_force_and_nothing_is_sent() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let html = dir.path().join("s.html");
+    std::fs::write(&html, "the sheet of yesterday").expect("write");
+    // A run file that would fail if it were sent: nothing may be.
+    let file = dir.path().join("f.txt");
+    std::fs::write(&file, ":expect GAP 4, 0 == 12345\n").expect("write");
+    let out = axterm(&[
+        "run",
+        "--sim",
+        "tmcm1110",
+        &text(&file),
+        "--report",
+        &text(&html),
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("give --force to replace it"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(
+        stderr(&out).contains("nothing was sent"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!stderr(&out).contains("12345"), "{}", stderr(&out));
+    assert_eq!(
+        std::fs::read_to_string(&html).expect("read"),
+        "the sheet of yesterday"
+    );
+    let json = dir.path().join("s.json");
+    let out = axterm(&[
+        "run",
+        "--sim",
+        "tmcm1110",
+        &text(&file),
+        "--report",
+        &text(&html),
+        "--report-json",
+        &text(&json),
+        "--force",
+    ]);
+    // The check fails (the run says 1) and the sheet is replaced.
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let (page, _) = sheet(&html, &json);
+    assert!(select_text(&page, "#verdict .headline")[0].contains("expected 12345"));
+}
+
+#[test]
+fn the_operator_defaults_to_the_login_name() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let json = dir.path().join("s.json");
+    let file = dir.path().join("f.txt");
+    std::fs::write(&file, "GAP 4, 0\n").expect("write");
+    let out = Command::new(env!("CARGO_BIN_EXE_axterm"))
+        .args(["run", "--sim", "tmcm1110", &text(&file), "--report-json"])
+        .arg(&json)
+        .env("USER", "technician-7")
+        .output()
+        .expect("run axterm");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let value: Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).expect("read")).expect("JSON");
+    assert_eq!(value["operator"], "technician-7");
+}
+
+#[test]
+fn every_module_of_a_bus_gets_its_section_and_a_silent_one_fails_the_sheet() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (html, json) = (dir.path().join("s.html"), dir.path().join("s.json"));
+    let file = dir.path().join("f.txt");
+    std::fs::write(&file, ":expect GAP 4, 0 == 1000\n").expect("write");
+    // The simulated bus has module 1 only: module 2 does not answer.
+    let out = axterm(&[
+        "run",
+        "--sim",
+        "tmcm1110",
+        "--addresses",
+        "1,2",
+        &text(&file),
+        "--report",
+        &text(&html),
+        "--report-json",
+        &text(&json),
+    ]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let (page, json) = sheet(&html, &json);
+    assert_eq!(select_text(&page, "section.module").len(), 2);
+    assert!(select_text(&page, "#module-1 .verdict")[0].contains("✓ PASS"));
+    let second = &select_text(&page, "#module-2 .verdict")[0];
+    assert!(
+        second.contains("✗ FAIL") && second.contains("does not answer"),
+        "{second}"
+    );
+    assert_eq!(json["modules"][1]["identity"]["address"], 2);
+    assert_eq!(json["verdict"]["passed"], false);
+}
+
+#[test]
+fn the_cmd4cr_commissioning_example_passes_and_a_limit_switch_on_fails_it() {
+    let example = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/cmd4cr/commission.txt"
+    );
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (html, json) = (dir.path().join("s.html"), dir.path().join("s.json"));
+    let (html_arg, json_arg) = (text(&html), text(&json));
+    let args = [
+        "run",
+        "--sim",
+        "cmd4cr",
+        "--yes",
+        example,
+        "--report",
+        &html_arg,
+        "--report-json",
+        &json_arg,
+        "--force",
+    ];
+    let out = axterm(&args);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let (page, value) = sheet(&html, &json);
+    let headline = &select_text(&page, "#verdict .headline")[0];
+    assert!(
+        headline.contains("✓ PASS") && headline.contains("All 5 checks passed"),
+        "{headline}"
+    );
+    assert_eq!(value["modules"][0]["identity"]["family"], "cmd4cr");
+    // The −limit switch of X on (MSTX bit 5, Table 2-28): the switch check
+    // fails and the verdict says which line and what was read.
+    let mut failing = args.to_vec();
+    failing.extend(["--input", "L-X=1"]);
+    let out = axterm(&failing);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let (page, _) = sheet(&html, &json);
+    let headline = &select_text(&page, "#verdict .headline")[0];
+    assert!(headline.contains("✗ FAIL"), "{headline}");
+    assert!(headline.contains("`MSTX` expected 0, got 32"), "{headline}");
+}
+
+#[test]
+fn a_parameter_file_that_does_not_check_sends_nothing() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    std::fs::write(
+        dir.path().join("bad.toml"),
+        "family = \"tmcl\"\n[axis.0]\n6 = 300\n",
+    )
+    .expect("write");
+    let file = dir.path().join("f.txt");
+    // The first line would fail if it were sent: nothing may be.
+    std::fs::write(&file, ":expect GAP 4, 0 == 12345\n:params bad.toml\n").expect("write");
+    let json = dir.path().join("s.json");
+    let out = axterm(&[
+        "run",
+        "--sim",
+        "tmcm1110",
+        &text(&file),
+        "--report-json",
+        &text(&json),
+    ]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("f.txt:2: ") && err.contains("bad.toml"),
+        "{err}"
+    );
+    assert!(
+        err.contains("nothing was sent") && !err.contains("12345"),
+        "{err}"
+    );
+    assert!(!json.exists(), "a sheet of a run that never ran");
+}
