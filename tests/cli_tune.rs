@@ -247,3 +247,79 @@ fn a_sweep_reads_lower_under_load_and_two_sweeps_suggest_a_threshold() {
         stderr(&out)
     );
 }
+
+fn coolstep(load: &str, extra: &[&str]) -> std::process::Output {
+    let mut args = vec![
+        "tune",
+        "coolstep",
+        "--sim",
+        "tmcm1110",
+        "--input",
+        load,
+        "--set",
+        "AP172=2",
+        "--run",
+        "1000",
+        "--samples",
+        "5",
+        "--every",
+        "400",
+    ];
+    args.extend(extra);
+    axterm(&args)
+}
+
+#[test]
+fn coolstep_lowers_the_current_without_load_and_shows_the_form_with_its_meanings() {
+    let loaded = coolstep("LOAD=60", &["--format", "json"]);
+    assert_eq!(loaded.status.code(), Some(0), "{}", stderr(&loaded));
+    let free = coolstep("LOAD=0", &["--format", "json"]);
+    assert_eq!(free.status.code(), Some(0), "{}", stderr(&free));
+    let (loaded, free) = (json(&loaded), json(&free));
+    let last = |v: &serde_json::Value| v["samples"][4]["share"].as_f64().unwrap();
+    assert!(
+        last(&free) < last(&loaded),
+        "{} vs {}",
+        last(&free),
+        last(&loaded)
+    );
+    assert!(
+        last(&loaded) < 1.0,
+        "CoolStep lowers the current under 60 % load too"
+    );
+    let form = loaded["form"].as_array().unwrap();
+    let ap172 = form.iter().find(|f| f["name"] == "AP172").expect("AP172");
+    assert_eq!(ap172["value"], 2);
+    assert!(
+        ap172["meaning"]
+            .as_str()
+            .unwrap()
+            .contains("turns CoolStep off")
+    );
+    // The motor turned at the asked speed while it was watched.
+    assert_eq!(loaded["samples"][4]["speed"], 1000);
+    let text = coolstep("LOAD=0", &[]);
+    assert!(
+        stdout(&text).contains("CoolStep saved"),
+        "{}",
+        stdout(&text)
+    );
+}
+
+#[test]
+fn coolstep_refuses_a_setting_outside_the_form_and_sends_nothing() {
+    for (set, said) in [
+        ("AP172=16", "AP172 takes 0..15, not 16"),
+        ("AP180=3", "read only"),
+        ("AP4=1", "not a CoolStep parameter"),
+        ("AP172=1.5", "a whole number"),
+    ] {
+        let out = axterm(&["tune", "coolstep", "--sim", "tmcm1110", "--set", set]);
+        assert_eq!(out.status.code(), Some(2), "{set}");
+        assert!(stderr(&out).contains(said), "{set}: {}", stderr(&out));
+        assert!(stdout(&out).is_empty());
+    }
+    let out = axterm(&["tune", "coolstep", "--sim", "cmd4cr"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("no CoolStep current control"));
+}

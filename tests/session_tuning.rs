@@ -161,3 +161,47 @@ async fn a_step_that_trips_stops_the_axis_and_names_the_flags() {
     assert_eq!(figures.target, 20.0);
     assert!(figures.settling_time.is_some(), "{figures:?}");
 }
+
+#[tokio::test(start_paused = true)]
+async fn a_current_watch_that_turned_the_motor_stops_it_after() {
+    use axterm::protocol::jog::Direction;
+    use axterm::session::tuning::WatchRun;
+    let session = open("tmcl").await;
+    let console = session.family().console;
+    let plan = console.current_control().expect("TMCL has CoolStep");
+    let run = WatchRun {
+        jog: console.jog().expect("a jog"),
+        direction: Direction::Positive,
+        speed: 800,
+    };
+    let watched = session
+        .watch_current(
+            plan,
+            0,
+            &[("AP172".into(), 2)],
+            Some(run),
+            4,
+            std::time::Duration::from_millis(500),
+        )
+        .await
+        .expect("a watch");
+    assert_eq!(watched.samples.len(), 4);
+    assert_eq!(watched.samples[3].speed, Some(800));
+    assert!(watched.mean_share().is_some());
+    tokio::time::sleep(std::time::Duration::from_secs(2)).await;
+    assert_eq!(speed(&session).await, 0);
+    // A setting outside the form is refused before anything moves.
+    let refused = session
+        .watch_current(
+            plan,
+            0,
+            &[("AP172".into(), 99)],
+            Some(run),
+            1,
+            Default::default(),
+        )
+        .await
+        .expect_err("AP172 99 is out of range");
+    assert!(refused.to_string().contains("0..15"), "{refused}");
+    assert_eq!(speed(&session).await, 0);
+}

@@ -10,6 +10,7 @@
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
+use std::time::Duration;
 
 use clap::{Args, Subcommand, ValueEnum};
 
@@ -18,8 +19,9 @@ use super::output::Format;
 use super::run_end::{AtTheEnd, Interrupt, RunReport, exit_or_stop_on_signal};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::protocol::console::AxisInfo;
+use crate::protocol::jog::Direction;
 use crate::protocol::tuning::{StepAsk, StepSpec, SweepAsk, SweepPoint};
-use crate::session::tuning::{StepRun, SweepRun};
+use crate::session::tuning::{CurrentRun, StepRun, SweepRun, WatchRun};
 
 #[derive(Debug, Clone, Subcommand)]
 pub enum TuneCommand {
@@ -31,6 +33,35 @@ pub enum TuneCommand {
     /// --compare a sweep saved without load, a suggested threshold (AP174)
     /// and stop-on-stall speed (AP181).
     Stallguard(SweepArgs),
+    /// The CoolStep form (TMCL AP168-172, 180, 182, 183) with the manual's
+    /// meaning of each, and a watch of the actual current (AP180) and load
+    /// (AP206) over time: the current's share of the AP6 current is the
+    /// energy CoolStep saves.
+    Coolstep(CurrentArgs),
+}
+
+#[derive(Debug, Clone, Args)]
+pub struct CurrentArgs {
+    /// The axis, as the family numbers it (TMCL motor 0 is 0).
+    #[arg(long)]
+    pub axis: Option<u8>,
+    /// Settings to write first, NAME=VALUE separated by commas
+    /// (AP172=2,AP170=4); checked against the form before anything is
+    /// sent.
+    #[arg(long, value_name = "NAME=VALUE,…")]
+    pub set: Option<String>,
+    /// Turn the motor at this speed while watching (negative: the other
+    /// way), and stop it after; without it the watch only reads.
+    #[arg(long, allow_negative_numbers = true)]
+    pub run: Option<i64>,
+    /// How many readings.
+    #[arg(long, default_value_t = 10)]
+    pub samples: u32,
+    /// Milliseconds between two readings.
+    #[arg(long, default_value_t = 200)]
+    pub every: u64,
+    #[arg(long, value_enum, default_value_t)]
+    pub format: TuneFormat,
 }
 
 /// How the result is printed.
@@ -98,6 +129,7 @@ pub fn run(connection: &ConnectionArgs, command: &TuneCommand) -> i32 {
     match command {
         TuneCommand::Step(args) => run_step(connection, args),
         TuneCommand::Stallguard(args) => run_sweep(connection, args),
+        TuneCommand::Coolstep(args) => run_current(connection, args),
     }
 }
 
@@ -449,6 +481,204 @@ fn run_sweep(connection: &ConnectionArgs, args: &SweepArgs) -> i32 {
         };
         exit_or_stop_on_signal(&session, interrupt, &report, work).await
     })
+}
+
+fn run_current(connection: &ConnectionArgs, args: &CurrentArgs) -> i32 {
+    let target = match Target::resolve(connection) {
+        Ok(target) => target,
+        Err(message) => {
+            eprintln!("axterm tune coolstep: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    let Some(plan) = target.family.console.current_control() else {
+        eprintln!(
+            "axterm tune coolstep: the {} family has no CoolStep current control (TMCL has)",
+            target.family.name
+        );
+        return EXIT_USAGE;
+    };
+    let (index, axis) = match axis_of(&target, args.axis) {
+        Ok(found) => found,
+        Err(message) => {
+            eprintln!("axterm tune coolstep: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    let set = match args.set.as_deref().map(parse_settings).transpose() {
+        Ok(set) => set.unwrap_or_default(),
+        Err(message) => {
+            eprintln!("axterm tune coolstep: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    let mut whole = Vec::new();
+    for (name, value) in set {
+        if value.fract() != 0.0 {
+            eprintln!(
+                "axterm tune coolstep: --set {name}={value}: a whole number (nothing was sent)"
+            );
+            return EXIT_USAGE;
+        }
+        if let Err(why) = plan.write(&axis, &name, value as i64) {
+            eprintln!("axterm tune coolstep: --set {name}: {why} (nothing was sent)");
+            return EXIT_USAGE;
+        }
+        whole.push((name, value as i64));
+    }
+    let jog = target.family.console.jog();
+    let run = match (args.run, jog) {
+        (None, _) => None,
+        (Some(_), None) => {
+            eprintln!(
+                "axterm tune coolstep: --run: the {} family has no jog",
+                target.family.name
+            );
+            return EXIT_USAGE;
+        }
+        (Some(speed), Some(jog)) => {
+            let direction = if speed < 0 {
+                Direction::Negative
+            } else {
+                Direction::Positive
+            };
+            if let Err(why) = jog.run(&axis, direction, speed.abs()) {
+                eprintln!("axterm tune coolstep: --run {speed}: {why} (nothing was sent)");
+                return EXIT_USAGE;
+            }
+            Some((jog, direction, speed.abs()))
+        }
+    };
+    if args.samples == 0 {
+        eprintln!("axterm tune coolstep: --samples 0: a watch takes one reading or more");
+        return EXIT_USAGE;
+    }
+    let (samples, every, format) = (args.samples, Duration::from_millis(args.every), args.format);
+    run_to_exit("tune coolstep", async move {
+        let session = match target.open().await {
+            Ok(session) => session,
+            Err(e) => {
+                eprintln!("axterm tune coolstep: {e}");
+                return EXIT_CONNECTION;
+            }
+        };
+        let interrupt = match Interrupt::watch() {
+            Ok(interrupt) => interrupt,
+            Err(e) => {
+                eprintln!("axterm tune coolstep: cannot watch for Ctrl-C: {e}");
+                return EXIT_DEVICE;
+            }
+        };
+        let work = async {
+            let run = run.map(|(jog, direction, speed)| WatchRun {
+                jog,
+                direction,
+                speed,
+            });
+            match session
+                .watch_current(plan, index, &whole, run, samples, every)
+                .await
+            {
+                Ok(run) => {
+                    print!("{}", show_current(&run, format));
+                    EXIT_OK
+                }
+                Err(error) => {
+                    eprintln!("axterm tune coolstep: {error}");
+                    EXIT_DEVICE
+                }
+            }
+        };
+        let report = RunReport {
+            prefix: "axterm tune coolstep: ",
+            format: Format::Text,
+            at_the_end: AtTheEnd::Nothing,
+        };
+        exit_or_stop_on_signal(&session, interrupt, &report, work).await
+    })
+}
+
+/// A current watch in `format`.
+pub fn show_current(run: &CurrentRun, format: TuneFormat) -> String {
+    let mut out = String::new();
+    let shown = |v: Option<i64>| v.map_or_else(|| "-".to_string(), |v| v.to_string());
+    let percent =
+        |v: Option<f64>| v.map_or_else(|| "-".to_string(), |v| format!("{:.0}", v * 100.0));
+    match format {
+        TuneFormat::Csv => {
+            out.push_str("time_s,speed,current,load,share_percent\n");
+            for s in &run.samples {
+                let _ = writeln!(
+                    out,
+                    "{:.3},{},{},{},{}",
+                    s.time,
+                    shown(s.speed),
+                    shown(s.current),
+                    shown(s.load),
+                    percent(s.share)
+                );
+            }
+        }
+        TuneFormat::Json => {
+            let object = serde_json::json!({
+                "form": run.form.iter().map(|(f, v)| serde_json::json!({
+                    "name": f.name,
+                    "title": f.title,
+                    "meaning": f.meaning,
+                    "value": v,
+                    "range": [f.min, f.max],
+                    "writable": f.writable,
+                })).collect::<Vec<_>>(),
+                "full": run.full,
+                "samples": run.samples.iter().map(|s| serde_json::json!({
+                    "time_s": s.time,
+                    "speed": s.speed,
+                    "current": s.current,
+                    "load": s.load,
+                    "share": s.share,
+                })).collect::<Vec<_>>(),
+                "mean_share": run.mean_share(),
+            });
+            let _ = writeln!(out, "{object}");
+        }
+        TuneFormat::Text => {
+            for (field, value) in &run.form {
+                let _ = writeln!(
+                    out,
+                    "{:<6} {:>5}  {} ({}..{}{}): {}",
+                    field.name,
+                    shown(*value),
+                    field.title,
+                    field.min,
+                    field.max,
+                    if field.writable { "" } else { ", read only" },
+                    field.meaning
+                );
+            }
+            for s in &run.samples {
+                let _ = writeln!(
+                    out,
+                    "{:>7.3} s: speed {}, current {}, load {}, {} % of the full current",
+                    s.time,
+                    shown(s.speed),
+                    shown(s.current),
+                    shown(s.load),
+                    percent(s.share)
+                );
+            }
+            if let Some(mean) = run.mean_share() {
+                let _ = writeln!(
+                    out,
+                    "mean current {:.0} % of the full current (AP6 {}): CoolStep saved {:.0} % \
+                     of the current",
+                    mean * 100.0,
+                    shown(run.full),
+                    (1.0 - mean).max(0.0) * 100.0
+                );
+            }
+        }
+    }
+    out
 }
 
 /// The points of a sweep saved with `--format json`.

@@ -718,6 +718,12 @@ pub trait FamilyConsole: Send + Sync {
         None
     }
 
+    /// A load-adaptive current control (TMCL CoolStep: the form, a watch of
+    /// current and load); `None` where the family has none.
+    fn current_control(&self) -> Option<&'static dyn crate::protocol::tuning::CurrentControlPlan> {
+        None
+    }
+
     /// The family's parameter tables and how to read, write, store and
     /// restore one, for the parameter table; `None` if it has none.
     fn parameters(&self) -> Option<&'static dyn ParameterSet> {

@@ -183,6 +183,54 @@ pub trait StallSweepPlan: Sync {
     ) -> SweepSuggestion;
 }
 
+/// One setting of a current-control form (TMCL CoolStep).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FormField {
+    /// The family's own name (`AP172`).
+    pub name: &'static str,
+    /// Its name in the manual.
+    pub title: &'static str,
+    /// What it does, from the manual.
+    pub meaning: &'static str,
+    pub min: i64,
+    pub max: i64,
+    /// False for a status value.
+    pub writable: bool,
+}
+
+/// The lines a current-control watch reads each time.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CurrentWatch {
+    /// The current the driver sets now.
+    pub current: String,
+    /// The load reading.
+    pub load: String,
+    /// The actual speed.
+    pub speed: String,
+    /// The full (maximum) current setting the ratio is taken to.
+    pub full: String,
+}
+
+/// A family's load-adaptive current control (TMCL CoolStep, §7.3).
+pub trait CurrentControlPlan: Sync {
+    /// The form's settings, in the manual's order.
+    fn form(&self) -> Vec<FormField>;
+
+    /// The line that reads `field` of `axis`.
+    fn read(&self, axis: &AxisInfo, field: &FormField) -> String;
+
+    /// The line that writes `value` into the setting named `name`, checked
+    /// against the form.
+    fn write(&self, axis: &AxisInfo, name: &str, value: i64) -> Result<String, TuneError>;
+
+    /// What a watch reads.
+    fn watch(&self, axis: &AxisInfo) -> CurrentWatch;
+
+    /// The current as a share of the full current (0..1), from the two
+    /// readings of [`CurrentWatch`].
+    fn share(&self, current: i64, full: i64) -> Option<f64>;
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -11,9 +11,10 @@ use tokio::time::Instant;
 
 use super::{Session, SessionError};
 use crate::protocol::console::{AxisFlag, ReplyValue};
+use crate::protocol::jog::{Direction, JogPlan};
 use crate::protocol::tuning::{
-    StallSweepPlan, StepAsk, StepFigures, StepResponsePlan, StepSample, StepSpec, SweepAction,
-    SweepAsk, SweepPoint, TuneError, step_figures,
+    CurrentControlPlan, FormField, StallSweepPlan, StepAsk, StepFigures, StepResponsePlan,
+    StepSample, StepSpec, SweepAction, SweepAsk, SweepPoint, TuneError, step_figures,
 };
 
 /// How long a sweep waits for the motor to reach one of its speeds.
@@ -65,6 +66,42 @@ pub struct SweepRun {
     pub points: Vec<SweepPoint>,
     /// The threshold in force during the sweep, as read.
     pub threshold: Option<i64>,
+}
+
+/// One reading of a current-control watch.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CurrentSample {
+    /// Seconds since the watch began.
+    pub time: f64,
+    pub speed: Option<i64>,
+    pub current: Option<i64>,
+    pub load: Option<i64>,
+    /// The current as a share of the full current.
+    pub share: Option<f64>,
+}
+
+/// What a current-control watch gave: the form as read, and the readings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CurrentRun {
+    pub form: Vec<(FormField, Option<i64>)>,
+    pub full: Option<i64>,
+    pub samples: Vec<CurrentSample>,
+}
+
+impl CurrentRun {
+    /// The mean share of the full current over the samples that have one.
+    pub fn mean_share(&self) -> Option<f64> {
+        let shares: Vec<f64> = self.samples.iter().filter_map(|s| s.share).collect();
+        (!shares.is_empty()).then(|| shares.iter().sum::<f64>() / shares.len() as f64)
+    }
+}
+
+/// How a current-control watch turns the motor, if it does.
+#[derive(Clone, Copy)]
+pub struct WatchRun<'a> {
+    pub jog: &'a dyn JogPlan,
+    pub direction: Direction,
+    pub speed: i64,
 }
 
 /// The text of a line's answer, as a plan reads it.
@@ -215,6 +252,78 @@ impl Session {
         let done = result?;
         stopped?;
         Ok(done)
+    }
+
+    /// Write `set` (checked against the form first: nothing is sent if
+    /// one is refused), read the form, then read current, load and speed
+    /// `samples` times, `every` apart; with `run`, the motor turns while
+    /// it watches and is stopped after, however the watch ends.
+    pub async fn watch_current(
+        &self,
+        plan: &dyn CurrentControlPlan,
+        axis: usize,
+        set: &[(String, i64)],
+        run: Option<WatchRun<'_>>,
+        samples: u32,
+        every: Duration,
+    ) -> Result<CurrentRun, TuningError> {
+        let info = self.axis_info(axis)?;
+        let writes = set
+            .iter()
+            .map(|(name, value)| plan.write(&info, name, *value))
+            .collect::<Result<Vec<_>, _>>()?;
+        let start = match run {
+            Some(run) => run
+                .jog
+                .run(&info, run.direction, run.speed)
+                .map_err(TuneError::Refused)?,
+            None => Vec::new(),
+        };
+        let number = |value: ReplyValue| match value {
+            ReplyValue::Number(n) => Some(n),
+            _ => None,
+        };
+        let watch = async {
+            self.send_all(&writes).await?;
+            let mut form = Vec::new();
+            for field in plan.form() {
+                let value = number(self.execute_line(&plan.read(&info, &field)).await?.value);
+                form.push((field, value));
+            }
+            let lines = plan.watch(&info);
+            let full = number(self.execute_line(&lines.full).await?.value);
+            self.send_all(&start).await?;
+            let began = Instant::now();
+            let mut readings = Vec::new();
+            for k in 0..samples {
+                if k > 0 {
+                    tokio::time::sleep(every).await;
+                }
+                let speed = number(self.execute_line(&lines.speed).await?.value);
+                let current = number(self.execute_line(&lines.current).await?.value);
+                let load = number(self.execute_line(&lines.load).await?.value);
+                readings.push(CurrentSample {
+                    time: began.elapsed().as_secs_f64(),
+                    speed,
+                    current,
+                    load,
+                    share: current.zip(full).and_then(|(c, f)| plan.share(c, f)),
+                });
+            }
+            Ok::<_, TuningError>(CurrentRun {
+                form,
+                full,
+                samples: readings,
+            })
+        };
+        let result = watch.await;
+        if let Some(run) = run {
+            let stopped = self.send_all(&run.jog.stop(&info)).await;
+            let done = result?;
+            stopped?;
+            return Ok(done);
+        }
+        result
     }
 
     async fn wait_for_speed(

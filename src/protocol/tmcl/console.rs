@@ -454,6 +454,10 @@ impl FamilyConsole for TmclConsole {
         Some(&super::tuning::TmclStallSweep)
     }
 
+    fn current_control(&self) -> Option<&'static dyn crate::protocol::tuning::CurrentControlPlan> {
+        Some(&super::tuning::TmclCoolStep)
+    }
+
     fn program(&self) -> Option<&'static dyn crate::protocol::program::ProgramTool> {
         Some(&super::tool::TmclTool)
     }

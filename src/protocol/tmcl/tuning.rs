@@ -7,8 +7,8 @@ use super::tune::{
 };
 use crate::protocol::console::AxisInfo;
 use crate::protocol::tuning::{
-    StallSweepPlan, SweepAction, SweepAsk, SweepPoint, SweepScript, SweepSuggestion, TuneError,
-    TuningField,
+    CurrentControlPlan, CurrentWatch, FormField, StallSweepPlan, SweepAction, SweepAsk, SweepPoint,
+    SweepScript, SweepSuggestion, TuneError, TuningField,
 };
 
 pub struct TmclStallSweep;
@@ -170,6 +170,94 @@ impl StallSweepPlan for TmclStallSweep {
     }
 }
 
+pub struct TmclCoolStep;
+
+/// `AP172` and the like, for the form's names.
+const AP_NAMES: [&str; 256] = ap_names();
+
+const fn ap_names() -> [&'static str; 256] {
+    // Only the form's parameters need a name; the rest stay empty.
+    let mut names = [""; 256];
+    names[6] = "AP6";
+    names[168] = "AP168";
+    names[169] = "AP169";
+    names[170] = "AP170";
+    names[171] = "AP171";
+    names[172] = "AP172";
+    names[180] = "AP180";
+    names[182] = "AP182";
+    names[183] = "AP183";
+    names
+}
+
+/// The AP number `name` (`AP172`, `ap172`, `172`) names.
+fn parameter_number(name: &str) -> Option<u8> {
+    let digits = name
+        .strip_prefix("AP")
+        .or_else(|| name.strip_prefix("ap"))
+        .unwrap_or(name);
+    digits.parse().ok()
+}
+
+impl CurrentControlPlan for TmclCoolStep {
+    fn form(&self) -> Vec<FormField> {
+        tune::COOLSTEP_FORM
+            .iter()
+            .map(|f| FormField {
+                name: AP_NAMES[usize::from(f.number)],
+                title: f.name,
+                meaning: f.meaning,
+                min: i64::from(f.min),
+                max: i64::from(f.max),
+                writable: f.writable,
+            })
+            .collect()
+    }
+
+    fn read(&self, axis: &AxisInfo, field: &FormField) -> String {
+        let number = parameter_number(field.name).unwrap_or_default();
+        format!("GAP {number}, {}", axis.number)
+    }
+
+    fn write(&self, axis: &AxisInfo, name: &str, value: i64) -> Result<String, TuneError> {
+        let number = parameter_number(name).ok_or_else(|| TuneError::UnknownGain {
+            name: name.to_string(),
+            known: self
+                .form()
+                .iter()
+                .map(|f| f.name)
+                .collect::<Vec<_>>()
+                .join(", "),
+        })?;
+        let value = i32::try_from(value)
+            .map_err(|_| TuneError::Refused(format!("AP{number}: {value} is out of range")))?;
+        tune::coolstep_write(number, axis.number, value)
+            .map(|command| command.to_string())
+            .map_err(|e| TuneError::Refused(e.to_string()))
+    }
+
+    fn watch(&self, axis: &AxisInfo) -> CurrentWatch {
+        let m = axis.number;
+        CurrentWatch {
+            current: format!("GAP 180, {m}"),
+            load: format!("GAP 206, {m}"),
+            speed: format!("GAP 3, {m}"),
+            full: format!("GAP 6, {m}"),
+        }
+    }
+
+    /// AP180 is a current scale 0..31 (n+1)/32 of the driver's range; AP6
+    /// 0..255 sets the scale the driver runs at, AP6 / 8 (§4 AP6, §7.3
+    /// Table 25: the CoolStep current lies between SEIMIN's portion and
+    /// the AP6 current).
+    fn share(&self, current: i64, full: i64) -> Option<f64> {
+        if !(0..=31).contains(&current) || !(0..=255).contains(&full) {
+            return None;
+        }
+        Some((current + 1) as f64 / (full / 8 + 1) as f64)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -249,6 +337,36 @@ mod tests {
         );
         let refused = TmclStallSweep.script(&MOTOR, &ask(100, 3000)).unwrap_err();
         assert!(refused.to_string().contains("3000"), "{refused}");
+    }
+
+    #[test]
+    fn the_coolstep_form_reads_and_writes_checked_lines() {
+        let form = TmclCoolStep.form();
+        assert_eq!(form.len(), tune::COOLSTEP_FORM.len());
+        assert_eq!(form[4].name, "AP172");
+        assert_eq!(TmclCoolStep.read(&MOTOR, &form[4]), "GAP 172, 0");
+        assert_eq!(
+            TmclCoolStep.write(&MOTOR, "AP172", 2).unwrap(),
+            "SAP 172, 0, 2"
+        );
+        assert_eq!(
+            TmclCoolStep.write(&MOTOR, "172", 2).unwrap(),
+            "SAP 172, 0, 2"
+        );
+        let refused = TmclCoolStep.write(&MOTOR, "AP180", 3).unwrap_err();
+        assert!(refused.to_string().contains("read only"), "{refused}");
+        let refused = TmclCoolStep.write(&MOTOR, "AP172", 16).unwrap_err();
+        assert!(refused.to_string().contains("0..15"), "{refused}");
+        let refused = TmclCoolStep.write(&MOTOR, "AP4", 1).unwrap_err();
+        assert!(
+            refused.to_string().contains("not a CoolStep parameter"),
+            "{refused}"
+        );
+        // The full scale at AP6 255 is 32/32; half of it is 16/32.
+        assert_eq!(TmclCoolStep.share(31, 255), Some(1.0));
+        assert_eq!(TmclCoolStep.share(15, 255), Some(0.5));
+        assert_eq!(TmclCoolStep.share(7, 128), Some(8.0 / 17.0));
+        assert_eq!(TmclCoolStep.share(32, 255), None);
     }
 
     #[test]
