@@ -323,3 +323,58 @@ fn coolstep_refuses_a_setting_outside_the_form_and_sends_nothing() {
     assert_eq!(out.status.code(), Some(2));
     assert!(stderr(&out).contains("no CoolStep current control"));
 }
+
+#[test]
+fn the_stall_test_detects_a_stall_with_the_suggested_settings_and_not_without_load() {
+    let apply = "SAP 174, 0, -16; SAP 181, 0, 600";
+    let out = axterm(&[
+        "tune",
+        "stall-test",
+        "--sim",
+        "tmcm1110",
+        "--input",
+        "LOAD=60",
+        "--speed",
+        "800",
+        "--apply",
+        apply,
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(
+        stdout(&out).contains("motor 0: stall detected"),
+        "{}",
+        stdout(&out)
+    );
+    let out = axterm(&[
+        "tune",
+        "stall-test",
+        "--sim",
+        "tmcm1110",
+        "--input",
+        "LOAD=0",
+        "--speed",
+        "800",
+        "--give-up",
+        "1",
+        "--apply",
+        apply,
+    ]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(
+        stdout(&out).contains("NO stall detected within 1 s"),
+        "{}",
+        stdout(&out)
+    );
+    let out = axterm(&[
+        "tune",
+        "stall-test",
+        "--sim",
+        "tmcm1110",
+        "--speed",
+        "800",
+        "--apply",
+        "SAP 999, 0, 1",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("parameter 999 outside 0..255 (nothing was sent)"));
+}

@@ -58,6 +58,9 @@ impl StallSweepPlan for BrokenHalfWay {
     fn speed_reached(&self, actual: i64, speed: i64) -> bool {
         actual == speed
     }
+    fn stall_flag(&self) -> &'static str {
+        "stall"
+    }
     fn suggest(&self, _: &AxisInfo, _: &[SweepPoint], _: &[SweepPoint], _: i64) -> SweepSuggestion {
         SweepSuggestion {
             reasons: Vec::new(),

@@ -33,11 +33,34 @@ pub enum TuneCommand {
     /// --compare a sweep saved without load, a suggested threshold (AP174)
     /// and stop-on-stall speed (AP181).
     Stallguard(SweepArgs),
+    /// A stall test: turn the motor at --speed and say whether the module
+    /// stops it on a stall (TMCL: AP207's stall flag, with stop on stall
+    /// AP181 below the speed) before --give-up seconds; exit 0 when it
+    /// did, 1 when not.
+    StallTest(StallTestArgs),
     /// The CoolStep form (TMCL AP168-172, 180, 182, 183) with the manual's
     /// meaning of each, and a watch of the actual current (AP180) and load
     /// (AP206) over time: the current's share of the AP6 current is the
     /// energy CoolStep saves.
     Coolstep(CurrentArgs),
+}
+
+#[derive(Debug, Clone, Args)]
+pub struct StallTestArgs {
+    /// The axis, as the family numbers it (TMCL motor 0 is 0).
+    #[arg(long)]
+    pub axis: Option<u8>,
+    /// The speed to turn at (negative: the other way).
+    #[arg(long, allow_negative_numbers = true)]
+    pub speed: i64,
+    /// Seconds to wait for the stall.
+    #[arg(long, default_value_t = 5)]
+    pub give_up: u64,
+    /// Console lines to send first, separated by `;`: the suggestion
+    /// `tune stallguard --compare` printed ("SAP 174, 0, -16; SAP 181, 0,
+    /// 600"), to test it.
+    #[arg(long, value_name = "LINES")]
+    pub apply: Option<String>,
 }
 
 #[derive(Debug, Clone, Args)]
@@ -130,6 +153,7 @@ pub fn run(connection: &ConnectionArgs, command: &TuneCommand) -> i32 {
         TuneCommand::Step(args) => run_step(connection, args),
         TuneCommand::Stallguard(args) => run_sweep(connection, args),
         TuneCommand::Coolstep(args) => run_current(connection, args),
+        TuneCommand::StallTest(args) => run_stall_test(connection, args),
     }
 }
 
@@ -476,6 +500,119 @@ fn run_sweep(connection: &ConnectionArgs, args: &SweepArgs) -> i32 {
         };
         let report = RunReport {
             prefix: "axterm tune stallguard: ",
+            format: Format::Text,
+            at_the_end: AtTheEnd::Nothing,
+        };
+        exit_or_stop_on_signal(&session, interrupt, &report, work).await
+    })
+}
+
+fn run_stall_test(connection: &ConnectionArgs, args: &StallTestArgs) -> i32 {
+    let target = match Target::resolve(connection) {
+        Ok(target) => target,
+        Err(message) => {
+            eprintln!("axterm tune stall-test: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    let Some(plan) = target.family.console.stall_sweep() else {
+        eprintln!(
+            "axterm tune stall-test: the {} family has no stall detection (TMCL has)",
+            target.family.name
+        );
+        return EXIT_USAGE;
+    };
+    let (index, axis) = match axis_of(&target, args.axis) {
+        Ok(found) => found,
+        Err(message) => {
+            eprintln!("axterm tune stall-test: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    let ask = SweepAsk {
+        from: args.speed,
+        to: args.speed,
+        steps: 1,
+        samples: 1,
+    };
+    if let Err(why) = plan.script(&axis, &ask) {
+        eprintln!("axterm tune stall-test: {why} (nothing was sent)");
+        return EXIT_USAGE;
+    }
+    let apply: Vec<String> = args
+        .apply
+        .as_deref()
+        .unwrap_or_default()
+        .split(';')
+        .map(str::trim)
+        .filter(|line| !line.is_empty())
+        .map(str::to_string)
+        .collect();
+    let console = target.family.console;
+    for line in &apply {
+        if let Err(why) = console.prepare(line, target.address) {
+            eprintln!("axterm tune stall-test: --apply {line}: {why} (nothing was sent)");
+            return EXIT_USAGE;
+        }
+    }
+    let (speed, give_up) = (args.speed, Duration::from_secs(args.give_up));
+    run_to_exit("tune stall-test", async move {
+        let session = match target.open().await {
+            Ok(session) => session,
+            Err(e) => {
+                eprintln!("axterm tune stall-test: {e}");
+                return EXIT_CONNECTION;
+            }
+        };
+        let interrupt = match Interrupt::watch() {
+            Ok(interrupt) => interrupt,
+            Err(e) => {
+                eprintln!("axterm tune stall-test: cannot watch for Ctrl-C: {e}");
+                return EXIT_DEVICE;
+            }
+        };
+        let work = async {
+            for line in &apply {
+                if let Err(error) = session.execute_line(line).await {
+                    eprintln!("axterm tune stall-test: {line}: {error}");
+                    return EXIT_DEVICE;
+                }
+            }
+            match session.stall_test(plan, index, speed, give_up).await {
+                Ok(outcome) => {
+                    let fastest = outcome
+                        .fastest
+                        .map_or_else(|| "unread".to_string(), |f| f.to_string());
+                    match outcome.detected_after {
+                        Some(after) => {
+                            println!(
+                                "{}: stall detected: the module stopped the motor {:.2} s after \
+                                 the start (fastest read {fastest})",
+                                axis.name,
+                                after.as_secs_f64()
+                            );
+                            EXIT_OK
+                        }
+                        None => {
+                            println!(
+                                "{}: NO stall detected within {} s at {speed} (fastest read \
+                                 {fastest}): is stop on stall set below this speed, and the \
+                                 threshold sensitive enough?",
+                                axis.name,
+                                give_up.as_secs()
+                            );
+                            EXIT_DEVICE
+                        }
+                    }
+                }
+                Err(error) => {
+                    eprintln!("axterm tune stall-test: {error}");
+                    EXIT_DEVICE
+                }
+            }
+        };
+        let report = RunReport {
+            prefix: "axterm tune stall-test: ",
             format: Format::Text,
             at_the_end: AtTheEnd::Nothing,
         };

@@ -172,6 +172,10 @@ pub trait StallSweepPlan: Sync {
     /// Whether an actual speed read shows the asked one.
     fn speed_reached(&self, actual: i64, speed: i64) -> bool;
 
+    /// The name of the axis error flag the module raises when it stops
+    /// the motor on a stall (`crate::protocol::console::AxisFlag::name`).
+    fn stall_flag(&self) -> &'static str;
+
     /// A threshold and a stop-on-stall speed from a sweep without load
     /// (`free`) and one with (`loaded`), with the reasoning.
     fn suggest(

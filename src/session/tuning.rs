@@ -60,6 +60,16 @@ pub struct StepRun {
     pub sample_period: f64,
 }
 
+/// What a stall test saw.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct StallOutcome {
+    /// How long after the start the module stopped the motor on a stall;
+    /// `None`: no stall was detected before the test gave up.
+    pub detected_after: Option<Duration>,
+    /// The fastest the motor was read turning.
+    pub fastest: Option<i64>,
+}
+
 /// What a sweep gave.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SweepRun {
@@ -324,6 +334,76 @@ impl Session {
             return Ok(done);
         }
         result
+    }
+
+    /// A stall test: turn the motor at `speed` and watch, for at most
+    /// `give_up`, whether the module stops it on a stall (its stall flag
+    /// rises); the motor is stopped at the end either way.
+    pub async fn stall_test(
+        &self,
+        plan: &dyn StallSweepPlan,
+        axis: usize,
+        speed: i64,
+        give_up: Duration,
+    ) -> Result<StallOutcome, TuningError> {
+        let info = self.axis_info(axis)?;
+        let script = plan.script(
+            &info,
+            &SweepAsk {
+                from: speed,
+                to: speed,
+                steps: 1,
+                samples: 1,
+            },
+        )?;
+        let start: Vec<String> = script
+            .actions
+            .iter()
+            .take_while(|a| matches!(a, SweepAction::Send(_)))
+            .filter_map(|a| match a {
+                SweepAction::Send(line) => Some(line.clone()),
+                _ => None,
+            })
+            .collect();
+        let read_speed = script.actions.iter().find_map(|a| match a {
+            SweepAction::WaitForSpeed { read, .. } => Some(read.clone()),
+            _ => None,
+        });
+        let watch = async {
+            let before = self.axis_errors(axis).await?;
+            self.send_all(&start).await?;
+            let began = Instant::now();
+            let mut fastest = None::<i64>;
+            loop {
+                if let Some(read) = &read_speed
+                    && let ReplyValue::Number(n) = self.execute_line(read).await?.value
+                {
+                    fastest = Some(fastest.map_or(n.abs(), |f| f.max(n.abs())));
+                }
+                let now = self.axis_errors(axis).await?;
+                if now
+                    .iter()
+                    .any(|f| f.name == plan.stall_flag() && !before.contains(f))
+                {
+                    return Ok::<_, TuningError>(StallOutcome {
+                        detected_after: Some(began.elapsed()),
+                        fastest,
+                    });
+                }
+                if began.elapsed() >= give_up {
+                    return Ok(StallOutcome {
+                        detected_after: None,
+                        fastest,
+                    });
+                }
+                tokio::time::sleep(SPEED_LOOK_EVERY).await;
+            }
+        };
+        let result = watch.await;
+        let stopped = self.send_all(&script.stop).await;
+        let done = result?;
+        stopped?;
+        Ok(done)
     }
 
     async fn wait_for_speed(

@@ -110,6 +110,11 @@ impl StallSweepPlan for TmclStallSweep {
         })
     }
 
+    /// AP207 bit 0 (§4): "the motor was stopped on a stall".
+    fn stall_flag(&self) -> &'static str {
+        "stall"
+    }
+
     fn speed_reached(&self, actual: i64, speed: i64) -> bool {
         match (i32::try_from(actual), i32::try_from(speed)) {
             (Ok(actual), Ok(speed)) => tune::speed_reached(actual, speed),
@@ -337,6 +342,15 @@ mod tests {
         );
         let refused = TmclStallSweep.script(&MOTOR, &ask(100, 3000)).unwrap_err();
         assert!(refused.to_string().contains("3000"), "{refused}");
+    }
+
+    #[test]
+    fn the_stall_flag_is_one_the_console_raises() {
+        let names: Vec<&str> = crate::protocol::tmcl::console::ERROR_FLAGS
+            .iter()
+            .map(|(_, f)| f.name)
+            .collect();
+        assert!(names.contains(&TmclStallSweep.stall_flag()), "{names:?}");
     }
 
     #[test]
