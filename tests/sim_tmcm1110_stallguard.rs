@@ -374,3 +374,17 @@ mod tuning {
         }
     }
 }
+
+/// After a plain stop (MST, §3.6.3: the motor ramps down) AP206 keeps the
+/// reading of the run's top speed, not the ramp's last one near 0: a
+/// standing motor does not look stalled.
+#[test]
+fn a_ramped_stop_keeps_the_top_speeds_reading() {
+    const MST: u8 = 3;
+    let mut sim = running(1000, 0);
+    assert_eq!(gap(&mut sim, 206), 500);
+    assert_eq!(talk(&mut sim, MST, 0, 0).0, 100, "MST 0");
+    wait(&mut sim, 2000);
+    assert_eq!(gap(&mut sim, 3), 0, "standing");
+    assert_eq!(gap(&mut sim, 206), 500);
+}

@@ -497,6 +497,8 @@ pub struct Axis {
     load_percent: u8,
     /// AP206 at standstill: the last measurement while the motor turned.
     held_reading: i32,
+    /// The speed [int] `held_reading` was taken at (0 at standstill).
+    held_speed: i32,
     /// CoolStep's current scale (AP180 while CoolStep regulates).
     coolstep_scale: i32,
     /// Consecutive readings at or above CoolStep's upper threshold.
@@ -543,6 +545,7 @@ impl Axis {
             plan_blocks: Blocks::default(),
             load_percent: 0,
             held_reading: DEFAULT_LOAD,
+            held_speed: 0,
             coolstep_scale: stallguard::current_scale(128),
             coolstep_above: 0,
             encoder: Encoder::default(),
@@ -819,10 +822,9 @@ impl Axis {
         }
     }
 
-    /// AP206: the StallGuard2 reading ([`stallguard::reading`]) now, or the
-    /// last one while the motor turned (so after a ramp down to 0 or a stall
-    /// stop it is that of the last moment in motion, near 0; before the
-    /// first motion [`DEFAULT_LOAD`]).
+    /// AP206: the StallGuard2 reading ([`stallguard::reading`]) now, or,
+    /// at standstill, the last one taken at the last run's top speed (after
+    /// a stall stop 0; before the first motion [`DEFAULT_LOAD`]).
     pub fn load_reading(&self) -> i32 {
         if !self.is_moving() {
             return self.held_reading;
@@ -912,9 +914,16 @@ impl Axis {
             self.pass_time(slice);
             remaining -= slice;
             if self.is_moving() {
-                // AP206 at standstill is the last reading while turning.
-                self.held_reading = self.load_reading();
+                // AP206 at standstill is the last reading taken at the
+                // run's top speed so far (a stall's 0 included), not one
+                // of the ramp down, which falls to 0 with the speed.
+                let speed = self.param(3).abs();
+                if speed >= self.held_speed {
+                    self.held_speed = speed;
+                    self.held_reading = self.load_reading();
+                }
             } else {
+                self.held_speed = 0;
                 // At standstill the driver runs on AP6; CoolStep starts
                 // from there when the motor turns again.
                 self.coolstep_scale = self.coolstep().max_scale;
