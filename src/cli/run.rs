@@ -1150,6 +1150,22 @@ impl Runner<'_> {
                     Ok(run) => run,
                     Err(error) => return failed(error.to_string()),
                 };
+                // The sweep's stop ramps the motor down: the run goes on
+                // (or ends) with it at rest.
+                match session
+                    .wait_standing(index, crate::session::tuning::STAND_WAIT)
+                    .await
+                {
+                    Ok(true) => {}
+                    Ok(false) => {
+                        return failed(format!(
+                            "{} still moves {} s after the sweep's stop",
+                            axis.name,
+                            crate::session::tuning::STAND_WAIT.as_secs()
+                        ));
+                    }
+                    Err(error) => return failed(error.to_string()),
+                }
                 let text = super::tune::show_sweep(
                     plan.reading(),
                     &run,
