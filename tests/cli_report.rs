@@ -552,3 +552,25 @@ fn a_stallguard_sweep_puts_its_readings_on_the_sheet() {
     assert!(figures.contains("speed 200: "), "{figures}");
     assert_eq!(select_text(&page, "#module-1 .tuning svg").len(), 1);
 }
+
+#[test]
+fn a_tool_directive_prints_one_json_object_with_its_lines() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("f.txt");
+    std::fs::write(&file, ":tune-step --axis 1 --distance 1000\n").expect("write");
+    let out = axterm(&["run", "--sim", "mccl", "--format", "json", &text(&file)]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let said = cli_support::stdout(&out);
+    let objects: Vec<Value> = said
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("a JSON line"))
+        .collect();
+    assert_eq!(objects.len(), 1, "{said}");
+    assert_eq!(objects[0]["tool"], "tune-step");
+    assert_eq!(objects[0]["ok"], true);
+    let first = objects[0]["lines"][0].as_str().unwrap_or_default();
+    assert!(
+        first.starts_with("servo 1: 400 samples every 0.25 ms"),
+        "{first}"
+    );
+}
