@@ -574,3 +574,42 @@ fn a_tool_directive_prints_one_json_object_with_its_lines() {
         "{first}"
     );
 }
+
+#[test]
+fn a_step_that_trips_fails_the_sheet_naming_its_line() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("f.txt");
+    // Unstable gains and a tight following error limit: the step trips
+    // (as in tests/cli_tune.rs), and the run stops there.
+    std::fs::write(
+        &file,
+        ":tune-step --axis 1 --distance 20 --set SG=5,SE=40\n:echo not reached\n",
+    )
+    .expect("write");
+    let (html, json) = (dir.path().join("s.html"), dir.path().join("s.json"));
+    let out = axterm(&[
+        "run",
+        "--sim",
+        "mccl",
+        &text(&file),
+        "--report",
+        &text(&html),
+        "--report-json",
+        &text(&json),
+    ]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let (page, json) = sheet(&html, &json);
+    let headline = &select_text(&page, "#verdict .headline")[0];
+    assert!(
+        headline.contains("✗ FAIL")
+            && headline
+                .contains("line 1 `:tune-step --axis 1 --distance 20 --set SG=5,SE=40`: tripped (")
+            && headline.contains("the axis was stopped"),
+        "{headline}"
+    );
+    // The plot of what it did is on the sheet all the same.
+    assert_eq!(select_text(&page, "#module-1 .tuning svg").len(), 1);
+    let figures = &select_text(&page, "#module-1 .tuning .figures")[0];
+    assert!(figures.contains("TRIPPED: "), "{figures}");
+    assert_eq!(json["verdict"]["passed"], false);
+}
