@@ -11,7 +11,17 @@
 //! :sleep 500ms
 //! :echo homing done
 //! :leave-moving           the file means to leave an axis moving at its end
+//! :params axis.toml --store
+//! :wiring --axis 0 --speed 2047 --give-up 10
+//! :tune-step --axis 1 --distance 1000 --set SG=0.05
+//! :tune-stallguard --axis 0 --from 200 --to 1000 --steps 5
 //! ```
+//!
+//! The tool directives (`:wiring`, `:tune-step`, `:tune-stallguard`) run
+//! the session's tools ([`crate::session::wiring`],
+//! [`crate::session::tuning`]) for a family that has them; whether it has
+//! them, the axis and every value are checked with the file, before
+//! anything is sent ([`tool_plan`]).
 //!
 //! A run that ends with an axis still moving says so and, unless the file
 //! says `:leave-moving` (anywhere in it), stops it as a failed run is
@@ -24,7 +34,7 @@
 use std::time::Duration;
 
 use crate::protocol::Family;
-use crate::protocol::console::{Effect, PreparedLine};
+use crate::protocol::console::{AxisInfo, Effect, PreparedLine};
 
 /// Pause between the reads of `:wait-until`: quick enough to notice a move
 /// ending, and leaves the line free for others in between.
@@ -68,6 +78,189 @@ pub enum Action {
         file: String,
         store: bool,
     },
+    /// The guided wiring check of an axis (`axterm wiring`): the file
+    /// saying it is the consent to move the axis to both ends.
+    Wiring(WiringAsk),
+    /// A servo step response (`axterm tune step`).
+    TuneStep(TuneStepAsk),
+    /// A StallGuard2 velocity sweep (`axterm tune stallguard`).
+    TuneStallguard(TuneSweepAsk),
+}
+
+/// What `:wiring` asks for.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WiringAsk {
+    /// The axis as an index into the family's axes (`axterm wiring --axis`).
+    pub axis: usize,
+    /// The jog speed; by default the slowest but one of the family's list.
+    pub speed: Option<i64>,
+    /// Give up a direction after this long without a limit switch.
+    pub give_up: Duration,
+}
+
+/// What `:tune-step` asks for (`axterm tune step`'s options).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TuneStepAsk {
+    /// The axis as the family numbers it; its first by default.
+    pub axis: Option<u8>,
+    pub distance: i64,
+    pub samples: usize,
+    pub set: Vec<(String, f64)>,
+    /// The settling band, in counts either side of the target.
+    pub band: f64,
+}
+
+/// What `:tune-stallguard` asks for (`axterm tune stallguard`'s options).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TuneSweepAsk {
+    pub axis: Option<u8>,
+    pub from: i64,
+    pub to: i64,
+    pub steps: u32,
+    pub samples: u32,
+}
+
+/// How long `:wiring` looks for a switch in each direction by default (as
+/// `axterm wiring`).
+pub const DEFAULT_WIRING_GIVE_UP: Duration = Duration::from_secs(30);
+
+/// A tool directive resolved against a family: its plan, the axis (its
+/// index and info) and what the plan was asked, all checked.
+pub enum ToolPlan {
+    Wiring {
+        plan: &'static dyn crate::protocol::jog::JogPlan,
+        index: usize,
+        axis: AxisInfo,
+        speed: i64,
+        give_up: Duration,
+    },
+    Step {
+        plan: &'static dyn crate::protocol::tuning::StepResponsePlan,
+        index: usize,
+        axis: AxisInfo,
+        ask: crate::protocol::tuning::StepAsk,
+        spec: crate::protocol::tuning::StepSpec,
+    },
+    Sweep {
+        plan: &'static dyn crate::protocol::tuning::StallSweepPlan,
+        index: usize,
+        axis: AxisInfo,
+        ask: crate::protocol::tuning::SweepAsk,
+    },
+}
+
+/// The axis the family numbers `number` (its first when `None`), and its
+/// index.
+fn axis_numbered(family: &Family, number: Option<u8>) -> Result<(usize, AxisInfo), String> {
+    let axes = family.console.axes();
+    let found = match number {
+        None => axes.first().map(|a| (0, *a)),
+        Some(n) => axes
+            .iter()
+            .enumerate()
+            .find(|(_, a)| a.number == n)
+            .map(|(i, a)| (i, *a)),
+    };
+    found.ok_or_else(|| {
+        format!(
+            "--axis {}: the {} family's axes are {}",
+            number.map_or_else(|| "?".to_string(), |n| n.to_string()),
+            family.name,
+            axes.iter()
+                .map(|a| a.number.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    })
+}
+
+/// The tool `action` asks for, checked for `family` (the family has it,
+/// the axis exists, the plan takes every value); `None` for an action
+/// that is no tool directive. Nothing is sent.
+pub fn tool_plan(action: &Action, family: &Family) -> Option<Result<ToolPlan, String>> {
+    use crate::protocol::tuning::{StepAsk, StepSpec, SweepAsk};
+    let plan = match action {
+        Action::Wiring(ask) => (|| {
+            let plan = family
+                .console
+                .jog()
+                .ok_or_else(|| format!(":wiring: the {} family has no jog", family.name))?;
+            let axes = family.console.axes();
+            let axis = axes.get(ask.axis).copied().ok_or_else(|| {
+                format!(
+                    ":wiring --axis {}: the {} family has axes 0..{}",
+                    ask.axis,
+                    family.name,
+                    axes.len().saturating_sub(1)
+                )
+            })?;
+            let speed = ask
+                .speed
+                .unwrap_or_else(|| plan.speeds().get(1).copied().unwrap_or(1));
+            plan.run(&axis, crate::protocol::jog::Direction::Positive, speed)
+                .map_err(|why| format!(":wiring --speed {speed}: {why}"))?;
+            Ok(ToolPlan::Wiring {
+                plan,
+                index: ask.axis,
+                axis,
+                speed,
+                give_up: ask.give_up,
+            })
+        })(),
+        Action::TuneStep(ask) => (|| {
+            let plan = family.console.step_response().ok_or_else(|| {
+                format!(
+                    ":tune-step: the {} family has no servo step-response test (MCCL has)",
+                    family.name
+                )
+            })?;
+            let (index, axis) =
+                axis_numbered(family, ask.axis).map_err(|why| format!(":tune-step {why}"))?;
+            let step = StepAsk {
+                distance: ask.distance,
+                samples: ask.samples,
+                set: ask.set.clone(),
+            };
+            plan.script(&axis, &step)
+                .map_err(|why| format!(":tune-step: {why}"))?;
+            Ok(ToolPlan::Step {
+                plan,
+                index,
+                axis,
+                ask: step,
+                spec: StepSpec {
+                    band: ask.band,
+                    ..StepSpec::default()
+                },
+            })
+        })(),
+        Action::TuneStallguard(ask) => (|| {
+            let plan = family.console.stall_sweep().ok_or_else(|| {
+                format!(
+                    ":tune-stallguard: the {} family has no StallGuard2 sweep (TMCL has)",
+                    family.name
+                )
+            })?;
+            let (index, axis) =
+                axis_numbered(family, ask.axis).map_err(|why| format!(":tune-stallguard {why}"))?;
+            let sweep = SweepAsk {
+                from: ask.from,
+                to: ask.to,
+                steps: ask.steps,
+                samples: ask.samples,
+            };
+            plan.script(&axis, &sweep)
+                .map_err(|why| format!(":tune-stallguard: {why}"))?;
+            Ok(ToolPlan::Sweep {
+                plan,
+                index,
+                axis,
+                ask: sweep,
+            })
+        })(),
+        _ => return None,
+    };
+    Some(plan)
 }
 
 /// The directive by which a file says it means to leave an axis moving at
@@ -120,8 +313,14 @@ pub fn check_script(
             Action::Sleep(_)
             | Action::Echo(_)
             | Action::LeaveMoving
-            | Action::ApplyParams { .. } => (None, false),
+            | Action::ApplyParams { .. }
+            | Action::Wiring(_)
+            | Action::TuneStep(_)
+            | Action::TuneStallguard(_) => (None, false),
         };
+        if let Some(Err(message)) = tool_plan(&action, family) {
+            problems.push(format!("{name}:{line_number}: {message}"));
+        }
         let prepared = match line.map(|l| family.console.prepare(l, address)) {
             None => None,
             Some(Ok(prepared)) => {
@@ -294,16 +493,139 @@ pub fn parse_script_line(raw: &str) -> Result<Option<Action>, String> {
                 store,
             }
         }
+        "wiring" => Action::Wiring(wiring_ask(rest)?),
+        "tune-step" => Action::TuneStep(tune_step_ask(rest)?),
+        "tune-stallguard" => Action::TuneStallguard(tune_sweep_ask(rest)?),
         "leave-moving" if rest.is_empty() => Action::LeaveMoving,
         "leave-moving" => return Err(format!("{LEAVE_MOVING} takes nothing after it")),
         _ => {
             return Err(format!(
                 "unknown directive `:{name}` (known: :expect, :wait-until, :sleep, :echo, \
-                 :params, {LEAVE_MOVING})"
+                 :params, :wiring, :tune-step, :tune-stallguard, {LEAVE_MOVING})"
             ));
         }
     };
     Ok(Some(action))
+}
+
+/// `--name value` pairs of a tool directive, each name among `known`
+/// and given once.
+fn options<'a>(
+    directive: &str,
+    rest: &'a str,
+    known: &[&str],
+) -> Result<Vec<(&'a str, &'a str)>, String> {
+    let words: Vec<&str> = rest.split_whitespace().collect();
+    let mut pairs: Vec<(&str, &str)> = Vec::new();
+    for pair in words.chunks(2) {
+        let name = pair.first().copied().unwrap_or_default();
+        let option = name.strip_prefix("--").filter(|n| known.contains(n));
+        let Some(option) = option else {
+            return Err(format!(
+                ":{directive}: `{name}` is not an option of it (it takes {})",
+                known
+                    .iter()
+                    .map(|k| format!("--{k}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        };
+        let Some(value) = pair.get(1) else {
+            return Err(format!(":{directive}: {name} needs a value"));
+        };
+        if pairs.iter().any(|(n, _)| *n == option) {
+            return Err(format!(":{directive}: {name} is given twice"));
+        }
+        pairs.push((option, value));
+    }
+    Ok(pairs)
+}
+
+/// The value of option `name` parsed as a `T`, if given.
+fn option<T: std::str::FromStr>(
+    directive: &str,
+    pairs: &[(&str, &str)],
+    name: &str,
+    what: &str,
+) -> Result<Option<T>, String> {
+    pairs
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, value)| {
+            value
+                .parse()
+                .map_err(|_| format!(":{directive} --{name} {value}: give {what}"))
+        })
+        .transpose()
+}
+
+fn required<T>(directive: &str, value: Option<T>, name: &str) -> Result<T, String> {
+    value.ok_or_else(|| format!(":{directive} needs --{name}"))
+}
+
+/// `:wiring [--axis N] [--speed S] [--give-up SECONDS]`.
+fn wiring_ask(rest: &str) -> Result<WiringAsk, String> {
+    const D: &str = "wiring";
+    let pairs = options(D, rest, &["axis", "speed", "give-up"])?;
+    let give_up = match pairs.iter().find(|(n, _)| *n == "give-up") {
+        None => DEFAULT_WIRING_GIVE_UP,
+        Some((_, value)) if value.bytes().all(|b| b.is_ascii_digit()) => {
+            parse_duration(&format!("{value}s"))?
+        }
+        Some((_, value)) => parse_duration(value)?,
+    };
+    if give_up.is_zero() {
+        return Err(":wiring --give-up 0: give the check some time (seconds > 0)".into());
+    }
+    Ok(WiringAsk {
+        axis: option(D, &pairs, "axis", "an axis index (0, 1, …)")?.unwrap_or(0),
+        speed: option(D, &pairs, "speed", "a whole speed in the family's unit")?,
+        give_up,
+    })
+}
+
+/// `:tune-step --distance D [--axis N] [--samples N] [--set NAME=V,…]
+/// [--band B]`.
+fn tune_step_ask(rest: &str) -> Result<TuneStepAsk, String> {
+    const D: &str = "tune-step";
+    let pairs = options(D, rest, &["axis", "distance", "samples", "set", "band"])?;
+    let band: f64 = option(D, &pairs, "band", "a number of counts > 0")?.unwrap_or(2.0);
+    if !(band.is_finite() && band > 0.0) {
+        return Err(format!(
+            ":{D} --band {band}: a band is a number of counts > 0"
+        ));
+    }
+    let set = match pairs.iter().find(|(n, _)| *n == "set") {
+        None => Vec::new(),
+        Some((_, text)) => {
+            crate::protocol::tuning::parse_settings(text).map_err(|why| format!(":{D} {why}"))?
+        }
+    };
+    Ok(TuneStepAsk {
+        axis: option(D, &pairs, "axis", "an axis number")?,
+        distance: required(
+            D,
+            option(D, &pairs, "distance", "a whole number of counts")?,
+            "distance",
+        )?,
+        samples: option(D, &pairs, "samples", "a whole number of samples")?.unwrap_or(400),
+        set,
+        band,
+    })
+}
+
+/// `:tune-stallguard --from S --to S [--steps N] [--samples N] [--axis N]`.
+fn tune_sweep_ask(rest: &str) -> Result<TuneSweepAsk, String> {
+    const D: &str = "tune-stallguard";
+    let pairs = options(D, rest, &["axis", "from", "to", "steps", "samples"])?;
+    let speed = "a whole speed in the family's unit";
+    Ok(TuneSweepAsk {
+        axis: option(D, &pairs, "axis", "an axis number")?,
+        from: required(D, option(D, &pairs, "from", speed)?, "from")?,
+        to: required(D, option(D, &pairs, "to", speed)?, "to")?,
+        steps: option(D, &pairs, "steps", "a whole number of speeds")?.unwrap_or(5),
+        samples: option(D, &pairs, "samples", "a whole number of readings")?.unwrap_or(4),
+    })
 }
 
 /// `LINE == VALUE`, both non-empty.
@@ -565,6 +887,80 @@ mod tests {
     }
 
     #[test]
+    fn the_tool_directives_parse_with_their_defaults() {
+        assert_eq!(
+            parse_script_line(":wiring"),
+            Ok(Some(Action::Wiring(WiringAsk {
+                axis: 0,
+                speed: None,
+                give_up: DEFAULT_WIRING_GIVE_UP
+            })))
+        );
+        assert_eq!(
+            parse_script_line(":wiring --axis 1 --speed 500000 --give-up 10"),
+            Ok(Some(Action::Wiring(WiringAsk {
+                axis: 1,
+                speed: Some(500_000),
+                give_up: Duration::from_secs(10)
+            })))
+        );
+        assert_eq!(
+            parse_script_line(":tune-step --axis 1 --distance -1000 --set SG=0.05,SD=0.3"),
+            Ok(Some(Action::TuneStep(TuneStepAsk {
+                axis: Some(1),
+                distance: -1000,
+                samples: 400,
+                set: vec![("SG".into(), 0.05), ("SD".into(), 0.3)],
+                band: 2.0
+            })))
+        );
+        assert_eq!(
+            parse_script_line(":tune-stallguard --from 200 --to 1000 --steps 3"),
+            Ok(Some(Action::TuneStallguard(TuneSweepAsk {
+                axis: None,
+                from: 200,
+                to: 1000,
+                steps: 3,
+                samples: 4
+            })))
+        );
+    }
+
+    #[test]
+    fn a_tool_the_family_lacks_or_a_value_its_plan_refuses_is_a_problem_of_the_file() {
+        let tmcl = crate::protocol::find_family("tmcl").expect("tmcl");
+        let mccl = crate::protocol::find_family("mccl").expect("mccl");
+        let text = ":tune-step --distance 1000\n:wiring --axis 3\n:wiring --speed 0\n\
+                    :tune-stallguard --from 200 --to 1000\n";
+        let problems = check_script("f.txt", text, tmcl, 1).expect_err("refused");
+        assert_eq!(problems.len(), 3, "{problems:?}");
+        assert!(
+            problems[0].starts_with("f.txt:1: :tune-step: the tmcl family has no servo"),
+            "{problems:?}"
+        );
+        assert!(
+            problems[1].starts_with("f.txt:2: :wiring --axis 3: the tmcl family has axes 0..0"),
+            "{problems:?}"
+        );
+        assert!(
+            problems[2].starts_with("f.txt:3: :wiring --speed 0: "),
+            "{problems:?}"
+        );
+        let problems =
+            check_script("f.txt", ":tune-stallguard --from 1 --to 2\n", mccl, 1).expect_err("no");
+        assert!(problems[0].contains("no StallGuard2 sweep"), "{problems:?}");
+        assert!(check_script("f.txt", ":tune-step --axis 1 --distance 1000\n", mccl, 1).is_ok());
+        let problems = check_script(
+            "f.txt",
+            ":tune-step --axis 1 --distance 1000 --set XX=1\n",
+            mccl,
+            1,
+        )
+        .expect_err("no such gain");
+        assert!(problems[0].contains("XX is not a gain"), "{problems:?}");
+    }
+
+    #[test]
     fn bad_directives_say_what_is_expected() {
         for (line, needle) in [
             (":expect GAP 4, 0", "LINE == VALUE"),
@@ -581,6 +977,22 @@ mod tests {
             (":pause 5s", "unknown directive `:pause`"),
             (":params", "needs a parameter file"),
             (":params --store", "needs a parameter file"),
+            (":wiring --axis", "--axis needs a value"),
+            (":wiring --axis x", "--axis x: give an axis index"),
+            (":wiring --axis 0 --axis 1", "given twice"),
+            (":wiring --give-up 0", "some time"),
+            (":wiring now", "`now` is not an option"),
+            (":tune-step --axis 1", "needs --distance"),
+            (
+                ":tune-step --distance 10 --band 0",
+                "a band is a number of counts > 0",
+            ),
+            (":tune-step --distance 10 --set SG", "NAME=VALUE"),
+            (":tune-stallguard --from 1", "needs --to"),
+            (
+                ":tune-stallguard --from 1 --to 2 --steps -1",
+                "--steps -1: give",
+            ),
         ] {
             let error = parse_script_line(line).unwrap_err();
             assert!(error.contains(needle), "{line}: {error}");

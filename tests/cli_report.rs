@@ -40,16 +40,16 @@ fn sheet(html: &Path, json: &Path) -> (Html, Value) {
 }
 
 fn run_example(extra: &[&str]) -> (Output, Html, Value) {
+    run_family("tmcm1110", TMCL_EXAMPLE, extra)
+}
+
+/// A family's commissioning example run on simulator `sim` with `extra`
+/// options: the output, the page and the JSON (checked against the
+/// schema).
+fn run_family(sim: &str, example: &str, extra: &[&str]) -> (Output, Html, Value) {
     let dir = tempfile::tempdir().expect("temp dir");
     let (html, json) = (dir.path().join("s.html"), dir.path().join("s.json"));
-    let mut args = vec![
-        "run",
-        "--sim",
-        "tmcm1110",
-        "--yes",
-        TMCL_EXAMPLE,
-        "--report",
-    ];
+    let mut args = vec!["run", "--sim", sim, "--yes", example, "--report"];
     let (html_arg, json_arg) = (text(&html), text(&json));
     args.extend([html_arg.as_str(), "--report-json", json_arg.as_str()]);
     args.extend(extra);
@@ -64,8 +64,15 @@ fn the_tmcl_commissioning_example_hands_over_a_passing_sheet() {
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     let headline = &select_text(&page, "#verdict .headline")[0];
     assert!(headline.contains("✓ PASS"), "{headline}");
-    // Seven :expect/:wait-until lines and the run's end.
-    assert!(headline.contains("All 8 checks passed"), "{headline}");
+    // Seven :expect/:wait-until lines, the wiring check and the run's end.
+    assert!(headline.contains("All 9 checks passed"), "{headline}");
+    let wiring = &select_text(&page, "#module-1 .wiring")[0];
+    assert!(
+        wiring.contains("Wiring check ✓ PASS")
+            && wiring.contains("motor 0, moving +: the + (right) switch fired at 200000")
+            && wiring.contains("motor 0, moving -: the − (left) switch fired at -200000"),
+        "{wiring}"
+    );
     let run = &select_text(&page, "#run")[0];
     assert!(
         run.contains("Ada Lovelace") && run.contains("commission.txt"),
@@ -296,11 +303,14 @@ fn the_cmd4cr_commissioning_example_passes_and_a_limit_switch_on_fails_it() {
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     let (page, value) = sheet(&html, &json);
     let headline = &select_text(&page, "#verdict .headline")[0];
+    // Four :expect/:wait-until lines before homing's two, the wiring
+    // check and the run's end.
     assert!(
-        headline.contains("✓ PASS") && headline.contains("All 5 checks passed"),
+        headline.contains("✓ PASS") && headline.contains("All 7 checks passed"),
         "{headline}"
     );
     assert_eq!(value["modules"][0]["identity"]["family"], "cmd4cr");
+    assert_eq!(value["modules"][0]["checks"]["wiring"]["wired_right"], true);
     // The −limit switch of X on (MSTX bit 5, Table 2-28): the switch check
     // fails and the verdict says which line and what was read.
     let mut failing = args.to_vec();
@@ -344,4 +354,262 @@ fn a_parameter_file_that_does_not_check_sends_nothing() {
         "{err}"
     );
     assert!(!json.exists(), "a sheet of a run that never ran");
+}
+
+const CMD4CR_EXAMPLE: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/examples/cmd4cr/commission.txt"
+);
+
+#[test]
+fn swapped_limit_switches_fail_the_cmd4cr_sheet_naming_the_wiring() {
+    let (out, page, json) = run_family("cmd4cr", CMD4CR_EXAMPLE, &["--input", "LIMITS=swapped"]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let headline = &select_text(&page, "#verdict .headline")[0];
+    assert!(
+        headline.contains("✗ FAIL")
+            && headline.contains(
+                "the wiring check found a fault: X, moving + tripped the − (left) switch at"
+            ),
+        "{headline}"
+    );
+    let wiring = &select_text(&page, "#module-1 .wiring")[0];
+    assert!(wiring.contains("Wiring check ✗ FAIL"), "{wiring}");
+    // The :wiring line failed, and the homing after it never ran.
+    let lines = select_text(&page, "#module-1 .lines tr.fail");
+    assert!(
+        lines.iter().any(|l| l.contains(":wiring --speed 500000")),
+        "{lines:?}"
+    );
+    let faults = json["modules"][0]["checks"]["wiring"]["faults"]
+        .as_array()
+        .expect("faults");
+    assert_eq!(faults.len(), 2, "{faults:?}");
+    assert_eq!(json["verdict"]["passed"], false);
+}
+
+#[test]
+fn swapped_limit_switches_fail_the_tmcl_sheet_naming_the_wiring() {
+    let (out, page, _) = run_example(&["--input", "LIMITS=swapped"]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let headline = &select_text(&page, "#verdict .headline")[0];
+    assert!(
+        headline.contains(
+            "the wiring check found a fault: motor 0, moving + tripped the − (left) switch at"
+        ),
+        "{headline}"
+    );
+}
+
+const SIXPACK2_EXAMPLE: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/examples/sixpack2/commission.txt"
+);
+
+#[test]
+fn the_sixpack2_commissioning_example_passes_and_a_reference_switch_on_fails_it() {
+    let (out, page, json) = run_family("sixpack2", SIXPACK2_EXAMPLE, &[]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let headline = &select_text(&page, "#verdict .headline")[0];
+    // Two :expect lines and the run's end.
+    assert!(
+        headline.contains("✓ PASS") && headline.contains("All 3 checks passed"),
+        "{headline}"
+    );
+    assert_eq!(
+        json["modules"][0]["settings"]["parameter_file"],
+        "axis.toml"
+    );
+    let lines = select_text(&page, "#module-1 .lines tbody tr");
+    assert!(
+        lines
+            .iter()
+            .any(|l| l.contains(":params axis.toml") && l.contains("4 written, 0 verified")),
+        "{lines:?}"
+    );
+    // Motor 0's reference switch actuated at rest: its input reads 0.
+    let (out, page, _) = run_family("sixpack2", SIXPACK2_EXAMPLE, &["--input", "REF0=1"]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let headline = &select_text(&page, "#verdict .headline")[0];
+    assert!(
+        headline.contains("✗ FAIL")
+            && headline.contains("line 11 `GetInputValues 0` expected analog=512 ref=1, got")
+            && headline.contains("ref=0"),
+        "{headline}"
+    );
+}
+
+const MCCL_EXAMPLE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/mccl/commission.txt");
+
+#[test]
+fn the_mccl_commissioning_example_passes_with_its_step_response_plotted() {
+    let (out, page, json) = run_family("mccl", MCCL_EXAMPLE, &[]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let headline = &select_text(&page, "#verdict .headline")[0];
+    // Six :expect/:wait-until lines and the run's end.
+    assert!(
+        headline.contains("✓ PASS") && headline.contains("All 7 checks passed"),
+        "{headline}"
+    );
+    let tuning = &select_text(&page, "#module-1 .tuning")[0];
+    assert!(
+        tuning.contains("servo 1: 400 samples every 0.25 ms; gains SG 0.04, SD 0.3")
+            && tuning.contains("rise time (10-90 %): ")
+            && tuning.contains("Step response, servo 1"),
+        "{tuning}"
+    );
+    // One plot; each series a marker per sample, as many as the JSON's.
+    assert_eq!(select_text(&page, "#module-1 .tuning svg").len(), 1);
+    for (index, name) in ["commanded", "actual"].into_iter().enumerate() {
+        let css = format!("#module-1 .tuning svg g.series[data-name=\"{name}\"] .point");
+        let points = select_text(&page, &css).len();
+        let series = &json["modules"][0]["tuning"]["plots"][0]["series"][index];
+        assert_eq!(series["name"], name);
+        assert_eq!(points, 400);
+        assert_eq!(series["points"].as_array().map(Vec::len), Some(400));
+    }
+    // The last commanded sample is the step's target.
+    let last = json["modules"][0]["tuning"]["plots"][0]["series"][0]["points"][399][1].as_f64();
+    assert_eq!(last, Some(1000.0));
+}
+
+#[test]
+fn a_limit_input_on_fails_the_mccl_sheet_naming_the_check() {
+    let (out, page, _) = run_family("mccl", MCCL_EXAMPLE, &["--input", "LIM-1=1"]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let headline = &select_text(&page, "#verdict .headline")[0];
+    assert!(
+        headline.contains("✗ FAIL") && headline.contains("line 11 `1TS29` expected 0, got 1"),
+        "{headline}"
+    );
+    // The run stopped there: no tuning was done.
+    let tuning = &select_text(&page, "#module-1 .tuning")[0];
+    assert!(tuning.contains("No tuning was done"), "{tuning}");
+}
+
+#[test]
+fn a_tool_the_family_lacks_is_refused_before_anything_is_sent() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("f.txt");
+    // The first line would fail if it were sent: nothing may be.
+    std::fs::write(
+        &file,
+        ":expect GAP 4, 0 == 12345\n:tune-step --distance 1000\n",
+    )
+    .expect("write");
+    let json = dir.path().join("s.json");
+    let out = axterm(&[
+        "run",
+        "--sim",
+        "tmcm1110",
+        &text(&file),
+        "--report-json",
+        &text(&json),
+    ]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("f.txt:2: :tune-step: the tmcl family has no servo step-response test"),
+        "{err}"
+    );
+    assert!(
+        err.contains("nothing was sent") && !err.contains("12345"),
+        "{err}"
+    );
+    assert!(!json.exists(), "a sheet of a run that never ran");
+}
+
+#[test]
+fn a_stallguard_sweep_puts_its_readings_on_the_sheet() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("f.txt");
+    std::fs::write(&file, ":tune-stallguard --from 200 --to 1000 --steps 3\n").expect("write");
+    let (html, json) = (dir.path().join("s.html"), dir.path().join("s.json"));
+    let out = axterm(&[
+        "run",
+        "--sim",
+        "tmcm1110",
+        &text(&file),
+        "--report",
+        &text(&html),
+        "--report-json",
+        &text(&json),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let (page, json) = sheet(&html, &json);
+    let plot = &json["modules"][0]["tuning"]["plots"][0];
+    assert_eq!(plot["x_label"], "speed");
+    // Three speeds, four readings at each.
+    assert_eq!(
+        plot["series"][0]["points"].as_array().map(Vec::len),
+        Some(3)
+    );
+    assert_eq!(
+        plot["series"][1]["points"].as_array().map(Vec::len),
+        Some(12)
+    );
+    let figures = &select_text(&page, "#module-1 .tuning .figures")[0];
+    assert!(figures.contains("speed 200: "), "{figures}");
+    assert_eq!(select_text(&page, "#module-1 .tuning svg").len(), 1);
+}
+
+#[test]
+fn a_tool_directive_prints_one_json_object_with_its_lines() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("f.txt");
+    std::fs::write(&file, ":tune-step --axis 1 --distance 1000\n").expect("write");
+    let out = axterm(&["run", "--sim", "mccl", "--format", "json", &text(&file)]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let said = cli_support::stdout(&out);
+    let objects: Vec<Value> = said
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("a JSON line"))
+        .collect();
+    assert_eq!(objects.len(), 1, "{said}");
+    assert_eq!(objects[0]["tool"], "tune-step");
+    assert_eq!(objects[0]["ok"], true);
+    let first = objects[0]["lines"][0].as_str().unwrap_or_default();
+    assert!(
+        first.starts_with("servo 1: 400 samples every 0.25 ms"),
+        "{first}"
+    );
+}
+
+#[test]
+fn a_step_that_trips_fails_the_sheet_naming_its_line() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("f.txt");
+    // Unstable gains and a tight following error limit: the step trips
+    // (as in tests/cli_tune.rs), and the run stops there.
+    std::fs::write(
+        &file,
+        ":tune-step --axis 1 --distance 20 --set SG=5,SE=40\n:echo not reached\n",
+    )
+    .expect("write");
+    let (html, json) = (dir.path().join("s.html"), dir.path().join("s.json"));
+    let out = axterm(&[
+        "run",
+        "--sim",
+        "mccl",
+        &text(&file),
+        "--report",
+        &text(&html),
+        "--report-json",
+        &text(&json),
+    ]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let (page, json) = sheet(&html, &json);
+    let headline = &select_text(&page, "#verdict .headline")[0];
+    assert!(
+        headline.contains("✗ FAIL")
+            && headline
+                .contains("line 1 `:tune-step --axis 1 --distance 20 --set SG=5,SE=40`: tripped (")
+            && headline.contains("the axis was stopped"),
+        "{headline}"
+    );
+    // The plot of what it did is on the sheet all the same.
+    assert_eq!(select_text(&page, "#module-1 .tuning svg").len(), 1);
+    let figures = &select_text(&page, "#module-1 .tuning .figures")[0];
+    assert!(figures.contains("TRIPPED: "), "{figures}");
+    assert_eq!(json["verdict"]["passed"], false);
 }

@@ -97,6 +97,7 @@ fn module(address: u8, firmware: &str, right_switch: &str) -> ModuleSheet {
             wiring: Some(Wiring {
                 findings: vec!["motor 0: right switch fired moving + at 51200".into()],
                 wired_right: true,
+                faults: Vec::new(),
             }),
             emergency_stop: (!passes).then(|| EmergencyStop {
                 reason: "the run failed".into(),

@@ -5,6 +5,7 @@
 //! one whose state differs (exit 1). For TMCL and CMD-4CR.
 
 mod cli_support;
+mod report_support;
 mod ui_support;
 
 use std::path::Path;
@@ -184,4 +185,73 @@ async fn a_cmd4cr_session_recorded_in_the_console_replays_with_axterm_run() {
     let (code, said) = replay("cmd4cr", &["--input", "DI4=1"], &file);
     assert_eq!(code, Some(1), "{said}");
     assert!(said.contains("expected DI == 0, got 8"), "{said}");
+}
+
+/// `:report FILE`: the sheet of the session recording so far, HTML or
+/// JSON (checked against the schema); refused without a recording, and
+/// an existing file kept without --force.
+#[tokio::test(start_paused = true)]
+async fn report_writes_the_sheet_of_the_session_recording_so_far() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let recording = dir.path().join("commissioning.txt").display().to_string();
+    let html = dir.path().join("sheet.html");
+    let json = dir.path().join("sheet.json");
+    std::fs::write(&json, "yesterday's").expect("write");
+    let (html_path, json_path) = (html.display().to_string(), json.display().to_string());
+    let controller = sim_controller("tmcm1110").await;
+    run_command_console(controller, (160, 40), async |rig: &mut Rig| {
+        rig.screens.until("(1110V112)").await;
+        enter(rig, &format!(":report {html_path}"));
+        rig.screens
+            .until(":report writes the sheet of the session recording: start one with :record")
+            .await;
+        enter(rig, &format!(":record {recording}"));
+        rig.screens.until("recording the session to").await;
+        enter(rig, "SAP 4, 0, 1500");
+        enter(rig, "SAP 6, 0, 999");
+        enter(rig, "GAP 4, 0");
+        rig.screens.until("  1500  (status 100").await;
+        enter(rig, &format!(":report {html_path}"));
+        rig.screens
+            .until("the sheet of the session so far is in")
+            .await;
+        enter(rig, &format!(":report {json_path}"));
+        rig.screens.until("give --force to replace it").await;
+        enter(rig, &format!(":report --force {json_path}"));
+        rig.screens.until("sheet.json: All 2 checks passed").await;
+    })
+    .await;
+
+    let page = scraper::Html::parse_document(&read(&html));
+    let select = |css: &str| -> Vec<String> {
+        let selector = scraper::Selector::parse(css).expect("selector");
+        page.select(&selector)
+            .map(|e| e.text().collect::<String>())
+            .collect()
+    };
+    let headline = &select("#verdict .headline")[0];
+    // The read recorded as `:expect` and the session's end.
+    assert!(headline.contains("All 2 checks passed"), "{headline}");
+    assert!(select("#module-1 .identity")[0].contains("1110V112"));
+    let checks = select("#module-1 .expectations tbody tr");
+    assert_eq!(checks.len(), 1, "{checks:?}");
+    assert!(
+        checks[0].contains("GAP 4, 0") && checks[0].contains("1500"),
+        "{checks:?}"
+    );
+    let lines = select("#module-1 .lines tbody tr");
+    assert_eq!(lines.len(), 3, "{lines:?}");
+    // Numbered as the answers came: the refused line at once, before the
+    // answer to the one sent ahead of it.
+    assert!(
+        lines
+            .iter()
+            .any(|l| l.contains("# not sent: SAP 6, 0, 999") && l.contains("outside 0..255")),
+        "{lines:?}"
+    );
+    let value: serde_json::Value = serde_json::from_str(&read(&json)).expect("JSON");
+    let problems = report_support::validate(&report_support::schema(), &value);
+    assert!(problems.is_empty(), "{problems:#?}");
+    assert_eq!(value["modules"][0]["identity"]["family"], "tmcl");
+    assert_eq!(value["verdict"]["passed"], true);
 }

@@ -32,6 +32,7 @@ use std::path::Path;
 use crate::protocol::Family;
 use crate::protocol::console::PreparedLine;
 use crate::session::run_end::{RunEnding, StopOnFailure};
+use crate::session::wiring::{findings, wired_right};
 use crate::session::{LineResult, Session, SessionError};
 
 #[derive(Debug, Clone, Args)]
@@ -975,6 +976,9 @@ impl Runner<'_> {
                 }
                 true
             }
+            (action @ (Action::Wiring(_) | Action::TuneStep(_) | Action::TuneStallguard(_)), _) => {
+                self.tool(&at, item.step.line_number, action).await
+            }
             // check_script prepares a line for every step that has one.
             (_, None) => {
                 eprintln!("{at}internal error: the line was not checked");
@@ -1037,6 +1041,147 @@ impl Runner<'_> {
             record.params_applied(number, file, said, ok, stored);
         }
         ok
+    }
+
+    /// Lines a tool printed: each as a line (text; after `module N: ` with
+    /// several), or one JSON object `{"tool": …, "lines": […], "ok": …}`.
+    fn say(&self, tool: &str, lines: &[String], ok: bool) {
+        match (self.format, self.module) {
+            (Format::Text, None) => lines.iter().for_each(|l| println!("{l}")),
+            (Format::Text, Some(module)) => {
+                lines.iter().for_each(|l| println!("{}: {l}", module.who()));
+            }
+            (Format::Json, module) => {
+                let mut object = json!({ "tool": tool, "lines": lines, "ok": ok });
+                if let Some(module) = module {
+                    module.mark(&mut object);
+                }
+                println!("{object}");
+            }
+        }
+    }
+
+    /// A tool directive of line `number` (checked with the file): the
+    /// wiring check, a step test or a sweep, its lines printed and put on
+    /// the sheet. False when it failed, found a wiring fault or tripped.
+    async fn tool(&self, at: &str, number: usize, action: &Action) -> bool {
+        let session = self.session;
+        let Some(Ok(plan)) = script::tool_plan(action, session.family()) else {
+            eprintln!("{at}internal error: the directive was not checked");
+            return false;
+        };
+        let failed = |error: String| {
+            eprintln!("{at}{error}");
+            if let Some(record) = self.record {
+                record.line(number, Some(error), false, None);
+            }
+            false
+        };
+        match plan {
+            script::ToolPlan::Wiring {
+                plan,
+                index,
+                axis,
+                speed,
+                give_up,
+            } => {
+                let legs = match session.check_wiring(plan, index, speed, give_up).await {
+                    Ok(legs) => legs,
+                    Err(error) => return failed(error.to_string()),
+                };
+                let found = findings(axis.name, &legs);
+                // Each faulty leg's own lines (without the home switch's,
+                // said of the whole check).
+                let faults: Vec<String> = legs
+                    .iter()
+                    .filter(|leg| !wired_right(std::slice::from_ref(leg)))
+                    .flat_map(|leg| {
+                        let mut lines = findings(axis.name, std::slice::from_ref(leg));
+                        lines.pop();
+                        lines
+                    })
+                    .collect();
+                let right = faults.is_empty();
+                self.say("wiring", &found, right);
+                if !right {
+                    eprintln!("{at}the wiring check found a fault: {}", faults.join("; "));
+                }
+                if let Some(record) = self.record {
+                    record.wiring(number, found, faults);
+                }
+                right
+            }
+            script::ToolPlan::Step {
+                plan,
+                index,
+                axis,
+                ask,
+                spec,
+            } => {
+                let run = match session.step_response(plan, index, &ask, &spec).await {
+                    Ok(run) => run,
+                    Err(error) => return failed(error.to_string()),
+                };
+                let lines = super::tune::step_lines(&axis, &run);
+                let ok = run.tripped.is_empty();
+                self.say("tune-step", &lines, ok);
+                let said = match run.tripped.iter().map(|f| f.name).collect::<Vec<_>>() {
+                    tripped if tripped.is_empty() => format!("{} samples", run.samples.len()),
+                    tripped => {
+                        let said =
+                            format!("tripped ({}): the axis was stopped", tripped.join(", "));
+                        eprintln!("{at}{said}");
+                        said
+                    }
+                };
+                if let Some(record) = self.record {
+                    let plot = super::tune::step_plot(&axis, &run);
+                    record.tuned(number, said, ok, lines, vec![plot]);
+                }
+                ok
+            }
+            script::ToolPlan::Sweep {
+                plan,
+                index,
+                axis,
+                ask,
+            } => {
+                let run = match session.stall_sweep(plan, index, &ask).await {
+                    Ok(run) => run,
+                    Err(error) => return failed(error.to_string()),
+                };
+                // The sweep's stop ramps the motor down: the run goes on
+                // (or ends) with it at rest.
+                match session
+                    .wait_standing(index, crate::session::tuning::STAND_WAIT)
+                    .await
+                {
+                    Ok(true) => {}
+                    Ok(false) => {
+                        return failed(format!(
+                            "{} still moves {} s after the sweep's stop",
+                            axis.name,
+                            crate::session::tuning::STAND_WAIT.as_secs()
+                        ));
+                    }
+                    Err(error) => return failed(error.to_string()),
+                }
+                let text = super::tune::show_sweep(
+                    plan.reading(),
+                    &run,
+                    None,
+                    super::tune::TuneFormat::Text,
+                );
+                let lines: Vec<String> = text.lines().map(str::to_string).collect();
+                self.say("tune-stallguard", &lines, true);
+                if let Some(record) = self.record {
+                    let plot = super::tune::sweep_plot(&axis, plan.reading(), &run);
+                    let said = format!("{} speeds swept", run.points.len());
+                    record.tuned(number, said, true, lines, vec![plot]);
+                }
+                true
+            }
+        }
     }
 
     /// A check's reading for the sheet: the value read, or the error.

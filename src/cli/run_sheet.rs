@@ -20,7 +20,8 @@ use crate::files::{Existing, check_destination};
 use crate::protocol::parameters::{ParamOp, ParamRow, Scope};
 use crate::report::{
     CheckOutcome, Checks, EmergencyStop, Ending, Expectation, Identity, LineKind, LineOutcome,
-    ModuleSheet, RunEnd, RunLine, SettingRow, Settings, Sheet, sheet_html, sheet_json,
+    ModuleSheet, Plot, RunEnd, RunLine, SettingRow, Settings, Sheet, Tuning, Wiring, sheet_html,
+    sheet_json,
 };
 use crate::session::Session;
 use crate::session::params::{ModuleValue, read_values};
@@ -128,6 +129,8 @@ pub struct ModuleRecord {
     /// The parameter file applied (the last one), and whether a
     /// parameter file's settings were stored.
     applied: Mutex<(Option<String>, bool)>,
+    /// The tuning results of the run's tool directives, in order.
+    tuning: Mutex<Option<Tuning>>,
 }
 
 /// How a file's line is classed on the sheet (the syntax of
@@ -191,6 +194,7 @@ impl ModuleRecord {
             }),
             sent: Mutex::new(Vec::new()),
             applied: Mutex::new((None, false)),
+            tuning: Mutex::new(None),
         }
     }
 
@@ -201,6 +205,48 @@ impl ModuleRecord {
         let mut applied = self.applied.lock().unwrap_or_else(|e| e.into_inner());
         applied.0 = Some(file.to_string());
         applied.1 |= stored;
+    }
+
+    /// The wiring check of line `number` found `findings` (`faults` among
+    /// them): on the sheet's wiring check, several checks of a run
+    /// together (wired right only if each was).
+    pub fn wiring(&self, number: usize, findings: Vec<String>, faults: Vec<String>) {
+        let right = faults.is_empty();
+        let said = if right {
+            "wired right".to_string()
+        } else {
+            format!("{} fault(s): see the wiring check", faults.len())
+        };
+        self.with(|facts| {
+            let wiring = facts.wiring.get_or_insert_with(|| Wiring {
+                findings: Vec::new(),
+                wired_right: true,
+                faults: Vec::new(),
+            });
+            wiring.findings.extend(findings);
+            wiring.faults.extend(faults);
+            wiring.wired_right &= right;
+        });
+        self.line(number, Some(said), right, None);
+    }
+
+    /// The tuning tool of line `number` gave `figures` and `plots`; `ok`
+    /// false when it tripped (`said` says why).
+    pub fn tuned(
+        &self,
+        number: usize,
+        said: String,
+        ok: bool,
+        figures: Vec<String>,
+        plots: Vec<Plot>,
+    ) {
+        {
+            let mut tuning = self.tuning.lock().unwrap_or_else(|e| e.into_inner());
+            let tuning = tuning.get_or_insert_with(Tuning::default);
+            tuning.figures.extend(figures);
+            tuning.plots.extend(plots);
+        }
+        self.line(number, Some(said), ok, None);
     }
 
     /// The section of a module the run never reached (it did not answer,
@@ -276,6 +322,7 @@ impl ModuleRecord {
     ) -> ModuleSheet {
         let sent = self.sent.into_inner().unwrap_or_else(|e| e.into_inner());
         let (parameter_file, stored) = self.applied.into_inner().unwrap_or_else(|e| e.into_inner());
+        let tuning = self.tuning.into_inner().unwrap_or_else(|e| e.into_inner());
         let mut checks = self.facts.into_inner().unwrap_or_else(|e| e.into_inner());
         checks.run_end = RunEnd {
             ending: match ending {
@@ -324,7 +371,7 @@ impl ModuleRecord {
             identity,
             settings,
             checks,
-            tuning: None,
+            tuning,
         }
     }
 }

@@ -181,25 +181,7 @@ fn axis_of(target: &Target, number: Option<u8>) -> Result<(usize, AxisInfo), Str
     })
 }
 
-/// `SG=0.05,SD=0.3` as names and values.
-pub fn parse_settings(text: &str) -> Result<Vec<(String, f64)>, String> {
-    text.split(',')
-        .map(str::trim)
-        .filter(|item| !item.is_empty())
-        .map(|item| {
-            let (name, value) = item
-                .split_once('=')
-                .ok_or_else(|| format!("--set {item}: write NAME=VALUE (SG=0.05)"))?;
-            let number: f64 = value
-                .trim()
-                .parse()
-                .ok()
-                .filter(|v: &f64| v.is_finite())
-                .ok_or_else(|| format!("--set {item}: {} is not a number", value.trim()))?;
-            Ok((name.trim().to_string(), number))
-        })
-        .collect()
-}
+pub use crate::protocol::tuning::parse_settings;
 
 fn run_step(connection: &ConnectionArgs, args: &StepArgs) -> i32 {
     let target = match Target::resolve(connection) {
@@ -417,6 +399,59 @@ pub fn step_lines(axis: &AxisInfo, run: &StepRun) -> Vec<String> {
         )),
     }
     lines
+}
+
+/// A step test's samples as the sheet's plot: commanded and actual
+/// position over time (ms).
+pub fn step_plot(axis: &AxisInfo, run: &StepRun) -> crate::report::Plot {
+    use crate::report::{Plot, Series};
+    let series = |name: &str, value: fn(&crate::protocol::tuning::StepSample) -> f64| Series {
+        name: name.to_string(),
+        points: run
+            .samples
+            .iter()
+            .map(|s| (s.time * 1000.0, value(s)))
+            .collect(),
+    };
+    Plot {
+        title: format!("Step response, {}", axis.name),
+        x_label: "time (ms)".into(),
+        y_label: "position (counts)".into(),
+        series: vec![
+            series("commanded", |s| s.commanded),
+            series("actual", |s| s.actual),
+        ],
+    }
+}
+
+/// A sweep's readings as the sheet's plot: the mean reading at each
+/// speed, and every reading.
+pub fn sweep_plot(axis: &AxisInfo, reading: &str, run: &SweepRun) -> crate::report::Plot {
+    use crate::report::{Plot, Series};
+    let as_f64 = |n: i64| n as f64;
+    Plot {
+        title: format!("StallGuard2 sweep, {}", axis.name),
+        x_label: "speed".into(),
+        y_label: reading.split(',').next().unwrap_or(reading).to_string(),
+        series: vec![
+            Series {
+                name: "mean".into(),
+                points: run
+                    .points
+                    .iter()
+                    .filter_map(|p| Some((as_f64(p.speed), as_f64(p.mean()?))))
+                    .collect(),
+            },
+            Series {
+                name: "readings".into(),
+                points: run
+                    .points
+                    .iter()
+                    .flat_map(|p| p.readings.iter().map(|&r| (as_f64(p.speed), as_f64(r))))
+                    .collect(),
+            },
+        ],
+    }
 }
 
 fn run_sweep(connection: &ConnectionArgs, args: &SweepArgs) -> i32 {

@@ -36,6 +36,26 @@ pub struct TuningField {
     pub meaning: &'static str,
 }
 
+/// `SG=0.05,SD=0.3` as names and values (`--set` of a step test).
+pub fn parse_settings(text: &str) -> Result<Vec<(String, f64)>, String> {
+    text.split(',')
+        .map(str::trim)
+        .filter(|item| !item.is_empty())
+        .map(|item| {
+            let (name, value) = item
+                .split_once('=')
+                .ok_or_else(|| format!("--set {item}: write NAME=VALUE (SG=0.05)"))?;
+            let number: f64 = value
+                .trim()
+                .parse()
+                .ok()
+                .filter(|v: &f64| v.is_finite())
+                .ok_or_else(|| format!("--set {item}: {} is not a number", value.trim()))?;
+            Ok((name.trim().to_string(), number))
+        })
+        .collect()
+}
+
 /// What a step-response test is asked for.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StepAsk {

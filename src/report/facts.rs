@@ -148,6 +148,9 @@ pub struct Wiring {
     pub findings: Vec<String>,
     /// Each switch fired for its own direction and stopped the axis.
     pub wired_right: bool,
+    /// The findings that are faults (empty when wired right): what the
+    /// verdict names.
+    pub faults: Vec<String>,
 }
 
 /// The stop-everything sequence at the end of a run that did not complete.
@@ -202,12 +205,41 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
 }
 
+impl Checks {
+    /// Whether `line` failed and counts as a check of its own: a console
+    /// line, or a directive that is neither an `:expect`/`:wait-until`
+    /// (counted as such) nor a `:wiring` whose findings the wiring check
+    /// holds (counted by it): a `:params` that failed, a `:tune-step`
+    /// whose axis tripped.
+    fn counts_failed(&self, line: &RunLine) -> bool {
+        if line.outcome != LineOutcome::Failed {
+            return false;
+        }
+        match line.kind {
+            LineKind::ConsoleLine => true,
+            LineKind::Directive => {
+                let is_wiring = line
+                    .text
+                    .split_whitespace()
+                    .next()
+                    .is_some_and(|word| word.eq_ignore_ascii_case(":wiring"));
+                let counted_as_expectation =
+                    self.expectations.iter().any(|e| e.number == line.number);
+                let counted_as_wiring = is_wiring && self.wiring.is_some();
+                !(counted_as_expectation || counted_as_wiring)
+            }
+            LineKind::Comment => false,
+        }
+    }
+}
+
 /// The sheet's verdict, computed from the checks.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 pub struct Verdict {
     pub passed: bool,
     /// Checks counted: every `:expect`/`:wait-until`, the wiring check,
-    /// each failed console line, and the run's end.
+    /// each failed console line or other directive (a `:params`, a
+    /// `:tune-step` that tripped), and the run's end.
     pub checks: usize,
     pub failed: usize,
     /// One sentence a supervisor reads.
@@ -222,7 +254,7 @@ impl ModuleSheet {
         let checks = &self.checks;
         let mut failures = Vec::new();
         for line in &checks.lines {
-            if line.kind == LineKind::ConsoleLine && line.outcome == LineOutcome::Failed {
+            if checks.counts_failed(line) {
                 failures.push(format!(
                     "line {} `{}`: {}",
                     line.number,
@@ -249,7 +281,14 @@ impl ModuleSheet {
         if let Some(wiring) = &checks.wiring
             && !wiring.wired_right
         {
-            failures.push("the wiring check found a fault".into());
+            failures.push(if wiring.faults.is_empty() {
+                "the wiring check found a fault".into()
+            } else {
+                format!(
+                    "the wiring check found a fault: {}",
+                    wiring.faults.join("; ")
+                )
+            });
         }
         if checks.run_end.ending != Ending::Completed {
             let said = match checks.run_end.ending {
@@ -271,7 +310,7 @@ impl ModuleSheet {
             .checks
             .lines
             .iter()
-            .filter(|l| l.kind == LineKind::ConsoleLine && l.outcome == LineOutcome::Failed)
+            .filter(|l| self.checks.counts_failed(l))
             .count();
         self.checks.expectations.len()
             + usize::from(self.checks.wiring.is_some())

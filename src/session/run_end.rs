@@ -120,9 +120,15 @@ impl AtTheEnd {
     pub fn of_script(steps: &[crate::script::CheckedStep]) -> AtTheEnd {
         use crate::protocol::console::Effect;
         use crate::script::{Action, leaves_moving};
+        // The tool directives move the axis (the wiring check's jogs, a
+        // step, a sweep's speeds).
         let acts = steps.iter().any(|s| {
-            matches!(s.step.action, Action::Line(_))
-                && s.line.as_ref().is_some_and(|l| l.effect == Effect::Acts)
+            (matches!(s.step.action, Action::Line(_))
+                && s.line.as_ref().is_some_and(|l| l.effect == Effect::Acts))
+                || matches!(
+                    s.step.action,
+                    Action::Wiring(_) | Action::TuneStep(_) | Action::TuneStallguard(_)
+                )
         });
         if !acts {
             AtTheEnd::Nothing

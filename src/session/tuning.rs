@@ -20,6 +20,9 @@ use crate::protocol::tuning::{
 /// How long a sweep waits for the motor to reach one of its speeds.
 const SPEED_WAIT: Duration = Duration::from_secs(20);
 
+/// How long a run waits for a motor to come to rest after a sweep.
+pub const STAND_WAIT: Duration = Duration::from_secs(10);
+
 /// How often the speed is read while waiting for it.
 const SPEED_LOOK_EVERY: Duration = Duration::from_millis(20);
 
@@ -427,6 +430,24 @@ impl Session {
                     seconds: SPEED_WAIT.as_secs(),
                     last,
                 });
+            }
+            tokio::time::sleep(SPEED_LOOK_EVERY).await;
+        }
+    }
+
+    /// Wait until axis `axis` stands (its status poll reads speed 0), up
+    /// to `within`: after a sweep's stop a motor ramps down, and a run
+    /// that goes on (or ends and checks for moving axes) must see it at
+    /// rest. Whether it stands.
+    pub async fn wait_standing(&self, axis: usize, within: Duration) -> Result<bool, SessionError> {
+        let asked = Instant::now();
+        loop {
+            let status = self.read_status_polls(false).await?;
+            if status.get(axis).is_some_and(|s| s.speed == Some(0)) {
+                return Ok(true);
+            }
+            if asked.elapsed() >= within {
+                return Ok(false);
             }
             tokio::time::sleep(SPEED_LOOK_EVERY).await;
         }

@@ -32,6 +32,24 @@ pub fn run_options(rest: &str) -> (StopOnFailure, &str) {
 const PARAMS_IN_RUN_ONLY: &str = ":params applies a parameter file in `axterm run` only; in \
      the console use the parameter pane's import";
 
+/// The tool directives run only in `axterm run`: the console's own panes
+/// (bring-up's wiring check, the tuning pane) run them with their screens,
+/// and a batch stepping one line at a time has no place for a tool that
+/// holds the line for seconds.
+const TOOL_IN_RUN_ONLY: &str = "runs in `axterm run` only; in the console use the bring-up      pane's wiring check or the tuning pane";
+
+/// Why `action` cannot run in the console's `:run`, if it cannot.
+fn run_only(action: &Action) -> Option<String> {
+    let tool = match action {
+        Action::ApplyParams { .. } => return Some(PARAMS_IN_RUN_ONLY.to_string()),
+        Action::Wiring(_) => ":wiring",
+        Action::TuneStep(_) => ":tune-step",
+        Action::TuneStallguard(_) => ":tune-stallguard",
+        _ => return None,
+    };
+    Some(format!("{tool} {TOOL_IN_RUN_ONLY}"))
+}
+
 /// What the batch needs done next.
 #[derive(Debug, Clone, PartialEq)]
 pub enum BatchStep {
@@ -93,8 +111,9 @@ impl Batch {
         // Refused with the file, before anything is sent.
         let only_in_run: Vec<String> = checked
             .iter()
-            .filter(|c| matches!(c.step.action, Action::ApplyParams { .. }))
-            .map(|c| format!("{name}:{}: {PARAMS_IN_RUN_ONLY}", c.step.line_number))
+            .filter_map(|c| {
+                run_only(&c.step.action).map(|why| format!("{name}:{}: {why}", c.step.line_number))
+            })
             .collect();
         if !only_in_run.is_empty() {
             return Err(only_in_run);
@@ -182,11 +201,12 @@ impl Batch {
                 // Said of the file as a whole: nothing to do where it stands.
                 Action::LeaveMoving => self.next += 1,
                 // Refused by `Batch::check`.
-                Action::ApplyParams { .. } => {
-                    out.push(BatchStep::Failed(format!(
-                        "{}{PARAMS_IN_RUN_ONLY}",
-                        self.at()
-                    )));
+                Action::ApplyParams { .. }
+                | Action::Wiring(_)
+                | Action::TuneStep(_)
+                | Action::TuneStallguard(_) => {
+                    let why = run_only(&step.action).unwrap_or_default();
+                    out.push(BatchStep::Failed(format!("{}{why}", self.at())));
                     return out;
                 }
                 Action::Line(line) | Action::Expect { line, .. } => {
@@ -379,6 +399,19 @@ mod tests {
         let problems =
             Batch::check("f.txt", "GAP 4, 0\n:params axis.toml\n", tmcl(), 1).expect_err("refused");
         assert_eq!(problems, [format!("f.txt:2: {PARAMS_IN_RUN_ONLY}")]);
+    }
+
+    #[test]
+    fn the_tool_directives_are_refused_in_the_console_before_anything_is_sent() {
+        let text = "GAP 4, 0\n:wiring --speed 2047\n:tune-stallguard --from 200 --to 1000\n";
+        let problems = Batch::check("f.txt", text, tmcl(), 1).expect_err("refused");
+        assert_eq!(
+            problems,
+            [
+                format!("f.txt:2: :wiring {TOOL_IN_RUN_ONLY}"),
+                format!("f.txt:3: :tune-stallguard {TOOL_IN_RUN_ONLY}"),
+            ]
+        );
     }
 
     #[test]

@@ -115,7 +115,7 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
     ),
     (
         ":record [[--force] FILE | off]",
-        "record each line sent and its answer as an `axterm run` file (reads as :expect, waits as :wait-until, the emergency stop as the stop lines it sent; an existing FILE only with --force)",
+        "record each line sent and its answer as an `axterm run` file (reads as :expect, waits as :wait-until, the emergency stop as the stop lines it sent; an existing FILE only with --force); meanwhile :report [--force] FILE writes its commissioning sheet so far (JSON for FILE.json)",
     ),
     (
         ":record-macro [--force] FILE | off",
@@ -551,6 +551,7 @@ impl CommandPane {
             }
             "record-macro" => return self.record_command(rest, view),
             "record" => return self.session_record_command(rest, view),
+            "report" => return self.report_command(rest, view),
             "plot" => Request::Plot(rest.to_string()),
             command if is_host_command(command) => {
                 let (policy, rest) = run_options(rest);

@@ -7,6 +7,10 @@ use std::time::Duration;
 use tokio::time::Instant;
 
 use super::*;
+use crate::report::{
+    CheckOutcome, Checks, EmergencyStop, Ending, Expectation, Identity, LineKind, ModuleSheet,
+    RunEnd, RunLine, Settings, Sheet,
+};
 use crate::run_recording::{LineOutcome, RecordingHeader, RunRecorder};
 use crate::wall_clock::CivilTime;
 
@@ -127,6 +131,106 @@ pub(super) struct SessionRecording {
     /// links) and address. A run file replays on one module, so a line
     /// sent to another is no part of it.
     module: (usize, u8),
+    /// The facts of the recording for `:report`'s sheet.
+    facts: SheetFacts,
+}
+
+/// What a session recording saw, as the commissioning sheet shows it
+/// (`:report FILE`): each line sent with its answer, numbered in the
+/// order sent; each read the recording wrote as `:expect` as a check that
+/// passed with the value it read; the emergency stops.
+#[derive(Debug)]
+struct SheetFacts {
+    header: RecordingHeader,
+    started: std::time::SystemTime,
+    lines: Vec<RunLine>,
+    expectations: Vec<Expectation>,
+    emergency_stop: Option<EmergencyStop>,
+}
+
+impl SheetFacts {
+    /// Line `line` came out so (`recorded`: what the recording wrote of it).
+    fn answered(&mut self, line: &str, outcome: LineOutcome, recorded: &str) {
+        let number = self.lines.len() + 1;
+        let (kind, text, answer, done) = match outcome {
+            LineOutcome::Answered(value) => (
+                LineKind::ConsoleLine,
+                line.to_string(),
+                value,
+                crate::report::LineOutcome::Ok,
+            ),
+            LineOutcome::Failed(error) => (
+                LineKind::ConsoleLine,
+                line.to_string(),
+                error,
+                crate::report::LineOutcome::Failed,
+            ),
+            // Refused before anything was sent: the recording keeps it as
+            // a comment, and so does the sheet.
+            LineOutcome::NotSent(error) => (
+                LineKind::Comment,
+                format!("# not sent: {line}"),
+                error,
+                crate::report::LineOutcome::Nothing,
+            ),
+        };
+        if let LineOutcome::Answered(value) = outcome
+            && recorded.lines().any(|l| l.starts_with(":expect "))
+        {
+            self.expectations.push(Expectation {
+                number,
+                directive: "expect".into(),
+                line: line.to_string(),
+                expected: value.to_string(),
+                actual: Some(value.to_string()),
+                outcome: CheckOutcome::Pass,
+            });
+        }
+        self.lines.push(RunLine {
+            number,
+            text,
+            kind,
+            answer: Some(answer.to_string()),
+            outcome: done,
+        });
+    }
+
+    /// The sheet of the session so far, by `operator`.
+    fn sheet(&self, run_file: &str, operator: String, firmware: Option<&str>) -> Sheet {
+        let header = &self.header;
+        let identity = Identity {
+            family: header.family.clone(),
+            link: header.link.clone(),
+            address: header.address,
+            firmware: firmware
+                .or(header.firmware.as_deref())
+                .map_or_else(|| "(not read)".to_string(), str::to_string),
+        };
+        let checks = Checks {
+            lines: self.lines.clone(),
+            expectations: self.expectations.clone(),
+            wiring: None,
+            emergency_stop: self.emergency_stop.clone(),
+            run_end: RunEnd {
+                ending: Ending::Completed,
+                summary: "the console session so far (:report)".into(),
+                stopped_axes: Vec::new(),
+            },
+        };
+        Sheet {
+            run_file: run_file.to_string(),
+            operator,
+            axterm_version: env!("CARGO_PKG_VERSION").to_string(),
+            started_utc: CivilTime::of(self.started).stamp(),
+            ended_utc: CivilTime::of(std::time::SystemTime::now()).stamp(),
+            modules: vec![ModuleSheet {
+                identity,
+                settings: Settings::default(),
+                checks,
+                tuning: None,
+            }],
+        }
+    }
 }
 
 /// The selected module as (link, address), the key a recording keeps.
@@ -222,6 +326,13 @@ impl CommandPane {
             recorder: RunRecorder::new(),
             began: Instant::now(),
             module: selected_module(view).unwrap_or((0, session.address)),
+            facts: SheetFacts {
+                header,
+                started: std::time::SystemTime::now(),
+                lines: Vec::new(),
+                expectations: Vec::new(),
+                emergency_stop: None,
+            },
         };
         recording.recorder.observe(&session.status, Duration::ZERO);
         self.session_recording = Some(recording);
@@ -313,7 +424,69 @@ impl CommandPane {
         };
         let now = r.now();
         let text = r.recorder.answered(tag, line, effect, outcome, now);
+        r.facts.answered(line, outcome, &text);
         self.session_record_write(&text);
+    }
+
+    /// `:report [--force] FILE`: the commissioning sheet of the session
+    /// recording so far (`:record`): its identity, each line sent with its
+    /// answer, each read it recorded as `:expect` as a check, the
+    /// emergency stops. HTML, or JSON for a FILE ending `.json`. Settings
+    /// are not read (a sheet from `axterm run` reads them).
+    pub(super) fn report_command(&mut self, rest: &str, view: &View) -> Outcome {
+        let (existing, rest) = crate::files::force_option(rest);
+        if rest.is_empty() {
+            return self.fail(":report needs a file name (FILE.json writes the JSON)");
+        }
+        if !self.session_record_still_on(view) {
+            return self.fail(
+                ":report writes the sheet of the session recording: start one with :record FILE",
+            );
+        }
+        let Some(r) = self.session_recording.as_ref() else {
+            return self.fail(":report writes the sheet of the session recording");
+        };
+        let operator = std::env::var("USER")
+            .ok()
+            .filter(|u| !u.is_empty())
+            .or_else(|| std::env::var("LOGNAME").ok().filter(|u| !u.is_empty()))
+            .unwrap_or_else(|| "(not given)".into());
+        let firmware = view.session.and_then(|s| s.identity.as_deref());
+        let sheet = r
+            .facts
+            .sheet(&r.path.display().to_string(), operator, firmware);
+        let path = PathBuf::from(rest);
+        let is_json = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+        let bytes = if is_json {
+            match serde_json::to_string_pretty(&crate::report::sheet_json(&sheet)) {
+                Ok(mut text) => {
+                    text.push('\n');
+                    text.into_bytes()
+                }
+                Err(e) => return self.fail(format!("cannot write {}: {e}", path.display())),
+            }
+        } else {
+            crate::report::sheet_html(&sheet).into_bytes()
+        };
+        if let Err(e) = crate::files::save(&path, &bytes, existing) {
+            return self.fail(format!("cannot write {}: {e}", path.display()));
+        }
+        let verdict = sheet.verdict();
+        self.say(
+            if verdict.passed {
+                Role::Ok
+            } else {
+                Role::Warning
+            },
+            format!(
+                "the sheet of the session so far is in {}: {}",
+                path.display(),
+                verdict.headline
+            ),
+        );
+        Outcome::redraw()
     }
 
     /// The emergency stop: lines waiting were dropped; the stop lines
@@ -356,6 +529,13 @@ impl CommandPane {
             .collect();
         let now = r.now();
         let text = r.recorder.emergency_stop(&lines, now);
+        let stop = r.facts.emergency_stop.get_or_insert_with(|| EmergencyStop {
+            reason: "the emergency stop was pressed".into(),
+            lines: Vec::new(),
+        });
+        stop.lines.extend(values.iter().map(|(line, value, ok)| {
+            format!("{line}: {value}{}", if *ok { "" } else { " (FAILED)" })
+        }));
         self.session_record_write(&text);
     }
 
@@ -374,5 +554,52 @@ impl CommandPane {
                 format!("session recording stopped: cannot write {path}: {e}"),
             );
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn facts() -> SheetFacts {
+        SheetFacts {
+            header: RecordingHeader {
+                family: "tmcl".into(),
+                family_description: String::new(),
+                link: "sim tmcm1110".into(),
+                address: 1,
+                firmware: Some("1110V112".into()),
+                started: String::new(),
+            },
+            started: std::time::SystemTime::UNIX_EPOCH,
+            lines: Vec::new(),
+            expectations: Vec::new(),
+            emergency_stop: None,
+        }
+    }
+
+    #[test]
+    fn a_read_recorded_as_expect_is_a_check_and_a_failed_line_fails_the_sheet() {
+        let mut facts = facts();
+        facts.answered(
+            "GAP 4, 0",
+            LineOutcome::Answered("1000"),
+            ":expect GAP 4, 0 == 1000\n",
+        );
+        // A read while an axis moved is recorded as a plain line: no check.
+        facts.answered("GAP 1, 0", LineOutcome::Answered("17"), "GAP 1, 0  # 17\n");
+        let sheet = facts.sheet("s.txt", "Ada".into(), None);
+        assert_eq!(sheet.verdict().headline, "All 2 checks passed");
+        assert_eq!(sheet.modules[0].identity.firmware, "1110V112");
+        facts.answered(
+            "SAP 6, 0, 200",
+            LineOutcome::Failed("invalid value (status 4)"),
+            "# failed: SAP 6, 0, 200\n",
+        );
+        let verdict = facts.sheet("s.txt", "Ada".into(), None).verdict();
+        assert_eq!(
+            verdict.failures,
+            ["line 3 `SAP 6, 0, 200`: invalid value (status 4)"]
+        );
     }
 }
