@@ -40,6 +40,14 @@ const CASES: &[Case] = &[
         ready: &["EO=1"],
         plus_end: 100_000,
     },
+    // MCCL (Ch5): limits + and − on (LN3), decelerate at a limit (LM2),
+    // the servo's loop on (MN); the stage's + limit at 50,000 counts.
+    Case {
+        family: "mccl",
+        speed: 20_000,
+        ready: &["1LM2,1LN3,1MN"],
+        plus_end: 50_000,
+    },
 ];
 
 async fn open(case: &Case, wiring: &str) -> Session {
