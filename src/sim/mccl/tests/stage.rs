@@ -96,3 +96,18 @@ fn the_stage_is_off_until_limits_is_given_and_stage_off_removes_it() {
     s.drive("STAGE=off");
     assert_eq!(s.status(1) & status::LIMIT_PLUS_INPUT, 0);
 }
+
+#[test]
+fn a_stepper_at_the_end_stop_loses_its_steps() {
+    // Axis 5, an open-loop stepper: its counter is the steps given.
+    let mut s = Session::new();
+    s.drive("LIMITS=right");
+    s.quiet(&["5MN", "5VM,5DI0,5SV20000,5GO"]);
+    s.advance_ms(4_000);
+    s.take_prompt();
+    let counted = s.tell("5TP");
+    assert!(counted > END_STOP_AT + 1_000.0, "steps given: {counted}");
+    let shaft = s.sim.axis(5).map(|a| a.shaft);
+    assert_eq!(shaft, Some(END_STOP_AT), "the shaft stands at the stop");
+    assert_ne!(s.status(5) & status::LIMIT_PLUS_INPUT, 0);
+}
