@@ -225,13 +225,14 @@ fn a_slow_items_share_counts_an_echo_and_a_turnaround() {
     assert!(slow.iter().any(|l| l == b"2TT,TF\r"), "{slow:?}");
     let bytes: u32 = slow.iter().map(|l| 3 * l.len() as u32).sum();
     assert_eq!(period, byte * bytes * SLOW_SHARE_DIVISOR);
-    // SIXpack 2: `$30` is 9 bytes out, 8 back, after the 6 ms switch-over
-    // delay (§6.1.1); counted as 18 bytes and the delay.
+    // SIXpack 2: one `$30` per motor channel, each 9 bytes out, 8 back,
+    // after the 6 ms switch-over delay (§6.1.1); counted as 18 bytes and
+    // the delay.
     let (period, slow) = slow_of("sixpack2");
-    assert_eq!(slow.len(), 1);
+    assert_eq!(slow.len(), 6);
     assert_eq!(
         period,
-        (byte * 18 + Duration::from_millis(6)) * SLOW_SHARE_DIVISOR
+        (byte * 18 + Duration::from_millis(6)) * 6 * SLOW_SHARE_DIVISOR
     );
 }
 

@@ -40,6 +40,29 @@ const CASES: &[Case] = &[
         ready: &["EO=1"],
         plus_end: 100_000,
     },
+    // MCCL (Ch5): limits + and − on (LN3), decelerate at a limit (LM2),
+    // the servo's loop on (MN); the stage's + limit at 50,000 counts.
+    Case {
+        family: "mccl",
+        speed: 20_000,
+        ready: &["1LM2,1LN3,1MN"],
+        plus_end: 50_000,
+    },
+    // SIXpack 2 (§7.1 $15, §7.3 $31): a stop only stops (StopNoRef, no
+    // reference search after it), the demo's reference switch is an
+    // opener (NullPositive, §5.5.2); A_In below 100 is the left stop
+    // switch, above 900 the right one. The demo stage's right end switch
+    // closes 100 µsteps before its stop, 199,900 µsteps from the left
+    // stop, with the carriage 480 µsteps from it at power-up.
+    Case {
+        family: "sixpack2",
+        speed: 100,
+        ready: &[
+            "SetMotorParameters 0 6400 StopNoRef,NullPositive",
+            "SetStopSwitchLimits 0 100 900",
+        ],
+        plus_end: 199_420,
+    },
 ];
 
 async fn open(case: &Case, wiring: &str) -> Session {

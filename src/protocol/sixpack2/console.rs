@@ -256,6 +256,67 @@ fn null_positive(known: &SettingsCache, axis: usize) -> bool {
         .is_some_and(|value| value & (1 << NULL_POSITIVE_BIT) != 0)
 }
 
+/// The stop switches of a motor from a `$30` of its channel: "voltage
+/// levels below a defined level are interpreted as the left and above an
+/// other level as right end switch", the levels being `$31`'s MinLeft
+/// (0 = no function) and MaxRight (≥ 1023 = no function) (§5.5.2.2,
+/// §7.3). `$31` cannot be read back, so only limits this session wrote
+/// count; a switch without a known limit is not reported.
+fn stop_switches(
+    line: &PreparedLine,
+    reading: &Reading,
+    known: &SettingsCache,
+) -> Vec<(usize, AxisUpdate)> {
+    let Some(command) = request_of(line).and_then(|r| Command::from_request(&r).ok().flatten())
+    else {
+        return Vec::new();
+    };
+    if command.spec.code != 0x30 {
+        return Vec::new();
+    }
+    let ReplyValue::Text(text) = &reading.value else {
+        return Vec::new();
+    };
+    let Some(values) = ReplyFields::parse_value(command.spec, text) else {
+        return Vec::new();
+    };
+    let get = |name: &str| values.iter().find(|(n, _)| *n == name).map(|(_, v)| *v);
+    // The channel is the request's; the reply's text leaves it out.
+    let (Some(channel), Some(analog)) = (command.value("channel"), get("analog")) else {
+        return Vec::new();
+    };
+    let Some(axis) = usize::try_from(channel).ok().filter(|&a| a < AXES.len()) else {
+        return Vec::new();
+    };
+    let Some(limits) = super::catalog::by_code(0x31) else {
+        return Vec::new();
+    };
+    let field = |name: &str| {
+        limits
+            .fields
+            .iter()
+            .position(|f| f.name == name)
+            .and_then(|i| u16::try_from(i).ok())
+            .map(|i| 0x3100 | i)
+    };
+    let scope = Scope::Axis(u8::try_from(axis).unwrap_or(u8::MAX));
+    let limit = |name: &str| field(name).and_then(|number| known.value(scope, number));
+    let mut updates = Vec::new();
+    if let Some(min_left) = limit("minleft") {
+        updates.push((
+            axis,
+            AxisUpdate::Switch(SwitchKind::Left, min_left > 0 && analog < min_left),
+        ));
+    }
+    if let Some(max_right) = limit("maxright") {
+        updates.push((
+            axis,
+            AxisUpdate::Switch(SwitchKind::Right, max_right < 1023 && analog > max_right),
+        ));
+    }
+    updates
+}
+
 /// NullPositive's bit in the motor flags (§7.1 `$15` P6 bit 6).
 const NULL_POSITIVE_BIT: u32 = 14;
 
@@ -462,12 +523,19 @@ impl FamilyConsole for Sixpack2Console {
                 }
             }
         }
-        if let Some(line) = self.line("GetInputValues", &[0, 0], address) {
-            polls.push(StatusPoll {
-                axis: 0,
-                line,
-                fast: false,
-            });
+        // One `$30` per motor channel: its A_In, which against the `$31`
+        // limits is the stop switches (§7.3), and every reference input.
+        // Slow items: the fast round stays 12 exchanges; a slow round adds
+        // six of 17 bytes (102 bytes, about 89 ms at 19200 Bd with the
+        // 6 ms switch-over each) where it had one.
+        for (axis, info) in AXES.iter().enumerate() {
+            if let Some(line) = self.line("GetInputValues", &[i64::from(info.number), 0], address) {
+                polls.push(StatusPoll {
+                    axis,
+                    line,
+                    fast: false,
+                });
+            }
         }
         polls
     }
@@ -599,6 +667,7 @@ impl FamilyConsole for Sixpack2Console {
                 *active = !*active;
             }
         }
+        updates.extend(stop_switches(line, reading, known));
         updates
     }
 
@@ -685,6 +754,52 @@ mod tests {
         let line = prepare(line);
         let reading = reply(&line, frame).expect("a reading");
         CONSOLE.status_update(&line, &reading)
+    }
+
+    /// §5.5.2.2, §7.3: A_In below `$31`'s MinLeft is the left stop
+    /// switch, above MaxRight the right one; limits not written this
+    /// session are not known (`$31` cannot be read back) and give nothing.
+    #[test]
+    fn a_30_of_a_motor_channel_reads_its_stop_switches_against_the_written_31() {
+        let line = prepare("GetInputValues 2");
+        // Channel 2, A_In 1000 ($03E8), no reference inputs.
+        let reading = reply(&line, &[0x30, 2, 0xE8, 0x03, 0, 0, 0, 0]).expect("a reading");
+        let switches = |known: &SettingsCache| -> Vec<(usize, AxisUpdate)> {
+            CONSOLE
+                .status_update_known(&line, &reading, known)
+                .into_iter()
+                .filter(|(_, u)| {
+                    matches!(
+                        u,
+                        AxisUpdate::Switch(SwitchKind::Left | SwitchKind::Right, _)
+                    )
+                })
+                .collect()
+        };
+        let mut known = SettingsCache::default();
+        assert_eq!(switches(&known), [], "nothing written: not known");
+        let written = CONSOLE.settings_written(&prepare("SetStopSwitchLimits 2 100 900"));
+        known.record(&written);
+        assert_eq!(
+            switches(&known),
+            [
+                (2, AxisUpdate::Switch(SwitchKind::Left, false)),
+                (2, AxisUpdate::Switch(SwitchKind::Right, true)),
+            ]
+        );
+        // MaxRight 1023: no function (§7.3); MinLeft 0 too.
+        known.record(&CONSOLE.settings_written(&prepare("SetStopSwitchLimits 2 0 1023")));
+        assert_eq!(
+            switches(&known),
+            [
+                (2, AxisUpdate::Switch(SwitchKind::Left, false)),
+                (2, AxisUpdate::Switch(SwitchKind::Right, false)),
+            ]
+        );
+        // Another motor's limits do not count for channel 2.
+        let mut other = SettingsCache::default();
+        other.record(&CONSOLE.settings_written(&prepare("SetStopSwitchLimits 1 100 900")));
+        assert_eq!(switches(&other), []);
     }
 
     fn canonicals(lines: &[PreparedLine]) -> Vec<String> {
@@ -889,13 +1004,17 @@ mod tests {
     }
 
     #[test]
-    fn status_reads_every_motor_and_the_reference_inputs_in_one_query() {
+    fn status_reads_every_motor_fast_and_each_motors_inputs_slow() {
         let polls = CONSOLE.status_queries(0);
         let names: Vec<&str> = polls.iter().map(|p| p.line.canonical.as_str()).collect();
-        assert_eq!(names.len(), 13);
+        assert_eq!(names.len(), 18);
         assert_eq!(names[0], "GetPositionAndActivity 0");
         assert_eq!(names[6], "GetVelocityAndActivity 0");
         assert_eq!(names[12], "GetInputValues 0");
+        assert_eq!(names[17], "GetInputValues 5");
+        let inputs: Vec<usize> = polls.iter().skip(12).map(|p| p.axis).collect();
+        assert_eq!(inputs, [0, 1, 2, 3, 4, 5], "each motor's A_In");
+        assert!(polls.iter().skip(12).all(|p| !p.fast), "slow items");
         assert!(polls.iter().all(|p| p.line.effect == Effect::Reads));
         assert_eq!(polls.iter().filter(|p| p.fast).count(), 12);
         let axes: Vec<usize> = polls.iter().take(6).map(|p| p.axis).collect();

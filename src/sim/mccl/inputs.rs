@@ -11,6 +11,7 @@
 use super::Mccl;
 use super::io::{self, LAST_INPUT};
 use super::link::{Eol, ErrorText, PromptGranularity};
+use super::stage::Stage;
 use crate::sim::inputs::{self, InputRow, Level, Names, Setting, SettingError, Values};
 
 /// Which input a setting drives.
@@ -37,6 +38,10 @@ pub enum Input {
     Errors,
     TellAxis,
     OutputRate,
+    /// The demo stage on, its end switches wired right or swapped.
+    Limits,
+    /// The demo stage off again.
+    Stage,
 }
 
 const AXES: u8 = 8;
@@ -152,6 +157,20 @@ pub const INPUTS: &[InputRow<Input>] = &[
         what: "the rate the port sends at, bytes/s (11520, 115200 Bd): an endless reporting line \
                (1TP,RP) waits for it; set it to the baud rate / 10 when serving at a lower --baud",
     },
+    InputRow {
+        input: Input::Limits,
+        names: Names::Listed(&["LIMITS"]),
+        values: inputs::LIMITS_WIRING,
+        what: "puts every axis on a demo stage (limits from +/-50000, home -500..500, end stops at \
+               +/-60000, shaft counts or steps) with its end switches wired right, or swapped: the + \
+               end closes limit -, the - end limit +; LN/LM act on them as on any limit input",
+    },
+    InputRow {
+        input: Input::Stage,
+        names: Names::Listed(&["STAGE"]),
+        values: Values::Choice(&["off"]),
+        what: "takes the demo stage away: the inputs read only what is driven from outside",
+    },
 ];
 
 /// Read a setting (`IN18=1`) against [`INPUTS`].
@@ -263,6 +282,23 @@ impl Mccl {
                 };
                 self.link.profile.output_rate = f64::from(rate);
                 format!("{name} {rate} bytes/s")
+            }
+            Input::Limits => {
+                let swapped = inputs::limits_swapped(setting.level);
+                self.set_stage(Some(Stage { swapped }));
+                if swapped {
+                    format!(
+                        "{name} swapped: on every axis' stage the + end closes limit -, the - end limit +"
+                    )
+                } else {
+                    format!(
+                        "{name} right: on every axis' stage the + end closes limit +, the - end limit -"
+                    )
+                }
+            }
+            Input::Stage => {
+                self.set_stage(None);
+                format!("{name} off: no stage, no end stops")
             }
         };
         Ok(said)

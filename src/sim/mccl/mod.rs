@@ -49,6 +49,7 @@ pub mod macros;
 mod printf;
 mod program;
 mod registers;
+pub mod stage;
 mod tasks;
 mod text;
 pub mod values;
@@ -200,6 +201,8 @@ pub struct Mccl {
     /// Whose turn it is in the round-robin (0 the foreground).
     turn: usize,
     store_fault: Option<StoreFault>,
+    /// The demo stage, off until `LIMITS=` (see [`stage`]).
+    stage: Option<stage::Stage>,
 }
 
 impl Mccl {
@@ -231,6 +234,7 @@ impl Mccl {
             ticks: 0,
             turn: 0,
             store_fault: None,
+            stage: None,
             config,
         }
     }
@@ -490,6 +494,16 @@ impl Mccl {
 
     // ---- inputs ------------------------------------------------------
 
+    /// Put every axis on the demo stage (`Some`) or take it away.
+    pub fn set_stage(&mut self, stage: Option<stage::Stage>) {
+        self.stage = stage;
+        let stops = stage.map(|s| s.end_stops());
+        for axis in &mut self.axes {
+            axis.end_stops = stops;
+            axis.hold_at_end_stop();
+        }
+    }
+
     /// The logical inputs of axis `n` (1-based) now.
     pub fn axis_inputs(&self, n: u8) -> AxisInputs {
         let Some(channels) = io::channels_of(n) else {
@@ -498,10 +512,19 @@ impl Mccl {
         let inverted = self
             .axis(n)
             .is_some_and(|a| a.settings.hard_limits_inverted());
+        let closed = match (self.stage, self.axis(n)) {
+            (Some(stage), Some(axis)) => stage.switches(axis.shaft),
+            _ => stage::Switches::default(),
+        };
+        // A stage switch conducts like a level driven from outside; the
+        // channel's polarity (CH/CL) reads it.
+        let on = |channel: u8, closed: bool| {
+            (self.io.level(channel) || closed) != self.io.is_low_true(channel)
+        };
         AxisInputs {
-            limit_plus: self.io.is_on(channels.limit_plus) != inverted,
-            limit_minus: self.io.is_on(channels.limit_minus) != inverted,
-            home: self.io.is_on(channels.home),
+            limit_plus: on(channels.limit_plus, closed.limit_plus) != inverted,
+            limit_minus: on(channels.limit_minus, closed.limit_minus) != inverted,
+            home: on(channels.home, closed.home),
             fault: self.io.is_on(channels.fault),
             capture: self.io.is_on(channels.capture),
         }

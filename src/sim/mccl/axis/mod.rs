@@ -135,6 +135,9 @@ pub struct Axis {
     pub stalled: bool,
     /// An input reports an encoder fault.
     pub encoder_fault: bool,
+    /// The demo stage's hard end stops, shaft units: the shaft goes no
+    /// further (see `sim::mccl::stage`).
+    pub end_stops: Option<(f64, f64)>,
     /// Where index marks are, in position counts: phase + k × period.
     pub index_phase: f64,
     pub index_period: f64,
@@ -191,6 +194,7 @@ impl Axis {
             steps: 0.0,
             stalled: false,
             encoder_fault: false,
+            end_stops: None,
             index_phase: INDEX_PHASE,
             index_period: INDEX_PERIOD,
             latched: 0,
@@ -226,7 +230,9 @@ impl Axis {
             self.index_phase,
             self.index_period,
         );
+        let end_stops = self.end_stops;
         *self = fresh;
+        self.end_stops = end_stops;
         self.shaft = shaft;
         self.steps = steps;
         self.stalled = stalled;

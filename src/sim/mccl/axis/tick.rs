@@ -163,7 +163,23 @@ impl Axis {
         self.steps = steps;
         if !self.stalled {
             self.shaft += delta;
+            // At an end stop the steps are lost: the counter counts on.
+            self.hold_at_end_stop();
         }
+    }
+
+    /// An end stop of the stage holds the shaft: it stands at the stop
+    /// whatever the motor asks. `true` if it did.
+    pub fn hold_at_end_stop(&mut self) -> bool {
+        let Some((low, high)) = self.end_stops else {
+            return false;
+        };
+        let held = self.shaft.clamp(low, high);
+        if held == self.shaft {
+            return false;
+        }
+        self.shaft = held;
+        true
     }
 
     /// The loop samples of one trajectory tick (Ch5 HS/MS/LS): the
@@ -212,9 +228,15 @@ impl Axis {
                         self.servo.output,
                         period,
                     );
+                    // The stop takes the shaft's momentum: it stands,
+                    // and the loop winds up against it until SE trips.
+                    if self.hold_at_end_stop() {
+                        self.servo.speed = 0.0;
+                    }
                 }
             } else if self.motor_on && self.mode == Mode::Torque && !self.stalled {
                 self.shaft += self.settings.torque * TORQUE_SPEED_PER_VOLT * period;
+                self.hold_at_end_stop();
             }
             let sample = Sample {
                 actual: self.position(),

@@ -10,6 +10,7 @@ mod motion;
 mod props;
 mod reports;
 mod servo;
+mod stage;
 mod tasks;
 mod wire;
 
