@@ -394,3 +394,37 @@ async fn f12_during_a_sweep_stops_the_motor() {
     })
     .await;
 }
+
+#[test]
+fn leaving_the_pane_or_losing_the_link_during_a_run_stops_the_axis() {
+    for how in ["leave", "link"] {
+        let (mut app, _) = mccl_app();
+        app.handle(key(KeyCode::Char('r')));
+        the_step(&app.handle(key(KeyCode::Char('y')))).expect("runs");
+        let effects = if how == "leave" {
+            app.handle(ui_support::key_with(
+                KeyCode::Char('1'),
+                ratatui::crossterm::event::KeyModifiers::ALT,
+            ))
+        } else {
+            let mut shot = snapshot(vec![axterm::session::AxisInfo {
+                number: 1,
+                name: "axis 1",
+            }]);
+            shot.family = find_family("mccl").expect("mccl");
+            shot.link = axterm::device::LinkState::Disconnected {
+                reason: "the cable".into(),
+                attempts: 0,
+                retry_in: Duration::from_millis(100),
+            };
+            app.handle(AppEvent::Snapshot(shot))
+        };
+        assert!(effects.contains(&Effect::CancelTune), "{how}: {effects:?}");
+        let sent: Vec<Vec<String>> = effects
+            .iter()
+            .filter_map(Effect::sends)
+            .map(|(_, _, l)| l)
+            .collect();
+        assert_eq!(sent, vec![vec!["1MF".to_string()]], "{how}");
+    }
+}
