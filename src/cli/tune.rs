@@ -343,63 +343,7 @@ pub fn show_step(axis: &AxisInfo, run: &StepRun, format: TuneFormat) -> String {
     out
 }
 
-/// The figures of a step test as lines to read (the CLI's text, the
-/// tuning pane's figures).
-pub fn step_lines(axis: &AxisInfo, run: &StepRun) -> Vec<String> {
-    let mut lines = Vec::new();
-    let gains: Vec<String> = run
-        .gains
-        .iter()
-        .filter_map(|(name, value)| value.map(|v| format!("{name} {v}")))
-        .collect();
-    lines.push(format!(
-        "{}: {} samples every {} ms; gains {}",
-        axis.name,
-        run.samples.len(),
-        run.sample_period * 1000.0,
-        if gains.is_empty() {
-            "not read".to_string()
-        } else {
-            gains.join(", ")
-        }
-    ));
-    if !run.tripped.is_empty() {
-        lines.push(format!(
-            "TRIPPED: {} — the axis was stopped",
-            run.tripped
-                .iter()
-                .map(|f| format!("{} ({})", f.name, f.description))
-                .collect::<Vec<_>>()
-                .join(", ")
-        ));
-    }
-    match &run.figures {
-        Some(f) => {
-            let ms = |t: Option<f64>| {
-                t.map_or_else(|| "never".to_string(), |t| format!("{:.2} ms", t * 1000.0))
-            };
-            lines.push(format!("rise time (10-90 %): {}", ms(f.rise_time)));
-            lines.push(format!("overshoot: {:.1} %", f.overshoot_percent));
-            lines.push(format!("settling time: {}", ms(f.settling_time)));
-            lines.push(format!(
-                "following error: peak {:.0}, final {:.0} counts",
-                f.peak_following_error, f.final_following_error
-            ));
-            lines.push(format!(
-                "output: peak {:.2} V{}",
-                f.peak_output,
-                if f.saturated { ", SATURATED" } else { "" }
-            ));
-        }
-        None => lines.push(format!(
-            "no figures: {}",
-            run.figures_missing
-                .as_deref()
-                .unwrap_or("no step in the samples")
-        )),
-    }
-    lines
-}
+pub use crate::session::tuning::step_lines;
 
 /// A step test's samples as the sheet's plot: commanded and actual
 /// position over time (ms).

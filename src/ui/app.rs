@@ -15,7 +15,9 @@ mod layout;
 mod runner;
 mod traffic_log;
 
-pub use controller::{Connector, Controller, Pending, WiringFindings, no_simulator_to_drive};
+pub use controller::{
+    Connector, Controller, Pending, TuneJob, TuneOutcome, WiringFindings, no_simulator_to_drive,
+};
 pub use layout::{SIDE_MIN_WIDTH, TILE_MIN_HEIGHT, TILE_MIN_WIDTH};
 pub use runner::{
     TRAFFIC_BATCH, TRAFFIC_BATCH_HIDDEN, TRAFFIC_HEADROOM, join_all, run, run_links, traffic_pause,
@@ -115,6 +117,12 @@ pub enum AppEvent {
         tag: u64,
         result: Result<WiringFindings, String>,
     },
+    /// A pane's tuning job ended.
+    Tuned {
+        pane: usize,
+        tag: u64,
+        result: Result<TuneOutcome, String>,
+    },
     /// SIGTERM, SIGHUP: leave now.
     Terminate,
 }
@@ -202,6 +210,15 @@ pub enum Effect {
     },
     /// End the running wiring check where it is.
     CancelWiring,
+    /// Run a tuning job for a pane; what it gave back as
+    /// [`AppEvent::Tuned`].
+    Tune {
+        pane: usize,
+        tag: u64,
+        job: TuneJob,
+    },
+    /// End the running tuning job where it is.
+    CancelTune,
     /// Take these mechanics as those in force, on every module.
     Mechanics(crate::protocol::units::MechanicsTable),
     /// Poll a read line with the status, or no longer
@@ -526,6 +543,10 @@ impl App {
             }
             AppEvent::WiringChecked { pane, tag, result } => {
                 let event = PaneEvent::WiringChecked { tag, result };
+                self.deliver(pane, &event, &mut effects);
+            }
+            AppEvent::Tuned { pane, tag, result } => {
+                let event = PaneEvent::Tuned { tag, result };
                 self.deliver(pane, &event, &mut effects);
             }
             AppEvent::ProgramLoaded { pane, tag, result } => {
@@ -924,6 +945,8 @@ impl App {
                 speed,
             }),
             Request::CancelWiring => effects.push(Effect::CancelWiring),
+            Request::Tune { job, tag } => effects.push(Effect::Tune { pane, tag, job }),
+            Request::CancelTune => effects.push(Effect::CancelTune),
             Request::Mechanics(table) => effects.push(Effect::Mechanics(table)),
             Request::Watch {
                 axis,

@@ -52,10 +52,12 @@ pub enum Context {
     Editor,
     /// The bring-up pane: jogging an axis, its inputs.
     BringUp,
+    /// The tuning pane: a step test or a load sweep.
+    Tuning,
 }
 
 impl Context {
-    pub const ALL: [Context; 8] = [
+    pub const ALL: [Context; 9] = [
         Context::Global,
         Context::Command,
         Context::Axis,
@@ -64,6 +66,7 @@ impl Context {
         Context::Plot,
         Context::Editor,
         Context::BringUp,
+        Context::Tuning,
     ];
 
     /// The section name in keymap files.
@@ -77,6 +80,7 @@ impl Context {
             Context::Plot => "plot",
             Context::Editor => "editor",
             Context::BringUp => "bringup",
+            Context::Tuning => "tuning",
         }
     }
 
@@ -175,6 +179,9 @@ pub enum Action {
     OutputPrevious,
     OutputToggle,
     WiringCheck,
+    TuneRun,
+    TuneKeepFree,
+    TuneApply,
 }
 
 /// An action's name in keymap files, its word in the status bar, what it
@@ -188,20 +195,22 @@ pub struct ActionInfo {
     pub contexts: &'static [Context],
 }
 
-use Context::{Axis, BringUp, Command, Editor, Global, Parameters, Plot, Traffic};
+use Context::{Axis, BringUp, Command, Editor, Global, Parameters, Plot, Traffic, Tuning};
 
 const ONLY_GLOBAL: &[Context] = &[Global];
 /// Moving about: global, and in the panes where letters are not text.
-const NAVIGATION: &[Context] = &[Global, Axis, Parameters, Traffic, Plot, BringUp];
+const NAVIGATION: &[Context] = &[Global, Axis, Parameters, Traffic, Plot, BringUp, Tuning];
 const EVERYWHERE: &[Context] = &[
-    Global, Command, Axis, Parameters, Traffic, Plot, Editor, BringUp,
+    Global, Command, Axis, Parameters, Traffic, Plot, Editor, BringUp, Tuning,
 ];
 const COMMAND_LINE: &[Context] = &[Command];
-const CANCELLING: &[Context] = &[Command, Parameters, Editor, BringUp];
+const CANCELLING: &[Context] = &[Command, Parameters, Editor, BringUp, Tuning];
 const SCROLLING: &[Context] = &[Command, Parameters, Traffic];
-const LISTS: &[Context] = &[Axis, Parameters, BringUp];
+const LISTS: &[Context] = &[Axis, Parameters, BringUp, Tuning];
 const AXES: &[Context] = &[Axis, BringUp];
 const JOGGING: &[Context] = &[BringUp];
+const EDITING: &[Context] = &[Parameters, Tuning];
+const TUNING: &[Context] = &[Tuning];
 const UNITS: &[Context] = &[Axis, Parameters, Plot];
 const PARAMETERS: &[Context] = &[Parameters];
 const TRAFFIC_ANYWHERE: &[Context] = &[Global, Traffic];
@@ -259,11 +268,11 @@ pub const ACTIONS: &[ActionInfo] = &[
     info(Action::SelectNext, "select_next", "Next", "select the next axis or row", LISTS),
     info(Action::AxisStop, "axis_stop", "Stop axis", "stop the selected axis (a normal stop)", AXES),
     info(Action::ToggleUnits, "toggle_units", "Units", "switch between raw and physical units", UNITS),
-    info(Action::ParameterEdit, "parameter_edit", "Edit", "type a new value for the selected parameter", PARAMETERS),
+    info(Action::ParameterEdit, "parameter_edit", "Edit", "type a new value for the selected parameter (the tuning pane: the selected gain or setting)", EDITING),
     info(Action::ParameterWrite, "parameter_write", "Write", "send the edited value to the controller", PARAMETERS),
     info(Action::ParameterStore, "parameter_store", "Store", "store the parameter in the controller's EEPROM", PARAMETERS),
     info(Action::ParameterRestore, "parameter_restore", "Restore", "restore the parameter from the controller's EEPROM", PARAMETERS),
-    info(Action::ParameterRefresh, "parameter_refresh", "Refresh", "read every parameter again", PARAMETERS),
+    info(Action::ParameterRefresh, "parameter_refresh", "Refresh", "read every parameter again (the tuning pane: the gains)", EDITING),
     info(Action::ParameterFilter, "parameter_filter", "Filter", "show only parameters whose name matches", PARAMETERS),
     info(Action::ParameterExport, "parameter_export", "Export", "save every setting of the module to a TOML file", PARAMETERS),
     info(Action::ParameterImport, "parameter_import", "Import", "load settings from a TOML file: the differences are shown before anything is written", PARAMETERS),
@@ -305,6 +314,9 @@ pub const ACTIONS: &[ActionInfo] = &[
     info(Action::OutputPrevious, "output_previous", "Previous output", "choose the previous output of the module", JOGGING),
     info(Action::OutputToggle, "output_toggle", "Switch output", "switch the chosen output on or off, after a y/n question (an output can move machinery)", JOGGING),
     info(Action::WiringCheck, "wiring_check", "Wiring check", "jog the axis toward + and then - until a limit switch fires, after a y/n question, and say which switch fired where (Esc stops it)", JOGGING),
+    info(Action::TuneRun, "tune_run", "Run test", "run the tuning pane's test (a step or a sweep), after a y/n question: it moves the axis (Esc stops it)", TUNING),
+    info(Action::TuneKeepFree, "tune_keep_free", "Keep as free", "keep the last sweep as the one without load: the next (with the load applied) is compared with it", TUNING),
+    info(Action::TuneApply, "tune_apply", "Send suggestion", "send the lines the sweeps suggest, after a y/n question", TUNING),
 ];
 
 impl Action {
@@ -631,6 +643,8 @@ struct KeymapFile {
     editor: Section,
     #[serde(default)]
     bringup: Section,
+    #[serde(default)]
+    tuning: Section,
 }
 
 type Section = BTreeMap<Spanned<String>, Spanned<ChordList>>;
@@ -669,7 +683,7 @@ impl<'de> Deserialize<'de> for ChordList {
 }
 
 impl KeymapFile {
-    fn sections(&self) -> [(Context, &Section); 8] {
+    fn sections(&self) -> [(Context, &Section); 9] {
         [
             (Context::Global, &self.global),
             (Context::Command, &self.command),
@@ -679,6 +693,7 @@ impl KeymapFile {
             (Context::Plot, &self.plot),
             (Context::Editor, &self.editor),
             (Context::BringUp, &self.bringup),
+            (Context::Tuning, &self.tuning),
         ]
     }
 }

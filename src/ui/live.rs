@@ -236,6 +236,52 @@ impl Controller for SessionController {
         })
     }
 
+    fn tune(&self, job: app::TuneJob) -> Pending<Result<app::TuneOutcome, String>> {
+        let session = self.session.clone();
+        Box::pin(async move {
+            let family = session.family();
+            let none = |tool: &str| format!("the {} family has no {tool}", family.name);
+            let result = match job {
+                app::TuneJob::Gains { axis } => {
+                    let plan = family
+                        .console
+                        .step_response()
+                        .ok_or_else(|| none("step test"))?;
+                    session
+                        .read_gains(plan, axis)
+                        .await
+                        .map(app::TuneOutcome::Gains)
+                }
+                app::TuneJob::Step { axis, ask } => {
+                    let plan = family
+                        .console
+                        .step_response()
+                        .ok_or_else(|| none("step test"))?;
+                    session
+                        .step_response(
+                            plan,
+                            axis,
+                            &ask,
+                            &crate::protocol::tuning::StepSpec::default(),
+                        )
+                        .await
+                        .map(app::TuneOutcome::Step)
+                }
+                app::TuneJob::Sweep { axis, ask } => {
+                    let plan = family
+                        .console
+                        .stall_sweep()
+                        .ok_or_else(|| none("load sweep"))?;
+                    session
+                        .stall_sweep(plan, axis, &ask)
+                        .await
+                        .map(app::TuneOutcome::Sweep)
+                }
+            };
+            result.map_err(|error| error.to_string())
+        })
+    }
+
     fn set_polling(&self, cadence: Option<PollCadence>) {
         match cadence {
             Some(cadence) => self.session.start_polling(cadence),

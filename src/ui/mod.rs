@@ -71,6 +71,7 @@ pub mod terminal;
 pub mod text;
 pub mod theme;
 pub mod traffic;
+pub mod tuning;
 
 use std::path::PathBuf;
 
@@ -98,5 +99,6 @@ pub fn panes(setup: &PaneSetup) -> Vec<Box<dyn Pane>> {
         )),
         Box::new(editor::EditorPane::new(setup.history_dir.clone())),
         Box::new(bringup::BringUpPane::new()),
+        Box::new(tuning::TuningPane::new()),
     ]
 }

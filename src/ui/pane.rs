@@ -211,6 +211,11 @@ pub enum PaneEvent {
         tag: u64,
         result: Result<super::app::WiringFindings, String>,
     },
+    /// The [`Request::Tune`] under `tag` ended: what it gave, or why not.
+    Tuned {
+        tag: u64,
+        result: Result<super::app::TuneOutcome, String>,
+    },
 }
 
 /// A console message and how it should look.
@@ -344,6 +349,13 @@ pub enum Request {
     /// End the running wiring check where it is (its moves are the
     /// pane's to stop: send the stop lines after this).
     CancelWiring,
+    /// Run a tuning job ([`crate::session::tuning`]); what it gave comes
+    /// back as [`PaneEvent::Tuned`] under `tag`. One at a time; the
+    /// emergency stop ends it.
+    Tune { job: super::app::TuneJob, tag: u64 },
+    /// End the running tuning job where it is (a dropped run sends no stop
+    /// lines: the pane sends the axis's stop after this).
+    CancelTune,
     /// Drive an input of the connected simulator by a setting (`IO5=1`),
     /// as if wired (only an in-process simulator can); what now holds, or
     /// why not, comes back as a [`PaneEvent::Notice`].

@@ -27,6 +27,32 @@ pub struct WiringFindings {
 
 pub type Pending<T> = Pin<Box<dyn Future<Output = T> + Send>>;
 
+/// What the tuning pane asks the controller to do
+/// ([`crate::session::tuning`]), on one axis.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TuneJob {
+    /// Read the axis's gains ([`crate::session::Session::read_gains`]).
+    Gains { axis: usize },
+    /// A step-response test ([`crate::session::Session::step_response`]).
+    Step {
+        axis: usize,
+        ask: crate::protocol::tuning::StepAsk,
+    },
+    /// A load sweep ([`crate::session::Session::stall_sweep`]).
+    Sweep {
+        axis: usize,
+        ask: crate::protocol::tuning::SweepAsk,
+    },
+}
+
+/// What a [`TuneJob`] gave.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TuneOutcome {
+    Gains(Vec<(&'static str, Option<f64>)>),
+    Step(crate::session::tuning::StepRun),
+    Sweep(crate::session::tuning::SweepRun),
+}
+
 /// The controller as the console drives it: a [`crate::session::Session`],
 /// or a fake in tests.
 pub trait Controller: Send + Sync {
@@ -104,6 +130,12 @@ pub trait Controller: Send + Sync {
     ) -> Pending<Result<WiringFindings, String>> {
         let _ = (axis, speed, give_up);
         Box::pin(async { Err("this connection cannot run the wiring check".to_string()) })
+    }
+    /// A tuning job with the family's tuning plan: what it gave, or why
+    /// not. By default the connection cannot.
+    fn tune(&self, job: TuneJob) -> Pending<Result<TuneOutcome, String>> {
+        let _ = job;
+        Box::pin(async { Err("this connection cannot run the tuning tools".to_string()) })
     }
     fn set_polling(&self, cadence: Option<PollCadence>);
     /// The line the controller is busy with, if any: a line that runs until

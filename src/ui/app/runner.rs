@@ -302,6 +302,9 @@ struct Runner {
     /// The running wiring check, which [`Effect::CancelWiring`] ends (its
     /// task is in `sending` too, so the emergency stop ends it as well).
     wiring: Option<tokio::task::AbortHandle>,
+    /// The running tuning job, which [`Effect::CancelTune`] ends (in
+    /// `sending` too, so the emergency stop ends it as well).
+    tune: Option<tokio::task::AbortHandle>,
 }
 
 /// Drives an [`App`] until it quits: `input` carries terminal events,
@@ -364,6 +367,7 @@ pub async fn run_links(
         log: None,
         transfer: None,
         wiring: None,
+        tune: None,
     };
     for index in 0..runner.connections.len() {
         let Some(c) = runner.connections.get_mut(index) else {
@@ -1060,6 +1064,37 @@ impl Runner {
                 });
                 self.wiring = Some(job.abort_handle());
                 self.sending.push(job);
+            }
+            Effect::Tune { pane, tag, job } => {
+                let Some(c) = self.selected(app) else {
+                    queue.push(AppEvent::Tuned {
+                        pane,
+                        tag,
+                        result: Err("not connected: nothing to tune".into()),
+                    });
+                    return;
+                };
+                if self.tune.as_ref().is_some_and(|t| !t.is_finished()) {
+                    queue.push(AppEvent::Tuned {
+                        pane,
+                        tag,
+                        result: Err("a tuning run is under way already".into()),
+                    });
+                    return;
+                }
+                let run = c.controller.tune(job);
+                let tx = self.internal.clone();
+                let task = tokio::spawn(async move {
+                    let result = run.await;
+                    let _ = tx.send(AppEvent::Tuned { pane, tag, result });
+                });
+                self.tune = Some(task.abort_handle());
+                self.sending.push(task);
+            }
+            Effect::CancelTune => {
+                if let Some(tune) = self.tune.take() {
+                    tune.abort();
+                }
             }
             Effect::CancelWiring => {
                 if let Some(wiring) = self.wiring.take() {

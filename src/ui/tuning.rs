@@ -1,0 +1,917 @@
+//! The tuning pane: the family's tuning tool on the selected axis. Generic
+//! over the family: a servo step test where the family's console has a
+//! [`crate::protocol::tuning::StepResponsePlan`], a load sweep where it
+//! has a [`crate::protocol::tuning::StallSweepPlan`], neither otherwise.
+//! The runs are the session's ([`crate::session::tuning`], the same as
+//! `axterm tune`), carried by [`Request::Tune`].
+//!
+//! # Step test
+//!
+//! The gains as read from the axis (when the pane gets the keyboard, and
+//! on the refresh key), then the step's distance and sample count: a row
+//! each, chosen with Up/Down; Enter types a value into the chosen row
+//! (pre-filled with the value shown: confirming it unchanged sets that
+//! same value). Gains typed are the `set` of the next run. The run key
+//! asks y/n (it moves the axis), then the plot shows commanded and actual
+//! position over time with the run before faded behind, and the figures
+//! under it (a trip as `TRIPPED: …`).
+//!
+//! # Sweep
+//!
+//! From, to and steps as rows; the run key asks y/n and the readings are
+//! plotted against speed. A key keeps the last sweep as the free one (no
+//! load); the next sweep (the load applied) is drawn beside it with the
+//! plan's suggestion and the lines that would set it, sent only on their
+//! key after a y/n question.
+//!
+//! # Stopping
+//!
+//! Esc during a run ends it: its task is dropped ([`Request::CancelTune`])
+//! and the plan's stop lines for the axis go out (a dropped run sends
+//! none of its own). Losing the keyboard or the link does the same; F12
+//! stops everything as everywhere.
+
+use ratatui::Frame;
+use ratatui::crossterm::event::KeyEvent;
+use ratatui::layout::{Constraint, Layout, Rect};
+use ratatui::symbols::Marker;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Axis, Chart, Dataset, GraphType, LegendPosition, Paragraph};
+
+use super::app::{TuneJob, TuneOutcome};
+use super::field::Field;
+use super::keymap::{Action, Context};
+use super::pane::{Input, Outcome, Pane, PaneEvent, Region, Request, View, key_label};
+use super::text::{fit, wrap};
+use super::theme::Role;
+use crate::device::LinkState;
+use crate::protocol::console::AxisInfo;
+use crate::protocol::tuning::{
+    StallSweepPlan, StepAsk, StepResponsePlan, SweepAsk, SweepPoint, SweepSuggestion,
+};
+use crate::session::tuning::{StepRun, SweepRun, step_lines};
+
+/// The family's tool, as the pane shows it.
+enum Tool {
+    Step(&'static dyn StepResponsePlan),
+    Sweep(&'static dyn StallSweepPlan),
+    None,
+}
+
+fn tool(view: &View) -> Tool {
+    let Some(session) = view.session else {
+        return Tool::None;
+    };
+    let console = session.family.console;
+    if let Some(plan) = console.step_response() {
+        Tool::Step(plan)
+    } else if let Some(plan) = console.stall_sweep() {
+        Tool::Sweep(plan)
+    } else {
+        Tool::None
+    }
+}
+
+/// What awaits a y/n answer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Confirm {
+    Run,
+    Apply,
+}
+
+/// A run under way: its tag, the axis and the lines that stop it.
+#[derive(Debug, Clone, PartialEq)]
+struct Running {
+    tag: u64,
+    stop: Vec<String>,
+}
+
+/// The tuning pane.
+pub struct TuningPane {
+    next_tag: u64,
+    selected: usize,
+    /// A value being typed into the selected row.
+    editing: Option<Field>,
+    /// The gains as last read (or as the last run read them).
+    gains: Vec<(&'static str, Option<f64>)>,
+    /// Gains typed, set at the next run.
+    set: Vec<(String, f64)>,
+    gains_tag: Option<u64>,
+    /// The (family, axis) the gains were read for.
+    read_for: Option<(&'static str, usize)>,
+    distance: i64,
+    samples: usize,
+    from: i64,
+    to: i64,
+    steps: u32,
+    confirm: Option<Confirm>,
+    running: Option<Running>,
+    step: Option<StepRun>,
+    previous: Option<StepRun>,
+    sweep: Option<SweepRun>,
+    free: Option<SweepRun>,
+    suggestion: Option<SweepSuggestion>,
+    apply_tag: Option<u64>,
+    message: Option<(Role, String)>,
+}
+
+impl Default for TuningPane {
+    fn default() -> Self {
+        TuningPane::new()
+    }
+}
+
+/// Readings taken at each speed of a sweep.
+const SWEEP_SAMPLES: u32 = 4;
+
+impl TuningPane {
+    pub fn new() -> TuningPane {
+        TuningPane {
+            next_tag: 1,
+            selected: 0,
+            editing: None,
+            gains: Vec::new(),
+            set: Vec::new(),
+            gains_tag: None,
+            read_for: None,
+            distance: 1000,
+            samples: 400,
+            from: 200,
+            to: 1000,
+            steps: 5,
+            confirm: None,
+            running: None,
+            step: None,
+            previous: None,
+            sweep: None,
+            free: None,
+            suggestion: None,
+            apply_tag: None,
+            message: None,
+        }
+    }
+
+    fn tag(&mut self) -> u64 {
+        self.next_tag += 1;
+        self.next_tag
+    }
+
+    fn say(&mut self, role: Role, text: impl Into<String>) {
+        self.message = Some((role, text.into()));
+    }
+
+    fn axis(view: &View) -> Option<(usize, AxisInfo)> {
+        let session = view.session?;
+        session.selected_axis().map(|a| (session.axis, *a))
+    }
+
+    /// The rows of the tool: (name, value shown).
+    fn rows(&self, tool: &Tool) -> Vec<(String, String)> {
+        match tool {
+            Tool::Step(plan) => {
+                let mut rows: Vec<(String, String)> = plan
+                    .gains()
+                    .iter()
+                    .map(|g| (g.name.to_string(), self.gain_text(g.name)))
+                    .collect();
+                rows.push(("distance".into(), self.distance.to_string()));
+                rows.push(("samples".into(), self.samples.to_string()));
+                rows
+            }
+            Tool::Sweep(_) => vec![
+                ("from".into(), self.from.to_string()),
+                ("to".into(), self.to.to_string()),
+                ("steps".into(), self.steps.to_string()),
+            ],
+            Tool::None => Vec::new(),
+        }
+    }
+
+    /// A gain as shown: the value typed for the next run, else as read.
+    fn gain_text(&self, name: &str) -> String {
+        if let Some((_, v)) = self.set.iter().find(|(n, _)| n == name) {
+            return v.to_string();
+        }
+        match self.gains.iter().find(|(n, _)| *n == name) {
+            Some((_, Some(v))) => v.to_string(),
+            Some((_, None)) => "?".into(),
+            None => "-".into(),
+        }
+    }
+
+    /// Read the gains of the selected axis (a step tool only).
+    fn read_gains(&mut self, view: &View, again: bool) -> Vec<Request> {
+        let (Tool::Step(_), Some(session), Some((axis, _))) =
+            (tool(view), view.session, Self::axis(view))
+        else {
+            return Vec::new();
+        };
+        let key = (session.family.name, axis);
+        if self.running.is_some() || (!again && self.read_for == Some(key)) {
+            return Vec::new();
+        }
+        if self.read_for != Some(key) {
+            self.set.clear();
+        }
+        self.read_for = Some(key);
+        let tag = self.tag();
+        self.gains_tag = Some(tag);
+        vec![Request::Tune {
+            job: TuneJob::Gains { axis },
+            tag,
+        }]
+    }
+
+    fn key(&mut self, key: &KeyEvent, view: &View) -> Outcome {
+        if let Some(field) = self.editing.take() {
+            return self.field_key(field, key, view);
+        }
+        let action = view.keymap.action_for(Context::Tuning, key);
+        if let Some(confirm) = self.confirm.take() {
+            if matches!(action, Some(Action::EmergencyStop)) {
+                return Outcome::Ignored;
+            }
+            let yes = matches!(key.code, ratatui::crossterm::event::KeyCode::Char('y'));
+            if yes {
+                return match confirm {
+                    Confirm::Run => self.start(view),
+                    Confirm::Apply => self.apply(),
+                };
+            }
+            self.say(Role::Muted, "not done: nothing sent");
+            return Outcome::redraw();
+        }
+        if self.running.is_some() {
+            return match action {
+                Some(Action::Cancel | Action::AxisStop) => self.cancel("stopped by key"),
+                Some(Action::TuneRun | Action::ParameterEdit | Action::TuneApply) => {
+                    self.say(
+                        Role::Warning,
+                        "a run is under way: Esc stops it (nothing sent)",
+                    );
+                    Outcome::redraw()
+                }
+                _ => Outcome::Ignored,
+            };
+        }
+        let tool = tool(view);
+        let rows = self.rows(&tool).len();
+        match action {
+            Some(Action::SelectPrevious) if rows > 0 => {
+                self.selected = self.selected.checked_sub(1).unwrap_or(rows - 1);
+                Outcome::redraw()
+            }
+            Some(Action::SelectNext) if rows > 0 => {
+                self.selected = (self.selected + 1) % rows;
+                Outcome::redraw()
+            }
+            Some(Action::ParameterEdit) if rows > 0 => {
+                let shown = self
+                    .rows(&tool)
+                    .get(self.selected.min(rows - 1))
+                    .map(|(_, v)| v.clone())
+                    .unwrap_or_default();
+                let shown = if shown == "?" || shown == "-" {
+                    String::new()
+                } else {
+                    shown
+                };
+                self.editing = Some(Field::new(shown));
+                Outcome::redraw()
+            }
+            Some(Action::ParameterRefresh) => Outcome::Handled(self.read_gains(view, true)),
+            Some(Action::TuneRun) => self.ask_run(view, &tool),
+            Some(Action::TuneKeepFree) => {
+                match self.sweep.take() {
+                    Some(sweep) => {
+                        self.free = Some(sweep);
+                        self.suggestion = None;
+                        self.say(
+                            Role::Ok,
+                            "kept as the free sweep: apply the load and run again",
+                        );
+                    }
+                    None => self.say(Role::Warning, "no sweep to keep yet"),
+                }
+                Outcome::redraw()
+            }
+            Some(Action::TuneApply) => {
+                match &self.suggestion {
+                    Some(s) if !s.lines.is_empty() => {
+                        self.confirm = Some(Confirm::Apply);
+                        let text = format!("send {}? y/n", s.lines.join("; "));
+                        self.say(Role::Warning, text);
+                    }
+                    _ => self.say(Role::Warning, "no suggestion to send"),
+                }
+                Outcome::redraw()
+            }
+            _ => Outcome::Ignored,
+        }
+    }
+
+    fn field_key(&mut self, mut field: Field, key: &KeyEvent, view: &View) -> Outcome {
+        match view.keymap.action_for(Context::Command, key) {
+            Some(Action::Cancel) => {
+                self.say(Role::Muted, "not changed");
+                Outcome::redraw()
+            }
+            Some(Action::Submit) => {
+                let text = field.text().trim().to_string();
+                if let Err(why) = self.take_value(&tool(view), &text) {
+                    self.say(Role::Error, why);
+                    self.editing = Some(field);
+                }
+                Outcome::redraw()
+            }
+            _ => {
+                field.edit(key);
+                self.editing = Some(field);
+                Outcome::redraw()
+            }
+        }
+    }
+
+    /// The typed `text` into the selected row.
+    fn take_value(&mut self, tool: &Tool, text: &str) -> Result<(), String> {
+        let rows = self.rows(tool);
+        let Some((name, _)) = rows.get(self.selected) else {
+            return Err("no row chosen".into());
+        };
+        let whole = |text: &str| {
+            text.parse::<i64>()
+                .map_err(|_| format!("{name}: {text:?} is not a whole number"))
+        };
+        match (tool, name.as_str()) {
+            (Tool::Step(_), "distance") => {
+                let d = whole(text)?;
+                if d == 0 {
+                    return Err("distance: a step of 0 counts is no step".into());
+                }
+                self.distance = d;
+            }
+            (Tool::Step(_), "samples") => {
+                let n = whole(text)?;
+                self.samples = usize::try_from(n)
+                    .ok()
+                    .filter(|&n| n >= 2)
+                    .ok_or_else(|| format!("samples: {n} (at least 2)"))?;
+            }
+            (Tool::Step(_), gain) => {
+                let v: f64 = text
+                    .parse()
+                    .ok()
+                    .filter(|v: &f64| v.is_finite())
+                    .ok_or_else(|| format!("{gain}: {text:?} is not a number"))?;
+                self.set.retain(|(n, _)| n != gain);
+                self.set.push((gain.to_string(), v));
+                self.say(Role::Changed, format!("{gain} {v} is set at the next run"));
+                return Ok(());
+            }
+            (Tool::Sweep(_), "from") => self.from = whole(text)?,
+            (Tool::Sweep(_), "to") => self.to = whole(text)?,
+            (Tool::Sweep(_), _) => {
+                let n = whole(text)?;
+                self.steps = u32::try_from(n)
+                    .ok()
+                    .filter(|&n| n >= 1)
+                    .ok_or_else(|| format!("steps: {n} (at least 1)"))?;
+            }
+            (Tool::None, _) => return Err("no tuning tool for this family".into()),
+        }
+        self.message = None;
+        Ok(())
+    }
+
+    fn step_ask(&self) -> StepAsk {
+        StepAsk {
+            distance: self.distance,
+            samples: self.samples,
+            set: self.set.clone(),
+        }
+    }
+
+    fn sweep_ask(&self) -> SweepAsk {
+        SweepAsk {
+            from: self.from,
+            to: self.to,
+            steps: self.steps,
+            samples: SWEEP_SAMPLES,
+        }
+    }
+
+    /// The run key: checked by the plan first (nothing sent on a refusal),
+    /// then a y/n question.
+    fn ask_run(&mut self, view: &View, tool: &Tool) -> Outcome {
+        let Some((_, info)) = Self::axis(view) else {
+            self.say(Role::Error, "no axis to tune");
+            return Outcome::redraw();
+        };
+        let checked = match tool {
+            Tool::Step(plan) => plan.script(&info, &self.step_ask()).map(|_| {
+                format!(
+                    "step {} by {} counts, recording {} samples?",
+                    info.name, self.distance, self.samples
+                )
+            }),
+            Tool::Sweep(plan) => plan.script(&info, &self.sweep_ask()).map(|_| {
+                format!(
+                    "sweep {} from {} to {} in {} speeds?",
+                    info.name, self.from, self.to, self.steps
+                )
+            }),
+            Tool::None => {
+                self.say(Role::Error, "no tuning tool for this family");
+                return Outcome::redraw();
+            }
+        };
+        match checked {
+            Ok(question) => {
+                self.confirm = Some(Confirm::Run);
+                self.say(Role::Warning, format!("{question} it moves the axis: y/n"));
+            }
+            Err(why) => self.say(Role::Error, format!("{why} (nothing sent)")),
+        }
+        Outcome::redraw()
+    }
+
+    fn start(&mut self, view: &View) -> Outcome {
+        let Some((axis, info)) = Self::axis(view) else {
+            return Outcome::redraw();
+        };
+        let (job, stop) = match tool(view) {
+            Tool::Step(plan) => {
+                let ask = self.step_ask();
+                match plan.script(&info, &ask) {
+                    Ok(script) => (TuneJob::Step { axis, ask }, script.stop),
+                    Err(why) => {
+                        self.say(Role::Error, format!("{why} (nothing sent)"));
+                        return Outcome::redraw();
+                    }
+                }
+            }
+            Tool::Sweep(plan) => {
+                let ask = self.sweep_ask();
+                match plan.script(&info, &ask) {
+                    Ok(script) => (TuneJob::Sweep { axis, ask }, script.stop),
+                    Err(why) => {
+                        self.say(Role::Error, format!("{why} (nothing sent)"));
+                        return Outcome::redraw();
+                    }
+                }
+            }
+            Tool::None => return Outcome::redraw(),
+        };
+        let tag = self.tag();
+        self.running = Some(Running { tag, stop });
+        self.say(
+            Role::Emergency,
+            format!("running on {} (Esc stops it)", info.name),
+        );
+        Outcome::request(Request::Tune { job, tag })
+    }
+
+    /// End the run: drop its task and send the axis's stop lines.
+    fn cancel(&mut self, why: &str) -> Outcome {
+        let Some(running) = self.running.take() else {
+            return Outcome::Ignored;
+        };
+        let mut requests = vec![Request::CancelTune];
+        if !running.stop.is_empty() {
+            let tag = self.tag();
+            self.say(
+                Role::Warning,
+                format!("run ended, stopping ({why}): {}", running.stop.join("; ")),
+            );
+            requests.push(Request::Send {
+                lines: running.stop,
+                tag,
+            });
+        }
+        Outcome::Handled(requests)
+    }
+
+    fn apply(&mut self) -> Outcome {
+        let Some(s) = &self.suggestion else {
+            return Outcome::redraw();
+        };
+        let lines = s.lines.clone();
+        let tag = self.tag();
+        self.apply_tag = Some(tag);
+        self.say(Role::Sent, format!("sending {}", lines.join("; ")));
+        Outcome::request(Request::Send { lines, tag })
+    }
+
+    fn tuned(&mut self, tag: u64, result: &Result<TuneOutcome, String>, view: &View) -> Outcome {
+        if self.gains_tag == Some(tag) {
+            self.gains_tag = None;
+            match result {
+                Ok(TuneOutcome::Gains(gains)) => self.gains = gains.clone(),
+                Ok(_) => {}
+                Err(why) => self.say(Role::Error, format!("the gains do not read: {why}")),
+            }
+            return Outcome::redraw();
+        }
+        if self.running.as_ref().is_none_or(|r| r.tag != tag) {
+            return Outcome::Ignored;
+        }
+        self.running = None;
+        match result {
+            Ok(TuneOutcome::Step(run)) => {
+                self.gains = run.gains.clone();
+                self.set.clear();
+                if run.tripped.is_empty() {
+                    self.say(Role::Ok, "step done");
+                } else {
+                    self.say(Role::Error, "the step TRIPPED: the axis was stopped");
+                }
+                self.previous = self.step.replace(run.clone());
+            }
+            Ok(TuneOutcome::Sweep(run)) => {
+                self.suggestion = match (tool(view), &self.free, Self::axis(view)) {
+                    (Tool::Sweep(plan), Some(free), Some((_, info))) => Some(plan.suggest(
+                        &info,
+                        &free.points,
+                        &run.points,
+                        run.threshold.unwrap_or(0),
+                    )),
+                    _ => None,
+                };
+                self.say(Role::Ok, "sweep done");
+                self.sweep = Some(run.clone());
+            }
+            Ok(TuneOutcome::Gains(_)) => {}
+            Err(why) => self.say(Role::Error, format!("the run failed: {why}")),
+        }
+        Outcome::redraw()
+    }
+
+    /// The step plot's series: (points, role, marker, name); the run
+    /// before faded behind.
+    fn step_series(&self) -> Series {
+        let Some(run) = self.step.as_ref() else {
+            return Vec::new();
+        };
+        let series = |run: &StepRun, actual: bool| -> Vec<(f64, f64)> {
+            run.samples
+                .iter()
+                .map(|s| (s.time * 1000.0, if actual { s.actual } else { s.commanded }))
+                .collect()
+        };
+        let mut all: Series = Vec::new();
+        if let Some(previous) = &self.previous {
+            all.push((series(previous, true), Role::Muted, Marker::Dot, "before"));
+        }
+        all.push((
+            series(run, false),
+            Role::Plot2,
+            Marker::Braille,
+            "commanded",
+        ));
+        all.push((series(run, true), Role::Plot1, Marker::Braille, "actual"));
+        all
+    }
+
+    /// The sweep plot's series: the mean reading at each speed.
+    fn sweep_series(&self) -> Series {
+        let means = |points: &[SweepPoint]| -> Vec<(f64, f64)> {
+            points
+                .iter()
+                .filter_map(|p| Some((p.speed as f64, p.mean()? as f64)))
+                .collect()
+        };
+        let mut all: Series = Vec::new();
+        if let Some(free) = &self.free {
+            all.push((means(&free.points), Role::Plot2, Marker::Braille, "free"));
+        }
+        if let Some(sweep) = &self.sweep {
+            let name = if self.free.is_some() {
+                "loaded"
+            } else {
+                "reading"
+            };
+            all.push((means(&sweep.points), Role::Plot1, Marker::Braille, name));
+        }
+        all
+    }
+}
+
+type Series = Vec<(Vec<(f64, f64)>, Role, Marker, &'static str)>;
+
+/// The chart of `series`, borrowing their points.
+fn series_chart<'a>(
+    series: &'a Series,
+    from_zero: bool,
+    titles: (&'a str, &'a str),
+    view: &View,
+) -> Chart<'a> {
+    let (x, y) = bounds(series.iter().flat_map(|(p, ..)| p.iter().copied()));
+    let y = if from_zero { [y[0].min(0.0), y[1]] } else { y };
+    let sets = series
+        .iter()
+        .map(|(points, role, marker, name)| {
+            Dataset::default()
+                .name(*name)
+                .marker(*marker)
+                .graph_type(GraphType::Line)
+                .style(view.theme.style(*role))
+                .data(points)
+        })
+        .collect();
+    chart(sets, x, y, titles.0, titles.1, view)
+}
+
+fn bounds(points: impl Iterator<Item = (f64, f64)>) -> ([f64; 2], [f64; 2]) {
+    let mut x = [f64::INFINITY, f64::NEG_INFINITY];
+    let mut y = [f64::INFINITY, f64::NEG_INFINITY];
+    for (px, py) in points {
+        x = [x[0].min(px), x[1].max(px)];
+        y = [y[0].min(py), y[1].max(py)];
+    }
+    let widen = |b: [f64; 2]| {
+        if !b[0].is_finite() {
+            [0.0, 1.0]
+        } else if b[1] <= b[0] {
+            [b[0] - 1.0, b[1] + 1.0]
+        } else {
+            let pad = (b[1] - b[0]) * 0.05;
+            [b[0] - pad, b[1] + pad]
+        }
+    };
+    (widen(x), widen(y))
+}
+
+fn chart<'a>(
+    sets: Vec<Dataset<'a>>,
+    x: [f64; 2],
+    y: [f64; 2],
+    x_title: &'a str,
+    y_title: &'a str,
+    view: &View,
+) -> Chart<'a> {
+    let theme = view.theme;
+    let label = |v: f64| Span::raw(format!("{v:.0}"));
+    Chart::new(sets)
+        .style(theme.style(Role::Normal))
+        .x_axis(
+            Axis::default()
+                .title(Span::styled(x_title, theme.style(Role::Title)))
+                .bounds(x)
+                .labels(vec![label(x[0]), label((x[0] + x[1]) / 2.0), label(x[1])])
+                .style(theme.style(Role::PlotAxes)),
+        )
+        .y_axis(
+            Axis::default()
+                .title(Span::styled(y_title, theme.style(Role::Title)))
+                .bounds(y)
+                .labels(vec![label(y[0]), label(y[1])])
+                .style(theme.style(Role::PlotAxes)),
+        )
+        .legend_position(Some(LegendPosition::TopLeft))
+        .hidden_legend_constraints((Constraint::Ratio(1, 1), Constraint::Ratio(1, 1)))
+}
+
+impl Pane for TuningPane {
+    fn name(&self) -> &'static str {
+        "tuning"
+    }
+
+    fn context(&self) -> Context {
+        Context::Tuning
+    }
+
+    fn title(&self, view: &View) -> String {
+        match (tool(view), Self::axis(view)) {
+            (Tool::Step(_) | Tool::Sweep(_), Some((_, a))) => format!("Tune — {}", a.name),
+            _ => "Tune".to_string(),
+        }
+    }
+
+    fn region(&self) -> Region {
+        Region::Main
+    }
+
+    fn render(&mut self, frame: &mut Frame, area: Rect, view: &View) {
+        let theme = view.theme;
+        let width = usize::from(area.width);
+        let tool = tool(view);
+        let mut head: Vec<Line> = Vec::new();
+        if view.session.is_none() {
+            head.push(Line::styled("not connected", theme.style(Role::Muted)));
+            frame.render_widget(Paragraph::new(head), area);
+            return;
+        }
+        if matches!(tool, Tool::None) {
+            head.push(Line::styled(
+                "no tuning tool for this family",
+                theme.style(Role::Muted),
+            ));
+            frame.render_widget(Paragraph::new(head), area);
+            return;
+        }
+        // The rows on one or two lines.
+        let rows = self.rows(&tool);
+        let mut spans = Vec::new();
+        for (i, (name, value)) in rows.iter().enumerate() {
+            let text = match (&self.editing, i == self.selected) {
+                (Some(field), true) => format!(" {name}={}_ ", field.text()),
+                _ => format!(" {name} {value} "),
+            };
+            let role = if i == self.selected {
+                Role::Selection
+            } else if self.set.iter().any(|(n, _)| n == name) {
+                Role::Changed
+            } else {
+                Role::Normal
+            };
+            spans.push(Span::styled(text, theme.style(role)));
+        }
+        let mut line_spans = Vec::new();
+        let mut used = 0;
+        for span in spans {
+            let w = span.content.chars().count();
+            if used + w > width && !line_spans.is_empty() {
+                head.push(Line::from(std::mem::take(&mut line_spans)));
+                used = 0;
+            }
+            used += w;
+            line_spans.push(span);
+        }
+        if !line_spans.is_empty() {
+            head.push(Line::from(line_spans));
+        }
+        let keys = |action| key_label(view.keymap, Context::Tuning, action);
+        let hint = match tool {
+            Tool::Step(_) => format!(
+                "{}/{} choose · {} type a value · {} read gains · {} run step · {} stop",
+                keys(Action::SelectPrevious),
+                keys(Action::SelectNext),
+                keys(Action::ParameterEdit),
+                keys(Action::ParameterRefresh),
+                keys(Action::TuneRun),
+                keys(Action::Cancel),
+            ),
+            _ => format!(
+                "{}/{} choose · {} type · {} run sweep · {} keep as free · {} send suggestion · {} stop",
+                keys(Action::SelectPrevious),
+                keys(Action::SelectNext),
+                keys(Action::ParameterEdit),
+                keys(Action::TuneRun),
+                keys(Action::TuneKeepFree),
+                keys(Action::TuneApply),
+                keys(Action::Cancel),
+            ),
+        };
+        head.push(Line::styled(fit(&hint, width), theme.style(Role::Muted)));
+        if let Some((role, text)) = &self.message {
+            for part in wrap(text, width) {
+                head.push(Line::styled(part, theme.style(*role)));
+            }
+        }
+        // The figures (or the sweep's suggestion) under the plot.
+        let mut foot: Vec<Line> = Vec::new();
+        match &tool {
+            Tool::Step(_) => {
+                if let (Some(run), Some((_, info))) = (&self.step, Self::axis(view)) {
+                    for text in step_lines(&info, run) {
+                        let role = if text.starts_with("TRIPPED") {
+                            Role::Error
+                        } else {
+                            Role::Normal
+                        };
+                        for part in wrap(&text, width) {
+                            foot.push(Line::styled(part, theme.style(role)));
+                        }
+                    }
+                }
+            }
+            Tool::Sweep(plan) => {
+                if let Some(sweep) = &self.sweep {
+                    foot.push(Line::styled(
+                        fit(
+                            &format!(
+                                "{}; threshold during the sweep: {}",
+                                plan.reading(),
+                                sweep
+                                    .threshold
+                                    .map_or_else(|| "not read".into(), |t| t.to_string())
+                            ),
+                            width,
+                        ),
+                        theme.style(Role::Muted),
+                    ));
+                }
+                if let Some(s) = &self.suggestion {
+                    for reason in &s.reasons {
+                        for part in wrap(reason, width) {
+                            foot.push(Line::styled(part, theme.style(Role::Normal)));
+                        }
+                    }
+                    let lines = if s.lines.is_empty() {
+                        "no suggestion to set".to_string()
+                    } else {
+                        format!(
+                            "to set it ({}): {}",
+                            keys(Action::TuneApply),
+                            s.lines.join("; ")
+                        )
+                    };
+                    for part in wrap(&lines, width) {
+                        foot.push(Line::styled(part, theme.style(Role::Accent)));
+                    }
+                } else if self.free.is_some() {
+                    foot.push(Line::styled(
+                        fit("free sweep kept: run the sweep with the load", width),
+                        theme.style(Role::Muted),
+                    ));
+                }
+            }
+            Tool::None => {}
+        }
+        let head_h = u16::try_from(head.len()).unwrap_or(u16::MAX);
+        let foot_h = u16::try_from(foot.len()).unwrap_or(u16::MAX);
+        let [top, middle, bottom] = Layout::vertical([
+            Constraint::Length(head_h),
+            Constraint::Min(0),
+            Constraint::Length(foot_h),
+        ])
+        .areas(area);
+        frame.render_widget(Paragraph::new(head), top);
+        // At 80×24 the figures come before the plot.
+        frame.render_widget(Paragraph::new(foot), bottom);
+        let (series, from_zero, titles) = match tool {
+            Tool::Step(_) => (self.step_series(), false, ("ms", "counts")),
+            _ => (self.sweep_series(), true, ("speed", "reading")),
+        };
+        if !series.is_empty() && middle.height >= 4 {
+            frame.render_widget(series_chart(&series, from_zero, titles, view), middle);
+        }
+    }
+
+    fn handle_input(&mut self, input: &Input, view: &View) -> Outcome {
+        match input {
+            Input::Key(key) => self.key(key, view),
+            _ => Outcome::Ignored,
+        }
+    }
+
+    fn activity(&self) -> Option<String> {
+        self.running.as_ref().map(|_| "TUNING RUN".to_string())
+    }
+
+    fn on_event(&mut self, event: &PaneEvent, view: &View) -> Outcome {
+        match event {
+            PaneEvent::Tuned { tag, result } => self.tuned(*tag, result, view),
+            PaneEvent::Reply { tag, line, result } if self.apply_tag == Some(*tag) => {
+                match result {
+                    Ok(_) => self.say(Role::Ok, format!("{line}: done")),
+                    Err(e) => {
+                        self.apply_tag = None;
+                        self.say(Role::Error, format!("{line}: {e}"));
+                    }
+                }
+                Outcome::redraw()
+            }
+            PaneEvent::Reply {
+                result: Err(e),
+                line,
+                ..
+            } => {
+                self.say(Role::Error, format!("{line}: {e}"));
+                Outcome::redraw()
+            }
+            PaneEvent::Focused => Outcome::Handled(self.read_gains(view, false)),
+            PaneEvent::Unfocused => {
+                self.confirm = None;
+                self.editing = None;
+                self.cancel("the pane lost the keyboard")
+            }
+            PaneEvent::Stopping => {
+                self.confirm = None;
+                if self.running.take().is_some() {
+                    // The emergency stop ended the run's task too.
+                    self.say(Role::Emergency, "STOP: every axis");
+                    Outcome::redraw()
+                } else {
+                    Outcome::Ignored
+                }
+            }
+            PaneEvent::Snapshot => {
+                let lost = view.session.is_none_or(|s| {
+                    matches!(s.link, LinkState::Disconnected { .. } | LinkState::Closed)
+                });
+                if lost && self.running.is_some() {
+                    return self.cancel("the link was lost");
+                }
+                if view.focused && !lost {
+                    let requests = self.read_gains(view, false);
+                    if !requests.is_empty() {
+                        return Outcome::Handled(requests);
+                    }
+                }
+                Outcome::Ignored
+            }
+            _ => Outcome::Ignored,
+        }
+    }
+}

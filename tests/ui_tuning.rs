@@ -1,0 +1,430 @@
+//! The tuning pane (Alt-9): the family's tuning tool through the console.
+//! On the app alone: a gain confirmed unchanged is set at the next run
+//! with that same value; Esc during a run drops it and sends the axis's
+//! stop. Through the real loop and a session on the in-process
+//! simulators, on tokio's paused clock: a finished MCCL step shows its
+//! plot and figures at 80×24 and 160×48; a TMCL sweep kept as the free
+//! one and a sweep under load show both curves and the suggestion; Esc
+//! during a step sends the stop and the axis stands; F12 during a sweep
+//! stops the motor.
+
+mod ui_support;
+
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+use axterm::cli::ConnectionArgs;
+use axterm::cli::connection::Target;
+use axterm::device::{Direction, TrafficRecord};
+use axterm::link::{LinkSpec, SharedSim};
+use axterm::protocol::find_family;
+use axterm::session::{ReplyValue, Session, SessionOptions};
+use axterm::sim::SimOptions;
+use axterm::sim::faults::FaultPlan;
+use axterm::ui::app::{AppEvent, Controller, Effect, TuneJob, TuneOutcome};
+use axterm::ui::live::SessionController;
+use ratatui::crossterm::event::KeyCode;
+use tokio::sync::broadcast;
+use ui_support::looped::{Rig, no_connector, press, run_console_on};
+use ui_support::{axes, key, snapshot};
+
+/// An MCCL module's snapshot with one axis, the tuning pane focused; the
+/// gains read as `SG 0.04, SD 0.2`. The pane's index and the app.
+fn mccl_app() -> (axterm::ui::app::App, usize) {
+    let mut app = ui_support::console_with(&axterm::ui::PaneSetup::default());
+    let mut shot = snapshot(vec![axterm::session::AxisInfo {
+        number: 1,
+        name: "axis 1",
+    }]);
+    shot.family = find_family("mccl").expect("mccl");
+    app.handle(AppEvent::Snapshot(shot));
+    let effects = app.handle(ui_support::key_with(
+        KeyCode::Char('9'),
+        ratatui::crossterm::event::KeyModifiers::ALT,
+    ));
+    let Some((pane, tag)) = effects.iter().find_map(|e| match e {
+        Effect::Tune {
+            pane,
+            tag,
+            job: TuneJob::Gains { axis: 0 },
+        } => Some((*pane, *tag)),
+        _ => None,
+    }) else {
+        panic!("the gains were not read on opening: {effects:?}");
+    };
+    let plan = find_family("mccl")
+        .unwrap()
+        .console
+        .step_response()
+        .unwrap();
+    let gains = plan
+        .gains()
+        .iter()
+        .map(|g| {
+            let value = match g.name {
+                "SG" => Some(0.04),
+                "SD" => Some(0.2),
+                _ => None,
+            };
+            (g.name, value)
+        })
+        .collect();
+    app.handle(AppEvent::Tuned {
+        pane,
+        tag,
+        result: Ok(TuneOutcome::Gains(gains)),
+    });
+    (app, pane)
+}
+
+fn the_step(effects: &[Effect]) -> Option<(u64, axterm::protocol::tuning::StepAsk)> {
+    effects.iter().find_map(|e| match e {
+        Effect::Tune {
+            tag,
+            job: TuneJob::Step { ask, .. },
+            ..
+        } => Some((*tag, ask.clone())),
+        _ => None,
+    })
+}
+
+#[test]
+fn a_gain_confirmed_unchanged_is_set_at_the_next_run_with_that_value() {
+    let (mut app, _) = mccl_app();
+    let shown = ui_support::screen(&mut app, 80, 24).join("\n");
+    assert!(shown.contains("SG 0.04"), "{shown}");
+    // SG is the first row: Enter opens it pre-filled, Enter confirms.
+    app.handle(key(KeyCode::Enter));
+    let editing = ui_support::screen(&mut app, 80, 24).join("\n");
+    assert!(editing.contains("SG=0.04_"), "{editing}");
+    app.handle(key(KeyCode::Enter));
+    // Without a y nothing runs.
+    app.handle(key(KeyCode::Char('r')));
+    assert!(the_step(&app.handle(key(KeyCode::Char('n')))).is_none());
+    app.handle(key(KeyCode::Char('r')));
+    let effects = app.handle(key(KeyCode::Char('y')));
+    let (_, ask) = the_step(&effects).expect("the step runs on y");
+    assert_eq!(ask.set, vec![("SG".to_string(), 0.04)]);
+    assert_eq!((ask.distance, ask.samples), (1000, 400));
+}
+
+#[test]
+fn distance_and_samples_are_typed_and_a_bad_value_is_named_and_kept_out() {
+    let (mut app, _) = mccl_app();
+    let rows = find_family("mccl")
+        .unwrap()
+        .console
+        .step_response()
+        .unwrap()
+        .gains()
+        .len();
+    for _ in 0..rows {
+        app.handle(key(KeyCode::Down));
+    }
+    app.handle(key(KeyCode::Enter));
+    for _ in 0..4 {
+        app.handle(key(KeyCode::Backspace));
+    }
+    ui_support::type_text(&mut app, "abc");
+    app.handle(key(KeyCode::Enter));
+    let said = ui_support::screen(&mut app, 80, 24).join("\n");
+    assert!(said.contains("\"abc\" is not a whole number"), "{said}");
+    for _ in 0..3 {
+        app.handle(key(KeyCode::Backspace));
+    }
+    ui_support::type_text(&mut app, "-250");
+    app.handle(key(KeyCode::Enter));
+    app.handle(key(KeyCode::Char('r')));
+    let (_, ask) = the_step(&app.handle(key(KeyCode::Char('y')))).expect("runs");
+    assert_eq!(ask.distance, -250);
+    assert!(ask.set.is_empty(), "{:?}", ask.set);
+}
+
+#[test]
+fn esc_during_a_run_drops_it_and_sends_the_axis_stop() {
+    let (mut app, _) = mccl_app();
+    app.handle(key(KeyCode::Char('r')));
+    the_step(&app.handle(key(KeyCode::Char('y')))).expect("runs");
+    let effects = app.handle(key(KeyCode::Esc));
+    assert!(effects.contains(&Effect::CancelTune), "{effects:?}");
+    let sent: Vec<Vec<String>> = effects
+        .iter()
+        .filter_map(Effect::sends)
+        .map(|(_, _, l)| l)
+        .collect();
+    assert_eq!(sent, vec![vec!["1MF".to_string()]]);
+}
+
+#[test]
+fn a_family_without_a_tuning_tool_says_so() {
+    let mut app = ui_support::console_with(&axterm::ui::PaneSetup::default());
+    let mut shot = snapshot(axes(&["X"]));
+    shot.family = find_family("cmd4cr").expect("cmd4cr");
+    app.handle(AppEvent::Snapshot(shot));
+    app.focus("tuning");
+    let shown = ui_support::screen(&mut app, 80, 24).join("\n");
+    assert!(shown.contains("no tuning tool for this family"), "{shown}");
+}
+
+async fn session(kind: &str) -> Session {
+    let target = Target::resolve(&ConnectionArgs {
+        sim: Some(kind.into()),
+        baud: Some(115_200),
+        ..ConnectionArgs::default()
+    })
+    .expect("resolves");
+    target.open().await.expect("the simulator link opens")
+}
+
+/// A session on `family`'s first simulator, which the test may drive.
+async fn session_with_sim(family: &str) -> (Session, SharedSim) {
+    let family = find_family(family).expect("registered");
+    let kind = family.simulators.first().expect("a simulator");
+    let sim: SharedSim = Arc::new(Mutex::new((kind.build)(&SimOptions::default())));
+    let spec = LinkSpec::Sim {
+        kind: kind.name.into(),
+        sim: Arc::clone(&sim),
+        baud: Some(115_200),
+        faults: FaultPlan::none(),
+    };
+    let session = Session::connect(spec, family, SessionOptions::default())
+        .await
+        .expect("the link opens");
+    (session, sim)
+}
+
+/// The console at `size` on `session`, the tuning pane focused, until
+/// `driver` is done (then F10).
+async fn run_tuning(
+    session: &Session,
+    size: (u16, u16),
+    driver: impl AsyncFnOnce(&mut Rig, Arc<dyn Controller>),
+) {
+    run_tuning_on(session, None, size, driver).await;
+}
+
+async fn run_tuning_on(
+    session: &Session,
+    sim: Option<SharedSim>,
+    size: (u16, u16),
+    driver: impl AsyncFnOnce(&mut Rig, Arc<dyn Controller>),
+) {
+    let mut controller =
+        SessionController::new(session.clone(), "sim".into(), SessionOptions::default());
+    if let Some(sim) = sim {
+        controller = controller.with_simulator(sim);
+    }
+    let controller: Arc<dyn Controller> = Arc::new(controller);
+    let mut app = ui_support::console_with(&axterm::ui::PaneSetup::default());
+    app.focus("tuning");
+    let c = Arc::clone(&controller);
+    run_console_on(
+        app,
+        size,
+        Some(controller),
+        no_connector(),
+        async |mut rig: Rig| {
+            driver(&mut rig, c).await;
+            press(&rig, KeyCode::F(10));
+        },
+    )
+    .await;
+}
+
+/// Wait until a frame holding `text` goes out on the link.
+async fn until_sent(traffic: &mut broadcast::Receiver<TrafficRecord>, text: &str) {
+    loop {
+        match traffic.recv().await {
+            Ok(record)
+                if record.direction == Direction::Sent
+                    && String::from_utf8_lossy(&record.bytes).contains(text) =>
+            {
+                return;
+            }
+            Ok(_) | Err(broadcast::error::RecvError::Lagged(_)) => {}
+            Err(broadcast::error::RecvError::Closed) => panic!("the link closed"),
+        }
+    }
+}
+
+/// Read `line` every 20 ms of virtual time until it reads 0.
+async fn reads_zero(session: &Session, line: &str) -> bool {
+    for _ in 0..500 {
+        if let Ok(result) = session.execute_line(line).await
+            && result.value == ReplyValue::Number(0)
+        {
+            return true;
+        }
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    false
+}
+
+#[tokio::test(start_paused = true)]
+async fn a_finished_step_shows_its_plot_and_figures_at_80x24_and_160x48() {
+    for size in [(80, 24), (160, 48)] {
+        let session = session("mccl").await;
+        run_tuning(&session, size, async |rig: &mut Rig, _| {
+            rig.screens.until("SG 0.04").await;
+            press(rig, KeyCode::Char('r'));
+            rig.screens.until("it moves the axis: y/n").await;
+            press(rig, KeyCode::Char('y'));
+            let done = rig.screens.until("overshoot").await;
+            for said in ["step done", "rise time", "settling time", "following error"] {
+                assert!(done.contains(said), "{size:?}: no {said:?} in\n{done}");
+            }
+            if size.0 < 160 {
+                return;
+            }
+            // Wide, the legend shows; a second run draws the first
+            // behind it.
+            assert!(
+                done.contains("commanded") && done.contains("actual"),
+                "{done}"
+            );
+            press(rig, KeyCode::Char('r'));
+            rig.screens.until("it moves the axis: y/n").await;
+            press(rig, KeyCode::Char('y'));
+            rig.screens
+                .until_frame("the run before", |f| {
+                    f.contains("before") && f.contains("step done")
+                })
+                .await;
+        })
+        .await;
+    }
+}
+
+#[tokio::test(start_paused = true)]
+async fn esc_during_a_step_sends_the_stop_and_the_axis_stands() {
+    let session = session("mccl").await;
+    run_tuning(&session, (100, 30), async |rig: &mut Rig, _| {
+        rig.screens.until("SG 0.04").await;
+        let mut traffic = session.device().traffic();
+        press(rig, KeyCode::Char('r'));
+        rig.screens.until("it moves the axis: y/n").await;
+        press(rig, KeyCode::Char('y'));
+        until_sent(&mut traffic, "1MR1000").await;
+        press(rig, KeyCode::Esc);
+        until_sent(&mut traffic, "1MF").await;
+        rig.screens
+            .until("run ended, stopping (stopped by key)")
+            .await;
+        assert!(reads_zero(&session, "1TV").await, "the axis still moves");
+    })
+    .await;
+}
+
+#[tokio::test(start_paused = true)]
+async fn two_sweeps_free_and_loaded_show_both_curves_and_the_suggestion() {
+    for size in [(80, 24), (160, 48)] {
+        let (session, sim) = session_with_sim("tmcl").await;
+        run_tuning_on(
+            &session,
+            Some(sim),
+            size,
+            async |rig: &mut Rig, controller| {
+                rig.screens.until("from 200").await;
+                press(rig, KeyCode::Char('r'));
+                rig.screens.until("it moves the axis: y/n").await;
+                press(rig, KeyCode::Char('y'));
+                rig.screens.until("sweep done").await;
+                press(rig, KeyCode::Char('K'));
+                rig.screens.until("kept as the free sweep").await;
+                controller
+                    .drive_sim_input("LOAD=60")
+                    .expect("the load applies");
+                press(rig, KeyCode::Char('r'));
+                rig.screens.until("it moves the axis: y/n").await;
+                press(rig, KeyCode::Char('y'));
+                let done = rig.screens.until("to set it").await;
+                for said in ["free", "loaded", "SAP 174, 0, "] {
+                    assert!(done.contains(said), "{size:?}: no {said:?} in\n{done}");
+                }
+                // The suggestion goes only on its key and a y.
+                let mut traffic = session.device().traffic();
+                press(rig, KeyCode::Char('a'));
+                rig.screens.until("y/n").await;
+                press(rig, KeyCode::Char('y'));
+                rig.screens.until(": done").await;
+                let mut sent = Vec::new();
+                while let Ok(record) = traffic.try_recv() {
+                    if record.direction == Direction::Sent {
+                        sent.push(record.bytes);
+                    }
+                }
+                assert!(!sent.is_empty(), "nothing sent");
+            },
+        )
+        .await;
+    }
+}
+
+#[tokio::test(start_paused = true)]
+async fn f12_during_a_sweep_stops_the_motor() {
+    let session = session("tmcm1110").await;
+    run_tuning(&session, (100, 30), async |rig: &mut Rig, _| {
+        rig.screens.until("from 200").await;
+        press(rig, KeyCode::Char('r'));
+        rig.screens.until("it moves the axis: y/n").await;
+        press(rig, KeyCode::Char('y'));
+        rig.screens.until("running on").await;
+        // Until the motor turns.
+        let mut turning = false;
+        for _ in 0..500 {
+            if let Ok(r) = session.execute_line("GAP 3, 0").await
+                && matches!(r.value, ReplyValue::Number(n) if n != 0)
+            {
+                turning = true;
+                break;
+            }
+            tokio::time::sleep(Duration::from_millis(20)).await;
+        }
+        assert!(turning, "the sweep never turned the motor");
+        press(rig, KeyCode::F(12));
+        rig.screens.until("STOP: every axis").await;
+        assert!(
+            reads_zero(&session, "GAP 3, 0").await,
+            "the motor still turns"
+        );
+        // The run is over: a new one may be asked for.
+        press(rig, KeyCode::Char('r'));
+        rig.screens.until("it moves the axis: y/n").await;
+        press(rig, KeyCode::Char('n'));
+    })
+    .await;
+}
+
+#[test]
+fn leaving_the_pane_or_losing_the_link_during_a_run_stops_the_axis() {
+    for how in ["leave", "link"] {
+        let (mut app, _) = mccl_app();
+        app.handle(key(KeyCode::Char('r')));
+        the_step(&app.handle(key(KeyCode::Char('y')))).expect("runs");
+        let effects = if how == "leave" {
+            app.handle(ui_support::key_with(
+                KeyCode::Char('1'),
+                ratatui::crossterm::event::KeyModifiers::ALT,
+            ))
+        } else {
+            let mut shot = snapshot(vec![axterm::session::AxisInfo {
+                number: 1,
+                name: "axis 1",
+            }]);
+            shot.family = find_family("mccl").expect("mccl");
+            shot.link = axterm::device::LinkState::Disconnected {
+                reason: "the cable".into(),
+                attempts: 0,
+                retry_in: Duration::from_millis(100),
+            };
+            app.handle(AppEvent::Snapshot(shot))
+        };
+        assert!(effects.contains(&Effect::CancelTune), "{how}: {effects:?}");
+        let sent: Vec<Vec<String>> = effects
+            .iter()
+            .filter_map(Effect::sends)
+            .map(|(_, _, l)| l)
+            .collect();
+        assert_eq!(sent, vec![vec!["1MF".to_string()]], "{how}");
+    }
+}
