@@ -8,11 +8,13 @@
 //! stop waits for a lost link gives up waiting, and says so.
 
 use std::future::Future;
+use std::pin::Pin;
 
 use serde_json::Value;
 
+use super::connection::{Target, run_to_exit};
 use super::output::{Format, json_outcome};
-use super::{EXIT_DEVICE, EXIT_OK};
+use super::{EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK};
 use crate::session::Session;
 pub use crate::session::run_end::AtTheEnd;
 use crate::session::run_end::{RunAftermath, RunEnding, StopOnFailure};
@@ -183,6 +185,41 @@ pub async fn run_then_end_with(
     };
     print_aftermath(session, report, &aftermath);
     (ending, Some(aftermath))
+}
+
+/// The work of a one-axis tool (`axterm wiring`, `axterm tune …`) on an
+/// open session, to its exit code.
+pub type SessionWork =
+    Box<dyn for<'s> FnOnce(&'s Session) -> Pin<Box<dyn Future<Output = i32> + Send + 's>> + Send>;
+
+/// Open `target`'s link (exit 3 when it does not open) and run `work` on
+/// its session to an exit code; Ctrl-C, SIGTERM and SIGHUP stop the axes as
+/// for `exec` ([`exit_or_stop_on_signal`]). `command` names the
+/// subcommand in messages (`tune step`).
+pub fn run_tool_to_exit(command: &'static str, target: Target, work: SessionWork) -> i32 {
+    run_to_exit(command, async move {
+        let prefix = format!("axterm {command}: ");
+        let session = match target.open().await {
+            Ok(session) => session,
+            Err(e) => {
+                eprintln!("{prefix}{e}");
+                return EXIT_CONNECTION;
+            }
+        };
+        let interrupt = match Interrupt::watch() {
+            Ok(interrupt) => interrupt,
+            Err(e) => {
+                eprintln!("{prefix}cannot watch for Ctrl-C: {e}");
+                return EXIT_DEVICE;
+            }
+        };
+        let report = RunReport {
+            prefix: &prefix,
+            format: Format::Text,
+            at_the_end: AtTheEnd::Nothing,
+        };
+        exit_or_stop_on_signal(&session, interrupt, &report, work(&session)).await
+    })
 }
 
 /// `work` (one-shot lines, `axterm exec`: its exit code) to its end, or to

@@ -14,10 +14,9 @@ use std::time::Duration;
 
 use clap::{Args, Subcommand, ValueEnum};
 
-use super::connection::{Target, run_to_exit};
-use super::output::Format;
-use super::run_end::{AtTheEnd, Interrupt, RunReport, exit_or_stop_on_signal};
-use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
+use super::connection::Target;
+use super::run_end::run_tool_to_exit;
+use super::{ConnectionArgs, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::protocol::console::AxisInfo;
 use crate::protocol::jog::Direction;
 use crate::protocol::tuning::{StepAsk, StepSpec, SweepAsk, SweepPoint};
@@ -234,44 +233,28 @@ fn run_step(connection: &ConnectionArgs, args: &StepArgs) -> i32 {
         ..StepSpec::default()
     };
     let format = args.format;
-    run_to_exit("tune step", async move {
-        let session = match target.open().await {
-            Ok(session) => session,
-            Err(e) => {
-                eprintln!("axterm tune step: {e}");
-                return EXIT_CONNECTION;
-            }
-        };
-        let interrupt = match Interrupt::watch() {
-            Ok(interrupt) => interrupt,
-            Err(e) => {
-                eprintln!("axterm tune step: cannot watch for Ctrl-C: {e}");
-                return EXIT_DEVICE;
-            }
-        };
-        let work = async {
-            match session.step_response(plan, index, &ask, &spec).await {
-                Ok(run) => {
-                    print!("{}", show_step(&axis, &run, format));
-                    if run.tripped.is_empty() {
-                        EXIT_OK
-                    } else {
+    run_tool_to_exit(
+        "tune step",
+        target,
+        Box::new(move |session| {
+            Box::pin(async move {
+                match session.step_response(plan, index, &ask, &spec).await {
+                    Ok(run) => {
+                        print!("{}", show_step(&axis, &run, format));
+                        if run.tripped.is_empty() {
+                            EXIT_OK
+                        } else {
+                            EXIT_DEVICE
+                        }
+                    }
+                    Err(error) => {
+                        eprintln!("axterm tune step: {error}");
                         EXIT_DEVICE
                     }
                 }
-                Err(error) => {
-                    eprintln!("axterm tune step: {error}");
-                    EXIT_DEVICE
-                }
-            }
-        };
-        let report = RunReport {
-            prefix: "axterm tune step: ",
-            format: Format::Text,
-            at_the_end: AtTheEnd::Nothing,
-        };
-        exit_or_stop_on_signal(&session, interrupt, &report, work).await
-    })
+            })
+        }),
+    )
 }
 
 fn number(value: Option<f64>) -> serde_json::Value {
@@ -444,46 +427,30 @@ fn run_sweep(connection: &ConnectionArgs, args: &SweepArgs) -> i32 {
         },
     };
     let format = args.format;
-    run_to_exit("tune stallguard", async move {
-        let session = match target.open().await {
-            Ok(session) => session,
-            Err(e) => {
-                eprintln!("axterm tune stallguard: {e}");
-                return EXIT_CONNECTION;
-            }
-        };
-        let interrupt = match Interrupt::watch() {
-            Ok(interrupt) => interrupt,
-            Err(e) => {
-                eprintln!("axterm tune stallguard: cannot watch for Ctrl-C: {e}");
-                return EXIT_DEVICE;
-            }
-        };
-        let work = async {
-            match session.stall_sweep(plan, index, &ask).await {
-                Ok(run) => {
-                    let suggestion = free.as_ref().map(|free| {
-                        plan.suggest(&axis, free, &run.points, run.threshold.unwrap_or(0))
-                    });
-                    print!(
-                        "{}",
-                        show_sweep(plan.reading(), &run, suggestion.as_ref(), format)
-                    );
-                    EXIT_OK
+    run_tool_to_exit(
+        "tune stallguard",
+        target,
+        Box::new(move |session| {
+            Box::pin(async move {
+                match session.stall_sweep(plan, index, &ask).await {
+                    Ok(run) => {
+                        let suggestion = free.as_ref().map(|free| {
+                            plan.suggest(&axis, free, &run.points, run.threshold.unwrap_or(0))
+                        });
+                        print!(
+                            "{}",
+                            show_sweep(plan.reading(), &run, suggestion.as_ref(), format)
+                        );
+                        EXIT_OK
+                    }
+                    Err(error) => {
+                        eprintln!("axterm tune stallguard: {error}");
+                        EXIT_DEVICE
+                    }
                 }
-                Err(error) => {
-                    eprintln!("axterm tune stallguard: {error}");
-                    EXIT_DEVICE
-                }
-            }
-        };
-        let report = RunReport {
-            prefix: "axterm tune stallguard: ",
-            format: Format::Text,
-            at_the_end: AtTheEnd::Nothing,
-        };
-        exit_or_stop_on_signal(&session, interrupt, &report, work).await
-    })
+            })
+        }),
+    )
 }
 
 fn run_stall_test(connection: &ConnectionArgs, args: &StallTestArgs) -> i32 {
@@ -535,68 +502,52 @@ fn run_stall_test(connection: &ConnectionArgs, args: &StallTestArgs) -> i32 {
         }
     }
     let (speed, give_up) = (args.speed, Duration::from_secs(args.give_up));
-    run_to_exit("tune stall-test", async move {
-        let session = match target.open().await {
-            Ok(session) => session,
-            Err(e) => {
-                eprintln!("axterm tune stall-test: {e}");
-                return EXIT_CONNECTION;
-            }
-        };
-        let interrupt = match Interrupt::watch() {
-            Ok(interrupt) => interrupt,
-            Err(e) => {
-                eprintln!("axterm tune stall-test: cannot watch for Ctrl-C: {e}");
-                return EXIT_DEVICE;
-            }
-        };
-        let work = async {
-            for line in &apply {
-                if let Err(error) = session.execute_line(line).await {
-                    eprintln!("axterm tune stall-test: {line}: {error}");
-                    return EXIT_DEVICE;
-                }
-            }
-            match session.stall_test(plan, index, speed, give_up).await {
-                Ok(outcome) => {
-                    let fastest = outcome
-                        .fastest
-                        .map_or_else(|| "unread".to_string(), |f| f.to_string());
-                    match outcome.detected_after {
-                        Some(after) => {
-                            println!(
-                                "{}: stall detected: the module stopped the motor {:.2} s after \
-                                 the start (fastest read {fastest})",
-                                axis.name,
-                                after.as_secs_f64()
-                            );
-                            EXIT_OK
-                        }
-                        None => {
-                            println!(
-                                "{}: NO stall detected within {} s at {speed} (fastest read \
-                                 {fastest}): is stop on stall set below this speed, and the \
-                                 threshold sensitive enough?",
-                                axis.name,
-                                give_up.as_secs()
-                            );
-                            EXIT_DEVICE
-                        }
+    run_tool_to_exit(
+        "tune stall-test",
+        target,
+        Box::new(move |session| {
+            Box::pin(async move {
+                for line in &apply {
+                    if let Err(error) = session.execute_line(line).await {
+                        eprintln!("axterm tune stall-test: {line}: {error}");
+                        return EXIT_DEVICE;
                     }
                 }
-                Err(error) => {
-                    eprintln!("axterm tune stall-test: {error}");
-                    EXIT_DEVICE
+                match session.stall_test(plan, index, speed, give_up).await {
+                    Ok(outcome) => {
+                        let fastest = outcome
+                            .fastest
+                            .map_or_else(|| "unread".to_string(), |f| f.to_string());
+                        match outcome.detected_after {
+                            Some(after) => {
+                                println!(
+                                    "{}: stall detected: the module stopped the motor {:.2} s after \
+                                 the start (fastest read {fastest})",
+                                    axis.name,
+                                    after.as_secs_f64()
+                                );
+                                EXIT_OK
+                            }
+                            None => {
+                                println!(
+                                    "{}: NO stall detected within {} s at {speed} (fastest read \
+                                 {fastest}): is stop on stall set below this speed, and the \
+                                 threshold sensitive enough?",
+                                    axis.name,
+                                    give_up.as_secs()
+                                );
+                                EXIT_DEVICE
+                            }
+                        }
+                    }
+                    Err(error) => {
+                        eprintln!("axterm tune stall-test: {error}");
+                        EXIT_DEVICE
+                    }
                 }
-            }
-        };
-        let report = RunReport {
-            prefix: "axterm tune stall-test: ",
-            format: Format::Text,
-            at_the_end: AtTheEnd::Nothing,
-        };
-        exit_or_stop_on_signal(&session, interrupt, &report, work).await
-    })
+            })
+        }),
+    )
 }
 
 fn run_current(connection: &ConnectionArgs, args: &CurrentArgs) -> i32 {
@@ -670,48 +621,32 @@ fn run_current(connection: &ConnectionArgs, args: &CurrentArgs) -> i32 {
         return EXIT_USAGE;
     }
     let (samples, every, format) = (args.samples, Duration::from_millis(args.every), args.format);
-    run_to_exit("tune coolstep", async move {
-        let session = match target.open().await {
-            Ok(session) => session,
-            Err(e) => {
-                eprintln!("axterm tune coolstep: {e}");
-                return EXIT_CONNECTION;
-            }
-        };
-        let interrupt = match Interrupt::watch() {
-            Ok(interrupt) => interrupt,
-            Err(e) => {
-                eprintln!("axterm tune coolstep: cannot watch for Ctrl-C: {e}");
-                return EXIT_DEVICE;
-            }
-        };
-        let work = async {
-            let run = run.map(|(jog, direction, speed)| WatchRun {
-                jog,
-                direction,
-                speed,
-            });
-            match session
-                .watch_current(plan, index, &whole, run, samples, every)
-                .await
-            {
-                Ok(run) => {
-                    print!("{}", show_current(&run, format));
-                    EXIT_OK
+    run_tool_to_exit(
+        "tune coolstep",
+        target,
+        Box::new(move |session| {
+            Box::pin(async move {
+                let run = run.map(|(jog, direction, speed)| WatchRun {
+                    jog,
+                    direction,
+                    speed,
+                });
+                match session
+                    .watch_current(plan, index, &whole, run, samples, every)
+                    .await
+                {
+                    Ok(run) => {
+                        print!("{}", show_current(&run, format));
+                        EXIT_OK
+                    }
+                    Err(error) => {
+                        eprintln!("axterm tune coolstep: {error}");
+                        EXIT_DEVICE
+                    }
                 }
-                Err(error) => {
-                    eprintln!("axterm tune coolstep: {error}");
-                    EXIT_DEVICE
-                }
-            }
-        };
-        let report = RunReport {
-            prefix: "axterm tune coolstep: ",
-            format: Format::Text,
-            at_the_end: AtTheEnd::Nothing,
-        };
-        exit_or_stop_on_signal(&session, interrupt, &report, work).await
-    })
+            })
+        }),
+    )
 }
 
 /// A current watch in `format`.

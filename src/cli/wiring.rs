@@ -9,10 +9,9 @@ use std::time::Duration;
 
 use clap::Args;
 
-use super::connection::{Target, run_to_exit};
-use super::output::Format;
-use super::run_end::{AtTheEnd, Interrupt, RunReport, exit_or_stop_on_signal};
-use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
+use super::connection::Target;
+use super::run_end::run_tool_to_exit;
+use super::{ConnectionArgs, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::session::wiring::{findings, wired_right};
 
 #[derive(Debug, Clone, Args)]
@@ -73,46 +72,30 @@ pub fn run(connection: &ConnectionArgs, args: &WiringArgs) -> i32 {
     }
     let index = args.axis;
     let give_up = Duration::from_secs(args.give_up);
-    run_to_exit("wiring", async move {
-        let session = match target.open().await {
-            Ok(session) => session,
-            Err(e) => {
-                eprintln!("axterm wiring: {e}");
-                return EXIT_CONNECTION;
-            }
-        };
-        let interrupt = match Interrupt::watch() {
-            Ok(interrupt) => interrupt,
-            Err(e) => {
-                eprintln!("axterm wiring: cannot watch for Ctrl-C: {e}");
-                return EXIT_DEVICE;
-            }
-        };
-        let work = async {
-            match session.check_wiring(plan, index, speed, give_up).await {
-                Ok(legs) => {
-                    for line in findings(axis.name, &legs) {
-                        println!("{line}");
+    run_tool_to_exit(
+        "wiring",
+        target,
+        Box::new(move |session| {
+            Box::pin(async move {
+                match session.check_wiring(plan, index, speed, give_up).await {
+                    Ok(legs) => {
+                        for line in findings(axis.name, &legs) {
+                            println!("{line}");
+                        }
+                        if wired_right(&legs) {
+                            EXIT_OK
+                        } else {
+                            EXIT_DEVICE
+                        }
                     }
-                    if wired_right(&legs) {
-                        EXIT_OK
-                    } else {
+                    Err(error) => {
+                        eprintln!("axterm wiring: {error}");
+                        // The axis may still move: stop everything.
+                        let _ = session.emergency_stop_lines().await;
                         EXIT_DEVICE
                     }
                 }
-                Err(error) => {
-                    eprintln!("axterm wiring: {error}");
-                    // The axis may still move: stop everything.
-                    let _ = session.emergency_stop_lines().await;
-                    EXIT_DEVICE
-                }
-            }
-        };
-        let report = RunReport {
-            prefix: "axterm wiring: ",
-            format: Format::Text,
-            at_the_end: AtTheEnd::Nothing,
-        };
-        exit_or_stop_on_signal(&session, interrupt, &report, work).await
-    })
+            })
+        }),
+    )
 }
