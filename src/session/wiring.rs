@@ -303,14 +303,9 @@ impl Session {
         for line in plan.stop(info) {
             self.execute_line(&line).await?;
         }
-        let asked = Instant::now();
-        while asked.elapsed() < STAND_WAIT {
-            let status = self.read_status_polls(false).await?;
-            if status.get(axis).is_some_and(|s| s.speed == Some(0)) {
-                break;
-            }
-            tokio::time::sleep(LOOK_EVERY).await;
-        }
+        // Still moving after the wait: the limit stop is cleared anyway,
+        // and the next leg's jog is the module's to refuse.
+        self.wait_standing(axis, STAND_WAIT).await?;
         for line in plan.clear_limit_stop(info) {
             self.execute_line(&line).await?;
         }
