@@ -9,6 +9,7 @@
 
 pub mod cli;
 pub mod device;
+pub mod families;
 pub mod files;
 pub mod link;
 pub mod protocol;

@@ -777,7 +777,7 @@ mod tests {
     /// `:wait-until` wants.
     #[test]
     fn every_familys_status_polls_are_lines_a_wait_until_takes() {
-        for family in crate::protocol::FAMILIES {
+        for family in crate::families::FAMILIES {
             let address = family.console.default_address();
             for poll in family.console.status_queries(address) {
                 let wait = format!(":wait-until {} == 0 timeout 10s", poll.line.canonical);

@@ -776,7 +776,7 @@ mod tests {
 
     #[test]
     fn a_script_with_no_line_is_refused() {
-        let tmcl = crate::protocol::find_family("tmcl").expect("tmcl");
+        let tmcl = crate::families::find_family("tmcl").expect("tmcl");
         for text in ["", "\n  \n", "# setup\n// later\n"] {
             let problems = check_script("f.txt", text, tmcl, 1).expect_err("nothing to run");
             assert_eq!(
@@ -928,8 +928,8 @@ mod tests {
 
     #[test]
     fn a_tool_the_family_lacks_or_a_value_its_plan_refuses_is_a_problem_of_the_file() {
-        let tmcl = crate::protocol::find_family("tmcl").expect("tmcl");
-        let mccl = crate::protocol::find_family("mccl").expect("mccl");
+        let tmcl = crate::families::find_family("tmcl").expect("tmcl");
+        let mccl = crate::families::find_family("mccl").expect("mccl");
         let text = ":tune-step --distance 1000\n:wiring --axis 3\n:wiring --speed 0\n\
                     :tune-stallguard --from 200 --to 1000\n";
         let problems = check_script("f.txt", text, tmcl, 1).expect_err("refused");

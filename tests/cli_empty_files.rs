@@ -8,7 +8,7 @@ mod cli_support;
 use std::path::Path;
 use std::process::Output;
 
-use axterm::protocol::FAMILIES;
+use axterm::families::FAMILIES;
 use cli_support::{axterm, stderr, stdout};
 
 /// Each family's first simulator (`tmcm1110`, `sixpack2`, …).

@@ -8,7 +8,7 @@ mod cli_support;
 use std::path::Path;
 use std::process::Output;
 
-use axterm::protocol::FAMILIES;
+use axterm::families::FAMILIES;
 use cli_support::{axterm, stderr, stdout};
 
 fn text(path: &Path) -> String {

@@ -424,7 +424,7 @@ fn every_module_asked_for_gets_a_row_and_stop_on_failure_says_who_was_not_tried(
 #[test]
 fn every_family_applies_and_diffs_its_own_export_unchanged() {
     let mut round_tripped = Vec::new();
-    for family in axterm::protocol::FAMILIES {
+    for family in axterm::families::FAMILIES {
         for sim in family.simulators {
             let dir = tempfile::tempdir().expect("temp dir");
             let file = dir.path().join("exported.toml").display().to_string();

@@ -5,7 +5,7 @@
 
 mod cli_support;
 
-use axterm::protocol::FAMILIES;
+use axterm::families::FAMILIES;
 use cli_support::{axterm, stderr, stdout};
 use serde_json::Value;
 

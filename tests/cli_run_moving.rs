@@ -7,7 +7,7 @@ mod cli_support;
 mod motion_support;
 mod served_support;
 
-use axterm::protocol::FAMILIES;
+use axterm::families::FAMILIES;
 use cli_support::{axterm_stdin, stderr};
 use motion_support::motion_of;
 use served_support::Served;

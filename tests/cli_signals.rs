@@ -13,7 +13,7 @@ mod served_support;
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 
-use axterm::protocol::FAMILIES;
+use axterm::families::FAMILIES;
 use cli_support::{axterm_stdin, stderr};
 use motion_support::motion_of;
 use served_support::Served;

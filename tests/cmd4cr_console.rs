@@ -12,8 +12,8 @@ use std::time::Duration;
 use axterm::cli::ConnectionArgs;
 use axterm::cli::connection::Target;
 use axterm::device::{Direction, Priority, TrafficRecord};
+use axterm::families::find_family;
 use axterm::protocol::console::{MotionPhase, MoveMode};
-use axterm::protocol::find_family;
 use axterm::session::{
     AxisMotion, PollCadence, SLOW_SHARE_DIVISOR, Session, SessionError, slow_period,
 };

@@ -13,7 +13,7 @@
 mod tmux_support;
 mod ui_support;
 
-use axterm::protocol::find_family;
+use axterm::families::find_family;
 use ratatui::crossterm::event::{KeyCode, KeyModifiers};
 use tmux_support::{Tmux, assert_terminal_restored, console_command};
 use ui_support::looped::{Rig, no_connector, press, press_with, run_console_on, type_line};

@@ -12,10 +12,10 @@ use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
+use axterm::families::find_family;
 use axterm::link::LinkSpec;
 use axterm::protocol::cmd4cr::parse_request;
 use axterm::protocol::console::MotionPhase;
-use axterm::protocol::find_family;
 use axterm::session::{AxisMotion, PollCadence, ReplyValue, Session, SessionError, SessionOptions};
 use axterm::sim::SimulatedController;
 use axterm::sim::faults::FaultPlan;

@@ -8,8 +8,9 @@ mod ui_support;
 use std::time::Duration;
 
 use axterm::device::LinkState;
+use axterm::families::find_family;
+use axterm::protocol::Family;
 use axterm::protocol::console::Reading;
-use axterm::protocol::{Family, find_family};
 use axterm::session::{AxisStatus, LineResult, PollCadence, SessionError};
 use axterm::ui::app::{App, AppEvent, Effect};
 use axterm::ui::pane::Snapshot;

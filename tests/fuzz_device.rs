@@ -1,5 +1,5 @@
 //! Device-side fuzzing on a real pseudo-terminal, with real timing: for
-//! every family in `protocol::FAMILIES`, a fake device on the pty's master
+//! every family in `families::FAMILIES`, a fake device on the pty's master
 //! side answers the console's lines with what the family's corpus offers,
 //! bent, cut into chunks with pauses of its own choosing, and between
 //! them talks noise, sometimes nonstop at about 25 KB/s (fault soak, issue
@@ -22,8 +22,8 @@ use std::thread;
 use std::time::Duration;
 
 use axterm::device::DeviceOptions;
+use axterm::families::FAMILIES;
 use axterm::link::LinkSpec;
-use axterm::protocol::FAMILIES;
 use axterm::protocol::console::{Answering, PreparedLine};
 use axterm::session::{Session, SessionOptions};
 use fuzz_support::{FamilyCorpus, Rng, bend_bytes, cases, chunks, noise_bytes, seed};

@@ -1,10 +1,10 @@
 //! Fuzzing of every decoder and parser: no input makes axterm panic.
 //!
-//! For every family in `protocol::FAMILIES`: its console-line parser
+//! For every family in `families::FAMILIES`: its console-line parser
 //! (`encode_line`, `FamilyConsole::prepare`, completion and help), its
 //! framer, its reply rules and reply reader (`interpret`, status updates,
 //! the traffic monitor's decoders), the batch-file parser on its lines;
-//! for every simulator in `sim::kinds()`: its request decoder; and the
+//! for every simulator in `axterm::families::kinds()`: its request decoder; and the
 //! program tools: the TMCL assembler (with includes, listing, image and
 //! disassembler) and the A-Script compiler; the parameter-file reader.
 //!
@@ -19,14 +19,15 @@ use std::collections::BTreeMap;
 use std::sync::OnceLock;
 use std::time::Duration;
 
-use axterm::protocol::FAMILIES;
+use axterm::families::FAMILIES;
+use axterm::families::kinds;
 use axterm::protocol::cmd4cr::ascript;
 use axterm::protocol::console::Answering;
 use axterm::protocol::program::NoIncludes;
 use axterm::protocol::tmcl::asm::{self, ProgramWord};
 use axterm::protocol::wire::Verdict;
 use axterm::script::check_script;
-use axterm::sim::{SimOptions, kinds};
+use axterm::sim::SimOptions;
 use fuzz_support::{
     FamilyCorpus, Report, Rng, assert_no_panics, bend_document, bend_text, cases, chunks,
     noise_text, run, seed, text_of_lines,
@@ -297,7 +298,7 @@ fn batch_files_never_panic() {
 fn simulators_never_panic_on_what_they_are_sent() {
     let reports: Vec<Report> = kinds()
         .filter_map(|kind| {
-            let family = kind.family()?;
+            let family = axterm::families::family_of(kind)?;
             let corpus = corpora().iter().find(|c| c.family.name == family.name)?;
             let inputs = (kind.input_names)();
             Some(run(

@@ -8,7 +8,7 @@ use std::time::Duration;
 use axterm::link::{Link, LinkInput, LinkSpec, SharedSim, byte_time};
 use axterm::protocol::tmcl::{FRAME_LEN, Reply, Request, Status};
 use axterm::sim::faults::FaultPlan;
-use axterm::sim::{self, SimOptions, SimulatedController};
+use axterm::sim::{SimOptions, SimulatedController};
 use tokio::time::Instant;
 
 const GAP: u8 = 6;
@@ -17,7 +17,7 @@ const MVP: u8 = 4;
 const TARGET_EVENT: u8 = 138;
 
 fn steprocker() -> SharedSim {
-    let kind = sim::find_kind("tmcm1110").expect("registered");
+    let kind = axterm::families::find_kind("tmcm1110").expect("registered");
     Arc::new(Mutex::new((kind.build)(&SimOptions::default())))
 }
 

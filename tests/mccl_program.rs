@@ -14,13 +14,14 @@ mod ui_support;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
+use axterm::families::find_family;
+use axterm::families::find_kind;
 use axterm::link::LinkSpec;
 use axterm::protocol::console::ReplyValue;
-use axterm::protocol::find_family;
 use axterm::protocol::program::{DownloadOptions, NoIncludes, TransferJob, UploadExtent};
 use axterm::session::{Cancel, PollCadence, Session, SessionOptions};
+use axterm::sim::SimOptions;
 use axterm::sim::faults::FaultPlan;
-use axterm::sim::{SimOptions, find_kind};
 use axterm::ui::PaneSetup;
 use axterm::ui::app::{self, App, Connector, Controller};
 use axterm::ui::live::SessionController;
@@ -48,7 +49,7 @@ async fn session_with(faults: FaultPlan) -> Session {
         baud: Some(115_200),
         faults,
     };
-    let family = kind.family().expect("family");
+    let family = axterm::families::family_of(kind).expect("family");
     Session::connect(spec, family, SessionOptions::default())
         .await
         .expect("the simulator link opens")

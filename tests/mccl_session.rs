@@ -12,7 +12,7 @@ mod session_support;
 use std::time::Duration;
 
 use axterm::device::{DeviceError, DeviceOptions};
-use axterm::protocol::find_family;
+use axterm::families::find_family;
 use axterm::session::{PollCadence, Session, SessionError, SessionOptions};
 use device_support::{Script, device_with};
 use session_support::wait_for;

@@ -10,8 +10,9 @@ mod ui_support;
 use std::time::{Duration, Instant};
 
 use axterm::device::{Busy, LinkState, Priority};
+use axterm::families::find_family;
+use axterm::protocol::Family;
 use axterm::protocol::console::Reading;
-use axterm::protocol::{Family, find_family};
 use axterm::session::{AxisStatus, LineResult, PollCadence, SessionError};
 use axterm::sim::SimulatedController;
 use axterm::sim::mccl::{Mccl, SimConfig};

@@ -2,7 +2,7 @@
 //! from files, users and devices: nothing panics on any input, parameter
 //! files read back what was written, typed values read back as numbers.
 
-use axterm::protocol::find_family;
+use axterm::families::find_family;
 use axterm::protocol::parameter_file::{Exported, parse, render};
 use axterm::protocol::parameters::{
     ParamAccess, ParamRange, ParamRole, ParamRow, ParameterSet, Scope, parse_integer,

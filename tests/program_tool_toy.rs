@@ -196,7 +196,6 @@ static TOY: Family = Family {
     encode_line: |line, _| Ok(format!("{line}\r").into_bytes()),
     show_bytes: |bytes| String::from_utf8_lossy(bytes).into_owned(),
     console: &ToyConsole,
-    simulators: &[],
 };
 
 // ------------------------------------------------------- the program tool

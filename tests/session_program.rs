@@ -5,6 +5,7 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use axterm::cli::asm::SourceFiles;
+use axterm::families::find_kind;
 use axterm::link::LinkSpec;
 use axterm::protocol::program::{
     DownloadOptions, FactValue, FailureKind, Phase, Progress, TransferFailure, TransferReport,
@@ -13,8 +14,8 @@ use axterm::protocol::program::{
 use axterm::protocol::tmcl::asm::{NoIncludes, ProgramWord, assemble, disassemble, parse_image};
 use axterm::protocol::tmcl::plan::{DownloadPlan, UploadPlan};
 use axterm::session::{Cancel, PollCadence, ReplyValue, Session, SessionError, SessionOptions};
+use axterm::sim::SimOptions;
 use axterm::sim::faults::FaultPlan;
-use axterm::sim::{SimOptions, find_kind};
 
 /// Virtual time: only guards against a hung test.
 const GIVE_UP_AFTER: Duration = Duration::from_secs(600);
@@ -27,7 +28,7 @@ async fn connect_with(faults: FaultPlan, baud: Option<u32>) -> Session {
         baud,
         faults,
     };
-    let family = kind.family().expect("family");
+    let family = axterm::families::family_of(kind).expect("family");
     Session::connect(spec, family, SessionOptions::default())
         .await
         .expect("the simulator link opens")

@@ -11,14 +11,15 @@ use std::time::Duration;
 use axterm::device::{
     self, DeviceOptions, Direction, Priority, TrafficKind, TrafficRecord, never_reopen,
 };
+use axterm::families::find_family;
+use axterm::families::find_kind;
 use axterm::link::LinkSpec;
-use axterm::protocol::find_family;
 use axterm::session::run_end::{
     LINK_RETURN_WAIT, LinkAtStop, RunAftermath, RunEnding, StopOnFailure,
 };
 use axterm::session::{ReplyValue, Session, SessionOptions};
+use axterm::sim::SimOptions;
 use axterm::sim::faults::FaultPlan;
-use axterm::sim::{SimOptions, find_kind};
 use tokio::sync::broadcast;
 
 /// The TMCL stop sequence (`TmclConsole::emergency_stop`): every motor,

@@ -32,8 +32,8 @@ use std::time::Duration;
 use proptest::prelude::*;
 
 use axterm::device::{DeviceCounters, DeviceOptions};
+use axterm::families::find_family;
 use axterm::link::{LinkSpec, SharedSim};
-use axterm::protocol::find_family;
 use axterm::protocol::tmcl::{FRAME_LEN, Reply, Request, Status};
 use axterm::session::{PollCadence, ReplyValue, Session, SessionError, SessionOptions};
 use axterm::sim::SimulatedController;
@@ -288,7 +288,7 @@ enum Op {
 async fn soak(kind: Kind, plan: FaultPlan, seed: u64, lines: usize) -> Figures {
     let family = find_family(kind.family()).expect("a family");
     let answers: Answers = Arc::default();
-    let sim_kind = axterm::sim::find_kind(kind.sim()).expect("a simulator");
+    let sim_kind = axterm::families::find_kind(kind.sim()).expect("a simulator");
     let sim: SharedSim = Arc::new(Mutex::new(Box::new(Recorder {
         kind,
         inner: (sim_kind.build)(&axterm::sim::SimOptions::default()),

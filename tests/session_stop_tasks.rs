@@ -6,7 +6,7 @@
 
 use axterm::cli::ConnectionArgs;
 use axterm::cli::connection::Target;
-use axterm::protocol::FAMILIES;
+use axterm::families::FAMILIES;
 use axterm::protocol::console::RunningPrograms;
 use axterm::session::Session;
 

@@ -5,10 +5,11 @@
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
+use axterm::families::find_kind;
 use axterm::link::LinkSpec;
 use axterm::session::{AxisStatus, PollCadence, ReplyValue, Session, SessionError, SessionOptions};
+use axterm::sim::SimOptions;
 use axterm::sim::faults::FaultPlan;
-use axterm::sim::{SimOptions, find_kind};
 
 /// Virtual time: only guards against a hung test.
 const GIVE_UP_AFTER: Duration = Duration::from_secs(600);
@@ -25,7 +26,7 @@ async fn connect_with(baud: Option<u32>, faults: FaultPlan) -> Session {
         baud,
         faults,
     };
-    let family = kind.family().expect("family");
+    let family = axterm::families::family_of(kind).expect("family");
     Session::connect(spec, family, SessionOptions::default())
         .await
         .expect("the simulator link opens")

@@ -5,10 +5,10 @@
 
 use std::sync::{Arc, Mutex};
 
+use axterm::families::find_family;
 use axterm::link::{LinkSpec, SharedSim};
 use axterm::protocol::console::AxisInfo;
 use axterm::protocol::console::ReplyValue;
-use axterm::protocol::find_family;
 use axterm::protocol::tuning::{
     StallSweepPlan, StepAsk, StepSpec, SweepAction, SweepAsk, SweepPoint, SweepScript,
     SweepSuggestion, TuneError, TuningField,
@@ -20,7 +20,9 @@ use axterm::sim::faults::FaultPlan;
 
 async fn open(family: &str) -> Session {
     let family = find_family(family).expect("registered");
-    let kind = family.simulators.first().expect("a simulator");
+    let kind = axterm::families::simulators_of(family)
+        .first()
+        .expect("a simulator");
     let sim: SharedSim = Arc::new(Mutex::new((kind.build)(&SimOptions::default())));
     let spec = LinkSpec::Sim {
         kind: kind.name.into(),

@@ -7,7 +7,7 @@
 mod device_support;
 
 use axterm::device::DeviceOptions;
-use axterm::protocol::FAMILIES;
+use axterm::families::FAMILIES;
 use axterm::session::{LineResult, READS_TO_AGREE, Session, SessionError, SessionOptions};
 use device_support::device_with;
 

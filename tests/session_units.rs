@@ -5,11 +5,12 @@
 
 use std::sync::{Arc, Mutex, RwLock};
 
+use axterm::families::find_kind;
 use axterm::link::LinkSpec;
 use axterm::protocol::units::MechanicsTable;
 use axterm::session::{ReplyValue, Session, SessionError, SessionOptions};
+use axterm::sim::SimOptions;
 use axterm::sim::faults::FaultPlan;
-use axterm::sim::{SimOptions, find_kind};
 use axterm::ui::app::Controller;
 use axterm::ui::live::SessionController;
 
@@ -21,7 +22,7 @@ async fn connect() -> Session {
         baud: None,
         faults: FaultPlan::none(),
     };
-    let family = kind.family().expect("family");
+    let family = axterm::families::family_of(kind).expect("family");
     Session::connect(spec, family, SessionOptions::default())
         .await
         .expect("the simulator link opens")

@@ -6,10 +6,11 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use axterm::device::{Direction, TrafficKind, TrafficRecord};
+use axterm::families::find_kind;
 use axterm::link::LinkSpec;
 use axterm::session::{PollCadence, Session, SessionOptions, WatchedValue};
+use axterm::sim::SimOptions;
 use axterm::sim::faults::FaultPlan;
-use axterm::sim::{SimOptions, find_kind};
 use tokio::sync::broadcast;
 
 /// Virtual time: only guards against a hung test.
@@ -28,7 +29,7 @@ async fn connect() -> Session {
         baud: None,
         faults: FaultPlan::none(),
     };
-    let family = kind.family().expect("family");
+    let family = axterm::families::family_of(kind).expect("family");
     Session::connect(spec, family, SessionOptions::default())
         .await
         .expect("the simulator link opens")

@@ -7,8 +7,8 @@
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
+use axterm::families::find_family;
 use axterm::link::{LinkSpec, SharedSim};
-use axterm::protocol::find_family;
 use axterm::protocol::jog::Direction;
 use axterm::session::wiring::{Limit, findings, wired_right};
 use axterm::session::{Session, SessionOptions};
@@ -17,7 +17,9 @@ use axterm::sim::faults::FaultPlan;
 
 async fn open(family: &str) -> (Session, SharedSim) {
     let family = find_family(family).expect("registered");
-    let kind = family.simulators.first().expect("a simulator");
+    let kind = axterm::families::simulators_of(family)
+        .first()
+        .expect("a simulator");
     let sim: SharedSim = Arc::new(Mutex::new((kind.build)(&SimOptions::default())));
     let spec = LinkSpec::Sim {
         kind: kind.name.into(),

@@ -11,8 +11,8 @@ mod session_support;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
+use axterm::families::find_family;
 use axterm::link::LinkSpec;
-use axterm::protocol::find_family;
 use axterm::session::{PollCadence, ReplyValue, Session, SessionOptions};
 use axterm::sim::faults::FaultPlan;
 use axterm::sim::{SimOptions, sixpack2};

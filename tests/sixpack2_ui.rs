@@ -8,8 +8,8 @@ mod ui_support;
 
 use std::sync::Arc;
 
+use axterm::families::find_family;
 use axterm::protocol::console::ReplyValue;
-use axterm::protocol::find_family;
 use axterm::protocol::settings::SettingsCache;
 use axterm::session::{LineResult, SessionError};
 use axterm::ui::app::{App, AppEvent, Effect};

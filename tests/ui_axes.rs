@@ -416,7 +416,6 @@ mod no_units {
         encode_line: |_, _| Err("not here".into()),
         show_bytes: |_| String::new(),
         console: &Plain,
-        simulators: &[],
     };
 }
 
@@ -466,7 +465,7 @@ fn column_marks(lines: &[String]) -> Vec<Vec<(&'static str, Option<usize>)>> {
 #[test]
 fn columns_stay_put_when_a_number_gains_a_digit() {
     use axterm::protocol::console::StatusValue;
-    for family in axterm::protocol::FAMILIES {
+    for family in axterm::families::FAMILIES {
         let reads_ferr = family
             .console
             .status_values()

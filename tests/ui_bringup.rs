@@ -13,7 +13,7 @@ use std::time::Duration;
 use axterm::cli::ConnectionArgs;
 use axterm::cli::connection::Target;
 use axterm::device::{Direction, TrafficRecord};
-use axterm::protocol::FAMILIES;
+use axterm::families::FAMILIES;
 use axterm::protocol::jog::Direction as JogDirection;
 use axterm::script::result_matches;
 use axterm::session::{ReplyValue, Session, SessionOptions};

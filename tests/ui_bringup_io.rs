@@ -232,7 +232,7 @@ async fn an_output_is_switched_only_after_a_yes_and_read_back() {
 /// inputs, 28 outputs).
 #[test]
 fn at_80_by_24_the_switches_and_outputs_are_on_the_screen() {
-    use axterm::protocol::find_family;
+    use axterm::families::find_family;
     use axterm::ui::app::AppEvent;
     use ui_support::{key, screen, snapshot};
     let family = find_family("mccl").expect("mccl");

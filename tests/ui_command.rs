@@ -711,7 +711,7 @@ fn help_after_disconnecting_comes_from_the_family_last_connected() {
 /// The console connected to a module of `family`.
 fn connected_to(family: &str) -> App {
     let mut app = console();
-    let family = axterm::protocol::find_family(family).expect("registered");
+    let family = axterm::families::find_family(family).expect("registered");
     app.handle(AppEvent::Snapshot(axterm::ui::pane::Snapshot {
         family,
         ..snapshot(family.console.axes().to_vec())
@@ -750,7 +750,7 @@ fn f1_on_the_start_of_a_word_lists_each_command_once() {
 fn help_wraps_between_words() {
     let words = "record every line sent from here as a macro file of the module's program \
                  language, until off";
-    for family in axterm::protocol::FAMILIES {
+    for family in axterm::families::FAMILIES {
         for width in [60, 70, 80, 90] {
             let mut app = connected_to(family.name);
             enter(&mut app, ":help :record-macro");
@@ -770,7 +770,7 @@ fn help_wraps_between_words() {
 /// checksum is marked so under its line; a checked family's is not.
 #[test]
 fn a_value_read_without_a_checksum_is_marked_unchecked() {
-    use axterm::protocol::FAMILIES;
+    use axterm::families::FAMILIES;
     for family in FAMILIES {
         let mut app = console();
         let mut shot = snapshot(axes(&["motor 0"]));

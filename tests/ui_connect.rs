@@ -14,8 +14,9 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use axterm::device::{DeviceEvent, LinkState, TrafficRecord};
+use axterm::families::find_family;
 use axterm::link::ports::{ListedPort, PortInfo, PortKind, UsbIdentity};
-use axterm::protocol::{Family, find_family};
+use axterm::protocol::Family;
 use axterm::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
 use axterm::ui::app::{self, App, AppEvent, Connector, Controller, Effect, Pending};
 use axterm::ui::axes::AxesPane;
@@ -110,7 +111,7 @@ fn connects(effects: &[Effect]) -> Option<Vec<String>> {
 /// Move the selection from the first simulator to the last one: the
 /// rows below count from there, whatever simulators are registered.
 fn past_the_other_simulators(app: &mut App) {
-    for _ in 1..axterm::sim::kinds().count() {
+    for _ in 1..axterm::families::kinds().count() {
         app.handle(key(KeyCode::Down));
     }
 }
@@ -158,8 +159,8 @@ fn the_screen_lists_simulators_ports_and_tcp_at_80x24_and_large() {
 fn the_form_shows_what_the_highlighted_choice_connects_with() {
     let dir = tempfile::tempdir().expect("temp dir");
     let mut app = console(dir.path(), two_ports);
-    for kind in axterm::sim::kinds() {
-        let family = kind.family().expect("a family");
+    for kind in axterm::families::kinds() {
+        let family = axterm::families::family_of(kind).expect("a family");
         let all = text(&mut app, 100, 30);
         assert!(all.contains(&format!("▶ sim {}", kind.name)), "{all}");
         assert!(
@@ -308,7 +309,7 @@ fn a_familys_link_option_is_chosen_on_the_form() {
         !text(&mut app, 100, 24).contains("link ["),
         "tmcm1110 has no link option"
     );
-    let sixpack2 = axterm::sim::kinds()
+    let sixpack2 = axterm::families::kinds()
         .position(|k| k.name == "sixpack2")
         .expect("a sixpack2 simulator");
     for _ in 0..sixpack2 {

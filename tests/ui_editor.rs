@@ -439,7 +439,7 @@ fn recovered_text_keeps_its_language_when_another_familys_module_connects() {
     // The next connection is a CMD-4CR: the text stays TMCL, checks as
     // TMCL, and is not marked full of A-Script errors.
     let cmd4cr = axterm::ui::pane::Snapshot {
-        family: axterm::protocol::find_family("cmd4cr").expect("cmd4cr"),
+        family: axterm::families::find_family("cmd4cr").expect("cmd4cr"),
         ..ui_support::snapshot(ui_support::axes(&["X", "Y", "Z", "U"]))
     };
     again.handle(AppEvent::Snapshot(cmd4cr));
@@ -535,7 +535,7 @@ fn connected(family: &'static axterm::protocol::Family) -> axterm::ui::pane::Sna
 /// copy's (issue 19, point 7), for every family with programs.
 #[test]
 fn after_esc_on_a_recovered_copy_the_text_follows_the_connection_again() {
-    for family in axterm::protocol::FAMILIES {
+    for family in axterm::families::FAMILIES {
         let Some(own) = family.console.program() else {
             continue;
         };
@@ -607,7 +607,7 @@ fn bad_line(family: &str) -> &'static str {
 /// it (issue 19, point 9), in every family's language.
 #[test]
 fn an_error_message_goes_when_its_line_is_deleted() {
-    for family in axterm::protocol::FAMILIES {
+    for family in axterm::families::FAMILIES {
         let mut app = editor_console(None);
         app.handle(AppEvent::Snapshot(connected(family)));
         let line = bad_line(family.name);

@@ -12,8 +12,8 @@ use std::sync::Arc;
 
 use axterm::cli::ConnectionArgs;
 use axterm::cli::connection::Target;
+use axterm::families::find_family;
 use axterm::link::LinkSpec;
-use axterm::protocol::find_family;
 use axterm::session::Session;
 use axterm::ui::PaneSetup;
 use axterm::ui::app::{App, AppEvent, Controller, Effect};

@@ -52,8 +52,9 @@ fn text_typed_in_the_editor_survives_kill_9() {
         dir.path().join("second").exists() && s.contains("poll 20 Hz") && !s.contains("Start:")
     });
     tmux.keys(&["M-7"]);
+    // The notice may be drawn a frame before the text it offers.
     let screen = tmux.until("the recovered text", |s| {
-        s.contains("recovered unsaved text of untitled")
+        s.contains("recovered unsaved text of untitled") && typed.iter().all(|l| s.contains(l))
     });
     for line in typed {
         assert!(screen.contains(line), "{line} missing:\n{screen}");

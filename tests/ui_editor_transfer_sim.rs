@@ -8,6 +8,7 @@ mod ui_support;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
+use axterm::families::find_kind;
 use axterm::link::LinkSpec;
 use axterm::protocol::program::{DownloadOptions, UploadExtent};
 use axterm::protocol::tmcl::asm::parse_image;
@@ -15,8 +16,8 @@ use axterm::protocol::tmcl::asm::{NoIncludes, ProgramWord, assemble};
 use axterm::protocol::tmcl::plan::{DownloadPlan, UploadPlan};
 use axterm::session::Cancel;
 use axterm::session::{Session, SessionOptions};
+use axterm::sim::SimOptions;
 use axterm::sim::faults::FaultPlan;
-use axterm::sim::{SimOptions, find_kind};
 use axterm::ui::PaneSetup;
 use axterm::ui::app::{self, App, Connector, Controller};
 use axterm::ui::live::SessionController;
@@ -37,7 +38,7 @@ async fn session_with(faults: FaultPlan) -> Session {
         baud: Some(9600),
         faults,
     };
-    let family = kind.family().expect("family");
+    let family = axterm::families::family_of(kind).expect("family");
     Session::connect(spec, family, SessionOptions::default())
         .await
         .expect("the simulator link opens")

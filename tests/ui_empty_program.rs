@@ -9,9 +9,9 @@ mod ui_support;
 
 use std::sync::{Arc, Mutex};
 
+use axterm::families::{FAMILIES, find_family};
 use axterm::link::LinkSpec;
 use axterm::protocol::program::{DownloadOptions, DownloadWay, NoIncludes, TransferJob};
-use axterm::protocol::{FAMILIES, find_family};
 use axterm::session::{Cancel, Session, SessionOptions};
 use axterm::sim::SimOptions;
 use axterm::sim::faults::FaultPlan;

@@ -11,8 +11,9 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use axterm::device::{DeviceEvent, Direction, LinkState, Priority, TrafficKind, TrafficRecord};
+use axterm::families::find_family;
+use axterm::protocol::Family;
 use axterm::protocol::console::ReplyValue;
-use axterm::protocol::{Family, find_family};
 use axterm::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, SessionError};
 use axterm::ui::app::{self, AppEvent, Connector, Controller, Pending};
 use ratatui::crossterm::event::{KeyCode, KeyModifiers};

@@ -6,7 +6,7 @@
 mod panes_support;
 mod ui_support;
 
-use axterm::protocol::find_family;
+use axterm::families::find_family;
 use axterm::ui::app::{App, AppEvent, Effect};
 use axterm::ui::keymap::Keymap;
 use axterm::ui::theme::{Role, Theme};

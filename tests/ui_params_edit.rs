@@ -14,7 +14,7 @@ use std::sync::Arc;
 use axterm::cli::ConnectionArgs;
 use axterm::cli::connection::Target;
 use axterm::device::LinkState;
-use axterm::protocol::FAMILIES;
+use axterm::families::FAMILIES;
 use axterm::protocol::parameters::{ParamOp, ParamRow, ParameterSet, Scope};
 use axterm::session::params::{ModuleValue, reading};
 use axterm::session::{AxisStatus, LineResult, Session, SessionError};

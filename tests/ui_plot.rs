@@ -9,7 +9,7 @@ mod ui_support;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use axterm::protocol::find_family;
+use axterm::families::find_family;
 use axterm::ui::app::{App, AppEvent, Effect};
 use axterm::ui::axes::AxesPane;
 use axterm::ui::keymap::Keymap;

@@ -181,7 +181,7 @@ async fn reads_until(session: &Session, line: &str, ready: impl Fn(&str) -> bool
 /// go, in every family.
 #[tokio::test(start_paused = true)]
 async fn a_console_ended_from_outside_stops_every_axis_in_every_family() {
-    use axterm::protocol::FAMILIES;
+    use axterm::families::FAMILIES;
     use axterm::script::result_matches;
     use axterm::ui::app::AppEvent;
     for family in FAMILIES {
@@ -228,7 +228,7 @@ async fn a_console_ended_from_outside_stops_every_axis_in_every_family() {
 /// `axterm run` does.
 #[tokio::test(start_paused = true)]
 async fn a_console_run_that_leaves_an_axis_moving_says_so_and_stops_it_unless_meant() {
-    use axterm::protocol::FAMILIES;
+    use axterm::families::FAMILIES;
     use axterm::script::result_matches;
     for family in FAMILIES {
         let motion = motion_of(family);

@@ -8,7 +8,7 @@ mod ui_support;
 use std::time::{Duration, Instant};
 
 use axterm::device::{Direction, Priority, TrafficKind, TrafficRecord};
-use axterm::protocol::find_family;
+use axterm::families::find_family;
 use axterm::protocol::tmcl::{Reply, Status, parse_line};
 use axterm::ui::app::{App, AppEvent, Effect};
 use axterm::ui::keymap::Keymap;

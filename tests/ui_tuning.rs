@@ -16,8 +16,8 @@ use std::time::Duration;
 use axterm::cli::ConnectionArgs;
 use axterm::cli::connection::Target;
 use axterm::device::{Direction, TrafficRecord};
+use axterm::families::find_family;
 use axterm::link::{LinkSpec, SharedSim};
-use axterm::protocol::find_family;
 use axterm::session::{ReplyValue, Session, SessionOptions};
 use axterm::sim::SimOptions;
 use axterm::sim::faults::FaultPlan;
@@ -179,7 +179,9 @@ async fn session(kind: &str) -> Session {
 /// A session on `family`'s first simulator, which the test may drive.
 async fn session_with_sim(family: &str) -> (Session, SharedSim) {
     let family = find_family(family).expect("registered");
-    let kind = family.simulators.first().expect("a simulator");
+    let kind = axterm::families::simulators_of(family)
+        .first()
+        .expect("a simulator");
     let sim: SharedSim = Arc::new(Mutex::new((kind.build)(&SimOptions::default())));
     let spec = LinkSpec::Sim {
         kind: kind.name.into(),

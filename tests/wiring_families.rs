@@ -10,8 +10,8 @@
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
+use axterm::families::find_family;
 use axterm::link::{LinkSpec, SharedSim};
-use axterm::protocol::find_family;
 use axterm::session::wiring::{Leg, Limit, findings, wired_right};
 use axterm::session::{Session, SessionOptions};
 use axterm::sim::SimOptions;
@@ -67,7 +67,9 @@ const CASES: &[Case] = &[
 
 async fn open(case: &Case, wiring: &str) -> Session {
     let family = find_family(case.family).expect("registered");
-    let kind = family.simulators.first().expect("a simulator");
+    let kind = axterm::families::simulators_of(family)
+        .first()
+        .expect("a simulator");
     let sim: SharedSim = Arc::new(Mutex::new((kind.build)(&SimOptions::default())));
     sim.lock()
         .unwrap_or_else(|e| e.into_inner())

@@ -12,7 +12,7 @@ use std::path::Path;
 use super::connection::family_of;
 use super::transfer::ExtentArgs;
 use super::{ConnectionArgs, EXIT_OK, EXIT_USAGE};
-use crate::protocol::FAMILIES;
+use crate::families::FAMILIES;
 use crate::protocol::program::{ProgramTool, SourceLoader, is_file_of};
 
 /// The name standard input goes by in messages; includes from it are

@@ -733,7 +733,7 @@ mod tests {
             "{}",
             report.to_table()
         );
-        let sixpack2 = crate::protocol::find_family("sixpack2").expect("registered");
+        let sixpack2 = crate::families::find_family("sixpack2").expect("registered");
         assert_eq!(
             sixpack2.console.wire().turnaround(),
             Duration::from_millis(6)

@@ -57,7 +57,7 @@ pub fn after_line(console: &dyn FamilyConsole, line: &PreparedLine, known: &mut 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::protocol::find_family;
+    use crate::families::find_family;
 
     fn of(family: &str, line: &str, yes: bool) -> Cautions {
         let console = find_family(family).expect("a family").console;

@@ -81,8 +81,7 @@ pub fn simulated_line(
     memory_file: Option<&std::path::Path>,
     faults: &BusFaults,
 ) -> Result<Box<dyn sim::SimulatedController>, String> {
-    let family = kind
-        .family()
+    let family = crate::families::family_of(kind)
         .ok_or_else(|| format!("the {} simulator speaks no known family", kind.name))?;
     let addresses = family_modules(family, list)?;
     let several = list.is_some_and(AddressList::is_several);
@@ -147,12 +146,16 @@ impl Target {
         }
         let spec = match (&args.sim, &args.port, &args.tcp) {
             (Some(kind), None, None) => {
-                let kind = sim::find_kind(kind).ok_or_else(|| unknown_sim(kind))?;
+                let kind = crate::families::find_kind(kind).ok_or_else(|| unknown_sim(kind))?;
                 let faults = BusFaults::parse(&args.fault)?;
                 let mut controller = simulated_line(kind, args.address.as_ref(), None, &faults)?;
                 if let Some(path) = args.program.as_deref() {
-                    super::sim_program::load_program_file(controller.as_mut(), kind.family(), path)
-                        .map_err(|problems| problems.join("\n"))?;
+                    super::sim_program::load_program_file(
+                        controller.as_mut(),
+                        crate::families::family_of(kind),
+                        path,
+                    )
+                    .map_err(|problems| problems.join("\n"))?;
                 }
                 drive_inputs(controller.as_mut(), &args.input)?;
                 LinkSpec::Sim {
@@ -241,19 +244,19 @@ impl Target {
 pub fn family_of(args: &ConnectionArgs) -> Result<&'static Family, String> {
     let sim_family = match &args.sim {
         Some(kind) => Some(
-            sim::find_kind(kind)
-                .ok_or_else(|| unknown_sim(kind))?
-                .family()
+            crate::families::find_kind(kind)
+                .ok_or_else(|| unknown_sim(kind))
+                .map(crate::families::family_of)?
                 .map(|f| f.name)
                 .unwrap_or_default(),
         ),
         None => None,
     };
     let name = args.protocol.as_deref().or(sim_family).unwrap_or("tmcl");
-    let family = protocol::find_family(name).ok_or_else(|| {
+    let family = crate::families::find_family(name).ok_or_else(|| {
         format!(
             "unknown protocol family '{name}' (known: {})",
-            protocol::family_names()
+            crate::families::family_names()
         )
     })?;
     if let (Some(kind), Some(speaks)) = (&args.sim, sim_family)
@@ -283,7 +286,10 @@ pub fn drive_inputs(
 }
 
 fn unknown_sim(kind: &str) -> String {
-    format!("unknown simulator '{kind}' (known: {})", sim::kind_names())
+    format!(
+        "unknown simulator '{kind}' (known: {})",
+        crate::families::kind_names()
+    )
 }
 
 /// A single-threaded runtime for the console.

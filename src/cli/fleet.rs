@@ -615,7 +615,7 @@ pub fn finish(rows: &[ModuleRow], columns: &[&str], format: Format) -> i32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::protocol::find_family;
+    use crate::families::find_family;
 
     #[test]
     fn a_paragraph_of_firmware_is_cut_in_the_table_and_kept_whole_in_json() {

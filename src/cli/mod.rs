@@ -37,7 +37,6 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use clap::{ArgAction, Args, Parser, Subcommand};
 
 use crate::link::ports;
-use crate::protocol;
 pub use crate::protocol::addresses::AddressList;
 use crate::sim;
 use crate::sim::bus::BusFaults;
@@ -524,10 +523,10 @@ fn run_sim(
     pty: bool,
     eeprom_file: Option<std::path::PathBuf>,
 ) -> i32 {
-    let Some(sim_kind) = sim::find_kind(kind) else {
+    let Some(sim_kind) = crate::families::find_kind(kind) else {
         eprintln!(
             "axterm sim: unknown simulator '{kind}' (known: {})",
-            sim::kind_names()
+            crate::families::kind_names()
         );
         return EXIT_USAGE;
     };
@@ -600,7 +599,11 @@ fn run_sim(
     }
     eprintln!("{}", sim.help());
     if let Some(path) = connection.program.as_deref() {
-        match sim_program::load_program_file(sim.as_mut(), sim_kind.family(), path) {
+        match sim_program::load_program_file(
+            sim.as_mut(),
+            crate::families::family_of(sim_kind),
+            path,
+        ) {
             Ok(said) => eprintln!("{said}"),
             Err(problems) => {
                 for problem in problems {
@@ -734,10 +737,10 @@ fn run_encode(
     address: Option<&AddressList>,
     mechanics: Option<&std::path::Path>,
 ) -> i32 {
-    let Some(family) = protocol::find_family(family) else {
+    let Some(family) = crate::families::find_family(family) else {
         eprintln!(
             "axterm encode: unknown protocol family '{family}' (known: {})",
-            protocol::family_names()
+            crate::families::family_names()
         );
         return EXIT_USAGE;
     };
@@ -891,7 +894,7 @@ mod tests {
             .or(argument.get_help())
             .map(ToString::to_string)
             .unwrap_or_default();
-        for kind in sim::kinds() {
+        for kind in crate::families::kinds() {
             assert!(
                 help.contains(kind.name),
                 "{} missing from: {help}",

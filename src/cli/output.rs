@@ -158,8 +158,8 @@ fn read_unchecked(family: &Family, result: &LineResult) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::families::find_family;
     use crate::protocol::console::ReplyError;
-    use crate::protocol::find_family;
     use std::time::Duration;
 
     /// Issue 19: the text output's stderr note marks a value read without a

@@ -1293,7 +1293,7 @@ fn show_duration(duration: Duration) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::protocol::find_family;
+    use crate::families::find_family;
 
     fn check(text: &str) -> Result<Vec<CheckedStep>, Vec<String>> {
         check_script("f.txt", text, find_family("tmcl").unwrap(), 1)

@@ -18,8 +18,9 @@ use super::output::Format;
 use super::run::read_source;
 use super::run_end::{AtTheEnd, Interrupt, RunReport, run_then_end};
 use super::{ConnectionArgs, EXIT_CONNECTION, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
+use crate::families::FAMILIES;
+use crate::protocol::Family;
 use crate::protocol::program::{HostNews, ProgramTool};
-use crate::protocol::{FAMILIES, Family};
 use crate::session::run_end::StopOnFailure;
 
 /// One command that runs programs of one language from the host: the
@@ -49,7 +50,7 @@ fn runs(tool: &dyn ProgramTool, command: &str) -> bool {
 fn host_family(command: &str) -> Option<(&'static Family, &'static dyn ProgramTool)> {
     FAMILIES.iter().find_map(|family| {
         let tool = family.console.program().filter(|t| runs(*t, command))?;
-        Some((family, tool))
+        Some((family.family, tool))
     })
 }
 
@@ -79,8 +80,7 @@ pub fn run(command: &HostCommand, connection: &ConnectionArgs, args: &HostRunArg
         }
     };
     let Some(tool) = family.console.program().filter(|t| runs(*t, name)) else {
-        let sim = host
-            .simulators
+        let sim = crate::families::simulators_of(host)
             .first()
             .map_or_else(String::new, |k| format!(" or --sim {}", k.name));
         eprintln!(

@@ -445,7 +445,7 @@ async fn settings_of(session: &Session, sent: &[String]) -> Settings {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::protocol::find_family;
+    use crate::families::find_family;
     use crate::script::check_script;
 
     const FILE: &str =

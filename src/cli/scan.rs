@@ -217,7 +217,7 @@ mod tests {
 
     #[test]
     fn the_json_form_lists_address_and_identity() {
-        let tmcl = crate::protocol::find_family("tmcl").expect("tmcl");
+        let tmcl = crate::families::find_family("tmcl").expect("tmcl");
         let found = [
             FoundModule {
                 address: 1,
@@ -245,8 +245,8 @@ mod tests {
 
     #[test]
     fn the_family_decides_the_default_and_the_limits() {
-        let tmcl = crate::protocol::find_family("tmcl").expect("tmcl");
-        let cmd4cr = crate::protocol::find_family("cmd4cr").expect("cmd4cr");
+        let tmcl = crate::families::find_family("tmcl").expect("tmcl");
+        let cmd4cr = crate::families::find_family("cmd4cr").expect("cmd4cr");
         assert_eq!(family_addresses(tmcl, None).unwrap().len(), 255);
         assert_eq!(
             family_addresses(cmd4cr, None).unwrap(),

@@ -88,8 +88,9 @@ pub fn load_program_file(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::protocol::find_family;
-    use crate::sim::{SimOptions, find_kind};
+    use crate::families::find_family;
+    use crate::families::find_kind;
+    use crate::sim::SimOptions;
 
     fn build(kind: &str) -> Box<dyn SimulatedController> {
         (find_kind(kind).expect("registered").build)(&SimOptions::default())

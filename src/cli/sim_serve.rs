@@ -529,7 +529,7 @@ mod tests {
 
     #[test]
     fn a_setting_acts_on_the_served_simulator_at_the_next_exchange() {
-        let kind = crate::sim::find_kind("cmd4cr").expect("registered");
+        let kind = crate::families::find_kind("cmd4cr").expect("registered");
         let sim = (kind.build)(&crate::sim::SimOptions::default());
         let (tx, rx) = mpsc::channel();
         let mut clock = SimClock::new(sim, &LineOptions::default()).driven_by(rx);

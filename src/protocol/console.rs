@@ -434,7 +434,7 @@ impl fmt::Debug for LinkChoice {
 }
 
 /// What the session layer needs of a controller family. One implementation
-/// per family, registered in [`super::FAMILIES`].
+/// per family, registered in [`crate::families::FAMILIES`].
 pub trait FamilyConsole: Send + Sync {
     /// The wire format the device task cuts frames and matches answers with.
     fn wire(&self) -> Arc<dyn WireFormat>;

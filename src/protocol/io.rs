@@ -155,7 +155,7 @@ pub const fn output(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::protocol::FAMILIES;
+    use crate::families::FAMILIES;
     use crate::protocol::console::Effect;
 
     /// Every family lists its inputs and outputs; every read line is a

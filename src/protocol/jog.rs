@@ -111,7 +111,7 @@ pub fn target_within(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::protocol::FAMILIES;
+    use crate::families::FAMILIES;
 
     /// Every family can be jogged, and every line of its plan is one its
     /// own console takes (parses and validates) for every axis.

@@ -23,8 +23,9 @@ pub mod wire;
 use console::FamilyConsole;
 pub use console::{LinkChoice, LinkOption};
 
-/// One controller family as the command line knows it. A new family adds
-/// one entry to [`FAMILIES`], its simulators included.
+/// One controller family as the command line knows it. The families are
+/// registered, each with its simulators, in [`crate::families`]: this layer
+/// names none of the layers above it.
 pub struct Family {
     /// Name on the command line (`axterm encode tmcl …`).
     pub name: &'static str,
@@ -37,49 +38,6 @@ pub struct Family {
     /// What the session layer needs of the family: its wire format, how a
     /// line is sent and its answer read, emergency stop, status polling.
     pub console: &'static dyn FamilyConsole,
-    /// The built-in simulators of controllers of this family (`--sim
-    /// NAME`), in the order the connect screen offers them.
-    pub simulators: &'static [crate::sim::SimKind],
-}
-
-/// Every protocol family axterm speaks.
-pub const FAMILIES: &[Family] = &[
-    Family {
-        name: "tmcl",
-        description: "Trinamic TMCL (TMCM-1110 StepRocker), 9-byte binary frames",
-        encode_line: |line, address| {
-            let command = tmcl::parse_line(line).map_err(|e| e.to_string())?;
-            Ok(command
-                .to_request(address.unwrap_or(tmcl::DEFAULT_MODULE_ADDRESS))
-                .to_bytes()
-                .to_vec())
-        },
-        show_bytes: tmcl::to_hex,
-        console: &tmcl::TmclConsole,
-        simulators: &[crate::sim::tmcm1110::KIND],
-    },
-    Family {
-        name: "cmd4cr",
-        description: "Nippon Pulse CMD-4CR (4 axes), ASCII lines @ID…CR",
-        encode_line: cmd4cr::encode_line,
-        show_bytes: cmd4cr::show_bytes,
-        console: &cmd4cr::Cmd4crConsole,
-        simulators: &[crate::sim::cmd4cr::KIND],
-    },
-    sixpack2::family(&sixpack2::Sixpack2Console::AUTO),
-    Family {
-        name: "mccl",
-        description: "PMC MultiFlex MCCL (up to 8 axes), ASCII lines with echo and prompt",
-        encode_line: mccl::encode_line,
-        show_bytes: mccl::show_bytes,
-        console: &mccl::MclConsole::DEFAULT,
-        simulators: &[crate::sim::mccl::KIND_PCI, crate::sim::mccl::KIND_ETH],
-    },
-];
-
-/// The family called `name` (case-insensitive).
-pub fn find_family(name: &str) -> Option<&'static Family> {
-    FAMILIES.iter().find(|f| f.name.eq_ignore_ascii_case(name))
 }
 
 /// `family` with the link options `NAME=VALUE` given ([`LinkOption`]):
@@ -137,21 +95,12 @@ pub fn with_link_options(
     Ok(chosen)
 }
 
-/// Names of every family, for error messages.
-pub fn family_names() -> String {
-    FAMILIES
-        .iter()
-        .map(|f| f.name)
-        .collect::<Vec<_>>()
-        .join(", ")
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     fn sixpack2() -> &'static Family {
-        find_family("sixpack2").expect("registered")
+        &sixpack2::FAMILY_AUTO
     }
 
     #[test]
@@ -212,7 +161,7 @@ mod tests {
             .err()
             .expect("refused");
         assert!(error.contains("give NAME=VALUE"), "{error}");
-        let tmcl = find_family("tmcl").expect("registered");
+        let tmcl = &tmcl::FAMILY;
         let error = with_link_options(tmcl, &["framing=cmd8".into()])
             .err()
             .expect("refused");

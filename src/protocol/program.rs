@@ -985,7 +985,7 @@ pub trait HostRun: Send + fmt::Debug {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::protocol::FAMILIES;
+    use crate::families::FAMILIES;
 
     #[test]
     fn no_family_downloads_an_empty_program() {

@@ -723,7 +723,7 @@ mod tests {
         cmd4cr.phase = Some(MotionPhase::Standing);
         assert_eq!(cmd4cr.motion(), StoppedShort);
     }
-    use crate::protocol::find_family;
+    use crate::families::find_family;
     use crate::protocol::tmcl::{Reply, Status};
     use std::time::Duration;
 

@@ -430,7 +430,7 @@ impl SimulatedController for SimBus {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::find_kind;
+    use crate::families::find_kind;
 
     const MS: Duration = Duration::from_millis(1);
 

@@ -5,8 +5,6 @@
 
 use std::time::Duration;
 
-use crate::protocol::{FAMILIES, Family};
-
 pub mod bus;
 pub mod cmd4cr;
 pub mod faults;
@@ -80,8 +78,9 @@ pub struct SimOptions {
 }
 
 /// One built-in simulator: its name on the command line and how to make it.
-/// Listed in its protocol family's entry ([`crate::protocol::Family::simulators`]),
-/// so that registering a family and its simulators is one entry.
+/// Listed beside its protocol family in the registry
+/// ([`crate::families::FAMILIES`]), so that registering a family and its
+/// simulators is one entry.
 pub struct SimKind {
     pub name: &'static str,
     pub description: &'static str,
@@ -97,34 +96,10 @@ pub struct SimKind {
     pub eeprom_refusal: Option<&'static str>,
 }
 
-impl SimKind {
-    /// The protocol family whose entry lists this simulator (the one it
-    /// speaks).
-    pub fn family(&self) -> Option<&'static Family> {
-        FAMILIES
-            .iter()
-            .find(|f| f.simulators.iter().any(|k| k.name == self.name))
-    }
-}
-
-/// Every built-in simulator, in the order of the families that list them.
-pub fn kinds() -> impl Iterator<Item = &'static SimKind> {
-    FAMILIES.iter().flat_map(|f| f.simulators.iter())
-}
-
-/// The simulator called `name` (case-insensitive), if there is one.
-pub fn find_kind(name: &str) -> Option<&'static SimKind> {
-    kinds().find(|k| k.name.eq_ignore_ascii_case(name))
-}
-
-/// Names of every simulator, for error messages and help.
-pub fn kind_names() -> String {
-    kinds().map(|k| k.name).collect::<Vec<_>>().join(", ")
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::families::{find_kind, kind_names, kinds};
     use crate::protocol::tmcl::{Reply, Request, Status};
 
     fn gap_actual_position(sim: &mut dyn SimulatedController, address: u8) -> Option<Reply> {
@@ -173,9 +148,9 @@ mod tests {
     #[test]
     fn every_kind_speaks_a_known_family() {
         for kind in kinds() {
-            assert!(kind.family().is_some(), "{}", kind.name);
+            assert!(crate::families::family_of(kind).is_some(), "{}", kind.name);
         }
-        let tmcl = find_kind("tmcm1110").and_then(SimKind::family);
+        let tmcl = find_kind("tmcm1110").and_then(crate::families::family_of);
         assert_eq!(tmcl.map(|f| f.name), Some("tmcl"));
     }
 

@@ -1127,7 +1127,7 @@ mod tests {
     }
 
     fn snapshot() -> Snapshot {
-        let family = crate::protocol::find_family("tmcl").expect("tmcl");
+        let family = crate::families::find_family("tmcl").expect("tmcl");
         Snapshot {
             family,
             address: 1,

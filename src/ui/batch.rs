@@ -325,8 +325,8 @@ impl Batch {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::families::find_family;
     use crate::protocol::console::ReplyValue;
-    use crate::protocol::find_family;
 
     fn tmcl() -> &'static Family {
         find_family("tmcl").expect("tmcl")

@@ -31,10 +31,11 @@ use super::pane::{
 use super::text::fit;
 use super::theme::Role;
 use crate::device::{Busy, DeviceEvent, LinkState};
+use crate::families::{FAMILIES, find_family};
+use crate::protocol::Family;
 use crate::protocol::console::{Candidate, Completions, PreparedLine};
 use crate::protocol::program::{HostStart, ProgramTool};
 use crate::protocol::units::{MechanicsTable, has_units};
-use crate::protocol::{FAMILIES, Family, find_family};
 use crate::session::run_end::{AtTheEnd, RunAftermath, RunEnding, StopOnFailure};
 use crate::session::{LineResult, SessionError};
 use confirm::{Confirming, Deferred};
@@ -323,7 +324,7 @@ impl CommandPane {
         view.session
             .map(|s| s.family)
             .or_else(|| self.offline_family.and_then(find_family))
-            .or_else(|| FAMILIES.first())
+            .or_else(|| FAMILIES.first().map(|f| f.family))
     }
 
     /// Said before help given with nothing connected, so that it is clear

@@ -28,9 +28,10 @@ use super::keymap::{Action, Context};
 use super::pane::{Input, NoticeLevel, Outcome, Pane, PaneEvent, Region, Request, View, key_label};
 use super::text::fit;
 use super::theme::Role;
+use crate::families::{FAMILIES, find_family};
+use crate::families::{find_kind, kinds};
 use crate::link::ports::ListedPort;
-use crate::protocol::{FAMILIES, Family, LinkChoice, LinkOption, find_family};
-use crate::sim::{find_kind, kinds};
+use crate::protocol::{Family, LinkChoice, LinkOption};
 use recent::Recents;
 
 /// Lists the serial ports of the machine with their stable names: the
@@ -162,7 +163,7 @@ impl ConnectPane {
     pub fn chosen_family(&self) -> Option<&'static Family> {
         match self.choices().get(self.selected)? {
             Choice::Recent(args) => family_of_args(args),
-            Choice::Sim { name, .. } => find_kind(name)?.family(),
+            Choice::Sim { name, .. } => crate::families::family_of(find_kind(name)?),
             Choice::Port(_) | Choice::Rescan | Choice::Tcp => find_family(self.protocol_name()),
         }
     }
@@ -562,7 +563,7 @@ impl ConnectPane {
 pub fn initial_family(data_dir: Option<&Path>) -> Option<&'static Family> {
     match Recents::load(data_dir).entries().first() {
         Some(args) => family_of_args(args),
-        None => kinds().next()?.family(),
+        None => crate::families::family_of(kinds().next()?),
     }
 }
 
@@ -585,9 +586,9 @@ pub fn family_of_args(args: &[String]) -> Option<&'static Family> {
     let value = |option: &str| option_value(args, option);
     match (value("--protocol"), value("--sim")) {
         (Some(protocol), _) => find_family(protocol),
-        (None, Some(sim)) => find_kind(sim)?.family(),
+        (None, Some(sim)) => crate::families::family_of(find_kind(sim)?),
         // As the command line: the first family when nothing says.
-        (None, None) => FAMILIES.first(),
+        (None, None) => FAMILIES.first().map(|f| f.family),
     }
 }
 

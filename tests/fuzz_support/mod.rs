@@ -5,7 +5,7 @@
 //! inserted, dropped, flipped, spliced, numbers at the edges of every
 //! range), and a runner that counts inputs and panics and times them.
 //!
-//! Everything is found through `protocol::FAMILIES` and `sim::kinds()`,
+//! Everything is found through `families::FAMILIES` and `axterm::families::kinds()`,
 //! so a family registered there is fuzzed without a line here; its
 //! manual's vectors are used when `tests/data/FAMILY-vectors.json` exists.
 #![allow(dead_code)]
@@ -595,7 +595,7 @@ fn simulator_answer(family: &Family, address: u8, line: &PreparedLine) -> Vec<Fr
     if matches!(line.answering, Answering::Nothing) {
         return Vec::new();
     }
-    let Some(kind) = family.simulators.first() else {
+    let Some(kind) = axterm::families::simulators_of(family).first() else {
         return Vec::new();
     };
     let mut sim = (kind.build)(&SimOptions {

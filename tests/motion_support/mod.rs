@@ -1,7 +1,7 @@
 //! For every family: a line that starts an axis moving until told to
 //! stop, a line that reads that axis's speed, and what it reads at rest,
 //! for tests that an axis left moving is stopped (generic over
-//! `protocol::FAMILIES`: a family missing here fails them).
+//! `families::FAMILIES`: a family missing here fails them).
 #![allow(dead_code)]
 
 use axterm::protocol::Family;

@@ -6,9 +6,11 @@
 
 use std::time::Duration;
 
-use axterm::protocol::{Family, find_family};
+use axterm::families::find_family;
+use axterm::families::find_kind;
+use axterm::protocol::Family;
 use axterm::session::{LineResult, SessionError};
-use axterm::sim::{SimOptions, SimulatedController, find_kind};
+use axterm::sim::{SimOptions, SimulatedController};
 use axterm::ui::app::{App, AppEvent, Effect};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;

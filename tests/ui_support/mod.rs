@@ -7,7 +7,7 @@ pub mod looped;
 use std::sync::Arc;
 
 use axterm::device::LinkState;
-use axterm::protocol::find_family;
+use axterm::families::find_family;
 use axterm::session::{AxisInfo, AxisStatus, PollCadence};
 use axterm::ui::app::{App, AppEvent};
 use axterm::ui::keymap::Keymap;

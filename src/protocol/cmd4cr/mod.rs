@@ -31,6 +31,15 @@ pub use program_control::ProgramControl;
 pub use reply::{Answer, ErrorCode, ErrorReply, Mst, parse_answer};
 pub use wire::Cmd4crWire;
 
+/// The CMD-4CR family's entry (registered in [`crate::families`]).
+pub static FAMILY: crate::protocol::Family = crate::protocol::Family {
+    name: "cmd4cr",
+    description: "Nippon Pulse CMD-4CR (4 axes), ASCII lines @ID…CR",
+    encode_line,
+    show_bytes,
+    console: &Cmd4crConsole,
+};
+
 /// The ID every controller ships with (§2.1.1.1).
 pub const DEFAULT_ID: u8 = 1;
 

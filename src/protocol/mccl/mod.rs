@@ -44,6 +44,15 @@ pub use profile::{Echo, LinkProfile, LinkState, PromptPer};
 pub use reply::{AnswerRule, ErrorReply, Reply, ReplyProblem, read_reply};
 pub use tool::{MacroStore, MclTool};
 
+/// The MultiFlex MCCL family's entry (registered in [`crate::families`]).
+pub static FAMILY: crate::protocol::Family = crate::protocol::Family {
+    name: "mccl",
+    description: "PMC MultiFlex MCCL (up to 8 axes), ASCII lines with echo and prompt",
+    encode_line,
+    show_bytes,
+    console: &MclConsole::DEFAULT,
+};
+
 use crate::protocol::console::FamilyConsole;
 
 /// `axterm encode mccl LINE`: the bytes the line becomes (the interface has

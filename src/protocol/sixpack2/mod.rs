@@ -42,7 +42,6 @@ pub const fn family(console: &'static Sixpack2Console) -> crate::protocol::Famil
         encode_line,
         show_bytes: to_hex,
         console,
-        simulators: &[crate::sim::sixpack2::KIND],
     }
 }
 

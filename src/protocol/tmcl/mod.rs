@@ -38,5 +38,20 @@ pub use line::{
 pub use validate::validate;
 pub use wire::{TmclReplyRule, TmclWire};
 
+/// The TMCL family's entry (registered in [`crate::families`]).
+pub static FAMILY: crate::protocol::Family = crate::protocol::Family {
+    name: "tmcl",
+    description: "Trinamic TMCL (TMCM-1110 StepRocker), 9-byte binary frames",
+    encode_line: |line, address| {
+        let command = parse_line(line).map_err(|e| e.to_string())?;
+        Ok(command
+            .to_request(address.unwrap_or(DEFAULT_MODULE_ADDRESS))
+            .to_bytes()
+            .to_vec())
+    },
+    show_bytes: to_hex,
+    console: &TmclConsole,
+};
+
 /// The module address every manual example uses and modules ship with (GP66).
 pub const DEFAULT_MODULE_ADDRESS: u8 = 1;

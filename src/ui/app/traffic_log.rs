@@ -210,7 +210,7 @@ mod tests {
 
     #[test]
     fn a_line_carries_its_wall_clock_time_and_the_milliseconds_since_the_start() {
-        let family = crate::protocol::find_family("tmcl").expect("tmcl");
+        let family = crate::families::find_family("tmcl").expect("tmcl");
         let start = Instant::now();
         // 2024-12-31 23:59:59.999 UTC at the start.
         let wall = UNIX_EPOCH + Duration::from_millis(1_735_689_599_999);

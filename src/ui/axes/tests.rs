@@ -78,7 +78,7 @@ fn a_phase_the_module_reports_wins_over_the_speed_trend() {
 #[test]
 fn a_speed_read_again_while_ramping_keeps_the_trend_until_it_is_steady() {
     let mut pane = AxesPane::new();
-    let family = crate::protocol::find_family("tmcl").expect("tmcl");
+    let family = crate::families::find_family("tmcl").expect("tmcl");
     let mut snapshot = Snapshot {
         family,
         address: 1,
@@ -217,7 +217,7 @@ impl Drawn {
         let clock = PaneClock(std::sync::Arc::new(move || {
             *hand.lock().unwrap_or_else(|e| e.into_inner())
         }));
-        let family = crate::protocol::find_family("tmcl").expect("tmcl");
+        let family = crate::families::find_family("tmcl").expect("tmcl");
         let status = AxisStatus {
             position: Some(0),
             target: Some(51_200),

@@ -273,7 +273,7 @@ impl CommandPane {
 
 /// The simulator of `family` (the one built-in simulator speaking it).
 fn simulator_of(family: Option<&'static Family>) -> Option<&'static crate::sim::SimKind> {
-    family?.simulators.first()
+    crate::families::simulators_of(family?).first()
 }
 
 /// The input names `:sim-input` completes: those of the simulator of the

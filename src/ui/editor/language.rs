@@ -7,8 +7,9 @@
 use std::path::Path;
 
 use super::EditorPane;
+use crate::families::FAMILIES;
+use crate::protocol::Family;
 use crate::protocol::program::{ProgramTool, SyntaxClass, is_file_of};
-use crate::protocol::{FAMILIES, Family};
 use crate::ui::keymap::{Action, Context};
 use crate::ui::pane::{Notice, Outcome, View, key_label};
 use crate::ui::theme::Role;
@@ -34,12 +35,13 @@ pub fn family_of(tool: &dyn ProgramTool) -> Option<&'static Family> {
     FAMILIES
         .iter()
         .find(|f| f.console.program().is_some_and(|t| same(t, tool)))
+        .map(|f| f.family)
 }
 
 /// How to name a simulator of `tool`'s family on `:connect` (`--sim
 /// cmd4cr`), if it has one.
 pub fn simulator_of(tool: &dyn ProgramTool) -> Option<String> {
-    let kind = family_of(tool)?.simulators.first()?;
+    let kind = crate::families::simulators_of(family_of(tool)?).first()?;
     Some(format!("--sim {}", kind.name))
 }
 

@@ -25,7 +25,7 @@ fn snapshot_of(family: &'static crate::protocol::Family) -> Snapshot {
 /// reads and no others: MCCL reads no load (issue 19, point 9).
 #[test]
 fn only_the_status_values_a_family_reads_are_offered() {
-    for family in crate::protocol::FAMILIES {
+    for family in crate::families::FAMILIES {
         let session = snapshot_of(family);
         let read = family.console.status_values();
         let offered: Vec<StatusValue> = plottable(&session, 0)
@@ -47,9 +47,9 @@ fn only_the_status_values_a_family_reads_are_offered() {
             }
         }
     }
-    let mccl = crate::protocol::find_family("mccl").expect("mccl");
+    let mccl = crate::families::find_family("mccl").expect("mccl");
     assert!(!mccl.console.status_values().contains(&StatusValue::Load));
-    let tmcl = crate::protocol::find_family("tmcl").expect("tmcl");
+    let tmcl = crate::families::find_family("tmcl").expect("tmcl");
     assert!(tmcl.console.status_values().contains(&StatusValue::Load));
 }
 
@@ -68,7 +68,7 @@ impl Bench {
         let start = Instant::now();
         let now = Arc::new(Mutex::new(start));
         let hand = now.clone();
-        let family = crate::protocol::find_family("tmcl").expect("tmcl");
+        let family = crate::families::find_family("tmcl").expect("tmcl");
         Bench {
             plot: PlotPane::with_clock(Arc::new(move || {
                 *hand.lock().unwrap_or_else(|e| e.into_inner())
