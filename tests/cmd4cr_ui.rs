@@ -118,7 +118,7 @@ fn answer(line: &str, values: &[(&str, &str)]) -> Result<LineResult, SessionErro
         .prepare(line, 1)
         .map_err(|message| SessionError::Refused {
             line: line.to_string(),
-            message,
+            message: message.to_string(),
         })?;
     let text = match values.iter().find(|(l, _)| *l == prepared.canonical) {
         Some((_, value)) => value.to_string(),

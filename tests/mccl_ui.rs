@@ -258,9 +258,9 @@ fn simulated(sim: &mut Mccl, line: &str) -> Result<LineResult, SessionError> {
     let console = mccl().console;
     let prepared = console
         .prepare(line, 0)
-        .map_err(|message| SessionError::Refused {
+        .map_err(|error| SessionError::Refused {
             line: line.to_string(),
-            message,
+            message: error.to_string(),
         })?;
     sim.feed(&prepared.bytes);
     let mut output = Vec::new();

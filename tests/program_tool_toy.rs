@@ -23,6 +23,7 @@ use axterm::protocol::console::{
     Answering, AxisInfo, AxisUpdate, Effect, FamilyConsole, PreparedLine, Reading, ReplyError,
     ReplyValue, StatusPoll,
 };
+use axterm::protocol::line_error::{FamilyLineError, LineError, Mistake};
 use axterm::protocol::program::{
     Answer, AnswerError, Checked, CheckedProgram, DownloadOptions, FailureKind, ModuleHold, Phase,
     PlanLine, PlanStep, Problem, ProgramTool, Progress, SourceLoader, SyntaxClass, TransferFailure,
@@ -41,6 +42,17 @@ use ratatui::Terminal;
 use ratatui::backend::TestBackend;
 use ratatui::crossterm::event::{Event, KeyCode, KeyEvent, KeyModifiers};
 use tokio::sync::mpsc;
+
+/// The toy's one refusal.
+#[derive(Debug, thiserror::Error)]
+#[error("an empty line")]
+struct EmptyLine;
+
+impl FamilyLineError for EmptyLine {
+    fn mistake(&self) -> Mistake {
+        Mistake::Empty
+    }
+}
 use ui_support::{console_with, screen};
 
 // ---------------------------------------------------------------- the wire
@@ -136,10 +148,10 @@ impl FamilyConsole for ToyConsole {
         AXES
     }
 
-    fn prepare(&self, line: &str, address: u8) -> Result<PreparedLine, String> {
+    fn prepare(&self, line: &str, address: u8) -> Result<PreparedLine, LineError> {
         let line = line.trim().to_ascii_uppercase();
         if line.is_empty() {
-            return Err("an empty line".into());
+            return Err(EmptyLine.into());
         }
         Ok(toy_line(&line, address))
     }

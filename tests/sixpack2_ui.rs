@@ -72,7 +72,7 @@ fn serve(app: &mut App, effects: Vec<Effect>) -> Vec<String> {
                         })
                         .map_err(|message| SessionError::Refused {
                             line: line.clone(),
-                            message,
+                            message: message.to_string(),
                         });
                     sent.push(line.clone());
                     next.extend(app.handle(AppEvent::Reply {

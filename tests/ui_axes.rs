@@ -386,7 +386,11 @@ mod no_units {
         fn axes(&self) -> &'static [AxisInfo] {
             TmclConsole.axes()
         }
-        fn prepare(&self, line: &str, address: u8) -> Result<PreparedLine, String> {
+        fn prepare(
+            &self,
+            line: &str,
+            address: u8,
+        ) -> Result<PreparedLine, axterm::protocol::line_error::LineError> {
             TmclConsole.prepare(line, address)
         }
         fn interpret(&self, line: &PreparedLine, frames: &[Frame]) -> Result<Reading, ReplyError> {
@@ -413,7 +417,11 @@ mod no_units {
     pub static PLAIN: Family = Family {
         name: "plain",
         description: "a family with no unit conversions",
-        encode_line: |_, _| Err("not here".into()),
+        encode_line: |line, address| {
+            TmclConsole
+                .prepare(line, address.unwrap_or(1))
+                .map(|p| p.bytes)
+        },
         show_bytes: |_| String::new(),
         console: &Plain,
     };

@@ -328,9 +328,9 @@ async fn exec_on_module(module: &FleetModule, lines: &[String], format: Format) 
         // Checked for every address before anything was sent.
         let outcome = match family.console.prepare(line, address) {
             Ok(prepared) => session.execute(&prepared).await,
-            Err(message) => Err(crate::session::SessionError::Refused {
+            Err(error) => Err(crate::session::SessionError::Refused {
                 line: line.clone(),
-                message,
+                message: error.to_string(),
             }),
         };
         match format {

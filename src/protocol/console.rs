@@ -11,6 +11,7 @@ use std::fmt;
 use std::sync::Arc;
 use std::time::Duration;
 
+use super::line_error::LineError;
 use super::parameters::ParameterSet;
 use super::program::ProgramTool;
 use super::settings::{SettingWrite, SettingsCache};
@@ -504,8 +505,9 @@ pub trait FamilyConsole: Send + Sync {
     fn axes(&self) -> &'static [AxisInfo];
 
     /// Parse and validate a console line for the module at `address`. An
-    /// error is a message naming what is wrong; nothing may be sent then.
-    fn prepare(&self, line: &str, address: u8) -> Result<PreparedLine, String>;
+    /// error is the family's own, naming what is wrong; nothing may be
+    /// sent then.
+    fn prepare(&self, line: &str, address: u8) -> Result<PreparedLine, LineError>;
 
     /// Cautions about a prepared line that do not stop it being sent (a
     /// value the manual advises against, a setting that clashes with one

@@ -7,6 +7,7 @@ pub mod cmd4cr;
 pub mod console;
 pub mod io;
 pub mod jog;
+pub mod line_error;
 pub mod mccl;
 pub mod parameter_file;
 pub mod parameters;
@@ -32,7 +33,7 @@ pub struct Family {
     pub description: &'static str,
     /// Parse and validate a console line and return the bytes it becomes on
     /// the wire for a module at `address` (the family's default when `None`).
-    pub encode_line: fn(line: &str, address: Option<u8>) -> Result<Vec<u8>, String>,
+    pub encode_line: fn(line: &str, address: Option<u8>) -> Result<Vec<u8>, line_error::LineError>,
     /// Show bytes of this family the way a technician reads them.
     pub show_bytes: fn(bytes: &[u8]) -> String,
     /// What the session layer needs of the family: its wire format, how a

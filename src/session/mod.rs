@@ -555,9 +555,9 @@ impl Session {
         self.family
             .console
             .prepare(line, self.address)
-            .map_err(|message| SessionError::Refused {
+            .map_err(|error| SessionError::Refused {
                 line: line.trim().to_string(),
-                message,
+                message: error.to_string(),
             })
     }
 

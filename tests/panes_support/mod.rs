@@ -44,9 +44,9 @@ impl SimModule {
             self.family
                 .console
                 .prepare(line, 1)
-                .map_err(|message| SessionError::Refused {
+                .map_err(|error| SessionError::Refused {
                     line: line.to_string(),
-                    message,
+                    message: error.to_string(),
                 })?;
         self.lines.push(prepared.canonical.clone());
         let mut request = prepared.bytes.clone();

@@ -1052,6 +1052,28 @@ pub fn parse_thousandths(text: &str) -> Option<i64> {
     Some(if negative { -value } else { value })
 }
 
+impl crate::protocol::line_error::FamilyLineError for CommandError {
+    fn mistake(&self) -> crate::protocol::line_error::Mistake {
+        use crate::protocol::line_error::Mistake;
+        match self {
+            CommandError::Empty => Mistake::Empty,
+            CommandError::OutOfRange { .. } | CommandError::InvalidIndex { .. } => Mistake::Range,
+            _ => Mistake::Syntax,
+        }
+    }
+}
+
+/// A controller ID no CMD-4CR can have (§2.1.1.1: 00..99).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("controller ID {0} is outside 00..99 (§2.1.1.1): pick one with :address")]
+pub struct IdOutOfRange(pub u8);
+
+impl crate::protocol::line_error::FamilyLineError for IdOutOfRange {
+    fn mistake(&self) -> crate::protocol::line_error::Mistake {
+        crate::protocol::line_error::Mistake::Address
+    }
+}
+
 #[cfg(test)]
 #[path = "command_tests.rs"]
 mod tests;

@@ -290,13 +290,15 @@ impl FamilyConsole for Cmd4crConsole {
         AXES
     }
 
-    fn prepare(&self, line: &str, address: u8) -> Result<PreparedLine, String> {
+    fn prepare(
+        &self,
+        line: &str,
+        address: u8,
+    ) -> Result<PreparedLine, crate::protocol::line_error::LineError> {
         if address > MAX_ID {
-            return Err(format!(
-                "controller ID {address} is outside 00..99 (§2.1.1.1): pick one with :address"
-            ));
+            return Err(super::command::IdOutOfRange(address).into());
         }
-        let command = parse_command(line).map_err(|e| e.to_string())?;
+        let command = parse_command(line)?;
         Ok(self.prepare_command(&command, address))
     }
 
@@ -557,9 +559,9 @@ mod tests {
         assert_eq!(line.canonical, "HSPDX=5000");
         assert_eq!(line.bytes, b"@07HSPDX=5000\r".to_vec());
         assert_eq!(line.address, 7);
-        let error = Cmd4crConsole.prepare("PX", 100).unwrap_err();
+        let error = Cmd4crConsole.prepare("PX", 100).unwrap_err().to_string();
         assert!(error.contains("00..99"), "{error}");
-        let error = Cmd4crConsole.prepare("EO=16", 1).unwrap_err();
+        let error = Cmd4crConsole.prepare("EO=16", 1).unwrap_err().to_string();
         assert!(error.contains("0..15"), "{error}");
     }
 

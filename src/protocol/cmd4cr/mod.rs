@@ -68,6 +68,15 @@ pub enum FrameError {
     Command(#[from] CommandError),
 }
 
+impl crate::protocol::line_error::FamilyLineError for FrameError {
+    fn mistake(&self) -> crate::protocol::line_error::Mistake {
+        match self {
+            FrameError::Id(_) => crate::protocol::line_error::Mistake::Address,
+            FrameError::Command(error) => error.mistake(),
+        }
+    }
+}
+
 /// Parse `text` and frame it for the controller with `id`.
 pub fn encode(id: u8, text: &str) -> Result<(Cmd4crCommand, Vec<u8>), FrameError> {
     if id > MAX_ID {
@@ -125,10 +134,11 @@ pub fn show_bytes(bytes: &[u8]) -> String {
 
 /// `axterm encode cmd4cr LINE`: the frame for the controller `id` (01
 /// when `None`).
-pub fn encode_line(line: &str, id: Option<u8>) -> Result<Vec<u8>, String> {
-    encode(id.unwrap_or(DEFAULT_ID), line)
-        .map(|(_, bytes)| bytes)
-        .map_err(|e| e.to_string())
+pub fn encode_line(
+    line: &str,
+    id: Option<u8>,
+) -> Result<Vec<u8>, crate::protocol::line_error::LineError> {
+    Ok(encode(id.unwrap_or(DEFAULT_ID), line)?.1)
 }
 
 /// A frame's ID for messages: `controller 01`.

@@ -16,8 +16,8 @@ use std::any::Any;
 use std::sync::{Arc, LazyLock};
 
 use super::catalog::{Blocks, Output};
-use super::check::{CheckContext, Severity, check_line};
-use super::line::{Line, NumberBase, parse_line};
+use super::check::{CheckContext, Diagnostic, Severity, check_line};
+use super::line::{Line, NumberBase, ParseErrors, parse_line};
 use super::machine::{AxisKind, DEFAULT_MACHINE, Machine};
 use super::parameter_set::MclParameters;
 use super::profile::{Echo, LinkProfile, LinkState, PromptPer};
@@ -30,6 +30,7 @@ use crate::protocol::console::{
     LinkContexts, LongRunning, PreparedLine, Reading, ReplyError, ReplyValue, RunningPrograms,
     StatusPoll, StatusValue, SwitchKind,
 };
+use crate::protocol::line_error::{FamilyLineError, LineError, Mistake};
 use crate::protocol::parameters::ParameterSet;
 use crate::protocol::program::ProgramStore;
 use crate::protocol::wire::{Frame, WireFormat};
@@ -145,21 +146,20 @@ impl MclConsole {
     }
 
     /// Parse and check `text`, and refuse what this console cannot follow.
-    pub fn parse_checked(&self, text: &str) -> Result<Line, String> {
-        let line = parse_line(text, NumberBase::Decimal).map_err(|e| e.to_string())?;
-        let errors: Vec<String> = check_line(&line, &self.context())
+    pub fn parse_checked(&self, text: &str) -> Result<Line, Refused> {
+        let line = parse_line(text, NumberBase::Decimal).map_err(Refused::Parse)?;
+        let errors: Vec<Diagnostic> = check_line(&line, &self.context())
             .into_iter()
             .filter(|d| d.severity == Severity::Error)
-            .map(|d| d.message)
             .collect();
         if !errors.is_empty() {
-            return Err(errors.join("; "));
+            return Err(Refused::Checks(errors));
         }
         self.refusal(&line).map_or(Ok(line), Err)
     }
 
     /// Commands the console cannot follow.
-    fn refusal(&self, line: &Line) -> Option<String> {
+    fn refusal(&self, line: &Line) -> Option<Refused> {
         // A macro or a task holds them without running them here.
         if line.defines_macro() || line.is_task() {
             return None;
@@ -167,11 +167,8 @@ impl MclConsole {
         line.commands
             .iter()
             .find(|c| c.mnemonic() == "BK" && c.text().is_some())
-            .map(|command| {
-                format!(
-                    "`{command}`: BK\"text\" single-steps, which waits for keys this console does \
-                     not send (Space, Enter)"
-                )
+            .map(|command| Refused::SingleStep {
+                command: command.to_string(),
             })
     }
 
@@ -498,11 +495,9 @@ impl FamilyConsole for MclConsole {
         self.machine.axes
     }
 
-    fn prepare(&self, line: &str, address: u8) -> Result<PreparedLine, String> {
+    fn prepare(&self, line: &str, address: u8) -> Result<PreparedLine, LineError> {
         if address != ADDRESS {
-            return Err(format!(
-                "address {address}: the MCCL interface is point to point and has no bus address"
-            ));
+            return Err(Refused::BusAddress(address).into());
         }
         let line = self.parse_checked(line)?;
         Ok(self.prepare_line(&line))
@@ -749,6 +744,35 @@ impl FamilyConsole for MclConsole {
     }
 }
 
+/// Why the MultiFlex console refuses a line.
+#[derive(Debug, thiserror::Error)]
+pub enum Refused {
+    #[error("address {0}: the MCCL interface is point to point and has no bus address")]
+    BusAddress(u8),
+    #[error(transparent)]
+    Parse(ParseErrors),
+    /// What the check of chapter 4's rules found (an axis the controller
+    /// does not have, a value out of its range, …).
+    #[error("{}", .0.iter().map(|d| d.message.as_str()).collect::<Vec<_>>().join("; "))]
+    Checks(Vec<Diagnostic>),
+    #[error(
+        "`{command}`: BK\"text\" single-steps, which waits for keys this console does \
+         not send (Space, Enter)"
+    )]
+    SingleStep { command: String },
+}
+
+impl FamilyLineError for Refused {
+    fn mistake(&self) -> Mistake {
+        match self {
+            Refused::BusAddress(_) => Mistake::Address,
+            Refused::Parse(errors) => errors.mistake(),
+            Refused::Checks(_) => Mistake::Range,
+            Refused::SingleStep { .. } => Mistake::NotSent,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -828,19 +852,20 @@ mod tests {
             CONSOLE
                 .prepare("1TP", 1)
                 .unwrap_err()
+                .to_string()
                 .contains("point to point")
         );
     }
 
     #[test]
     fn what_does_not_parse_or_check_is_refused() {
-        let e = CONSOLE.prepare("", 0).unwrap_err();
+        let e = CONSOLE.prepare("", 0).unwrap_err().to_string();
         assert!(e.contains("repeat the controller's last line"), "{e}");
-        let e = CONSOLE.prepare("1DS0", 0).unwrap_err();
+        let e = CONSOLE.prepare("1DS0", 0).unwrap_err().to_string();
         assert_eq!(e, "`1DS0`: DS must be > 0, not 0");
-        let e = CONSOLE.prepare("1EI9", 0).unwrap_err();
+        let e = CONSOLE.prepare("1EI9", 0).unwrap_err().to_string();
         assert!(e.contains("malfunction"), "{e}");
-        let e = CONSOLE.prepare("BK\"wait\"", 0).unwrap_err();
+        let e = CONSOLE.prepare("BK\"wait\"", 0).unwrap_err().to_string();
         assert!(e.contains("single-steps"), "{e}");
         // What changes the interface is followed, not refused.
         for line in ["HM", "PC35", "EF1", "EN1", "PC0"] {

@@ -431,6 +431,23 @@ impl fmt::Display for ParseErrors {
 
 impl std::error::Error for ParseErrors {}
 
+impl crate::protocol::line_error::FamilyLineError for ParseErrors {
+    fn mistake(&self) -> crate::protocol::line_error::Mistake {
+        use crate::protocol::line_error::Mistake;
+        if self.0.iter().all(|e| e.kind == ParseErrorKind::Empty) {
+            Mistake::Empty
+        } else if self
+            .0
+            .iter()
+            .any(|e| e.kind == ParseErrorKind::AxisTooLarge)
+        {
+            Mistake::Range
+        } else {
+            Mistake::Syntax
+        }
+    }
+}
+
 /// The ASCII letter a Cyrillic or Greek look-alike stands for in the
 /// manual's text (`ТВ` = TB, `ТК` = TK, `то` = TO, `СН` = CH, `ТΧ` = TX;
 /// digest §1), or the character itself.

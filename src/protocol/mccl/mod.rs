@@ -57,7 +57,10 @@ use crate::protocol::console::FamilyConsole;
 
 /// `axterm encode mccl LINE`: the bytes the line becomes (the interface has
 /// no bus address; any given must be 0).
-pub fn encode_line(line: &str, address: Option<u8>) -> Result<Vec<u8>, String> {
+pub fn encode_line(
+    line: &str,
+    address: Option<u8>,
+) -> Result<Vec<u8>, crate::protocol::line_error::LineError> {
     MclConsole::DEFAULT
         .prepare(line, address.unwrap_or(console::ADDRESS))
         .map(|prepared| prepared.bytes)
@@ -75,7 +78,10 @@ mod tests {
 
     #[test]
     fn a_line_encodes_to_its_canonical_text_and_a_cr() {
-        assert_eq!(encode_line("1mr1000", None), Ok(b"1MR1000\r".to_vec()));
+        assert_eq!(
+            encode_line("1mr1000", None).map_err(|e| e.to_string()),
+            Ok(b"1MR1000\r".to_vec())
+        );
         assert_eq!(show_bytes(b"1TP\r\x1b"), "1TP\\r\\x1B");
         assert!(encode_line("1MR1000", Some(3)).is_err());
         assert!(encode_line("1XX", None).is_err());

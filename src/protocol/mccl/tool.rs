@@ -237,7 +237,7 @@ impl ProgramTool for MclTool {
                         line: index + 1,
                         column: 1,
                         text: format!("{}:1: error: {message}", index + 1),
-                        message,
+                        message: message.to_string(),
                         error: true,
                         in_source: true,
                     });

@@ -371,8 +371,12 @@ impl FamilyConsole for Sixpack2Console {
         AXES
     }
 
-    fn prepare(&self, line: &str, address: u8) -> Result<PreparedLine, String> {
-        let parsed = parse_line(line, Some(address)).map_err(|e| e.to_string())?;
+    fn prepare(
+        &self,
+        line: &str,
+        address: u8,
+    ) -> Result<PreparedLine, crate::protocol::line_error::LineError> {
+        let parsed = parse_line(line, Some(address))?;
         Ok(self.prepare_request(parsed.request))
     }
 
@@ -875,11 +879,15 @@ mod tests {
         assert_eq!(to_hex(&line.bytes), "05 23 00 10 27 00 00 00 00");
         assert_eq!(line.address, 5);
         assert_eq!(line.canonical, "StartRamp 0 10000");
-        let error = CONSOLE.prepare("StartRamp 6 100", 0).unwrap_err();
+        let error = CONSOLE
+            .prepare("StartRamp 6 100", 0)
+            .unwrap_err()
+            .to_string();
         assert_eq!(error, "StartRamp: motno 6 is outside 0..5 (Motor 1..6)");
         let error = CONSOLE
             .prepare("SendToPack($03, $22, $00, $00, $00, $00, $00, $00, $00)", 0)
-            .unwrap_err();
+            .unwrap_err()
+            .to_string();
         assert!(error.contains("unit 3"), "{error}");
         assert_eq!(
             prepare("SendToPack($00, $22, $00, $00, $00, $00, $00, $00, $00)").canonical,

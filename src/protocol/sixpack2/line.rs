@@ -450,6 +450,19 @@ fn frame_line(bytes: [u8; REQUEST_LEN], address: Option<u8>) -> Result<ParsedLin
     })
 }
 
+impl crate::protocol::line_error::FamilyLineError for LineError {
+    fn mistake(&self) -> crate::protocol::line_error::Mistake {
+        use crate::protocol::line_error::Mistake;
+        match self {
+            LineError::Empty => Mistake::Empty,
+            LineError::Range(_) | LineError::BadValue { .. } => Mistake::Range,
+            LineError::OtherUnit { .. } => Mistake::Address,
+            LineError::Undocumented { .. } => Mistake::NotSent,
+            _ => Mistake::Syntax,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

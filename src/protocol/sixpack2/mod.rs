@@ -55,10 +55,11 @@ pub static FAMILY_ADDR9: crate::protocol::Family = family(&Sixpack2Console::ADDR
 /// `axterm encode sixpack2 LINE`: the 9 bytes of a line for the unit at
 /// `address` (a mnemonic line: the factory address 0 when `None`; a
 /// frame keeps its own address byte, which must match one given).
-pub fn encode_line(line: &str, address: Option<u8>) -> Result<Vec<u8>, String> {
-    parse_line(line, address)
-        .map(|parsed| parsed.request.to_bytes().to_vec())
-        .map_err(|e| e.to_string())
+pub fn encode_line(
+    line: &str,
+    address: Option<u8>,
+) -> Result<Vec<u8>, crate::protocol::line_error::LineError> {
+    Ok(parse_line(line, address)?.request.to_bytes().to_vec())
 }
 
 #[cfg(test)]
@@ -68,15 +69,19 @@ mod tests {
     #[test]
     fn encode_gives_the_frame_or_names_the_operand() {
         assert_eq!(
-            encode_line("StartRamp 0 10000", None).map(|b| to_hex(&b)),
+            encode_line("StartRamp 0 10000", None)
+                .map(|b| to_hex(&b))
+                .map_err(|e| e.to_string()),
             Ok("00 23 00 10 27 00 00 00 00".into())
         );
         assert_eq!(
-            encode_line("StartRamp 0 10000", Some(2)).map(|b| to_hex(&b)),
+            encode_line("StartRamp 0 10000", Some(2))
+                .map(|b| to_hex(&b))
+                .map_err(|e| e.to_string()),
             Ok("02 23 00 10 27 00 00 00 00".into())
         );
         assert_eq!(
-            encode_line("StartRamp 6 100", None),
+            encode_line("StartRamp 6 100", None).map_err(|e| e.to_string()),
             Err("StartRamp: motno 6 is outside 0..5 (Motor 1..6)".into())
         );
     }

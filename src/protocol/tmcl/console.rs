@@ -483,8 +483,12 @@ impl FamilyConsole for TmclConsole {
         AXES
     }
 
-    fn prepare(&self, line: &str, address: u8) -> Result<PreparedLine, String> {
-        let command = parse_line(line).map_err(|e| e.to_string())?;
+    fn prepare(
+        &self,
+        line: &str,
+        address: u8,
+    ) -> Result<PreparedLine, crate::protocol::line_error::LineError> {
+        let command = parse_line(line)?;
         Ok(self.prepare_command(&command, address))
     }
 
@@ -709,7 +713,10 @@ mod tests {
 
     #[test]
     fn a_refused_line_names_the_range() {
-        let message = TmclConsole.prepare("SAP 6, 0, 100000", 1).unwrap_err();
+        let message = TmclConsole
+            .prepare("SAP 6, 0, 100000", 1)
+            .unwrap_err()
+            .to_string();
         assert!(message.contains("0..255"), "{message}");
     }
 

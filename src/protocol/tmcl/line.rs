@@ -638,6 +638,24 @@ fn word(value: i64) -> i32 {
     i32::try_from(value).unwrap_or(0)
 }
 
+impl crate::protocol::line_error::FamilyLineError for LineError {
+    fn mistake(&self) -> crate::protocol::line_error::Mistake {
+        use crate::protocol::line_error::Mistake;
+        match self {
+            LineError::Empty => Mistake::Empty,
+            LineError::OutOfRange { .. }
+            | LineError::NotOneOf { .. }
+            | LineError::NoSuchMotor { .. }
+            | LineError::UnknownParameter { .. }
+            | LineError::ReadOnly { .. }
+            | LineError::WriteOnly { .. }
+            | LineError::NotStorable { .. }
+            | LineError::NotAllowed { .. } => Mistake::Range,
+            _ => Mistake::Syntax,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

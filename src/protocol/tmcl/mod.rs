@@ -43,7 +43,7 @@ pub static FAMILY: crate::protocol::Family = crate::protocol::Family {
     name: "tmcl",
     description: "Trinamic TMCL (TMCM-1110 StepRocker), 9-byte binary frames",
     encode_line: |line, address| {
-        let command = parse_line(line).map_err(|e| e.to_string())?;
+        let command = parse_line(line)?;
         Ok(command
             .to_request(address.unwrap_or(DEFAULT_MODULE_ADDRESS))
             .to_bytes()

@@ -1,0 +1,64 @@
+//! The family seam keeps a refused line's error typed: a caller tells an
+//! empty line, a syntax error, an operand out of range and a wrong address
+//! apart without reading text, and reaches the family's own error.
+
+use axterm::families::find_family;
+use axterm::protocol::line_error::Mistake;
+
+/// For each family: a line and the mistake its refusal must carry.
+const CASES: &[(&str, u8, &str, Mistake)] = &[
+    ("tmcl", 1, "", Mistake::Empty),
+    ("tmcl", 1, "FROB 1", Mistake::Syntax),
+    ("tmcl", 1, "SAP 6, 0, 100000", Mistake::Range),
+    ("cmd4cr", 1, "", Mistake::Empty),
+    ("cmd4cr", 1, "FROB", Mistake::Syntax),
+    ("cmd4cr", 1, "EO=16", Mistake::Range),
+    ("cmd4cr", 100, "PX", Mistake::Address),
+    ("sixpack2", 0, "", Mistake::Empty),
+    ("sixpack2", 0, "Frob 1", Mistake::Syntax),
+    ("sixpack2", 0, "StartRamp 6 100", Mistake::Range),
+    (
+        "sixpack2",
+        0,
+        "SendToPack($03, $22, $00, $00, $00, $00, $00, $00, $00)",
+        Mistake::Address,
+    ),
+    ("mccl", 0, "1XX", Mistake::Syntax),
+    ("mccl", 0, "1DS0", Mistake::Range),
+    ("mccl", 1, "1TP", Mistake::Address),
+    ("mccl", 0, "BK\"wait\"", Mistake::NotSent),
+];
+
+#[test]
+fn each_family_s_refusal_says_what_kind_of_mistake_it_is() {
+    for &(name, address, line, mistake) in CASES {
+        let family = find_family(name).expect("registered");
+        let error = family
+            .console
+            .prepare(line, address)
+            .err()
+            .unwrap_or_else(|| panic!("{name}: `{line}` was accepted"));
+        assert_eq!(error.mistake(), mistake, "{name}: `{line}`: {error}");
+    }
+}
+
+#[test]
+fn the_family_s_own_error_is_reached_through_the_seam() {
+    let tmcl = find_family("tmcl").expect("registered");
+    let error = (tmcl.encode_line)("SAP 6, 0, 100000", None).expect_err("out of range");
+    let own = error
+        .downcast_ref::<axterm::protocol::tmcl::LineError>()
+        .expect("the TMCL parser's error");
+    assert!(
+        matches!(own, axterm::protocol::tmcl::LineError::OutOfRange { .. }),
+        "{own:?}"
+    );
+    let cmd4cr = find_family("cmd4cr").expect("registered");
+    let error = (cmd4cr.encode_line)("HSPDX=-5", None).expect_err("refused");
+    assert!(
+        error
+            .downcast_ref::<axterm::protocol::cmd4cr::FrameError>()
+            .is_some(),
+        "{error}"
+    );
+}
