@@ -195,7 +195,7 @@ async fn unchanged_edits_write_what_was_read(sim: &str) {
                     // and the screen says why.
                     assert!(sent.is_empty(), "{what}: {why}, yet {sent:?}");
                     let shown = screen(&mut app, 200, 40).join("\n");
-                    let start: String = why.chars().take(40).collect();
+                    let start: String = why.message.chars().take(40).collect();
                     assert!(
                         shown.contains("nothing sent") && shown.contains(&start),
                         "{what}:\n{shown}"

@@ -187,6 +187,55 @@ pub enum StatusQuantity {
     Speed,
 }
 
+/// What kind of refusal a parameter line or an edited value holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ParamRefusal {
+    /// The row is not a parameter of the family.
+    NotAParameter,
+    /// A write to a parameter the module only reads out.
+    ReadOnly,
+    /// A read of a parameter the module only takes.
+    NotReadable,
+    /// A value outside the parameter's range.
+    OutOfRange,
+    /// A store or restore of a parameter that has no non-volatile copy.
+    NotStorable,
+    /// Text that is not a number.
+    NotANumber,
+    /// A unit the parameter is not in.
+    WrongUnit,
+    /// A conversion that needs another parameter read from the module first.
+    NeedsReading,
+    /// An operation the family does not do on this row (an MCCL setting
+    /// outside an axis, a write the family cannot make on its own).
+    NotDone,
+}
+
+/// Why a parameter line or an edited value was refused: its kind, and the
+/// family's words for the technician (naming the parameter, its range or
+/// its access, as the manual gives them).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{message}")]
+pub struct ParamError {
+    pub kind: ParamRefusal,
+    pub message: String,
+}
+
+impl ParamError {
+    pub fn new(kind: ParamRefusal, message: impl Into<String>) -> ParamError {
+        ParamError {
+            kind,
+            message: message.into(),
+        }
+    }
+}
+
+impl From<ParamError> for String {
+    fn from(error: ParamError) -> String {
+        error.message
+    }
+}
+
 /// A family's parameters, for the parameter table.
 pub trait ParameterSet: Send + Sync {
     /// The tables for the axis numbered `axis`: its axis parameters first,
@@ -195,7 +244,7 @@ pub trait ParameterSet: Send + Sync {
 
     /// The console line doing `op` on `row`, or why there is none (the
     /// parameter cannot be stored, the value is out of range).
-    fn line(&self, row: &ParamRow, op: ParamOp) -> Result<String, String>;
+    fn line(&self, row: &ParamRow, op: ParamOp) -> Result<String, ParamError>;
 
     /// [`ParameterSet::line`] for a family that writes several
     /// parameters in one line (SIXpack 2 `$14`: amax and vmax): the others
@@ -206,7 +255,7 @@ pub trait ParameterSet: Send + Sync {
         row: &ParamRow,
         op: ParamOp,
         known: &dyn Fn(Scope, u16) -> Option<i64>,
-    ) -> Result<String, String> {
+    ) -> Result<String, ParamError> {
         let _ = known;
         self.line(row, op)
     }
@@ -301,14 +350,14 @@ pub trait ParameterSet: Send + Sync {
         row: &ParamRow,
         text: &str,
         axis_value: &dyn Fn(u16) -> Option<i64>,
-    ) -> Result<i64, String> {
+    ) -> Result<i64, ParamError> {
         let _ = (row, axis_value);
         parse_integer(text)
     }
 }
 
 /// A decimal (`-12`) or hexadecimal (`0x1F`) integer.
-pub fn parse_integer(text: &str) -> Result<i64, String> {
+pub fn parse_integer(text: &str) -> Result<i64, ParamError> {
     let text = text.trim();
     let (negative, digits) = match text.strip_prefix('-') {
         Some(rest) => (true, rest),
@@ -324,8 +373,13 @@ pub fn parse_integer(text: &str) -> Result<i64, String> {
     match magnitude {
         Ok(m) if negative => Ok(-m),
         Ok(m) => Ok(m),
-        Err(_) if text.is_empty() => Err("no value given".into()),
-        Err(_) => Err(format!("`{text}` is not a number")),
+        Err(_) if text.is_empty() => {
+            Err(ParamError::new(ParamRefusal::NotANumber, "no value given"))
+        }
+        Err(_) => Err(ParamError::new(
+            ParamRefusal::NotANumber,
+            format!("`{text}` is not a number"),
+        )),
     }
 }
 
@@ -339,8 +393,8 @@ mod tests {
         assert_eq!(parse_integer("-5"), Ok(-5));
         assert_eq!(parse_integer("+7"), Ok(7));
         assert_eq!(parse_integer("0x1F"), Ok(31));
-        assert!(parse_integer("").unwrap_err().contains("no value"));
-        assert!(parse_integer("12a").unwrap_err().contains("`12a`"));
+        assert!(parse_integer("").unwrap_err().message.contains("no value"));
+        assert!(parse_integer("12a").unwrap_err().message.contains("`12a`"));
         assert!(parse_integer("99999999999999999999").is_err());
     }
 

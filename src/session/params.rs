@@ -222,7 +222,7 @@ pub fn plan_writes(
                     values: vec![d.clone()],
                 }),
             },
-            Err(why) => plan.refused.push((d.clone(), why)),
+            Err(why) => plan.refused.push((d.clone(), why.into())),
         }
     }
     plan
@@ -246,7 +246,7 @@ pub fn plan_store(
         match parameters.line(row, ParamOp::Store) {
             Ok(line) if !lines.contains(&line) => lines.push(line),
             Ok(_) => {}
-            Err(why) => without.push((row.clone(), why)),
+            Err(why) => without.push((row.clone(), why.into())),
         }
     }
     (lines, without)
@@ -281,7 +281,7 @@ async fn read_one(
     }
     let line = match parameters.line(row, ParamOp::Read) {
         Ok(line) => line,
-        Err(why) => return ModuleValue::Unreadable(why),
+        Err(why) => return ModuleValue::Unreadable(why.into()),
     };
     // A family without a checksum: a value is the one two reads agree on.
     let result = match session.prepare(&line) {
@@ -491,6 +491,7 @@ async fn write_and_verify(
 mod tests {
     use super::*;
     use crate::protocol::parameters::{ParamAccess, ParamRange};
+    use crate::protocol::parameters::{ParamError, ParamRefusal};
 
     fn row(number: u16, role: ParamRole, read: bool) -> ParamRow {
         ParamRow {
@@ -520,7 +521,7 @@ mod tests {
             Vec::new()
         }
 
-        fn line(&self, row: &ParamRow, op: ParamOp) -> Result<String, String> {
+        fn line(&self, row: &ParamRow, op: ParamOp) -> Result<String, ParamError> {
             self.line_with(row, op, &|_, _| None)
         }
 
@@ -529,12 +530,12 @@ mod tests {
             row: &ParamRow,
             op: ParamOp,
             known: &dyn Fn(Scope, u16) -> Option<i64>,
-        ) -> Result<String, String> {
+        ) -> Result<String, ParamError> {
             let ParamOp::Write(v) = op else {
-                return Err("only writes".into());
+                return Err(ParamError::new(ParamRefusal::NotReadable, "only writes"));
             };
             if row.number == 9 {
-                return Err("p9 has no line".into());
+                return Err(ParamError::new(ParamRefusal::NotDone, "p9 has no line"));
             }
             if row.number <= 2 {
                 let a = if row.number == 1 {
@@ -548,7 +549,7 @@ mod tests {
                     known(row.scope, 2)
                 };
                 let (Some(a), Some(b)) = (a, b) else {
-                    return Err("needs both".into());
+                    return Err(ParamError::new(ParamRefusal::NotDone, "needs both"));
                 };
                 return Ok(format!("P1,2={a},{b}"));
             }

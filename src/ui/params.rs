@@ -360,7 +360,7 @@ impl ParamsPane {
                 .copied()
                 .or_else(|| self.value(scope, number))
         };
-        parameters.line_with(row, ParamOp::Write(value), &known)
+        Ok(parameters.line_with(row, ParamOp::Write(value), &known)?)
     }
 
     /// Queue `op` on `row`; says why not if the family has no line for it.
@@ -765,6 +765,7 @@ impl ParamsPane {
         };
         let checked = parameters
             .parse_value(&row, field.text(), &self.axis_value(row.scope))
+            .map_err(String::from)
             .and_then(|value| {
                 if !row.range.contains(value) {
                     return Err(format!(

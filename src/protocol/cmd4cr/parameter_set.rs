@@ -13,8 +13,8 @@ use super::catalog::{Axis, COMMANDS, CommandSpec, Form, Format, Kind};
 use super::command::{Cmd4crCommand, Selector, format_value, parse_thousandths};
 use super::reply::{Mst, describe_pol};
 use crate::protocol::parameters::{
-    ParamAccess, ParamOp, ParamRange, ParamRole, ParamRow, ParamTable, ParameterSet, Scope,
-    parse_integer,
+    ParamAccess, ParamError, ParamOp, ParamRange, ParamRefusal, ParamRole, ParamRow, ParamTable,
+    ParameterSet, Scope, parse_integer,
 };
 
 /// The axes a per-axis setting exists for.
@@ -296,8 +296,13 @@ impl ParameterSet for Cmd4crParameters {
         tables
     }
 
-    fn line(&self, row: &ParamRow, op: ParamOp) -> Result<String, String> {
-        let not_a_parameter = || format!("{} is not a CMD-4CR parameter", row.name);
+    fn line(&self, row: &ParamRow, op: ParamOp) -> Result<String, ParamError> {
+        let not_a_parameter = || {
+            ParamError::new(
+                ParamRefusal::NotAParameter,
+                format!("{} is not a CMD-4CR parameter", row.name),
+            )
+        };
         let (spec, index) = decode(row.number).ok_or_else(not_a_parameter)?;
         let Kind::Register(register) = spec.kind else {
             return Err(not_a_parameter());
@@ -308,15 +313,21 @@ impl ParameterSet for Cmd4crParameters {
             ParamOp::Read if spec.access.reads() => {
                 Ok(Cmd4crCommand::Read { register, selector }.to_string())
             }
-            ParamOp::Read => Err(format!("{command} cannot be read ({})", spec.syntax)),
+            ParamOp::Read => Err(ParamError::new(
+                ParamRefusal::NotReadable,
+                format!("{command} cannot be read ({})", spec.syntax),
+            )),
             ParamOp::Write(value) if spec.access.writes() => {
                 let values = spec.values.ok_or_else(not_a_parameter)?;
                 if !values.contains(value) {
-                    return Err(format!(
-                        "{command} takes {}..{}, not {}",
-                        format_value(values.min, values.format),
-                        format_value(values.max, values.format),
-                        format_value(value, values.format)
+                    return Err(ParamError::new(
+                        ParamRefusal::OutOfRange,
+                        format!(
+                            "{command} takes {}..{}, not {}",
+                            format_value(values.min, values.format),
+                            format_value(values.max, values.format),
+                            format_value(value, values.format)
+                        ),
                     ));
                 }
                 Ok(Cmd4crCommand::Write {
@@ -326,13 +337,24 @@ impl ParameterSet for Cmd4crParameters {
                 }
                 .to_string())
             }
-            ParamOp::Write(_) => Err(format!("{command} is read-only ({})", spec.syntax)),
-            ParamOp::Store if spec.stored => Ok("STORE".into()),
-            ParamOp::Store => Err(format!(
-                "{command} is not kept in flash: STORE saves only the settings of Table 2-19 (§2.1.7)"
+            ParamOp::Write(_) => Err(ParamError::new(
+                ParamRefusal::ReadOnly,
+                format!("{command} is read-only ({})", spec.syntax),
             )),
-            ParamOp::Restore => Err(format!(
-                "the CMD-4CR has no command reloading {command} from flash: stored values load at power-on (§2.1.7)"
+            ParamOp::Store if spec.stored => Ok("STORE".into()),
+            ParamOp::Store => Err(ParamError::new(
+                ParamRefusal::NotStorable,
+                format!(
+                    "{command} is not kept in flash: STORE saves only the settings of Table 2-19 \
+                     (§2.1.7)"
+                ),
+            )),
+            ParamOp::Restore => Err(ParamError::new(
+                ParamRefusal::NotDone,
+                format!(
+                    "the CMD-4CR has no command reloading {command} from flash: stored values load \
+                     at power-on (§2.1.7)"
+                ),
             )),
         }
     }
@@ -408,11 +430,15 @@ impl ParameterSet for Cmd4crParameters {
         row: &ParamRow,
         text: &str,
         axis_value: &dyn Fn(u16) -> Option<i64>,
-    ) -> Result<i64, String> {
+    ) -> Result<i64, ParamError> {
         let _ = axis_value;
         if is_thousandths(row) {
-            parse_thousandths(text.trim())
-                .ok_or_else(|| format!("`{}` is not a number with at most 3 decimals", text.trim()))
+            parse_thousandths(text.trim()).ok_or_else(|| {
+                ParamError::new(
+                    ParamRefusal::NotANumber,
+                    format!("`{}` is not a number with at most 3 decimals", text.trim()),
+                )
+            })
         } else {
             parse_integer(text)
         }
@@ -440,7 +466,7 @@ mod tests {
     }
 
     fn line(row: &ParamRow, op: ParamOp) -> Result<String, String> {
-        Cmd4crParameters.line(row, op)
+        Cmd4crParameters.line(row, op).map_err(String::from)
     }
 
     #[test]

@@ -17,7 +17,8 @@
 use super::catalog::{self, Param};
 use super::machine::{AxisKind, Machine};
 use crate::protocol::parameters::{
-    ParamAccess, ParamOp, ParamRange, ParamRole, ParamRow, ParamTable, ParameterSet, Scope,
+    ParamAccess, ParamError, ParamOp, ParamRange, ParamRefusal, ParamRole, ParamRow, ParamTable,
+    ParameterSet, Scope,
 };
 
 /// Where a setting is read back from.
@@ -275,10 +276,13 @@ impl ParameterSet for MclParameters {
         }]
     }
 
-    fn line(&self, row: &ParamRow, op: ParamOp) -> Result<String, String> {
-        let setting = setting_of(row).ok_or_else(|| format!("no setting {}", row.number))?;
+    fn line(&self, row: &ParamRow, op: ParamOp) -> Result<String, ParamError> {
+        let setting = setting_of(row).ok_or_else(|| no_setting(row))?;
         let Scope::Axis(axis) = row.scope else {
-            return Err("MCCL settings belong to an axis".into());
+            return Err(ParamError::new(
+                ParamRefusal::NotDone,
+                "MCCL settings belong to an axis",
+            ));
         };
         match op {
             ParamOp::Read => Ok(match setting.source {
@@ -290,23 +294,29 @@ impl ParameterSet for MclParameters {
             }),
             ParamOp::Write(value) => {
                 let Some(command) = setting.command else {
-                    return Err(format!("{} is read only", row.name));
+                    return Err(ParamError::new(
+                        ParamRefusal::ReadOnly,
+                        format!("{} is read only", row.name),
+                    ));
                 };
                 if !row.range.contains(value) {
-                    return Err(format!(
-                        "{} {} is outside {}",
-                        row.name,
-                        real_text(setting, value),
-                        catalog::find(command).map_or(String::new(), |c| c.values())
+                    return Err(ParamError::new(
+                        ParamRefusal::OutOfRange,
+                        format!(
+                            "{} {} is outside {}",
+                            row.name,
+                            real_text(setting, value),
+                            catalog::find(command).map_or(String::new(), |c| c.values())
+                        ),
                     ));
                 }
                 Ok(format!("{axis}{command}{}", real_text(setting, value)))
             }
-            ParamOp::Store | ParamOp::Restore => Err(
+            ParamOp::Store | ParamOp::Restore => Err(ParamError::new(
+                ParamRefusal::NotStorable,
                 "MCCL keeps settings in the controller's RAM: there is nothing to store or \
-                 restore (a reset loads the defaults)"
-                    .into(),
-            ),
+                 restore (a reset loads the defaults)",
+            )),
         }
     }
 
@@ -382,8 +392,8 @@ impl ParameterSet for MclParameters {
         row: &ParamRow,
         text: &str,
         _axis_value: &dyn Fn(u16) -> Option<i64>,
-    ) -> Result<i64, String> {
-        let setting = setting_of(row).ok_or_else(|| format!("no setting {}", row.number))?;
+    ) -> Result<i64, ParamError> {
+        let setting = setting_of(row).ok_or_else(|| no_setting(row))?;
         let text = text.trim();
         // A typed value may carry the unit the table shows
         // (`150000 counts/s`).
@@ -397,9 +407,21 @@ impl ParameterSet for MclParameters {
             .parse()
             .ok()
             .filter(|v: &f64| v.is_finite())
-            .ok_or_else(|| format!("`{text}` is not a number"))?;
+            .ok_or_else(|| {
+                ParamError::new(
+                    ParamRefusal::NotANumber,
+                    format!("`{text}` is not a number"),
+                )
+            })?;
         Ok((value * scale(setting.decimals)).round() as i64)
     }
+}
+
+fn no_setting(row: &ParamRow) -> ParamError {
+    ParamError::new(
+        ParamRefusal::NotAParameter,
+        format!("no setting {}", row.number),
+    )
 }
 
 #[cfg(test)]
@@ -478,7 +500,10 @@ mod tests {
             PARAMETERS.line(&sg, ParamOp::Write(4000)).as_deref(),
             Ok("1SG0.04000")
         );
-        let e = PARAMETERS.line(&sg, ParamOp::Write(2_000_000)).unwrap_err();
+        let e = PARAMETERS
+            .line(&sg, ParamOp::Write(2_000_000))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("0.000153..10"), "{e}");
         let ds = row(1, "DS");
         assert!(PARAMETERS.line(&ds, ParamOp::Write(0)).is_err(), "DS > 0");
@@ -502,6 +527,7 @@ mod tests {
             PARAMETERS
                 .line(&sg, ParamOp::Store)
                 .unwrap_err()
+                .message
                 .contains("RAM")
         );
         for write in [

@@ -20,8 +20,8 @@ use super::command::{Command, format_value};
 use super::frame::Request;
 use super::line::parse_value;
 use crate::protocol::parameters::{
-    ParamAccess, ParamOp, ParamRange, ParamRole, ParamRow, ParamTable, ParameterSet, Physical,
-    Scope,
+    ParamAccess, ParamError, ParamOp, ParamRange, ParamRefusal, ParamRole, ParamRow, ParamTable,
+    ParameterSet, Physical, Scope,
 };
 use crate::protocol::settings::SettingWrite;
 
@@ -328,7 +328,7 @@ impl ParameterSet for Sixpack2Parameters {
         tables
     }
 
-    fn line(&self, row: &ParamRow, op: ParamOp) -> Result<String, String> {
+    fn line(&self, row: &ParamRow, op: ParamOp) -> Result<String, ParamError> {
         self.line_with(row, op, &|_, _| None)
     }
 
@@ -347,31 +347,36 @@ impl ParameterSet for Sixpack2Parameters {
         row: &ParamRow,
         op: ParamOp,
         known: &dyn Fn(Scope, u16) -> Option<i64>,
-    ) -> Result<String, String> {
-        let (spec, index) =
-            field_of(row).ok_or_else(|| format!("{} is not a SIXpack 2 setting", row.name))?;
+    ) -> Result<String, ParamError> {
+        let (spec, index) = field_of(row).ok_or_else(|| not_a_setting(row))?;
         let field = &spec.fields[index];
         let value = match op {
             ParamOp::Read => {
-                return Err(format!(
-                    "the SIXpack 2 cannot read {} back: no command reads a setting (§7)",
-                    row.name
+                return Err(ParamError::new(
+                    ParamRefusal::NotReadable,
+                    format!(
+                        "the SIXpack 2 cannot read {} back: no command reads a setting (§7)",
+                        row.name
+                    ),
                 ));
             }
             ParamOp::Store | ParamOp::Restore => {
-                return Err(
+                return Err(ParamError::new(
+                    ParamRefusal::NotStorable,
                     "the SIXpack 2 has no command that stores or reloads a setting: a reset \
-                     brings back the factory values (§6.8, §7.4)"
-                        .into(),
-                );
+                     brings back the factory values (§6.8, §7.4)",
+                ));
             }
             ParamOp::Write(value) => value,
         };
         if !field.accepts(value) {
-            return Err(format!(
-                "{} takes {}, not {value}",
-                row.name,
-                super::command::allowed(field)
+            return Err(ParamError::new(
+                ParamRefusal::OutOfRange,
+                format!(
+                    "{} takes {}, not {value}",
+                    row.name,
+                    super::command::allowed(field)
+                ),
             ));
         }
         let selected: Vec<usize> = spec
@@ -416,9 +421,12 @@ impl ParameterSet for Sixpack2Parameters {
             .collect();
         if spec.code == 0x10 && selector(row) % 2 == 1 {
             let even = selector(row) - 1;
-            return Err(format!(
-                "the peak current of motors {even} and {} is set on motor {even} (§7.1)",
-                even + 1
+            return Err(ParamError::new(
+                ParamRefusal::NotDone,
+                format!(
+                    "the peak current of motors {even} and {} is set on motor {even} (§7.1)",
+                    even + 1
+                ),
             ));
         }
         if !others.is_empty() {
@@ -434,14 +442,18 @@ impl ParameterSet for Sixpack2Parameters {
             } else {
                 others.join(", ")
             };
-            return Err(format!(
-                "{} is written together with {together} by {} (${:02X}); the unit cannot read \
-                 them back, so type `{example}` in the command pane",
-                row.name, spec.mnemonic, spec.code
+            return Err(ParamError::new(
+                ParamRefusal::NotDone,
+                format!(
+                    "{} is written together with {together} by {} (${:02X}); the unit cannot \
+                     read them back, so type `{example}` in the command pane",
+                    row.name, spec.mnemonic, spec.code
+                ),
             ));
         }
         let values: Vec<i64> = values.into_iter().map(|v| v.unwrap_or(0)).collect();
-        let command = Command::new(spec, values).map_err(|e| e.to_string())?;
+        let command = Command::new(spec, values)
+            .map_err(|e| ParamError::new(ParamRefusal::OutOfRange, e.to_string()))?;
         Ok(command.to_string())
     }
 
@@ -511,12 +523,21 @@ impl ParameterSet for Sixpack2Parameters {
         row: &ParamRow,
         text: &str,
         axis_value: &dyn Fn(u16) -> Option<i64>,
-    ) -> Result<i64, String> {
+    ) -> Result<i64, ParamError> {
         let _ = axis_value;
-        let (spec, index) =
-            field_of(row).ok_or_else(|| format!("{} is not a SIXpack 2 setting", row.name))?;
+        let (spec, index) = field_of(row).ok_or_else(|| not_a_setting(row))?;
+        // A flag, mask or current-step name that is not one is as wrong
+        // as a number that is not a number: the field's text is refused.
         parse_value(&spec.fields[index], text.trim())
+            .map_err(|why| ParamError::new(ParamRefusal::NotANumber, why))
     }
+}
+
+fn not_a_setting(row: &ParamRow) -> ParamError {
+    ParamError::new(
+        ParamRefusal::NotAParameter,
+        format!("{} is not a SIXpack 2 setting", row.name),
+    )
 }
 
 #[cfg(test)]
@@ -599,12 +620,16 @@ mod tests {
     #[test]
     fn nothing_reads_or_stores_and_few_settings_write_alone() {
         let vmax = find(0, Scope::Axis(0), "vmax");
-        let error = Sixpack2Parameters.line(&vmax, ParamOp::Read).unwrap_err();
+        let error = Sixpack2Parameters
+            .line(&vmax, ParamOp::Read)
+            .unwrap_err()
+            .to_string();
         assert!(error.contains("cannot read vmax back"), "{error}");
         assert!(Sixpack2Parameters.line(&vmax, ParamOp::Store).is_err());
         let error = Sixpack2Parameters
             .line(&vmax, ParamOp::Write(400))
-            .unwrap_err();
+            .unwrap_err()
+            .to_string();
         assert_eq!(
             error,
             "vmax is written together with amax by SetAMaxVMax ($14); the unit cannot read them \
@@ -612,7 +637,8 @@ mod tests {
         );
         let error = Sixpack2Parameters
             .line(&vmax, ParamOp::Write(600))
-            .unwrap_err();
+            .unwrap_err()
+            .to_string();
         assert_eq!(error, "vmax takes 1..511, not 600");
         let peak = find(4, Scope::Axis(4), "peak");
         assert_eq!(
@@ -624,7 +650,8 @@ mod tests {
         let odd = find(5, Scope::Axis(5), "peak");
         let error = Sixpack2Parameters
             .line(&odd, ParamOp::Write(200))
-            .unwrap_err();
+            .unwrap_err()
+            .to_string();
         assert!(error.contains("set on motor 4"), "{error}");
         let clkdiv = find(0, Scope::Bank(0), "clkdiv");
         assert_eq!(
@@ -643,12 +670,14 @@ mod tests {
         let entry = find(0, Scope::Bank(0), "table[5]");
         let error = Sixpack2Parameters
             .line(&entry, ParamOp::Write(9))
-            .unwrap_err();
+            .unwrap_err()
+            .to_string();
         assert!(error.contains("`WriteMotorTable 4 E0 9 E2 E3`"), "{error}");
         let limit = find(0, Scope::Bank(7), "maxright");
         let error = Sixpack2Parameters
             .line(&limit, ParamOp::Write(900))
-            .unwrap_err();
+            .unwrap_err()
+            .to_string();
         assert!(
             error.contains("`SetStopSwitchLimits 7 MINLEFT 900`"),
             "{error}"
@@ -747,7 +776,8 @@ mod tests {
             .line_with(&entry, ParamOp::Write(9), &|_, n| {
                 (n == 0x1704).then_some(1)
             })
-            .unwrap_err();
+            .unwrap_err()
+            .to_string();
         assert!(
             error.contains("with the other entries of its group of four")
                 && error.contains("`WriteMotorTable 4 1 9 E2 E3`"),

@@ -9,8 +9,8 @@ use super::line::format_command;
 use super::params::{AXIS_PARAMS, Access, Bank, ParamInfo, Unit, ValueRange, axis_param};
 use super::units::{acceleration_to_pps2, pps_to_rpm, rpm_to_pps, velocity_to_pps};
 use crate::protocol::parameters::{
-    ParamAccess, ParamOp, ParamRange, ParamRole, ParamRow, ParamTable, ParameterSet, Physical,
-    Scope, SpeedUnit, StatusQuantity, parse_integer,
+    ParamAccess, ParamError, ParamOp, ParamRange, ParamRefusal, ParamRole, ParamRow, ParamTable,
+    ParameterSet, Physical, Scope, SpeedUnit, StatusQuantity, parse_integer,
 };
 
 /// The global banks, in the order the manual gives them (§5).
@@ -172,25 +172,37 @@ impl ParameterSet for TmclParameters {
         tables
     }
 
-    fn line(&self, row: &ParamRow, op: ParamOp) -> Result<String, String> {
-        let info = info_of(row).ok_or_else(|| format!("{} is not a parameter", label(row)))?;
-        let param =
-            u8::try_from(row.number).map_err(|_| format!("{} is not a parameter", label(row)))?;
+    fn line(&self, row: &ParamRow, op: ParamOp) -> Result<String, ParamError> {
+        let not_a_parameter = || {
+            ParamError::new(
+                ParamRefusal::NotAParameter,
+                format!("{} is not a parameter", label(row)),
+            )
+        };
+        let info = info_of(row).ok_or_else(not_a_parameter)?;
+        let param = u8::try_from(row.number).map_err(|_| not_a_parameter())?;
         let name = label(row);
         let value = |v: i64| {
-            info.wire_value(v)
-                .ok_or_else(|| format!("{name} takes {}, not {v}", info.range))
+            info.wire_value(v).ok_or_else(|| {
+                ParamError::new(
+                    ParamRefusal::OutOfRange,
+                    format!("{name} takes {}, not {v}", info.range),
+                )
+            })
         };
         let storable = || {
             if info.access.auto_stored {
-                Err(format!(
-                    "{name} is written to EEPROM by every write (access {})",
-                    info.access
+                Err(ParamError::new(
+                    ParamRefusal::NotStorable,
+                    format!(
+                        "{name} is written to EEPROM by every write (access {})",
+                        info.access
+                    ),
                 ))
             } else if !info.access.eeprom {
-                Err(format!(
-                    "{name} has no EEPROM copy (access {})",
-                    info.access
+                Err(ParamError::new(
+                    ParamRefusal::NotStorable,
+                    format!("{name} has no EEPROM copy (access {})", info.access),
                 ))
             } else {
                 Ok(())
@@ -199,10 +211,16 @@ impl ParameterSet for TmclParameters {
         if let ParamOp::Write(_) = op
             && !info.access.write
         {
-            return Err(format!("{name} is read-only (access {})", info.access));
+            return Err(ParamError::new(
+                ParamRefusal::ReadOnly,
+                format!("{name} is read-only (access {})", info.access),
+            ));
         }
         if op == ParamOp::Read && !info.access.read {
-            return Err(format!("{name} cannot be read (access {})", info.access));
+            return Err(ParamError::new(
+                ParamRefusal::NotReadable,
+                format!("{name} cannot be read (access {})", info.access),
+            ));
         }
         let command = match (row.scope, op) {
             (Scope::Axis(motor), ParamOp::Read) => Command::Gap { param, motor },
@@ -309,7 +327,7 @@ impl ParameterSet for TmclParameters {
         row: &ParamRow,
         text: &str,
         axis_value: &dyn Fn(u16) -> Option<i64>,
-    ) -> Result<i64, String> {
+    ) -> Result<i64, ParamError> {
         let text = text.trim();
         let split = text
             .find(|c: char| c.is_ascii_alphabetic() && c != 'x' && c != 'X')
@@ -329,7 +347,10 @@ impl ParameterSet for TmclParameters {
         let Some(info) =
             info.filter(|i| matches!(i.unit, Unit::VelocityInternal | Unit::AccelerationInternal))
         else {
-            return Err(format!("{} takes a plain number, not `{text}`", label(row)));
+            return Err(ParamError::new(
+                ParamRefusal::WrongUnit,
+                format!("{} takes a plain number, not `{text}`", label(row)),
+            ));
         };
         let accel = info.unit == Unit::AccelerationInternal;
         let wanted = if accel {
@@ -337,27 +358,48 @@ impl ParameterSet for TmclParameters {
         } else {
             "pps or rpm"
         };
-        let amount: f64 = number
-            .trim()
-            .parse()
-            .map_err(|_| format!("`{}` is not a number", number.trim()))?;
+        let amount: f64 = number.trim().parse().map_err(|_| {
+            ParamError::new(
+                ParamRefusal::NotANumber,
+                format!("`{}` is not a number", number.trim()),
+            )
+        })?;
         let pps = match (unit.as_str(), accel) {
             ("pps", false) | ("pps2" | "pps²", true) => amount,
             ("rpm", false) | ("rpm/s", true) => {
-                let resolution = exponent(axis_value(MICROSTEP_RESOLUTION), 8)
-                    .ok_or("rpm need the microstep resolution (AP140): read it first (refresh)")?;
+                let resolution =
+                    exponent(axis_value(MICROSTEP_RESOLUTION), 8).ok_or_else(|| {
+                        ParamError::new(
+                            ParamRefusal::NeedsReading,
+                            "rpm need the microstep resolution (AP140): read it first (refresh)",
+                        )
+                    })?;
                 rpm_to_pps(amount, FULLSTEPS_PER_REV, resolution)
             }
-            _ => return Err(format!("{} is in {wanted}, not `{unit}`", label(row))),
+            _ => {
+                return Err(ParamError::new(
+                    ParamRefusal::WrongUnit,
+                    format!("{} is in {wanted}, not `{unit}`", label(row)),
+                ));
+            }
         };
-        let per_unit = pps_per_unit(info, axis_value).ok_or(if accel {
-            "converting needs the ramp and pulse divisors (AP153, AP154): read them first (refresh)"
-        } else {
-            "converting needs the pulse divisor (AP154): read it first (refresh)"
+        let per_unit = pps_per_unit(info, axis_value).ok_or_else(|| {
+            ParamError::new(
+                ParamRefusal::NeedsReading,
+                if accel {
+                    "converting needs the ramp and pulse divisors (AP153, AP154): read them first \
+                     (refresh)"
+                } else {
+                    "converting needs the pulse divisor (AP154): read it first (refresh)"
+                },
+            )
         })?;
         let raw = (pps / per_unit).round();
         if !raw.is_finite() || raw.abs() > 1e15 {
-            return Err(format!("{text} is far out of range"));
+            return Err(ParamError::new(
+                ParamRefusal::OutOfRange,
+                format!("{text} is far out of range"),
+            ));
         }
         Ok(raw as i64)
     }
@@ -446,7 +488,7 @@ mod tests {
 
     #[test]
     fn impossible_operations_say_why() {
-        let line = |r: &ParamRow, op| TmclParameters.line(r, op).unwrap_err();
+        let line = |r: &ParamRow, op| TmclParameters.line(r, op).unwrap_err().to_string();
         assert!(line(&row(Scope::Axis(0), 7), ParamOp::Store).contains("no EEPROM copy"));
         assert_eq!(
             TmclParameters.line(&row(Scope::Axis(0), 6), ParamOp::Store),
@@ -527,7 +569,11 @@ mod tests {
     #[test]
     fn values_may_be_typed_in_real_world_units() {
         let speed = row(Scope::Axis(0), 4);
-        let parse = |r: &ParamRow, text| TmclParameters.parse_value(r, text, &divisors);
+        let parse = |r: &ParamRow, text| {
+            TmclParameters
+                .parse_value(r, text, &divisors)
+                .map_err(String::from)
+        };
         assert_eq!(parse(&speed, "1678"), Ok(1678));
         assert_eq!(parse(&speed, "0x10"), Ok(16));
         assert_eq!(parse(&speed, "51208.5 pps"), Ok(1678));
@@ -543,7 +589,9 @@ mod tests {
                 .unwrap_err()
                 .contains("plain number")
         );
-        let unknown = TmclParameters.parse_value(&speed, "100 pps", &|_| None);
+        let unknown = TmclParameters
+            .parse_value(&speed, "100 pps", &|_| None)
+            .map_err(String::from);
         assert!(unknown.unwrap_err().contains("AP154"));
     }
 }

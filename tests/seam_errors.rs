@@ -1,9 +1,13 @@
-//! The family seam keeps a refused line's error typed: a caller tells an
-//! empty line, a syntax error, an operand out of range and a wrong address
-//! apart without reading text, and reaches the family's own error.
+//! The family seam keeps its errors typed: a caller tells an empty line,
+//! a syntax error, an operand out of range and a wrong address apart
+//! without reading text, and reaches the family's own error; a parameter
+//! line refused says whether the parameter is read-only or the value out
+//! of range.
 
+use axterm::families::FAMILIES;
 use axterm::families::find_family;
 use axterm::protocol::line_error::Mistake;
+use axterm::protocol::parameters::{ParamOp, ParamRange, ParamRefusal};
 
 /// For each family: a line and the mistake its refusal must carry.
 const CASES: &[(&str, u8, &str, Mistake)] = &[
@@ -61,4 +65,56 @@ fn the_family_s_own_error_is_reached_through_the_seam() {
             .is_some(),
         "{error}"
     );
+}
+
+#[test]
+fn a_refused_parameter_line_says_why_by_kind() {
+    for family in FAMILIES {
+        let Some(parameters) = family.console.parameters() else {
+            continue;
+        };
+        let first_axis = family.console.axes()[0].number;
+        let rows: Vec<_> = parameters
+            .tables(first_axis)
+            .into_iter()
+            .flat_map(|t| t.rows)
+            .collect();
+        if let Some(read_only) = rows.iter().find(|r| r.access.read && !r.access.write) {
+            let error = parameters
+                .line(read_only, ParamOp::Write(0))
+                .expect_err("a read-only row");
+            assert_eq!(
+                error.kind,
+                ParamRefusal::ReadOnly,
+                "{}: {}: {error}",
+                family.name,
+                read_only.name
+            );
+        }
+        let span = rows.iter().find_map(|r| match r.range {
+            ParamRange::Span { max, .. } if r.access.write && max < i64::MAX => Some((r, max)),
+            _ => None,
+        });
+        let (row, max) =
+            span.unwrap_or_else(|| panic!("{}: a writable row with a range", family.name));
+        let error = parameters
+            .line(row, ParamOp::Write(max + 1))
+            .expect_err("past the range");
+        assert_eq!(
+            error.kind,
+            ParamRefusal::OutOfRange,
+            "{}: {}: {error}",
+            family.name,
+            row.name
+        );
+        let error = parameters
+            .parse_value(row, "twelve", &|_| None)
+            .expect_err("not a number");
+        assert_eq!(
+            error.kind,
+            ParamRefusal::NotANumber,
+            "{}: {error}",
+            family.name
+        );
+    }
 }
