@@ -91,19 +91,24 @@ fn quoted(text: &str) -> String {
     toml::Value::String(text.to_string()).to_string()
 }
 
+/// A parameter file that is not TOML at all: where (1-based line, when
+/// the TOML reader knows it) and what the reader said.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{}{message}", line.map_or(String::new(), |l| format!("line {l}: ")))]
+pub struct NotToml {
+    pub line: Option<usize>,
+    pub message: String,
+}
+
 /// Read a parameter file's text. A file that is not TOML at all is an
 /// error (with its line); keys and values that are not parameters are
 /// problems listed beside the entries that are fine.
-pub fn parse(text: &str) -> Result<ParamFile, String> {
-    let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
-        let place = e
+pub fn parse(text: &str) -> Result<ParamFile, NotToml> {
+    let table: toml::Table = text.parse().map_err(|e: toml::de::Error| NotToml {
+        line: e
             .span()
-            .map(|span| {
-                let line = text.get(..span.start).unwrap_or("").matches('\n').count() + 1;
-                format!("line {line}: ")
-            })
-            .unwrap_or_default();
-        format!("{place}{}", e.message())
+            .map(|span| text.get(..span.start).unwrap_or("").matches('\n').count() + 1),
+        message: e.message().to_string(),
     })?;
     let mut file = ParamFile::default();
     for (key, value) in &table {
@@ -399,8 +404,16 @@ mod tests {
     }
 
     #[test]
+    fn broken_toml_keeps_its_line_as_a_number() {
+        let error = parse("[axis.0]\n4 = 1\n\n5 = \n").unwrap_err();
+        assert_eq!(error.line, Some(4), "{error}");
+    }
+
+    #[test]
     fn broken_toml_names_the_line() {
-        let error = parse("family = \"tmcl\"\n[axis.0]\n4 = = 3\n").unwrap_err();
+        let error = parse("family = \"tmcl\"\n[axis.0]\n4 = = 3\n")
+            .unwrap_err()
+            .to_string();
         assert!(error.starts_with("line 3: "), "{error}");
     }
 }

@@ -184,7 +184,7 @@ impl MechanicsTable {
     pub fn parse_file(
         text: &str,
     ) -> Result<(MechanicsTable, Vec<super::parameter_file::Entry>), String> {
-        let file = super::parameter_file::parse(text)?;
+        let file = super::parameter_file::parse(text).map_err(|e| e.to_string())?;
         let mechanics_problems: Vec<&String> = file
             .problems
             .iter()
