@@ -118,3 +118,43 @@ fn a_refused_parameter_line_says_why_by_kind() {
         );
     }
 }
+
+#[test]
+fn a_refused_jog_says_whether_the_speed_or_the_target_was_wrong() {
+    use axterm::protocol::jog::{Direction, JogError};
+    for family in FAMILIES {
+        let Some(plan) = family.console.jog() else {
+            continue;
+        };
+        let axis = &family.console.axes()[0];
+        let fastest = *plan.speeds().last().expect("speeds");
+        let error = plan
+            .run(axis, Direction::Positive, i64::MAX)
+            .expect_err("no speed is that fast");
+        assert!(
+            matches!(
+                error,
+                JogError::Speed {
+                    speed: i64::MAX,
+                    ..
+                }
+            ),
+            "{}: {error}",
+            family.name
+        );
+        let error = plan
+            .step(axis, 0, i64::MAX, fastest)
+            .expect_err("no target is that far");
+        assert!(
+            matches!(
+                error,
+                JogError::Target {
+                    distance: i64::MAX,
+                    ..
+                }
+            ),
+            "{}: {error}",
+            family.name
+        );
+    }
+}

@@ -45,12 +45,16 @@ pub trait JogPlan: Sync {
         standing_at: i64,
         distance: i64,
         speed: i64,
-    ) -> Result<Vec<String>, String>;
+    ) -> Result<Vec<String>, JogError>;
 
     /// The lines that turn `axis` on in `direction` at `speed` until
     /// [`JogPlan::stop`].
-    fn run(&self, axis: &AxisInfo, direction: Direction, speed: i64)
-    -> Result<Vec<String>, String>;
+    fn run(
+        &self,
+        axis: &AxisInfo,
+        direction: Direction,
+        speed: i64,
+    ) -> Result<Vec<String>, JogError>;
 
     /// The lines that stop `axis` (with its deceleration).
     fn stop(&self, axis: &AxisInfo) -> Vec<String>;
@@ -77,16 +81,39 @@ pub trait JogPlan: Sync {
 /// The step distances the pane offers, in position counts.
 pub const STEP_DISTANCES: &[i64] = &[1, 10, 100, 1_000, 10_000, 100_000];
 
+/// Why a jog was not planned: a speed or a target the family cannot take.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum JogError {
+    #[error("a jog speed of {speed} is outside {}..{}", range.start(), range.end())]
+    Speed {
+        speed: i64,
+        range: std::ops::RangeInclusive<i64>,
+    },
+    #[error(
+        "a step of {distance} from {from} ends at {target}, outside {}..{}",
+        range.start(),
+        range.end()
+    )]
+    Target {
+        from: i64,
+        distance: i64,
+        target: i64,
+        range: std::ops::RangeInclusive<i64>,
+    },
+}
+
+impl From<JogError> for String {
+    fn from(error: JogError) -> String {
+        error.to_string()
+    }
+}
+
 /// `speed` if it lies in `range`, else why not.
-pub fn speed_within(speed: i64, range: std::ops::RangeInclusive<i64>) -> Result<i64, String> {
+pub fn speed_within(speed: i64, range: std::ops::RangeInclusive<i64>) -> Result<i64, JogError> {
     if range.contains(&speed) {
         Ok(speed)
     } else {
-        Err(format!(
-            "a jog speed of {speed} is outside {}..{}",
-            range.start(),
-            range.end()
-        ))
+        Err(JogError::Speed { speed, range })
     }
 }
 
@@ -95,16 +122,17 @@ pub fn target_within(
     from: i64,
     distance: i64,
     range: std::ops::RangeInclusive<i64>,
-) -> Result<i64, String> {
+) -> Result<i64, JogError> {
     let target = from.saturating_add(distance);
     if range.contains(&target) {
         Ok(target)
     } else {
-        Err(format!(
-            "a step of {distance} from {from} ends at {target}, outside {}..{}",
-            range.start(),
-            range.end()
-        ))
+        Err(JogError::Target {
+            from,
+            distance,
+            target,
+            range,
+        })
     }
 }
 

@@ -347,7 +347,7 @@ impl Session {
             Some(run) => run
                 .jog
                 .run(&info, run.direction, run.speed)
-                .map_err(TuneError::Refused)?,
+                .map_err(|e| TuneError::Refused(e.into()))?,
             None => Vec::new(),
         };
         let number = |value: ReplyValue| match value {

@@ -225,7 +225,7 @@ impl Session {
             .run(&info, direction, speed)
             .map_err(|message| SessionError::Refused {
                 line: String::new(),
-                message,
+                message: message.to_string(),
             })?;
         for line in &lines {
             match self.execute_line(line).await {

@@ -6,7 +6,7 @@
 //! (§1.2: −134,217,728 to +134,217,727).
 
 use crate::protocol::console::AxisInfo;
-use crate::protocol::jog::{Direction, JogPlan, speed_within, target_within};
+use crate::protocol::jog::{Direction, JogError, JogPlan, speed_within, target_within};
 
 /// §1.2's speed range, pps.
 const SPEEDS: std::ops::RangeInclusive<i64> = 1..=6_553_500;
@@ -22,7 +22,7 @@ impl JogPlan for Cmd4crJog {
         standing_at: i64,
         distance: i64,
         speed: i64,
-    ) -> Result<Vec<String>, String> {
+    ) -> Result<Vec<String>, JogError> {
         let speed = speed_within(speed, SPEEDS)?;
         let target = target_within(standing_at, distance, POSITIONS)?;
         let a = axis.name;
@@ -38,7 +38,7 @@ impl JogPlan for Cmd4crJog {
         axis: &AxisInfo,
         direction: Direction,
         speed: i64,
-    ) -> Result<Vec<String>, String> {
+    ) -> Result<Vec<String>, JogError> {
         let speed = speed_within(speed, SPEEDS)?;
         let a = axis.name;
         Ok(vec![

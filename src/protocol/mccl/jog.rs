@@ -7,7 +7,7 @@
 //! moves the target, as the manual says.
 
 use crate::protocol::console::AxisInfo;
-use crate::protocol::jog::{Direction, JogPlan, speed_within, target_within};
+use crate::protocol::jog::{Direction, JogError, JogPlan, speed_within, target_within};
 
 /// SV takes any velocity ≥ 0 (counts/s); the jog keeps to a 32-bit one.
 const SPEEDS: std::ops::RangeInclusive<i64> = 1..=i32::MAX as i64;
@@ -21,7 +21,7 @@ impl JogPlan for McclJog {
         standing_at: i64,
         distance: i64,
         speed: i64,
-    ) -> Result<Vec<String>, String> {
+    ) -> Result<Vec<String>, JogError> {
         let speed = speed_within(speed, SPEEDS)?;
         let target = target_within(
             standing_at,
@@ -37,7 +37,7 @@ impl JogPlan for McclJog {
         axis: &AxisInfo,
         direction: Direction,
         speed: i64,
-    ) -> Result<Vec<String>, String> {
+    ) -> Result<Vec<String>, JogError> {
         let speed = speed_within(speed, SPEEDS)?;
         let a = axis.number;
         let di = match direction {

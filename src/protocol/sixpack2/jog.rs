@@ -4,7 +4,7 @@
 //! ($25, §7.2).
 
 use crate::protocol::console::AxisInfo;
-use crate::protocol::jog::{Direction, JogPlan, speed_within, target_within};
+use crate::protocol::jog::{Direction, JogError, JogPlan, speed_within, target_within};
 
 /// $25's velocity range (§7.2).
 const SPEEDS: std::ops::RangeInclusive<i64> = 1..=511;
@@ -18,7 +18,7 @@ impl JogPlan for Sixpack2Jog {
         standing_at: i64,
         distance: i64,
         _speed: i64,
-    ) -> Result<Vec<String>, String> {
+    ) -> Result<Vec<String>, JogError> {
         // $23's target is a signed long (§7.2).
         let target = target_within(
             standing_at,
@@ -33,7 +33,7 @@ impl JogPlan for Sixpack2Jog {
         axis: &AxisInfo,
         direction: Direction,
         speed: i64,
-    ) -> Result<Vec<String>, String> {
+    ) -> Result<Vec<String>, JogError> {
         let speed = direction.signed(speed_within(speed, SPEEDS)?);
         Ok(vec![format!("ConstantRotation {} {speed}", axis.number)])
     }

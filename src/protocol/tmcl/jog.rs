@@ -4,7 +4,7 @@
 //! the TMCM-1110, axis parameter 4's range).
 
 use crate::protocol::console::AxisInfo;
-use crate::protocol::jog::{Direction, JogPlan, speed_within, target_within};
+use crate::protocol::jog::{Direction, JogError, JogPlan, speed_within, target_within};
 
 /// The TMCM-1110's velocity range (axis parameters 2 and 4).
 const SPEEDS: std::ops::RangeInclusive<i64> = 1..=2047;
@@ -18,7 +18,7 @@ impl JogPlan for TmclJog {
         _standing_at: i64,
         distance: i64,
         speed: i64,
-    ) -> Result<Vec<String>, String> {
+    ) -> Result<Vec<String>, JogError> {
         let speed = speed_within(speed, SPEEDS)?;
         // MVP REL takes a 32-bit offset (§4.4).
         let distance = target_within(0, distance, i64::from(i32::MIN)..=i64::from(i32::MAX))?;
@@ -34,7 +34,7 @@ impl JogPlan for TmclJog {
         axis: &AxisInfo,
         direction: Direction,
         speed: i64,
-    ) -> Result<Vec<String>, String> {
+    ) -> Result<Vec<String>, JogError> {
         let speed = speed_within(speed, SPEEDS)?;
         let command = match direction {
             Direction::Positive => "ROR",
