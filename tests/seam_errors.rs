@@ -158,3 +158,23 @@ fn a_refused_jog_says_whether_the_speed_or_the_target_was_wrong() {
         );
     }
 }
+
+#[test]
+fn a_value_in_units_says_what_kept_it_from_converting() {
+    use axterm::protocol::units::{MechanicsTable, UnitRefusal, check_line, convert_line};
+    let tmcl = find_family("tmcl").expect("registered");
+    let law = tmcl.console.units();
+    let (mechanics, _) = MechanicsTable::parse_file(
+        "[mechanics.0]\nunit = \"mm\"\nfull_steps_per_rev = 200\nmicrosteps = 256\ntravel_per_rev = 5\n",
+    )
+    .expect("mechanics");
+    let error = check_line(law, "MVP ABS, 1, 10mm", &mechanics).expect_err("axis 1 has none");
+    assert_eq!(error.kind, UnitRefusal::NoMechanics, "{error}");
+    let error = check_line(law, "MVP ABS, 0, 10deg", &mechanics).expect_err("another unit");
+    assert_eq!(error.kind, UnitRefusal::WrongUnit, "{error}");
+    let error = convert_line(law, "ROR 0, 20mm/s", &mechanics, &|_, _| None)
+        .expect_err("the pulse divisor is not known");
+    assert_eq!(error.kind, UnitRefusal::NeedsReading, "{error}");
+    let error = MechanicsTable::parse_file("family = \"tmcl\"\n").expect_err("no mechanics");
+    assert_eq!(error.kind, UnitRefusal::NoMechanics, "{error}");
+}

@@ -240,7 +240,9 @@ fn check_lines(
         let at = format!("axterm exec: {on}line {} `{}`: ", index + 1, line.trim());
         if has_units(console.units(), line) {
             let checked = match mechanics {
-                Some(mechanics) => check_line(console.units(), line, mechanics),
+                Some(mechanics) => {
+                    check_line(console.units(), line, mechanics).map_err(String::from)
+                }
                 None => Err(
                     "values in an axis's unit are converted on one module at a time: give \
                      them raw to several"

@@ -7,7 +7,7 @@ use std::path::Path;
 
 use crate::protocol::parameter_file::Entry;
 use crate::protocol::parameters::Scope;
-use crate::protocol::units::{Converted, MechanicsTable, UnitLaw, convert_line};
+use crate::protocol::units::{Converted, MechanicsTable, UnitLaw, UnitRefusal, convert_line};
 
 /// A mechanics file as read: the table, and the settings the file holds
 /// (what an offline conversion takes for the module's).
@@ -43,10 +43,10 @@ impl MechanicsFile {
     ) -> Result<Converted, String> {
         convert_line(law, line, &self.table, &|scope, number| self.setting(scope, number)).map_err(
             |e| {
-                if e.contains("not known") {
+                if e.kind == UnitRefusal::NeedsReading {
                     format!("{e} (offline, the file's [axis.N] and [bank.N] values are the module's settings)")
                 } else {
-                    e
+                    e.into()
                 }
             },
         )

@@ -152,7 +152,9 @@ pub fn run(connection: &ConnectionArgs, args: &RunArgs, mechanics: Option<&Path>
                         .to_string(),
                 )
             } else {
-                check_line(law, line, &mechanics.table).err()
+                check_line(law, line, &mechanics.table)
+                    .err()
+                    .map(String::from)
             };
             if let Some(problem) = problem {
                 eprintln!("{name}:{number}: {problem}");

@@ -183,22 +183,29 @@ impl MechanicsTable {
     /// mechanics is an error.
     pub fn parse_file(
         text: &str,
-    ) -> Result<(MechanicsTable, Vec<super::parameter_file::Entry>), String> {
-        let file = super::parameter_file::parse(text).map_err(|e| e.to_string())?;
+    ) -> Result<(MechanicsTable, Vec<super::parameter_file::Entry>), UnitError> {
+        let file = super::parameter_file::parse(text)
+            .map_err(|e| UnitError::new(UnitRefusal::BadMechanics, e.to_string()))?;
         let mechanics_problems: Vec<&String> = file
             .problems
             .iter()
             .filter(|p| p.starts_with("[mechanics") || p.starts_with("`mechanics`"))
             .collect();
         if !mechanics_problems.is_empty() {
-            return Err(mechanics_problems
-                .iter()
-                .map(|p| p.as_str())
-                .collect::<Vec<_>>()
-                .join("; "));
+            return Err(UnitError::new(
+                UnitRefusal::BadMechanics,
+                mechanics_problems
+                    .iter()
+                    .map(|p| p.as_str())
+                    .collect::<Vec<_>>()
+                    .join("; "),
+            ));
         }
         if file.mechanics.is_empty() {
-            return Err("it has no [mechanics.N] section".into());
+            return Err(UnitError::new(
+                UnitRefusal::NoMechanics,
+                "it has no [mechanics.N] section",
+            ));
         }
         Ok((file.mechanics, file.entries))
     }
@@ -282,27 +289,86 @@ impl Mechanics {
     /// with `module_microsteps` the module's own setting where it has
     /// one. A module setting and a mechanics value that disagree are an
     /// error: the file would be wrong for this line.
-    pub fn steps_per_unit(&self, module_microsteps: Option<u32>) -> Result<f64, String> {
+    pub fn steps_per_unit(&self, module_microsteps: Option<u32>) -> Result<f64, UnitError> {
         let per_motor_rev = match self.revolution {
             MotorRevolution::Counts(n) => f64::from(n),
             MotorRevolution::FullSteps(n) => {
                 let micro = match (module_microsteps, self.microsteps) {
                     (Some(module), Some(file)) if module != file => {
-                        return Err(format!(
-                            "the mechanics say {file} microsteps, the module is set to {module}: correct one of them"
+                        return Err(UnitError::new(
+                            UnitRefusal::BadMechanics,
+                            format!(
+                                "the mechanics say {file} microsteps, the module is set to \
+                                 {module}: correct one of them"
+                            ),
                         ));
                     }
                     (Some(m), _) | (None, Some(m)) => m,
                     (None, None) => {
-                        return Err(
-                            "the microsteps are not known: give microsteps in the mechanics (the module has no setting for them)".into(),
-                        );
+                        return Err(UnitError::new(
+                            UnitRefusal::BadMechanics,
+                            "the microsteps are not known: give microsteps in the mechanics (the \
+                             module has no setting for them)",
+                        ));
                     }
                 };
                 f64::from(n) * f64::from(micro)
             }
         };
         Ok(per_motor_rev * self.gear_ratio / self.travel_per_rev)
+    }
+}
+
+/// What kind of refusal a value in an axis's unit holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum UnitRefusal {
+    /// The number before the unit is not one, or the suffix is no unit.
+    NotAUnitValue,
+    /// No mechanics for the value's axis.
+    NoMechanics,
+    /// The mechanics are incomplete, wrong, or disagree with the module.
+    BadMechanics,
+    /// The axis is in another unit, or the operand takes another quantity.
+    WrongUnit,
+    /// A setting the conversion needs has not been read from the module.
+    NeedsReading,
+    /// The family does not take this quantity as a number (CMD-4CR ramps
+    /// are times).
+    NotConvertible,
+    /// The result is no number the command can hold.
+    OutOfRange,
+}
+
+/// Why a value in an axis's unit was not converted: its kind, and the
+/// words for the technician (the value as typed, the axis, the setting
+/// missing).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{message}")]
+pub struct UnitError {
+    pub kind: UnitRefusal,
+    pub message: String,
+}
+
+impl UnitError {
+    pub fn new(kind: UnitRefusal, message: impl Into<String>) -> UnitError {
+        UnitError {
+            kind,
+            message: message.into(),
+        }
+    }
+
+    /// The same error about the value `text` (`` `12mm`: … ``).
+    fn about(self, text: &str) -> UnitError {
+        UnitError {
+            kind: self.kind,
+            message: format!("`{text}`: {}", self.message),
+        }
+    }
+}
+
+impl From<UnitError> for String {
+    fn from(error: UnitError) -> String {
+        error.message
     }
 }
 
@@ -322,7 +388,7 @@ impl UnitAmount {
     /// `text` read as a number with a unit suffix; `None` when it has no
     /// suffix (a plain number, a symbol, a register): that operand is the
     /// family's to read.
-    pub fn parse(text: &str) -> Option<Result<UnitAmount, String>> {
+    pub fn parse(text: &str) -> Option<Result<UnitAmount, UnitError>> {
         let text = text.trim();
         let number_end = text
             .char_indices()
@@ -343,7 +409,12 @@ impl UnitAmount {
         }
         let amount: f64 = match number.parse() {
             Ok(amount) => amount,
-            Err(_) => return Some(Err(format!("`{text}`: `{number}` is not a number"))),
+            Err(_) => {
+                return Some(Err(UnitError::new(
+                    UnitRefusal::NotAUnitValue,
+                    format!("`{text}`: `{number}` is not a number"),
+                )));
+            }
         };
         let (unit, per) = match suffix.split_once('/') {
             Some((unit, per)) => (unit, Some(per)),
@@ -354,13 +425,19 @@ impl UnitAmount {
             Some("s") => Quantity::Speed,
             Some("s2" | "s²" | "s^2") => Quantity::Acceleration,
             Some(other) => {
-                return Some(Err(format!(
-                    "`{text}`: per `{other}` is no time axterm knows: give {unit}/s or {unit}/s²"
+                return Some(Err(UnitError::new(
+                    UnitRefusal::NotAUnitValue,
+                    format!(
+                        "`{text}`: per `{other}` is no time axterm knows: give {unit}/s or {unit}/s²"
+                    ),
                 )));
             }
         };
         if !unit.chars().all(char::is_alphabetic) {
-            return Some(Err(format!("`{text}`: `{unit}` is not a unit")));
+            return Some(Err(UnitError::new(
+                UnitRefusal::NotAUnitValue,
+                format!("`{text}`: `{unit}` is not a unit"),
+            )));
         }
         Some(Ok(UnitAmount {
             amount,
@@ -401,11 +478,11 @@ pub trait UnitLaw: Send + Sync {
         axis: u8,
         quantity: Quantity,
         value_of: &ValueOf,
-    ) -> Result<f64, String>;
+    ) -> Result<f64, UnitError>;
 
     /// The module's microsteps per full step where it has a setting for
     /// them (`None`: it has none, the mechanics give them).
-    fn microsteps(&self, axis: u8, value_of: &ValueOf) -> Option<Result<u32, String>> {
+    fn microsteps(&self, axis: u8, value_of: &ValueOf) -> Option<Result<u32, UnitError>> {
         let _ = (axis, value_of);
         None
     }
@@ -486,7 +563,7 @@ fn found<'a>(
     law: &dyn UnitLaw,
     line: &'a str,
     mechanics: &'a MechanicsTable,
-) -> Result<Vec<Found<'a>>, String> {
+) -> Result<Vec<Found<'a>>, UnitError> {
     let mut all = Vec::new();
     for (operand, text) in suffixed(Some(law), line) {
         let amount = match UnitAmount::parse(text) {
@@ -496,27 +573,36 @@ fn found<'a>(
         };
         let axis = operand.axis;
         let Some(m) = mechanics.get(axis) else {
-            return Err(if mechanics.is_empty() {
-                format!("`{text}`: no mechanics are loaded (--mechanics FILE, :mechanics FILE)")
-            } else {
-                format!("`{text}`: axis {axis} has no mechanics ([mechanics.{axis}])")
-            });
+            return Err(UnitError::new(
+                UnitRefusal::NoMechanics,
+                if mechanics.is_empty() {
+                    format!("`{text}`: no mechanics are loaded (--mechanics FILE, :mechanics FILE)")
+                } else {
+                    format!("`{text}`: axis {axis} has no mechanics ([mechanics.{axis}])")
+                },
+            ));
         };
         if !amount.unit.eq_ignore_ascii_case(&m.unit) {
-            return Err(format!(
-                "`{text}`: axis {axis} is in {} ({}, {}, {})",
-                m.unit,
-                Quantity::Position.unit_text(&m.unit),
-                Quantity::Speed.unit_text(&m.unit),
-                Quantity::Acceleration.unit_text(&m.unit)
+            return Err(UnitError::new(
+                UnitRefusal::WrongUnit,
+                format!(
+                    "`{text}`: axis {axis} is in {} ({}, {}, {})",
+                    m.unit,
+                    Quantity::Position.unit_text(&m.unit),
+                    Quantity::Speed.unit_text(&m.unit),
+                    Quantity::Acceleration.unit_text(&m.unit)
+                ),
             ));
         }
         if amount.quantity != operand.quantity {
-            return Err(format!(
-                "`{text}` is {}, and this operand takes {}: give it in {}",
-                amount.quantity.name(),
-                operand.quantity.name(),
-                operand.quantity.unit_text(&m.unit)
+            return Err(UnitError::new(
+                UnitRefusal::WrongUnit,
+                format!(
+                    "`{text}` is {}, and this operand takes {}: give it in {}",
+                    amount.quantity.name(),
+                    operand.quantity.name(),
+                    operand.quantity.unit_text(&m.unit)
+                ),
             ));
         }
         all.push(Found {
@@ -535,7 +621,7 @@ pub fn check_line(
     law: Option<&dyn UnitLaw>,
     line: &str,
     mechanics: &MechanicsTable,
-) -> Result<(), String> {
+) -> Result<(), UnitError> {
     match law {
         Some(law) => found(law, line, mechanics).map(|_| ()),
         None => Ok(()),
@@ -552,7 +638,7 @@ pub fn convert_line(
     line: &str,
     mechanics: &MechanicsTable,
     value_of: &ValueOf,
-) -> Result<Converted, String> {
+) -> Result<Converted, UnitError> {
     let unchanged = || Converted {
         line: line.to_string(),
         notes: Vec::new(),
@@ -577,16 +663,17 @@ pub fn convert_line(
         let module_micro = law
             .microsteps(operand.axis, value_of)
             .transpose()
-            .map_err(|e| format!("`{text}`: {e}"))?;
-        let steps_per_unit = m
-            .steps_per_unit(module_micro)
-            .map_err(|e| format!("`{text}`: {e}"))?;
+            .map_err(|e| e.about(text))?;
+        let steps_per_unit = m.steps_per_unit(module_micro).map_err(|e| e.about(text))?;
         let per_raw = law
             .steps_per_raw(operand.axis, operand.quantity, value_of)
-            .map_err(|e| format!("`{text}`: {e}"))?;
+            .map_err(|e| e.about(text))?;
         let raw = amount.amount * steps_per_unit / per_raw;
         if !raw.is_finite() || raw.abs() >= 9.0e15 {
-            return Err(format!("`{text}` is far out of range ({raw:e} raw)"));
+            return Err(UnitError::new(
+                UnitRefusal::OutOfRange,
+                format!("`{text}` is far out of range ({raw:e} raw)"),
+            ));
         }
         let raw_text = law.raw_text(raw);
         out.push_str(line.get(at..operand.span.start).unwrap_or(""));
@@ -607,7 +694,7 @@ pub fn to_units(
     quantity: Quantity,
     raw: f64,
     value_of: &ValueOf,
-) -> Result<f64, String> {
+) -> Result<f64, UnitError> {
     let module_micro = law.microsteps(axis, value_of).transpose()?;
     let steps_per_unit = mechanics.steps_per_unit(module_micro)?;
     let per_raw = law.steps_per_raw(axis, quantity, value_of)?;
@@ -724,6 +811,7 @@ mod tests {
         assert!(
             m.steps_per_unit(Some(16))
                 .unwrap_err()
+                .message
                 .contains("256 microsteps, the module is set to 16")
         );
         let (t, _) =
@@ -733,6 +821,7 @@ mod tests {
         assert!(
             m.steps_per_unit(None)
                 .unwrap_err()
+                .message
                 .contains("give microsteps")
         );
     }
@@ -771,12 +860,14 @@ mod tests {
             read("3mm/min")
                 .expect("a unit")
                 .unwrap_err()
+                .message
                 .contains("mm/s")
         );
         assert!(
             read("1.2.3mm")
                 .expect("a unit")
                 .unwrap_err()
+                .message
                 .contains("not a number")
         );
     }

@@ -11,7 +11,7 @@ use super::params::{ModuleValue, read_values};
 use crate::protocol::parameters::Scope;
 use crate::protocol::settings::SettingsCache;
 use crate::protocol::units::{
-    Converted, MechanicsTable, axes_needed, check_line, convert_line, has_units,
+    Converted, MechanicsTable, UnitRefusal, axes_needed, check_line, convert_line, has_units,
 };
 
 impl Session {
@@ -64,10 +64,10 @@ impl Session {
                     _ => None,
                 })
                 .collect();
-            if e.contains("not known") && !why.is_empty() {
+            if e.kind == UnitRefusal::NeedsReading && !why.is_empty() {
                 format!("{e} ({})", why.join("; "))
             } else {
-                e
+                e.into()
             }
         })
     }

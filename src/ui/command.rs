@@ -579,7 +579,7 @@ impl CommandPane {
                 file => {
                     let read = crate::files::read_text(file)
                         .map_err(|e| e.to_string())
-                        .and_then(|text| MechanicsTable::parse_file(&text));
+                        .and_then(|text| MechanicsTable::parse_file(&text).map_err(String::from));
                     match read {
                         Ok((table, _)) => Request::Mechanics(table),
                         Err(message) => return self.fail(format!(":mechanics {file}: {message}")),

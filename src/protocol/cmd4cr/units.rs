@@ -72,12 +72,14 @@ impl UnitLaw for Cmd4crUnits {
         _axis: u8,
         quantity: Quantity,
         _value_of: &ValueOf,
-    ) -> Result<f64, String> {
+    ) -> Result<f64, crate::protocol::units::UnitError> {
+        use crate::protocol::units::{UnitError, UnitRefusal};
         match quantity {
             Quantity::Position | Quantity::Speed => Ok(1.0),
-            Quantity::Acceleration => {
-                Err("the CMD-4CR sets ramps as times (ACC, DEC in ms), not accelerations".into())
-            }
+            Quantity::Acceleration => Err(UnitError::new(
+                UnitRefusal::NotConvertible,
+                "the CMD-4CR sets ramps as times (ACC, DEC in ms), not accelerations",
+            )),
         }
     }
 
@@ -150,7 +152,9 @@ mod tests {
     }
 
     fn convert(line: &str) -> Result<String, String> {
-        convert_line(Some(&Cmd4crUnits), line, &mechanics(), &|_, _| None).map(|c| c.line)
+        convert_line(Some(&Cmd4crUnits), line, &mechanics(), &|_, _| None)
+            .map(|c| c.line)
+            .map_err(String::from)
     }
 
     #[test]

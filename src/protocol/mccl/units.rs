@@ -8,7 +8,7 @@
 
 use super::parameter_set::user_setting_row;
 use crate::protocol::parameters::Scope;
-use crate::protocol::units::{Operand, Quantity, UnitLaw, ValueOf};
+use crate::protocol::units::{Operand, Quantity, UnitError, UnitLaw, UnitRefusal, ValueOf};
 
 /// Commands whose parameter is an axis's position, speed or acceleration
 /// (Ch5 setup, Ch7 motion).
@@ -39,19 +39,24 @@ impl UnitLaw for MclUnits {
         axis: u8,
         quantity: Quantity,
         value_of: &ValueOf,
-    ) -> Result<f64, String> {
-        let read = |command: &str| -> Result<f64, String> {
-            let (number, scale) =
-                user_setting_row(command).ok_or_else(|| format!("no setting {command}"))?;
+    ) -> Result<f64, UnitError> {
+        let read = |command: &str| -> Result<f64, UnitError> {
+            let (number, scale) = user_setting_row(command).ok_or_else(|| {
+                UnitError::new(UnitRefusal::NotConvertible, format!("no setting {command}"))
+            })?;
             let value = value_of(Scope::Axis(axis), number).ok_or_else(|| {
-                format!("needs the user scaling {command} of axis {axis}, not known")
+                UnitError::new(
+                    UnitRefusal::NeedsReading,
+                    format!("needs the user scaling {command} of axis {axis}, not known"),
+                )
             })?;
             let value = value as f64 / scale;
             if value > 0.0 {
                 Ok(value)
             } else {
-                Err(format!(
-                    "axis {axis}'s {command} is {value}: no conversion (Ch5)"
+                Err(UnitError::new(
+                    UnitRefusal::NotConvertible,
+                    format!("axis {axis}'s {command} is {value}: no conversion (Ch5)"),
                 ))
             }
         };
@@ -65,10 +70,13 @@ impl UnitLaw for MclUnits {
                         .and_then(|(number, _)| value_of(Scope::Axis(axis), number))
                         .filter(|v| *v != 0);
                     if set.is_some() {
-                        return Err(format!(
-                            "axis {axis} has a user {} ({command}) set, and the manual gives no \
-                             mapping of it (Ch5): give the position raw",
-                            if command == "UO" { "offset" } else { "zero" }
+                        return Err(UnitError::new(
+                            UnitRefusal::NotConvertible,
+                            format!(
+                                "axis {axis} has a user {} ({command}) set, and the manual gives \
+                                 no mapping of it (Ch5): give the position raw",
+                                if command == "UO" { "offset" } else { "zero" }
+                            ),
                         ));
                     }
                 }
@@ -182,15 +190,15 @@ mod tests {
             }
         };
         let err = convert_line(Some(&MclUnits), "1MA90deg", &m, &offset).unwrap_err();
-        assert!(err.contains("user offset (UO)"), "{err}");
+        assert!(err.message.contains("user offset (UO)"), "{err}");
         // A real with an exponent is no unit value (Ch2).
         let c = convert_line(Some(&MclUnits), "1MA1.5E3,SV2e2", &m, &|_, _| None).expect("plain");
         assert!(!c.changed());
         let err = convert_line(Some(&MclUnits), "2MA1deg", &m, &user(1.0, 1.0)).unwrap_err();
-        assert!(err.contains("axis 2 has no mechanics"), "{err}");
+        assert!(err.message.contains("axis 2 has no mechanics"), "{err}");
         let err = convert_line(Some(&MclUnits), "1SA1deg/s", &m, &|_, _| None).unwrap_err();
-        assert!(err.contains("takes an acceleration"), "{err}");
+        assert!(err.message.contains("takes an acceleration"), "{err}");
         let err = convert_line(Some(&MclUnits), "1SA1deg/s2", &m, &|_, _| None).unwrap_err();
-        assert!(err.contains("user scaling US of axis 1"), "{err}");
+        assert!(err.message.contains("user scaling US of axis 1"), "{err}");
     }
 }

@@ -9,7 +9,9 @@
 use super::catalog::{COMMANDS, FieldKind, by_name};
 use super::parameter_set::number_of as row_number;
 use crate::protocol::parameters::Scope;
-use crate::protocol::units::{Operand, Quantity, UnitLaw, ValueOf, split_operands};
+use crate::protocol::units::{
+    Operand, Quantity, UnitError, UnitLaw, UnitRefusal, ValueOf, split_operands,
+};
 
 /// §6.3.1: "f_clk is 20MHz".
 pub const CLOCK_HZ: f64 = 20.0e6;
@@ -42,21 +44,39 @@ fn field_quantity(field: &super::catalog::Field) -> Option<Quantity> {
     }
 }
 
-fn settings(axis: u8, value_of: &ValueOf) -> Result<(u8, u8), String> {
-    let clkdiv = value_of(Scope::Bank(0), row_number(CLOCK_DIVIDER.0, CLOCK_DIVIDER.1)).ok_or(
-        "needs the ClockDivider ($12): not written this session (the module reads none back)",
-    )?;
+fn settings(axis: u8, value_of: &ValueOf) -> Result<(u8, u8), UnitError> {
+    let clkdiv = value_of(Scope::Bank(0), row_number(CLOCK_DIVIDER.0, CLOCK_DIVIDER.1))
+        .ok_or_else(|| {
+            UnitError::new(
+                UnitRefusal::NeedsReading,
+                "needs the ClockDivider ($12): not written this session (the module reads none \
+                 back)",
+            )
+        })?;
     let div = value_of(Scope::Axis(axis), row_number(DIV.0, DIV.1)).ok_or_else(|| {
-        format!("needs the div of motor {axis} ($13 SetVMinVStart): not written this session (the module reads none back)")
+        UnitError::new(
+            UnitRefusal::NeedsReading,
+            format!(
+                "needs the div of motor {axis} ($13 SetVMinVStart): not written this session (the \
+                 module reads none back)"
+            ),
+        )
     })?;
     let clkdiv = u8::try_from(clkdiv)
         .ok()
         .filter(|c| *c <= 31)
-        .ok_or_else(|| format!("the ClockDivider is {clkdiv}, outside 0..31"))?;
-    let div = u8::try_from(div)
-        .ok()
-        .filter(|d| *d <= 3)
-        .ok_or_else(|| format!("the div of motor {axis} is {div}, outside 0..3"))?;
+        .ok_or_else(|| {
+            UnitError::new(
+                UnitRefusal::OutOfRange,
+                format!("the ClockDivider is {clkdiv}, outside 0..31"),
+            )
+        })?;
+    let div = u8::try_from(div).ok().filter(|d| *d <= 3).ok_or_else(|| {
+        UnitError::new(
+            UnitRefusal::OutOfRange,
+            format!("the div of motor {axis} is {div}, outside 0..3"),
+        )
+    })?;
     Ok((clkdiv, div))
 }
 
@@ -73,7 +93,7 @@ impl UnitLaw for Sixpack2Units {
         axis: u8,
         quantity: Quantity,
         value_of: &ValueOf,
-    ) -> Result<f64, String> {
+    ) -> Result<f64, UnitError> {
         Ok(match quantity {
             Quantity::Position => 1.0,
             Quantity::Speed => {
@@ -87,7 +107,7 @@ impl UnitLaw for Sixpack2Units {
         })
     }
 
-    fn microsteps(&self, _axis: u8, _value_of: &ValueOf) -> Option<Result<u32, String>> {
+    fn microsteps(&self, _axis: u8, _value_of: &ValueOf) -> Option<Result<u32, UnitError>> {
         Some(Ok(MICROSTEPS))
     }
 
@@ -222,6 +242,6 @@ mod tests {
         let none = |_: Scope, _: u16| None;
         let err =
             convert_line(Some(&Sixpack2Units), "ConstantRotation 1 1rev/s", &m, &none).unwrap_err();
-        assert!(err.contains("ClockDivider ($12)"), "{err}");
+        assert!(err.message.contains("ClockDivider ($12)"), "{err}");
     }
 }

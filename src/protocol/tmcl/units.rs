@@ -76,6 +76,8 @@ const PULSE_DIVISOR: u16 = 154;
 /// microsteps (§4 AP1), speeds and accelerations internal units of §6.1
 /// under the axis's divisors, and the microsteps per full step are AP140
 /// (2^n, §4; §6.1.4).
+use crate::protocol::units::{UnitError, UnitRefusal};
+
 #[derive(Debug, Clone, Copy, Default)]
 pub struct TmclUnits;
 
@@ -85,13 +87,23 @@ fn setting(
     number: u16,
     name: &str,
     max: i64,
-) -> Result<u8, String> {
-    let value = value_of(crate::protocol::parameters::Scope::Axis(axis), number)
-        .ok_or_else(|| format!("needs the {name} (AP{number}) of motor {axis}, not known"))?;
+) -> Result<u8, UnitError> {
+    let value =
+        value_of(crate::protocol::parameters::Scope::Axis(axis), number).ok_or_else(|| {
+            UnitError::new(
+                UnitRefusal::NeedsReading,
+                format!("needs the {name} (AP{number}) of motor {axis}, not known"),
+            )
+        })?;
     u8::try_from(value)
         .ok()
         .filter(|v| i64::from(*v) <= max)
-        .ok_or_else(|| format!("the {name} (AP{number}) reads {value}, outside 0..{max}"))
+        .ok_or_else(|| {
+            UnitError::new(
+                UnitRefusal::OutOfRange,
+                format!("the {name} (AP{number}) reads {value}, outside 0..{max}"),
+            )
+        })
 }
 
 impl crate::protocol::units::UnitLaw for TmclUnits {
@@ -107,7 +119,7 @@ impl crate::protocol::units::UnitLaw for TmclUnits {
         axis: u8,
         quantity: crate::protocol::units::Quantity,
         value_of: &crate::protocol::units::ValueOf,
-    ) -> Result<f64, String> {
+    ) -> Result<f64, UnitError> {
         use crate::protocol::units::Quantity;
         Ok(match quantity {
             Quantity::Position => 1.0,
@@ -127,7 +139,7 @@ impl crate::protocol::units::UnitLaw for TmclUnits {
         &self,
         axis: u8,
         value_of: &crate::protocol::units::ValueOf,
-    ) -> Option<Result<u32, String>> {
+    ) -> Option<Result<u32, UnitError>> {
         let scope = crate::protocol::parameters::Scope::Axis(axis);
         // Not read (an offline file without it): the mechanics say.
         value_of(scope, MICROSTEP_RESOLUTION)?;
@@ -316,7 +328,7 @@ mod tests {
         assert_eq!(c.notes, ["10mm → 102400"]);
         // A speed needs the pulse divisor: 51208.5 pps is 1678 [int] (§6.1.1).
         let err = convert_line(Some(&TmclUnits), "SAP 4, 0, 20mm/s", &m, &none).unwrap_err();
-        assert!(err.contains("pulse divisor (AP154)"), "{err}");
+        assert!(err.message.contains("pulse divisor (AP154)"), "{err}");
         let mm_s = 51208.5 / 10240.0;
         let c = convert_line(
             Some(&TmclUnits),
@@ -337,12 +349,12 @@ mod tests {
         assert_eq!(c.line, "SAP 5, 0, 100");
         // A speed where a position goes, another unit, no mechanics.
         let err = convert_line(Some(&TmclUnits), "MVP REL, 0, 2mm/s", &m, &none).unwrap_err();
-        assert!(err.contains("takes a position"), "{err}");
+        assert!(err.message.contains("takes a position"), "{err}");
         let err = convert_line(Some(&TmclUnits), "MVP REL, 0, 2deg", &m, &none).unwrap_err();
-        assert!(err.contains("axis 0 is in mm"), "{err}");
+        assert!(err.message.contains("axis 0 is in mm"), "{err}");
         let empty = crate::protocol::units::MechanicsTable::default();
         let err = convert_line(Some(&TmclUnits), "ROL 0, 2mm/s", &empty, &none).unwrap_err();
-        assert!(err.contains("no mechanics"), "{err}");
+        assert!(err.message.contains("no mechanics"), "{err}");
         // Plain lines pass as they are.
         let c = convert_line(Some(&TmclUnits), "MVP ABS, 0, 1000", &empty, &none).expect("plain");
         assert!(!c.changed());
