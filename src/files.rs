@@ -489,6 +489,21 @@ fn sync_directory(dir: &Path) -> io::Result<()> {
     Ok(())
 }
 
+/// Source files from the file system, for a program's `#include` (the
+/// command line and the editor read them alike).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct SourceFiles;
+
+impl crate::protocol::program::SourceLoader for SourceFiles {
+    fn load(&self, path: &str) -> Result<String, crate::protocol::program::LoadError> {
+        use crate::protocol::program::LoadError;
+        read_text(path).map_err(|e| match e {
+            ReadError::NotFound => LoadError::NotFound,
+            other => LoadError::Unreadable(Box::new(other)),
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

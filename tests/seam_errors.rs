@@ -178,3 +178,31 @@ fn a_value_in_units_says_what_kept_it_from_converting() {
     let error = MechanicsTable::parse_file("family = \"tmcl\"\n").expect_err("no mechanics");
     assert_eq!(error.kind, UnitRefusal::NoMechanics, "{error}");
 }
+
+#[test]
+fn program_tools_name_their_refusals_by_type() {
+    use axterm::protocol::program::{LoadError, NoIncludes, SourceLoader, StoreError};
+    assert!(matches!(
+        NoIncludes.load("a.inc"),
+        Err(LoadError::NoIncludes)
+    ));
+    let files = std::collections::BTreeMap::<String, String>::new();
+    assert!(matches!(files.load("a.inc"), Err(LoadError::NotFound)));
+    for family in FAMILIES {
+        let Some(tool) = family.console.program() else {
+            continue;
+        };
+        if let Some(variables) = tool.variables() {
+            let error = (variables.parse)("x").expect_err("no variable x");
+            assert_eq!(error.typed, "x", "{}", family.name);
+        }
+        if let Some(store) = tool.store() {
+            let error = store.delete(&[], 7).expect_err("nothing stored");
+            assert!(
+                matches!(error, StoreError::NoSuch { number: 7, .. }),
+                "{}: {error}",
+                family.name
+            );
+        }
+    }
+}

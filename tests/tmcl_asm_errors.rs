@@ -303,7 +303,7 @@ fn an_include_cycle_is_refused_with_its_chain() {
 struct Bottomless;
 
 impl SourceLoader for Bottomless {
-    fn load(&self, _path: &str) -> Result<String, String> {
+    fn load(&self, _path: &str) -> Result<String, axterm::protocol::program::LoadError> {
         Ok("#include deeper/x.inc".to_string())
     }
 }

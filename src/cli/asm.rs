@@ -13,21 +13,13 @@ use super::connection::family_of;
 use super::transfer::ExtentArgs;
 use super::{ConnectionArgs, EXIT_OK, EXIT_USAGE};
 use crate::families::FAMILIES;
-use crate::protocol::program::{ProgramTool, SourceLoader, is_file_of};
+use crate::protocol::program::{ProgramTool, is_file_of};
 
 /// The name standard input goes by in messages; includes from it are
 /// relative to the working directory.
 const STDIN_NAME: &str = "<stdin>";
 
-/// Source files from the file system, for `#include`.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct SourceFiles;
-
-impl SourceLoader for SourceFiles {
-    fn load(&self, path: &str) -> Result<String, String> {
-        crate::files::read_text(path).map_err(|e| e.to_string())
-    }
-}
+pub use crate::files::SourceFiles;
 
 fn describe_io(error: &std::io::Error) -> String {
     match error.kind() {
@@ -199,10 +191,13 @@ fn print_out(text: &str) -> i32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::protocol::program::SourceLoader;
 
     #[test]
     fn missing_files_are_named() {
-        let loaded = SourceFiles.load("no/such/dir/x.inc");
+        let loaded = SourceFiles
+            .load("no/such/dir/x.inc")
+            .map_err(|e| e.to_string());
         assert_eq!(loaded, Err("no such file".to_string()));
         assert_eq!(
             run_asm(

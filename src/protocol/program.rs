@@ -27,7 +27,20 @@ use super::wire::Frame;
 pub trait SourceLoader {
     /// The text of the file at `path`; on failure, a reason a technician
     /// understands ("no such file").
-    fn load(&self, path: &str) -> Result<String, String>;
+    fn load(&self, path: &str) -> Result<String, LoadError>;
+}
+
+/// Why an included file was not read.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    #[error("this source cannot include files")]
+    NoIncludes,
+    #[error("no such file")]
+    NotFound,
+    /// The file is there but could not be read as text (the reader's own
+    /// error inside: permission, size, not UTF-8…).
+    #[error(transparent)]
+    Unreadable(Box<dyn std::error::Error + Send + Sync>),
 }
 
 /// Refuses every include: for sources that must stand alone.
@@ -35,17 +48,15 @@ pub trait SourceLoader {
 pub struct NoIncludes;
 
 impl SourceLoader for NoIncludes {
-    fn load(&self, _path: &str) -> Result<String, String> {
-        Err("this source cannot include files".to_string())
+    fn load(&self, _path: &str) -> Result<String, LoadError> {
+        Err(LoadError::NoIncludes)
     }
 }
 
 /// Files in memory, by path.
 impl SourceLoader for std::collections::BTreeMap<String, String> {
-    fn load(&self, path: &str) -> Result<String, String> {
-        self.get(path)
-            .cloned()
-            .ok_or_else(|| "no such file".to_string())
+    fn load(&self, path: &str) -> Result<String, LoadError> {
+        self.get(path).cloned().ok_or(LoadError::NotFound)
     }
 }
 
@@ -188,9 +199,70 @@ pub struct VariableSet {
     /// The variable a line made by `read_line` reads.
     pub of_line: fn(&str) -> Option<u8>,
     /// A number typed at the prompt, or why it is none.
-    pub parse: fn(&str) -> Result<u8, String>,
+    pub parse: fn(&str) -> Result<u8, NoSuchVariable>,
     /// How messages name variable `n` ("user variable #5", "V5").
     pub name: fn(u8) -> String,
+}
+
+/// A number typed at a variable prompt that names no variable of the set:
+/// the set's own words, its numbers, and what was typed.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{set} {numbers}, not `{typed}`")]
+pub struct NoSuchVariable {
+    /// "user variables are numbered", "TR reads registers".
+    pub set: &'static str,
+    /// "0..255", "V0..V99".
+    pub numbers: &'static str,
+    pub typed: String,
+}
+
+/// Why a stored program could not be deleted, or the listing after a
+/// deletion is not what was kept. `noun` is the store's word for one
+/// program ("macro"), `list_line` the line that lists them (`TM-1`).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum StoreError {
+    #[error(
+        "the controller has no {noun} {number} ({list_line} lists {})",
+        numbers_or_none(listed)
+    )]
+    NoSuch {
+        noun: &'static str,
+        list_line: &'static str,
+        number: i64,
+        listed: Vec<i64>,
+    },
+    /// A program that must be written again after the delete would not
+    /// be taken as listed.
+    #[error("{noun} {number} as listed cannot be defined again ({why}): nothing was erased")]
+    CannotRewrite {
+        noun: &'static str,
+        number: i64,
+        why: String,
+    },
+    #[error("the controller lists {noun}s {listed:?}, {kept:?} were meant to stay")]
+    OtherNumbers {
+        noun: &'static str,
+        listed: Vec<i64>,
+        kept: Vec<i64>,
+    },
+    #[error("{noun} {number}: {why}")]
+    OtherText {
+        noun: &'static str,
+        number: i64,
+        why: String,
+    },
+}
+
+fn numbers_or_none(numbers: &[i64]) -> String {
+    if numbers.is_empty() {
+        "none".to_string()
+    } else {
+        numbers
+            .iter()
+            .map(i64::to_string)
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
 }
 
 /// What a program's state is read into.
@@ -439,10 +511,10 @@ pub trait ProgramStore: Send + Sync {
     fn stored(&self, listing: &ReplyValue) -> Vec<StoredProgram>;
     /// How to delete stored program `number` out of `listing` and keep
     /// the others; why not, if it cannot be.
-    fn delete(&self, listing: &[StoredProgram], number: i64) -> Result<Deletion, String>;
+    fn delete(&self, listing: &[StoredProgram], number: i64) -> Result<Deletion, StoreError>;
     /// Whether `listing` (read after a [`Deletion`]) holds exactly what it
     /// kept; what differs if not.
-    fn compare(&self, kept: &[StoredProgram], listing: &[StoredProgram]) -> Result<(), String>;
+    fn compare(&self, kept: &[StoredProgram], listing: &[StoredProgram]) -> Result<(), StoreError>;
     /// What one running program is called ("background task").
     fn running_noun(&self) -> &'static str;
     /// The line that lists the programs running in the background (MCCL

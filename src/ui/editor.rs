@@ -56,14 +56,7 @@ use language::{default_tool, registered_tools, role_of, same};
 /// is the most that a crash can lose.
 pub const AUTOSAVE_QUIET: Duration = Duration::from_millis(300);
 
-/// Reads included files from disk, relative to the including file.
-struct SourceFiles;
-
-impl SourceLoader for SourceFiles {
-    fn load(&self, path: &str) -> Result<String, String> {
-        crate::files::read_text(path).map_err(|e| e.to_string())
-    }
-}
+use crate::files::SourceFiles;
 
 /// Plain text, for a console that knows no program language at all.
 struct PlainText;

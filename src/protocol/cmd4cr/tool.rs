@@ -51,7 +51,11 @@ pub static VARIABLE_SET: VariableSet = VariableSet {
     of_line: variable_of_line,
     parse: |text| match text.trim_start_matches(['V', 'v']).parse::<u8>() {
         Ok(n) if usize::from(n) < VARIABLES => Ok(n),
-        _ => Err(format!("A-Script variables are V0..V99, not `{text}`")),
+        _ => Err(crate::protocol::program::NoSuchVariable {
+            set: "A-Script variables are",
+            numbers: "V0..V99",
+            typed: text.to_string(),
+        }),
     },
     name: |n| format!("V{n}"),
 };

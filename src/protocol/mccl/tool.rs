@@ -12,6 +12,7 @@
 //! Registers are the variables a console can watch (`TRn`, n ≤ 255 as
 //! Ch8 TR prints it).
 
+use crate::protocol::program::{NoSuchVariable, StoreError};
 use std::collections::{BTreeMap, BTreeSet};
 use std::ops::Range;
 use std::sync::Arc;
@@ -44,9 +45,11 @@ pub static REGISTERS: VariableSet = VariableSet {
     read_line: |n| format!("TR{n}"),
     of_line: |line| line.trim().strip_prefix("TR").and_then(|n| n.parse().ok()),
     parse: |text| {
-        text.trim()
-            .parse::<u8>()
-            .map_err(|_| format!("TR reads registers 0..255, not `{text}`"))
+        text.trim().parse::<u8>().map_err(|_| NoSuchVariable {
+            set: "TR reads registers",
+            numbers: "0..255",
+            typed: text.to_string(),
+        })
     },
     name: |n| format!("register R{n}"),
 };
@@ -468,17 +471,14 @@ impl ProgramStore for MacroStore {
         listed_macros(listing)
     }
 
-    fn delete(&self, listing: &[StoredProgram], number: i64) -> Result<Deletion, String> {
+    fn delete(&self, listing: &[StoredProgram], number: i64) -> Result<Deletion, StoreError> {
         if !listing.iter().any(|m| m.number == number) {
-            let numbers: Vec<String> = listing.iter().map(|m| m.number.to_string()).collect();
-            return Err(format!(
-                "the controller has no macro {number} (TM-1 lists {})",
-                if numbers.is_empty() {
-                    "none".to_string()
-                } else {
-                    numbers.join(", ")
-                }
-            ));
+            return Err(StoreError::NoSuch {
+                noun: "macro",
+                list_line: "TM-1",
+                number,
+                listed: listing.iter().map(|m| m.number).collect(),
+            });
         }
         let kept: Vec<StoredProgram> = listing
             .iter()
@@ -488,12 +488,13 @@ impl ProgramStore for MacroStore {
         let mut lines = vec!["RM".to_string()];
         for stored in &kept {
             let line = format!("MD{},{}", stored.number, stored.text);
-            CONSOLE.parse_checked(&line).map_err(|e| {
-                format!(
-                    "macro {} as listed cannot be defined again ({e}): nothing was erased",
-                    stored.number
-                )
-            })?;
+            CONSOLE
+                .parse_checked(&line)
+                .map_err(|e| StoreError::CannotRewrite {
+                    noun: "macro",
+                    number: stored.number,
+                    why: e.to_string(),
+                })?;
             lines.push(line);
         }
         Ok(Deletion {
@@ -512,20 +513,24 @@ impl ProgramStore for MacroStore {
         })
     }
 
-    fn compare(&self, kept: &[StoredProgram], listing: &[StoredProgram]) -> Result<(), String> {
+    fn compare(&self, kept: &[StoredProgram], listing: &[StoredProgram]) -> Result<(), StoreError> {
         let numbers = |list: &[StoredProgram]| list.iter().map(|m| m.number).collect::<Vec<_>>();
         if numbers(kept) != numbers(listing) {
-            return Err(format!(
-                "the controller lists macros {:?}, {:?} were meant to stay",
-                numbers(listing),
-                numbers(kept)
-            ));
+            return Err(StoreError::OtherNumbers {
+                noun: "macro",
+                listed: numbers(listing),
+                kept: numbers(kept),
+            });
         }
         for (meant, listed) in kept.iter().zip(listing) {
-            let sent = parse_line(&meant.text, NumberBase::Decimal)
-                .map_err(|e| format!("macro {}: {e}", meant.number))?;
-            same_commands(&sent, &listed.text)
-                .map_err(|e| format!("macro {}: {e}", meant.number))?;
+            let differs = |why: String| StoreError::OtherText {
+                noun: "macro",
+                number: meant.number,
+                why,
+            };
+            let sent =
+                parse_line(&meant.text, NumberBase::Decimal).map_err(|e| differs(e.to_string()))?;
+            same_commands(&sent, &listed.text).map_err(differs)?;
         }
         Ok(())
     }
@@ -665,7 +670,7 @@ mod tests {
         assert!(deletion.warning.contains("erases every macro"));
         assert_eq!(MacroStore.compare(&deletion.kept, &deletion.kept), Ok(()));
         assert!(MacroStore.compare(&deletion.kept, &listing).is_err());
-        let e = MacroStore.delete(&listing, 7).unwrap_err();
+        let e = MacroStore.delete(&listing, 7).unwrap_err().to_string();
         assert!(e.contains("no macro 7") && e.contains("1, 10, 11"), "{e}");
     }
 

@@ -59,7 +59,11 @@ pub static USER_VARIABLES: VariableSet = VariableSet {
     of_line: variable_of_line,
     parse: |text| {
         text.parse::<u8>()
-            .map_err(|_| format!("user variables are numbered 0..255, not `{text}`"))
+            .map_err(|_| crate::protocol::program::NoSuchVariable {
+                set: "user variables are numbered",
+                numbers: "0..255",
+                typed: text.to_string(),
+            })
     },
     name: |n| format!("user variable #{n}"),
 };

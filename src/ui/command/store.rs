@@ -139,7 +139,7 @@ pub(super) fn on_reply(
                         }),
                     )
                 }
-                Err(why) => (vec![StoreStep::Say(Role::Error, why)], None),
+                Err(why) => (vec![StoreStep::Say(Role::Error, why.to_string())], None),
             },
             Err(e) => failed("listing failed, nothing was deleted", e),
         },

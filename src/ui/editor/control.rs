@@ -331,7 +331,7 @@ impl EditorPane {
         match (set.parse)(text) {
             Ok(n) => self.toggle_variable(n, view),
             Err(message) => {
-                self.message = Some(Notice::error(message));
+                self.message = Some(Notice::error(message.to_string()));
                 Outcome::redraw()
             }
         }

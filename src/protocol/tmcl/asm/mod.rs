@@ -478,7 +478,10 @@ impl FirstPass<'_> {
         }
         match self.loader.load(&path) {
             Ok(text) => self.read(&path, &text, stack),
-            Err(reason) => self.error(at, AsmErrorKind::IncludeFailed { path, reason }),
+            Err(reason) => {
+                let reason = reason.to_string();
+                self.error(at, AsmErrorKind::IncludeFailed { path, reason });
+            }
         }
     }
 
