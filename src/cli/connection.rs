@@ -267,7 +267,7 @@ pub fn family_of(args: &ConnectionArgs) -> Result<&'static Family, String> {
             family.name
         ));
     }
-    protocol::with_link_options(family, &args.link_option)
+    protocol::with_link_options(family, &args.link_option).map_err(String::from)
 }
 
 /// Apply every `--input` setting to `sim`, in order: what each made hold,

@@ -289,6 +289,24 @@ pub trait LinkContext: Send + Sync + fmt::Debug {
     }
 }
 
+/// Why the connect probe's answers did not show the link's state: the
+/// session then keeps the state it had.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ProbeError {
+    #[error("nothing to learn ({context})")]
+    NothingToLearn { context: String },
+    #[error("the probe brought {got} answers, not {wanted}")]
+    AnswerCount { got: usize, wanted: usize },
+    /// A probe request's answer is not what any state of the link gives.
+    #[error("`{request}` {answered}")]
+    Unexpected {
+        request: &'static str,
+        /// What came back and why it does not fit (`was answered `…`: no
+        /// prompt character at its end`).
+        answered: String,
+    },
+}
+
 /// A family whose lines read and change a state kept per link
 /// ([`LinkContext`]). Lines are prepared as if the module were in its
 /// power-up state ([`FamilyConsole::prepare`]: a line means the same
@@ -312,9 +330,11 @@ pub trait LinkContexts: Send + Sync {
         &self,
         context: &dyn LinkContext,
         answers: &[Vec<u8>],
-    ) -> Result<Arc<dyn LinkContext>, String> {
+    ) -> Result<Arc<dyn LinkContext>, ProbeError> {
         let _ = answers;
-        Err(format!("nothing to learn ({context:?})"))
+        Err(ProbeError::NothingToLearn {
+            context: format!("{context:?}"),
+        })
     }
     /// `line` (prepared for the power-up state, or adapted before: the
     /// result is the same) as it must be sent in `context`: its bytes and

@@ -41,13 +41,35 @@ pub struct Family {
     pub console: &'static dyn FamilyConsole,
 }
 
+/// A link option that is not one of the family's: what was given, and the
+/// options the family has (`the sixpack2 family has framing=auto|cmd8|addr9`).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum LinkOptionError {
+    #[error("link option `{given}`: give NAME=VALUE; {known}")]
+    NotNameValue { given: String, known: String },
+    #[error("link option `{name}`: unknown; {known}")]
+    UnknownName { name: String, known: String },
+    #[error("link option {name}={value}: unknown value; {known}")]
+    UnknownValue {
+        name: String,
+        value: String,
+        known: String,
+    },
+}
+
+impl From<LinkOptionError> for String {
+    fn from(error: LinkOptionError) -> String {
+        error.to_string()
+    }
+}
+
 /// `family` with the link options `NAME=VALUE` given ([`LinkOption`]):
 /// the family as the last choice of each option makes it. An option or a
 /// value the family does not have is refused, naming what it has.
 pub fn with_link_options(
     family: &'static Family,
     options: &[String],
-) -> Result<&'static Family, String> {
+) -> Result<&'static Family, LinkOptionError> {
     let mut chosen = family;
     for option in options {
         let known = || {
@@ -67,10 +89,10 @@ pub fn with_link_options(
             }
         };
         let Some((name, value)) = option.split_once('=') else {
-            return Err(format!(
-                "link option `{option}`: give NAME=VALUE; {}",
-                known()
-            ));
+            return Err(LinkOptionError::NotNameValue {
+                given: option.clone(),
+                known: known(),
+            });
         };
         let (name, value) = (name.trim(), value.trim());
         let Some(link_option) = chosen
@@ -79,17 +101,21 @@ pub fn with_link_options(
             .iter()
             .find(|o| o.name.eq_ignore_ascii_case(name))
         else {
-            return Err(format!("link option `{name}`: unknown; {}", known()));
+            return Err(LinkOptionError::UnknownName {
+                name: name.to_string(),
+                known: known(),
+            });
         };
         let Some(choice) = link_option
             .choices
             .iter()
             .find(|c| c.value.eq_ignore_ascii_case(value))
         else {
-            return Err(format!(
-                "link option {name}={value}: unknown value; {}",
-                known()
-            ));
+            return Err(LinkOptionError::UnknownValue {
+                name: name.to_string(),
+                value: value.to_string(),
+                known: known(),
+            });
         };
         chosen = choice.family;
     }
@@ -152,7 +178,8 @@ mod tests {
     fn an_unknown_link_option_is_refused_naming_what_there_is() {
         let error = with_link_options(sixpack2(), &["framing=cmd9".into()])
             .err()
-            .expect("refused");
+            .expect("refused")
+            .to_string();
         assert_eq!(
             error,
             "link option framing=cmd9: unknown value; the sixpack2 family has \
@@ -160,12 +187,14 @@ mod tests {
         );
         let error = with_link_options(sixpack2(), &["framing".into()])
             .err()
-            .expect("refused");
+            .expect("refused")
+            .to_string();
         assert!(error.contains("give NAME=VALUE"), "{error}");
         let tmcl = &tmcl::FAMILY;
         let error = with_link_options(tmcl, &["framing=cmd8".into()])
             .err()
-            .expect("refused");
+            .expect("refused")
+            .to_string();
         assert_eq!(
             error,
             "link option `framing`: unknown; the tmcl family has no link options"

@@ -36,21 +36,41 @@ pub struct TuningField {
     pub meaning: &'static str,
 }
 
+/// A `--set` item that is not `NAME=NUMBER`.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum SettingError {
+    #[error("--set {item}: write NAME=VALUE (SG=0.05)")]
+    NotNameValue { item: String },
+    #[error("--set {item}: {value} is not a number")]
+    NotANumber { item: String, value: String },
+}
+
+impl From<SettingError> for String {
+    fn from(error: SettingError) -> String {
+        error.to_string()
+    }
+}
+
 /// `SG=0.05,SD=0.3` as names and values (`--set` of a step test).
-pub fn parse_settings(text: &str) -> Result<Vec<(String, f64)>, String> {
+pub fn parse_settings(text: &str) -> Result<Vec<(String, f64)>, SettingError> {
     text.split(',')
         .map(str::trim)
         .filter(|item| !item.is_empty())
         .map(|item| {
             let (name, value) = item
                 .split_once('=')
-                .ok_or_else(|| format!("--set {item}: write NAME=VALUE (SG=0.05)"))?;
+                .ok_or_else(|| SettingError::NotNameValue {
+                    item: item.to_string(),
+                })?;
             let number: f64 = value
                 .trim()
                 .parse()
                 .ok()
                 .filter(|v: &f64| v.is_finite())
-                .ok_or_else(|| format!("--set {item}: {} is not a number", value.trim()))?;
+                .ok_or_else(|| SettingError::NotANumber {
+                    item: item.to_string(),
+                    value: value.trim().to_string(),
+                })?;
             Ok((name.trim().to_string(), number))
         })
         .collect()

@@ -491,7 +491,8 @@ impl Session {
         Some(
             contexts
                 .learn(context.as_ref(), &answers)
-                .map(|learned| self.set_context(learned)),
+                .map(|learned| self.set_context(learned))
+                .map_err(|e| e.to_string()),
         )
     }
 

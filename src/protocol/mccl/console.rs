@@ -27,8 +27,8 @@ use super::tool::MacroStore;
 use super::wire::MclWire;
 use crate::protocol::console::{
     Answering, AxisFlag, AxisInfo, AxisUpdate, Completions, Effect, FamilyConsole, LinkContext,
-    LinkContexts, LongRunning, PreparedLine, Reading, ReplyError, ReplyValue, RunningPrograms,
-    StatusPoll, StatusValue, SwitchKind,
+    LinkContexts, LongRunning, PreparedLine, ProbeError, Reading, ReplyError, ReplyValue,
+    RunningPrograms, StatusPoll, StatusValue, SwitchKind,
 };
 use crate::protocol::line_error::{FamilyLineError, LineError, Mistake};
 use crate::protocol::parameters::ParameterSet;
@@ -288,13 +288,13 @@ impl LinkContexts for MclConsole {
         &self,
         context: &dyn LinkContext,
         answers: &[Vec<u8>],
-    ) -> Result<Arc<dyn LinkContext>, String> {
+    ) -> Result<Arc<dyn LinkContext>, ProbeError> {
         let before = self.mccl_context(context);
         let [single, triple] = answers else {
-            return Err(format!(
-                "the probe brought {} answers, not 2",
-                answers.len()
-            ));
+            return Err(ProbeError::AnswerCount {
+                got: answers.len(),
+                wanted: 2,
+            });
         };
         let learned = LinkProfile::learn(single, triple)?;
         let profile = LinkProfile {
@@ -978,7 +978,8 @@ mod tests {
         assert_eq!(rule.examine(&so_far, b"#"), Verdict::Complete);
         let e = contexts
             .learn(power_up.as_ref(), &[b"".to_vec(), b"".to_vec()])
-            .unwrap_err();
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("no prompt"), "{e}");
         assert!(contexts.learn(power_up.as_ref(), &[]).is_err());
     }

@@ -12,6 +12,7 @@
 use std::time::Duration;
 
 use super::line::{Line, NumberBase};
+use crate::protocol::console::ProbeError;
 
 /// Whether the controller echoes what it is sent.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -122,7 +123,7 @@ impl LinkProfile {
     /// the line sent; the prompt is the last byte of the answer that is not
     /// a line end; the prompt comes per command if `triple` holds three of
     /// them.
-    pub fn learn(single: &[u8], triple: &[u8]) -> Result<LinkProfile, String> {
+    pub fn learn(single: &[u8], triple: &[u8]) -> Result<LinkProfile, ProbeError> {
         let shown = |b: &[u8]| String::from_utf8_lossy(b).escape_debug().to_string();
         let prompt_of = |answer: &[u8]| -> Option<u8> {
             answer
@@ -132,18 +133,22 @@ impl LinkProfile {
                 .find(|&b| b != b'\r' && b != b'\n')
                 .filter(|b| !b.is_ascii_alphanumeric())
         };
-        let prompt = prompt_of(single).ok_or_else(|| {
-            format!(
-                "`NO` was answered `{}`: no prompt character at its end",
+        let prompt = prompt_of(single).ok_or_else(|| ProbeError::Unexpected {
+            request: "NO",
+            answered: format!(
+                "was answered `{}`: no prompt character at its end",
                 shown(single)
-            )
+            ),
         })?;
         if prompt_of(triple) != Some(prompt) {
-            return Err(format!(
-                "`NO,NO,NO` was answered `{}`: it does not end with the prompt `{}` of `NO`",
-                shown(triple),
-                char::from(prompt)
-            ));
+            return Err(ProbeError::Unexpected {
+                request: "NO,NO,NO",
+                answered: format!(
+                    "was answered `{}`: it does not end with the prompt `{}` of `NO`",
+                    shown(triple),
+                    char::from(prompt)
+                ),
+            });
         }
         let echo = if single.starts_with(b"NO") {
             Echo::Line
@@ -155,9 +160,12 @@ impl LinkProfile {
             1 => PromptPer::Line,
             3 => PromptPer::Command,
             n => {
-                return Err(format!(
-                    "`NO,NO,NO` brought {n} prompts: neither one per line nor one per command"
-                ));
+                return Err(ProbeError::Unexpected {
+                    request: "NO,NO,NO",
+                    answered: format!(
+                        "brought {n} prompts: neither one per line nor one per command"
+                    ),
+                });
             }
         };
         let reply_end = if single.windows(2).any(|w| w == b"\r\n") {

@@ -72,7 +72,7 @@ pub enum LineError {
         command: &'static str,
         field: &'static str,
         found: String,
-        reason: String,
+        reason: ValueError,
     },
     #[error(transparent)]
     Range(#[from] RangeError),
@@ -280,25 +280,45 @@ fn parse_operands(spec: &'static CommandSpec, text: &str) -> Result<Command, Lin
     Ok(Command::new(spec, values)?)
 }
 
+/// Why a value typed for a field is not one.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ValueError {
+    #[error("too large")]
+    TooLarge,
+    #[error("not a number (decimal, or hex as $1F or 0x1F)")]
+    NotANumber,
+    /// A current step given in % that §7.1's table does not have.
+    #[error("no such step: 100%, 75%, 50%, 38%, 25%, 19%, 13%, 9% or 0%")]
+    NoSuchStep,
+    #[error("a mask is a list of motors 0..5 (0,2,5), all, none, or hex ($3F)")]
+    NotAMask,
+    #[error("motor {item} is outside 0..5 (a mask lists motors: 0,2,5; or hex $3F)")]
+    NoSuchMotor { item: String },
+    #[error("`{item}` is no flag: {}", flag_names())]
+    NoSuchFlag { item: String },
+    #[error("`{value}` is not a hex byte ($00..$FF; frame values are always hex)")]
+    NotAHexByte { value: String },
+}
+
 /// A decimal number with an optional sign, or hex after `$` or `0x`.
-pub fn parse_number(text: &str) -> Result<i64, String> {
+pub fn parse_number(text: &str) -> Result<i64, ValueError> {
     let (negative, digits) = match text.strip_prefix('-') {
         Some(rest) => (true, rest),
         None => (false, text.strip_prefix('+').unwrap_or(text)),
     };
     let magnitude = if let Some(hex) = hex_digits(digits) {
-        i64::from_str_radix(hex, 16).map_err(|_| "too large".to_string())?
+        i64::from_str_radix(hex, 16).map_err(|_| ValueError::TooLarge)?
     } else if !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()) {
-        digits.parse::<i64>().map_err(|_| "too large".to_string())?
+        digits.parse::<i64>().map_err(|_| ValueError::TooLarge)?
     } else {
-        return Err("not a number (decimal, or hex as $1F or 0x1F)".into());
+        return Err(ValueError::NotANumber);
     };
     Ok(if negative { -magnitude } else { magnitude })
 }
 
 /// A value typed for `field`. Range checks come after, for all fields
 /// alike ([`Command::new`]).
-pub fn parse_value(field: &Field, text: &str) -> Result<i64, String> {
+pub fn parse_value(field: &Field, text: &str) -> Result<i64, ValueError> {
     match field.kind {
         FieldKind::MotorMask => parse_mask(text),
         FieldKind::Flags(_) => parse_flags(text),
@@ -309,9 +329,7 @@ pub fn parse_value(field: &Field, text: &str) -> Result<i64, String> {
                     .iter()
                     .find(|s| i64::from(s.percent) == percent)
                     .map(|s| i64::from(s.index))
-                    .ok_or_else(|| {
-                        "no such step: 100%, 75%, 50%, 38%, 25%, 19%, 13%, 9% or 0%".to_string()
-                    })
+                    .ok_or(ValueError::NoSuchStep)
             }
             None => parse_number(text),
         },
@@ -320,7 +338,7 @@ pub fn parse_value(field: &Field, text: &str) -> Result<i64, String> {
 }
 
 /// A motor list (`0,2,5`), `all`, `none`, or a hex mask (`$3F`).
-pub fn parse_mask(text: &str) -> Result<i64, String> {
+pub fn parse_mask(text: &str) -> Result<i64, ValueError> {
     if text.eq_ignore_ascii_case("all") {
         return Ok(ALL_MOTORS);
     }
@@ -328,19 +346,19 @@ pub fn parse_mask(text: &str) -> Result<i64, String> {
         return Ok(0);
     }
     if let Some(digits) = hex_digits(text) {
-        return i64::from_str_radix(digits, 16).map_err(|_| "too large".to_string());
+        return i64::from_str_radix(digits, 16).map_err(|_| ValueError::TooLarge);
     }
     let mut mask = 0;
     for item in text.split(',') {
         if item.is_empty() || !item.bytes().all(|b| b.is_ascii_digit()) {
-            return Err("a mask is a list of motors 0..5 (0,2,5), all, none, or hex ($3F)".into());
+            return Err(ValueError::NotAMask);
         }
         match item.parse::<u8>() {
             Ok(motor) if motor < 6 => mask |= 1 << motor,
             _ => {
-                return Err(format!(
-                    "motor {item} is outside 0..5 (a mask lists motors: 0,2,5; or hex $3F)"
-                ));
+                return Err(ValueError::NoSuchMotor {
+                    item: item.to_string(),
+                });
             }
         }
     }
@@ -348,7 +366,7 @@ pub fn parse_mask(text: &str) -> Result<i64, String> {
 }
 
 /// Flag names joined by commas, `none`, or numbers (ORed with the names).
-pub fn parse_flags(text: &str) -> Result<i64, String> {
+pub fn parse_flags(text: &str) -> Result<i64, ValueError> {
     if text.eq_ignore_ascii_case("none") {
         return Ok(0);
     }
@@ -359,7 +377,9 @@ pub fn parse_flags(text: &str) -> Result<i64, String> {
         } else if let Ok(number) = parse_number(item) {
             word |= number;
         } else {
-            return Err(format!("`{item}` is no flag: {}", flag_names()));
+            return Err(ValueError::NoSuchFlag {
+                item: item.to_string(),
+            });
         }
     }
     Ok(word)
@@ -407,7 +427,7 @@ fn frame_bytes(values: &[&str]) -> Result<[u8; REQUEST_LEN], String> {
     }
     let mut bytes = [0; REQUEST_LEN];
     for (slot, value) in bytes.iter_mut().zip(values) {
-        *slot = hex_byte(value)?;
+        *slot = hex_byte(value).map_err(|e| e.to_string())?;
     }
     Ok(bytes)
 }
@@ -415,7 +435,7 @@ fn frame_bytes(values: &[&str]) -> Result<[u8; REQUEST_LEN], String> {
 /// One value of a frame: a hex byte, `$`/`0x` optional, one or two
 /// digits, any case; bare numbers are hex too (§5.4.6: "The parameters
 /// are hexadecimal").
-pub fn hex_byte(value: &str) -> Result<u8, String> {
+pub fn hex_byte(value: &str) -> Result<u8, ValueError> {
     let digits = value
         .strip_prefix('$')
         .or_else(|| value.strip_prefix("0x"))
@@ -424,8 +444,8 @@ pub fn hex_byte(value: &str) -> Result<u8, String> {
     let ok = (1..=2).contains(&digits.len()) && digits.bytes().all(|b| b.is_ascii_hexdigit());
     ok.then(|| u8::from_str_radix(digits, 16).ok())
         .flatten()
-        .ok_or_else(|| {
-            format!("`{value}` is not a hex byte ($00..$FF; frame values are always hex)")
+        .ok_or_else(|| ValueError::NotAHexByte {
+            value: value.to_string(),
         })
 }
 

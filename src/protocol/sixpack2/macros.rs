@@ -117,7 +117,7 @@ pub fn read_line(text: &str) -> MacroLine {
     for (i, (at, value)) in values.iter().enumerate() {
         match hex_byte(value) {
             Ok(byte) => bytes[i] = byte,
-            Err(message) => return bad(*at, message),
+            Err(message) => return bad(*at, message.to_string()),
         }
         columns[i] = column(text, *at);
     }

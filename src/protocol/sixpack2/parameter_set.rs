@@ -529,7 +529,7 @@ impl ParameterSet for Sixpack2Parameters {
         // A flag, mask or current-step name that is not one is as wrong
         // as a number that is not a number: the field's text is refused.
         parse_value(&spec.fields[index], text.trim())
-            .map_err(|why| ParamError::new(ParamRefusal::NotANumber, why))
+            .map_err(|why| ParamError::new(ParamRefusal::NotANumber, why.to_string()))
     }
 }
 
