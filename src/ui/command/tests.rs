@@ -1,0 +1,161 @@
+use super::*;
+use crate::ui::keymap::Keymap;
+use crate::ui::theme::Theme;
+
+fn snapshot() -> Snapshot {
+    let family = find_family("tmcl").expect("tmcl");
+    Snapshot {
+        family,
+        address: 1,
+        link_name: "sim".into(),
+        axes: family.console.axes().to_vec(),
+        status: Vec::new(),
+        link: LinkState::Closed,
+        identity: None,
+        poll: None,
+        settings: Default::default(),
+        mechanics: Default::default(),
+        axis: 0,
+    }
+}
+
+fn cmd4cr_snapshot() -> Snapshot {
+    let family = find_family("cmd4cr").expect("cmd4cr");
+    Snapshot {
+        family,
+        axes: family.console.axes().to_vec(),
+        ..snapshot()
+    }
+}
+
+#[test]
+fn help_offline_follows_the_connect_screen_only_while_nothing_is_connected() {
+    let theme = Theme::builtin("dark").expect("theme");
+    let keymap = Keymap::builtin("default").expect("keymap");
+    let connected = snapshot();
+    let view = |session| View {
+        theme: &theme,
+        keymap: &keymap,
+        session,
+        modules: &[],
+        module: 0,
+        focused: false,
+        shown: true,
+    };
+    let mut pane = CommandPane::new(None);
+    // No recent connection: the connect screen's first simulator's.
+    assert_eq!(pane.offline_family, Some("tmcl"));
+    pane.on_event(&PaneEvent::FamilyChosen("other"), &view(None));
+    assert_eq!(pane.offline_family, Some("other"));
+    // A family with no tables here: TMCL's help rather than none.
+    assert_eq!(pane.family(&view(None)).map(|f| f.name), Some("tmcl"));
+    // Connected: the module's family, whatever the connect screen shows.
+    pane.on_event(&PaneEvent::Snapshot, &view(Some(&connected)));
+    pane.on_event(&PaneEvent::FamilyChosen("other"), &view(Some(&connected)));
+    assert_eq!(pane.offline_family, Some("tmcl"));
+    assert_eq!(
+        pane.family(&view(Some(&connected))).map(|f| f.name),
+        Some("tmcl")
+    );
+}
+
+#[test]
+fn run_ascript_wants_a_cmd4cr_module_and_a_file_and_parses_prg_numbers() {
+    let theme = Theme::builtin("dark").expect("theme");
+    let keymap = Keymap::builtin("default").expect("keymap");
+    let tmcl = snapshot();
+    let cmd4cr = cmd4cr_snapshot();
+    let view = |session| View {
+        theme: &theme,
+        keymap: &keymap,
+        session,
+        modules: &[],
+        module: 0,
+        focused: true,
+        shown: true,
+    };
+    let mut pane = CommandPane::new(None);
+    let last = |pane: &CommandPane| pane.output_lines().last().unwrap_or("").to_string();
+    pane.console_command(":run-ascript p.asc", &view(None));
+    assert!(last(&pane).starts_with("not connected"), "{}", last(&pane));
+    pane.console_command(":run-ascript p.asc", &view(Some(&tmcl)));
+    assert!(
+        last(&pane).contains("this module speaks tmcl"),
+        "{}",
+        last(&pane)
+    );
+    pane.console_command(":run-ascript", &view(Some(&cmd4cr)));
+    assert!(last(&pane).contains("needs a file name"), "{}", last(&pane));
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("two programs.asc");
+    std::fs::write(&file, "PRG 0\n    DO1=1\nEND\nPRG 2\n    DO2=1\nEND\n").expect("write");
+    let outcome = pane.console_command(
+        &format!(":run-ascript {} 2", file.display()),
+        &view(Some(&cmd4cr)),
+    );
+    assert!(
+        pane.output_lines()
+            .any(|l| l.contains("from the host: PRG 2 (Esc stops it")),
+        "{:?}",
+        pane.output_lines().collect::<Vec<_>>()
+    );
+    let Outcome::Handled(requests) = outcome else {
+        panic!("started");
+    };
+    assert!(
+        matches!(requests.as_slice(), [Request::Send { lines, .. }] if lines == &["DO2=1".to_string()]),
+        "{requests:?}"
+    );
+    assert!(pane.activity().is_some_and(|a| a.ends_with("PRG 2 line 5")));
+    // One at a time; a batch waits too.
+    pane.console_command(":run-ascript other.asc", &view(Some(&cmd4cr)));
+    assert!(
+        last(&pane).contains("a host run is going"),
+        "{}",
+        last(&pane)
+    );
+    pane.console_command(":sleep 1s", &view(Some(&cmd4cr)));
+    assert!(
+        last(&pane).contains("a host run is going"),
+        "{}",
+        last(&pane)
+    );
+}
+
+#[test]
+fn sim_input_completes_the_simulators_input_names() {
+    let theme = Theme::builtin("dark").expect("theme");
+    let keymap = Keymap::builtin("default").expect("keymap");
+    let cmd4cr = cmd4cr_snapshot();
+    let tmcl = snapshot();
+    let view = |session| View {
+        theme: &theme,
+        keymap: &keymap,
+        session,
+        modules: &[],
+        module: 0,
+        focused: true,
+        shown: true,
+    };
+    let mut pane = CommandPane::new(None);
+    pane.set_input(":sim-input alm".into());
+    let offered = pane.completions(&view(Some(&cmd4cr)));
+    let texts: Vec<&str> = offered.candidates.iter().map(|c| c.text.as_str()).collect();
+    assert_eq!(texts, ["ALMX=", "ALMY=", "ALMZ=", "ALMU="]);
+    assert_eq!((offered.start, offered.end), (11, 14));
+    pane.set_input(":sim-input IN".into());
+    let offered = pane.completions(&view(Some(&tmcl)));
+    assert_eq!(offered.candidates.len(), 6, "IN1..IN6");
+    // The request carries the setting as typed; the simulator reads it.
+    let outcome = pane.console_command(":sim-input  io5=1 ", &view(Some(&cmd4cr)));
+    assert_eq!(
+        outcome,
+        Outcome::request(Request::DriveSimInput("io5=1".into()))
+    );
+    pane.console_command(":sim-input IO5=1", &view(None));
+    assert!(
+        pane.output_lines()
+            .last()
+            .is_some_and(|l| l.starts_with("not connected")),
+    );
+}
