@@ -166,6 +166,30 @@ async fn swapped_moving_plus_trips_the_minus_switch_which_does_not_stop_the_axis
     }
 }
 
+#[tokio::test(start_paused = true)]
+async fn swapped_the_minus_leg_meets_a_switch_too() {
+    // The + leg ran on past the + end's switch (wired to the − input); the
+    // − leg meets it again on the way back, or runs on to the − end's, or
+    // (standing on it) the module refuses the − jog, or (a servo that
+    // wound up against the end stop until its following error tripped)
+    // the axis does not move and that is said: never "no limit switch
+    // fired".
+    for case in CASES {
+        let (legs, said) = check(case, "swapped").await;
+        let stuck = legs[1].from.is_some() && legs[1].from == legs[1].rest;
+        assert!(
+            legs[1].fired.is_some() || legs[1].refused.is_some() || stuck,
+            "{}: {said:#?}",
+            case.family
+        );
+        assert!(
+            !said[1].contains("no limit switch fired"),
+            "{}: {said:#?}",
+            case.family
+        );
+    }
+}
+
 fn legs_axis(case: &Case) -> &'static str {
     find_family(case.family).expect("registered").console.axes()[0].name
 }

@@ -101,6 +101,13 @@ pub fn findings(axis: &str, legs: &[Leg]) -> Vec<String> {
             continue;
         }
         match leg.fired {
+            // Nothing moved: no switch could fire, and "check the switch"
+            // would send the technician to the wrong place.
+            None if leg.from.is_some() && leg.from == leg.rest => lines.push(format!(
+                "{going}: the axis did not move (it stood at {}): is its motor on, or did a \
+                 trip (following error, a latched stop) hold it?",
+                at(leg.from)
+            )),
             None => lines.push(format!(
                 "{going}: no limit switch fired before the check gave up (from {} to {}): \
                  check the switch and its wiring",
@@ -220,6 +227,14 @@ impl Session {
             read_spacing: None,
             refused: None,
         };
+        // The switch the last leg fired, while it stays active from the
+        // start: the axis rests on it, so it is no finding of this leg.
+        // Once read inactive, the axis has left it, and meeting it again
+        // (an axis that ran on past a switch wired to the other input) is.
+        let mut still_on = left_on.filter(|limit| match limit {
+            Limit::Negative => status.left_switch == Some(true),
+            Limit::Positive => status.right_switch == Some(true),
+        });
         let mut last_position = status.position;
         let lines = plan
             .run(&info, direction, speed)
@@ -257,13 +272,17 @@ impl Session {
                     None => (p, p),
                 });
             }
-            let fired = [
+            let switches = [
                 (Limit::Negative, status.left_switch),
                 (Limit::Positive, status.right_switch),
-            ]
-            .into_iter()
-            .find(|(limit, on)| {
-                *on == Some(true) && !leg.active_at_start.contains(limit) && Some(*limit) != left_on
+            ];
+            if still_on.is_some_and(|held| switches.contains(&(held, Some(false)))) {
+                still_on = None;
+            }
+            let fired = switches.into_iter().find(|(limit, on)| {
+                *on == Some(true)
+                    && !leg.active_at_start.contains(limit)
+                    && Some(*limit) != still_on
             });
             if let Some((limit, _)) = fired {
                 leg.fired = Some((limit, status.position));
@@ -356,6 +375,16 @@ mod tests {
             "X, moving + tripped the − (left) switch at 200000: swapped wiring or inverted \
              direction"
         );
+    }
+
+    #[test]
+    fn an_axis_that_did_not_move_is_said_so_not_a_missing_switch() {
+        let mut stuck = leg(Direction::Negative, None, false);
+        stuck.rest = stuck.from;
+        let legs = [leg(Direction::Positive, Some(Limit::Positive), true), stuck];
+        let said = findings("1", &legs);
+        assert!(said[1].contains("did not move (it stood at 0)"), "{said:?}");
+        assert!(!said[1].contains("no limit switch fired"), "{said:?}");
     }
 
     #[test]
