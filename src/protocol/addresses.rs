@@ -7,17 +7,32 @@
 use std::fmt;
 use std::str::FromStr;
 
+/// A part of an address list that is not one.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum AddressError {
+    #[error("`{0}` is not an address 0..255")]
+    NotAnAddress(String),
+    #[error("range {0} runs backwards")]
+    Backwards(String),
+}
+
+impl From<AddressError> for String {
+    fn from(error: AddressError) -> String {
+        error.to_string()
+    }
+}
+
 /// `1-255`, `7`, `1,3,10-20` → the addresses in the order written, each
 /// once (a repeat is dropped, not an error: `1-4,2` is the bus 1-4). The
 /// error names the part that is wrong, not the option it came from: the
 /// caller says which.
-pub fn parse_addresses(text: &str) -> Result<Vec<u8>, String> {
+pub fn parse_addresses(text: &str) -> Result<Vec<u8>, AddressError> {
     let mut addresses = Vec::new();
     for part in text.split(',').map(str::trim) {
         let number = |s: &str| {
             s.trim()
                 .parse::<u8>()
-                .map_err(|_| format!("`{}` is not an address 0..255", s.trim()))
+                .map_err(|_| AddressError::NotAnAddress(s.trim().to_string()))
         };
         let (first, last) = match part.split_once('-') {
             Some((a, b)) => (number(a)?, number(b)?),
@@ -27,7 +42,7 @@ pub fn parse_addresses(text: &str) -> Result<Vec<u8>, String> {
             }
         };
         if first > last {
-            return Err(format!("range {part} runs backwards"));
+            return Err(AddressError::Backwards(part.to_string()));
         }
         for address in first..=last {
             if !addresses.contains(&address) {
@@ -84,8 +99,8 @@ impl From<u8> for AddressList {
 }
 
 impl FromStr for AddressList {
-    type Err = String;
-    fn from_str(text: &str) -> Result<AddressList, String> {
+    type Err = AddressError;
+    fn from_str(text: &str) -> Result<AddressList, AddressError> {
         let addresses = parse_addresses(text)?;
         Ok(AddressList {
             addresses,
@@ -112,11 +127,11 @@ mod tests {
         assert_eq!(parse_addresses("1, 3,2-4").unwrap(), [1, 3, 2, 4]);
         assert_eq!(parse_addresses("1,5,10-12").unwrap(), [1, 5, 10, 11, 12]);
         assert_eq!(
-            parse_addresses("5-1").unwrap_err(),
+            parse_addresses("5-1").unwrap_err().to_string(),
             "range 5-1 runs backwards"
         );
         assert_eq!(
-            parse_addresses("1-256").unwrap_err(),
+            parse_addresses("1-256").unwrap_err().to_string(),
             "`256` is not an address 0..255"
         );
         assert!(parse_addresses("").is_err());
