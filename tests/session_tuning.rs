@@ -195,7 +195,9 @@ async fn a_current_watch_that_turned_the_motor_stops_it_after() {
     assert!(watched.mean_share().is_some());
     tokio::time::sleep(std::time::Duration::from_secs(2)).await;
     assert_eq!(speed(&session).await, 0);
-    // A setting outside the form is refused before anything moves.
+    // A setting outside the form is refused before anything moves, and
+    // nothing is sent: not even the stop of a motor never started.
+    let mut traffic = session.device().traffic();
     let refused = session
         .watch_current(
             plan,
@@ -208,5 +210,12 @@ async fn a_current_watch_that_turned_the_motor_stops_it_after() {
         .await
         .expect_err("AP172 99 is out of range");
     assert!(refused.to_string().contains("0..15"), "{refused}");
+    let mut sent = Vec::new();
+    while let Ok(record) = traffic.try_recv() {
+        if record.direction == axterm::device::Direction::Sent {
+            sent.push(record.bytes);
+        }
+    }
+    assert!(sent.is_empty(), "sent on a refusal: {sent:?}");
     assert_eq!(speed(&session).await, 0);
 }

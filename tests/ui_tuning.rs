@@ -430,3 +430,317 @@ fn leaving_the_pane_or_losing_the_link_during_a_run_stops_the_axis() {
         assert_eq!(sent, vec![vec!["1MF".to_string()]], "{how}");
     }
 }
+
+/// A TMCL module's snapshot with one motor, the tuning pane focused and
+/// switched to the CoolStep view, whose form read (asked for on the
+/// switch) answered AP172 = 3, AP6 = 128. The pane's index and the app.
+fn coolstep_app() -> (axterm::ui::app::App, usize) {
+    let mut app = ui_support::console_with(&axterm::ui::PaneSetup::default());
+    app.handle(AppEvent::Snapshot(snapshot(axes(&["motor 0"]))));
+    app.focus("tuning");
+    let effects = app.handle(key(KeyCode::Char('t')));
+    let Some((pane, tag)) = effects.iter().find_map(|e| match e {
+        Effect::Tune {
+            pane,
+            tag,
+            job:
+                TuneJob::CurrentStart {
+                    axis: 0,
+                    set,
+                    run: None,
+                },
+        } if set.is_empty() => Some((*pane, *tag)),
+        _ => None,
+    }) else {
+        panic!("the form was not read on switching to it: {effects:?}");
+    };
+    let plan = find_family("tmcl")
+        .unwrap()
+        .console
+        .current_control()
+        .unwrap();
+    let form = plan
+        .form()
+        .into_iter()
+        .map(|f| {
+            let value = if f.name == "AP172" { 3 } else { 0 };
+            (f, Some(value))
+        })
+        .collect();
+    app.handle(AppEvent::Tuned {
+        pane,
+        tag,
+        result: Ok(TuneOutcome::CurrentStarted(
+            axterm::session::tuning::CurrentRun {
+                form,
+                full: Some(128),
+                samples: Vec::new(),
+            },
+        )),
+    });
+    (app, pane)
+}
+
+/// The start of a watch among `effects`: its tag, what it writes, how
+/// the motor turns.
+fn the_watch(effects: &[Effect]) -> Option<(u64, TuneJob)> {
+    effects.iter().find_map(|e| match e {
+        Effect::Tune { tag, job, .. } if matches!(job, TuneJob::CurrentStart { .. }) => {
+            Some((*tag, job.clone()))
+        }
+        _ => None,
+    })
+}
+
+#[test]
+fn a_coolstep_value_confirmed_unchanged_is_written_with_that_value() {
+    let (mut app, _) = coolstep_app();
+    let shown = ui_support::screen(&mut app, 80, 24).join("\n");
+    assert!(shown.contains("AP172 3"), "{shown}");
+    // AP168..AP171 come first; AP172 is the fifth row.
+    for _ in 0..4 {
+        app.handle(key(KeyCode::Down));
+    }
+    let shown = ui_support::screen(&mut app, 80, 24).join("\n");
+    assert!(
+        shown.contains("turns CoolStep off"),
+        "the chosen setting's meaning is shown:\n{shown}"
+    );
+    app.handle(key(KeyCode::Enter));
+    app.handle(key(KeyCode::Enter));
+    app.handle(key(KeyCode::Char('r')));
+    let (_, job) = the_watch(&app.handle(key(KeyCode::Char('y')))).expect("the watch starts");
+    assert_eq!(
+        job,
+        TuneJob::CurrentStart {
+            axis: 0,
+            set: vec![("AP172".to_string(), 3)],
+            run: Some((axterm::protocol::jog::Direction::Positive, 1000)),
+        }
+    );
+}
+
+#[test]
+fn a_watch_waits_for_the_form_read_under_way() {
+    let mut app = ui_support::console_with(&axterm::ui::PaneSetup::default());
+    app.handle(AppEvent::Snapshot(snapshot(axes(&["motor 0"]))));
+    app.focus("tuning");
+    app.handle(key(KeyCode::Char('t')));
+    let effects = app.handle(key(KeyCode::Char('r')));
+    assert!(
+        !effects.iter().any(|e| matches!(e, Effect::Tune { .. })),
+        "{effects:?}"
+    );
+    let shown = ui_support::screen(&mut app, 80, 24).join("\n");
+    assert!(
+        shown.contains("the settings are being read: run again in a moment"),
+        "{shown}"
+    );
+}
+
+#[test]
+fn a_coolstep_value_outside_the_form_is_named_and_nothing_is_sent() {
+    let (mut app, _) = coolstep_app();
+    for _ in 0..4 {
+        app.handle(key(KeyCode::Down));
+    }
+    app.handle(key(KeyCode::Enter));
+    app.handle(key(KeyCode::Backspace));
+    app.handle(key(KeyCode::Char('9')));
+    app.handle(key(KeyCode::Char('9')));
+    let effects = app.handle(key(KeyCode::Enter));
+    assert!(the_watch(&effects).is_none(), "{effects:?}");
+    let shown = ui_support::screen(&mut app, 80, 24).join("\n");
+    assert!(
+        shown.contains("AP172 takes 0..15, not 99"),
+        "the refusal names the setting and its range:\n{shown}"
+    );
+}
+
+#[test]
+fn a_watch_that_fails_stops_the_motor_and_one_cancelled_sends_its_stop() {
+    for how in ["failed", "esc", "other axis"] {
+        let (mut app, pane) = coolstep_app();
+        app.handle(key(KeyCode::Char('r')));
+        let (tag, _) = the_watch(&app.handle(key(KeyCode::Char('y')))).expect("the watch starts");
+        let effects = match how {
+            "failed" => app.handle(AppEvent::Tuned {
+                pane,
+                tag,
+                result: Err("no answer to GAP 206, 0".into()),
+            }),
+            "esc" => app.handle(key(KeyCode::Esc)),
+            _ => {
+                let mut shot = snapshot(axes(&["motor 0", "motor 1"]));
+                shot.axis = 1;
+                app.handle(AppEvent::Snapshot(shot))
+            }
+        };
+        assert!(effects.contains(&Effect::CancelTune), "{how}: {effects:?}");
+        let sent: Vec<Vec<String>> = effects
+            .iter()
+            .filter_map(Effect::sends)
+            .map(|(_, _, l)| l)
+            .collect();
+        assert_eq!(sent, vec![vec!["MST 0".to_string()]], "{how}");
+    }
+}
+
+#[test]
+fn each_reading_asks_for_the_next_until_the_watch_ends() {
+    let (mut app, pane) = coolstep_app();
+    app.handle(key(KeyCode::Char('r')));
+    let (tag, _) = the_watch(&app.handle(key(KeyCode::Char('y')))).expect("the watch starts");
+    let plan = find_family("tmcl")
+        .unwrap()
+        .console
+        .current_control()
+        .unwrap();
+    let effects = app.handle(AppEvent::Tuned {
+        pane,
+        tag,
+        result: Ok(TuneOutcome::CurrentStarted(
+            axterm::session::tuning::CurrentRun {
+                form: plan.form().into_iter().map(|f| (f, Some(0))).collect(),
+                full: Some(128),
+                samples: Vec::new(),
+            },
+        )),
+    });
+    let next = |effects: &[Effect]| {
+        effects
+            .iter()
+            .find_map(|e| match e {
+                Effect::Tune {
+                    tag,
+                    job: TuneJob::CurrentRead { full, axis: 0, .. },
+                    ..
+                } => {
+                    assert_eq!(*full, Some(128));
+                    Some(*tag)
+                }
+                _ => None,
+            })
+            .expect("the next reading is asked for")
+    };
+    let mut tag = next(&effects);
+    for (time, current, load, share) in [(0.0, 7, 900, 0.5), (0.1, 15, 400, 1.0)] {
+        let effects = app.handle(AppEvent::Tuned {
+            pane,
+            tag,
+            result: Ok(TuneOutcome::CurrentRead(
+                axterm::session::tuning::CurrentSample {
+                    time,
+                    speed: Some(1000),
+                    current: Some(current),
+                    load: Some(load),
+                    share: Some(share),
+                },
+            )),
+        });
+        tag = next(&effects);
+    }
+    let shown = ui_support::screen(&mut app, 80, 24).join("\n");
+    for said in [
+        "now: speed 1000, current 15 (100 %), load 400",
+        "mean current 75 % of the full current (128): CoolStep saved 25 %",
+        "• current, % of the full current",
+        "█ load reading, % of 1023",
+    ] {
+        assert!(shown.contains(said), "no {said:?} in\n{shown}");
+    }
+    // Esc ends the chain: a late reading asks for no other.
+    app.handle(key(KeyCode::Esc));
+    let effects = app.handle(AppEvent::Tuned {
+        pane,
+        tag,
+        result: Ok(TuneOutcome::CurrentRead(
+            axterm::session::tuning::CurrentSample {
+                time: 0.3,
+                speed: Some(0),
+                current: Some(7),
+                load: Some(0),
+                share: Some(0.5),
+            },
+        )),
+    });
+    assert!(
+        !effects.iter().any(|e| matches!(e, Effect::Tune { .. })),
+        "{effects:?}"
+    );
+}
+
+/// The share of the full current in the newest reading shown, in %.
+fn share_now(frame: &str) -> Option<u32> {
+    let after = frame.split("now: ").nth(1)?;
+    let open = after.find('(')?;
+    let close = after[open..].find(" %)")?;
+    after[open + 1..open + close].trim().parse().ok()
+}
+
+#[tokio::test(start_paused = true)]
+async fn the_coolstep_watch_plots_current_and_load_live_and_esc_stops_the_motor() {
+    for size in [(80, 24), (160, 48)] {
+        let (session, sim) = session_with_sim("tmcl").await;
+        run_tuning_on(
+            &session,
+            Some(sim),
+            size,
+            async |rig: &mut Rig, controller| {
+                rig.screens.until("from 200").await;
+                press(rig, KeyCode::Char('t'));
+                rig.screens
+                    .until_frame("the form read", |f| {
+                        f.contains("AP183 ") && !f.contains("AP183 -")
+                    })
+                    .await;
+                for _ in 0..4 {
+                    press(rig, KeyCode::Down);
+                }
+                press(rig, KeyCode::Enter);
+                press(rig, KeyCode::Backspace);
+                press(rig, KeyCode::Char('2'));
+                press(rig, KeyCode::Enter);
+                rig.screens
+                    .until("AP172 2 is written at the next watch")
+                    .await;
+                press(rig, KeyCode::Char('r'));
+                rig.screens.until("it moves the axis: y/n").await;
+                press(rig, KeyCode::Char('y'));
+                // Without load CoolStep brings the current down ...
+                let free = rig
+                    .screens
+                    .until_frame("the current lowered", |f| {
+                        f.contains("CoolStep saved") && share_now(f).is_some_and(|p| p < 80)
+                    })
+                    .await;
+                assert!(free.contains("• current"), "{size:?}: no key in\n{free}");
+                let low = share_now(&free).expect("a share");
+                // ... and under load it goes back up, live.
+                controller
+                    .drive_sim_input("LOAD=60")
+                    .expect("the load applies");
+                rig.screens
+                    .until_frame("the current raised under load", |f| {
+                        share_now(f).is_some_and(|p| p > low + 10)
+                    })
+                    .await;
+                press(rig, KeyCode::Esc);
+                rig.screens
+                    .until("run ended, stopping (stopped by key): MST 0")
+                    .await;
+                assert!(
+                    reads_zero(&session, "GAP 3, 0").await,
+                    "{size:?}: the motor still turns"
+                );
+            },
+        )
+        .await;
+        let ap172 = session.execute_line("GAP 172, 0").await.expect("reads");
+        assert_eq!(
+            ap172.value,
+            ReplyValue::Number(2),
+            "{size:?}: AP172 written"
+        );
+    }
+}

@@ -20,7 +20,7 @@ use super::{ConnectionArgs, EXIT_DEVICE, EXIT_OK, EXIT_USAGE};
 use crate::protocol::console::AxisInfo;
 use crate::protocol::jog::Direction;
 use crate::protocol::tuning::{StepAsk, StepSpec, SweepAsk, SweepPoint};
-use crate::session::tuning::{CurrentRun, StepRun, SweepRun, WatchRun};
+use crate::session::tuning::{CurrentRun, StepRun, SweepRun, WatchRun, saving_line};
 
 #[derive(Debug, Clone, Subcommand)]
 pub enum TuneCommand {
@@ -718,14 +718,7 @@ pub fn show_current(run: &CurrentRun, format: TuneFormat) -> String {
                 );
             }
             if let Some(mean) = run.mean_share() {
-                let _ = writeln!(
-                    out,
-                    "mean current {:.0} % of the full current (AP6 {}): CoolStep saved {:.0} % \
-                     of the current",
-                    mean * 100.0,
-                    shown(run.full),
-                    (1.0 - mean).max(0.0) * 100.0
-                );
+                let _ = writeln!(out, "{}", saving_line(mean, run.full));
             }
         }
     }

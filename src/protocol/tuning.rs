@@ -253,6 +253,9 @@ pub struct CurrentWatch {
     pub speed: String,
     /// The full (maximum) current setting the ratio is taken to.
     pub full: String,
+    /// The load reading's full scale (its largest value), so that a plot
+    /// can show it beside the current's share.
+    pub load_full: i64,
 }
 
 /// A family's load-adaptive current control (TMCL CoolStep, §7.3).

@@ -101,6 +101,17 @@ pub struct CurrentRun {
     pub samples: Vec<CurrentSample>,
 }
 
+/// The energy a load-adaptive current saves, in words: `mean` is the
+/// current's mean share of the full current `full` (as read).
+pub fn saving_line(mean: f64, full: Option<i64>) -> String {
+    format!(
+        "mean current {:.0} % of the full current ({}): CoolStep saved {:.0} % of the current",
+        mean * 100.0,
+        full.map_or_else(|| "unread".to_string(), |f| f.to_string()),
+        (1.0 - mean).max(0.0) * 100.0
+    )
+}
+
 impl CurrentRun {
     /// The mean share of the full current over the samples that have one.
     pub fn mean_share(&self) -> Option<f64> {
@@ -181,6 +192,14 @@ fn answer_text(value: &ReplyValue) -> String {
         ReplyValue::None => String::new(),
         ReplyValue::Number(n) => n.to_string(),
         ReplyValue::Text(text) => text.clone(),
+    }
+}
+
+/// A reading's number; `None` for an answer that is not one.
+fn number(value: ReplyValue) -> Option<i64> {
+    match value {
+        ReplyValue::Number(n) => Some(n),
+        _ => None,
     }
 }
 
@@ -338,6 +357,44 @@ impl Session {
         samples: u32,
         every: Duration,
     ) -> Result<CurrentRun, TuningError> {
+        let watch = async {
+            let mut done = self.begin_current_watch(plan, axis, set, run).await?;
+            let began = Instant::now();
+            for k in 0..samples {
+                if k > 0 {
+                    tokio::time::sleep(every).await;
+                }
+                done.samples
+                    .push(self.read_current(plan, axis, done.full, began).await?);
+            }
+            Ok::<_, TuningError>(done)
+        };
+        let result = watch.await;
+        // A refusal of the plan comes before anything is sent.
+        if let Some(run) = run.filter(|_| !matches!(result, Err(TuningError::Plan(_)))) {
+            let info = self.axis_info(axis)?;
+            let stopped = self.send_all(&run.jog.stop(&info)).await;
+            let done = result?;
+            stopped?;
+            return Ok(done);
+        }
+        result
+    }
+
+    /// The start of a current watch, for a caller that reads the samples
+    /// itself ([`Session::read_current`], the tuning pane's live plot):
+    /// write `set` (checked against the form first: nothing is sent if one
+    /// is refused), read the form and the full current, then start the
+    /// motor with `run`. The motor is left turning: the caller stops it
+    /// with `run`'s stop lines, also when this fails (a start line may
+    /// have gone out). The run has no samples yet.
+    pub async fn begin_current_watch(
+        &self,
+        plan: &dyn CurrentControlPlan,
+        axis: usize,
+        set: &[(String, i64)],
+        run: Option<WatchRun<'_>>,
+    ) -> Result<CurrentRun, TuningError> {
         let info = self.axis_info(axis)?;
         let writes = set
             .iter()
@@ -350,51 +407,42 @@ impl Session {
                 .map_err(|e| TuneError::Refused(e.into()))?,
             None => Vec::new(),
         };
-        let number = |value: ReplyValue| match value {
-            ReplyValue::Number(n) => Some(n),
-            _ => None,
-        };
-        let watch = async {
-            self.send_all(&writes).await?;
-            let mut form = Vec::new();
-            for field in plan.form() {
-                let value = number(self.execute_line(&plan.read(&info, &field)).await?.value);
-                form.push((field, value));
-            }
-            let lines = plan.watch(&info);
-            let full = number(self.execute_line(&lines.full).await?.value);
-            self.send_all(&start).await?;
-            let began = Instant::now();
-            let mut readings = Vec::new();
-            for k in 0..samples {
-                if k > 0 {
-                    tokio::time::sleep(every).await;
-                }
-                let speed = number(self.execute_line(&lines.speed).await?.value);
-                let current = number(self.execute_line(&lines.current).await?.value);
-                let load = number(self.execute_line(&lines.load).await?.value);
-                readings.push(CurrentSample {
-                    time: began.elapsed().as_secs_f64(),
-                    speed,
-                    current,
-                    load,
-                    share: current.zip(full).and_then(|(c, f)| plan.share(c, f)),
-                });
-            }
-            Ok::<_, TuningError>(CurrentRun {
-                form,
-                full,
-                samples: readings,
-            })
-        };
-        let result = watch.await;
-        if let Some(run) = run {
-            let stopped = self.send_all(&run.jog.stop(&info)).await;
-            let done = result?;
-            stopped?;
-            return Ok(done);
+        self.send_all(&writes).await?;
+        let mut form = Vec::new();
+        for field in plan.form() {
+            let value = number(self.execute_line(&plan.read(&info, &field)).await?.value);
+            form.push((field, value));
         }
-        result
+        let full = number(self.execute_line(&plan.watch(&info).full).await?.value);
+        self.send_all(&start).await?;
+        Ok(CurrentRun {
+            form,
+            full,
+            samples: Vec::new(),
+        })
+    }
+
+    /// One reading of a current watch: speed, current and load of `axis`,
+    /// timed from `began`, the share taken to `full` (as
+    /// [`Session::begin_current_watch`] read it).
+    pub async fn read_current(
+        &self,
+        plan: &dyn CurrentControlPlan,
+        axis: usize,
+        full: Option<i64>,
+        began: Instant,
+    ) -> Result<CurrentSample, TuningError> {
+        let lines = plan.watch(&self.axis_info(axis)?);
+        let speed = number(self.execute_line(&lines.speed).await?.value);
+        let current = number(self.execute_line(&lines.current).await?.value);
+        let load = number(self.execute_line(&lines.load).await?.value);
+        Ok(CurrentSample {
+            time: began.elapsed().as_secs_f64(),
+            speed,
+            current,
+            load,
+            share: current.zip(full).and_then(|(c, f)| plan.share(c, f)),
+        })
     }
 
     /// A stall test: turn the motor at `speed` and watch, for at most

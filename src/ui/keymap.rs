@@ -182,6 +182,7 @@ pub enum Action {
     TuneRun,
     TuneKeepFree,
     TuneApply,
+    TuneTool,
 }
 
 /// An action's name in keymap files, its word in the status bar, what it
@@ -317,6 +318,7 @@ pub const ACTIONS: &[ActionInfo] = &[
     info(Action::TuneRun, "tune_run", "Run test", "run the tuning pane's test (a step or a sweep), after a y/n question: it moves the axis (Esc stops it)", TUNING),
     info(Action::TuneKeepFree, "tune_keep_free", "Keep as free", "keep the last sweep as the one without load: the next (with the load applied) is compared with it", TUNING),
     info(Action::TuneApply, "tune_apply", "Send suggestion", "send the lines the sweeps suggest, after a y/n question", TUNING),
+    info(Action::TuneTool, "tune_tool", "Next tool", "switch the tuning pane to the family's next tool (TMCL: the StallGuard2 sweep and the CoolStep current control)", TUNING),
 ];
 
 impl Action {

@@ -277,6 +277,40 @@ impl Controller for SessionController {
                         .await
                         .map(app::TuneOutcome::Sweep)
                 }
+                app::TuneJob::CurrentStart { axis, set, run } => {
+                    let plan = family
+                        .console
+                        .current_control()
+                        .ok_or_else(|| none("current control"))?;
+                    let run = match run {
+                        Some((direction, speed)) => Some(crate::session::tuning::WatchRun {
+                            jog: family.console.jog().ok_or_else(|| none("jog"))?,
+                            direction,
+                            speed,
+                        }),
+                        None => None,
+                    };
+                    session
+                        .begin_current_watch(plan, axis, &set, run)
+                        .await
+                        .map(app::TuneOutcome::CurrentStarted)
+                }
+                app::TuneJob::CurrentRead {
+                    axis,
+                    full,
+                    began,
+                    wait,
+                } => {
+                    let plan = family
+                        .console
+                        .current_control()
+                        .ok_or_else(|| none("current control"))?;
+                    tokio::time::sleep(wait).await;
+                    session
+                        .read_current(plan, axis, full, began)
+                        .await
+                        .map(app::TuneOutcome::CurrentRead)
+                }
             };
             result.map_err(|error| error.to_string())
         })

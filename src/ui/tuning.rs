@@ -24,12 +24,23 @@
 //! plan's suggestion and the lines that would set it, sent only on their
 //! key after a y/n question.
 //!
+//! # Current control
+//!
+//! Where the family also has a load-adaptive current control (TMCL
+//! CoolStep), a key switches between its tools. The view shows the form's
+//! settings and a speed as rows, the chosen setting's meaning from the
+//! manual under them; the run key (after a y/n question when the motor is
+//! to turn) writes what was typed, starts the motor and plots the current
+//! and the load reading live until Esc (see [`current`]).
+//!
 //! # Stopping
 //!
 //! Esc during a run ends it: its task is dropped ([`Request::CancelTune`])
 //! and the plan's stop lines for the axis go out (a dropped run sends
-//! none of its own). Losing the keyboard or the link does the same; F12
-//! stops everything as everywhere.
+//! none of its own). Losing the keyboard or the link, or choosing another
+//! axis, does the same; F12 stops everything as everywhere.
+
+mod current;
 
 use ratatui::Frame;
 use ratatui::crossterm::event::KeyEvent;
@@ -47,29 +58,51 @@ use super::theme::Role;
 use crate::device::LinkState;
 use crate::protocol::console::AxisInfo;
 use crate::protocol::tuning::{
-    StallSweepPlan, StepAsk, StepResponsePlan, SweepAsk, SweepPoint, SweepSuggestion,
+    CurrentControlPlan, StallSweepPlan, StepAsk, StepResponsePlan, SweepAsk, SweepPoint,
+    SweepSuggestion,
 };
 use crate::session::tuning::{StepRun, SweepRun, step_lines};
+use current::{CurrentView, WATCH_EVERY};
 
 /// The family's tool, as the pane shows it.
+#[derive(Clone, Copy)]
 enum Tool {
     Step(&'static dyn StepResponsePlan),
     Sweep(&'static dyn StallSweepPlan),
+    Current(&'static dyn CurrentControlPlan),
     None,
 }
 
-fn tool(view: &View) -> Tool {
+impl Tool {
+    /// What the tool is called in the title and the switch's message.
+    fn label(&self) -> &'static str {
+        match self {
+            Tool::Step(_) => "step response",
+            Tool::Sweep(_) => "load sweep",
+            Tool::Current(_) => "current control",
+            Tool::None => "",
+        }
+    }
+}
+
+/// The tools the family of the session has, in the order the switch key
+/// goes through them.
+fn tools(view: &View) -> Vec<Tool> {
     let Some(session) = view.session else {
-        return Tool::None;
+        return Vec::new();
     };
     let console = session.family.console;
+    let mut tools = Vec::new();
     if let Some(plan) = console.step_response() {
-        Tool::Step(plan)
-    } else if let Some(plan) = console.stall_sweep() {
-        Tool::Sweep(plan)
-    } else {
-        Tool::None
+        tools.push(Tool::Step(plan));
     }
+    if let Some(plan) = console.stall_sweep() {
+        tools.push(Tool::Sweep(plan));
+    }
+    if let Some(plan) = console.current_control() {
+        tools.push(Tool::Current(plan));
+    }
+    tools
 }
 
 /// What awaits a y/n answer.
@@ -83,12 +116,18 @@ enum Confirm {
 #[derive(Debug, Clone, PartialEq)]
 struct Running {
     tag: u64,
+    /// The module (in [`View::modules`]) and the axis it runs on.
+    module: usize,
+    axis: usize,
     stop: Vec<String>,
 }
 
 /// The tuning pane.
 pub struct TuningPane {
     next_tag: u64,
+    /// Which of the family's [`tools`] is shown.
+    tool_index: usize,
+    current: CurrentView,
     selected: usize,
     /// A value being typed into the selected row.
     editing: Option<Field>,
@@ -128,6 +167,8 @@ impl TuningPane {
     pub fn new() -> TuningPane {
         TuningPane {
             next_tag: 1,
+            tool_index: 0,
+            current: CurrentView::new(),
             selected: 0,
             editing: None,
             gains: Vec::new(),
@@ -160,6 +201,15 @@ impl TuningPane {
         self.message = Some((role, text.into()));
     }
 
+    /// The tool shown.
+    fn tool(&self, view: &View) -> Tool {
+        let tools = tools(view);
+        match tools.len() {
+            0 => Tool::None,
+            n => tools[self.tool_index % n],
+        }
+    }
+
     fn axis(view: &View) -> Option<(usize, AxisInfo)> {
         let session = view.session?;
         session.selected_axis().map(|a| (session.axis, *a))
@@ -183,6 +233,7 @@ impl TuningPane {
                 ("to".into(), self.to.to_string()),
                 ("steps".into(), self.steps.to_string()),
             ],
+            Tool::Current(plan) => self.current.rows(*plan),
             Tool::None => Vec::new(),
         }
     }
@@ -199,10 +250,45 @@ impl TuningPane {
         }
     }
 
+    /// Read what the tool shows of the selected axis: the gains of a
+    /// step tool, the form of a current control; once per axis, or
+    /// `again`.
+    fn refresh(&mut self, view: &View, again: bool) -> Vec<Request> {
+        if let Tool::Current(_) = self.tool(view) {
+            return self.read_form(view, again);
+        }
+        self.read_gains(view, again)
+    }
+
+    /// Read the form of a current control (nothing is written or moved).
+    fn read_form(&mut self, view: &View, again: bool) -> Vec<Request> {
+        let (Some(session), Some((axis, _))) = (view.session, Self::axis(view)) else {
+            return Vec::new();
+        };
+        let key = (session.family.name, axis);
+        if self.running.is_some() || (!again && self.current.read_for == Some(key)) {
+            return Vec::new();
+        }
+        if self.current.read_for != Some(key) {
+            self.current.set.clear();
+        }
+        self.current.read_for = Some(key);
+        let tag = self.tag();
+        self.current.form_tag = Some(tag);
+        vec![Request::Tune {
+            job: TuneJob::CurrentStart {
+                axis,
+                set: Vec::new(),
+                run: None,
+            },
+            tag,
+        }]
+    }
+
     /// Read the gains of the selected axis (a step tool only).
     fn read_gains(&mut self, view: &View, again: bool) -> Vec<Request> {
         let (Tool::Step(_), Some(session), Some((axis, _))) =
-            (tool(view), view.session, Self::axis(view))
+            (self.tool(view), view.session, Self::axis(view))
         else {
             return Vec::new();
         };
@@ -254,9 +340,28 @@ impl TuningPane {
                 _ => Outcome::Ignored,
             };
         }
-        let tool = tool(view);
+        let tool = self.tool(view);
         let rows = self.rows(&tool).len();
         match action {
+            Some(Action::TuneTool) => {
+                let count = tools(view).len();
+                if count < 2 {
+                    self.say(Role::Muted, "this family has one tuning tool");
+                    return Outcome::redraw();
+                }
+                self.tool_index = (self.tool_index + 1) % count;
+                self.selected = 0;
+                let shown = self.tool(view);
+                self.say(
+                    Role::Muted,
+                    format!(
+                        "switched to the {} ({} for the next tool)",
+                        shown.label(),
+                        key_label(view.keymap, Context::Tuning, Action::TuneTool)
+                    ),
+                );
+                Outcome::Handled(self.refresh(view, false))
+            }
             Some(Action::SelectPrevious) if rows > 0 => {
                 self.selected = self.selected.checked_sub(1).unwrap_or(rows - 1);
                 Outcome::redraw()
@@ -279,7 +384,7 @@ impl TuningPane {
                 self.editing = Some(Field::new(shown));
                 Outcome::redraw()
             }
-            Some(Action::ParameterRefresh) => Outcome::Handled(self.read_gains(view, true)),
+            Some(Action::ParameterRefresh) => Outcome::Handled(self.refresh(view, true)),
             Some(Action::TuneRun) => self.ask_run(view, &tool),
             Some(Action::TuneKeepFree) => {
                 match self.sweep.take() {
@@ -318,7 +423,7 @@ impl TuningPane {
             }
             Some(Action::Submit) => {
                 let text = field.text().trim().to_string();
-                if let Err(why) = self.take_value(&tool(view), &text) {
+                if let Err(why) = self.take_value(&self.tool(view), &text, view) {
                     self.say(Role::Error, why);
                     self.editing = Some(field);
                 }
@@ -333,11 +438,19 @@ impl TuningPane {
     }
 
     /// The typed `text` into the selected row.
-    fn take_value(&mut self, tool: &Tool, text: &str) -> Result<(), String> {
+    fn take_value(&mut self, tool: &Tool, text: &str, view: &View) -> Result<(), String> {
         let rows = self.rows(tool);
         let Some((name, _)) = rows.get(self.selected) else {
             return Err("no row chosen".into());
         };
+        if let Tool::Current(plan) = tool {
+            let Some((_, info)) = Self::axis(view) else {
+                return Err("no axis to tune".into());
+            };
+            let said = self.current.take_value(*plan, &info, name, text)?;
+            self.say(Role::Changed, said);
+            return Ok(());
+        }
         let whole = |text: &str| {
             text.parse::<i64>()
                 .map_err(|_| format!("{name}: {text:?} is not a whole number"))
@@ -377,7 +490,9 @@ impl TuningPane {
                     .filter(|&n| n >= 1)
                     .ok_or_else(|| format!("steps: {n} (at least 1)"))?;
             }
-            (Tool::None, _) => return Err("no tuning tool for this family".into()),
+            (Tool::Current(_) | Tool::None, _) => {
+                return Err("no tuning tool for this family".into());
+            }
         }
         self.message = None;
         Ok(())
@@ -403,23 +518,45 @@ impl TuningPane {
     /// The run key: checked by the plan first (nothing sent on a refusal),
     /// then a y/n question.
     fn ask_run(&mut self, view: &View, tool: &Tool) -> Outcome {
-        let Some((_, info)) = Self::axis(view) else {
+        let Some((axis, info)) = Self::axis(view) else {
             self.say(Role::Error, "no axis to tune");
             return Outcome::redraw();
         };
+        if self.gains_tag.is_some() || self.current.form_tag.is_some() {
+            // One job at a time on the link: the read ends in a moment.
+            self.say(
+                Role::Warning,
+                "the settings are being read: run again in a moment (nothing sent)",
+            );
+            return Outcome::redraw();
+        }
         let checked = match tool {
-            Tool::Step(plan) => plan.script(&info, &self.step_ask()).map(|_| {
-                format!(
-                    "step {} by {} counts, recording {} samples?",
-                    info.name, self.distance, self.samples
-                )
-            }),
-            Tool::Sweep(plan) => plan.script(&info, &self.sweep_ask()).map(|_| {
-                format!(
-                    "sweep {} from {} to {} in {} speeds?",
-                    info.name, self.from, self.to, self.steps
-                )
-            }),
+            Tool::Step(plan) => plan
+                .script(&info, &self.step_ask())
+                .map_err(|e| e.to_string())
+                .map(|_| {
+                    format!(
+                        "step {} by {} counts, recording {} samples?",
+                        info.name, self.distance, self.samples
+                    )
+                }),
+            Tool::Sweep(plan) => plan
+                .script(&info, &self.sweep_ask())
+                .map_err(|e| e.to_string())
+                .map(|_| {
+                    format!(
+                        "sweep {} from {} to {} in {} speeds?",
+                        info.name, self.from, self.to, self.steps
+                    )
+                }),
+            Tool::Current(_) => match self.current_job(view, axis, &info) {
+                Ok(_) if self.current.speed == 0 => return self.start(view),
+                Ok(_) => Ok(format!(
+                    "watch the current of {} turning at {}?",
+                    info.name, self.current.speed
+                )),
+                Err(why) => Err(why),
+            },
             Tool::None => {
                 self.say(Role::Error, "no tuning tool for this family");
                 return Outcome::redraw();
@@ -435,11 +572,42 @@ impl TuningPane {
         Outcome::redraw()
     }
 
+    /// The start of a current watch on `axis` and the lines that stop
+    /// it: the typed settings, and the motor turning at the speed (a
+    /// positive jog) unless it is 0. Checked by the plans: nothing is sent
+    /// on an error.
+    fn current_job(
+        &self,
+        view: &View,
+        axis: usize,
+        info: &AxisInfo,
+    ) -> Result<(TuneJob, Vec<String>), String> {
+        let speed = self.current.speed;
+        let (run, stop) = if speed == 0 {
+            (None, Vec::new())
+        } else {
+            let jog = view
+                .session
+                .and_then(|s| s.family.console.jog())
+                .ok_or("this family has no jog to turn the motor with: speed 0 watches only")?;
+            let direction = crate::protocol::jog::Direction::Positive;
+            jog.run(info, direction, speed)
+                .map_err(|e| format!("speed {speed}: {e}"))?;
+            (Some((direction, speed)), jog.stop(info))
+        };
+        let job = TuneJob::CurrentStart {
+            axis,
+            set: self.current.set.clone(),
+            run,
+        };
+        Ok((job, stop))
+    }
+
     fn start(&mut self, view: &View) -> Outcome {
         let Some((axis, info)) = Self::axis(view) else {
             return Outcome::redraw();
         };
-        let (job, stop) = match tool(view) {
+        let (job, stop) = match self.tool(view) {
             Tool::Step(plan) => {
                 let ask = self.step_ask();
                 match plan.script(&info, &ask) {
@@ -460,10 +628,22 @@ impl TuningPane {
                     }
                 }
             }
+            Tool::Current(_) => match self.current_job(view, axis, &info) {
+                Ok(started) => started,
+                Err(why) => {
+                    self.say(Role::Error, format!("{why} (nothing sent)"));
+                    return Outcome::redraw();
+                }
+            },
             Tool::None => return Outcome::redraw(),
         };
         let tag = self.tag();
-        self.running = Some(Running { tag, stop });
+        self.running = Some(Running {
+            tag,
+            module: view.module,
+            axis,
+            stop,
+        });
         self.say(
             Role::Emergency,
             format!("running on {} (Esc stops it)", info.name),
@@ -487,6 +667,8 @@ impl TuningPane {
                 lines: running.stop,
                 tag,
             });
+        } else {
+            self.say(Role::Warning, format!("run ended ({why})"));
         }
         Outcome::Handled(requests)
     }
@@ -512,8 +694,56 @@ impl TuningPane {
             }
             return Outcome::redraw();
         }
-        if self.running.as_ref().is_none_or(|r| r.tag != tag) {
+        if self.current.form_tag == Some(tag) {
+            self.current.form_tag = None;
+            match result {
+                Ok(TuneOutcome::CurrentStarted(run)) => self.current.took_form(run),
+                Ok(_) => {}
+                Err(why) => self.say(Role::Error, format!("the form does not read: {why}")),
+            }
+            return Outcome::redraw();
+        }
+        let Some(running) = self.running.as_ref().filter(|r| r.tag == tag) else {
             return Outcome::Ignored;
+        };
+        let axis = running.axis;
+        // A current watch goes on, a reading at a time, until stopped.
+        let next_read = match result {
+            Ok(TuneOutcome::CurrentStarted(run)) => {
+                self.current.started(run, tokio::time::Instant::now());
+                self.say(
+                    Role::Emergency,
+                    "watching: the plot follows current and load (Esc ends it)",
+                );
+                Some(std::time::Duration::ZERO)
+            }
+            Ok(TuneOutcome::CurrentRead(sample)) => {
+                self.current.push(*sample);
+                Some(WATCH_EVERY)
+            }
+            Err(why) if matches!(self.tool(view), Tool::Current(_)) => {
+                // The motor may turn: stop it as Esc would.
+                let why = format!("the watch failed: {why}");
+                let outcome = self.cancel(&why);
+                self.say(Role::Error, why);
+                return outcome;
+            }
+            _ => None,
+        };
+        if let Some(wait) = next_read {
+            let tag = self.tag();
+            if let Some(running) = self.running.as_mut() {
+                running.tag = tag;
+            }
+            return Outcome::request(Request::Tune {
+                job: TuneJob::CurrentRead {
+                    axis,
+                    full: self.current.full,
+                    began: self.current.began.unwrap_or_else(tokio::time::Instant::now),
+                    wait,
+                },
+                tag,
+            });
         }
         self.running = None;
         match result {
@@ -528,7 +758,7 @@ impl TuningPane {
                 self.previous = self.step.replace(run.clone());
             }
             Ok(TuneOutcome::Sweep(run)) => {
-                self.suggestion = match (tool(view), &self.free, Self::axis(view)) {
+                self.suggestion = match (self.tool(view), &self.free, Self::axis(view)) {
                     (Tool::Sweep(plan), Some(free), Some((_, info))) => Some(plan.suggest(
                         &info,
                         &free.points,
@@ -540,7 +770,11 @@ impl TuningPane {
                 self.say(Role::Ok, "sweep done");
                 self.sweep = Some(run.clone());
             }
-            Ok(TuneOutcome::Gains(_)) => {}
+            Ok(
+                TuneOutcome::Gains(_)
+                | TuneOutcome::CurrentStarted(_)
+                | TuneOutcome::CurrentRead(_),
+            ) => {}
             Err(why) => self.say(Role::Error, format!("the run failed: {why}")),
         }
         Outcome::redraw()
@@ -598,15 +832,38 @@ impl TuningPane {
 
 type Series = Vec<(Vec<(f64, f64)>, Role, Marker, &'static str)>;
 
+/// How a chart's value axis is scaled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Scale {
+    /// To the values, with a margin.
+    Values,
+    /// From zero (or below) to the largest value.
+    FromZero,
+    /// 0 to 100 % (more if a value is above), over exactly the time the
+    /// points span.
+    Percent,
+}
+
 /// The chart of `series`, borrowing their points.
 fn series_chart<'a>(
     series: &'a Series,
-    from_zero: bool,
+    scale: Scale,
     titles: (&'a str, &'a str),
     view: &View,
 ) -> Chart<'a> {
-    let (x, y) = bounds(series.iter().flat_map(|(p, ..)| p.iter().copied()));
-    let y = if from_zero { [y[0].min(0.0), y[1]] } else { y };
+    let points = || series.iter().flat_map(|(p, ..)| p.iter().copied());
+    let (x, y) = bounds(points());
+    let (x, y) = match scale {
+        Scale::Values => (x, y),
+        Scale::FromZero => (x, [y[0].min(0.0), y[1]]),
+        Scale::Percent => {
+            let (first, last) = points().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+                (a.min(p.0), b.max(p.0))
+            });
+            let top = points().fold(100.0_f64, |top, p| top.max(p.1));
+            ([first, last.max(first + 1.0)], [0.0, top])
+        }
+    };
     let sets = series
         .iter()
         .map(|(points, role, marker, name)| {
@@ -681,9 +938,13 @@ impl Pane for TuningPane {
     }
 
     fn title(&self, view: &View) -> String {
-        match (tool(view), Self::axis(view)) {
-            (Tool::Step(_) | Tool::Sweep(_), Some((_, a))) => format!("Tune — {}", a.name),
-            _ => "Tune".to_string(),
+        let tool = self.tool(view);
+        match (tool, Self::axis(view)) {
+            (Tool::None, _) | (_, None) => "Tune".to_string(),
+            (_, Some((_, a))) if tools(view).len() > 1 => {
+                format!("Tune — {} · {}", a.name, tool.label())
+            }
+            (_, Some((_, a))) => format!("Tune — {}", a.name),
         }
     }
 
@@ -694,7 +955,7 @@ impl Pane for TuningPane {
     fn render(&mut self, frame: &mut Frame, area: Rect, view: &View) {
         let theme = view.theme;
         let width = usize::from(area.width);
-        let tool = tool(view);
+        let tool = self.tool(view);
         let mut head: Vec<Line> = Vec::new();
         if view.session.is_none() {
             head.push(Line::styled("not connected", theme.style(Role::Muted)));
@@ -717,9 +978,13 @@ impl Pane for TuningPane {
                 (Some(field), true) => format!(" {name}={}_ ", field.text()),
                 _ => format!(" {name} {value} "),
             };
+            let typed = match tool {
+                Tool::Current(_) => self.current.set.iter().any(|(n, _)| n == name),
+                _ => self.set.iter().any(|(n, _)| n == name),
+            };
             let role = if i == self.selected {
                 Role::Selection
-            } else if self.set.iter().any(|(n, _)| n == name) {
+            } else if typed {
                 Role::Changed
             } else {
                 Role::Normal
@@ -740,10 +1005,31 @@ impl Pane for TuningPane {
         if !line_spans.is_empty() {
             head.push(Line::from(line_spans));
         }
+        // The chosen setting's meaning, from the manual.
+        if let (Tool::Current(plan), Some((name, _))) = (tool, rows.get(self.selected)) {
+            for part in wrap(&self.current.meaning(plan, name), width) {
+                head.push(Line::styled(part, theme.style(Role::Muted)));
+            }
+        }
         let keys = |action| key_label(view.keymap, Context::Tuning, action);
+        // The switch to the family's next tool, where it has several.
+        let other = if tools(view).len() > 1 {
+            format!(" · {} next tool", keys(Action::TuneTool))
+        } else {
+            String::new()
+        };
         let hint = match tool {
             Tool::Step(_) => format!(
-                "{}/{} choose · {} type a value · {} read gains · {} run step · {} stop",
+                "{}/{} choose · {} type a value · {} read gains · {} run step · {} stop{other}",
+                keys(Action::SelectPrevious),
+                keys(Action::SelectNext),
+                keys(Action::ParameterEdit),
+                keys(Action::ParameterRefresh),
+                keys(Action::TuneRun),
+                keys(Action::Cancel),
+            ),
+            Tool::Current(_) => format!(
+                "{}/{} choose · {} type · {} read · {} watch · {} stop{other}",
                 keys(Action::SelectPrevious),
                 keys(Action::SelectNext),
                 keys(Action::ParameterEdit),
@@ -752,7 +1038,7 @@ impl Pane for TuningPane {
                 keys(Action::Cancel),
             ),
             _ => format!(
-                "{}/{} choose · {} type · {} run sweep · {} keep as free · {} send suggestion · {} stop",
+                "{}/{} choose · {} type · {} sweep · {} keep free · {} send · {} stop{other}",
                 keys(Action::SelectPrevious),
                 keys(Action::SelectNext),
                 keys(Action::ParameterEdit),
@@ -826,6 +1112,19 @@ impl Pane for TuningPane {
                     ));
                 }
             }
+            Tool::Current(plan) => {
+                if let Some((_, info)) = Self::axis(view)
+                    && !self.current.samples.is_empty()
+                {
+                    let key = CurrentView::key_line(plan.watch(&info).load_full);
+                    foot.push(Line::styled(fit(&key, width), theme.style(Role::Muted)));
+                }
+                for text in self.current.figures() {
+                    for part in wrap(&text, width) {
+                        foot.push(Line::styled(part, theme.style(Role::Normal)));
+                    }
+                }
+            }
             Tool::None => {}
         }
         let head_h = u16::try_from(head.len()).unwrap_or(u16::MAX);
@@ -839,12 +1138,17 @@ impl Pane for TuningPane {
         frame.render_widget(Paragraph::new(head), top);
         // At 80×24 the figures come before the plot.
         frame.render_widget(Paragraph::new(foot), bottom);
-        let (series, from_zero, titles) = match tool {
-            Tool::Step(_) => (self.step_series(), false, ("ms", "counts")),
-            _ => (self.sweep_series(), true, ("speed", "reading")),
+        let (series, scale, titles) = match (tool, Self::axis(view)) {
+            (Tool::Step(_), _) => (self.step_series(), Scale::Values, ("ms", "counts")),
+            (Tool::Current(plan), Some((_, info))) => (
+                self.current.series(plan.watch(&info).load_full),
+                Scale::Percent,
+                ("s", "%"),
+            ),
+            _ => (self.sweep_series(), Scale::FromZero, ("speed", "reading")),
         };
-        if !series.is_empty() && middle.height >= 4 {
-            frame.render_widget(series_chart(&series, from_zero, titles, view), middle);
+        if series.iter().any(|(points, ..)| !points.is_empty()) && middle.height >= 4 {
+            frame.render_widget(series_chart(&series, scale, titles, view), middle);
         }
     }
 
@@ -880,7 +1184,7 @@ impl Pane for TuningPane {
                 self.say(Role::Error, format!("{line}: {e}"));
                 Outcome::redraw()
             }
-            PaneEvent::Focused => Outcome::Handled(self.read_gains(view, false)),
+            PaneEvent::Focused => Outcome::Handled(self.refresh(view, false)),
             PaneEvent::Unfocused => {
                 self.confirm = None;
                 self.editing = None;
@@ -903,8 +1207,16 @@ impl Pane for TuningPane {
                 if lost && self.running.is_some() {
                     return self.cancel("the link was lost");
                 }
+                let axis = view.session.map(|s| (view.module, s.axis));
+                if self
+                    .running
+                    .as_ref()
+                    .is_some_and(|r| Some((r.module, r.axis)) != axis)
+                {
+                    return self.cancel("another axis was chosen");
+                }
                 if view.focused && !lost {
-                    let requests = self.read_gains(view, false);
+                    let requests = self.refresh(view, false);
                     if !requests.is_empty() {
                         return Outcome::Handled(requests);
                     }

@@ -248,6 +248,8 @@ impl CurrentControlPlan for TmclCoolStep {
             load: format!("GAP 206, {m}"),
             speed: format!("GAP 3, {m}"),
             full: format!("GAP 6, {m}"),
+            // §4 axis parameters, AP206 "Actual load value": 0..1023.
+            load_full: 1023,
         }
     }
 

@@ -43,6 +43,25 @@ pub enum TuneJob {
         axis: usize,
         ask: crate::protocol::tuning::SweepAsk,
     },
+    /// The start of a live current watch
+    /// ([`crate::session::Session::begin_current_watch`]): write `set`,
+    /// read the form, and with `run` (a direction and a speed) start the
+    /// motor, which is left turning. Without either it only reads the
+    /// form.
+    CurrentStart {
+        axis: usize,
+        set: Vec<(String, i64)>,
+        run: Option<(crate::protocol::jog::Direction, i64)>,
+    },
+    /// One reading of a live current watch, `wait` after the job starts
+    /// ([`crate::session::Session::read_current`]), timed from `began`
+    /// and taken to the full current `full`.
+    CurrentRead {
+        axis: usize,
+        full: Option<i64>,
+        began: tokio::time::Instant,
+        wait: std::time::Duration,
+    },
 }
 
 /// What a [`TuneJob`] gave.
@@ -51,6 +70,9 @@ pub enum TuneOutcome {
     Gains(Vec<(&'static str, Option<f64>)>),
     Step(crate::session::tuning::StepRun),
     Sweep(crate::session::tuning::SweepRun),
+    /// The form and the full current as read; no samples.
+    CurrentStarted(crate::session::tuning::CurrentRun),
+    CurrentRead(crate::session::tuning::CurrentSample),
 }
 
 /// The controller as the console drives it: a [`crate::session::Session`],

@@ -505,7 +505,16 @@ impl Runner {
             Wakeup::Input(Some(event)) => AppEvent::Terminal(event),
             Wakeup::Input(None) => AppEvent::Terminate,
             Wakeup::Module(index, wakeup) => return self.module_event(app, index, wakeup),
-            Wakeup::Internal(event) => event?,
+            Wakeup::Internal(event) => {
+                let event = event?;
+                if matches!(event, AppEvent::Tuned { .. }) {
+                    // The job's last act is to say it is done: the next
+                    // may start (a live watch asks for its next reading
+                    // at once), though its task may not have ended yet.
+                    self.tune = None;
+                }
+                event
+            }
             Wakeup::Connected(result) => {
                 self.connecting = None;
                 match result {
