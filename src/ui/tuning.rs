@@ -794,14 +794,9 @@ impl TuningPane {
         };
         let mut all: Series = Vec::new();
         if let Some(previous) = &self.previous {
-            all.push((series(previous, true), Role::Muted, Marker::Dot, "before"));
+            all.push((series(previous, true), Role::Muted, Marker::Bar, "before"));
         }
-        all.push((
-            series(run, false),
-            Role::Plot2,
-            Marker::Braille,
-            "commanded",
-        ));
+        all.push((series(run, false), Role::Plot2, Marker::Dot, "commanded"));
         all.push((series(run, true), Role::Plot1, Marker::Braille, "actual"));
         all
     }
@@ -816,7 +811,7 @@ impl TuningPane {
         };
         let mut all: Series = Vec::new();
         if let Some(free) = &self.free {
-            all.push((means(&free.points), Role::Plot2, Marker::Braille, "free"));
+            all.push((means(&free.points), Role::Plot2, Marker::Dot, "free"));
         }
         if let Some(sweep) = &self.sweep {
             let name = if self.free.is_some() {
@@ -831,6 +826,26 @@ impl TuningPane {
 }
 
 type Series = Vec<(Vec<(f64, f64)>, Role, Marker, &'static str)>;
+
+/// The character a marker draws a point with (braille: one full cell).
+fn marker_symbol(marker: Marker) -> &'static str {
+    match marker {
+        Marker::Dot => "•",
+        Marker::Block => "█",
+        Marker::Bar => "▄",
+        Marker::HalfBlock => "▀",
+        _ => "⣿",
+    }
+}
+
+/// Each series's marker and name on one line.
+fn series_key(series: &Series) -> String {
+    series
+        .iter()
+        .map(|(_, _, marker, name)| format!("{} {name}", marker_symbol(*marker)))
+        .collect::<Vec<_>>()
+        .join("   ")
+}
 
 /// How a chart's value axis is scaled.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -1038,7 +1053,7 @@ impl Pane for TuningPane {
                 keys(Action::Cancel),
             ),
             _ => format!(
-                "{}/{} choose · {} type · {} sweep · {} keep free · {} send · {} stop{other}",
+                "{}/{} · {} type · {} sweep · {} keep free · {} send · {} stop{other}",
                 keys(Action::SelectPrevious),
                 keys(Action::SelectNext),
                 keys(Action::ParameterEdit),
@@ -1054,7 +1069,19 @@ impl Pane for TuningPane {
                 head.push(Line::styled(part, theme.style(*role)));
             }
         }
-        // The figures (or the sweep's suggestion) under the plot.
+        let (series, scale, titles) = match (tool, Self::axis(view)) {
+            (Tool::Step(_), _) => (self.step_series(), Scale::Values, ("ms", "counts")),
+            (Tool::Current(plan), Some((_, info))) => (
+                self.current.series(plan.watch(&info).load_full),
+                Scale::Percent,
+                ("s", "%"),
+            ),
+            _ => (self.sweep_series(), Scale::FromZero, ("speed", "reading")),
+        };
+        let plotted = series.iter().any(|(points, ..)| !points.is_empty());
+        // The figures (or the sweep's suggestion) under the plot, after
+        // the key that names each series by its marker (the legend has no
+        // room at 80×24, and a marker reads without colour).
         let mut foot: Vec<Line> = Vec::new();
         match &tool {
             Tool::Step(_) => {
@@ -1127,6 +1154,25 @@ impl Pane for TuningPane {
             }
             Tool::None => {}
         }
+        // The plot needs four rows and its key a line under it; with four
+        // rows left (an MCCL step at 80×24) the key goes at the end of the
+        // line above the plot where it fits; with fewer (a long
+        // suggestion) neither is drawn.
+        let room = usize::from(area.height).saturating_sub(head.len() + foot.len());
+        let plotted = plotted && room >= 4;
+        if plotted && !matches!(tool, Tool::Current(_)) {
+            if room >= 5 {
+                foot.insert(
+                    0,
+                    Line::styled(fit(&series_key(&series), width), theme.style(Role::Muted)),
+                );
+            } else if let Some(above) = head.last_mut() {
+                let key = format!("   {}", series_key(&series));
+                if above.width() + key.chars().count() <= width {
+                    above.push_span(Span::styled(key, theme.style(Role::Muted)));
+                }
+            }
+        }
         let head_h = u16::try_from(head.len()).unwrap_or(u16::MAX);
         let foot_h = u16::try_from(foot.len()).unwrap_or(u16::MAX);
         let [top, middle, bottom] = Layout::vertical([
@@ -1138,16 +1184,7 @@ impl Pane for TuningPane {
         frame.render_widget(Paragraph::new(head), top);
         // At 80×24 the figures come before the plot.
         frame.render_widget(Paragraph::new(foot), bottom);
-        let (series, scale, titles) = match (tool, Self::axis(view)) {
-            (Tool::Step(_), _) => (self.step_series(), Scale::Values, ("ms", "counts")),
-            (Tool::Current(plan), Some((_, info))) => (
-                self.current.series(plan.watch(&info).load_full),
-                Scale::Percent,
-                ("s", "%"),
-            ),
-            _ => (self.sweep_series(), Scale::FromZero, ("speed", "reading")),
-        };
-        if series.iter().any(|(points, ..)| !points.is_empty()) && middle.height >= 4 {
+        if plotted && middle.height >= 4 {
             frame.render_widget(series_chart(&series, scale, titles, view), middle);
         }
     }

@@ -15,7 +15,7 @@ use std::time::Duration;
 
 use ratatui::symbols::Marker;
 
-use super::Series;
+use super::{Series, marker_symbol};
 use crate::protocol::console::AxisInfo;
 use crate::protocol::tuning::{CurrentControlPlan, FormField};
 use crate::session::tuning::{CurrentRun, CurrentSample, saving_line};
@@ -181,8 +181,9 @@ impl CurrentView {
     /// the plot reads without colour and without a legend.
     pub(super) fn key_line(load_full: i64) -> String {
         format!(
-            "{CURRENT_SYMBOL} current, % of the full current   {LOAD_SYMBOL} load reading, % of \
-             {load_full}"
+            "{} current, % of the full current   {} load reading, % of {load_full}",
+            marker_symbol(CURRENT_MARKER),
+            marker_symbol(LOAD_MARKER)
         )
     }
 
@@ -211,10 +212,8 @@ impl CurrentView {
 
 /// The current's marker: a dot per cell.
 const CURRENT_MARKER: Marker = Marker::Dot;
-const CURRENT_SYMBOL: &str = "•";
 /// The load's marker: a full block per cell, unlike the current's dots.
 const LOAD_MARKER: Marker = Marker::Block;
-const LOAD_SYMBOL: &str = "█";
 
 #[cfg(test)]
 mod tests {
