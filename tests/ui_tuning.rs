@@ -134,10 +134,57 @@ fn distance_and_samples_are_typed_and_a_bad_value_is_named_and_kept_out() {
     }
     ui_support::type_text(&mut app, "-250");
     app.handle(key(KeyCode::Enter));
+    // The settling band, two rows below: a band of 0 is none.
+    app.handle(key(KeyCode::Down));
+    app.handle(key(KeyCode::Down));
+    app.handle(key(KeyCode::Enter));
+    app.handle(key(KeyCode::Backspace));
+    ui_support::type_text(&mut app, "0");
+    app.handle(key(KeyCode::Enter));
+    let said = ui_support::screen(&mut app, 80, 24).join("\n");
+    assert!(said.contains("band: \"0\" (counts either side"), "{said}");
+    app.handle(key(KeyCode::Backspace));
+    ui_support::type_text(&mut app, "2.5");
+    app.handle(key(KeyCode::Enter));
     app.handle(key(KeyCode::Char('r')));
-    let (_, ask) = the_step(&app.handle(key(KeyCode::Char('y')))).expect("runs");
+    let effects = app.handle(key(KeyCode::Char('y')));
+    let (_, ask) = the_step(&effects).expect("runs");
     assert_eq!(ask.distance, -250);
     assert!(ask.set.is_empty(), "{:?}", ask.set);
+    assert!(
+        effects.iter().any(|e| matches!(
+            e,
+            Effect::Tune {
+                job: TuneJob::Step { band, .. },
+                ..
+            } if *band == 2.5
+        )),
+        "{effects:?}"
+    );
+}
+
+#[test]
+fn a_sweep_takes_the_readings_per_speed_typed() {
+    let mut app = ui_support::console_with(&axterm::ui::PaneSetup::default());
+    app.handle(AppEvent::Snapshot(snapshot(axes(&["motor 0"]))));
+    app.focus("tuning");
+    for _ in 0..3 {
+        app.handle(key(KeyCode::Down));
+    }
+    app.handle(key(KeyCode::Enter));
+    app.handle(key(KeyCode::Backspace));
+    ui_support::type_text(&mut app, "9");
+    app.handle(key(KeyCode::Enter));
+    app.handle(key(KeyCode::Char('r')));
+    let effects = app.handle(key(KeyCode::Char('y')));
+    let asked = effects.iter().find_map(|e| match e {
+        Effect::Tune {
+            job: TuneJob::Sweep { ask, .. },
+            ..
+        } => Some(*ask),
+        _ => None,
+    });
+    assert_eq!(asked.map(|a| a.samples), Some(9), "{effects:?}");
 }
 
 #[test]

@@ -252,7 +252,7 @@ impl Controller for SessionController {
                         .await
                         .map(app::TuneOutcome::Gains)
                 }
-                app::TuneJob::Step { axis, ask } => {
+                app::TuneJob::Step { axis, ask, band } => {
                     let plan = family
                         .console
                         .step_response()
@@ -262,7 +262,10 @@ impl Controller for SessionController {
                             plan,
                             axis,
                             &ask,
-                            &crate::protocol::tuning::StepSpec::default(),
+                            &crate::protocol::tuning::StepSpec {
+                                band,
+                                ..crate::protocol::tuning::StepSpec::default()
+                            },
                         )
                         .await
                         .map(app::TuneOutcome::Step)

@@ -140,9 +140,13 @@ pub struct TuningPane {
     read_for: Option<(&'static str, usize)>,
     distance: i64,
     samples: usize,
+    /// The settling band of the step's figures, counts either side.
+    band: f64,
     from: i64,
     to: i64,
     steps: u32,
+    /// Readings taken at each speed of a sweep.
+    readings: u32,
     confirm: Option<Confirm>,
     running: Option<Running>,
     step: Option<StepRun>,
@@ -160,7 +164,8 @@ impl Default for TuningPane {
     }
 }
 
-/// Readings taken at each speed of a sweep.
+/// Readings taken at each speed of a sweep unless another number is
+/// typed.
 const SWEEP_SAMPLES: u32 = 4;
 
 impl TuningPane {
@@ -177,9 +182,11 @@ impl TuningPane {
             read_for: None,
             distance: 1000,
             samples: 400,
+            band: crate::protocol::tuning::StepSpec::default().band,
             from: 200,
             to: 1000,
             steps: 5,
+            readings: SWEEP_SAMPLES,
             confirm: None,
             running: None,
             step: None,
@@ -226,12 +233,14 @@ impl TuningPane {
                     .collect();
                 rows.push(("distance".into(), self.distance.to_string()));
                 rows.push(("samples".into(), self.samples.to_string()));
+                rows.push(("band".into(), self.band.to_string()));
                 rows
             }
             Tool::Sweep(_) => vec![
                 ("from".into(), self.from.to_string()),
                 ("to".into(), self.to.to_string()),
                 ("steps".into(), self.steps.to_string()),
+                ("readings".into(), self.readings.to_string()),
             ],
             Tool::Current(plan) => self.current.rows(*plan),
             Tool::None => Vec::new(),
@@ -470,6 +479,13 @@ impl TuningPane {
                     .filter(|&n| n >= 2)
                     .ok_or_else(|| format!("samples: {n} (at least 2)"))?;
             }
+            (Tool::Step(_), "band") => {
+                self.band = text
+                    .parse()
+                    .ok()
+                    .filter(|b: &f64| b.is_finite() && *b > 0.0)
+                    .ok_or_else(|| format!("band: {text:?} (counts either side, more than 0)"))?;
+            }
             (Tool::Step(_), gain) => {
                 let v: f64 = text
                     .parse()
@@ -483,6 +499,13 @@ impl TuningPane {
             }
             (Tool::Sweep(_), "from") => self.from = whole(text)?,
             (Tool::Sweep(_), "to") => self.to = whole(text)?,
+            (Tool::Sweep(_), "readings") => {
+                let n = whole(text)?;
+                self.readings = u32::try_from(n)
+                    .ok()
+                    .filter(|&n| n >= 1)
+                    .ok_or_else(|| format!("readings: {n} (at least 1 at each speed)"))?;
+            }
             (Tool::Sweep(_), _) => {
                 let n = whole(text)?;
                 self.steps = u32::try_from(n)
@@ -511,7 +534,7 @@ impl TuningPane {
             from: self.from,
             to: self.to,
             steps: self.steps,
-            samples: SWEEP_SAMPLES,
+            samples: self.readings,
         }
     }
 
@@ -611,7 +634,14 @@ impl TuningPane {
             Tool::Step(plan) => {
                 let ask = self.step_ask();
                 match plan.script(&info, &ask) {
-                    Ok(script) => (TuneJob::Step { axis, ask }, script.stop),
+                    Ok(script) => (
+                        TuneJob::Step {
+                            axis,
+                            ask,
+                            band: self.band,
+                        },
+                        script.stop,
+                    ),
                     Err(why) => {
                         self.say(Role::Error, format!("{why} (nothing sent)"));
                         return Outcome::redraw();

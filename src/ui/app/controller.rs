@@ -37,6 +37,8 @@ pub enum TuneJob {
     Step {
         axis: usize,
         ask: crate::protocol::tuning::StepAsk,
+        /// The settling band, counts either side of the target.
+        band: f64,
     },
     /// A load sweep ([`crate::session::Session::stall_sweep`]).
     Sweep {
