@@ -816,10 +816,16 @@ impl TuningPane {
         let Some(run) = self.step.as_ref() else {
             return Vec::new();
         };
+        // Counts from where each run started, so that the run before
+        // lies over this one though the axis stood elsewhere then.
         let series = |run: &StepRun, actual: bool| -> Vec<(f64, f64)> {
+            let start = run.samples.first().map_or(0.0, |s| s.actual);
             run.samples
                 .iter()
-                .map(|s| (s.time * 1000.0, if actual { s.actual } else { s.commanded }))
+                .map(|s| {
+                    let value = if actual { s.actual } else { s.commanded };
+                    (s.time * 1000.0, value - start)
+                })
                 .collect()
         };
         let mut all: Series = Vec::new();
@@ -1100,7 +1106,11 @@ impl Pane for TuningPane {
             }
         }
         let (series, scale, titles) = match (tool, Self::axis(view)) {
-            (Tool::Step(_), _) => (self.step_series(), Scale::Values, ("ms", "counts")),
+            (Tool::Step(_), _) => (
+                self.step_series(),
+                Scale::Values,
+                ("ms", "counts from the start"),
+            ),
             (Tool::Current(plan), Some((_, info))) => (
                 self.current.series(plan.watch(&info).load_full),
                 Scale::Percent,
@@ -1292,5 +1302,42 @@ impl Pane for TuningPane {
             }
             _ => Outcome::Ignored,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::protocol::tuning::StepSample;
+
+    /// A step run from `start` by 100 counts.
+    fn run_from(start: f64) -> StepRun {
+        let sample = |time: f64, commanded: f64, actual: f64| StepSample {
+            time,
+            commanded: start + commanded,
+            actual: start + actual,
+            output: 0.0,
+        };
+        StepRun {
+            gains: Vec::new(),
+            samples: vec![sample(0.0, 100.0, 0.0), sample(0.001, 100.0, 90.0)],
+            figures: None,
+            figures_missing: None,
+            tripped: Vec::new(),
+            sample_period: 0.001,
+        }
+    }
+
+    #[test]
+    fn the_run_before_lies_over_this_one_though_the_axis_stood_elsewhere() {
+        let mut pane = TuningPane::new();
+        pane.previous = Some(run_from(0.0));
+        pane.step = Some(run_from(1000.0));
+        let series = pane.step_series();
+        let (before, actual) = (&series[0], &series[2]);
+        assert_eq!((before.3, actual.3), ("before", "actual"));
+        assert_eq!(before.0, actual.0);
+        assert_eq!(actual.0, vec![(0.0, 0.0), (1.0, 90.0)]);
+        assert_eq!(series[1].0, vec![(0.0, 100.0), (1.0, 100.0)]);
     }
 }
