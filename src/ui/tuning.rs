@@ -1069,36 +1069,48 @@ impl Pane for TuningPane {
         } else {
             String::new()
         };
-        let hint = match tool {
-            Tool::Step(_) => format!(
-                "{}/{} choose · {} type a value · {} read gains · {} run step · {} stop{other}",
-                keys(Action::SelectPrevious),
-                keys(Action::SelectNext),
-                keys(Action::ParameterEdit),
-                keys(Action::ParameterRefresh),
-                keys(Action::TuneRun),
-                keys(Action::Cancel),
+        // Each key with what it does; the sweep's list is the longest, so
+        // its "choose" goes to fit 80 columns.
+        let (choose, doing): (&str, &[(Action, &str)]) = match tool {
+            Tool::Step(_) => (
+                " choose",
+                &[
+                    (Action::ParameterEdit, "type a value"),
+                    (Action::ParameterRefresh, "read gains"),
+                    (Action::TuneRun, "run step"),
+                    (Action::Cancel, "stop"),
+                ],
             ),
-            Tool::Current(_) => format!(
-                "{}/{} choose · {} type · {} read · {} watch · {} stop{other}",
-                keys(Action::SelectPrevious),
-                keys(Action::SelectNext),
-                keys(Action::ParameterEdit),
-                keys(Action::ParameterRefresh),
-                keys(Action::TuneRun),
-                keys(Action::Cancel),
+            Tool::Current(_) => (
+                " choose",
+                &[
+                    (Action::ParameterEdit, "type"),
+                    (Action::ParameterRefresh, "read"),
+                    (Action::TuneRun, "watch"),
+                    (Action::Cancel, "stop"),
+                ],
             ),
-            _ => format!(
-                "{}/{} · {} type · {} sweep · {} keep free · {} send · {} stop{other}",
-                keys(Action::SelectPrevious),
-                keys(Action::SelectNext),
-                keys(Action::ParameterEdit),
-                keys(Action::TuneRun),
-                keys(Action::TuneKeepFree),
-                keys(Action::TuneApply),
-                keys(Action::Cancel),
+            _ => (
+                "",
+                &[
+                    (Action::ParameterEdit, "type"),
+                    (Action::TuneRun, "sweep"),
+                    (Action::TuneKeepFree, "keep free"),
+                    (Action::TuneApply, "send"),
+                    (Action::Cancel, "stop"),
+                ],
             ),
         };
+        let hint = format!(
+            "{}/{}{choose} · {}{other}",
+            keys(Action::SelectPrevious),
+            keys(Action::SelectNext),
+            doing
+                .iter()
+                .map(|(action, what)| format!("{} {what}", keys(*action)))
+                .collect::<Vec<_>>()
+                .join(" · ")
+        );
         head.push(Line::styled(fit(&hint, width), theme.style(Role::Muted)));
         if let Some((role, text)) = &self.message {
             for part in wrap(text, width) {
