@@ -396,9 +396,9 @@ async fn settings_of(session: &Session, sent: &[String]) -> Settings {
     let mut seen = HashSet::new();
     let mut rows: Vec<ParamRow> = Vec::new();
     let mut store_lines = HashSet::new();
-    for axis in 0..family.console.axes().len() {
-        let axis = u8::try_from(axis).unwrap_or(u8::MAX);
-        for table in parameters.tables(axis) {
+    // By the axes' own numbers: MCCL counts its axes from 1.
+    for axis in family.console.axes() {
+        for table in parameters.tables(axis.number) {
             for row in table.rows {
                 if !seen.insert((row.scope, row.number)) {
                     continue;
