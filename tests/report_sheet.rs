@@ -77,6 +77,7 @@ fn module(address: u8, firmware: &str, right_switch: &str) -> ModuleSheet {
                 },
             ],
             eeprom_stored: true,
+            read: None,
         },
         checks: Checks {
             lines: vec![

@@ -53,6 +53,10 @@ pub struct Settings {
     pub rows: Vec<SettingRow>,
     /// Whether the settings were stored to EEPROM/flash during the run.
     pub eeprom_stored: bool,
+    /// When the settings were read, or why they were not (the console's
+    /// `:report` reads them when it is given); `None` for a run's sheet,
+    /// whose settings are read after the run.
+    pub read: Option<String>,
 }
 
 /// One setting against the family's factory default.

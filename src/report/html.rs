@@ -165,6 +165,9 @@ fn settings_section(module: &ModuleSheet) -> String {
             "no (the settings are lost at power-off)"
         },
     );
+    if let Some(read) = &settings.read {
+        html += &row_th("Settings read", &escape(read));
+    }
     html += "</tbody>\n</table>\n";
     if settings.rows.is_empty() {
         html += "<p>No setting with a factory default was read.</p>\n";

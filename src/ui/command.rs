@@ -204,6 +204,8 @@ pub struct CommandPane {
     /// (Its name: [`Family`] is not `Debug`.)
     offline_family: Option<&'static str>,
     next_tag: u64,
+    /// A `:report` whose settings are being read ([`record::PendingReport`]).
+    report_pending: Option<record::PendingReport>,
     sent: HashMap<u64, Origin>,
     batch: Option<Batch>,
     /// The tag of the batch's current wake-up.
@@ -256,6 +258,7 @@ impl CommandPane {
             family: None,
             offline_family,
             next_tag: 0,
+            report_pending: None,
             sent: HashMap::new(),
             batch: None,
             batch_wake: None,
@@ -937,6 +940,8 @@ impl Pane for CommandPane {
                 }
                 Outcome::redraw()
             }
+            PaneEvent::SheetFact(fact) => self.session_record_fact(fact, view),
+            PaneEvent::SettingsRead { tag, result } => self.report_settings_read(*tag, result),
             PaneEvent::EmergencyStop(results) => {
                 self.session_record_stop_lines(results);
                 for result in results {

@@ -41,7 +41,7 @@ use ratatui::widgets::{Axis, Chart, Dataset, GraphType, LegendPosition, Paragrap
 use super::app::{TuneJob, TuneOutcome};
 use super::field::Field;
 use super::keymap::{Action, Context};
-use super::pane::{Input, Outcome, Pane, PaneEvent, Region, Request, View, key_label};
+use super::pane::{Input, Outcome, Pane, PaneEvent, Region, Request, SheetFact, View, key_label};
 use super::text::{fit, wrap};
 use super::theme::Role;
 use crate::device::LinkState;
@@ -49,7 +49,7 @@ use crate::protocol::console::AxisInfo;
 use crate::protocol::tuning::{
     StallSweepPlan, StepAsk, StepResponsePlan, SweepAsk, SweepPoint, SweepSuggestion,
 };
-use crate::session::tuning::{StepRun, SweepRun, step_lines};
+use crate::session::tuning::{StepRun, SweepRun, step_lines, step_plot, sweep_lines, sweep_plot};
 
 /// The family's tool, as the pane shows it.
 enum Tool {
@@ -84,6 +84,9 @@ enum Confirm {
 struct Running {
     tag: u64,
     stop: Vec<String>,
+    axis: AxisInfo,
+    /// The run as a commissioning sheet names it (`:tune-step …`).
+    line: String,
 }
 
 /// The tuning pane.
@@ -463,7 +466,13 @@ impl TuningPane {
             Tool::None => return Outcome::redraw(),
         };
         let tag = self.tag();
-        self.running = Some(Running { tag, stop });
+        let line = self.sheet_line(&job, &info);
+        self.running = Some(Running {
+            tag,
+            stop,
+            axis: info,
+            line,
+        });
         self.say(
             Role::Emergency,
             format!("running on {} (Esc stops it)", info.name),
@@ -471,12 +480,48 @@ impl TuningPane {
         Outcome::request(Request::Tune { job, tag })
     }
 
+    /// A run as a run file would say it, and where it was done.
+    fn sheet_line(&self, job: &TuneJob, info: &AxisInfo) -> String {
+        match job {
+            TuneJob::Step { ask, .. } => {
+                let set: Vec<String> = ask.set.iter().map(|(n, v)| format!("{n}={v}")).collect();
+                format!(
+                    ":tune-step --axis {} --distance {} --samples {}{} (the tuning pane's step of {})",
+                    info.number,
+                    ask.distance,
+                    ask.samples,
+                    if set.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" --set {}", set.join(","))
+                    },
+                    info.name
+                )
+            }
+            TuneJob::Sweep { ask, .. } => format!(
+                ":tune-stallguard --axis {} --from {} --to {} --steps {} --samples {} (the tuning \
+                 pane's sweep of {})",
+                info.number, ask.from, ask.to, ask.steps, ask.samples, info.name
+            ),
+            TuneJob::Gains { .. } => format!("reading the gains of {}", info.name),
+        }
+    }
+
     /// End the run: drop its task and send the axis's stop lines.
     fn cancel(&mut self, why: &str) -> Outcome {
         let Some(running) = self.running.take() else {
             return Outcome::Ignored;
         };
-        let mut requests = vec![Request::CancelTune];
+        let mut requests = vec![
+            Request::CancelTune,
+            // Shown on a session recording's sheet, not counted: the user
+            // stopped it.
+            Request::SheetFact(SheetFact::Unfinished {
+                line: running.line.clone(),
+                why: format!("stopped before its end ({why})"),
+                failed: false,
+            }),
+        ];
         if !running.stop.is_empty() {
             let tag = self.tag();
             self.say(
@@ -512,10 +557,10 @@ impl TuningPane {
             }
             return Outcome::redraw();
         }
-        if self.running.as_ref().is_none_or(|r| r.tag != tag) {
+        let Some(running) = self.running.take_if(|r| r.tag == tag) else {
             return Outcome::Ignored;
-        }
-        self.running = None;
+        };
+        let fact = sheet_fact(&running, result, view);
         match result {
             Ok(TuneOutcome::Step(run)) => {
                 self.gains = run.gains.clone();
@@ -543,7 +588,7 @@ impl TuningPane {
             Ok(TuneOutcome::Gains(_)) => {}
             Err(why) => self.say(Role::Error, format!("the run failed: {why}")),
         }
-        Outcome::redraw()
+        Outcome::Handled(fact.map(Request::SheetFact).into_iter().collect())
     }
 
     /// The step plot's series: (points, role, marker, name); the run
@@ -599,6 +644,53 @@ impl TuningPane {
 type Series = Vec<(Vec<(f64, f64)>, Role, Marker, &'static str)>;
 
 /// The chart of `series`, borrowing their points.
+/// What a run that ended gave, as the commissioning sheet shows it: the
+/// figure lines and plot `axterm run` puts there for its `:tune-step` and
+/// `:tune-stallguard`.
+fn sheet_fact(
+    running: &Running,
+    result: &Result<TuneOutcome, String>,
+    view: &View,
+) -> Option<SheetFact> {
+    let line = running.line.clone();
+    let axis = &running.axis;
+    Some(match result {
+        Ok(TuneOutcome::Step(run)) => {
+            let tripped: Vec<&str> = run.tripped.iter().map(|f| f.name).collect();
+            SheetFact::Tuning {
+                line,
+                said: if tripped.is_empty() {
+                    format!("{} samples", run.samples.len())
+                } else {
+                    format!("tripped ({}): the axis was stopped", tripped.join(", "))
+                },
+                ok: tripped.is_empty(),
+                figures: step_lines(axis, run),
+                plots: vec![step_plot(axis, run)],
+            }
+        }
+        Ok(TuneOutcome::Sweep(run)) => {
+            let reading = match tool(view) {
+                Tool::Sweep(plan) => plan.reading(),
+                _ => "reading",
+            };
+            SheetFact::Tuning {
+                line,
+                said: format!("{} speeds swept", run.points.len()),
+                ok: true,
+                figures: sweep_lines(reading, run),
+                plots: vec![sweep_plot(axis, reading, run)],
+            }
+        }
+        Ok(TuneOutcome::Gains(_)) => return None,
+        Err(why) => SheetFact::Unfinished {
+            line,
+            why: why.clone(),
+            failed: true,
+        },
+    })
+}
+
 fn series_chart<'a>(
     series: &'a Series,
     from_zero: bool,
