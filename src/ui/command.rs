@@ -121,6 +121,10 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
         "record each line sent and its answer as an `axterm run` file (reads as :expect, waits as :wait-until, the emergency stop as the stop lines it sent; an existing FILE only with --force); meanwhile :report [--force] FILE writes its commissioning sheet so far (JSON for FILE.json)",
     ),
     (
+        ":report [--force] FILE",
+        "write the commissioning sheet of the :record so far (JSON for FILE.json): its lines and checks, the bring-up pane's wiring checks, the tuning pane's runs with their plots, and the module's settings against the factory defaults, read first (reading the settings…; a failed read still writes the sheet, saying so); an existing FILE only with --force",
+    ),
+    (
         ":record-macro [--force] FILE | off",
         "record every line sent from here as a macro file of the module's program language (SIXpack 2: SendToPack lines, §5.4.6), until off; an existing FILE only with --force",
     ),
