@@ -539,13 +539,27 @@ fn the_cmd4cr_and_mccl_sheets_list_settings_against_the_manuals_defaults() {
         (flagged[0].0.as_str(), flagged[0].1.as_str()),
         ("axis 1", "SQ output limit (torque)")
     );
+    // As MCCL writes the reals (in volts); the JSON keeps the raw
+    // numbers (5 decimals: 8 V is 800000).
     assert_eq!(
         (flagged[0].2.as_str(), flagged[0].3.as_str()),
-        ("800000", "1000000")
+        ("8.00000", "10.00000")
+    );
+    let sq = json["modules"][0]["settings"]["rows"]
+        .as_array()
+        .expect("rows")
+        .iter()
+        .find(|r| r["differs"] == true)
+        .expect("the row that differs");
+    assert_eq!(sq["value"], 800_000);
+    assert_eq!(sq["factory_default"], 1_000_000);
+    assert_eq!(
+        (&sq["value_text"], &sq["unit"]),
+        (&"8.00000".into(), &"V".into())
     );
     assert!(
         rows.iter()
-            .any(|r| r.0 == "axis 5" && r.1 == "ES steps per encoder count" && r.3 == "10000"),
+            .any(|r| r.0 == "axis 5" && r.1 == "ES steps per encoder count" && r.3 == "1.0000"),
         "{rows:?}"
     );
     assert!(

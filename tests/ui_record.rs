@@ -364,9 +364,11 @@ async fn report_carries_the_panes_wiring_check_step_test_and_settings() {
         "{settings}"
     );
     let rows = select("#module-1 .settings-table tbody tr");
+    // Its cells run together: value, default, unit.
     assert!(
-        rows.iter()
-            .any(|r| r.contains("axis 1") && r.contains("SQ output limit (torque)1000000")),
+        rows.iter().any(
+            |r| r.contains("axis 1") && r.contains("SQ output limit (torque)10.0000010.00000V")
+        ),
         "{rows:?}"
     );
     assert!(rows.iter().any(|r| r.contains("axis 5")), "{rows:?}");

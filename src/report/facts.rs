@@ -70,6 +70,14 @@ pub struct SettingRow {
     pub value: Option<i64>,
     pub note: Option<String>,
     pub factory_default: Option<i64>,
+    /// The raw value's unit (`counts/s`, `V`); empty for plain numbers,
+    /// flags and codes.
+    pub unit: String,
+    /// The value and the default as the family writes them where that is
+    /// not the raw number (MCCL's reals: `10.00000` for the raw 1000000);
+    /// what the page shows.
+    pub value_text: Option<String>,
+    pub default_text: Option<String>,
 }
 
 impl SettingRow {

@@ -61,6 +61,10 @@ pub async fn read_settings(session: &Session, sent: &[String]) -> Settings {
                 .unwrap_or_else(|| ModuleValue::NoAnswer("not read".into()))
         };
         silent |= matches!(value, ModuleValue::NoAnswer(_));
+        // The family's own writing of a value, where it is not the raw
+        // number.
+        let text =
+            |raw: i64| Some(parameters.value_text(&row, raw)).filter(|t| *t != raw.to_string());
         settings.push(SettingRow {
             scope: scope_name(row.scope),
             number: row.number,
@@ -68,6 +72,9 @@ pub async fn read_settings(session: &Session, sent: &[String]) -> Settings {
             value: value.value(),
             note: value.why_not().map(str::to_string),
             factory_default: row.default,
+            unit: row.unit.to_string(),
+            value_text: value.value().and_then(text),
+            default_text: row.default.and_then(text),
         });
     }
     Settings {
