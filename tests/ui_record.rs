@@ -398,3 +398,74 @@ async fn report_carries_the_panes_wiring_check_step_test_and_settings() {
         "{file}"
     );
 }
+
+/// A StallGuard2 sweep in the tuning pane (TMCL) during a recording: on
+/// the sheet as `axterm run` puts its `:tune-stallguard`, its readings
+/// plotted; a sweep the user stops is shown and not counted.
+#[tokio::test(start_paused = true)]
+async fn report_carries_a_stallguard_sweep_of_the_tuning_pane() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let recording = dir.path().join("sweep.txt");
+    let html = dir.path().join("sheet.html");
+    let html_path = html.display().to_string();
+    let controller = sim_controller("tmcm1110").await;
+    run_command_console(controller, (160, 48), async |rig: &mut Rig| {
+        enter(rig, &format!(":record {}", recording.display()));
+        rig.screens.until("recording the session to").await;
+        press_with(rig, KeyCode::Char('9'), KeyModifiers::ALT);
+        rig.screens.until("from 200").await;
+        // One stopped with Esc, then one to its end.
+        press(rig, KeyCode::Char('r'));
+        rig.screens.until("it moves the axis: y/n").await;
+        press(rig, KeyCode::Char('y'));
+        rig.screens.until("Esc stops it").await;
+        press(rig, KeyCode::Esc);
+        rig.screens.until("run ended, stopping").await;
+        press(rig, KeyCode::Char('r'));
+        rig.screens.until("it moves the axis: y/n").await;
+        press(rig, KeyCode::Char('y'));
+        rig.screens.until("sweep done").await;
+        press_with(rig, KeyCode::Char('1'), KeyModifiers::ALT);
+        enter(rig, &format!(":report {html_path}"));
+        // The session's end the one check: the sweep counts only if it fails.
+        rig.screens.until("sheet.html: The one check passed").await;
+    })
+    .await;
+
+    let page = scraper::Html::parse_document(&read(&html));
+    let select = |css: &str| -> Vec<String> {
+        let selector = scraper::Selector::parse(css).expect("selector");
+        page.select(&selector)
+            .map(|e| e.text().collect::<String>())
+            .collect()
+    };
+    let tuning = &select("#module-1 .tuning")[0];
+    assert!(
+        tuning.contains("threshold during the sweep")
+            && tuning.contains("speed 200: ")
+            && tuning.contains("StallGuard2 sweep, motor 0"),
+        "{tuning}"
+    );
+    // A mean a speed, four readings a speed: 5 speeds.
+    let points = |name: &str| {
+        select(&format!(
+            "#module-1 .tuning svg g.series[data-name=\"{name}\"] .point"
+        ))
+        .len()
+    };
+    assert_eq!((points("mean"), points("readings")), (5, 20));
+    let lines = select("#module-1 .lines tbody tr");
+    assert!(
+        lines.iter().any(|l| l.contains(
+            ":tune-stallguard --axis 0 --from 200 --to 1000 --steps 5 --samples 4 (the tuning \
+             pane's sweep of motor 0)"
+        ) && l.contains("5 speeds swept")),
+        "{lines:?}"
+    );
+    assert!(
+        lines
+            .iter()
+            .any(|l| l.contains("# stopped: :tune-stallguard") && l.contains("stopped by key")),
+        "{lines:?}"
+    );
+}
