@@ -915,6 +915,12 @@ impl Pane for CommandPane {
                 }
                 self.store_job = None;
                 self.session_record_stopping();
+                // The stop ended a `:report`'s settings read too: its
+                // sheet is written now, saying so.
+                if let Some(tag) = self.report_pending.as_ref().map(|p| p.tag) {
+                    let ended = Err("the emergency stop ended the read".to_string());
+                    let _ = self.report_settings_read(tag, &ended);
+                }
                 let dropped = self.sent.len();
                 self.sent.clear();
                 self.batch_wake = None;

@@ -142,7 +142,7 @@ pub(super) struct SessionRecording {
 /// it started ends (the facts as they were when it was asked for).
 #[derive(Debug)]
 pub(super) struct PendingReport {
-    tag: u64,
+    pub(super) tag: u64,
     path: PathBuf,
     existing: Existing,
     sheet: Sheet,

@@ -229,3 +229,44 @@ fn report_reads_the_settings_first_and_a_failed_read_still_writes_the_sheet() {
     );
     assert!(last(&pane).contains("the sheet of the session so far is in"));
 }
+
+#[test]
+fn the_emergency_stop_during_a_reports_settings_read_writes_its_sheet() {
+    let theme = Theme::builtin("dark").expect("theme");
+    let keymap = Keymap::builtin("default").expect("keymap");
+    let connected = snapshot();
+    let view = View {
+        theme: &theme,
+        keymap: &keymap,
+        session: Some(&connected),
+        modules: &[],
+        module: 0,
+        focused: true,
+        shown: true,
+    };
+    let dir = tempfile::tempdir().expect("temp dir");
+    let sheet = dir.path().join("sheet.json");
+    let mut pane = CommandPane::new(None);
+    pane.console_command(
+        &format!(":record {}", dir.path().join("s.txt").display()),
+        &view,
+    );
+    pane.console_command(&format!(":report {}", sheet.display()), &view);
+    assert!(!sheet.exists());
+    // The stop aborts the read's task: its answer never comes.
+    pane.on_event(&PaneEvent::Stopping, &view);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&sheet).expect("written")).expect("JSON");
+    assert_eq!(
+        json["modules"][0]["settings"]["read"],
+        "not read (the emergency stop ended the read)"
+    );
+    // And the next :report goes.
+    pane.console_command(&format!(":report --force {}", sheet.display()), &view);
+    let said: Vec<&str> = pane.output_lines().collect();
+    assert!(
+        said.last()
+            .is_some_and(|l| l.contains("reading the settings")),
+        "{said:?}"
+    );
+}
