@@ -412,6 +412,11 @@ async fn report_carries_a_stallguard_sweep_of_the_tuning_pane() {
     run_command_console(controller, (160, 48), async |rig: &mut Rig| {
         enter(rig, &format!(":record {}", recording.display()));
         rig.screens.until("recording the session to").await;
+        // The power down delay set and stored (TMCL STAP): the sheet says
+        // the settings were stored, and flags it against its default.
+        enter(rig, "SAP 214, 0, 100");
+        enter(rig, "STAP 214, 0");
+        rig.screens.until("STAP 214, 0  ").await;
         press_with(rig, KeyCode::Char('9'), KeyModifiers::ALT);
         rig.screens.until("from 200").await;
         // One stopped with Esc, then one to its end.
@@ -439,6 +444,13 @@ async fn report_carries_a_stallguard_sweep_of_the_tuning_pane() {
             .map(|e| e.text().collect::<String>())
             .collect()
     };
+    let settings = &select("#module-1 .settings")[0];
+    assert!(settings.contains("Stored to EEPROMyes"), "{settings}");
+    let differs = select("#module-1 .settings-table tr.differs");
+    assert!(
+        differs.len() == 1 && differs[0].contains("Power down delay100200"),
+        "{differs:?}"
+    );
     let tuning = &select("#module-1 .tuning")[0];
     assert!(
         tuning.contains("threshold during the sweep")
