@@ -58,6 +58,9 @@ fn module(address: u8, firmware: &str, right_switch: &str) -> ModuleSheet {
                     value: Some(1000),
                     note: None,
                     factory_default: Some(1000),
+                    unit: String::new(),
+                    value_text: None,
+                    default_text: None,
                 },
                 SettingRow {
                     scope: "axis 0".into(),
@@ -66,6 +69,9 @@ fn module(address: u8, firmware: &str, right_switch: &str) -> ModuleSheet {
                     value: Some(128),
                     note: None,
                     factory_default: Some(255),
+                    unit: String::new(),
+                    value_text: None,
+                    default_text: None,
                 },
                 SettingRow {
                     scope: "axis 0".into(),
@@ -74,9 +80,13 @@ fn module(address: u8, firmware: &str, right_switch: &str) -> ModuleSheet {
                     value: None,
                     note: Some("no answer".into()),
                     factory_default: Some(4),
+                    unit: String::new(),
+                    value_text: None,
+                    default_text: None,
                 },
             ],
             eeprom_stored: true,
+            read: None,
         },
         checks: Checks {
             lines: vec![

@@ -8,7 +8,6 @@
 //! written when the run has ended; an existing file is replaced only with
 //! `--force`.
 
-use std::collections::HashSet;
 use std::path::PathBuf;
 use std::sync::Mutex;
 use std::time::SystemTime;
@@ -17,14 +16,11 @@ use clap::Args;
 
 use super::script::{Action, CheckedStep};
 use crate::files::{Existing, check_destination};
-use crate::protocol::parameters::{ParamOp, ParamRow, Scope};
 use crate::report::{
     CheckOutcome, Checks, EmergencyStop, Ending, Expectation, Identity, LineKind, LineOutcome,
-    ModuleSheet, Plot, RunEnd, RunLine, SettingRow, Settings, Sheet, Tuning, Wiring, sheet_html,
-    sheet_json,
+    ModuleSheet, Plot, RunEnd, RunLine, Settings, Sheet, Tuning, Wiring, sheet_html, sheet_json,
 };
 use crate::session::Session;
-use crate::session::params::{ModuleValue, read_values};
 use crate::session::run_end::{RunAftermath, RunEnding};
 use crate::wall_clock::CivilTime;
 
@@ -362,7 +358,7 @@ impl ModuleRecord {
         // After a second Ctrl-C gave up the stop the user wants out: the
         // module is not asked anything more.
         let mut settings = match aftermath {
-            Some(_) => settings_of(session, &sent).await,
+            Some(_) => crate::session::sheet::read_settings(session, &sent).await,
             None => Settings::default(),
         };
         settings.parameter_file = parameter_file;
@@ -373,72 +369,6 @@ impl ModuleRecord {
             checks,
             tuning,
         }
-    }
-}
-
-/// `axis 0`, `bank 2`.
-fn scope_name(scope: Scope) -> String {
-    match scope {
-        Scope::Axis(n) => format!("axis {n}"),
-        Scope::Bank(n) => format!("bank {n}"),
-    }
-}
-
-/// Each setting of the family's tables that has a factory default, read
-/// from the module; a module that stops answering is not asked the rest.
-/// Stored when a line that succeeded is the family's store line of one of
-/// its settings.
-async fn settings_of(session: &Session, sent: &[String]) -> Settings {
-    let family = session.family();
-    let Some(parameters) = family.console.parameters() else {
-        return Settings::default();
-    };
-    let mut seen = HashSet::new();
-    let mut rows: Vec<ParamRow> = Vec::new();
-    let mut store_lines = HashSet::new();
-    for axis in 0..family.console.axes().len() {
-        let axis = u8::try_from(axis).unwrap_or(u8::MAX);
-        for table in parameters.tables(axis) {
-            for row in table.rows {
-                if !seen.insert((row.scope, row.number)) {
-                    continue;
-                }
-                if let Ok(line) = parameters.line(&row, ParamOp::Store)
-                    && let Ok(prepared) = family.console.prepare(&line, session.address())
-                {
-                    store_lines.insert(prepared.canonical);
-                }
-                if row.default.is_some() {
-                    rows.push(row);
-                }
-            }
-        }
-    }
-    let mut silent = false;
-    let mut settings = Vec::new();
-    for row in rows {
-        let value = if silent {
-            ModuleValue::NoAnswer("not read: the module stopped answering".into())
-        } else {
-            read_values(session, parameters, std::slice::from_ref(&row))
-                .await
-                .remove(&(row.scope, row.number))
-                .unwrap_or_else(|| ModuleValue::NoAnswer("not read".into()))
-        };
-        silent |= matches!(value, ModuleValue::NoAnswer(_));
-        settings.push(SettingRow {
-            scope: scope_name(row.scope),
-            number: row.number,
-            name: row.name.clone(),
-            value: value.value(),
-            note: value.why_not().map(str::to_string),
-            factory_default: row.default,
-        });
-    }
-    Settings {
-        parameter_file: None,
-        rows: settings,
-        eeprom_stored: sent.iter().any(|line| store_lines.contains(line)),
     }
 }
 

@@ -326,60 +326,7 @@ pub fn show_step(axis: &AxisInfo, run: &StepRun, format: TuneFormat) -> String {
     out
 }
 
-pub use crate::session::tuning::step_lines;
-
-/// A step test's samples as the sheet's plot: commanded and actual
-/// position over time (ms).
-pub fn step_plot(axis: &AxisInfo, run: &StepRun) -> crate::report::Plot {
-    use crate::report::{Plot, Series};
-    let series = |name: &str, value: fn(&crate::protocol::tuning::StepSample) -> f64| Series {
-        name: name.to_string(),
-        points: run
-            .samples
-            .iter()
-            .map(|s| (s.time * 1000.0, value(s)))
-            .collect(),
-    };
-    Plot {
-        title: format!("Step response, {}", axis.name),
-        x_label: "time (ms)".into(),
-        y_label: "position (counts)".into(),
-        series: vec![
-            series("commanded", |s| s.commanded),
-            series("actual", |s| s.actual),
-        ],
-    }
-}
-
-/// A sweep's readings as the sheet's plot: the mean reading at each
-/// speed, and every reading.
-pub fn sweep_plot(axis: &AxisInfo, reading: &str, run: &SweepRun) -> crate::report::Plot {
-    use crate::report::{Plot, Series};
-    let as_f64 = |n: i64| n as f64;
-    Plot {
-        title: format!("StallGuard2 sweep, {}", axis.name),
-        x_label: "speed".into(),
-        y_label: reading.split(',').next().unwrap_or(reading).to_string(),
-        series: vec![
-            Series {
-                name: "mean".into(),
-                points: run
-                    .points
-                    .iter()
-                    .filter_map(|p| Some((as_f64(p.speed), as_f64(p.mean()?))))
-                    .collect(),
-            },
-            Series {
-                name: "readings".into(),
-                points: run
-                    .points
-                    .iter()
-                    .flat_map(|p| p.readings.iter().map(|&r| (as_f64(p.speed), as_f64(r))))
-                    .collect(),
-            },
-        ],
-    }
-}
+pub use crate::session::tuning::{step_lines, step_plot, sweep_lines, sweep_plot};
 
 fn run_sweep(connection: &ConnectionArgs, args: &SweepArgs) -> i32 {
     let target = match Target::resolve(connection) {
@@ -784,21 +731,8 @@ pub fn show_sweep(
             let _ = writeln!(out, "{object}");
         }
         TuneFormat::Text => {
-            let _ = writeln!(
-                out,
-                "{reading}; threshold during the sweep: {}",
-                run.threshold
-                    .map_or_else(|| "not read".to_string(), |t| t.to_string())
-            );
-            for p in &run.points {
-                let readings: Vec<String> = p.readings.iter().map(i64::to_string).collect();
-                let _ = writeln!(
-                    out,
-                    "speed {}: {} (readings {})",
-                    p.speed,
-                    p.mean().map_or_else(|| "-".to_string(), |m| m.to_string()),
-                    readings.join(" ")
-                );
+            for line in sweep_lines(reading, run) {
+                let _ = writeln!(out, "{line}");
             }
             if let Some(s) = suggestion {
                 for reason in &s.reasons {

@@ -53,6 +53,10 @@ pub struct Settings {
     pub rows: Vec<SettingRow>,
     /// Whether the settings were stored to EEPROM/flash during the run.
     pub eeprom_stored: bool,
+    /// When the settings were read, or why they were not (the console's
+    /// `:report` reads them when it is given); `None` for a run's sheet,
+    /// whose settings are read after the run.
+    pub read: Option<String>,
 }
 
 /// One setting against the family's factory default.
@@ -66,6 +70,14 @@ pub struct SettingRow {
     pub value: Option<i64>,
     pub note: Option<String>,
     pub factory_default: Option<i64>,
+    /// The raw value's unit (`counts/s`, `V`); empty for plain numbers,
+    /// flags and codes.
+    pub unit: String,
+    /// The value and the default as the family writes them where that is
+    /// not the raw number (MCCL's reals: `10.00000` for the raw 1000000);
+    /// what the page shows.
+    pub value_text: Option<String>,
+    pub default_text: Option<String>,
 }
 
 impl SettingRow {

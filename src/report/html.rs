@@ -165,6 +165,9 @@ fn settings_section(module: &ModuleSheet) -> String {
             "no (the settings are lost at power-off)"
         },
     );
+    if let Some(read) = &settings.read {
+        html += &row_th("Settings read", &escape(read));
+    }
     html += "</tbody>\n</table>\n";
     if settings.rows.is_empty() {
         html += "<p>No setting with a factory default was read.</p>\n";
@@ -175,14 +178,21 @@ fn settings_section(module: &ModuleSheet) -> String {
             settings.rows.len()
         );
         html += "<table class=\"settings-table\">\n<thead><tr><th>Where</th><th>No.</th>\
-                 <th>Setting</th><th>Value</th><th>Factory default</th><th></th></tr></thead>\n<tbody>\n";
+                 <th>Setting</th><th>Value</th><th>Factory default</th><th>Unit</th><th></th></tr></thead>\n<tbody>\n";
         for row in &settings.rows {
+            // As the family writes it (its unit in a column of its own:
+            // TMCL's are such as `10 ms`).
+            let shown = |raw: i64, text: &Option<String>| {
+                escape(&text.clone().unwrap_or_else(|| raw.to_string()))
+            };
             let value = match (row.value, &row.note) {
-                (Some(v), _) => v.to_string(),
+                (Some(v), _) => shown(v, &row.value_text),
                 (None, Some(note)) => format!("({})", escape(note)),
                 (None, None) => "(not read)".into(),
             };
-            let default = row.factory_default.map_or("—".into(), |d| d.to_string());
+            let default = row
+                .factory_default
+                .map_or("—".into(), |d| shown(d, &row.default_text));
             let (class, mark) = if row.differs() {
                 (
                     " class=\"differs\"",
@@ -192,10 +202,11 @@ fn settings_section(module: &ModuleSheet) -> String {
                 ("", "")
             };
             html += &format!(
-                "<tr{class}><td>{}</td><td>{}</td><td>{}</td><td>{value}</td><td>{default}</td><td>{mark}</td></tr>\n",
+                "<tr{class}><td>{}</td><td>{}</td><td>{}</td><td>{value}</td><td>{default}</td><td>{}</td><td>{mark}</td></tr>\n",
                 escape(&row.scope),
                 row.number,
-                escape(&row.name)
+                escape(&row.name),
+                escape(&row.unit)
             );
         }
         html += "</tbody>\n</table>\n";

@@ -27,6 +27,7 @@ mod later;
 pub mod params;
 pub mod run_end;
 pub mod settings;
+pub mod sheet;
 mod status;
 pub mod transfer;
 pub mod tuning;

@@ -167,6 +167,20 @@ pub fn wired_right(legs: &[Leg]) -> bool {
     })
 }
 
+/// The findings of each faulty leg (without the home switch's line, said
+/// of the whole check): what a commissioning sheet's verdict names. Empty
+/// when [`wired_right`].
+pub fn faults(axis: &str, legs: &[Leg]) -> Vec<String> {
+    legs.iter()
+        .filter(|leg| !wired_right(std::slice::from_ref(leg)))
+        .flat_map(|leg| {
+            let mut lines = findings(axis, std::slice::from_ref(leg));
+            lines.pop();
+            lines
+        })
+        .collect()
+}
+
 impl Session {
     /// Jog axis `axis` (index into [`Session::axes`]) with `plan` at
     /// `speed` toward + until a limit switch fires, then toward −; each

@@ -123,6 +123,12 @@ pub enum AppEvent {
         tag: u64,
         result: Result<TuneOutcome, String>,
     },
+    /// A pane's settings read ([`Effect::ReadSettings`]) ended.
+    SettingsRead {
+        pane: usize,
+        tag: u64,
+        result: Result<crate::report::Settings, String>,
+    },
     /// SIGTERM, SIGHUP: leave now.
     Terminate,
 }
@@ -219,6 +225,13 @@ pub enum Effect {
     },
     /// End the running tuning job where it is.
     CancelTune,
+    /// Read the settings with a factory default for a pane; them back as
+    /// [`AppEvent::SettingsRead`].
+    ReadSettings {
+        pane: usize,
+        tag: u64,
+        sent: Vec<String>,
+    },
     /// Take these mechanics as those in force, on every module.
     Mechanics(crate::protocol::units::MechanicsTable),
     /// Poll a read line with the status, or no longer
@@ -547,6 +560,10 @@ impl App {
             }
             AppEvent::Tuned { pane, tag, result } => {
                 let event = PaneEvent::Tuned { tag, result };
+                self.deliver(pane, &event, &mut effects);
+            }
+            AppEvent::SettingsRead { pane, tag, result } => {
+                let event = PaneEvent::SettingsRead { tag, result };
                 self.deliver(pane, &event, &mut effects);
             }
             AppEvent::ProgramLoaded { pane, tag, result } => {
@@ -960,6 +977,10 @@ impl App {
                 fast,
             }),
             Request::Plot(args) => self.broadcast(&PaneEvent::Plot(args), effects),
+            Request::SheetFact(fact) => self.broadcast(&PaneEvent::SheetFact(fact), effects),
+            Request::ReadSettings { sent, tag } => {
+                effects.push(Effect::ReadSettings { pane, tag, sent })
+            }
             Request::Say(notice) => self.broadcast(&PaneEvent::Notice(notice), effects),
             Request::Quit => {
                 self.quit = true;

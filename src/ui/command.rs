@@ -121,6 +121,10 @@ pub const CONSOLE_COMMANDS: &[(&str, &str)] = &[
         "record each line sent and its answer as an `axterm run` file (reads as :expect, waits as :wait-until, the emergency stop as the stop lines it sent; an existing FILE only with --force); meanwhile :report [--force] FILE writes its commissioning sheet so far (JSON for FILE.json)",
     ),
     (
+        ":report [--force] FILE",
+        "write the commissioning sheet of the :record so far (JSON for FILE.json): its lines and checks, the bring-up pane's wiring checks, the tuning pane's runs with their plots, and the module's settings against the factory defaults, read first (reading the settings…; a failed read still writes the sheet, saying so); an existing FILE only with --force",
+    ),
+    (
         ":record-macro [--force] FILE | off",
         "record every line sent from here as a macro file of the module's program language (SIXpack 2: SendToPack lines, §5.4.6), until off; an existing FILE only with --force",
     ),
@@ -204,6 +208,8 @@ pub struct CommandPane {
     /// (Its name: [`Family`] is not `Debug`.)
     offline_family: Option<&'static str>,
     next_tag: u64,
+    /// A `:report` whose settings are being read ([`record::PendingReport`]).
+    report_pending: Option<record::PendingReport>,
     sent: HashMap<u64, Origin>,
     batch: Option<Batch>,
     /// The tag of the batch's current wake-up.
@@ -256,6 +262,7 @@ impl CommandPane {
             family: None,
             offline_family,
             next_tag: 0,
+            report_pending: None,
             sent: HashMap::new(),
             batch: None,
             batch_wake: None,
@@ -908,6 +915,12 @@ impl Pane for CommandPane {
                 }
                 self.store_job = None;
                 self.session_record_stopping();
+                // The stop ended a `:report`'s settings read too: its
+                // sheet is written now, saying so.
+                if let Some(tag) = self.report_pending.as_ref().map(|p| p.tag) {
+                    let ended = Err("the emergency stop ended the read".to_string());
+                    let _ = self.report_settings_read(tag, &ended);
+                }
                 let dropped = self.sent.len();
                 self.sent.clear();
                 self.batch_wake = None;
@@ -937,6 +950,8 @@ impl Pane for CommandPane {
                 }
                 Outcome::redraw()
             }
+            PaneEvent::SheetFact(fact) => self.session_record_fact(fact, view),
+            PaneEvent::SettingsRead { tag, result } => self.report_settings_read(*tag, result),
             PaneEvent::EmergencyStop(results) => {
                 self.session_record_stop_lines(results);
                 for result in results {

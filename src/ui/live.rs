@@ -225,6 +225,7 @@ impl Controller for SessionController {
                 Ok(legs) => Ok(app::WiringFindings {
                     lines: crate::session::wiring::findings(&name, &legs),
                     wired_right: crate::session::wiring::wired_right(&legs),
+                    faults: crate::session::wiring::faults(&name, &legs),
                 }),
                 Err(error) => {
                     // The axis may still move: stop everything, as the
@@ -317,6 +318,11 @@ impl Controller for SessionController {
             };
             result.map_err(|error| error.to_string())
         })
+    }
+
+    fn read_settings(&self, sent: Vec<String>) -> Pending<Result<crate::report::Settings, String>> {
+        let session = self.session.clone();
+        Box::pin(async move { Ok(crate::session::sheet::read_settings(&session, &sent).await) })
     }
 
     fn set_polling(&self, cadence: Option<PollCadence>) {

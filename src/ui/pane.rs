@@ -216,6 +216,47 @@ pub enum PaneEvent {
         tag: u64,
         result: Result<super::app::TuneOutcome, String>,
     },
+    /// A tool of a pane did something the commissioning sheet shows
+    /// ([`Request::SheetFact`]): for the command pane's session recording.
+    SheetFact(SheetFact),
+    /// The [`Request::ReadSettings`] under `tag` ended: the module's
+    /// settings against the factory defaults, or why they were not read.
+    SettingsRead {
+        tag: u64,
+        result: Result<crate::report::Settings, String>,
+    },
+}
+
+/// What a pane's tool did, as the commissioning sheet of a session
+/// recording shows it (`:record`, `:report`): the same facts `axterm run`
+/// puts on the sheet for its `:wiring`, `:tune-step` and
+/// `:tune-stallguard` lines. Generic: each tool says what it did in words.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SheetFact {
+    /// The wiring check ran to its end: its findings, the faulty ones
+    /// among them (none when wired right).
+    Wiring {
+        /// What was done, as the sheet's line shows it (`:wiring …`).
+        line: String,
+        findings: Vec<String>,
+        faults: Vec<String>,
+    },
+    /// A tuning tool ran to its end: its figure lines and plots; `ok`
+    /// false when it tripped (`said` says so).
+    Tuning {
+        line: String,
+        said: String,
+        ok: bool,
+        figures: Vec<String>,
+        plots: Vec<crate::report::Plot>,
+    },
+    /// A tool did not run to its end: it failed (`failed`, a failed check
+    /// on the sheet) or was stopped by the user (shown, not counted).
+    Unfinished {
+        line: String,
+        why: String,
+        failed: bool,
+    },
 }
 
 /// A console message and how it should look.
@@ -373,6 +414,14 @@ pub enum Request {
     /// `:plot ARGS` typed in the command pane: for the plot pane, as
     /// [`PaneEvent::Plot`].
     Plot(String),
+    /// Tell every pane what a tool did, for the commissioning sheet (as
+    /// [`PaneEvent::SheetFact`]).
+    SheetFact(SheetFact),
+    /// Read the module's settings that have a factory default
+    /// ([`crate::session::sheet::read_settings`]; `sent`: the canonical
+    /// lines sent that succeeded, to tell whether one stored them); they
+    /// come back as [`PaneEvent::SettingsRead`] under `tag`.
+    ReadSettings { sent: Vec<String>, tag: u64 },
     /// Say this in the command pane (as [`PaneEvent::Notice`]).
     Say(Notice),
     /// Leave the console.

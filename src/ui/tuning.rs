@@ -52,7 +52,7 @@ use ratatui::widgets::{Axis, Chart, Dataset, GraphType, LegendPosition, Paragrap
 use super::app::{TuneJob, TuneOutcome};
 use super::field::Field;
 use super::keymap::{Action, Context};
-use super::pane::{Input, Outcome, Pane, PaneEvent, Region, Request, View, key_label};
+use super::pane::{Input, Outcome, Pane, PaneEvent, Region, Request, SheetFact, View, key_label};
 use super::text::{fit, wrap};
 use super::theme::Role;
 use crate::device::LinkState;
@@ -61,7 +61,7 @@ use crate::protocol::tuning::{
     CurrentControlPlan, StallSweepPlan, StepAsk, StepResponsePlan, SweepAsk, SweepPoint,
     SweepSuggestion,
 };
-use crate::session::tuning::{StepRun, SweepRun, step_lines};
+use crate::session::tuning::{StepRun, SweepRun, step_lines, step_plot, sweep_lines, sweep_plot};
 use current::{CurrentView, WATCH_EVERY};
 
 /// The family's tool, as the pane shows it.
@@ -119,7 +119,11 @@ struct Running {
     /// The module (in [`View::modules`]) and the axis it runs on.
     module: usize,
     axis: usize,
+    info: AxisInfo,
     stop: Vec<String>,
+    /// The run as a commissioning sheet names it (`:tune-step …`); none
+    /// for a current watch, which the sheet has no section for.
+    line: Option<String>,
 }
 
 /// The tuning pane.
@@ -668,11 +672,14 @@ impl TuningPane {
             Tool::None => return Outcome::redraw(),
         };
         let tag = self.tag();
+        let line = self.sheet_line(&job, &info);
         self.running = Some(Running {
             tag,
             module: view.module,
             axis,
+            info,
             stop,
+            line,
         });
         self.say(
             Role::Emergency,
@@ -681,12 +688,50 @@ impl TuningPane {
         Outcome::request(Request::Tune { job, tag })
     }
 
+    /// A run as a run file would say it, and where it was done.
+    fn sheet_line(&self, job: &TuneJob, info: &AxisInfo) -> Option<String> {
+        Some(match job {
+            TuneJob::Step { ask, band, .. } => {
+                let set: Vec<String> = ask.set.iter().map(|(n, v)| format!("{n}={v}")).collect();
+                format!(
+                    ":tune-step --axis {} --distance {} --samples {}{} (the tuning pane's step of \
+                     {}, settling band {band} counts)",
+                    info.number,
+                    ask.distance,
+                    ask.samples,
+                    if set.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" --set {}", set.join(","))
+                    },
+                    info.name
+                )
+            }
+            TuneJob::Sweep { ask, .. } => format!(
+                ":tune-stallguard --axis {} --from {} --to {} --steps {} --samples {} (the tuning \
+                 pane's sweep of {})",
+                info.number, ask.from, ask.to, ask.steps, ask.samples, info.name
+            ),
+            TuneJob::Gains { .. } => format!("reading the gains of {}", info.name),
+            TuneJob::CurrentStart { .. } | TuneJob::CurrentRead { .. } => return None,
+        })
+    }
+
     /// End the run: drop its task and send the axis's stop lines.
     fn cancel(&mut self, why: &str) -> Outcome {
         let Some(running) = self.running.take() else {
             return Outcome::Ignored;
         };
         let mut requests = vec![Request::CancelTune];
+        if let Some(line) = running.line.clone() {
+            // Shown on a session recording's sheet, not counted: the user
+            // stopped it.
+            requests.push(Request::SheetFact(SheetFact::Unfinished {
+                line,
+                why: format!("stopped before its end ({why})"),
+                failed: false,
+            }));
+        }
         if !running.stop.is_empty() {
             let tag = self.tag();
             self.say(
@@ -775,7 +820,10 @@ impl TuningPane {
                 tag,
             });
         }
-        self.running = None;
+        let Some(running) = self.running.take() else {
+            return Outcome::Ignored;
+        };
+        let fact = sheet_fact(&running, result, &self.tool(view));
         match result {
             Ok(TuneOutcome::Step(run)) => {
                 self.gains = run.gains.clone();
@@ -807,7 +855,7 @@ impl TuningPane {
             ) => {}
             Err(why) => self.say(Role::Error, format!("the run failed: {why}")),
         }
-        Outcome::redraw()
+        Outcome::Handled(fact.map(Request::SheetFact).into_iter().collect())
     }
 
     /// The step plot's series: (points, role, marker, name); the run
@@ -893,6 +941,55 @@ enum Scale {
     /// 0 to 100 % (more if a value is above), over exactly the time the
     /// points span.
     Percent,
+}
+
+/// What a run that ended gave, as the commissioning sheet shows it: the
+/// figure lines and plot `axterm run` puts there for its `:tune-step` and
+/// `:tune-stallguard`.
+fn sheet_fact(
+    running: &Running,
+    result: &Result<TuneOutcome, String>,
+    tool: &Tool,
+) -> Option<SheetFact> {
+    let line = running.line.clone()?;
+    let axis = &running.info;
+    Some(match result {
+        Ok(TuneOutcome::Step(run)) => {
+            let tripped: Vec<&str> = run.tripped.iter().map(|f| f.name).collect();
+            SheetFact::Tuning {
+                line,
+                said: if tripped.is_empty() {
+                    format!("{} samples", run.samples.len())
+                } else {
+                    format!("tripped ({}): the axis was stopped", tripped.join(", "))
+                },
+                ok: tripped.is_empty(),
+                figures: step_lines(axis, run),
+                plots: vec![step_plot(axis, run)],
+            }
+        }
+        Ok(TuneOutcome::Sweep(run)) => {
+            let reading = match tool {
+                Tool::Sweep(plan) => plan.reading(),
+                _ => "reading",
+            };
+            SheetFact::Tuning {
+                line,
+                said: format!("{} speeds swept", run.points.len()),
+                ok: true,
+                figures: sweep_lines(reading, run),
+                plots: vec![sweep_plot(axis, reading, run)],
+            }
+        }
+        Ok(
+            TuneOutcome::Gains(_) | TuneOutcome::CurrentStarted(_) | TuneOutcome::CurrentRead(_),
+        ) => return None,
+        Err(why) => SheetFact::Unfinished {
+            line,
+            why: why.clone(),
+            failed: true,
+        },
+    })
 }
 
 /// The chart of `series`, borrowing their points.

@@ -35,7 +35,7 @@ use std::path::Path;
 use crate::protocol::Family;
 use crate::protocol::console::PreparedLine;
 use crate::session::run_end::{RunEnding, StopOnFailure};
-use crate::session::wiring::{findings, wired_right};
+use crate::session::wiring::findings;
 use crate::session::{LineResult, Session, SessionError};
 
 #[derive(Debug, Clone, Args)]
@@ -828,17 +828,7 @@ impl Runner<'_> {
                     Err(error) => return failed(error.to_string()),
                 };
                 let found = findings(axis.name, &legs);
-                // Each faulty leg's own lines (without the home switch's,
-                // said of the whole check).
-                let faults: Vec<String> = legs
-                    .iter()
-                    .filter(|leg| !wired_right(std::slice::from_ref(leg)))
-                    .flat_map(|leg| {
-                        let mut lines = findings(axis.name, std::slice::from_ref(leg));
-                        lines.pop();
-                        lines
-                    })
-                    .collect();
+                let faults = crate::session::wiring::faults(axis.name, &legs);
                 let right = faults.is_empty();
                 self.say("wiring", &found, right);
                 if !right {

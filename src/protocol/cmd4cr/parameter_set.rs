@@ -159,6 +159,42 @@ const LINK: &[&str] = &["ID", "DB"];
 /// saved one back would move a counter or switch an output.
 const STATE: &[&str] = &["P", "E", "MP", "EO", "DO", "IO", "PWM"];
 
+/// The power-on values the manual states, by keyword; every other setting
+/// has none (the speeds, ramps, POL, the boot values: the manual gives no
+/// number). Where the manual says it:
+/// - ID 01 "shipped from the factory" (§2.1.1.1, §3.3); DB 1, "a baud rate
+///   setting of 9600 bps" by default (§3.2.1, Table 3-39 code 1).
+/// - EXST=0 by default (§2.1.1.2, §2.1.3.1.3); IERR=0 by default
+///   (§2.1.3.1.1.1 "Limit error", §2.1.3.1.2).
+/// - SDE[axis]=0 and SDC[axis]=0 by default (§2.1.3.1.1.2).
+/// - SCV[axis]=0: "By default, the Commander core uses a linear
+///   acceleration profile" (§2.1.4).
+/// - EINT=1: "By default, interpolation is enabled" (§2.3.1).
+/// - DIP=0: the pin table gives DI1–DI4 "Negative#", which Note 4 says is
+///   the terminal's initial logic (§6.1.1.2), and DIP 0 is negative logic
+///   (§2.1.6.3). DOP has no such row: the pin table says DO1–DO4 are
+///   "Positive" without the `#` of a logic software can change, while
+///   §2.1.6.3 says DOP toggles it, so its power-on value is left unknown.
+const FACTORY_DEFAULTS: &[(&str, i64)] = &[
+    ("ID", 1),
+    ("DB", 1),
+    ("EXST", 0),
+    ("IERR", 0),
+    ("SDE", 0),
+    ("SDC", 0),
+    ("SCV", 0),
+    ("EINT", 1),
+    ("DIP", 0),
+];
+
+/// The manual's power-on value of a command's setting, if it gives one.
+fn factory_default(spec: &CommandSpec) -> Option<i64> {
+    FACTORY_DEFAULTS
+        .iter()
+        .find(|(keyword, _)| *keyword == spec.keyword)
+        .map(|&(_, value)| value)
+}
+
 /// Per-axis settings whose 0 means "use the global one" (§2.1.4), and the
 /// global table that holds it.
 const GLOBAL_WHEN_ZERO: &[&str] = &["HSPD", "LSPD", "ACC", "DEC"];
@@ -215,7 +251,7 @@ fn param_row(scope: Scope, row_index: usize, index: u8, name: String) -> Option<
             auto_stored: false,
         },
         role: role(spec),
-        default: None,
+        default: factory_default(spec),
         description: spec.meaning,
     })
 }
@@ -574,6 +610,42 @@ mod tests {
         );
         let sync = row(0, Scope::Axis(0), "SYNCX");
         assert_eq!(note(&sync, 1, &read), None, "shown raw");
+    }
+
+    #[test]
+    fn the_power_on_values_the_manual_states_are_the_rows_defaults() {
+        // Written out from the manual: ID 01 from the factory (§3.3), baud
+        // code 1 = 9600 (Table 3-39), EINT=1 (§2.3.1), IERR=0
+        // (§2.1.3.1.1.1), EXST=0 (§2.1.1.2), SDEX=0 and SDCX=0
+        // (§2.1.3.1.1.2), linear profile: SCV 0 (§2.1.4), DI negative logic
+        // (§6.1.1.2): DIP 0.
+        for (scope, name, default) in [
+            (Scope::Bank(1), "ID", 1),
+            (Scope::Bank(1), "DB", 1),
+            (Scope::Bank(0), "EINT", 1),
+            (Scope::Bank(1), "IERR", 0),
+            (Scope::Bank(1), "EXST", 0),
+            (Scope::Axis(0), "SDEX", 0),
+            (Scope::Axis(2), "SDCZ", 0),
+            (Scope::Axis(3), "SCVU", 0),
+            (Scope::Bank(2), "DIP", 0),
+        ] {
+            let axis = match scope {
+                Scope::Axis(n) => n,
+                Scope::Bank(_) => 0,
+            };
+            assert_eq!(row(axis, scope, name).default, Some(default), "{name}");
+        }
+        // The manual gives no number for these: no default is made up.
+        for (scope, name) in [
+            (Scope::Axis(0), "HSPDX"),
+            (Scope::Axis(0), "POLX"),
+            (Scope::Bank(0), "HSPD"),
+            (Scope::Bank(2), "DOP"),
+            (Scope::Bank(2), "EOBOOT"),
+        ] {
+            assert_eq!(row(0, scope, name).default, None, "{name}");
+        }
     }
 
     #[test]

@@ -125,6 +125,40 @@ const SETTINGS: &[Setting] = &[
         unit: "", axes: Axes::All },
 ];
 
+/// The values Ch5 gives a setting "by default" (what power-up and a reset,
+/// RT, restore: Ch13 RT "the default conditions … will be restored"), by
+/// setup command, in the command's own units. Only these: Ch5 states no
+/// number for SV, SA, DS, MV, SE, DB, DT, HL, LL, UO, UZ, BD, SG, SD, IL,
+/// VG, AG, DG, OB, OO or IM, so those have no default here.
+/// - ES "The default value is 1." (Ch5 ES)
+/// - FR "The default value is 0 (0.00025 seconds)." (Ch5 FR)
+/// - IO "0 Integral term always on (default)" (Ch5 IO)
+/// - SI "The default value is zero." (Ch5 SI)
+/// - SQ "(default = 10.0 volts)" (Ch5 SQ)
+/// - UK "The default setting is 1.0." (Ch5 UK)
+/// - UR "second 1 (default)" (Ch5 UR, Typical User Rate values)
+/// - US "The default setting is 1.0." (Ch5 US)
+/// - VO "The default setting (multiplying factor) for this command is 1."
+///   (Ch5 VO)
+const FACTORY_DEFAULTS: &[(&str, f64)] = &[
+    ("ES", 1.0),
+    ("FR", 0.0),
+    ("IO", 0.0),
+    ("SI", 0.0),
+    ("SQ", 10.0),
+    ("UK", 1.0),
+    ("UR", 1.0),
+    ("US", 1.0),
+    ("VO", 1.0),
+];
+
+/// A setting's default as a raw value (× 10^decimals), if Ch5 gives one.
+fn factory_default(setting: &Setting) -> Option<i64> {
+    let command = setting.command?;
+    let (_, value) = FACTORY_DEFAULTS.iter().find(|(c, _)| *c == command)?;
+    Some((value * scale(setting.decimals)).round() as i64)
+}
+
 /// The MultiFlex's axis settings for the console.
 #[derive(Debug, Clone, Copy)]
 pub struct MclParameters {
@@ -189,7 +223,7 @@ impl MclParameters {
             } else {
                 ParamRole::State
             },
-            default: None,
+            default: factory_default(setting),
             description,
         }
     }
@@ -461,6 +495,37 @@ mod tests {
             "open loop: no PID"
         );
         assert!(PARAMETERS.tables(6).is_empty());
+    }
+
+    #[test]
+    fn the_defaults_chapter_5_states_are_the_rows_defaults_in_raw_units() {
+        // Written out from Ch5, raw = value × 10^decimals: SQ "default =
+        // 10.0 volts" (5 decimals), SI "default value is zero", US and UK
+        // "default setting is 1.0" and VO 1 (4 decimals), UR "second 1
+        // (default)", FR "default value is 0", IO 0 "(default)"; ES "default
+        // value is 1" on the stepper.
+        for (axis, command, raw) in [
+            (1, "SQ", 1_000_000),
+            (1, "SI", 0),
+            (2, "US", 10_000),
+            (2, "UK", 10_000),
+            (3, "VO", 10_000),
+            (3, "UR", 10_000),
+            (4, "FR", 0),
+            (4, "IO", 0),
+            (5, "ES", 10_000),
+            (5, "US", 10_000),
+        ] {
+            assert_eq!(row(axis, command).default, Some(raw), "{command} {axis}");
+        }
+        // Ch5 gives no number for these (its examples are not defaults).
+        for (axis, command) in [(1, "SV"), (1, "SG"), (1, "SD"), (1, "SE"), (5, "MV")] {
+            assert_eq!(row(axis, command).default, None, "{command} {axis}");
+        }
+        assert_eq!(row(1, "primary status").default, None);
+        // The table's own text of the default reads as the manual's number.
+        let sq = row(1, "SQ");
+        assert_eq!(PARAMETERS.value_text(&sq, sq.default.unwrap()), "10.00000");
     }
 
     #[test]

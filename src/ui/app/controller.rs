@@ -23,6 +23,9 @@ use crate::session::{AxisFlag, AxisInfo, AxisStatus, LineResult, PollCadence, Se
 pub struct WiringFindings {
     pub lines: Vec<String>,
     pub wired_right: bool,
+    /// The lines of each faulty leg ([`crate::session::wiring::faults`]):
+    /// what a commissioning sheet's verdict names.
+    pub faults: Vec<String>,
 }
 
 pub type Pending<T> = Pin<Box<dyn Future<Output = T> + Send>>;
@@ -160,6 +163,13 @@ pub trait Controller: Send + Sync {
     fn tune(&self, job: TuneJob) -> Pending<Result<TuneOutcome, String>> {
         let _ = job;
         Box::pin(async { Err("this connection cannot run the tuning tools".to_string()) })
+    }
+    /// The module's settings that have a factory default, read now
+    /// ([`crate::session::sheet::read_settings`]; `sent`: the canonical
+    /// lines sent that succeeded). By default the connection cannot.
+    fn read_settings(&self, sent: Vec<String>) -> Pending<Result<crate::report::Settings, String>> {
+        let _ = sent;
+        Box::pin(async { Err("this connection cannot read settings".to_string()) })
     }
     fn set_polling(&self, cadence: Option<PollCadence>);
     /// The line the controller is busy with, if any: a line that runs until

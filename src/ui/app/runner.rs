@@ -1100,6 +1100,22 @@ impl Runner {
                 self.tune = Some(task.abort_handle());
                 self.sending.push(task);
             }
+            Effect::ReadSettings { pane, tag, sent } => {
+                let Some(c) = self.selected(app) else {
+                    queue.push(AppEvent::SettingsRead {
+                        pane,
+                        tag,
+                        result: Err("not connected".into()),
+                    });
+                    return;
+                };
+                let read = c.controller.read_settings(sent);
+                let tx = self.internal.clone();
+                self.sending.push(tokio::spawn(async move {
+                    let result = read.await;
+                    let _ = tx.send(AppEvent::SettingsRead { pane, tag, result });
+                }));
+            }
             Effect::CancelTune => {
                 if let Some(tune) = self.tune.take() {
                     tune.abort();

@@ -151,6 +151,9 @@ pub struct BringUpPane {
     wiring_confirm: bool,
     /// The wiring check running: its tag and the stop lines of its axis.
     wiring: Option<(u64, Vec<String>)>,
+    /// The last wiring check as a commissioning sheet names it
+    /// (`:wiring --axis 0 --speed 5000 (…)`).
+    wiring_line: String,
     /// What the last wiring check found, a line each.
     findings: Vec<(Role, String)>,
 }
@@ -183,6 +186,7 @@ impl BringUpPane {
             outputs_read: None,
             wiring_confirm: false,
             wiring: None,
+            wiring_line: String::new(),
             findings: Vec::new(),
         }
     }

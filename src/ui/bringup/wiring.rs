@@ -2,6 +2,7 @@
 //! cancelled, and its findings shown.
 
 use super::*;
+use crate::ui::pane::SheetFact;
 
 impl BringUpPane {
     /// `w`: ask before the wiring check moves the axis.
@@ -39,7 +40,13 @@ impl BringUpPane {
             return Outcome::Ignored;
         };
         let tag = self.tag();
+        let speed = self.speed(plan);
         self.wiring = Some((tag, plan.stop(&axis)));
+        // As a run file would say it, and where it was done.
+        self.wiring_line = format!(
+            ":wiring --axis {} --speed {speed} (the bring-up pane's check of {})",
+            session.axis, axis.name
+        );
         self.jog_axis = Some(session.axis);
         self.findings.clear();
         self.say(
@@ -51,7 +58,7 @@ impl BringUpPane {
         );
         Outcome::request(Request::CheckWiring {
             axis: session.axis,
-            speed: self.speed(plan),
+            speed,
             tag,
         })
     }
@@ -88,7 +95,16 @@ impl BringUpPane {
         let Some((_, stop)) = self.wiring.take() else {
             return Outcome::Ignored;
         };
-        let mut requests = vec![Request::CancelWiring];
+        let mut requests = vec![
+            Request::CancelWiring,
+            // Shown on a session recording's sheet, not counted: the user
+            // stopped it.
+            Request::SheetFact(SheetFact::Unfinished {
+                line: self.wiring_line.clone(),
+                why: format!("stopped before its end ({why})"),
+                failed: false,
+            }),
+        ];
         if !stop.is_empty() {
             let left = stop.len();
             let (tag, send) = self.send(stop);
@@ -112,6 +128,19 @@ impl BringUpPane {
             return Outcome::Ignored;
         }
         self.wiring = None;
+        let line = self.wiring_line.clone();
+        let fact = match result {
+            Ok(found) => SheetFact::Wiring {
+                line,
+                findings: found.lines.clone(),
+                faults: found.faults.clone(),
+            },
+            Err(why) => SheetFact::Unfinished {
+                line,
+                why: why.clone(),
+                failed: true,
+            },
+        };
         match result {
             Ok(found) => {
                 self.findings = found
@@ -131,6 +160,6 @@ impl BringUpPane {
             }
             Err(why) => self.say(Role::Error, format!("wiring check failed: {why}")),
         }
-        Outcome::redraw()
+        Outcome::request(Request::SheetFact(fact))
     }
 }

@@ -7,11 +7,14 @@ use std::time::Duration;
 use tokio::time::Instant;
 
 use super::*;
+use crate::files::Existing;
+use crate::report::LineOutcome as SheetLine;
 use crate::report::{
     CheckOutcome, Checks, EmergencyStop, Ending, Expectation, Identity, LineKind, ModuleSheet,
-    RunEnd, RunLine, Settings, Sheet,
+    RunEnd, RunLine, Settings, Sheet, Tuning, Wiring,
 };
 use crate::run_recording::{LineOutcome, RecordingHeader, RunRecorder};
+use crate::ui::pane::SheetFact;
 use crate::wall_clock::CivilTime;
 
 /// A recording of the lines sent (SQPack's "Record Macro", §5.4.6).
@@ -135,10 +138,21 @@ pub(super) struct SessionRecording {
     facts: SheetFacts,
 }
 
+/// A sheet asked for with `:report`, written when the settings read that
+/// it started ends (the facts as they were when it was asked for).
+#[derive(Debug)]
+pub(super) struct PendingReport {
+    pub(super) tag: u64,
+    path: PathBuf,
+    existing: Existing,
+    sheet: Sheet,
+}
+
 /// What a session recording saw, as the commissioning sheet shows it
 /// (`:report FILE`): each line sent with its answer, numbered in the
 /// order sent; each read the recording wrote as `:expect` as a check that
-/// passed with the value it read; the emergency stops.
+/// passed with the value it read; the emergency stops; the wiring checks
+/// and tuning runs of the other panes ([`SheetFact`]).
 #[derive(Debug)]
 struct SheetFacts {
     header: RecordingHeader,
@@ -146,9 +160,105 @@ struct SheetFacts {
     lines: Vec<RunLine>,
     expectations: Vec<Expectation>,
     emergency_stop: Option<EmergencyStop>,
+    wiring: Option<Wiring>,
+    tuning: Option<Tuning>,
 }
 
 impl SheetFacts {
+    fn new(header: RecordingHeader) -> SheetFacts {
+        SheetFacts {
+            header,
+            started: std::time::SystemTime::now(),
+            lines: Vec::new(),
+            expectations: Vec::new(),
+            emergency_stop: None,
+            wiring: None,
+            tuning: None,
+        }
+    }
+
+    /// A line of a tool (a directive, as `axterm run` would have it):
+    /// its answer, and whether it went well.
+    fn tool_line(&mut self, text: &str, kind: LineKind, answer: String, outcome: SheetLine) {
+        self.lines.push(RunLine {
+            number: self.lines.len() + 1,
+            text: text.to_string(),
+            kind,
+            answer: Some(answer),
+            outcome,
+        });
+    }
+
+    /// What a pane's tool did: as `axterm run` records its `:wiring`,
+    /// `:tune-step` or `:tune-stallguard` line. What the recording file
+    /// says of it (a comment: the tool's moves were not sent from the
+    /// command pane, so a replay does not make them).
+    fn fact(&mut self, fact: &SheetFact) -> String {
+        match fact {
+            SheetFact::Wiring {
+                line,
+                findings,
+                faults,
+            } => {
+                let right = faults.is_empty();
+                let said = if right {
+                    "wired right".to_string()
+                } else {
+                    format!("{} fault(s): see the wiring check", faults.len())
+                };
+                // Several checks together: wired right only if each was.
+                let wiring = self.wiring.get_or_insert_with(|| Wiring {
+                    findings: Vec::new(),
+                    wired_right: true,
+                    faults: Vec::new(),
+                });
+                wiring.findings.extend(findings.iter().cloned());
+                wiring.faults.extend(faults.iter().cloned());
+                wiring.wired_right &= right;
+                let outcome = if right {
+                    SheetLine::Ok
+                } else {
+                    SheetLine::Failed
+                };
+                self.tool_line(line, LineKind::Directive, said.clone(), outcome);
+                format!("# {line}: {said}\n")
+            }
+            SheetFact::Tuning {
+                line,
+                said,
+                ok,
+                figures,
+                plots,
+            } => {
+                let tuning = self.tuning.get_or_insert_with(Tuning::default);
+                tuning.figures.extend(figures.iter().cloned());
+                tuning.plots.extend(plots.iter().cloned());
+                let outcome = if *ok {
+                    SheetLine::Ok
+                } else {
+                    SheetLine::Failed
+                };
+                self.tool_line(line, LineKind::Directive, said.clone(), outcome);
+                format!("# {line}: {said}\n")
+            }
+            SheetFact::Unfinished { line, why, failed } => {
+                if *failed {
+                    self.tool_line(line, LineKind::Directive, why.clone(), SheetLine::Failed);
+                } else {
+                    // Stopped by the user: shown, but neither a pass nor
+                    // a failure.
+                    self.tool_line(
+                        &format!("# stopped: {line}"),
+                        LineKind::Comment,
+                        why.clone(),
+                        SheetLine::Nothing,
+                    );
+                }
+                format!("# {line}: {why}\n")
+            }
+        }
+    }
+
     /// Line `line` came out so (`recorded`: what the recording wrote of it).
     fn answered(&mut self, line: &str, outcome: LineOutcome, recorded: &str) {
         let number = self.lines.len() + 1;
@@ -209,7 +319,7 @@ impl SheetFacts {
         let checks = Checks {
             lines: self.lines.clone(),
             expectations: self.expectations.clone(),
-            wiring: None,
+            wiring: self.wiring.clone(),
             emergency_stop: self.emergency_stop.clone(),
             run_end: RunEnd {
                 ending: Ending::Completed,
@@ -227,7 +337,7 @@ impl SheetFacts {
                 identity,
                 settings: Settings::default(),
                 checks,
-                tuning: None,
+                tuning: self.tuning.clone(),
             }],
         }
     }
@@ -326,13 +436,7 @@ impl CommandPane {
             recorder: RunRecorder::new(),
             began: Instant::now(),
             module: selected_module(view).unwrap_or((0, session.address)),
-            facts: SheetFacts {
-                header,
-                started: std::time::SystemTime::now(),
-                lines: Vec::new(),
-                expectations: Vec::new(),
-                emergency_stop: None,
-            },
+            facts: SheetFacts::new(header),
         };
         recording.recorder.observe(&session.status, Duration::ZERO);
         self.session_recording = Some(recording);
@@ -431,8 +535,11 @@ impl CommandPane {
     /// `:report [--force] FILE`: the commissioning sheet of the session
     /// recording so far (`:record`): its identity, each line sent with its
     /// answer, each read it recorded as `:expect` as a check, the
-    /// emergency stops. HTML, or JSON for a FILE ending `.json`. Settings
-    /// are not read (a sheet from `axterm run` reads them).
+    /// emergency stops, the wiring checks and tuning runs of the other
+    /// panes. The module's settings against the factory defaults are read
+    /// now, without holding up the console ("reading the settings…"); the
+    /// sheet is written when the read ends, with the facts as they were
+    /// when it was asked for. HTML, or JSON for a FILE ending `.json`.
     pub(super) fn report_command(&mut self, rest: &str, view: &View) -> Outcome {
         let (existing, rest) = crate::files::force_option(rest);
         if rest.is_empty() {
@@ -446,6 +553,17 @@ impl CommandPane {
         let Some(r) = self.session_recording.as_ref() else {
             return self.fail(":report writes the sheet of the session recording");
         };
+        if let Some(pending) = &self.report_pending {
+            let path = pending.path.display().to_string();
+            return self.fail(format!(
+                "the sheet for {path} is still reading the settings: :report again when it is written"
+            ));
+        }
+        let path = PathBuf::from(rest);
+        // Refused now, before the module is asked anything.
+        if let Err(e) = crate::files::check_destination(&path, existing) {
+            return self.fail(format!("cannot write {}: {e}", path.display()));
+        }
         let operator = std::env::var("USER")
             .ok()
             .filter(|u| !u.is_empty())
@@ -455,7 +573,72 @@ impl CommandPane {
         let sheet = r
             .facts
             .sheet(&r.path.display().to_string(), operator, firmware);
-        let path = PathBuf::from(rest);
+        // The lines that succeeded, as the family writes them: whether one
+        // stored the settings.
+        let sent: Vec<String> = view.session.map_or_else(Vec::new, |session| {
+            r.facts
+                .lines
+                .iter()
+                .filter(|l| l.kind == LineKind::ConsoleLine && l.outcome == SheetLine::Ok)
+                .filter_map(|l| {
+                    let prepared = session.family.console.prepare(&l.text, session.address);
+                    prepared.ok().map(|p| p.canonical)
+                })
+                .collect()
+        });
+        self.next_tag += 1;
+        let tag = self.next_tag;
+        self.say(
+            Role::Accent,
+            format!("reading the settings for the sheet in {}…", path.display()),
+        );
+        self.report_pending = Some(PendingReport {
+            tag,
+            path,
+            existing,
+            sheet,
+        });
+        Outcome::request(Request::ReadSettings { sent, tag })
+    }
+
+    /// The settings read for a `:report` ended: the sheet is written,
+    /// with them, or saying why they were not read.
+    pub(super) fn report_settings_read(
+        &mut self,
+        tag: u64,
+        result: &Result<Settings, String>,
+    ) -> Outcome {
+        let Some(pending) = self.report_pending.take_if(|p| p.tag == tag) else {
+            return Outcome::Ignored;
+        };
+        let PendingReport {
+            path,
+            existing,
+            mut sheet,
+            ..
+        } = pending;
+        let when = CivilTime::of(std::time::SystemTime::now()).stamp();
+        let settings = match result {
+            Ok(settings) => Settings {
+                read: Some(format!(
+                    "from the module when the sheet was asked for (:report), at {when}"
+                )),
+                ..settings.clone()
+            },
+            Err(why) => {
+                self.say(
+                    Role::Warning,
+                    format!("the settings were not read ({why}): the sheet says so"),
+                );
+                Settings {
+                    read: Some(format!("not read ({why})")),
+                    ..Settings::default()
+                }
+            }
+        };
+        if let Some(module) = sheet.modules.first_mut() {
+            module.settings = settings;
+        }
         let is_json = path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("json"));
@@ -487,6 +670,21 @@ impl CommandPane {
             ),
         );
         Outcome::redraw()
+    }
+
+    /// A pane's tool did something the sheet shows: into the recording's
+    /// facts (and a comment into its file), when it was done on the
+    /// module recorded.
+    pub(super) fn session_record_fact(&mut self, fact: &SheetFact, view: &View) -> Outcome {
+        if !self.session_record_still_on(view) {
+            return Outcome::Ignored;
+        }
+        let Some(r) = self.session_recording.as_mut() else {
+            return Outcome::Ignored;
+        };
+        let text = r.facts.fact(fact);
+        self.session_record_write(&text);
+        Outcome::Ignored
     }
 
     /// The emergency stop: lines waiting were dropped; the stop lines
@@ -562,20 +760,14 @@ mod tests {
     use super::*;
 
     fn facts() -> SheetFacts {
-        SheetFacts {
-            header: RecordingHeader {
-                family: "tmcl".into(),
-                family_description: String::new(),
-                link: "sim tmcm1110".into(),
-                address: 1,
-                firmware: Some("1110V112".into()),
-                started: String::new(),
-            },
-            started: std::time::SystemTime::UNIX_EPOCH,
-            lines: Vec::new(),
-            expectations: Vec::new(),
-            emergency_stop: None,
-        }
+        SheetFacts::new(RecordingHeader {
+            family: "tmcl".into(),
+            family_description: String::new(),
+            link: "sim tmcm1110".into(),
+            address: 1,
+            firmware: Some("1110V112".into()),
+            started: String::new(),
+        })
     }
 
     #[test]
@@ -600,6 +792,61 @@ mod tests {
         assert_eq!(
             verdict.failures,
             ["line 3 `SAP 6, 0, 200`: invalid value (status 4)"]
+        );
+    }
+
+    #[test]
+    fn a_panes_wiring_check_and_tuning_run_are_checks_as_in_a_run() {
+        let mut facts = facts();
+        let line = ":wiring --axis 0 --speed 2047 (the bring-up pane's check of motor 0)";
+        let said = facts.fact(&SheetFact::Wiring {
+            line: line.into(),
+            findings: vec!["motor 0, moving +: …".into(), "motor 0: home".into()],
+            faults: Vec::new(),
+        });
+        assert_eq!(said, format!("# {line}: wired right\n"));
+        // Stopped by the user: on the sheet, not a check.
+        facts.fact(&SheetFact::Unfinished {
+            line: ":tune-stallguard --axis 0 (…)".into(),
+            why: "stopped before its end (stopped by key)".into(),
+            failed: false,
+        });
+        facts.fact(&SheetFact::Tuning {
+            line: ":tune-stallguard --axis 0 --from 200 (…)".into(),
+            said: "5 speeds swept".into(),
+            ok: true,
+            figures: vec!["speed 200: 400".into()],
+            plots: Vec::new(),
+        });
+        let sheet = facts.sheet("s.txt", "Ada".into(), None);
+        // The wiring check and the session's end.
+        assert_eq!(sheet.verdict().headline, "All 2 checks passed");
+        let module = &sheet.modules[0];
+        assert!(module.checks.wiring.as_ref().is_some_and(|w| w.wired_right));
+        assert_eq!(module.tuning.as_ref().map(|t| t.figures.len()), Some(1));
+        assert_eq!(module.checks.lines[1].kind, LineKind::Comment);
+        // A second check that found a fault makes the wiring check fail,
+        // naming it; a step that tripped fails as its own check.
+        facts.fact(&SheetFact::Wiring {
+            line: line.into(),
+            findings: vec!["motor 0, moving + tripped the − (left) switch".into()],
+            faults: vec!["motor 0, moving + tripped the − (left) switch".into()],
+        });
+        facts.fact(&SheetFact::Tuning {
+            line: ":tune-step --axis 1 (…)".into(),
+            said: "tripped (following error): the axis was stopped".into(),
+            ok: false,
+            figures: Vec::new(),
+            plots: Vec::new(),
+        });
+        let verdict = facts.sheet("s.txt", "Ada".into(), None).verdict();
+        assert_eq!(verdict.checks, 3, "{verdict:?}");
+        assert_eq!(
+            verdict.failures,
+            [
+                "line 5 `:tune-step --axis 1 (…)`: tripped (following error): the axis was stopped",
+                "the wiring check found a fault: motor 0, moving + tripped the − (left) switch"
+            ]
         );
     }
 }

@@ -159,3 +159,114 @@ fn sim_input_completes_the_simulators_input_names() {
             .is_some_and(|l| l.starts_with("not connected")),
     );
 }
+
+#[test]
+fn report_reads_the_settings_first_and_a_failed_read_still_writes_the_sheet() {
+    let theme = Theme::builtin("dark").expect("theme");
+    let keymap = Keymap::builtin("default").expect("keymap");
+    let connected = snapshot();
+    let view = View {
+        theme: &theme,
+        keymap: &keymap,
+        session: Some(&connected),
+        modules: &[],
+        module: 0,
+        focused: true,
+        shown: true,
+    };
+    let dir = tempfile::tempdir().expect("temp dir");
+    let recording = dir.path().join("session.txt");
+    let sheet = dir.path().join("sheet.html");
+    let mut pane = CommandPane::new(None);
+    let last = |pane: &CommandPane| pane.output_lines().last().unwrap_or("").to_string();
+    pane.console_command(&format!(":record {}", recording.display()), &view);
+    assert!(
+        last(&pane).contains("recording the session"),
+        "{}",
+        last(&pane)
+    );
+    let asked = pane.console_command(&format!(":report {}", sheet.display()), &view);
+    let Outcome::Handled(requests) = asked else {
+        panic!("{}", last(&pane))
+    };
+    let [Request::ReadSettings { tag, .. }] = requests.as_slice() else {
+        panic!("{requests:?}")
+    };
+    assert!(
+        last(&pane).contains("reading the settings"),
+        "{}",
+        last(&pane)
+    );
+    // Nothing is written until the read ends, and one sheet at a time.
+    assert!(!sheet.exists());
+    pane.console_command(&format!(":report {}", sheet.display()), &view);
+    assert!(
+        last(&pane).contains("still reading the settings"),
+        "{}",
+        last(&pane)
+    );
+    // A reply under another tag is not this read's.
+    let other = PaneEvent::SettingsRead {
+        tag: tag + 100,
+        result: Err("no".into()),
+    };
+    assert_eq!(pane.on_event(&other, &view), Outcome::Ignored);
+    let failed = PaneEvent::SettingsRead {
+        tag: *tag,
+        result: Err("the link is down".into()),
+    };
+    pane.on_event(&failed, &view);
+    let page = std::fs::read_to_string(&sheet).expect("the sheet was written");
+    assert!(
+        page.contains("Settings read</th><td>not read (the link is down)"),
+        "{page}"
+    );
+    let said: Vec<&str> = pane.output_lines().collect();
+    assert!(
+        said.iter()
+            .any(|l| l.contains("the settings were not read (the link is down)")),
+        "{said:?}"
+    );
+    assert!(last(&pane).contains("the sheet of the session so far is in"));
+}
+
+#[test]
+fn the_emergency_stop_during_a_reports_settings_read_writes_its_sheet() {
+    let theme = Theme::builtin("dark").expect("theme");
+    let keymap = Keymap::builtin("default").expect("keymap");
+    let connected = snapshot();
+    let view = View {
+        theme: &theme,
+        keymap: &keymap,
+        session: Some(&connected),
+        modules: &[],
+        module: 0,
+        focused: true,
+        shown: true,
+    };
+    let dir = tempfile::tempdir().expect("temp dir");
+    let sheet = dir.path().join("sheet.json");
+    let mut pane = CommandPane::new(None);
+    pane.console_command(
+        &format!(":record {}", dir.path().join("s.txt").display()),
+        &view,
+    );
+    pane.console_command(&format!(":report {}", sheet.display()), &view);
+    assert!(!sheet.exists());
+    // The stop aborts the read's task: its answer never comes.
+    pane.on_event(&PaneEvent::Stopping, &view);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&sheet).expect("written")).expect("JSON");
+    assert_eq!(
+        json["modules"][0]["settings"]["read"],
+        "not read (the emergency stop ended the read)"
+    );
+    // And the next :report goes.
+    pane.console_command(&format!(":report --force {}", sheet.display()), &view);
+    let said: Vec<&str> = pane.output_lines().collect();
+    assert!(
+        said.last()
+            .is_some_and(|l| l.contains("reading the settings")),
+        "{said:?}"
+    );
+}
