@@ -169,18 +169,3 @@ fn line_noise_and_long_lines() {
     let out = s.typed(&format!("{long}\r"));
     assert!(out.ends_with("\r\n?4\r\n>"), "{out:?}");
 }
-
-/// Ch2: commands on one line separated by commas, "the axis that a
-/// command acts on is assumed to be the last one specified in the command
-/// string"; Ch8: a Tell prints `AA value`, the axis in two digits. The
-/// console's status line for several axes, byte for byte, the echo (its
-/// CR as CR LF) first and one prompt after the line.
-#[test]
-fn one_line_tells_several_axes_each_with_its_own_axis() {
-    let mut s = Session::new();
-    s.quiet(&["2DH1000", "3DH-250"]);
-    assert_eq!(
-        s.typed("1TP,TT,2TP,TT,3TP,TT\r"),
-        "1TP,TT,2TP,TT,3TP,TT\r\n01 0\r\n01 0\r\n02 1000\r\n02 1000\r\n03 -250\r\n03 -250\r\n>"
-    );
-}
