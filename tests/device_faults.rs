@@ -251,6 +251,7 @@ async fn run_case(plan: FaultPlan, seed: u64) {
         items: vec![PollItem {
             transaction: tmcl(&request(GGP, 0, 2, 0), Retry::Read(1)),
             every: Duration::from_millis(20),
+            urgent: false,
         }],
         sink: Box::new(sink.clone()),
     }));

@@ -262,6 +262,7 @@ async fn polling_waits_while_a_line_is_held_and_resumes_with_its_plan() {
         items: vec![PollItem {
             transaction: line("1TP"),
             every: Duration::from_millis(50),
+            urgent: false,
         }],
         sink: Box::new(sink.clone()),
     }));

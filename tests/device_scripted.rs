@@ -333,6 +333,7 @@ fn plan(
             .map(|r| PollItem {
                 transaction: transaction(r, Retry::Read(1)),
                 every,
+                urgent: false,
             })
             .collect(),
         sink: Box::new(sink.clone()),
@@ -751,10 +752,12 @@ async fn polls_go_most_overdue_first_no_more_often_than_asked_and_all_reach_the_
             PollItem {
                 transaction: transaction(&fast, Retry::Read(1)),
                 every: Duration::from_millis(100),
+                urgent: false,
             },
             PollItem {
                 transaction: transaction(&slow, Retry::Read(1)),
                 every: Duration::from_millis(300),
+                urgent: false,
             },
         ],
         sink: Box::new(sink.clone()),

@@ -103,6 +103,7 @@ fn poll_position(device: &DeviceHandle) -> mpsc::UnboundedReceiver<Result<i32, D
         items: vec![PollItem {
             transaction: transaction(&request(GAP, 1, 0, 0), Retry::Read(2)),
             every: Duration::from_millis(10),
+            urgent: false,
         }],
         sink: Box::new(ChannelSink(tx)),
     }));

@@ -410,6 +410,7 @@ async fn measure(
             hold: None,
         },
         every: Duration::ZERO,
+        urgent: false,
     };
     session.device().set_poll_plan(Some(PollPlan {
         items: vec![item],

@@ -373,6 +373,12 @@ pub struct PollItem {
     /// one (see `poll.rs`); the link's speed may make it less often. Zero
     /// means as often as the link allows.
     pub every: Duration,
+    /// Goes before every item not urgent whenever it is due, whoever's
+    /// plan that is (a switch a technician is watching: its change must
+    /// show at once, however many items a round of the others has). Its
+    /// `every` is what keeps it from taking the whole line; the plan's
+    /// maker sets it (`session::urgent_period`).
+    pub urgent: bool,
 }
 
 /// Receives every poll result, in the device task, in order, none lost:

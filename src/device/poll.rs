@@ -15,6 +15,13 @@
 //! by the grid there would favour the items of long periods, whose grid
 //! points lag furthest behind.
 //!
+//! An urgent item ([`PollItem::urgent`]) goes before every other item
+//! due, in its own plan and in the others' on the link: it is a switch
+//! the technician is looking at, and waiting its turn behind a round of
+//! every axis's status took longer than the 200 ms a lamp may lag on a
+//! 9600 Bd line (a SIXpack 2's fourteen items, about 350 ms). Its period
+//! alone limits what it takes of the line.
+//!
 //! Several modules on one link (a multi-drop bus) each poll by a plan of
 //! their own ([`PollOwner`]): [`PollPlans`] takes them in turn, the owner
 //! after the one served last that has an item due, so that on a link too
@@ -64,8 +71,8 @@ impl PollPlans {
 
     /// The item to poll next and when it is due: of the owners with an
     /// item due at `now`, the first after the one served last (each
-    /// owner's own choice of item); when none is due, the item that comes
-    /// due first.
+    /// owner's own choice of item), the first with an urgent item due
+    /// before that; when none is due, the item that comes due first.
     pub(super) fn next(&self, now: Instant) -> Option<(PollKey, Option<Instant>)> {
         let count = self.schedules.len();
         let start = self
@@ -73,6 +80,7 @@ impl PollPlans {
             .and_then(|owner| self.schedules.iter().position(|(o, _)| *o == owner))
             .map_or(0, |at| at + 1);
         let mut earliest: Option<(Instant, PollKey)> = None;
+        let mut first_due: Option<(PollKey, Option<Instant>)> = None;
         for turn in 0..count {
             let Some((owner, schedule)) = self.schedules.get((start + turn) % count) else {
                 continue;
@@ -90,10 +98,14 @@ impl PollPlans {
                         earliest = Some((at, key));
                     }
                 }
-                _ => return Some((key, due)),
+                // A schedule offers its urgent items first.
+                _ if schedule.is_urgent(index) => return Some((key, due)),
+                _ => {
+                    first_due.get_or_insert((key, due));
+                }
             }
         }
-        earliest.map(|(at, key)| (key, Some(at)))
+        first_due.or(earliest.map(|(at, key)| (key, Some(at))))
     }
 
     fn schedule(&self, owner: PollOwner) -> Option<&PollSchedule> {
@@ -165,6 +177,10 @@ impl PollSchedule {
             .map_or(Duration::ZERO, |item| item.every)
     }
 
+    fn is_urgent(&self, index: usize) -> bool {
+        self.plan.items.get(index).is_some_and(|item| item.urgent)
+    }
+
     /// When item `index` comes due: `None` never polled (at once), else
     /// one period after the grid point of its last send.
     fn due(&self, index: usize) -> Option<Instant> {
@@ -173,7 +189,7 @@ impl PollSchedule {
     }
 
     /// The item to poll next and when it is due. Of the items due at `now`
-    /// (never-polled ones first, in order) the one whose last send plus
+    /// (urgent ones first, then never-polled ones, in order) the one whose last send plus
     /// period lies furthest back, the one sent longest ago on a tie, so
     /// that items take turns even when answers take no time at all; when
     /// none is due, the one that comes due first.
@@ -185,7 +201,7 @@ impl PollSchedule {
             .min_by_key(|&index| {
                 let last = self.last.get(index).copied().flatten();
                 let turn = last.map(|sent| (sent.at + self.every(index), sent.number));
-                (last.is_some(), turn, index)
+                (!self.is_urgent(index), last.is_some(), turn, index)
             });
         if let Some(index) = waiting {
             return Some((index, self.due(index)));
@@ -259,6 +275,7 @@ mod tests {
                 hold: None,
             },
             every: Duration::from_millis(every_ms),
+            urgent: false,
         }
     }
 
@@ -341,6 +358,97 @@ mod tests {
         let fast: u32 = sent[..3].iter().sum::<u32>() / 3;
         let slow: u32 = sent[3..].iter().sum::<u32>() / 8;
         assert!(fast * 10 >= slow * 18, "fast {fast}, slow {slow}: {sent:?}");
+    }
+
+    fn urgent(every_ms: u64) -> PollItem {
+        PollItem {
+            urgent: true,
+            ..item(every_ms)
+        }
+    }
+
+    /// The longest time between two sends of item `watched` of `owner`
+    /// over `sends` polls of 25 ms each (9 bytes each way at 9600 Bd and
+    /// a turnaround), every item as early as it is due.
+    fn longest_gap(
+        plans: &mut PollPlans,
+        owner: PollOwner,
+        watched: usize,
+        sends: usize,
+    ) -> Duration {
+        let mut now = Instant::now();
+        let mut last: Option<Instant> = None;
+        let mut longest = Duration::ZERO;
+        for _ in 0..sends {
+            let (key, due) = plans.next(now).expect("an item");
+            now = due.map_or(now, |due| due.max(now));
+            plans.sent(key, now);
+            if key
+                == (PollKey {
+                    owner,
+                    index: watched,
+                })
+            {
+                if let Some(before) = last {
+                    longest = longest.max(now - before);
+                }
+                last = Some(now);
+            }
+            now += Duration::from_millis(25);
+        }
+        longest
+    }
+
+    /// A SIXpack 2's twelve fast items at 9600 Bd and its switch read,
+    /// urgent every 100 ms: the switch is read every 100 ms and one
+    /// exchange at most, where its turn in the round of thirteen came
+    /// 325 ms apart or more.
+    #[test]
+    fn an_urgent_item_goes_before_the_overdue_ones_at_its_period() {
+        let plan = |switch: PollItem| {
+            let mut items: Vec<PollItem> = (0..12).map(|_| item(50)).collect();
+            items.push(switch);
+            PollPlan {
+                items,
+                sink: Box::new(Nowhere),
+            }
+        };
+        let owner = PollOwner::new();
+        let mut plans = PollPlans::default();
+        plans.set(owner, Some(plan(urgent(100))));
+        let gap = longest_gap(&mut plans, owner, 12, 400);
+        assert!(gap <= Duration::from_millis(125), "urgent: {gap:?}");
+        plans.set(owner, Some(plan(item(100))));
+        let gap = longest_gap(&mut plans, owner, 12, 400);
+        assert!(gap >= Duration::from_millis(325), "in its turn: {gap:?}");
+    }
+
+    /// On a bus, a module's urgent item does not wait for the other
+    /// modules' turns.
+    #[test]
+    fn an_urgent_item_goes_before_other_owners_turns() {
+        let watched = PollOwner::new();
+        let mut plans = PollPlans::default();
+        for _ in 0..3 {
+            plans.set(
+                PollOwner::new(),
+                Some(PollPlan {
+                    items: (0..4).map(|_| item(50)).collect(),
+                    sink: Box::new(Nowhere),
+                }),
+            );
+        }
+        let mut items: Vec<PollItem> = (0..4).map(|_| item(50)).collect();
+        items.push(urgent(100));
+        plans.set(
+            watched,
+            Some(PollPlan {
+                items,
+                sink: Box::new(Nowhere),
+            }),
+        );
+        let gap = longest_gap(&mut plans, watched, 4, 400);
+        assert!(gap <= Duration::from_millis(125), "urgent: {gap:?}");
     }
 
     #[test]

@@ -22,6 +22,7 @@
 //! replaced by what a successful line leaves behind. Polling pauses while a
 //! line that changes it is on its way, and resumes adapted to the new one.
 
+mod cadence;
 mod host_run;
 mod later;
 pub mod params;
@@ -41,6 +42,9 @@ use std::time::Duration;
 use tokio::sync::watch;
 
 pub use crate::protocol::console::{AxisFlag, AxisInfo, PreparedLine, ReplyError, ReplyValue};
+pub use cadence::{
+    LAMP_PERIOD, PollCadence, SLOW_SHARE_DIVISOR, URGENT_SHARE_MOST, slow_period, urgent_period,
+};
 pub use status::{AxisMotion, AxisStatus, RefreshRate, RestRead, RestSign, WatchedValue};
 pub use transfer::Cancel;
 
@@ -55,7 +59,6 @@ use crate::protocol::console::{
     adapt_line, interpret_line,
 };
 use crate::protocol::plausible::{self, PositionRead, Sighting};
-use crate::protocol::wire::WireFormat;
 use status::{StatusBoard, StatusSink};
 
 /// Further attempts for a read whose reply was lost or garbled.
@@ -83,72 +86,6 @@ impl Default for SessionOptions {
             device: DeviceOptions::default(),
         }
     }
-}
-
-/// How often status is polled, at most; the link's speed may make it less
-/// often. Zero polls as often as the link allows.
-///
-/// On a slow line the fast items take what the line gives (the device
-/// task polls only when nothing else waits, one poll at a time, so a
-/// user's line waits for at most the poll on the wire). The slow items
-/// would take their share of it too: on a line with a known speed their
-/// period is stretched so that they take at most a fortieth of it
-/// ([`slow_period`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct PollCadence {
-    /// Position, speed, target reached.
-    pub fast: Duration,
-    /// Switches, load, error flags, target.
-    pub slow: Duration,
-}
-
-impl Default for PollCadence {
-    /// 20 Hz for what moves, 5 Hz for the rest: smooth gauges without
-    /// spending a slow link on values that rarely change.
-    fn default() -> Self {
-        PollCadence {
-            fast: Duration::from_millis(50),
-            slow: Duration::from_millis(200),
-        }
-    }
-}
-
-/// At most this share of a line's time (1 / N) goes to the slow status
-/// items (switches, load, error flags, maximum speeds) and watched lines:
-/// on a CMD-4CR at 9600 Bd the five HSPD reads at 5 Hz took about a
-/// quarter of the line from the positions and speeds, and at a tenth the
-/// fast items could reach at most nine tenths of what the wire allows them
-/// (`bench/*_refresh.py`: 93 % on a CMD-4CR, 82 % on a MultiFlex at
-/// 9600 Bd). A fortieth leaves them 97.5 %; the slow items still come at
-/// their cadence on a fast line (at 9600 Bd a CMD-4CR's six take 4 s).
-pub const SLOW_SHARE_DIVISOR: u32 = 40;
-
-/// How often the slow items of `polls` are polled at most: as `cadence`
-/// asks, or less often where one pass over them would take more than
-/// 1/[`SLOW_SHARE_DIVISOR`] of the line (`byte_time`: one byte's wire
-/// time, `None` when the link does not say, as over TCP). `wire` says what
-/// an exchange costs: its bytes on the busier direction
-/// ([`WireFormat::exchange_bytes`]) and the module's turnaround.
-pub fn slow_period(
-    cadence: PollCadence,
-    byte_time: Option<Duration>,
-    wire: &dyn WireFormat,
-    polls: &[StatusPoll],
-) -> Duration {
-    let Some(byte_time) = byte_time else {
-        return cadence.slow;
-    };
-    let pass = polls
-        .iter()
-        .filter(|p| !p.fast)
-        .map(|p| {
-            let bytes = u32::try_from(wire.exchange_bytes(&p.line.bytes)).unwrap_or(u32::MAX);
-            byte_time
-                .saturating_mul(bytes)
-                .saturating_add(wire.turnaround())
-        })
-        .fold(Duration::ZERO, Duration::saturating_add);
-    cadence.slow.max(pass.saturating_mul(SLOW_SHARE_DIVISOR))
 }
 
 /// What came back for one line.
@@ -927,10 +864,11 @@ impl Session {
         self.watch_at(axis, line, false)
     }
 
-    /// [`Session::watch`], with the fast status items when `fast` (a
-    /// switch whose change must show at once; the link's time then goes
-    /// to it as to a position). A line a status item reads already is not
-    /// read twice: that item's answer is the watched line's too.
+    /// [`Session::watch`], as an urgent poll when `fast` (a switch whose
+    /// change must show at once): it goes before every other poll when
+    /// due, at [`urgent_period`]. A line a status item reads already is
+    /// not read twice: that item's answer is the watched line's too, and
+    /// the item is urgent.
     pub fn watch_at(&self, axis: usize, line: &str, fast: bool) -> Result<(), SessionError> {
         let prepared = self.prepare(line)?;
         if prepared.effect != Effect::Reads || axis >= self.axes().len() {
@@ -991,8 +929,10 @@ impl Session {
             .collect();
         let status_items = polls.len();
         // Watched lines go with the slow items and share their cap on
-        // the line's time.
+        // the line's time; a line watched fast (a switch on the screen)
+        // is urgent, and so is the status item that reads it already.
         let mut shared = Vec::new();
+        let mut urgent = vec![false; status_items];
         for watch in self
             .watches
             .lock()
@@ -1011,17 +951,35 @@ impl Session {
                     // A switch watched fast that the status reads slowly
                     // (TMCL's AP 9-11) is read fast for everyone.
                     polls[index].fast |= watch.fast;
+                    urgent[index] |= watch.fast;
                     shared.push((index, watch));
                 }
-                None => polls.push(watch),
+                None => {
+                    urgent.push(watch.fast);
+                    polls.push(watch);
+                }
             }
         }
-        let slow = slow_period(cadence, self.byte_time, console.wire().as_ref(), &polls);
+        let wire = console.wire();
+        let slow = slow_period(cadence, self.byte_time, wire.as_ref(), &polls);
+        let lamps: Vec<&StatusPoll> = polls
+            .iter()
+            .zip(&urgent)
+            .filter(|(_, u)| **u)
+            .map(|(p, _)| p)
+            .collect();
+        let lamp = urgent_period(cadence, self.byte_time, wire.as_ref(), &lamps);
         let items = polls
             .iter()
-            .map(|poll| PollItem {
+            .zip(&urgent)
+            .map(|(poll, &urgent)| PollItem {
                 transaction: self.transaction(&poll.line, Retry::Never, None),
-                every: if poll.fast { cadence.fast } else { slow },
+                every: match (urgent, poll.fast) {
+                    (true, _) => lamp,
+                    (false, true) => cadence.fast,
+                    (false, false) => slow,
+                },
+                urgent,
             })
             .collect();
         let watched = polls.split_off(status_items);

@@ -29,9 +29,10 @@
 //! the module's switches and inputs as lamps, analog inputs in volts where
 //! the manual gives the scale, and the outputs. While the pane has the
 //! keyboard their read lines ride on the status poll
-//! ([`Request::Watch`]): switches and digital inputs with the fast items,
-//! so a change shows within one round of the fast polls; analog values
-//! and outputs with the slow ones. An output is chosen with its keys and
+//! ([`Request::Watch`]): switches and digital inputs watched fast, as
+//! urgent polls that go before the status of every axis, so a change
+//! shows within 200 ms at 9600 Bd; analog values and outputs with the
+//! slow items. An output is chosen with its keys and
 //! switched with Enter after a y/n question (an output can move
 //! machinery); its read line then goes at once and says what it reads.
 //!
