@@ -88,6 +88,16 @@ pub enum ReplyValue {
     Text(String),
 }
 
+impl ReplyValue {
+    /// The number read, if the answer is one.
+    pub fn number(&self) -> Option<i64> {
+        match self {
+            ReplyValue::Number(n) => Some(*n),
+            _ => None,
+        }
+    }
+}
+
 impl fmt::Display for ReplyValue {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {

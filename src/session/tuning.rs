@@ -272,14 +272,6 @@ fn answer_text(value: &ReplyValue) -> String {
     }
 }
 
-/// A reading's number; `None` for an answer that is not one.
-fn number(value: ReplyValue) -> Option<i64> {
-    match value {
-        ReplyValue::Number(n) => Some(n),
-        _ => None,
-    }
-}
-
 impl Session {
     /// Send `lines` in order, each on the success of the one before; the
     /// answers' text.
@@ -378,10 +370,11 @@ impl Session {
         let info = self.axis_info(axis)?;
         let script = plan.script(&info, ask)?;
         let run = async {
-            let threshold = match self.execute_line(&plan.read_threshold(&info)).await?.value {
-                ReplyValue::Number(n) => Some(n),
-                _ => None,
-            };
+            let threshold = self
+                .execute_line(&plan.read_threshold(&info))
+                .await?
+                .value
+                .number();
             let mut points: Vec<SweepPoint> = script
                 .speeds
                 .iter()
@@ -487,10 +480,18 @@ impl Session {
         self.send_all(&writes).await?;
         let mut form = Vec::new();
         for field in plan.form() {
-            let value = number(self.execute_line(&plan.read(&info, &field)).await?.value);
+            let value = self
+                .execute_line(&plan.read(&info, &field))
+                .await?
+                .value
+                .number();
             form.push((field, value));
         }
-        let full = number(self.execute_line(&plan.watch(&info).full).await?.value);
+        let full = self
+            .execute_line(&plan.watch(&info).full)
+            .await?
+            .value
+            .number();
         self.send_all(&start).await?;
         Ok(CurrentRun {
             form,
@@ -510,9 +511,9 @@ impl Session {
         began: Instant,
     ) -> Result<CurrentSample, TuningError> {
         let lines = plan.watch(&self.axis_info(axis)?);
-        let speed = number(self.execute_line(&lines.speed).await?.value);
-        let current = number(self.execute_line(&lines.current).await?.value);
-        let load = number(self.execute_line(&lines.load).await?.value);
+        let speed = self.execute_line(&lines.speed).await?.value.number();
+        let current = self.execute_line(&lines.current).await?.value.number();
+        let load = self.execute_line(&lines.load).await?.value.number();
         Ok(CurrentSample {
             time: began.elapsed().as_secs_f64(),
             speed,

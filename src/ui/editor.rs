@@ -940,13 +940,7 @@ impl EditorPane {
 fn number_read(
     result: &Result<crate::session::LineResult, crate::session::SessionError>,
 ) -> Option<i64> {
-    match result {
-        Ok(r) => match r.value {
-            crate::session::ReplyValue::Number(n) => Some(n),
-            _ => None,
-        },
-        Err(_) => None,
-    }
+    result.as_ref().ok()?.value.number()
 }
 
 /// One line of source as styled cells, `left` characters scrolled off,

@@ -450,10 +450,7 @@ impl FamilyConsole for Cmd4crConsole {
             Ok(command) => return move_updates(&command),
             Err(_) => return Vec::new(),
         };
-        let number = match reading.value {
-            ReplyValue::Number(n) => Some(n),
-            _ => None,
-        };
+        let number = reading.value.number();
         let axis = axis_of(selector);
         match (register, axis, number) {
             (Register::Pp, None, _) => {
