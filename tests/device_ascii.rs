@@ -23,6 +23,7 @@ fn cmd4cr_line(line: &str) -> Transaction {
         retry: Retry::Read(1),
         timeout: None,
         hold: None,
+        cut_short: None,
     }
 }
 
@@ -34,6 +35,7 @@ fn mccl_line(line: &str) -> Transaction {
         retry: Retry::Never,
         timeout: None,
         hold: None,
+        cut_short: None,
     }
 }
 
@@ -191,6 +193,7 @@ fn cmd4cr_prepared(line: &str) -> Transaction {
         retry: Retry::Never,
         timeout: None,
         hold: None,
+        cut_short: None,
     }
 }
 

@@ -281,6 +281,95 @@ async fn polling_waits_while_a_line_is_held_and_resumes_with_its_plan() {
     assert_eq!(sink.results().len(), 2);
 }
 
+/// A status line of every axis (MCCL: about 150 ms of answer at 9600 Bd)
+/// that Escape may cut short.
+const STATUS: &str = "1TP,TV,TS,2TP,TV,TS,3TP,TV,TS";
+
+fn status_poll() -> PollPlan {
+    PollPlan {
+        items: vec![PollItem {
+            transaction: Transaction {
+                cut_short: Some(vec![ESCAPE]),
+                ..line(STATUS)
+            },
+            every: Duration::from_millis(50),
+            urgent: false,
+        }],
+        sink: Box::new(RecordingSink::default()),
+    }
+}
+
+#[tokio::test(start_paused = true)]
+async fn an_emergency_stop_cuts_a_long_status_read_short_and_goes_on_its_answer() {
+    let (device, mut script) = device();
+    let sink = RecordingSink::default();
+    device.set_poll_plan(Some(PollPlan {
+        sink: Box::new(sink.clone()),
+        ..status_poll()
+    }));
+    assert_eq!(script.request().await, line_bytes(STATUS));
+    script.send(format!("{STATUS}\r\n01 100\r\n01 0\r\n").as_bytes());
+    let queued = device.submit(Priority::User, line("1MR500"));
+    let stop = device.submit(Priority::EmergencyStop, line("0AB"));
+    // Escape at once, not after the rest of the answer.
+    assert_eq!(script.request().await, [ESCAPE]);
+    assert!(
+        script.nothing_written(),
+        "the stop waits for the cut answer"
+    );
+    script.send(b"?-7 1TS\r\n>");
+    assert_eq!(script.request().await, line_bytes("0AB"));
+    script.send(b"0AB\r\n>");
+    stop.await.expect("stopped");
+    assert_eq!(script.request().await, line_bytes("1MR500"));
+    script.send(b"1MR500\r\n>");
+    queued.await.expect("sent after");
+    // The cut read is no reading: nothing of it reaches the status.
+    let results = sink.results();
+    assert_eq!(results.len(), 1, "{results:?}");
+    assert!(
+        matches!(&results[0].1, Err(DeviceError::CutShort { by }) if by == &[ESCAPE]),
+        "{results:?}"
+    );
+    assert_eq!(device.counters().borrow().aborts, 1);
+    assert_eq!(*device.busy().borrow(), None, "a poll is never shown busy");
+}
+
+#[tokio::test(start_paused = true)]
+async fn only_an_emergency_stop_cuts_a_status_read_short() {
+    let (device, mut script) = device();
+    device.set_poll_plan(Some(status_poll()));
+    assert_eq!(script.request().await, line_bytes(STATUS));
+    script.send(format!("{STATUS}\r\n01 100\r\n").as_bytes());
+    // A user line waits for the whole answer; the user's abort key is for
+    // held lines only.
+    let queued = device.submit(Priority::User, line("1MR500"));
+    assert!(!device.abort_line().await);
+    sleep(Duration::from_millis(5)).await;
+    assert!(script.nothing_written());
+    script.send(b"01 0\r\n01 0\r\n>");
+    assert_eq!(script.request().await, line_bytes("1MR500"));
+    script.send(b"1MR500\r\n>");
+    queued.await.expect("sent after the whole answer");
+    assert_eq!(device.counters().borrow().aborts, 0);
+}
+
+#[tokio::test(start_paused = true)]
+async fn a_cut_read_whose_answer_never_comes_holds_the_stop_only_for_its_timeout() {
+    let (device, mut script) = device();
+    device.set_poll_plan(Some(status_poll()));
+    assert_eq!(script.request().await, line_bytes(STATUS));
+    let stop = device.submit(Priority::EmergencyStop, line("0AB"));
+    assert_eq!(script.request().await, [ESCAPE]);
+    let escaped = Instant::now();
+    assert_eq!(script.request().await, line_bytes("0AB"));
+    // The read's timeout from the cut, then the line's silence: no more.
+    let silence = AsciiWire::mccl().silence(at_9600());
+    assert_waited(escaped.elapsed(), ordinary(STATUS) + silence);
+    script.send(b"0AB\r\n>");
+    stop.await.expect("stopped");
+}
+
 #[tokio::test(start_paused = true)]
 async fn a_shutdown_aborts_a_held_line() {
     let (device, mut script) = device();

@@ -731,6 +731,7 @@ async fn a_command_without_reply_is_done_once_written() {
         retry: Retry::Never,
         timeout: None,
         hold: None,
+        cut_short: None,
     };
     let started = Instant::now();
     let answer = device

@@ -408,6 +408,7 @@ async fn measure(
             retry: Retry::Never,
             timeout: None,
             hold: None,
+            cut_short: None,
         },
         every: Duration::ZERO,
         urgent: false,

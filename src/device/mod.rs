@@ -102,6 +102,13 @@
 //! line is held aborts it first, waits for it to end (its answer or the
 //! grace), then goes before everything queued; so does a shutdown.
 //!
+//! A read whose answer takes long on the wire may say how to cut it short
+//! ([`Transaction::cut_short`]): an emergency stop that arrives while it is
+//! answered writes those bytes at once and goes as soon as the cut answer
+//! is in (or the read's timeout from the cut), so that a stop waits for a
+//! few bytes, not for a long status line. The read fails with
+//! [`DeviceError::CutShort`]; polling reads it again next round.
+//!
 //! # Answers that end in quiet
 //!
 //! A family's rule may say a frame completes the answer *unless more comes*
@@ -190,6 +197,14 @@ pub struct Transaction {
     /// taking nothing meanwhile but these bytes (MCCL `RP`, `WS`, `MC`:
     /// Escape aborts, Space pauses, Ch2). See the module documentation.
     pub hold: Option<Hold>,
+    /// Bytes that cut this request's answer short while the controller is
+    /// giving it, for a read whose answer takes long on the wire (MCCL: a
+    /// status line of every axis, about 150 ms at 9600 Bd; Escape aborts
+    /// the line, Ch2). An emergency stop that comes meanwhile writes them
+    /// and goes once the cut answer is in, instead of after the whole
+    /// answer. Only for reads: the request fails with
+    /// [`DeviceError::CutShort`], nothing of its answer is taken.
+    pub cut_short: Option<Vec<u8>>,
 }
 
 impl Transaction {
@@ -201,6 +216,7 @@ impl Transaction {
             retry,
             timeout: None,
             hold: None,
+            cut_short: None,
         }
     }
 }
@@ -277,6 +293,10 @@ pub enum DeviceError {
         /// The first of them.
         first: Vec<u8>,
     },
+    /// Its answer was cut short ([`Transaction::cut_short`]) for an
+    /// emergency stop: what came of it is not taken.
+    #[error("cut short ({} sent) for an emergency stop", hex(by))]
+    CutShort { by: Vec<u8> },
     #[error("not connected: {0}")]
     Disconnected(String),
     #[error("the link was lost while waiting for the reply: {0}")]
@@ -475,7 +495,8 @@ pub struct DeviceCounters {
     pub reconnects: u64,
     /// Unsolicited frames with news (TMCL 138's second reply).
     pub unsolicited: u64,
-    /// Held requests aborted (their abort bytes written).
+    /// Held requests aborted and reads cut short (their abort bytes
+    /// written).
     pub aborts: u64,
 }
 

@@ -273,6 +273,7 @@ mod tests {
                 retry: Retry::Read(0),
                 timeout: None,
                 hold: None,
+                cut_short: None,
             },
             every: Duration::from_millis(every_ms),
             urgent: false,

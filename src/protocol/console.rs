@@ -582,6 +582,15 @@ pub trait FamilyConsole: Send + Sync {
         None
     }
 
+    /// Bytes that cut the answer to `line`, a status read, short while the
+    /// controller gives it, so that an emergency stop need not wait for a
+    /// long answer on a slow line (the device task's
+    /// `Transaction::cut_short`). `None` (the default): it is waited for.
+    fn cut_short(&self, line: &PreparedLine) -> Option<Vec<u8>> {
+        let _ = line;
+        None
+    }
+
     /// The family's per-link state, if its lines change how later lines
     /// are written or read (see [`LinkContexts`]); `None` (the default):
     /// every line is sent and read the same way.

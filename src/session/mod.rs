@@ -506,21 +506,39 @@ impl Session {
         self.execute(&prepared).await
     }
 
+    /// Parse, validate and send a line that stops motion (a jog's stop)
+    /// ahead of everything queued, as the emergency stop goes: a status
+    /// read on the wire is cut short for it where the family can
+    /// ([`crate::protocol::FamilyConsole::cut_short`]). Sent once, never
+    /// again after a timeout.
+    pub async fn execute_stop_line(&self, line: &str) -> Result<LineResult, SessionError> {
+        let prepared = self.prepare(line)?;
+        self.execute_at(Priority::EmergencyStop, &prepared).await
+    }
+
     /// Send a prepared line at user priority and read the answer. While a
     /// program transfer holds the module (TMCL download mode), lines it
     /// would misread are refused (nothing is sent).
     pub async fn execute(&self, line: &PreparedLine) -> Result<LineResult, SessionError> {
+        self.execute_at(Priority::User, line).await
+    }
+
+    async fn execute_at(
+        &self,
+        priority: Priority,
+        line: &PreparedLine,
+    ) -> Result<LineResult, SessionError> {
         if let Some(message) = self.transfer.refusal(line) {
             return Err(SessionError::Refused {
                 line: line.canonical.clone(),
                 message,
             });
         }
-        let retry = match line.effect {
-            Effect::Reads => Retry::Read(self.read_retries),
-            Effect::Acts => Retry::Never,
+        let retry = match (line.effect, priority) {
+            (Effect::Reads, Priority::User) => Retry::Read(self.read_retries),
+            _ => Retry::Never,
         };
-        let result = self.send(Priority::User, line, retry, None).await;
+        let result = self.send(priority, line, retry, None).await;
         if line.effect == Effect::Acts {
             self.positions
                 .lock()
@@ -973,7 +991,10 @@ impl Session {
             .iter()
             .zip(&urgent)
             .map(|(poll, &urgent)| PollItem {
-                transaction: self.transaction(&poll.line, Retry::Never, None),
+                transaction: Transaction {
+                    cut_short: console.cut_short(&poll.line),
+                    ..self.transaction(&poll.line, Retry::Never, None)
+                },
                 every: match (urgent, poll.fast) {
                     (true, _) => lamp,
                     (false, true) => cadence.fast,
@@ -1018,6 +1039,7 @@ impl Session {
             retry,
             timeout,
             hold: hold_of(self.family.console, line),
+            cut_short: None,
         }
     }
 

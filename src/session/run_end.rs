@@ -402,7 +402,9 @@ impl fmt::Display for StopLine<'_> {
                 DeviceError::Timeout { .. } | DeviceError::AbortUnanswered { .. } => {
                     write!(f, "{line}: sent, no answer ({error})")
                 }
-                DeviceError::Garbled { .. } | DeviceError::Ambiguous { .. } => {
+                DeviceError::Garbled { .. }
+                | DeviceError::Ambiguous { .. }
+                | DeviceError::CutShort { .. } => {
                     write!(f, "{line}: sent, no readable answer ({error})")
                 }
             },

@@ -143,6 +143,14 @@ pub enum Effect {
         tag: u64,
         lines: Vec<String>,
     },
+    /// Send lines that stop motion for a pane, each ahead of everything
+    /// queued ([`Controller::execute_stop`]); each answer back as
+    /// [`AppEvent::Reply`].
+    SendStop {
+        pane: usize,
+        tag: u64,
+        lines: Vec<String>,
+    },
     /// Read a line for a pane until two answers agree
     /// ([`Controller::read_agreed`]); the answer back as [`AppEvent::Reply`].
     ReadAgreed {
@@ -253,11 +261,13 @@ pub enum Effect {
 
 impl Effect {
     /// The lines this effect sends for a pane, as (pane, tag, lines):
-    /// those of [`Effect::Send`], or the one line of
+    /// those of [`Effect::Send`] and [`Effect::SendStop`], or the one line of
     /// [`Effect::ReadAgreed`]; each is answered as an [`AppEvent::Reply`].
     pub fn sends(&self) -> Option<(usize, u64, Vec<String>)> {
         match self {
-            Effect::Send { pane, tag, lines } => Some((*pane, *tag, lines.clone())),
+            Effect::Send { pane, tag, lines } | Effect::SendStop { pane, tag, lines } => {
+                Some((*pane, *tag, lines.clone()))
+            }
             Effect::ReadAgreed { pane, tag, line } => Some((*pane, *tag, vec![line.clone()])),
             _ => None,
         }
@@ -877,6 +887,9 @@ impl App {
     fn request(&mut self, pane: usize, request: Request, effects: &mut Vec<Effect>) {
         match request {
             Request::Send { lines, tag } => effects.push(Effect::Send { pane, tag, lines }),
+            Request::SendStop { lines, tag } => {
+                effects.push(Effect::SendStop { pane, tag, lines });
+            }
             Request::ReadAgreed { line, tag } => {
                 effects.push(Effect::ReadAgreed { pane, tag, line })
             }

@@ -189,6 +189,11 @@ impl Controller for SessionController {
         })
     }
 
+    fn execute_stop(&self, line: String) -> Pending<Result<LineResult, SessionError>> {
+        let session = self.session.clone();
+        Box::pin(async move { session.execute_stop_line(&line).await })
+    }
+
     fn emergency_stop(&self) -> Pending<Vec<Result<LineResult, SessionError>>> {
         let session = self.session.clone();
         Box::pin(async move { session.emergency_stop_lines().await })

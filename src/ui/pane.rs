@@ -303,6 +303,11 @@ pub enum Request {
     /// comes back to this pane as [`PaneEvent::Reply`] with `tag`. A line
     /// is sent only after the previous one was answered.
     Send { lines: Vec<String>, tag: u64 },
+    /// Send these lines that stop motion (a jog's stop) as
+    /// [`Request::Send`] does, but each ahead of everything queued, as the
+    /// emergency stop goes: a status read on the wire is cut short for
+    /// them where the family can.
+    SendStop { lines: Vec<String>, tag: u64 },
     /// Read this line at user priority, as [`Request::Send`] does, but
     /// where the family's answers carry no check, until two answers agree
     /// ([`crate::session::Session::read_agreed`]): what a value shown as

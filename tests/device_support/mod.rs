@@ -150,6 +150,7 @@ pub fn transaction(request: &Request, retry: Retry) -> Transaction {
         retry,
         timeout: None,
         hold: None,
+        cut_short: None,
     }
 }
 

@@ -54,9 +54,14 @@ enum Attempt {
     Lost(String),
 }
 
-/// A held request on the wire: what it takes meanwhile and what was sent.
+/// A held request on the wire, or a read that may be cut short: what it
+/// takes meanwhile and what was sent.
 struct Holding {
     hold: Hold,
+    /// A held request ([`Transaction::hold`]): published as busy, it takes
+    /// the user's abort and pause. Else a read that only an emergency stop
+    /// cuts short ([`Transaction::cut_short`]).
+    held: bool,
     /// How long the answer to an abort is waited for.
     grace: Duration,
     aborted: bool,
@@ -456,29 +461,41 @@ impl Task {
             Expect::UntilQuiet => return self.execute_raw(line, job, started, timeout).await,
             Expect::Reply(rule) => Arc::clone(rule),
         };
-        let mut holding = job.transaction.hold.clone().map(|hold| Holding {
-            busy: Busy {
-                since: started.into_std(),
-                bytes: bytes.clone(),
-                priority,
+        let cut_short = job
+            .transaction
+            .cut_short
+            .clone()
+            .map(|abort| Hold { abort, pause: None });
+        let held = job.transaction.hold.is_some();
+        let mut holding = job
+            .transaction
+            .hold
+            .clone()
+            .or(cut_short)
+            .map(|hold| Holding {
+                busy: Busy {
+                    since: started.into_std(),
+                    bytes: bytes.clone(),
+                    priority,
+                    paused: false,
+                    aborting: false,
+                    pausable: hold.pause.is_some(),
+                },
+                hold,
+                held,
+                grace: timeout,
+                aborted: false,
                 paused: false,
-                aborting: false,
-                pausable: hold.pause.is_some(),
-            },
-            hold,
-            grace: timeout,
-            aborted: false,
-            paused: false,
-        });
+            });
         // A held request ends on its answer, unless it was given a timeout.
-        let deadline = match (&holding, job.transaction.timeout) {
-            (Some(_), None) => None,
+        let deadline = match (held, job.transaction.timeout) {
+            (true, None) => None,
             _ => Some(started + timeout),
         };
-        if let Some(holding) = &holding {
+        if let Some(holding) = holding.as_ref().filter(|h| h.held) {
             self.out.busy.send_replace(Some(holding.busy.clone()));
         }
-        let may_retry = job.may_retry() && holding.is_none();
+        let may_retry = job.may_retry() && !held;
         let (outcome, received) = self
             .attempt(
                 line,
@@ -490,9 +507,16 @@ impl Task {
                 holding.as_mut(),
             )
             .await;
-        if holding.is_some() {
+        if held {
             self.out.busy.send_replace(None);
         }
+        // A read cut short for a stop: nothing of it is taken, and it is not
+        // asked again before the stop.
+        let cut = holding
+            .as_ref()
+            .filter(|h| !h.held && h.aborted)
+            .map(|h| h.hold.abort.clone());
+        let may_retry = may_retry && cut.is_none();
         let now = Instant::now();
         // The last attempt's bytes: a reply garbled once, read whole.
         if !received.garbled.is_empty() {
@@ -509,6 +533,10 @@ impl Task {
             timeout,
         };
         match outcome {
+            Attempt::Answered if cut.is_some() => {
+                let by = cut.unwrap_or_default();
+                self.finish(job, Err(DeviceError::CutShort { by }));
+            }
             Attempt::Answered => {
                 if received.through_earlier_attempt {
                     // An earlier attempt's answer came: this one's may
@@ -650,6 +678,16 @@ impl Task {
             self.order(order);
             return Ok(());
         };
+        if !holding.held {
+            // A read that may be cut short: only for an emergency stop.
+            let stop =
+                matches!(&order, Some(Order::Submit(s)) if s.priority == Priority::EmergencyStop);
+            self.order(order);
+            if stop {
+                self.abort_held(line, holding, deadline)?;
+            }
+            return Ok(());
+        }
         match order {
             Some(Order::Abort(reply)) => {
                 self.abort_held(line, holding, deadline)?;
@@ -696,7 +734,9 @@ impl Task {
         self.write_held(line, &bytes, holding.busy.priority)?;
         holding.aborted = true;
         holding.busy.aborting = true;
-        self.out.busy.send_replace(Some(holding.busy.clone()));
+        if holding.held {
+            self.out.busy.send_replace(Some(holding.busy.clone()));
+        }
         self.counters.aborts += 1;
         self.publish_counters();
         *deadline = Some(Instant::now() + holding.grace);

@@ -514,6 +514,14 @@ impl FamilyConsole for MclConsole {
         })
     }
 
+    /// Escape aborts the line the controller is running (Ch2): a status
+    /// line of every axis takes about 150 ms at 9600 Bd, which a stop must
+    /// not wait for. A Tell line has nothing to undo.
+    fn cut_short(&self, line: &PreparedLine) -> Option<Vec<u8>> {
+        let _ = line;
+        Some(vec![self.profile.abort])
+    }
+
     fn link_contexts(&self) -> Option<&dyn LinkContexts> {
         Some(self)
     }

@@ -103,6 +103,12 @@ pub trait Controller: Send + Sync {
     /// converted with the mechanics in force and the module's settings
     /// first, where the controller converts).
     fn execute(&self, line: String) -> Pending<Result<LineResult, SessionError>>;
+    /// Send one line that stops motion ahead of everything queued
+    /// ([`crate::session::Session::execute_stop_line`]). By default: as
+    /// [`Controller::execute`].
+    fn execute_stop(&self, line: String) -> Pending<Result<LineResult, SessionError>> {
+        self.execute(line)
+    }
     /// The axes' mechanics in force (none by default).
     fn mechanics(&self) -> crate::protocol::units::MechanicsTable {
         crate::protocol::units::MechanicsTable::default()

@@ -727,13 +727,14 @@ impl Runner {
     }
 
     fn carry_out(&mut self, effect: Effect, app: &App, queue: &mut Vec<AppEvent>) {
+        let stop = matches!(effect, Effect::SendStop { .. });
         let not_connected = || {
             AppEvent::Notice(Notice::error(
                 "not connected: give :connect --sim tmcm1110 (or --port PATH, --tcp HOST:PORT)",
             ))
         };
         match effect {
-            Effect::Send { pane, tag, lines } => {
+            Effect::Send { pane, tag, lines } | Effect::SendStop { pane, tag, lines } => {
                 let Some(c) = self.selected(app) else {
                     queue.push(not_connected());
                     return;
@@ -742,7 +743,11 @@ impl Runner {
                 let tx = self.internal.clone();
                 self.sending.push(tokio::spawn(async move {
                     for line in lines {
-                        let result = controller.execute(line.clone()).await;
+                        let result = if stop {
+                            controller.execute_stop(line.clone()).await
+                        } else {
+                            controller.execute(line.clone()).await
+                        };
                         let failed = result.is_err();
                         let reply = AppEvent::Reply {
                             pane,

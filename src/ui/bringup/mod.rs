@@ -228,6 +228,15 @@ impl BringUpPane {
         (tag, Request::Send { lines, tag })
     }
 
+    /// Send a jog's stop `lines` under a fresh tag, ahead of everything
+    /// queued (a status read on the wire is cut short for them where the
+    /// family can).
+    fn send_stop_lines(&mut self, lines: Vec<String>) -> (u64, Request) {
+        let tag = self.tag();
+        self.sent = lines.clone();
+        (tag, Request::SendStop { lines, tag })
+    }
+
     /// A timer for the deadman window ending `after` from now.
     fn deadman_in(&mut self, after: Duration) -> Request {
         let tag = self.tag();
@@ -351,7 +360,7 @@ impl BringUpPane {
                 match self.stop_lines() {
                     Some(lines) => {
                         let left = lines.len();
-                        let (tag, send) = self.send(lines);
+                        let (tag, send) = self.send_stop_lines(lines);
                         self.jog = Jog::Stopping { tag, left };
                         self.say(Role::Warning, format!("stopping ({why})"));
                         Outcome::request(send)
@@ -381,7 +390,7 @@ impl BringUpPane {
         match self.stop_lines() {
             Some(lines) => {
                 let left = lines.len();
-                let (tag, send) = self.send(lines);
+                let (tag, send) = self.send_stop_lines(lines);
                 self.jog = Jog::Stopping { tag, left };
                 Outcome::request(send)
             }

@@ -107,7 +107,7 @@ impl BringUpPane {
         ];
         if !stop.is_empty() {
             let left = stop.len();
-            let (tag, send) = self.send(stop);
+            let (tag, send) = self.send_stop_lines(stop);
             self.jog = Jog::Stopping { tag, left };
             requests.push(send);
         }
