@@ -10,10 +10,11 @@ standing and with axis 1 turning in velocity mode.
 For each baud rate and phase it prints the refresh rate the console shows
 (`poll 20 Hz → 7.3/s`) at the default 20 Hz and at `:poll 1000` (as fast
 as the line goes), the rounds of the fast poll items (`aTP,TV,TS` for the
-five axes) counted in the console's traffic log (`:log`), the bytes of one
-round on the wire (the request, its echo, three reply lines and the prompt;
-the log shows lines without their CR LF, which are added back) and the
-slow items' share (`aTT,TF`, `5TT`), the rate the wire would allow for the
+five axes, on one line or several: a round starts with the line that
+reads axis 1) counted in the console's traffic log (`:log`), the bytes of
+one round on the wire (the requests, their echo, three reply lines an axis
+and the prompts; the log shows lines without their CR LF, which are added
+back) and the slow items' share (`aTT,TF`, `5TT`), the rate the wire would allow for the
 fast items alone, the fraction of it reached, and how busy the line was.
 The line is full duplex and the controller echoes each character as it
 arrives, so a request travels under its own echo: the answer direction is
@@ -31,7 +32,7 @@ import time
 
 from bench_support import Tmux, shown_rate, unescape_len, log_entry
 
-FAST = re.compile(r"^[1-8]TP,TV,TS$")
+FAST = re.compile(r"^[1-8]TP,TV,TS(,[1-8]TP,TV,TS)*$")
 
 
 def window(log_path, start_ms, end_ms):
@@ -51,7 +52,7 @@ def window(log_path, start_ms, end_ms):
                     current = None
                     continue
                 current = frame.removesuffix("\\r")
-                if current == "1TP,TV,TS":
+                if current.startswith("1TP,TV,TS") and FAST.match(current):
                     rounds += 1
             if current is None:
                 continue

@@ -191,9 +191,10 @@ fn a_sixpack2_is_timed_with_its_status_read_and_its_switch_over_delay() {
 
 #[test]
 fn an_mccl_answer_overlaps_its_request_on_the_wire() {
-    // `1TP,TV,TS` and its answer: the echo comes back as the line is sent
-    // (full duplex), then CR LF, three `01 0` lines and the prompt: 30
-    // bytes back and the one the echo trails the request by.
+    // The status line of all five axes and its answer: the echo comes
+    // back as the line is sent (full duplex), 49 characters and CR LF,
+    // then fifteen one-digit Tell lines (`01 0`, 6 bytes each) and the
+    // prompt: 142 bytes back and the one the echo trails the request by.
     let out = axterm(&[
         "bench",
         "--sim",
@@ -212,7 +213,10 @@ fn an_mccl_answer_overlaps_its_request_on_the_wire() {
         String::from_utf8_lossy(&out.stderr)
     );
     let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
-    assert_eq!(report["line"], "1TP,TV,TS", "{report}");
-    assert_eq!(report["wire"]["bytes"], 31, "{report}");
+    assert_eq!(
+        report["line"], "1TP,TV,TS,2TP,TV,TS,3TP,TV,TS,4TP,TV,TS,5TP,TV,TS",
+        "{report}"
+    );
+    assert_eq!(report["wire"]["bytes"], 51 + 15 * 6 + 1 + 1, "{report}");
     assert!(report["polling"]["share_of_wire"].is_number(), "{report}");
 }

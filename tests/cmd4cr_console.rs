@@ -218,11 +218,12 @@ fn a_slow_items_share_counts_an_echo_and_a_turnaround() {
             .collect();
         (period, slow)
     };
-    // MultiFlex, echo on (Ch2): `2TT,TF` comes back as its echo and CR LF
-    // (8), `02 0` CR LF twice (12) and the prompt (1): three times the 7
-    // bytes sent, not twice.
+    // MultiFlex, echo on (Ch2), one line for every axis: each `aTT,TF`
+    // of it comes back as its echo (7 with the comma), `0a 0` CR LF twice
+    // (12), and the line's CR as CR LF and the prompt: about three times
+    // the bytes sent, not twice.
     let (period, slow) = slow_of("mccl");
-    assert!(slow.iter().any(|l| l == b"2TT,TF\r"), "{slow:?}");
+    assert_eq!(slow, [b"1TT,TF,2TT,TF,3TT,TF,4TT,TF,5TT\r".to_vec()]);
     let bytes: u32 = slow.iter().map(|l| 3 * l.len() as u32).sum();
     assert_eq!(period, byte * bytes * SLOW_SHARE_DIVISOR);
     // SIXpack 2: one `$30` per motor channel, each 9 bytes out, 8 back,

@@ -42,6 +42,23 @@ fn text(bytes: &[u8]) -> String {
         .to_string()
 }
 
+/// The Tells of a status line, each with the axis the line carried to it
+/// (Ch2: "the axis that a command acts on is assumed to be the last one
+/// specified in the command string"): `1TP,TV,2TP` → 1 TP, 1 TV, 2 TP.
+fn tells(request: &str) -> Vec<(String, String)> {
+    let mut axis = String::new();
+    request
+        .split(',')
+        .map(|command| {
+            let digits = command.bytes().take_while(u8::is_ascii_digit).count();
+            if digits > 0 {
+                axis = command[..digits].to_string();
+            }
+            (axis.clone(), command[digits..].to_string())
+        })
+        .collect()
+}
+
 const CYCLE: &str = "2MR1000,WS0.5,MR-1000,WS0.5,RP6";
 
 fn start(
@@ -171,16 +188,14 @@ async fn hm_pauses_polling_and_it_resumes_written_in_hex() {
     // Answer the first round of polls in decimal.
     for _ in 0..10 {
         let request = text(&script.request().await);
-        let axis = request[..1].to_string();
-        let replies = match &request[1..] {
-            "TP,TV,TS" => vec![
-                format!("0{axis} 5"),
-                format!("0{axis} 0"),
-                format!("0{axis} 14"),
-            ],
-            "TT,TF" => vec![format!("0{axis} 5"), format!("0{axis} 0")],
-            _ => vec![format!("0{axis} 5")],
-        };
+        let replies: Vec<String> = tells(&request)
+            .into_iter()
+            .map(|(axis, tell)| match tell.as_str() {
+                "TV" | "TF" => format!("0{axis} 0"),
+                "TS" => format!("0{axis} 14"),
+                _ => format!("0{axis} 5"),
+            })
+            .collect();
         let replies: Vec<&str> = replies.iter().map(String::as_str).collect();
         script.send(&answer(&request, &replies));
     }
@@ -189,10 +204,9 @@ async fn hm_pauses_polling_and_it_resumes_written_in_hex() {
     // until its answer.
     let mut request = text(&script.request().await);
     while request != "HM" {
-        let axis = request[..1].to_string();
-        let replies: Vec<String> = request[1..]
-            .split(',')
-            .map(|_| format!("0{axis} 0"))
+        let replies: Vec<String> = tells(&request)
+            .into_iter()
+            .map(|(axis, _)| format!("0{axis} 0"))
             .collect();
         let replies: Vec<&str> = replies.iter().map(String::as_str).collect();
         script.send(&answer(&request, &replies));
@@ -205,19 +219,20 @@ async fn hm_pauses_polling_and_it_resumes_written_in_hex() {
     hm.await.expect("joined").expect("HM");
     // The very first poll after it is read in hex: -1000 is fffffc18.
     let request = text(&script.request().await);
-    assert_eq!(&request[1..], "TP,TV,TS", "{request}");
-    let axis: usize = request[..1].parse().expect("an axis");
-    let field = format!("{axis:02}");
-    script.send(&answer(
-        &request,
-        &[
-            &format!("{field} fffffc18"),
-            &format!("{field} 00000064"),
-            &format!("{field} 0000000e"),
-        ],
-    ));
-    let axes = wait_for(&session, |axes| axes[axis - 1].position == Some(-1000)).await;
-    assert_eq!(axes[axis - 1].speed, Some(100));
+    assert!(request.starts_with("1TP,TV,TS,2TP,TV,TS"), "{request}");
+    let replies: Vec<String> = tells(&request)
+        .into_iter()
+        .map(|(axis, tell)| match (axis.as_str(), tell.as_str()) {
+            ("1", "TP") => "01 fffffc18".to_string(),
+            ("1", "TV") => "01 00000064".to_string(),
+            (_, "TS") => format!("0{axis} 0000000e"),
+            _ => format!("0{axis} 00000000"),
+        })
+        .collect();
+    let replies: Vec<&str> = replies.iter().map(String::as_str).collect();
+    script.send(&answer(&request, &replies));
+    let axes = wait_for(&session, |axes| axes[0].position == Some(-1000)).await;
+    assert_eq!(axes[0].speed, Some(100));
 }
 
 #[tokio::test(start_paused = true)]
@@ -227,22 +242,22 @@ async fn polling_reads_position_velocity_status_target_and_following_error() {
     let status = async {
         loop {
             let request = text(&script.request().await);
-            let axis = &request[..1];
-            let replies: Vec<String> = match &request[1..] {
-                // Axis 2: moving, hard limit + tripped and its input on.
-                "TP,TV,TS" if axis == "2" => vec!["02 -500", "02 1200", "02 268436489"]
-                    .into_iter()
-                    .map(String::from)
-                    .collect(),
-                "TP,TV,TS" => vec![
-                    format!("0{axis} 0"),
-                    format!("0{axis} 0"),
-                    format!("0{axis} 14"),
-                ],
-                "TT,TF" => vec![format!("0{axis} 1000"), format!("0{axis} 3")],
-                "TT" => vec![format!("0{axis} 0")],
-                other => panic!("unexpected poll {other}"),
-            };
+            let replies: Vec<String> = tells(&request)
+                .into_iter()
+                .map(|(axis, tell)| match (axis.as_str(), tell.as_str()) {
+                    // Axis 2: moving, hard limit + tripped and its input on.
+                    ("2", "TP") => "02 -500".to_string(),
+                    ("2", "TV") => "02 1200".to_string(),
+                    ("2", "TS") => "02 268436489".to_string(),
+                    (_, "TP" | "TV") => format!("0{axis} 0"),
+                    (_, "TS") => format!("0{axis} 14"),
+                    // Axis 5, a stepper, has no TF.
+                    ("5", "TT") => "05 0".to_string(),
+                    (_, "TT") => format!("0{axis} 1000"),
+                    (_, "TF") => format!("0{axis} 3"),
+                    (_, other) => panic!("unexpected poll {other} in {request}"),
+                })
+                .collect();
             let replies: Vec<&str> = replies.iter().map(String::as_str).collect();
             script.send(&answer(&request, &replies));
         }

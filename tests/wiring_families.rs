@@ -176,7 +176,7 @@ async fn swapped_the_minus_leg_meets_a_switch_too() {
     // fired".
     for case in CASES {
         let (legs, said) = check(case, "swapped").await;
-        let stuck = legs[1].from.is_some() && legs[1].from == legs[1].rest;
+        let stuck = legs[1].stood_still();
         assert!(
             legs[1].fired.is_some() || legs[1].refused.is_some() || stuck,
             "{}: {said:#?}",

@@ -262,6 +262,7 @@ impl SimLine {
     pub fn run(&mut self, sim: &mut dyn SimulatedController, now: Duration) -> LineOutput {
         if !self.armed {
             sim.arm_faults(&self.faults);
+            sim.line_byte_time(self.to_host.byte_time);
             self.armed = true;
         }
         if let Some(reason) = &self.cut {

@@ -79,6 +79,25 @@ pub struct Leg {
     pub refused: Option<String>,
 }
 
+/// How far from where a leg started its axis may come to rest and still
+/// have stood still: an encoder's count either way, a servo dithering as
+/// it holds or coasting the last count to rest after a trip. Read a few
+/// milliseconds sooner or later (the MultiFlex's status of all axes in
+/// one line), an unpowered servo read 58260 at the start and 58259 at
+/// the end of a leg it never moved in.
+pub const STANDING_DITHER: i64 = 1;
+
+impl Leg {
+    /// The axis did not move under the jog: it came to rest within
+    /// [`STANDING_DITHER`] of where it started.
+    pub fn stood_still(&self) -> bool {
+        matches!(
+            (self.from, self.rest),
+            (Some(from), Some(rest)) if (rest - from).abs() <= STANDING_DITHER
+        )
+    }
+}
+
 /// Plain lines of what the legs show, one each, for the axis `axis`:
 /// which switch fired for which direction, and what that means.
 pub fn findings(axis: &str, legs: &[Leg]) -> Vec<String> {
@@ -103,7 +122,7 @@ pub fn findings(axis: &str, legs: &[Leg]) -> Vec<String> {
         match leg.fired {
             // Nothing moved: no switch could fire, and "check the switch"
             // would send the technician to the wrong place.
-            None if leg.from.is_some() && leg.from == leg.rest => lines.push(format!(
+            None if leg.stood_still() => lines.push(format!(
                 "{going}: the axis did not move (it stood at {}): is its motor on, or did a \
                  trip (following error, a latched stop) hold it?",
                 at(leg.from)
@@ -399,6 +418,12 @@ mod tests {
         let said = findings("1", &legs);
         assert!(said[1].contains("did not move (it stood at 0)"), "{said:?}");
         assert!(!said[1].contains("no limit switch fired"), "{said:?}");
+        // A count of dither is standing; two are a move.
+        let mut dither = legs.clone();
+        dither[1].rest = dither[1].from.map(|p| p - STANDING_DITHER);
+        assert!(findings("1", &dither)[1].contains("did not move (it stood at 0)"));
+        dither[1].rest = dither[1].from.map(|p| p - STANDING_DITHER - 1);
+        assert!(findings("1", &dither)[1].contains("no limit switch fired"));
     }
 
     #[test]

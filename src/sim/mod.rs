@@ -32,6 +32,13 @@ pub trait SimulatedController: Send {
     fn arm_faults(&mut self, plan: &faults::FaultPlan) {
         let _ = plan;
     }
+    /// The time one byte takes on the line it is connected by (`None`:
+    /// bytes pass at once); the line tells it whenever a connection opens.
+    /// A controller whose commands wait for room in its own transmit
+    /// buffer (MCCL's Tells) sends at that rate; the others ignore it.
+    fn line_byte_time(&mut self, byte_time: Option<Duration>) {
+        let _ = byte_time;
+    }
     /// Drive one of the controller's inputs from outside by a setting
     /// such as `IO5=1` (`--input`, a line on the standard input of `axterm
     /// sim`, the console's `:sim-input`; the names are the kind's

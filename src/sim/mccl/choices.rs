@@ -33,7 +33,7 @@ pub const CHOICES: &[Choice] = &[
     choice("line noise", "a byte that is no 7-bit text in a line is error 3 (I/O error)"),
     choice("Escape", "aborts the running line with `?-7` and the command it was on; motion already started goes on"),
     choice("single-step key", "Ctrl-T (0x14) while a line runs; Space runs the next command, Enter resumes, Escape aborts; display `{C<n>,M<m>} <command> <`"),
-    choice("output rate", "the port sends 11520 bytes/s (115200 Bd); a reporting command waits while 64 bytes are unsent, so a line of many Tells runs while most of its answer goes out and Escape cuts it short"),
+    choice("output rate", "the port sends at the line's rate (11520 bytes/s, 115200 Bd, without one); a reporting command waits while 24 bytes are unsent, so a line of many Tells runs while its answer goes out and Escape cuts it short"),
     // ---- error codes ----
     choice("error codes", "1 unknown mnemonic; 2 bad parameter text, empty command, two RP or DM with HM in one line; 3 line noise; 4 line too long; -1 value out of range or a real where an integer is due; -2 command the axis kind does not take; -13 move or wait on an axis that tripped; -14 no axis; -15 axis beyond the machine; -16 CM/SM of an axis already in another group or gearing; -17 an axis twice in a path command or geared to itself; -18 macro memory, 21 tasks or 32 nested calls exceeded; -21 reporting command in a task, BK\"text\" in a task, commands not simulated"),
     // ---- numbers ----

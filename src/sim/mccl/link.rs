@@ -37,10 +37,12 @@ pub const MAX_LINE: usize = 512;
 pub const DEFAULT_PROMPT: u8 = b'>';
 /// Output bytes not yet on the wire above which a reporting command waits
 /// (the simulated port's transmit buffer). The manual gives no buffer; a
-/// small one keeps a line of many Tells running while most of its answer
-/// goes out, so that Escape can still cut it short (Ch2).
-pub const TRANSMIT_BUFFER: f64 = 64.0;
-/// The rate the simulated port sends at, bytes per second: 115200 Bd.
+/// small one keeps a line of many Tells running while its answer goes
+/// out, so that Escape can still cut it short (Ch2): at 9600 Bd the last
+/// 24 bytes take 25 ms.
+pub const TRANSMIT_BUFFER: f64 = 24.0;
+/// The rate the simulated port sends at, bytes per second, until the line
+/// it is connected by says its own: 115200 Bd.
 pub const DEFAULT_OUTPUT_RATE: f64 = 11_520.0;
 
 /// What ends a line of output.
@@ -419,7 +421,7 @@ mod tests {
     #[test]
     fn the_backlog_drains_at_the_output_rate() {
         let mut link = Link::new(LinkProfile::default());
-        link.write(&[b'x'; 170]);
+        link.write(&[b'x'; 130]);
         assert!(link.congested());
         link.drain(0.01);
         assert!(!link.congested(), "115 bytes sent in 10 ms");

@@ -611,6 +611,15 @@ impl SimulatedController for Mccl {
         });
     }
 
+    /// The port sends at the line's rate: a Tell waits for room in the
+    /// transmit buffer at that rate, so a line of Tells runs for as long as
+    /// its answer takes on the wire (and Escape can cut it short).
+    fn line_byte_time(&mut self, byte_time: Option<Duration>) {
+        if let Some(each) = byte_time.filter(|t| !t.is_zero()) {
+            self.link.profile.output_rate = 1.0 / each.as_secs_f64();
+        }
+    }
+
     fn drive_input(&mut self, setting: &str) -> Result<String, String> {
         Mccl::drive_input(self, setting).map_err(|e| e.to_string())
     }

@@ -72,9 +72,12 @@ use crate::session::{AxisMotion, AxisStatus};
 use crate::ui::pane::Snapshot;
 
 /// How long a continuous jog goes on after the last key repeat: terminals
-/// repeat a held key 25-33 times a second, so a window of 250 ms rides
-/// over a late repeat or two and stops well within 300 ms of the last.
-pub const DEADMAN: Duration = Duration::from_millis(250);
+/// repeat a held key 11-33 times a second, so a window of 200 ms rides
+/// over a late repeat or more, and leaves 100 ms for the stop to reach
+/// the wire within 300 ms of the last repeat: at 9600 Bd it may wait for
+/// a status line's request to finish going out and for the cut answer
+/// (MCCL: up to about 85 ms, `tests/ui_bringup.rs`).
+pub const DEADMAN: Duration = Duration::from_millis(200);
 
 /// How soon after a first press a second press of the same key starts a
 /// run: longer than the usual delay before a terminal repeats a held key.

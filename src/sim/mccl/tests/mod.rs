@@ -52,6 +52,20 @@ impl Session {
         String::from_utf8_lossy(&self.sim.take_output()).into_owned()
     }
 
+    /// Send bytes and let time pass until the line they end has completed
+    /// (a Tell waits for room in the port's transmit buffer): all that
+    /// came back.
+    pub fn typed_through(&mut self, bytes: &str) -> String {
+        let mut out = self.typed(bytes);
+        for _ in 0..1000 {
+            if !self.sim.busy() {
+                return out;
+            }
+            out.push_str(&self.advance_ms(1));
+        }
+        panic!("{bytes:?}: still running after a second: {out:?}");
+    }
+
     pub fn advance_ms(&mut self, ms: u64) -> String {
         let mut out = Vec::new();
         for _ in 0..ms {

@@ -34,8 +34,8 @@ fn a_bare_cr_repeats_the_last_line_until_another_key() {
     let mut s = Session::new();
     s.quiet(&["AL5"]);
     assert_eq!(s.line("AA1,TR0"), ["01 6"]);
-    assert_eq!(s.typed("\r"), "\r\n01 7\r\n>");
-    assert_eq!(s.typed("\r"), "\r\n01 8\r\n>");
+    assert_eq!(s.typed_through("\r"), "\r\n01 7\r\n>");
+    assert_eq!(s.typed_through("\r"), "\r\n01 8\r\n>");
     assert_eq!(
         s.typed("x\x08\r"),
         "x\x08 \x08\r\n>",
@@ -142,7 +142,11 @@ fn terminators_error_text_tell_field_and_echo_are_settings() {
     s.drive("ECHO=0");
     assert_eq!(s.typed("1TP\r"), "\r0\r>");
     s.typed("EN\r");
-    assert_eq!(s.typed("1TP\r"), "1TP\r0\r>", "EN turns the echo back on");
+    assert_eq!(
+        s.typed_through("1TP\r"),
+        "1TP\r0\r>",
+        "EN turns the echo back on"
+    );
 }
 
 #[test]
@@ -168,4 +172,55 @@ fn line_noise_and_long_lines() {
     let long = "NO,".repeat(200);
     let out = s.typed(&format!("{long}\r"));
     assert!(out.ends_with("\r\n?4\r\n>"), "{out:?}");
+}
+
+/// Ch2: commands on one line separated by commas, "the axis that a
+/// command acts on is assumed to be the last one specified in the command
+/// string"; Ch8: a Tell prints `AA value`, the axis in two digits. The
+/// console's status line for several axes, byte for byte, the echo (its
+/// CR as CR LF) first and one prompt after the line.
+#[test]
+fn one_line_tells_several_axes_each_with_its_own_axis() {
+    let mut s = Session::new();
+    s.quiet(&["2DH1000", "3DH-250"]);
+    assert_eq!(
+        s.typed_through("1TP,TT,2TP,TT,3TP,TT\r"),
+        "1TP,TT,2TP,TT,3TP,TT\r\n01 0\r\n01 0\r\n02 1000\r\n02 1000\r\n03 -250\r\n03 -250\r\n>"
+    );
+}
+
+#[test]
+fn escape_cuts_a_line_of_tells_short_while_its_answer_goes_out() {
+    // Ch2: "Escape" aborts the command string being executed; Ch14 -7
+    // "Command Canceled by User". At 9600 Bd (960 bytes/s) a status line
+    // of five axes answers for about 150 ms; a Tell waits for room in the
+    // port's transmit buffer, so the line is still running when Escape
+    // comes 40 ms in, and what follows is the abort, not the rest.
+    let mut s = Session::new();
+    s.drive("OUTRATE=960");
+    let line = "1TP,TV,TS,2TP,TV,TS,3TP,TV,TS,4TP,TV,TS,5TP,TV,TS";
+    let mut out = s.typed(&format!("{line}\r"));
+    out.push_str(&s.advance_ms(40));
+    assert!(s.sim.busy(), "still answering 40 ms in: {out:?}");
+    out.push_str(&s.typed("\x1b"));
+    for _ in 0..200 {
+        out.push_str(&s.advance_ms(1));
+    }
+    assert!(!s.sim.busy());
+    let body = out
+        .strip_prefix(&format!("{line}\r\n"))
+        .unwrap_or_else(|| panic!("no echo: {out:?}"));
+    let lines: Vec<&str> = body.split_terminator("\r\n").collect();
+    let (last, tells) = lines.split_last().expect("lines");
+    assert_eq!(*last, ">", "{out:?}");
+    let (abort, tells) = tells.split_last().expect("the abort's report");
+    assert!(
+        abort.starts_with("?-7 ") && abort.len() > 4,
+        "the abort names the command it was on: {out:?}"
+    );
+    assert!(tells.len() < 15, "cut short: {} of 15 Tells", tells.len());
+    assert!(
+        tells.iter().all(|t| t.len() > 3 && t.as_bytes()[2] == b' '),
+        "each Tell a whole `AA value` line: {tells:?}"
+    );
 }
