@@ -71,6 +71,21 @@ fn assert_waited(elapsed: Duration, expected: Duration) {
 
 const CYCLE: &str = "2MR1000,WS0.5,MR-1000,WS0.5,RP6";
 
+/// The emergency stop `0AB` goes next and is answered, then `1MR500`,
+/// queued before it.
+async fn the_stop_then_the_line_queued(
+    script: &mut Script,
+    stop: impl std::future::Future<Output = Result<axterm::device::Answer, DeviceError>>,
+    queued: impl std::future::Future<Output = Result<axterm::device::Answer, DeviceError>>,
+) {
+    assert_eq!(script.request().await, line_bytes("0AB"));
+    script.send(b"0AB\r\n>");
+    stop.await.expect("stopped");
+    assert_eq!(script.request().await, line_bytes("1MR500"));
+    script.send(b"1MR500\r\n>");
+    queued.await.expect("sent after");
+}
+
 #[tokio::test(start_paused = true)]
 async fn a_held_line_has_no_timeout_and_ends_on_its_answer() {
     let (device, mut script) = device();
@@ -228,12 +243,7 @@ async fn an_emergency_stop_aborts_the_held_line_then_goes_first() {
     let aborted = running.await.expect("the abort's answer");
     assert_eq!(frames(&aborted)[1], "?-7 WS0.5");
     // Then the stop, before the line queued earlier.
-    assert_eq!(script.request().await, line_bytes("0AB"));
-    script.send(b"0AB\r\n>");
-    stop.await.expect("stopped");
-    assert_eq!(script.request().await, line_bytes("1MR500"));
-    script.send(b"1MR500\r\n>");
-    queued.await.expect("sent after");
+    the_stop_then_the_line_queued(&mut script, stop, queued).await;
 }
 
 #[tokio::test(start_paused = true)]
@@ -318,12 +328,7 @@ async fn an_emergency_stop_cuts_a_long_status_read_short_and_goes_on_its_answer(
         "the stop waits for the cut answer"
     );
     script.send(b"?-7 1TS\r\n>");
-    assert_eq!(script.request().await, line_bytes("0AB"));
-    script.send(b"0AB\r\n>");
-    stop.await.expect("stopped");
-    assert_eq!(script.request().await, line_bytes("1MR500"));
-    script.send(b"1MR500\r\n>");
-    queued.await.expect("sent after");
+    the_stop_then_the_line_queued(&mut script, stop, queued).await;
     // The cut read is no reading: nothing of it reaches the status.
     let results = sink.results();
     assert_eq!(results.len(), 1, "{results:?}");
