@@ -492,6 +492,39 @@ mod tests {
 
     const MICRO: Duration = Duration::from_micros(1);
 
+    /// Remembers the byte time the line told it.
+    #[derive(Default)]
+    struct Told(Vec<Option<Duration>>);
+
+    impl SimulatedController for Told {
+        fn feed(&mut self, _bytes: &[u8]) {}
+        fn advance(&mut self, _dt: Duration) {}
+        fn take_output(&mut self) -> Vec<u8> {
+            Vec::new()
+        }
+        fn help(&self) -> String {
+            "told".into()
+        }
+        fn line_byte_time(&mut self, byte_time: Option<Duration>) {
+            self.0.push(byte_time);
+        }
+    }
+
+    #[test]
+    fn the_controller_learns_the_lines_byte_time_at_each_connection() {
+        let mut sim = Told::default();
+        let mut line = SimLine::new(Some(9600), &FaultPlan::none());
+        line.run(&mut sim, Duration::ZERO);
+        line.run(&mut sim, MS);
+        assert_eq!(sim.0, [Some(byte_time(9600))], "once a connection");
+        line.reconnect();
+        line.run(&mut sim, 2 * MS);
+        assert_eq!(sim.0, [Some(byte_time(9600)); 2]);
+        let mut untimed = Told::default();
+        SimLine::new(None, &FaultPlan::none()).run(&mut untimed, Duration::ZERO);
+        assert_eq!(untimed.0, [None]);
+    }
+
     #[test]
     fn without_a_baud_rate_bytes_pass_at_once() {
         let mut sim = Echo::default();

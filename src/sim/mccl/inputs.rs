@@ -154,8 +154,8 @@ pub const INPUTS: &[InputRow<Input>] = &[
             max: 1_000_000,
             unit: "bytes/s",
         },
-        what: "the rate the port sends at, bytes/s (11520, 115200 Bd): an endless reporting line \
-               (1TP,RP) waits for it; set it to the baud rate / 10 when serving at a lower --baud",
+        what: "the rate the port sends at, bytes/s: a reporting command waits for it; the line's \
+               (--baud / 10) from each connection, else 11520 (115200 Bd)",
     },
     InputRow {
         input: Input::Limits,

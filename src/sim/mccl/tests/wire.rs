@@ -224,3 +224,13 @@ fn escape_cuts_a_line_of_tells_short_while_its_answer_goes_out() {
         "each Tell a whole `AA value` line: {tells:?}"
     );
 }
+
+#[test]
+fn the_port_sends_at_the_rate_of_the_line_it_is_connected_by() {
+    let mut s = Session::new();
+    s.sim.line_byte_time(Some(crate::link::byte_time(9600)));
+    assert!((s.sim.link.profile.output_rate - 960.0).abs() < 0.01);
+    // A line without a rate leaves the port's own.
+    s.sim.line_byte_time(None);
+    assert!((s.sim.link.profile.output_rate - 960.0).abs() < 0.01);
+}
