@@ -355,3 +355,33 @@ fn at_80_columns_the_shown_tab_is_named_whole() {
         assert!(shown.contains(label), "{name}: {shown}");
     }
 }
+
+/// A MultiFlex servo takes a jog with its motor off and turns nothing
+/// (Ch8 TS bit 1; MA only moves the target): the pane says so from the
+/// polled lamps and sends nothing, for a held key and for a step.
+#[tokio::test(start_paused = true)]
+async fn a_jog_of_a_servo_whose_motor_is_off_sends_nothing_and_says_why() {
+    let session = session("mccl").await;
+    let mut traffic = session.device().traffic();
+    run_bringup(&session, async |rig: &mut Rig| {
+        rig.screens.until("standing by").await;
+        // The lamps are polled: the motor lamp is known to be off.
+        rig.screens.until("driver none").await;
+        hold(rig, KeyCode::Right, Duration::from_millis(300)).await;
+        rig.screens.until("motor is off").await;
+        rig.screens.until("1MN switches it on").await;
+        press_with(rig, KeyCode::Right, KeyModifiers::SHIFT);
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    })
+    .await;
+    let sent: Vec<String> = std::iter::from_fn(|| traffic.try_recv().ok())
+        .filter(|r| r.direction == Direction::Sent)
+        .map(|r| String::from_utf8_lossy(&r.bytes).into_owned())
+        .collect();
+    assert!(
+        !sent
+            .iter()
+            .any(|s| s.contains("GO") || s.contains("MA") || s.contains("SV")),
+        "{sent:?}"
+    );
+}

@@ -4,7 +4,7 @@
 //! them (so they are checked, sent and shown as any typed line), from its
 //! manual; the pane decides when (its deadman, its keys), never how.
 
-use super::console::AxisInfo;
+use super::console::{AxisFlag, AxisInfo};
 
 /// Which way a jog goes, in the axis's own count direction.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -65,6 +65,16 @@ pub trait JogPlan: Sync {
     fn clear_limit_stop(&self, axis: &AxisInfo) -> Vec<String> {
         let _ = axis;
         Vec::new()
+    }
+
+    /// Why `axis` would not move now, judged from the driver lamps its
+    /// status last lit (`lit`), and what makes it ready: a jog the module
+    /// takes without an error but that turns nothing (a servo whose
+    /// motor is off). `None` (the default): nothing known stands in the
+    /// way.
+    fn not_ready(&self, axis: &AxisInfo, lit: &[AxisFlag]) -> Option<String> {
+        let _ = (axis, lit);
+        None
     }
 
     /// The speeds offered, slowest first, in [`JogPlan::speed_unit`].

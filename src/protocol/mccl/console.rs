@@ -413,13 +413,16 @@ fn value_of(line: &Line, reply: &Reply) -> ReplyValue {
     }
 }
 
+/// The lamp of TS bit 1, "motor on" (Ch8).
+pub const MOTOR_ON_LAMP: &str = "motor";
+
 /// Primary status bits shown as lamps, with names short enough for an
 /// axis card (Ch8 TS): the states that are not a switch lamp (the limit
 /// inputs; the home input: a servo's coarse home, a stepper's home), the
 /// reached lamp or an error flag of their own. The auxiliary encoder bits
 /// (19, 20, 26) are left to `TS`.
 const LAMP_BITS: &[(u8, &str)] = &[
-    (1, "motor"),
+    (1, MOTOR_ON_LAMP),
     (21, "homed"),
     (17, "seek"),
     (18, "found"),
@@ -1248,6 +1251,33 @@ mod tests {
         let bit = prepare("1TS3");
         let reading = answer(&bit, &["01 1"]).expect("read");
         assert!(CONSOLE.status_update(&bit, &reading).is_empty());
+    }
+
+    /// A jog says the motor is off from the lamps the status poll lights
+    /// (Ch8 TS bit 1 "motor on"), before anything is sent.
+    #[test]
+    fn a_jog_knows_the_motor_is_off_from_the_status_lamps() {
+        use crate::protocol::jog::JogPlan;
+        let ts = prepare("1TS");
+        let lamps_of = |value: &str| {
+            let reading = answer(&ts, &[value]).expect("read");
+            CONSOLE
+                .status_update(&ts, &reading)
+                .into_iter()
+                .find_map(|(_, update)| match update {
+                    AxisUpdate::DriverFlags(flags) => Some(flags),
+                    _ => None,
+                })
+                .expect("driver lamps")
+        };
+        let axis = CONSOLE.axes()[0];
+        let jog = super::super::jog::McclJog;
+        let off = jog.not_ready(&axis, &lamps_of("01 0"));
+        assert!(
+            off.as_deref().is_some_and(|why| why.contains("1MN")),
+            "{off:?}"
+        );
+        assert_eq!(jog.not_ready(&axis, &lamps_of("01 2")), None, "bit 1 set");
     }
 
     /// Past six axes the lines share them evenly: eight servos in two

@@ -6,8 +6,9 @@
 //! motor is not switched on (MN) by a jog: with the motor off MA only
 //! moves the target, as the manual says.
 
-use crate::protocol::console::AxisInfo;
+use crate::protocol::console::{AxisFlag, AxisInfo};
 use crate::protocol::jog::{Direction, JogError, JogPlan, speed_within, target_within};
+use crate::protocol::mccl::console::MOTOR_ON_LAMP;
 
 /// SV takes any velocity ≥ 0 (counts/s); the jog keeps to a 32-bit one.
 const SPEEDS: std::ops::RangeInclusive<i64> = 1..=i32::MAX as i64;
@@ -45,6 +46,18 @@ impl JogPlan for McclJog {
             Direction::Negative => 1,
         };
         Ok(vec![format!("{a}VM,{a}DI{di},{a}SV{speed},{a}GO")])
+    }
+
+    /// With the motor off (TS bit 1 clear) MA only moves the target and
+    /// GO turns nothing, without an error: say so before anything is sent.
+    fn not_ready(&self, axis: &AxisInfo, lit: &[AxisFlag]) -> Option<String> {
+        let on = lit.iter().any(|flag| flag.name == MOTOR_ON_LAMP);
+        (!on).then(|| {
+            format!(
+                "{}'s motor is off; {}MN switches it on (TS bit 1: a jog would turn nothing)",
+                axis.name, axis.number
+            )
+        })
     }
 
     fn stop(&self, axis: &AxisInfo) -> Vec<String> {

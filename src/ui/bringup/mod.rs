@@ -65,6 +65,7 @@ use super::pane::{Input, Outcome, Pane, PaneEvent, Region, Request, View, key_la
 use super::text::{fit, wrap};
 use super::theme::Role;
 use crate::device::LinkState;
+use crate::protocol::console::AxisInfo;
 use crate::protocol::io::{IoKind, IoPlan, IoPoint};
 use crate::protocol::jog::{Direction, JogPlan, STEP_DISTANCES};
 use crate::session::run_end::{RunEnding, StopOnFailure};
@@ -240,6 +241,13 @@ impl BringUpPane {
         (tag, Request::SendStop { lines, tag })
     }
 
+    /// Why the selected axis would not move now, by its driver lamps as
+    /// last polled (nothing is judged before they are).
+    fn not_ready(plan: &dyn JogPlan, axis: &AxisInfo, session: &Snapshot) -> Option<String> {
+        let lit = session.status.get(session.axis)?.driver_flags.as_deref()?;
+        plan.not_ready(axis, lit)
+    }
+
     /// A timer for the deadman window ending `after` from now.
     fn deadman_in(&mut self, after: Duration) -> Request {
         let tag = self.tag();
@@ -311,6 +319,11 @@ impl BringUpPane {
             self.say(Role::Error, "this module has no axes");
             return Outcome::redraw();
         };
+        if let Some(why) = Self::not_ready(plan, &axis, session) {
+            self.jog = Jog::Idle;
+            self.say(Role::Error, format!("nothing sent: {why}"));
+            return Outcome::redraw();
+        }
         let lines = match plan.run(&axis, direction, self.speed(plan)) {
             Ok(lines) => lines,
             Err(why) => {
@@ -443,6 +456,10 @@ impl BringUpPane {
             );
             return Outcome::redraw();
         };
+        if let Some(why) = Self::not_ready(plan, &axis, session) {
+            self.say(Role::Error, format!("nothing sent: {why}"));
+            return Outcome::redraw();
+        }
         let distance = direction.signed(self.step_distance());
         match plan.step(&axis, position, distance, self.speed(plan)) {
             Ok(lines) => {
