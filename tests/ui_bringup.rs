@@ -358,7 +358,8 @@ fn at_80_columns_the_shown_tab_is_named_whole() {
 
 /// A MultiFlex servo takes a jog with its motor off and turns nothing
 /// (Ch8 TS bit 1; MA only moves the target): the pane says so from the
-/// polled lamps and sends nothing, for a held key and for a step.
+/// polled lamps and sends nothing, for a held key, a step and the wiring
+/// check.
 #[tokio::test(start_paused = true)]
 async fn a_jog_of_a_servo_whose_motor_is_off_sends_nothing_and_says_why() {
     let session = session("mccl").await;
@@ -372,6 +373,9 @@ async fn a_jog_of_a_servo_whose_motor_is_off_sends_nothing_and_says_why() {
         rig.screens.until("1MN switches it on").await;
         press_with(rig, KeyCode::Right, KeyModifiers::SHIFT);
         tokio::time::sleep(Duration::from_millis(100)).await;
+        // Nor is the wiring check offered: it would jog nothing.
+        press(rig, KeyCode::Char('w'));
+        rig.screens.until("wiring check not run").await;
     })
     .await;
     let sent: Vec<String> = std::iter::from_fn(|| traffic.try_recv().ok())

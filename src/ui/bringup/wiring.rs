@@ -7,7 +7,7 @@ use crate::ui::pane::SheetFact;
 impl BringUpPane {
     /// `w`: ask before the wiring check moves the axis.
     pub(super) fn ask_wiring(&mut self, view: &View) -> Outcome {
-        let (Some(_), Some(session)) = (Self::plan(view), view.session) else {
+        let (Some(plan), Some(session)) = (Self::plan(view), view.session) else {
             return self.not_connected();
         };
         if !matches!(self.jog, Jog::Idle | Jog::Armed { .. }) {
@@ -18,6 +18,10 @@ impl BringUpPane {
             self.say(Role::Error, "this module has no axes");
             return Outcome::redraw();
         };
+        if let Some(why) = Self::not_ready(plan, axis, session) {
+            self.say(Role::Error, format!("wiring check not run: {why}"));
+            return Outcome::redraw();
+        }
         self.jog = Jog::Idle;
         self.wiring_confirm = true;
         self.say(
