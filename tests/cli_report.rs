@@ -12,6 +12,7 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 use cli_support::{axterm, stderr};
+use report_support::select_text;
 use scraper::{Html, Selector};
 use serde_json::Value;
 
@@ -19,13 +20,6 @@ const TMCL_EXAMPLE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/tmcl/c
 
 fn text(path: &Path) -> String {
     path.to_string_lossy().into_owned()
-}
-
-fn select_text(page: &Html, css: &str) -> Vec<String> {
-    let selector = Selector::parse(css).expect("selector");
-    page.select(&selector)
-        .map(|e| e.text().collect::<String>())
-        .collect()
 }
 
 /// The sheet's page and JSON after a run, the JSON checked against the

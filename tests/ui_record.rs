@@ -230,12 +230,7 @@ async fn report_writes_the_sheet_of_the_session_recording_so_far() {
     .await;
 
     let page = scraper::Html::parse_document(&read(&html));
-    let select = |css: &str| -> Vec<String> {
-        let selector = scraper::Selector::parse(css).expect("selector");
-        page.select(&selector)
-            .map(|e| e.text().collect::<String>())
-            .collect()
-    };
+    let select = |css: &str| report_support::select_text(&page, css);
     let headline = &select("#verdict .headline")[0];
     // The read recorded as `:expect` and the session's end.
     assert!(headline.contains("All 2 checks passed"), "{headline}");
@@ -312,12 +307,7 @@ async fn report_carries_the_panes_wiring_check_step_test_and_settings() {
     .await;
 
     let page = scraper::Html::parse_document(&read(&html));
-    let select = |css: &str| -> Vec<String> {
-        let selector = scraper::Selector::parse(css).expect("selector");
-        page.select(&selector)
-            .map(|e| e.text().collect::<String>())
-            .collect()
-    };
+    let select = |css: &str| report_support::select_text(&page, css);
     // The wiring check and the session's end.
     let headline = &select("#verdict .headline")[0];
     assert!(
@@ -438,12 +428,7 @@ async fn report_carries_a_stallguard_sweep_of_the_tuning_pane() {
     .await;
 
     let page = scraper::Html::parse_document(&read(&html));
-    let select = |css: &str| -> Vec<String> {
-        let selector = scraper::Selector::parse(css).expect("selector");
-        page.select(&selector)
-            .map(|e| e.text().collect::<String>())
-            .collect()
-    };
+    let select = |css: &str| report_support::select_text(&page, css);
     let settings = &select("#module-1 .settings")[0];
     assert!(settings.contains("Stored to EEPROMyes"), "{settings}");
     let differs = select("#module-1 .settings-table tr.differs");

@@ -277,11 +277,7 @@ impl ModuleRecord {
         self.with(|facts| {
             if let Some(line) = facts.lines.iter_mut().find(|l| l.number == number) {
                 line.answer = answer;
-                line.outcome = if ok {
-                    LineOutcome::Ok
-                } else {
-                    LineOutcome::Failed
-                };
+                line.outcome = LineOutcome::of(ok);
             }
         });
         if let (true, Some(canonical)) = (ok, canonical) {

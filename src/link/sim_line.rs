@@ -492,37 +492,19 @@ mod tests {
 
     const MICRO: Duration = Duration::from_micros(1);
 
-    /// Remembers the byte time the line told it.
-    #[derive(Default)]
-    struct Told(Vec<Option<Duration>>);
-
-    impl SimulatedController for Told {
-        fn feed(&mut self, _bytes: &[u8]) {}
-        fn advance(&mut self, _dt: Duration) {}
-        fn take_output(&mut self) -> Vec<u8> {
-            Vec::new()
-        }
-        fn help(&self) -> String {
-            "told".into()
-        }
-        fn line_byte_time(&mut self, byte_time: Option<Duration>) {
-            self.0.push(byte_time);
-        }
-    }
-
     #[test]
     fn the_controller_learns_the_lines_byte_time_at_each_connection() {
-        let mut sim = Told::default();
+        let mut sim = Opened::default();
         let mut line = SimLine::new(Some(9600), &FaultPlan::none());
         line.run(&mut sim, Duration::ZERO);
         line.run(&mut sim, MS);
-        assert_eq!(sim.0, [Some(byte_time(9600))], "once a connection");
+        assert_eq!(sim.byte_times, [Some(byte_time(9600))], "once a connection");
         line.reconnect();
         line.run(&mut sim, 2 * MS);
-        assert_eq!(sim.0, [Some(byte_time(9600)); 2]);
-        let mut untimed = Told::default();
+        assert_eq!(sim.byte_times, [Some(byte_time(9600)); 2]);
+        let mut untimed = Opened::default();
         SimLine::new(None, &FaultPlan::none()).run(&mut untimed, Duration::ZERO);
-        assert_eq!(untimed.0, [None]);
+        assert_eq!(untimed.byte_times, [None]);
     }
 
     #[test]
@@ -762,35 +744,42 @@ mod tests {
         );
     }
 
-    /// Counts how often it was armed and with what.
+    /// What the line told it at each connection: the faults it was armed
+    /// with, the line's byte time.
     #[derive(Default)]
-    struct Armed(Vec<Option<u64>>);
+    struct Opened {
+        armed: Vec<Option<u64>>,
+        byte_times: Vec<Option<Duration>>,
+    }
 
-    impl SimulatedController for Armed {
+    impl SimulatedController for Opened {
         fn feed(&mut self, _: &[u8]) {}
         fn advance(&mut self, _: Duration) {}
         fn take_output(&mut self) -> Vec<u8> {
             Vec::new()
         }
         fn help(&self) -> String {
-            "armed".into()
+            "opened".into()
         }
         fn arm_faults(&mut self, plan: &FaultPlan) {
-            self.0.push(plan.corrupt_store);
+            self.armed.push(plan.corrupt_store);
+        }
+        fn line_byte_time(&mut self, byte_time: Option<Duration>) {
+            self.byte_times.push(byte_time);
         }
     }
 
     #[test]
     fn the_controller_is_armed_once_per_connection() {
-        let mut sim = Armed::default();
+        let mut sim = Opened::default();
         let plan = FaultPlan::parse("corrupt-store=4").expect("parses");
         let mut line = SimLine::new(None, &plan);
         line.run(&mut sim, Duration::ZERO);
         line.run(&mut sim, MS);
-        assert_eq!(sim.0, [Some(4)]);
+        assert_eq!(sim.armed, [Some(4)]);
         line.reconnect();
         line.run(&mut sim, 2 * MS);
-        assert_eq!(sim.0, [Some(4), Some(4)]);
+        assert_eq!(sim.armed, [Some(4), Some(4)]);
     }
 
     #[test]

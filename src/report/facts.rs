@@ -133,6 +133,17 @@ pub enum LineOutcome {
     Nothing,
 }
 
+impl LineOutcome {
+    /// Ok when it went as hoped, else failed.
+    pub fn of(ok: bool) -> LineOutcome {
+        if ok {
+            LineOutcome::Ok
+        } else {
+            LineOutcome::Failed
+        }
+    }
+}
+
 /// An `:expect` or `:wait-until`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Expectation {

@@ -121,6 +121,7 @@ pub fn urgent_period(
 mod tests {
     use super::*;
     use crate::families::find_family;
+    use crate::link::byte_time;
 
     /// A SIXpack 2's two switch reads, as the bring-up pane watches them
     /// for motor 0 (`GetInputValues 7`, `GetInputValues 0`).
@@ -136,10 +137,6 @@ mod tests {
             })
             .collect();
         (console.wire(), reads)
-    }
-
-    fn byte_time(baud: u32) -> Duration {
-        Duration::from_secs(10) / baud
     }
 
     #[test]

@@ -9,6 +9,14 @@
 
 use serde_json::Value;
 
+/// The text of every element of `page` that `css` selects, in order.
+pub fn select_text(page: &scraper::Html, css: &str) -> Vec<String> {
+    let selector = scraper::Selector::parse(css).expect("selector");
+    page.select(&selector)
+        .map(|e| e.text().collect::<String>())
+        .collect()
+}
+
 pub fn schema() -> Value {
     let text = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),

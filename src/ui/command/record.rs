@@ -215,12 +215,12 @@ impl SheetFacts {
                 wiring.findings.extend(findings.iter().cloned());
                 wiring.faults.extend(faults.iter().cloned());
                 wiring.wired_right &= right;
-                let outcome = if right {
-                    SheetLine::Ok
-                } else {
-                    SheetLine::Failed
-                };
-                self.tool_line(line, LineKind::Directive, said.clone(), outcome);
+                self.tool_line(
+                    line,
+                    LineKind::Directive,
+                    said.clone(),
+                    SheetLine::of(right),
+                );
                 format!("# {line}: {said}\n")
             }
             SheetFact::Tuning {
@@ -233,12 +233,7 @@ impl SheetFacts {
                 let tuning = self.tuning.get_or_insert_with(Tuning::default);
                 tuning.figures.extend(figures.iter().cloned());
                 tuning.plots.extend(plots.iter().cloned());
-                let outcome = if *ok {
-                    SheetLine::Ok
-                } else {
-                    SheetLine::Failed
-                };
-                self.tool_line(line, LineKind::Directive, said.clone(), outcome);
+                self.tool_line(line, LineKind::Directive, said.clone(), SheetLine::of(*ok));
                 format!("# {line}: {said}\n")
             }
             SheetFact::Unfinished { line, why, failed } => {

@@ -2,6 +2,36 @@ use super::*;
 use crate::ui::keymap::Keymap;
 use crate::ui::theme::Theme;
 
+/// The default theme and keys, for the pane's views.
+struct Looks {
+    theme: Theme,
+    keymap: Keymap,
+}
+
+impl Default for Looks {
+    fn default() -> Looks {
+        Looks {
+            theme: Theme::builtin("dark").expect("theme"),
+            keymap: Keymap::builtin("default").expect("keymap"),
+        }
+    }
+}
+
+impl Looks {
+    /// The pane's view of `session` alone, shown, `focused` or not.
+    fn view<'a>(&'a self, session: Option<&'a Snapshot>, focused: bool) -> View<'a> {
+        View {
+            theme: &self.theme,
+            keymap: &self.keymap,
+            session,
+            modules: &[],
+            module: 0,
+            focused,
+            shown: true,
+        }
+    }
+}
+
 fn snapshot() -> Snapshot {
     let family = find_family("tmcl").expect("tmcl");
     Snapshot {
@@ -30,18 +60,9 @@ fn cmd4cr_snapshot() -> Snapshot {
 
 #[test]
 fn help_offline_follows_the_connect_screen_only_while_nothing_is_connected() {
-    let theme = Theme::builtin("dark").expect("theme");
-    let keymap = Keymap::builtin("default").expect("keymap");
+    let looks = Looks::default();
     let connected = snapshot();
-    let view = |session| View {
-        theme: &theme,
-        keymap: &keymap,
-        session,
-        modules: &[],
-        module: 0,
-        focused: false,
-        shown: true,
-    };
+    let view = |session| looks.view(session, false);
     let mut pane = CommandPane::new(None);
     // No recent connection: the connect screen's first simulator's.
     assert_eq!(pane.offline_family, Some("tmcl"));
@@ -61,19 +82,10 @@ fn help_offline_follows_the_connect_screen_only_while_nothing_is_connected() {
 
 #[test]
 fn run_ascript_wants_a_cmd4cr_module_and_a_file_and_parses_prg_numbers() {
-    let theme = Theme::builtin("dark").expect("theme");
-    let keymap = Keymap::builtin("default").expect("keymap");
+    let looks = Looks::default();
     let tmcl = snapshot();
     let cmd4cr = cmd4cr_snapshot();
-    let view = |session| View {
-        theme: &theme,
-        keymap: &keymap,
-        session,
-        modules: &[],
-        module: 0,
-        focused: true,
-        shown: true,
-    };
+    let view = |session| looks.view(session, true);
     let mut pane = CommandPane::new(None);
     let last = |pane: &CommandPane| pane.output_lines().last().unwrap_or("").to_string();
     pane.console_command(":run-ascript p.asc", &view(None));
@@ -124,19 +136,10 @@ fn run_ascript_wants_a_cmd4cr_module_and_a_file_and_parses_prg_numbers() {
 
 #[test]
 fn sim_input_completes_the_simulators_input_names() {
-    let theme = Theme::builtin("dark").expect("theme");
-    let keymap = Keymap::builtin("default").expect("keymap");
+    let looks = Looks::default();
     let cmd4cr = cmd4cr_snapshot();
     let tmcl = snapshot();
-    let view = |session| View {
-        theme: &theme,
-        keymap: &keymap,
-        session,
-        modules: &[],
-        module: 0,
-        focused: true,
-        shown: true,
-    };
+    let view = |session| looks.view(session, true);
     let mut pane = CommandPane::new(None);
     pane.set_input(":sim-input alm".into());
     let offered = pane.completions(&view(Some(&cmd4cr)));
@@ -162,18 +165,9 @@ fn sim_input_completes_the_simulators_input_names() {
 
 #[test]
 fn report_reads_the_settings_first_and_a_failed_read_still_writes_the_sheet() {
-    let theme = Theme::builtin("dark").expect("theme");
-    let keymap = Keymap::builtin("default").expect("keymap");
+    let looks = Looks::default();
     let connected = snapshot();
-    let view = View {
-        theme: &theme,
-        keymap: &keymap,
-        session: Some(&connected),
-        modules: &[],
-        module: 0,
-        focused: true,
-        shown: true,
-    };
+    let view = looks.view(Some(&connected), true);
     let dir = tempfile::tempdir().expect("temp dir");
     let recording = dir.path().join("session.txt");
     let sheet = dir.path().join("sheet.html");
@@ -232,18 +226,9 @@ fn report_reads_the_settings_first_and_a_failed_read_still_writes_the_sheet() {
 
 #[test]
 fn the_emergency_stop_during_a_reports_settings_read_writes_its_sheet() {
-    let theme = Theme::builtin("dark").expect("theme");
-    let keymap = Keymap::builtin("default").expect("keymap");
+    let looks = Looks::default();
     let connected = snapshot();
-    let view = View {
-        theme: &theme,
-        keymap: &keymap,
-        session: Some(&connected),
-        modules: &[],
-        module: 0,
-        focused: true,
-        shown: true,
-    };
+    let view = looks.view(Some(&connected), true);
     let dir = tempfile::tempdir().expect("temp dir");
     let sheet = dir.path().join("sheet.json");
     let mut pane = CommandPane::new(None);
